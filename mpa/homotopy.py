@@ -1,0 +1,128 @@
+"""Homotopy classes of paths as reduced edge words in the skeleton graph.
+
+The class of a path α in the configuration space (rel endpoints) is read off ``H₁∘α``, a path in the skeleton
+graph: the sequence of edges it runs along, each with a direction (``"+S1a"`` along the edge's orientation,
+``"-S1a"`` against it; the first and last token may be partial edges), freely reduced (``+e -e`` cancels).
+Because the skeleton is a graph, two paths with the same endpoints are homotopic iff their reduced words agree.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from mpa.errors import PlanningError
+from mpa.graph import MetricGraph
+from mpa.retraction import retract
+from mpa.skeleton import CircleSkeleton, IntervalSkeleton, LollipopSkeleton, Skeleton, skeleton_of
+from mpa.tracks import Track
+
+__all__ = ["path_word", "reduce_word", "word_from_points"]
+
+#: Skeleton points within this arc length (model metres) of an edge's end count as at that vertex.
+END_TOL = 1e-9
+
+
+def reduce_word(tokens: Sequence[str]) -> tuple[str, ...]:
+    """Free reduction: cancel adjacent ``+e`` / ``-e`` pairs.
+
+    Examples
+    --------
+    >>> reduce_word(["+S1a", "+S2a", "-S2a", "+S2b"])
+    ('+S1a', '+S2b')
+    """
+    out: list[str] = []
+    for tok in tokens:
+        if out and out[-1][1:] == tok[1:] and out[-1][0] != tok[0]:
+            out.pop()
+        else:
+            out.append(tok)
+    return tuple(out)
+
+
+def word_from_points(graph: MetricGraph, edges: ArrayLike, ts: ArrayLike) -> tuple[str, ...]:
+    """Reduced edge word of a densely sampled path in a skeleton graph.
+
+    Parameters
+    ----------
+    graph : MetricGraph
+        The skeleton graph (no loop edges).
+    edges : array_like of int, shape (N,)
+        Index into ``graph.edges`` of every sample.
+    ts : array_like of float, shape (N,)
+        Arc length of every sample along its edge.
+
+    Returns
+    -------
+    tuple of str
+
+    Raises
+    ------
+    PlanningError
+        If two consecutive samples lie on edges without a common vertex (the sampling is too coarse).
+    """
+    e_idx = np.asarray(edges, dtype=np.int64)
+    t_arr = np.asarray(ts, dtype=float)
+    if len(e_idx) == 0:
+        return ()
+    E = graph.edges
+    lengths = np.array([e.length for e in E])
+
+    def at_vertex(i: int, t: float) -> str | None:
+        if t <= END_TOL:
+            return str(E[i].tail)
+        if t >= lengths[i] - END_TOL:
+            return str(E[i].head)
+        return None
+
+    tokens: list[str] = []
+    cur = int(e_idx[0])
+    entry = at_vertex(cur, float(t_arr[0]))
+    prev_t = float(t_arr[0])
+    change = np.flatnonzero(e_idx[1:] != e_idx[:-1]) + 1
+    for k in change:
+        nxt, t_next = int(e_idx[k]), float(t_arr[k])
+        prev_t = float(t_arr[k - 1])
+        ends_cur = {str(E[cur].tail): prev_t, str(E[cur].head): lengths[cur] - prev_t}
+        ends_nxt = {str(E[nxt].tail): t_next, str(E[nxt].head): lengths[nxt] - t_next}
+        shared = [v for v in ends_cur if v in ends_nxt]
+        if not shared:
+            raise PlanningError(f"path jumps from edge {E[cur].name} to {E[nxt].name}: sample it more densely")
+        v = min(shared, key=lambda s: ends_cur[s] + ends_nxt[s])
+        if entry != v:
+            tokens.append(("+" if v == str(E[cur].head) else "-") + E[cur].name)
+        cur, entry = nxt, v
+    last_v = at_vertex(cur, float(t_arr[-1]))
+    if entry is not None and last_v != entry:
+        tokens.append(("+" if entry == str(E[cur].tail) else "-") + E[cur].name)
+    return reduce_word(tokens)
+
+
+def skeleton_points(skeleton: Skeleton, states: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Edge indices and arc lengths of ``H₁`` of the given states. Shapes (N,)."""
+    st = np.atleast_2d(np.asarray(states, dtype=float))
+    on_s = retract(skeleton.track, st, 1.0)
+    if isinstance(skeleton, LollipopSkeleton):
+        edge, t = skeleton.points_of_model_states(skeleton.to_model(on_s))
+        if skeleton.graph.edges[0].length <= END_TOL:  # ℓ = h: I1 and I2 are single points
+            on_i = (edge == 0) | (edge == 7)
+            t = np.where(on_i, 0.0, t)  # v1 = S1a(0), v4 = S3a(0)
+            edge = np.where(edge == 0, 1, np.where(edge == 7, 5, edge))
+        return edge, t
+    if isinstance(skeleton, CircleSkeleton):
+        return skeleton.points_of_states(on_s)
+    raise PlanningError(f"no skeleton words for {type(skeleton).__name__}")
+
+
+def path_word(track: Track, states: ArrayLike) -> tuple[str, ...]:
+    """Reduced skeleton word of a densely sampled path of states (track coordinates, shape (N, 2)).
+
+    The interval's skeleton has no edges: every path there has the empty word.
+    """
+    sk = skeleton_of(track)
+    if isinstance(sk, IntervalSkeleton):
+        return ()
+    edge, t = skeleton_points(sk, states)
+    return word_from_points(sk.graph, edge, t)

@@ -1,0 +1,210 @@
+"""The result of the motion planner: a :class:`Plan` (frozen, plain numpy arrays)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mpa.routes import RobotMove, Route, lift_moves
+from mpa.skeleton import Skeleton
+from mpa.tracks import Track
+
+__all__ = ["JointMove", "Plan", "PlanStep", "build_plan"]
+
+FloatArray = NDArray[np.float64]
+JointMove = tuple[RobotMove, RobotMove]
+STEP_NAMES = ("preliminary", "main", "final")
+
+
+@dataclass(frozen=True)
+class PlanStep:
+    """One of the three steps of the algorithm.
+
+    Attributes
+    ----------
+    name : str
+        ``"preliminary"``, ``"main"`` or ``"final"``.
+    description : str
+        The instruction in the paper's words.
+    u_start, u_end : float
+        The part of the path parameter ``u ∈ [0, 1]`` the step occupies (equal if the step is empty).
+    waypoints : ndarray, shape (K, 2)
+        Corner states of the step (track coordinates, first = where the step starts).
+    """
+
+    name: str
+    description: str
+    u_start: float
+    u_end: float
+    waypoints: FloatArray
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A motion plan α: [0, 1] → C² for two robots, as produced by the paper's algorithm.
+
+    Between consecutive corners every robot moves at constant speed along its route, so the path is the polyline
+    ``waypoints_s`` in route coordinates, parametrized by ``u`` proportionally to the larger of the two robots'
+    travel (``knots``).
+
+    Attributes
+    ----------
+    track : Track
+    start, goal : ndarray, shape (2,)
+        Track coordinates of (A, B).
+    clearance : float
+        The clearance the query was checked against (metres).
+    domain : int
+        Domain of continuity (SPEC §4 numbering).
+    rule : str
+        The instruction of the domain, in words.
+    steps : tuple of PlanStep
+        Preliminary, main and final step.
+    knots : ndarray, shape (K,)
+        Path parameter of every corner, from 0 to 1.
+    waypoints : ndarray, shape (K, 2)
+        Corner states in track coordinates.
+    waypoints_s : ndarray, shape (K, 2)
+        Corner states in route coordinates σ (metres along each robot's route).
+    routes : tuple of Route
+        Route of A and of B.
+    skeleton : Skeleton
+        The skeleton of the configuration space.
+    skeleton_start, skeleton_goal : ndarray, shape (2,)
+        ``x_i' = H₁(start)`` and ``x_f' = H₁(goal)``.
+    word : tuple of str
+        Reduced edge word of ``H₁∘α`` in the skeleton graph (the path's homotopy class).
+    """
+
+    track: Track
+    start: FloatArray
+    goal: FloatArray
+    clearance: float
+    domain: int
+    rule: str
+    steps: tuple[PlanStep, ...]
+    knots: FloatArray
+    waypoints: FloatArray
+    waypoints_s: FloatArray
+    routes: tuple[Route, Route]
+    skeleton: Skeleton
+    skeleton_start: FloatArray
+    skeleton_goal: FloatArray
+    word: tuple[str, ...]
+    travel: FloatArray = field(default_factory=lambda: np.zeros(2))
+
+    def path_s(self, u: ArrayLike) -> FloatArray:
+        """Route coordinates α_σ(u) (vectorized). Shape ``u.shape + (2,)``."""
+        u = np.clip(np.asarray(u, dtype=float), 0.0, 1.0)
+        if self.knots[-1] <= 0.0:
+            return np.broadcast_to(self.waypoints_s[0], (*u.shape, 2)).copy()
+        sa = np.interp(u, self.knots, self.waypoints_s[:, 0])
+        sb = np.interp(u, self.knots, self.waypoints_s[:, 1])
+        return np.stack([sa, sb], axis=-1)
+
+    def path(self, u: ArrayLike) -> FloatArray:
+        """The path α(u) in track coordinates (vectorized). Shape ``u.shape + (2,)``."""
+        s = self.path_s(u)
+        return np.stack([self.routes[0].position(s[..., 0]), self.routes[1].position(s[..., 1])], axis=-1)
+
+    def sample(self, n: int = 400) -> FloatArray:
+        """α at ``n`` equally spaced values of u in [0, 1] (first = start, last = goal). Shape (n, 2)."""
+        return self.path(np.linspace(0.0, 1.0, max(int(n), 2)))
+
+    def samples_needed(self, fraction: float = 0.01) -> int:
+        """Number of equally spaced samples so that consecutive points are at most ``fraction`` of the track's
+        total length apart for each robot."""
+        step = fraction * self.track.total_length
+        return int(np.ceil(float(np.max(self.travel)) / step)) + 1
+
+    def min_distance(self, n: int = 20001) -> float:
+        """Smallest distance between the robots along the path, on ``n`` samples (metres)."""
+        st = self.sample(n)
+        return float(np.min(self.track.distance(st[:, 0], st[:, 1])))
+
+    def to_dict(self, samples: int = 400) -> dict[str, object]:
+        """A JSON-ready description of the plan, with the path sampled at ``samples`` equally spaced u."""
+        return {
+            "track": self.track.to_dict(),
+            "start": self.start.tolist(),
+            "goal": self.goal.tolist(),
+            "clearance": self.clearance,
+            "domain": self.domain,
+            "rule": self.rule,
+            "skeleton_start": self.skeleton_start.tolist(),
+            "skeleton_goal": self.skeleton_goal.tolist(),
+            "word": list(self.word),
+            "steps": [
+                {"name": s.name, "description": s.description, "u": [s.u_start, s.u_end], "waypoints": s.waypoints.tolist()}
+                for s in self.steps
+            ],
+            "knots": self.knots.tolist(),
+            "waypoints": self.waypoints.tolist(),
+            "waypoints_s": self.waypoints_s.tolist(),
+            "route_lengths": [self.routes[0].length, self.routes[1].length],
+            "travel": self.travel.tolist(),
+            "path": self.sample(samples).tolist(),
+        }
+
+
+def build_plan(
+    track: Track,
+    start: FloatArray,
+    goal: FloatArray,
+    clearance: float,
+    domain: int,
+    rule: str,
+    steps: Sequence[tuple[str, Sequence[JointMove]]],
+    skeleton: Skeleton,
+    skeleton_start: FloatArray,
+    skeleton_goal: FloatArray,
+    word: tuple[str, ...],
+) -> Plan:
+    """Assemble a :class:`Plan` from the three steps given as joint moves (real track coordinates)."""
+    moves_a: list[RobotMove] = []
+    moves_b: list[RobotMove] = []
+    step_ranges: list[tuple[int, int]] = []
+    for _desc, jm in steps:
+        first = len(moves_a)
+        for ma, mb in jm:
+            if abs(ma.delta) <= 1e-15 and abs(mb.delta) <= 1e-15:
+                continue
+            moves_a.append(ma)
+            moves_b.append(mb)
+        step_ranges.append((first, len(moves_a)))
+    lifts_a = lift_moves(track, moves_a, float(start[0]))
+    lifts_b = lift_moves(track, moves_b, float(start[1]))
+    route_a, sig_a = Route.through(track, lifts_a)
+    route_b, sig_b = Route.through(track, lifts_b)
+    ws = np.stack([sig_a, sig_b], axis=-1)
+    inc = np.max(np.abs(np.diff(ws, axis=0)), axis=1) if len(ws) > 1 else np.zeros(0)
+    cum = np.concatenate([[0.0], np.cumsum(inc)])
+    total = cum[-1]
+    knots = cum / total if total > 0 else np.zeros_like(cum)
+    pos = np.stack([route_a.position(sig_a), route_b.position(sig_b)], axis=-1)
+    pos[0], pos[-1] = start, goal
+    travel = np.array([np.sum(np.abs(np.diff(sig_a))), np.sum(np.abs(np.diff(sig_b)))])
+    plan_steps = []
+    for (desc, _), name, (i0, i1) in zip(steps, STEP_NAMES, step_ranges):
+        plan_steps.append(PlanStep(name, desc, float(knots[i0]), float(knots[i1]), pos[i0 : i1 + 1].copy()))
+    return Plan(
+        track=track,
+        start=np.asarray(start, dtype=float),
+        goal=np.asarray(goal, dtype=float),
+        clearance=clearance,
+        domain=domain,
+        rule=rule,
+        steps=tuple(plan_steps),
+        knots=knots,
+        waypoints=pos,
+        waypoints_s=ws,
+        routes=(route_a, route_b),
+        skeleton=skeleton,
+        skeleton_start=np.asarray(skeleton_start, dtype=float),
+        skeleton_goal=np.asarray(skeleton_goal, dtype=float),
+        word=word,
+        travel=travel,
+    )

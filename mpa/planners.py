@@ -1,0 +1,480 @@
+"""The motion planning algorithms of the paper, one per track, with their domains of continuity.
+
+Every planner follows the paper's three steps: the *preliminary step* ``H(x_i, ·)`` moves the start onto the
+skeleton, the *main step* moves inside the skeleton by the rule of the query's domain, the *final step* is
+``H(x_f, ·)`` reversed. Domain numbering is SPEC §4.
+
+Choices the paper leaves open (all explicit here):
+
+- **Neighbourhoods.** ``ε = neighbourhood · h`` (default 0.1, i.e. ε = c/20), measured as arc length in the
+  skeleton (= travel of either robot). Domains are assigned in order 1, 2, 3: a query goes to the first whose
+  condition holds, and each rule is continuous on the set of queries assigned to it.
+- **Circle.** Domain 1: B's ccw offset Δ from its initial to its final position satisfies ``|Δ − h| < ε``
+  (B's positions antipodal, within ε): both robots move ccw by Δ. Domain 2: both move by B's shortest
+  signed offset (unique there).
+- **Lollipop.** The extended vertices ``Ṽ = I1 ∪ I2 ∪ {v2, v3}``; ``N`` is their ε-neighbourhood in S.
+  The ccw orientation of every circle ``S_j`` is the direction in which its loop robot moves ccw.
+
+  * Domain 1 (generalized vertex position): ``x', y' ∈ N``. Project each onto its nearest extended vertex,
+    join those along the chain crossing every circle ccw (same order: slide along the stick; reverse order:
+    go round the loop), and leave the projections to ``y'``; two points near the same extended vertex are
+    joined by the geodesic of its (tree) neighbourhood.
+  * Domain 2 (generalized swapped states): otherwise, if ``x'`` and ``y'`` lie on a common circle ``S_j``
+    with ccw offset ``|Δ − h| < ε``; or if they lie on different blocks of the chain and the start (goal) is,
+    within ε, antipodal in its circle to the vertex where the path leaves (enters) that circle. Rule: ccw in
+    that circle, shortest elsewhere, ccw across intermediate circles. (The second kind is needed: with a goal
+    in the middle of S3 and the start running once round S1 no single continuous rule exists, because S1 is
+    not contractible in S, so the paper's "all other pairs" cannot all share one continuous rule.)
+  * Domain 3: all other pairs: shortest path in S (unique there), ccw whenever crossing a circle.
+- **Short stick.** For ``ℓ < h`` the planner runs in the model lollipop ``(ℓ, 2ℓ)`` and is conjugated back
+  (:class:`~mpa.skeleton.LollipopSkeleton`); plans keep ``d ≥ min(d_start, d_goal, ℓ, h)``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from mpa.cspace import ConfigurationSpace
+from mpa.errors import InvalidInputError, PlanningError
+from mpa.homotopy import word_from_points
+from mpa.plan import JointMove, Plan, build_plan
+from mpa.retraction import retract, trace_moves
+from mpa.routes import RobotMove
+from mpa.skeleton import (
+    CIRCLE_ENDS,
+    CircleSkeleton,
+    IntervalSkeleton,
+    LollipopSkeleton,
+    SkeletonPoint,
+    skeleton_of,
+)
+from mpa.tracks import Circle, Interval, Lollipop, Track
+
+__all__ = ["RULES", "CirclePlanner", "IntervalPlanner", "LollipopPlanner", "Planner", "make_planner", "plan"]
+
+RULES = {
+    ("interval", 1): "same order: straight translation of both robots",
+    ("circle", 1): "B's initial and final positions are antipodal: both robots move counterclockwise until B arrives",
+    ("circle", 2): "otherwise: both robots move the same way along B's shortest path until B arrives",
+    ("lollipop", 1): (
+        "generalized vertex position: shortest path in the skeleton, counterclockwise across every circle "
+        "(same order: slide along the stick; reverse order: go round the loop)"
+    ),
+    ("lollipop", 2): (
+        "generalized swapped states: counterclockwise in the circle S_j where start and goal (or the start or goal "
+        "and the vertex where the path leaves or enters S_j) are antipodal"
+    ),
+    ("lollipop", 3): "all other pairs: shortest path in the skeleton, counterclockwise whenever crossing a circle",
+}
+PRELIM = {
+    "interval": "none: the robots move straight to their goals",
+    "circle": "robot A moves away from robot B until it is antipodal to B; B waits",
+    "lollipop": (
+        "if farther apart than half the loop, the robot nearer the free end moves towards the other, which waits; "
+        "otherwise both move apart (staying on the loop if on it) until generalized antipodal"
+    ),
+}
+FINAL = {
+    "interval": "none",
+    "circle": "robot A moves along its shortest path to its goal; B waits (the preliminary trace of the goal, reversed)",
+    "lollipop": "both robots move to their goals along the reversed preliminary trace of the goal",
+}
+
+DEFAULT_NEIGHBOURHOOD = 0.1
+
+
+def _reverse(moves: tuple[RobotMove, RobotMove]) -> JointMove:
+    return tuple(RobotMove(m.edge, m.start + m.delta, -m.delta) for m in moves)  # type: ignore[return-value]
+
+
+def _circ_dist(a: float, b: float, c: float) -> float:
+    d = abs(float(np.mod(a - b, c)))
+    return min(d, c - d)
+
+
+@dataclass(frozen=True)
+class Planner:
+    """Base class: a planner built once for a track and a clearance, re-used for many queries.
+
+    Parameters
+    ----------
+    track : Track
+    clearance : float
+        Required clearance D (metres); start and goal must respect it.
+    neighbourhood : float
+        Size ε of the domains' neighbourhoods as a fraction of half the loop (0 < neighbourhood < 0.5).
+    """
+
+    track: Track
+    clearance: float = 0.0
+    neighbourhood: float = DEFAULT_NEIGHBOURHOOD
+    cspace: ConfigurationSpace = field(init=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "cspace", ConfigurationSpace(self.track, self.clearance))
+        object.__setattr__(self, "clearance", self.cspace.clearance)
+        nb = float(self.neighbourhood)
+        if not np.isfinite(nb) or not 0.0 < nb < 0.5:
+            raise InvalidInputError(f"neighbourhood is {self.neighbourhood!r}, expected a number in (0, 0.5)")
+
+    def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:  # pragma: no cover - abstract
+        """Plan a motion from ``start`` to ``goal`` (each ``(a, b)`` in track coordinates)."""
+        raise NotImplementedError
+
+    def domain(self, start: ArrayLike, goal: ArrayLike) -> int:
+        """Domain of continuity of a query (same numbering as :attr:`Plan.domain`)."""
+        return self.plan(start, goal).domain
+
+
+@dataclass(frozen=True)
+class IntervalPlanner(Planner):
+    """Two robots on an interval: one rule, straight translation, same order only."""
+
+    def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
+        s, g = self.cspace.check_query(start, goal)
+        tr = self.track
+        sk = IntervalSkeleton(tr)
+        mv = (RobotMove("stick", s[0], g[0] - s[0]), RobotMove("stick", s[1], g[1] - s[1]))
+        on_s = retract(tr, np.array([s, g]))
+        return build_plan(
+            tr, s, g, self.clearance, 1, RULES[("interval", 1)],
+            [(PRELIM["interval"], []), ("both robots translate straight to their goals", [mv]), (FINAL["interval"], [])],
+            sk, on_s[0], on_s[1], (),
+        )
+
+
+@dataclass(frozen=True)
+class CirclePlanner(Planner):
+    """Two robots on a circle: the paper's algorithm with TC = 2 rules (§5.2)."""
+
+    def _main_delta(self, b_i: float, b_f: float) -> tuple[int, float]:
+        tr = self.track
+        assert isinstance(tr, Circle)
+        c, h = tr.loop, tr.half
+        eps = self.neighbourhood * h
+        dccw = float(np.mod(b_f - b_i, c))
+        if dccw >= c - 1e-15:
+            dccw = 0.0
+        if abs(dccw - h) < eps:
+            return 1, dccw
+        return 2, dccw if dccw <= h else dccw - c
+
+    def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
+        s, g = self.cspace.check_query(start, goal)
+        tr = self.track
+        assert isinstance(tr, Circle)
+        sk = CircleSkeleton(tr)
+        h = tr.half
+        xi, xf = retract(tr, np.array([s, g]))
+        domain, delta = self._main_delta(float(xi[1]), float(xf[1]))
+        pieces = _circle_pieces(float(xi[1]), delta, h, lambda a: "Aa" if a == 0 else "Ab")
+        main = [sk.edge_moves(e, t0, t1) for e, t0, t1 in pieces]
+        word = _pieces_word(sk.graph, pieces)
+        what = "both robots move counterclockwise" if domain == 1 else "both robots move along B's shortest path"
+        return build_plan(
+            tr, s, g, self.clearance, domain, RULES[("circle", domain)],
+            [
+                (PRELIM["circle"], [trace_moves(tr, s)]),
+                (f"{what} until B reaches its final position", main),
+                (FINAL["circle"], [_reverse(trace_moves(tr, g))]),
+            ],
+            sk, xi, xf, word,
+        )
+
+
+def _circle_pieces(phi0: float, delta: float, h: float, edge_name) -> list[tuple[str, float, float]]:  # type: ignore[no-untyped-def]
+    """Split the run of a circle parameter from ``φ0`` by ``delta`` into pieces on the arcs [0, h] and [h, 2h]."""
+    c = 2.0 * h
+    out: list[tuple[str, float, float]] = []
+    phi = float(np.mod(phi0, c))
+    if phi >= c - 1e-12:
+        phi = 0.0
+    rem = float(delta)
+    direction = 1.0 if rem > 0 else -1.0
+    guard = 0
+    while abs(rem) > 1e-13:
+        guard += 1
+        if guard > 64:
+            raise PlanningError("circle run did not terminate")
+        arc = 0 if phi < h else 1
+        base = arc * h
+        t = phi - base
+        if direction > 0:
+            step = min(h - t, rem)
+            out.append((edge_name(arc), t, t + step))
+        else:
+            if t <= 1e-13:  # at the arc's tail: continue on the previous arc from its head
+                arc = 1 - arc
+                base = arc * h
+                t = h
+            step = min(t, -rem)
+            out.append((edge_name(arc), t, t - step))
+        phi = float(np.mod(base + out[-1][2], c))
+        rem -= direction * step
+    return out
+
+
+def _pieces_word(graph, pieces: Sequence[tuple[str, float, float]]) -> tuple[str, ...]:  # type: ignore[no-untyped-def]
+    names = [e.name for e in graph.edges]
+    edges, ts = [], []
+    for e, t0, t1 in pieces:
+        edges += [names.index(e)] * 2
+        ts += [t0, t1]
+    return word_from_points(graph, edges, ts)
+
+
+# ---------------------------------------------------------------------------------------------------
+# lollipop
+_COMP_ORDER = {"I1": 0, "v2": 1, "v3": 2, "I2": 3}
+# extended-vertex component of the vertex at φ = 0 and φ = h of each circle
+_CIRCLE_COMPS = {1: ("I1", "v2"), 2: ("v2", "v3"), 3: ("I2", "v3")}
+
+
+@dataclass(frozen=True)
+class LollipopPlanner(Planner):
+    """Two robots on a lollipop: the paper's algorithm with TC = 3 rules (§6.3), see the module docstring."""
+
+    skeleton: LollipopSkeleton = field(init=False)
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        assert isinstance(self.track, Lollipop)
+        object.__setattr__(self, "skeleton", LollipopSkeleton(self.track))
+
+    # --- geometry of the chain (model units) ---------------------------------------------------
+    @property
+    def _h(self) -> float:
+        return self.skeleton.half
+
+    @property
+    def _eps(self) -> float:
+        return self.neighbourhood * self._h
+
+    def _vertex_phi(self, j: int, v: str) -> float:
+        (lv, lp), (rv, rp) = CIRCLE_ENDS[j]
+        return (lp if v == lv else rp) * self._h
+
+    def _near(self, pt: SkeletonPoint) -> tuple[str, float]:
+        """Nearest extended-vertex component and the distance to it."""
+        e = pt.edge
+        if e in ("I1", "I2"):
+            return e, 0.0
+        j = int(e[1])
+        phi = self.skeleton.circle_phi(pt)
+        c = 2 * self._h
+        d0 = min(phi, c - phi)
+        dh = abs(phi - self._h)
+        comp0, comph = _CIRCLE_COMPS[j]
+        return (comp0, d0) if d0 <= dh else (comph, dh)
+
+    def _phi_in(self, j: int, pt: SkeletonPoint) -> float:
+        v = self.skeleton.vertex_at(pt)
+        if v is not None and v in (CIRCLE_ENDS[j][0][0], CIRCLE_ENDS[j][1][0]):
+            return self._vertex_phi(j, v)
+        return self.skeleton.circle_phi(pt)
+
+    def _circle_run(self, j: int, phi0: float, delta: float) -> list[tuple[str, float, float]]:
+        return _circle_pieces(phi0, delta, self._h, lambda a: f"S{j}{'ab'[a]}")
+
+    def _to_comp_vertex(self, pt: SkeletonPoint, comp: str) -> list[tuple[str, float, float]]:
+        """Pieces from ``pt`` (within ε of component ``comp``) to that component (I1/I2: stay on the stick)."""
+        if pt.edge in ("I1", "I2"):
+            return []
+        j = int(pt.edge[1])
+        phi = self.skeleton.circle_phi(pt)
+        target = 0.0 if _CIRCLE_COMPS[j][0] == comp else self._h
+        c = 2 * self._h
+        d = float(np.mod(target - phi, c))
+        if d > self._h:
+            d -= c
+        return self._circle_run(j, phi, d)
+
+    def _slide(self, edge: str, t0: float, t1: float) -> list[tuple[str, float, float]]:
+        return [(edge, t0, t1)] if abs(t1 - t0) > 1e-15 else []
+
+    def _chain(self, c_from: str, t_from: float, c_to: str, t_to: float) -> list[tuple[str, float, float]]:
+        """From extended vertex component ``c_from`` (I1/I2 position ``t_from``) to ``c_to``, ccw across circles."""
+        ell_h = self.skeleton.graph.edge("I1").length
+        h = self._h
+        i, k = _COMP_ORDER[c_from], _COMP_ORDER[c_to]
+        out: list[tuple[str, float, float]] = []
+        if i < k:
+            if c_from == "I1":
+                out += self._slide("I1", t_from, ell_h)
+            for j in range(i + 1, k + 1):  # cross circle S_j left to right
+                entry = CIRCLE_ENDS[j][0][1] * h
+                out += self._circle_run(j, entry, h)
+            if c_to == "I2":
+                out += self._slide("I2", ell_h, t_to)
+        else:
+            if c_from == "I2":
+                out += self._slide("I2", t_from, ell_h)
+            for j in range(i, k, -1):  # cross circle S_j right to left
+                entry = CIRCLE_ENDS[j][1][1] * h
+                out += self._circle_run(j, entry, h)
+            if c_to == "I1":
+                out += self._slide("I1", ell_h, t_to)
+        return out
+
+    def _reverse_pieces(self, pieces: list[tuple[str, float, float]]) -> list[tuple[str, float, float]]:
+        return [(e, t1, t0) for e, t0, t1 in reversed(pieces)]
+
+    def route_in_skeleton(self, x: SkeletonPoint, y: SkeletonPoint) -> tuple[int, list[tuple[str, float, float]]]:
+        """The main step: domain and the path in S from ``x`` to ``y`` as pieces ``(edge, t_from, t_to)``."""
+        sk, h, eps = self.skeleton, self._h, self._eps
+        c = 2 * h
+        cx, dx = self._near(x)
+        cy, dy = self._near(y)
+        ell_h = sk.graph.edge("I1").length
+        # ---- domain 1: both in the ε-neighbourhood of the extended vertices ----------------------
+        if dx < eps and dy < eps:
+            if cx == cy:
+                if x.edge == y.edge:
+                    return 1, self._slide(x.edge, x.t, y.t)
+                return 1, self._same_comp(x, y, cx)
+            tx = x.t if x.edge in ("I1", "I2") else ell_h
+            ty = y.t if y.edge in ("I1", "I2") else ell_h
+            return 1, (
+                self._to_comp_vertex(x, cx)
+                + self._chain(cx, tx, cy, ty)
+                + self._reverse_pieces(self._to_comp_vertex(y, cy))
+            )
+        # ---- same circle -------------------------------------------------------------------------
+        bx, by = sk.blocks_of(x), sk.blocks_of(y)
+        common = [j for j in bx if j in by and j in (1, 2, 3)]
+        if common:
+            j = common[0]
+            px, py = self._phi_in(j, x), self._phi_in(j, y)
+            dccw = float(np.mod(py - px, c))
+            if dccw >= c - 1e-15:
+                dccw = 0.0
+            if abs(dccw - h) < eps:
+                return 2, self._circle_run(j, px, dccw)
+            return 3, self._circle_run(j, px, dccw if dccw <= h else dccw - c)
+        # ---- different blocks ------------------------------------------------------------------
+        right = max(bx) < min(by)
+        if not right and not (min(bx) > max(by)):  # pragma: no cover - blocks always ordered here
+            raise PlanningError(f"cannot order skeleton blocks {bx} and {by}")
+        jx = max(bx) if right else min(bx)
+        jy = min(by) if right else max(by)
+        pieces: list[tuple[str, float, float]] = []
+        amb = False
+        # start: to the exit vertex of its block
+        if jx in (0, 4):
+            pieces += self._slide(x.edge, x.t, ell_h) if x.edge in ("I1", "I2") else []
+        else:
+            (_, lp), (_, rp) = CIRCLE_ENDS[jx]
+            exit_phi = (rp if right else lp) * h
+            px = self._phi_in(jx, x)
+            a_x = _circ_dist(px, exit_phi + h, c) < eps
+            amb |= a_x
+            dccw = float(np.mod(exit_phi - px, c))
+            pieces += self._circle_run(jx, px, dccw if (a_x or dccw <= h) else dccw - c)
+        # intermediate circles: counterclockwise
+        for j in (range(jx + 1, jy) if right else range(jx - 1, jy, -1)):
+            (_, lp), (_, rp) = CIRCLE_ENDS[j]
+            pieces += self._circle_run(j, (lp if right else rp) * h, h)
+        # goal: from the entry vertex of its block
+        if jy in (0, 4):
+            pieces += self._slide(y.edge, ell_h, y.t) if y.edge in ("I1", "I2") else []
+        else:
+            (_, lp), (_, rp) = CIRCLE_ENDS[jy]
+            entry_phi = (lp if right else rp) * h
+            py = self._phi_in(jy, y)
+            a_y = _circ_dist(py, entry_phi + h, c) < eps
+            amb |= a_y
+            dccw = float(np.mod(py - entry_phi, c))
+            pieces += self._circle_run(jy, entry_phi, dccw if (a_y or dccw <= h) else dccw - c)
+        return (2 if amb else 3), pieces
+
+    def _same_comp(self, x: SkeletonPoint, y: SkeletonPoint, comp: str) -> list[tuple[str, float, float]]:
+        ell_h = self.skeleton.graph.edge("I1").length
+        if comp in ("I1", "I2"):
+            tx = x.t if x.edge == comp else ell_h
+            ty = y.t if y.edge == comp else ell_h
+            return (
+                self._to_comp_vertex(x, comp) + self._slide(comp, tx, ty) + self._reverse_pieces(self._to_comp_vertex(y, comp))
+            )
+        return self._to_comp_vertex(x, comp) + self._reverse_pieces(self._to_comp_vertex(y, comp))
+
+    # --- the plan ---------------------------------------------------------------------------------
+    def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
+        s, g = self.cspace.check_query(start, goal)
+        tr = self.track
+        assert isinstance(tr, Lollipop)
+        sk = self.skeleton
+        xi, xf = retract(tr, np.array([s, g]))
+        mx, my = sk.to_model(xi), sk.to_model(xf)
+        px, py = sk.point_of_model_state(*mx), sk.point_of_model_state(*my)
+        domain, pieces = self.route_in_skeleton(px, py)
+        main = [tuple(sk.move_from_model(m) for m in sk.edge_moves(e, t0, t1)) for e, t0, t1 in pieces]
+        word = _pieces_word(sk.graph, _drop_zero_edges(sk, pieces))
+        return build_plan(
+            tr, s, g, self.clearance, domain, RULES[("lollipop", domain)],
+            [
+                (PRELIM["lollipop"], [trace_moves(tr, s)]),
+                (RULES[("lollipop", domain)], main),  # type: ignore[list-item]
+                (FINAL["lollipop"], [_reverse(trace_moves(tr, g))]),
+            ],
+            sk, xi, xf, word,
+        )
+
+
+def _drop_zero_edges(sk: LollipopSkeleton, pieces: list[tuple[str, float, float]]) -> list[tuple[str, float, float]]:
+    if sk.graph.edge("I1").length > 1e-9:
+        return pieces
+    return [p for p in pieces if p[0] not in ("I1", "I2")]
+
+
+def make_planner(track: Track, clearance: float = 0.0, neighbourhood: float = DEFAULT_NEIGHBOURHOOD) -> Planner:
+    """The planner of ``track`` (built once; call ``.plan(start, goal)`` for every query)."""
+    if isinstance(track, Interval):
+        return IntervalPlanner(track, clearance, neighbourhood)
+    if isinstance(track, Circle):
+        return CirclePlanner(track, clearance, neighbourhood)
+    if isinstance(track, Lollipop):
+        return LollipopPlanner(track, clearance, neighbourhood)
+    raise InvalidInputError(f"track is {track!r}, expected an Interval, Circle or Lollipop")
+
+
+def plan(
+    track: Track, start: ArrayLike, goal: ArrayLike, clearance: float = 0.0, neighbourhood: float = DEFAULT_NEIGHBOURHOOD
+) -> Plan:
+    """Plan a collision-free motion of two robots from ``start`` to ``goal`` with the paper's algorithm.
+
+    Parameters
+    ----------
+    track : Track
+    start, goal : array_like, shape (2,)
+        Track coordinates of robots A and B.
+    clearance : float
+        Required clearance D >= 0 (metres).
+    neighbourhood : float
+        Neighbourhood size of the domains, as a fraction of half the loop.
+
+    Returns
+    -------
+    Plan
+
+    Raises
+    ------
+    InvalidInputError
+        Bad start, goal, clearance or track.
+    NoMotionError
+        No collision-free motion exists (the message says why).
+
+    Examples
+    --------
+    >>> from mpa import Lollipop, plan
+    >>> p = plan(Lollipop(1.0, 1.0), (0.1, 0.6), (0.8, 0.3))
+    >>> p.domain, p.word
+    (1, ('+I1', '+S1a', '+S2a', '+S3b', '-I2'))
+    """
+    return make_planner(track, clearance, neighbourhood).plan(start, goal)
+
+
+_ = skeleton_of  # re-exported for convenience

@@ -1,0 +1,182 @@
+"""The deformation retraction H: X × [0, 1] → X onto the skeleton (paper §5.2 and §6.1, SPEC §3-4).
+
+``H(x, 0) = x``, ``H(x, 1) ∈ S``, ``H(s, t) = s`` for every skeleton point ``s``. Along each trace every
+robot moves at constant speed along one edge of the track, so ``H(x, t)`` is the linear interpolation, in
+edge coordinates, between ``x`` and ``H(x, 1)``; the distance between the robots changes linearly in ``t``
+from ``d(x)`` to ``h`` (hence monotonically). Each trace is a fibre of ``H₁``: ``H₁(H(x, t)) = H₁(x)``.
+
+Circle (paper §5.2): robot A moves away from B until it is antipodal; B waits.
+
+Lollipop, in model coordinates (``ℓ ≥ h``), by region (x = depth of a stick robot below P, w = loop
+distance of a loop robot from P, d the graph distance):
+
+=====================  ==========================================================================
+state                  trace ("speed ratio" = ratio of the two robots' speeds)
+=====================  ==========================================================================
+``d ≥ h`` (stick)       the robot nearer the free end moves towards the other; the other waits
+both on the stick,     both move apart; the rear one towards the free end, the front one towards P,
+``d < h``              sharing the missing distance ``h − d`` in proportion to their free room
+one on the stick, one  both move away from P, speeds in ratio ``x : w`` (radial scaling about P)
+on the loop, ``d < h``
+both on the loop       both move along the arc between them that contains P, keeping their distances
+                       to P in a fixed ratio, until antipodal (they move apart, staying on the loop)
+=====================  ==========================================================================
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mpa.routes import RobotMove
+from mpa.skeleton import LollipopSkeleton
+from mpa.tracks import Circle, Interval, Lollipop, Track
+
+__all__ = ["circle_trace", "lollipop_trace", "retract", "trace_moves"]
+
+FloatArray = NDArray[np.float64]
+
+
+def circle_trace(track: Circle, states: ArrayLike) -> FloatArray:
+    """Signed displacements ``(Δa, Δb)`` of the trace of ``H`` on the circle (A only). Shape (N, 2)."""
+    st = np.atleast_2d(np.asarray(states, dtype=float))
+    c, h = track.loop, track.half
+    delta = np.mod(st[:, 0] - st[:, 1], c)  # A's ccw offset from B, in (0, c)
+    return np.stack([h - delta, np.zeros(len(st))], axis=-1)
+
+
+def lollipop_trace(model: Lollipop, states: ArrayLike) -> FloatArray:
+    """Signed edge-coordinate displacements ``(Δa, Δb)`` of the traces of ``H`` on a lollipop with ``ℓ ≥ h``.
+
+    A stick robot's displacement is ``Δp`` (positive towards P); a loop robot's is ``Δθ`` (ccw positive).
+
+    Parameters
+    ----------
+    model : Lollipop
+        A lollipop with ``stick ≥ loop / 2``.
+    states : array_like, shape (N, 2)
+        Collision-free states (track coordinates of A and B).
+
+    Returns
+    -------
+    ndarray, shape (N, 2)
+    """
+    st = np.atleast_2d(np.asarray(states, dtype=float))
+    ell, c = model.stick, model.loop
+    h = 0.5 * c
+    a, b = st[:, 0], st[:, 1]
+    a_st, b_st = a <= ell, b <= ell
+    out = np.zeros_like(st)
+    d = model.distance(a, b)
+
+    # both on the stick
+    m = a_st & b_st
+    if np.any(m):
+        pa, pb, dd = a[m], b[m], d[m]
+        front_is_b = pb > pa
+        rear = np.where(front_is_b, pa, pb)
+        front = np.where(front_is_b, pb, pa)
+        far = dd >= h
+        room_rear, room_front = rear, ell - front
+        total = np.maximum(room_rear + room_front, 1e-300)
+        miss = h - dd
+        d_rear = np.where(far, dd - h, -miss * room_rear / total)
+        d_front = np.where(far, 0.0, miss * room_front / total)
+        out[m, 0] = np.where(front_is_b, d_rear, d_front)
+        out[m, 1] = np.where(front_is_b, d_front, d_rear)
+
+    # one robot on the stick (depth x), the other on the loop (side s, distance w from P)
+    for stick_idx, loop_idx, mask in ((0, 1, a_st & ~b_st), (1, 0, ~a_st & b_st)):
+        if not np.any(mask):
+            continue
+        ps, pl, dd = st[mask, stick_idx], st[mask, loop_idx], d[mask]
+        x = ell - ps
+        th = pl - ell
+        side = np.where(th <= h, 1.0, -1.0)
+        w = np.minimum(th, c - th)
+        far = dd >= h
+        lam = np.where(far, 1.0, h / np.maximum(dd, 1e-300))
+        x_new = np.where(far, h - w, lam * x)
+        w_new = np.where(far, w, lam * w)
+        out[mask, stick_idx] = -(x_new - x)
+        out[mask, loop_idx] = side * (w_new - w)
+
+    # both on the loop
+    m = ~a_st & ~b_st
+    if np.any(m):
+        ta, tb = a[m] - ell, b[m] - ell
+        # P lies on the ccw arc from A to B iff θ_B < θ_A
+        p_on_ccw = tb < ta
+        wa = np.where(p_on_ccw, c - ta, ta)  # A's distance to P along the arc that contains P
+        wb = np.where(p_on_ccw, tb, c - tb)
+        lam = h / (wa + wb)
+        da = (lam - 1.0) * wa
+        db = (lam - 1.0) * wb
+        # moving away from P along that arc: A ccw if P is ahead ccw of A ... towards P is the other way
+        out[m, 0] = np.where(p_on_ccw, -da, da)
+        out[m, 1] = np.where(p_on_ccw, db, -db)
+    return out
+
+
+def _apply(track: Track, st: FloatArray, disp: FloatArray, t: ArrayLike) -> FloatArray:
+    t_arr = np.asarray(t, dtype=float)
+    t_arr = t_arr[:, None] if t_arr.ndim == 1 else t_arr
+    new = st + t_arr * disp
+    if isinstance(track, Circle):
+        return np.mod(new, track.loop)
+    if isinstance(track, Lollipop):
+        ell, c = track.stick, track.loop
+        on_loop = st > ell
+        wrapped = ell + np.mod(new - ell, c)
+        return np.where(on_loop, wrapped, new)
+    return new
+
+
+def retract(track: Track, states: ArrayLike, t: ArrayLike = 1.0) -> FloatArray:
+    """The deformation ``H(x, t)`` (vectorized over states; ``t`` scalar or one per state).
+
+    Parameters
+    ----------
+    track : Track
+        A circle or a lollipop (for an interval ``H`` is the straight-line contraction of each component to its
+        skeleton point).
+    states : array_like, shape (N, 2)
+        Collision-free states (track coordinates).
+    t : float or array_like of shape (N,)
+        Deformation time in [0, 1].
+
+    Returns
+    -------
+    ndarray, shape (N, 2)
+        ``H(x, t)`` in track coordinates.
+    """
+    st = np.atleast_2d(np.asarray(states, dtype=float))
+    if isinstance(track, Interval):
+        ell = track.stick
+        target = np.where((st[:, 0] < st[:, 1])[:, None], [[0.0, ell]], [[ell, 0.0]])
+        return _apply(track, st, target - st, t)
+    if isinstance(track, Circle):
+        return _apply(track, st, circle_trace(track, st), t)
+    assert isinstance(track, Lollipop)
+    sk = LollipopSkeleton(track)
+    ms = sk.to_model(st)
+    disp = lollipop_trace(sk.model, ms)
+    return sk.from_model(_apply(sk.model, ms, disp, t))
+
+
+def trace_moves(track: Track, state: ArrayLike) -> tuple[RobotMove, RobotMove]:
+    """The trace ``t ↦ H(x, t)`` of one state as one move per robot (real track coordinates)."""
+    a, b = (float(v) for v in np.asarray(state, dtype=float))
+    if isinstance(track, Circle):
+        da, db = circle_trace(track, [[a, b]])[0]
+        return RobotMove("loop", a, float(da)), RobotMove("loop", b, float(db))
+    assert isinstance(track, Lollipop)
+    sk = LollipopSkeleton(track)
+    ma, mb = (float(v) for v in sk.to_model([a, b]))
+    da, db = lollipop_trace(sk.model, [[ma, mb]])[0]
+    ell = sk.model.stick
+    moves = []
+    for p, dp in ((ma, float(da)), (mb, float(db))):
+        mv = RobotMove("stick", p, dp) if p <= ell else RobotMove("loop", p - ell, dp)
+        moves.append(sk.move_from_model(mv))
+    return moves[0], moves[1]

@@ -1,0 +1,306 @@
+"""Robot routes in unwrapped coordinates (the universal cover of the track).
+
+The universal cover ``T`` of a track is a tree: for the circle the real line (the loop unrolled), for the
+lollipop the real line with a copy of the stick hanging at every lift ``P_k = k·c`` of the pole, for the
+interval the interval itself. A point of ``T`` is a :class:`Lift`: ``("line", k=0, v=U)`` with the unrolled
+loop coordinate ``U`` (for the interval ``U = p``), or ``("stick", k, v=x)`` on the k-th copy of the stick at
+depth ``x`` below ``P_k`` (``x = ℓ − p``).
+
+Every robot of a plan moves along a single geodesic line of ``T``: its :class:`Route`. The route coordinate
+``σ`` (metres) is the signed distance along that line from the robot's start (``σ = 0``), continuous through P
+and round the loop; the goal has ``σ ≥ 0``. Trajectory optimisation works in these coordinates.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mpa.errors import PlanningError
+from mpa.tracks import Circle, Interval, Lollipop, Track
+
+__all__ = ["Lift", "Route", "RobotMove", "lift_moves"]
+
+FloatArray = NDArray[np.float64]
+#: Tolerance (metres) for deciding that a lifted point sits on a junction.
+LIFT_TOL = 1e-9
+
+
+@dataclass(frozen=True)
+class Lift:
+    """A point of the universal cover: ``kind`` "line" (v = U) or "stick" (copy ``k``, v = depth x >= 0)."""
+
+    kind: str
+    k: int
+    v: float
+
+
+@dataclass(frozen=True)
+class RobotMove:
+    """One robot's motion during one elementary step, along a single edge of the track.
+
+    ``edge`` is "stick" (``p`` goes linearly from ``start`` to ``start + delta``; also the interval) or
+    "loop" (``θ`` goes linearly from ``start`` by the signed, unwrapped ``delta``; ccw positive).
+    """
+
+    edge: str
+    start: float
+    delta: float
+
+    @staticmethod
+    def stay(track: Track, p: float) -> RobotMove:
+        """A robot that does not move (at track coordinate ``p``)."""
+        if isinstance(track, Lollipop) and p > track.stick:
+            return RobotMove("loop", p - track.stick, 0.0)
+        if isinstance(track, Circle):
+            return RobotMove("loop", p, 0.0)
+        return RobotMove("stick", p, 0.0)
+
+
+def _to_track(track: Track, lift: Lift) -> float:
+    if isinstance(track, Interval):
+        return lift.v
+    if isinstance(track, Circle):
+        return float(np.mod(lift.v, track.loop))
+    assert isinstance(track, Lollipop)
+    if lift.kind == "stick":
+        return track.stick - lift.v
+    th = float(np.mod(lift.v, track.loop))
+    if th > track.loop - LIFT_TOL:
+        th = 0.0
+    return track.stick + th
+
+
+def lift_moves(track: Track, moves: Sequence[RobotMove], start: float) -> list[Lift]:
+    """Lift a robot's sequence of moves to the universal cover.
+
+    Parameters
+    ----------
+    track : Track
+    moves : sequence of RobotMove
+        Consecutive moves of one robot; each must start where the previous one ended.
+    start : float
+        The robot's start (track coordinate).
+
+    Returns
+    -------
+    list of Lift
+        ``len(moves) + 1`` lifted points: the start and the end of every move.
+    """
+    ell = track.stick if isinstance(track, Lollipop) else 0.0
+    if isinstance(track, Lollipop):
+        cur = Lift("stick", 0, ell - start) if start <= ell else Lift("line", 0, start - ell)
+    else:
+        cur = Lift("line", 0, float(start))
+    out = [cur]
+    c = getattr(track, "loop", 0.0)
+    for mv in moves:
+        if isinstance(track, Lollipop):
+            if mv.edge == "stick":
+                if cur.kind == "line":
+                    k = round(cur.v / c)
+                    if abs(cur.v - k * c) > 1e-7 * max(1.0, c):
+                        raise PlanningError(f"robot leaves the loop onto the stick away from P (U = {cur.v})")
+                    cur = Lift("stick", k, 0.0)
+                x_end = ell - (mv.start + mv.delta)
+                if abs((ell - cur.v) - mv.start) > 1e-7 * max(1.0, ell):
+                    raise PlanningError(f"stick move starts at {mv.start}, robot is at {ell - cur.v}")
+                cur = Lift("stick", cur.k, max(x_end, 0.0))
+            else:
+                if cur.kind == "stick":
+                    if cur.v > 1e-7 * max(1.0, ell):
+                        raise PlanningError(f"robot enters the loop from the stick away from P (x = {cur.v})")
+                    cur = Lift("line", 0, cur.k * c)
+                th = float(np.mod(cur.v, c))
+                gap = min(abs(th - mv.start), c - abs(th - mv.start))
+                if gap > 1e-7 * max(1.0, c):
+                    raise PlanningError(f"loop move starts at θ = {mv.start}, robot is at θ = {th}")
+                cur = Lift("line", 0, cur.v + mv.delta)
+        else:
+            cur = Lift("line", 0, cur.v + mv.delta)
+        out.append(cur)
+    return out
+
+
+@dataclass(frozen=True)
+class Route:
+    """A geodesic line of the universal cover, parametrized by the route coordinate ``σ`` (metres).
+
+    The line is stored as consecutive pieces in the order of increasing ``r`` (arc length from the
+    line's first end); ``σ = direction · (r − r_start)``.
+
+    Attributes
+    ----------
+    track : Track
+    pieces : tuple of (kind, k, v_from, v_to, r_from, r_to)
+        Each piece is a straight part of one edge of the cover; ``v`` varies linearly with ``r``.
+    r_start : float
+        ``r`` of the robot's start.
+    direction : int
+        +1 or -1.
+    sigma_min, sigma_max : float
+        The extent of the line in route coordinates (sticks extended to the free end, the loop by one turn).
+    length : float
+        ``σ`` of the goal (>= 0).
+    """
+
+    track: Track
+    pieces: tuple[tuple[str, int, float, float, float, float], ...]
+    r_start: float
+    direction: int
+    sigma_min: float
+    sigma_max: float
+    length: float
+
+    # -------------------------------------------------------------------------------------------
+    @classmethod
+    def through(cls, track: Track, lifts: Sequence[Lift], goal_index: int = -1) -> tuple[Route, FloatArray]:
+        """The route through a robot's lifted corner points, and the corners' route coordinates.
+
+        Parameters
+        ----------
+        track : Track
+        lifts : sequence of Lift
+            The robot's corner points (start first).
+        goal_index : int
+            Which point is the goal (orients the route so that its ``σ >= 0``).
+
+        Returns
+        -------
+        route : Route
+        sigma : ndarray, shape (len(lifts),)
+            Route coordinate of every corner.
+
+        Raises
+        ------
+        PlanningError
+            If the points do not lie on one geodesic line of the cover (never happens for the paper's plans).
+        """
+        c = getattr(track, "loop", 0.0)
+        ell = track.stick if isinstance(track, (Lollipop, Interval)) else 0.0
+        tol = 1e-7 * max(1.0, track.total_length)
+        # normalise: a stick point at depth 0 is the junction on the line
+        pts = []
+        for lf in lifts:
+            if lf.kind == "stick" and lf.v <= tol:
+                pts.append(Lift("line", 0, lf.k * c))
+            else:
+                pts.append(lf)
+        sticks = sorted({p.k for p in pts if p.kind == "stick"})
+        line_vals = [p.v for p in pts if p.kind == "line"] + [k * c for k in sticks]
+        if not isinstance(track, Lollipop):
+            lo, hi = min(line_vals), max(line_vals)
+            if isinstance(track, Interval):
+                ext_lo, ext_hi = 0.0, ell
+            else:
+                ext_lo, ext_hi = lo - c, hi + c
+            pieces = (("line", 0, ext_lo, ext_hi, 0.0, ext_hi - ext_lo),)
+            r = np.array([p.v - ext_lo for p in pts])
+            return cls._oriented(track, pieces, r, goal_index)
+        lo, hi = min(line_vals), max(line_vals)
+        if len(sticks) > 2:
+            raise PlanningError(f"robot visits {len(sticks)} copies of the stick: not a geodesic route")
+        only_stick = all(p.kind == "stick" or abs(p.v - sticks[0] * c) <= tol for p in pts) if sticks else False
+        if only_stick and len(sticks) == 1:
+            k = sticks[0]
+            pieces = (("stick", k, ell, 0.0, 0.0, ell),)  # from the free end up to P_k: r = ℓ − x
+            r = np.array([ell - (p.v if p.kind == "stick" else 0.0) for p in pts])
+            return cls._oriented(track, pieces, r, goal_index)
+        low_stick = [k for k in sticks if abs(k * c - lo) <= tol]
+        high_stick = [k for k in sticks if abs(k * c - hi) <= tol and k not in low_stick]
+        if len(low_stick) + len(high_stick) != len(sticks):
+            raise PlanningError("robot's path branches off its route at a lift of P: not a geodesic route")
+        parts: list[tuple[str, int, float, float, float, float]] = []
+        r0 = 0.0
+        if low_stick:
+            parts.append(("stick", low_stick[0], ell, 0.0, 0.0, ell))
+            r0 = ell
+            line_lo = lo
+        else:
+            line_lo = lo - c
+        line_hi = hi if high_stick else hi + c
+        parts.append(("line", 0, line_lo, line_hi, r0, r0 + line_hi - line_lo))
+        r1 = r0 + line_hi - line_lo
+        if high_stick:
+            parts.append(("stick", high_stick[0], 0.0, ell, r1, r1 + ell))
+        r_list = []
+        for p in pts:
+            if p.kind == "stick":
+                r_list.append(ell - p.v if p.k in low_stick else r1 + p.v)
+            else:
+                r_list.append(r0 + p.v - line_lo)
+        return cls._oriented(track, tuple(parts), np.array(r_list), goal_index)
+
+    @classmethod
+    def _oriented(cls, track, pieces, r, goal_index):  # type: ignore[no-untyped-def]
+        r_start = float(r[0])
+        diffs = r - r_start
+        goal = float(diffs[goal_index])
+        if abs(goal) > 1e-12:
+            direction = 1 if goal > 0 else -1
+        else:
+            nz = np.flatnonzero(np.abs(diffs) > 1e-12)
+            direction = 1 if (len(nz) == 0 or diffs[nz[0]] > 0) else -1
+        r_lo, r_hi = pieces[0][4], pieces[-1][5]
+        s_a, s_b = direction * (r_lo - r_start), direction * (r_hi - r_start)
+        sigma = direction * diffs
+        route = cls(track, tuple(pieces), r_start, direction, min(s_a, s_b), max(s_a, s_b), abs(goal))
+        return route, sigma
+
+    # -------------------------------------------------------------------------------------------
+    def _pieces_at(self, r: FloatArray) -> NDArray[np.intp]:
+        ends = np.array([pc[5] for pc in self.pieces[:-1]])
+        return np.searchsorted(ends, r, side="left")
+
+    def lift_at(self, sigma: ArrayLike) -> tuple[NDArray[np.bool_], NDArray[np.int64], FloatArray]:
+        """Lifted points at route coordinates ``σ``: (is_stick, copy index k, v). Same shape as ``σ``."""
+        s = np.asarray(sigma, dtype=float)
+        r = self.r_start + self.direction * s
+        idx = self._pieces_at(r)
+        kinds = np.array([pc[0] == "stick" for pc in self.pieces])
+        ks = np.array([pc[1] for pc in self.pieces])
+        v0 = np.array([pc[2] for pc in self.pieces])
+        v1 = np.array([pc[3] for pc in self.pieces])
+        ra = np.array([pc[4] for pc in self.pieces])
+        rb = np.array([pc[5] for pc in self.pieces])
+        span = np.where(rb > ra, rb - ra, 1.0)
+        frac = (r - ra[idx]) / span[idx]
+        v = v0[idx] + frac * (v1[idx] - v0[idx])
+        is_stick = kinds[idx]
+        if isinstance(self.track, (Lollipop, Interval)):
+            lim = self.track.stick
+            v = np.where(is_stick, np.clip(v, 0.0, lim), v)
+            if isinstance(self.track, Interval):
+                v = np.clip(v, 0.0, lim)
+        return is_stick, ks[idx], v
+
+    def position(self, sigma: ArrayLike) -> FloatArray:
+        """Track coordinate at route coordinate ``σ`` (vectorized; metres)."""
+        is_stick, _k, v = self.lift_at(sigma)
+        tr = self.track
+        if isinstance(tr, Interval):
+            return v
+        if isinstance(tr, Circle):
+            th = np.mod(v, tr.loop)
+            return np.where(th >= tr.loop - 1e-12, 0.0, th)
+        assert isinstance(tr, Lollipop)
+        th = np.mod(v, tr.loop)
+        th = np.where(th >= tr.loop - 1e-12, 0.0, th)
+        return np.where(is_stick, tr.stick - v, tr.stick + th)
+
+    def junctions(self) -> FloatArray:
+        """Route coordinates where the route passes the pole P (empty for the circle and the interval)."""
+        if not isinstance(self.track, Lollipop):
+            return np.zeros(0)
+        c = self.track.loop
+        rs: list[float] = []
+        for kind, _k, v0, v1, ra, rb in self.pieces:
+            if kind == "line":
+                lo, hi = min(v0, v1), max(v0, v1)
+                m = np.arange(np.ceil(lo / c - 1e-12), np.floor(hi / c + 1e-12) + 1)
+                rs.extend(ra + (m * c - v0) * np.sign(v1 - v0 if v1 != v0 else 1.0))
+        s = self.direction * (np.array(sorted(set(np.round(rs, 12)))) - self.r_start)
+        return np.sort(s[(s >= self.sigma_min - 1e-12) & (s <= self.sigma_max + 1e-12)])

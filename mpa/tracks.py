@@ -1,0 +1,351 @@
+"""Tracks: the interval, the circle and the lollipop as metric graphs (SPEC §1).
+
+A position on a track is one float, the *track coordinate* ``p`` (metres):
+
+========  =====================  ===============================================================
+track     parameters             coordinate
+========  =====================  ===============================================================
+interval  ``stick`` = ℓ          ``p ∈ [0, ℓ]``
+circle    ``loop`` = c           ``p ∈ [0, c)``, counter-clockwise
+lollipop  ``stick`` ℓ, ``loop`` c  ``p ∈ [0, ℓ]`` on the stick from the free end (0) to the pole P (ℓ);
+                                 ``p ∈ (ℓ, ℓ + c)`` on the loop, ``θ = p − ℓ`` ccw from P
+========  =====================  ===============================================================
+
+Every distance is the exact graph distance (length of the shortest path along the track),
+vectorized over numpy arrays.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mpa.errors import InvalidInputError
+from mpa.graph import Edge, MetricGraph
+
+__all__ = ["Circle", "Interval", "Lollipop", "Track", "make_track"]
+
+FloatArray = NDArray[np.float64]
+#: Positions this close to the end of a half-open coordinate range are wrapped (metres).
+WRAP_TOL = 1e-12
+
+
+def _positive_length(name: str, value: float) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InvalidInputError(f"{name} length is {value!r}, expected a positive finite number (metres)") from None
+    if not np.isfinite(v) or v <= 0:
+        raise InvalidInputError(f"{name} length is {v!r}, expected a positive finite number (metres)")
+    return v
+
+
+class Track(ABC):
+    """A track: a compact metric graph with a one-float coordinate (see module docstring)."""
+
+    kind: str
+
+    @property
+    @abstractmethod
+    def total_length(self) -> float:
+        """Total length of the track (metres)."""
+
+    @property
+    @abstractmethod
+    def has_loop(self) -> bool:
+        """Whether the track contains a cycle (the only place where the robots can change order)."""
+
+    @abstractmethod
+    def distance(self, p: ArrayLike, q: ArrayLike) -> FloatArray:
+        """Graph distance between positions ``p`` and ``q`` (broadcast, metres)."""
+
+    @abstractmethod
+    def normalize(self, p: ArrayLike) -> FloatArray:
+        """Map coordinates on the loop into the canonical half-open range (no validation)."""
+
+    @abstractmethod
+    def _valid_mask(self, p: FloatArray) -> NDArray[np.bool_]:
+        """Which normalized coordinates lie on the track."""
+
+    @abstractmethod
+    def _range_text(self) -> str:
+        """Human description of the valid coordinate range."""
+
+    @abstractmethod
+    def embed(self, p: ArrayLike) -> FloatArray:
+        """Planar embedding for plotting. Shape ``p.shape + (2,)`` (metres)."""
+
+    @abstractmethod
+    def as_graph(self) -> MetricGraph:
+        """The track as a generic :class:`~mpa.graph.MetricGraph` (vertices, edges with lengths)."""
+
+    @abstractmethod
+    def to_dict(self) -> dict[str, object]:
+        """Parameters as a JSON-ready dict (``{"track": kind, ...}``)."""
+
+    def validate(self, p: ArrayLike, name: str = "position") -> FloatArray:
+        """Check that ``p`` holds finite coordinates on the track and return them normalized.
+
+        Parameters
+        ----------
+        p : array_like
+            Track coordinates (any shape).
+        name : str
+            What the coordinates are, for the error message (e.g. ``"start of robot A"``).
+
+        Returns
+        -------
+        ndarray
+            The normalized coordinates, same shape.
+
+        Raises
+        ------
+        InvalidInputError
+            If a value is not finite or lies outside the track's coordinate range.
+        """
+        try:
+            arr = np.asarray(p, dtype=float)
+        except (TypeError, ValueError):
+            raise InvalidInputError(f"{name} is {p!r}, expected a number in {self._range_text()}") from None
+        bad = ~np.isfinite(arr)
+        if np.any(bad):
+            raise InvalidInputError(f"{name} is {arr[bad].flat[0]!r}, expected a finite number in {self._range_text()}")
+        out = self.normalize(arr)
+        ok = self._valid_mask(out)
+        if not np.all(ok):
+            v = arr[~ok].flat[0]
+            raise InvalidInputError(f"{name} is {v!r}, expected a track coordinate in {self._range_text()}")
+        return out
+
+    def on_loop(self, p: ArrayLike) -> NDArray[np.bool_]:
+        """Whether positions lie on the loop (the pole P of a lollipop counts as both)."""
+        return np.zeros(np.shape(p), dtype=bool)
+
+
+@dataclass(frozen=True)
+class Interval(Track):
+    """The interval track ``[0, stick]``.
+
+    Parameters
+    ----------
+    stick : float
+        Length ℓ (metres, > 0).
+    """
+
+    stick: float = 1.0
+    kind = "interval"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "stick", _positive_length("stick", self.stick))
+
+    @property
+    def total_length(self) -> float:
+        return self.stick
+
+    @property
+    def has_loop(self) -> bool:
+        return False
+
+    def distance(self, p: ArrayLike, q: ArrayLike) -> FloatArray:
+        return np.abs(np.asarray(q, dtype=float) - np.asarray(p, dtype=float))
+
+    def normalize(self, p: ArrayLike) -> FloatArray:
+        return np.asarray(p, dtype=float).copy()
+
+    def _valid_mask(self, p: FloatArray) -> NDArray[np.bool_]:
+        return (p >= 0.0) & (p <= self.stick)
+
+    def _range_text(self) -> str:
+        return f"[0, {self.stick:g}]"
+
+    def embed(self, p: ArrayLike) -> FloatArray:
+        p = np.asarray(p, dtype=float)
+        return np.stack([p, np.zeros_like(p)], axis=-1)
+
+    def as_graph(self) -> MetricGraph:
+        return MetricGraph(("F", "E"), (Edge("stick", "F", "E", self.stick),))
+
+    def to_dict(self) -> dict[str, object]:
+        return {"track": self.kind, "stick": self.stick}
+
+
+@dataclass(frozen=True)
+class Circle(Track):
+    """The circle track of circumference ``loop``, coordinate ``[0, loop)`` counter-clockwise.
+
+    Parameters
+    ----------
+    loop : float
+        Circumference c (metres, > 0).
+    """
+
+    loop: float = 1.0
+    kind = "circle"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "loop", _positive_length("loop", self.loop))
+
+    @property
+    def half(self) -> float:
+        """Half the circumference, ``h = c/2``: the antipodal distance."""
+        return 0.5 * self.loop
+
+    @property
+    def total_length(self) -> float:
+        return self.loop
+
+    @property
+    def has_loop(self) -> bool:
+        return True
+
+    def distance(self, p: ArrayLike, q: ArrayLike) -> FloatArray:
+        c = self.loop
+        diff = np.mod(np.asarray(q, dtype=float) - np.asarray(p, dtype=float), c)
+        return np.minimum(diff, c - diff)
+
+    def normalize(self, p: ArrayLike) -> FloatArray:
+        p = np.asarray(p, dtype=float)
+        out = p.copy()
+        near_end = np.abs(out - self.loop) <= WRAP_TOL * max(1.0, self.loop)
+        out[near_end] = 0.0
+        return out
+
+    def _valid_mask(self, p: FloatArray) -> NDArray[np.bool_]:
+        return (p >= 0.0) & (p < self.loop)
+
+    def _range_text(self) -> str:
+        return f"[0, {self.loop:g})"
+
+    def on_loop(self, p: ArrayLike) -> NDArray[np.bool_]:
+        return np.ones(np.shape(p), dtype=bool)
+
+    def embed(self, p: ArrayLike) -> FloatArray:
+        p = np.asarray(p, dtype=float)
+        r = self.loop / (2 * np.pi)
+        ang = 2 * np.pi * p / self.loop
+        return np.stack([r * np.cos(ang), r * np.sin(ang)], axis=-1)
+
+    def as_graph(self) -> MetricGraph:
+        return MetricGraph(("P",), (Edge("loop", "P", "P", self.loop),))
+
+    def to_dict(self) -> dict[str, object]:
+        return {"track": self.kind, "loop": self.loop}
+
+
+@dataclass(frozen=True)
+class Lollipop(Track):
+    """The lollipop track: a stick of length ``stick`` from the free end F to the pole P, and a loop at P.
+
+    Parameters
+    ----------
+    stick : float
+        Stick length ℓ (metres, > 0).
+    loop : float
+        Loop circumference c (metres, > 0).
+    """
+
+    stick: float = 1.0
+    loop: float = 1.0
+    kind = "lollipop"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "stick", _positive_length("stick", self.stick))
+        object.__setattr__(self, "loop", _positive_length("loop", self.loop))
+
+    @property
+    def half(self) -> float:
+        """Half the loop, ``h = c/2`` (the paper's "half unit")."""
+        return 0.5 * self.loop
+
+    @property
+    def total_length(self) -> float:
+        return self.stick + self.loop
+
+    @property
+    def has_loop(self) -> bool:
+        return True
+
+    def theta(self, p: ArrayLike) -> FloatArray:
+        """Loop angle ``θ = p − ℓ`` in ``[0, c)`` for positions on the loop (0 at P); NaN on the open stick."""
+        p = np.asarray(p, dtype=float)
+        return np.where(p >= self.stick, p - self.stick, np.nan)
+
+    def distance(self, p: ArrayLike, q: ArrayLike) -> FloatArray:
+        ell, c = self.stick, self.loop
+        p, q = np.broadcast_arrays(np.asarray(p, dtype=float), np.asarray(q, dtype=float))
+        # depth below P along the stick (0 on the loop) and loop-distance to P (0 on the stick)
+        xp = np.maximum(ell - p, 0.0)
+        xq = np.maximum(ell - q, 0.0)
+        tp = np.maximum(p - ell, 0.0)
+        tq = np.maximum(q - ell, 0.0)
+        wp = np.minimum(tp, c - tp)
+        wq = np.minimum(tq, c - tq)
+        diff = np.abs(tp - tq)
+        both_loop = np.minimum(diff, c - diff)
+        return np.where(
+            (p <= ell) & (q <= ell),
+            np.abs(p - q),
+            np.where((p >= ell) & (q >= ell), both_loop, xp + xq + wp + wq),
+        )
+
+    def normalize(self, p: ArrayLike) -> FloatArray:
+        p = np.asarray(p, dtype=float)
+        out = p.copy()
+        end = self.stick + self.loop
+        near_end = np.abs(out - end) <= WRAP_TOL * max(1.0, end)
+        out[near_end] = self.stick
+        return out
+
+    def _valid_mask(self, p: FloatArray) -> NDArray[np.bool_]:
+        return (p >= 0.0) & (p < self.stick + self.loop)
+
+    def _range_text(self) -> str:
+        return f"[0, {self.stick + self.loop:g}) (stick [0, {self.stick:g}], loop ({self.stick:g}, {self.stick + self.loop:g}))"
+
+    def on_loop(self, p: ArrayLike) -> NDArray[np.bool_]:
+        return np.asarray(p, dtype=float) >= self.stick
+
+    def embed(self, p: ArrayLike) -> FloatArray:
+        """Stick along the negative x axis ending at P = (0, 0); loop a circle to the right of P, ccw."""
+        p = np.asarray(p, dtype=float)
+        ell, c = self.stick, self.loop
+        r = c / (2 * np.pi)
+        ang = 2 * np.pi * np.maximum(p - ell, 0.0) / c
+        loop_xy = np.stack([r - r * np.cos(ang), -r * np.sin(ang)], axis=-1)  # ccw about the centre (r, 0)
+        stick_xy = np.stack([p - ell, np.zeros_like(p)], axis=-1)
+        return np.where((p <= ell)[..., None], stick_xy, loop_xy)
+
+    def as_graph(self) -> MetricGraph:
+        return MetricGraph(("F", "P"), (Edge("stick", "F", "P", self.stick), Edge("loop", "P", "P", self.loop)))
+
+    def to_dict(self) -> dict[str, object]:
+        return {"track": self.kind, "stick": self.stick, "loop": self.loop}
+
+
+def make_track(kind: str, stick: float | None = None, loop: float | None = None) -> Track:
+    """Build a track by name with the paper's defaults (ℓ = c = 1).
+
+    Parameters
+    ----------
+    kind : {"interval", "circle", "lollipop"}
+    stick, loop : float, optional
+        Lengths in metres; a parameter the track does not have is rejected.
+
+    Returns
+    -------
+    Track
+    """
+    if kind == "interval":
+        if loop is not None:
+            raise InvalidInputError(f"loop is {loop!r}, but an interval track has no loop (give --stick only)")
+        return Interval(1.0 if stick is None else stick)
+    if kind == "circle":
+        if stick is not None:
+            raise InvalidInputError(f"stick is {stick!r}, but a circle track has no stick (give --loop only)")
+        return Circle(1.0 if loop is None else loop)
+    if kind == "lollipop":
+        return Lollipop(1.0 if stick is None else stick, 1.0 if loop is None else loop)
+    raise InvalidInputError(f"track is {kind!r}, expected one of 'interval', 'circle', 'lollipop'")
