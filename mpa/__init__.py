@@ -1,14 +1,51 @@
-"""mpa: the topological motion planning algorithms of Boughrira & Colman for two robots on a graph track."""
+"""mpa: the topological motion planning algorithms of Boughrira & Colman for two robots on a graph track.
 
+Layout follows the paper: :mod:`mpa.tracks` (physical spaces), :mod:`mpa.cspace` (configuration spaces),
+:mod:`mpa.skeleton` and :mod:`mpa.retraction` (the deformation onto the skeleton), :mod:`mpa.planners`
+(the algorithms and their domains of continuity), :mod:`mpa.plan` (results), :mod:`mpa.homotopy` (classes of
+paths as skeleton words), :mod:`mpa.complexity` (topological complexity). numpy only.
+"""
+
+from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
 from mpa.graph import Edge, MetricGraph, farber_tc_of_graph
+from mpa.homotopy import path_word, reduce_word
+from mpa.plan import Plan, PlanStep
+from mpa.planners import CirclePlanner, IntervalPlanner, LollipopPlanner, Planner, make_planner, plan
+from mpa.retraction import retract
+from mpa.routes import Route
+from mpa.skeleton import CircleSkeleton, IntervalSkeleton, LollipopSkeleton, Skeleton, skeleton_of
+from mpa.tracks import Circle, Interval, Lollipop, Track, make_track
 
 __all__ = [
+    "Circle",
+    "CirclePlanner",
+    "CircleSkeleton",
+    "ConfigurationSpace",
     "Edge",
+    "Interval",
+    "IntervalPlanner",
+    "IntervalSkeleton",
     "InvalidInputError",
+    "Lollipop",
+    "LollipopPlanner",
+    "LollipopSkeleton",
     "MPAError",
     "MetricGraph",
     "NoMotionError",
+    "Plan",
+    "PlanStep",
+    "Planner",
     "PlanningError",
+    "Route",
+    "Skeleton",
+    "Track",
     "farber_tc_of_graph",
+    "make_planner",
+    "make_track",
+    "path_word",
+    "plan",
+    "reduce_word",
+    "retract",
+    "skeleton_of",
 ]

@@ -95,7 +95,10 @@ def word_from_points(graph: MetricGraph, edges: ArrayLike, ts: ArrayLike) -> tup
             tokens.append(("+" if v == str(E[cur].head) else "-") + E[cur].name)
         cur, entry = nxt, v
     last_v = at_vertex(cur, float(t_arr[-1]))
-    if entry is not None and last_v != entry:
+    if last_v is not None and entry != last_v:
+        # the last visit ends on a vertex: a (possibly partial) traversal towards it
+        tokens.append(("+" if last_v == str(E[cur].head) else "-") + E[cur].name)
+    elif last_v is None and entry is not None:
         tokens.append(("+" if entry == str(E[cur].tail) else "-") + E[cur].name)
     return reduce_word(tokens)
 

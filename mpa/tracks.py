@@ -112,11 +112,11 @@ class Track(ABC):
             raise InvalidInputError(f"{name} is {p!r}, expected a number in {self._range_text()}") from None
         bad = ~np.isfinite(arr)
         if np.any(bad):
-            raise InvalidInputError(f"{name} is {arr[bad].flat[0]!r}, expected a finite number in {self._range_text()}")
+            raise InvalidInputError(f"{name} is {float(arr[bad].flat[0])!r}, expected a finite number in {self._range_text()}")
         out = self.normalize(arr)
         ok = self._valid_mask(out)
         if not np.all(ok):
-            v = arr[~ok].flat[0]
+            v = float(arr[~ok].flat[0])
             raise InvalidInputError(f"{name} is {v!r}, expected a track coordinate in {self._range_text()}")
         return out
 
