@@ -39,7 +39,9 @@ class ConfigurationSpace:
         try:
             d = float(self.clearance)
         except (TypeError, ValueError):
-            raise InvalidInputError(f"clearance is {self.clearance!r}, expected a finite number >= 0 (metres)") from None
+            raise InvalidInputError(
+                f"clearance is {self.clearance!r}, expected a finite number >= 0 (metres)"
+            ) from None
         if not np.isfinite(d) or d < 0:
             raise InvalidInputError(f"clearance is {d!r}, expected a finite number >= 0 (metres)")
         object.__setattr__(self, "clearance", d)
@@ -73,7 +75,8 @@ class ConfigurationSpace:
             raise InvalidInputError(f"{name} puts both robots at {out[0]:g}: robots coincide (distance 0)")
         if d < self.clearance:
             raise InvalidInputError(
-                f"{name} ({out[0]:g}, {out[1]:g}) has the robots {d:g} apart, expected at least the clearance {self.clearance:g}"
+                f"{name} ({out[0]:g}, {out[1]:g}) has the robots {d:g} apart, "
+                f"expected at least the clearance {self.clearance:g}"
             )
         return out
 

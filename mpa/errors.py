@@ -10,7 +10,7 @@ The hierarchy keeps the caller's mistakes apart from answers and from numerical 
 
 from __future__ import annotations
 
-__all__ = ["MPAError", "InvalidInputError", "NoMotionError", "PlanningError"]
+__all__ = ["InvalidInputError", "MPAError", "NoMotionError", "PlanningError"]
 
 
 class MPAError(Exception):

@@ -77,6 +77,11 @@ class Plan:
         ``x_i' = H₁(start)`` and ``x_f' = H₁(goal)``.
     word : tuple of str
         Reduced edge word of ``H₁∘α`` in the skeleton graph (the path's homotopy class).
+    travel : ndarray, shape (2,)
+        Distance travelled by A and by B (metres).
+    length : float
+        Length of the path in the max-norm of route coordinates (metres): ``u`` is proportional to it, so
+        equally spaced samples are at most ``length / (n − 1)`` apart for each robot.
     """
 
     track: Track
@@ -95,6 +100,7 @@ class Plan:
     skeleton_goal: FloatArray
     word: tuple[str, ...]
     travel: FloatArray = field(default_factory=lambda: np.zeros(2))
+    length: float = 0.0
 
     def path_s(self, u: ArrayLike) -> FloatArray:
         """Route coordinates α_σ(u) (vectorized). Shape ``u.shape + (2,)``."""
@@ -118,7 +124,7 @@ class Plan:
         """Number of equally spaced samples so that consecutive points are at most ``fraction`` of the track's
         total length apart for each robot."""
         step = fraction * self.track.total_length
-        return int(np.ceil(float(np.max(self.travel)) / step)) + 1
+        return int(np.ceil(self.length / step)) + 1
 
     def min_distance(self, n: int = 20001) -> float:
         """Smallest distance between the robots along the path, on ``n`` samples (metres)."""
@@ -138,7 +144,12 @@ class Plan:
             "skeleton_goal": self.skeleton_goal.tolist(),
             "word": list(self.word),
             "steps": [
-                {"name": s.name, "description": s.description, "u": [s.u_start, s.u_end], "waypoints": s.waypoints.tolist()}
+                {
+                    "name": s.name,
+                    "description": s.description,
+                    "u": [s.u_start, s.u_end],
+                    "waypoints": s.waypoints.tolist(),
+                }
                 for s in self.steps
             ],
             "knots": self.knots.tolist(),
@@ -146,6 +157,7 @@ class Plan:
             "waypoints_s": self.waypoints_s.tolist(),
             "route_lengths": [self.routes[0].length, self.routes[1].length],
             "travel": self.travel.tolist(),
+            "length": self.length,
             "path": self.sample(samples).tolist(),
         }
 
@@ -207,4 +219,5 @@ def build_plan(
         skeleton_goal=np.asarray(skeleton_goal, dtype=float),
         word=word,
         travel=travel,
+        length=float(total),
     )

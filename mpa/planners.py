@@ -80,7 +80,9 @@ PRELIM = {
 }
 FINAL = {
     "interval": "none",
-    "circle": "robot A moves along its shortest path to its goal; B waits (the preliminary trace of the goal, reversed)",
+    "circle": (
+        "robot A moves along its shortest path to its goal; B waits (the preliminary trace of the goal, reversed)"
+    ),
     "lollipop": "both robots move to their goals along the reversed preliminary trace of the goal",
 }
 
@@ -141,9 +143,21 @@ class IntervalPlanner(Planner):
         mv = (RobotMove("stick", s[0], g[0] - s[0]), RobotMove("stick", s[1], g[1] - s[1]))
         on_s = retract(tr, np.array([s, g]))
         return build_plan(
-            tr, s, g, self.clearance, 1, RULES[("interval", 1)],
-            [(PRELIM["interval"], []), ("both robots translate straight to their goals", [mv]), (FINAL["interval"], [])],
-            sk, on_s[0], on_s[1], (),
+            tr,
+            s,
+            g,
+            self.clearance,
+            1,
+            RULES[("interval", 1)],
+            [
+                (PRELIM["interval"], []),
+                ("both robots translate straight to their goals", [mv]),
+                (FINAL["interval"], []),
+            ],
+            sk,
+            on_s[0],
+            on_s[1],
+            (),
         )
 
 
@@ -176,13 +190,21 @@ class CirclePlanner(Planner):
         word = _pieces_word(sk.graph, pieces)
         what = "both robots move counterclockwise" if domain == 1 else "both robots move along B's shortest path"
         return build_plan(
-            tr, s, g, self.clearance, domain, RULES[("circle", domain)],
+            tr,
+            s,
+            g,
+            self.clearance,
+            domain,
+            RULES[("circle", domain)],
             [
                 (PRELIM["circle"], [trace_moves(tr, s)]),
                 (f"{what} until B reaches its final position", main),
                 (FINAL["circle"], [_reverse(trace_moves(tr, g))]),
             ],
-            sk, xi, xf, word,
+            sk,
+            xi,
+            xf,
+            word,
         )
 
 
@@ -255,7 +277,7 @@ class LollipopPlanner(Planner):
         return self.neighbourhood * self._h
 
     def _vertex_phi(self, j: int, v: str) -> float:
-        (lv, lp), (rv, rp) = CIRCLE_ENDS[j]
+        (lv, lp), (_rv, rp) = CIRCLE_ENDS[j]
         return (lp if v == lv else rp) * self._h
 
     def _near(self, pt: SkeletonPoint) -> tuple[str, float]:
@@ -375,7 +397,7 @@ class LollipopPlanner(Planner):
             dccw = float(np.mod(exit_phi - px, c))
             pieces += self._circle_run(jx, px, dccw if (a_x or dccw <= h) else dccw - c)
         # intermediate circles: counterclockwise
-        for j in (range(jx + 1, jy) if right else range(jx - 1, jy, -1)):
+        for j in range(jx + 1, jy) if right else range(jx - 1, jy, -1):
             (_, lp), (_, rp) = CIRCLE_ENDS[j]
             pieces += self._circle_run(j, (lp if right else rp) * h, h)
         # goal: from the entry vertex of its block
@@ -397,7 +419,9 @@ class LollipopPlanner(Planner):
             tx = x.t if x.edge == comp else ell_h
             ty = y.t if y.edge == comp else ell_h
             return (
-                self._to_comp_vertex(x, comp) + self._slide(comp, tx, ty) + self._reverse_pieces(self._to_comp_vertex(y, comp))
+                self._to_comp_vertex(x, comp)
+                + self._slide(comp, tx, ty)
+                + self._reverse_pieces(self._to_comp_vertex(y, comp))
             )
         return self._to_comp_vertex(x, comp) + self._reverse_pieces(self._to_comp_vertex(y, comp))
 
@@ -414,13 +438,21 @@ class LollipopPlanner(Planner):
         main = [tuple(sk.move_from_model(m) for m in sk.edge_moves(e, t0, t1)) for e, t0, t1 in pieces]
         word = _pieces_word(sk.graph, _drop_zero_edges(sk, pieces))
         return build_plan(
-            tr, s, g, self.clearance, domain, RULES[("lollipop", domain)],
+            tr,
+            s,
+            g,
+            self.clearance,
+            domain,
+            RULES[("lollipop", domain)],
             [
                 (PRELIM["lollipop"], [trace_moves(tr, s)]),
                 (RULES[("lollipop", domain)], main),  # type: ignore[list-item]
                 (FINAL["lollipop"], [_reverse(trace_moves(tr, g))]),
             ],
-            sk, xi, xf, word,
+            sk,
+            xi,
+            xf,
+            word,
         )
 
 
@@ -442,7 +474,11 @@ def make_planner(track: Track, clearance: float = 0.0, neighbourhood: float = DE
 
 
 def plan(
-    track: Track, start: ArrayLike, goal: ArrayLike, clearance: float = 0.0, neighbourhood: float = DEFAULT_NEIGHBOURHOOD
+    track: Track,
+    start: ArrayLike,
+    goal: ArrayLike,
+    clearance: float = 0.0,
+    neighbourhood: float = DEFAULT_NEIGHBOURHOOD,
 ) -> Plan:
     """Plan a collision-free motion of two robots from ``start`` to ``goal`` with the paper's algorithm.
 

@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 from mpa.errors import PlanningError
 from mpa.tracks import Circle, Interval, Lollipop, Track
 
-__all__ = ["Lift", "Route", "RobotMove", "lift_moves"]
+__all__ = ["Lift", "RobotMove", "Route", "lift_moves"]
 
 FloatArray = NDArray[np.float64]
 #: Tolerance (metres) for deciding that a lifted point sits on a junction.
@@ -297,7 +297,7 @@ class Route:
             return np.zeros(0)
         c = self.track.loop
         rs: list[float] = []
-        for kind, _k, v0, v1, ra, rb in self.pieces:
+        for kind, _k, v0, v1, ra, _rb in self.pieces:
             if kind == "line":
                 lo, hi = min(v0, v1), max(v0, v1)
                 m = np.arange(np.ceil(lo / c - 1e-12), np.floor(hi / c + 1e-12) + 1)

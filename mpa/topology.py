@@ -10,7 +10,7 @@ Given a graph (loops and multiple edges allowed), :func:`configuration_space_top
   most 1 when elementary collapses remove every square, at least 2 when ``b2 > 0``;
 - Farber's topological complexity ``TC`` (non-reduced: ``TC(point) = 1``) of every path component: exact from
   ``b1`` when the component is homotopy equivalent to a graph, otherwise between ``zcl + 1`` and ``2 hdim + 1``,
-  where ``zcl`` is the zero-divisor cup-length of the cohomology ring over 𝔽₂ and over 𝔽_p, ``p = 2³¹ - 1``
+  where ``zcl`` is the zero-divisor cup-length of the cohomology ring over 𝔽₂ and over 𝔽_p, ``p = 2¹⁹ - 1``
   (cup products computed on the cube complex with the Serre diagonal). ``TC`` is reported exactly when the two
   bounds meet, ``None`` otherwise.
 
@@ -62,8 +62,8 @@ __all__ = [
     "zero_divisor_cup_length",
 ]
 
-FIELD_PRIME = 2_147_483_647
-"""The odd prime ``2³¹ - 1`` of the second coefficient field 𝔽_p (products of two residues fit in int64)."""
+FIELD_PRIME = 524_287
+"""The odd prime ``2¹⁹ - 1`` of the second coefficient field 𝔽_p (float64 dot products of residues stay exact)."""
 
 _EXHAUSTIVE_LIMIT = 20_000_000
 """Largest ``w⁴ · r(r+1)/2`` for which the four-fold zero-divisor products are checked exhaustively."""
@@ -82,62 +82,48 @@ class _Echelon:
     the pivots of the rows stored before it, so reducing a vector by the rows in the order they were stored clears
     every pivot coordinate. Over ℤ only entries ±1 are used as pivots, so all operations are unimodular; a vector
     without such an entry is kept aside in :attr:`residual` (its rank is finished over ℚ by :func:`_dense_rank`).
-    With ``track=True`` the combination of inserted vectors making up each row is kept, and the combinations of
-    vectors reducing to zero form a basis of the kernel (:attr:`kernel`).
     """
 
-    def __init__(self, p: int, *, track: bool = False) -> None:
+    def __init__(self, p: int) -> None:
         self.p = p
-        self.track = track
         self.rows: list[dict[int, int]] = []
         self.pivots: list[int] = []
         self.pivot_row: dict[int, int] = {}
-        self.combos: list[dict[int, int]] = []
-        self.kernel: list[dict[int, int]] = []
         self.residual: list[dict[int, int]] = []
 
     @property
     def rank(self) -> int:
         return len(self.rows)
 
-    def _axpy(self, v: dict[int, int], c: int, row: dict[int, int], heap: list[int] | None) -> None:
-        """``v -= c * row`` in place (mod p when p > 0); push newly present pivot coordinates on ``heap``."""
+    def reduce(self, v: dict[int, int]) -> None:
+        """Clear every pivot coordinate of ``v`` in place (rows applied in the order they were stored)."""
         p = self.p
-        for k, val in row.items():
-            old = v.get(k)
-            nv = (old or 0) - c * val
-            if p:
-                nv %= p
-            if nv:
-                v[k] = nv
-                if old is None and heap is not None and k in self.pivot_row:
-                    heapq.heappush(heap, self.pivot_row[k])
-            elif old is not None:
-                del v[k]
-
-    def reduce(self, v: dict[int, int], combo: dict[int, int] | None = None) -> None:
-        """Clear every pivot coordinate of ``v`` in place (updating ``combo`` alike)."""
-        heap = [self.pivot_row[k] for k in v if k in self.pivot_row]
+        pivot_row = self.pivot_row
+        heap = [pivot_row[k] for k in v if k in pivot_row]
         heapq.heapify(heap)
         while heap:
             i = heapq.heappop(heap)
             c = v.get(self.pivots[i])
             if not c:
                 continue
-            self._axpy(v, c, self.rows[i], heap)
-            if combo is not None:
-                self._axpy(combo, c, self.combos[i], None)
+            for k, val in self.rows[i].items():
+                old = v.get(k)
+                nv = (old or 0) - c * val
+                if p:
+                    nv %= p
+                if nv:
+                    v[k] = nv
+                    if old is None and k in pivot_row:
+                        heapq.heappush(heap, pivot_row[k])
+                elif old is not None:
+                    del v[k]
 
-    def insert(self, vec: dict[int, int], tag: int) -> None:
-        """Insert a vector (labelled ``tag`` for the kernel combinations)."""
+    def insert(self, vec: dict[int, int]) -> None:
+        """Insert a vector: reduce it and store it as a new row when it is not in the span of the rows."""
         p = self.p
-        v = {k: (c % p if p else c) for k, c in vec.items()}
-        v = {k: c for k, c in v.items() if c}
-        combo = {tag: 1} if self.track else None
-        self.reduce(v, combo)
+        v = {k: c % p for k, c in vec.items() if c % p} if p else {k: c for k, c in vec.items() if c}
+        self.reduce(v)
         if not v:
-            if combo is not None:
-                self.kernel.append(combo)
             return
         if p:
             piv = min(v)
@@ -151,28 +137,40 @@ class _Echelon:
             inv = v[piv]
         if inv != 1:
             v = {k: (c * inv % p if p else c * inv) for k, c in v.items()}
-            if combo is not None:
-                combo = {k: (c * inv % p if p else c * inv) for k, c in combo.items()}
         self.pivot_row[piv] = len(self.rows)
         self.pivots.append(piv)
         self.rows.append(v)
-        if combo is not None:
-            self.combos.append(combo)
 
-    def reduce_dense(self, batch: np.ndarray) -> np.ndarray:
-        """Reduce every row of a dense batch (shape (k, n), entries in ``[0, p)``) by the stored rows, mod p."""
+    def annihilator(self, n: int) -> np.ndarray:
+        """Basis of ``{x ∈ 𝔽_p^n : <row, x> = 0 for every row}``. Shape (n - rank, n), entries in ``[0, p)``.
+
+        Back substitution (last row first) expresses every fully reduced row through the free (non-pivot)
+        coordinates ``F``; the annihilator is spanned by ``e_f - Σ_i F[i, f] e_{pivot i}`` for the free ``f``.
+        """
         p = self.p
-        out = batch.copy()
-        for piv, row in zip(self.pivots, self.rows):
-            col = out[:, piv].copy()
-            hit = np.nonzero(col)[0]
-            if hit.size == 0:
-                continue
-            keys = np.fromiter(row.keys(), dtype=np.int64, count=len(row))
-            vals = np.fromiter(row.values(), dtype=np.int64, count=len(row))
-            sub = out[np.ix_(hit, keys)] - (col[hit, None] * vals[None, :]) % p
-            out[np.ix_(hit, keys)] = sub % p
-        return out
+        free = np.ones(n, dtype=bool)
+        free[self.pivots] = False
+        free_idx = np.nonzero(free)[0]
+        col = np.full(n, -1, dtype=np.int64)
+        col[free_idx] = np.arange(free_idx.size)
+        f_mat = np.zeros((self.rank, free_idx.size), dtype=np.int64)
+        for i in range(self.rank - 1, -1, -1):
+            acc = np.zeros(free_idx.size, dtype=np.int64)
+            piv = self.pivots[i]
+            for k, c in self.rows[i].items():
+                if k == piv:
+                    continue
+                j = self.pivot_row.get(k)
+                if j is None:
+                    acc[col[k]] += c
+                else:
+                    acc -= c * f_mat[j]
+            f_mat[i] = acc % p
+        basis = np.zeros((free_idx.size, n), dtype=np.int64)
+        basis[np.arange(free_idx.size), free_idx] = 1
+        if self.rank:
+            basis[:, self.pivots] = (-f_mat.T) % p
+        return basis
 
 
 def _dense_rank(rows: list[dict[int, int]]) -> int:
@@ -267,31 +265,50 @@ def _coboundaries(cx: CubeComplex, edges: np.ndarray) -> list[dict[int, int]]:
 
 @dataclass(frozen=True)
 class _FieldCohomology:
-    """``H¹`` and ``H²`` of a connected cube complex over 𝔽_p, with what is needed for cup products."""
+    """``H¹`` and ``H²`` of a connected cube complex over 𝔽_p, with what is needed for cup products.
+
+    There are no 3-cells, so ``H₂ = Z₂`` and, over a field, ``H² = Hom(H₂, 𝔽_p)``: the class of a 2-cochain is given
+    by its values on a basis of the 2-cycles.
+    """
 
     p: int
     b1: int
     b2: int
     cocycles: np.ndarray  # shape (b1, E): representatives of a basis of H¹ vanishing on a spanning tree
-    image: _Echelon  # echelon basis of im(δ: C¹ -> C²), to reduce 2-cochains
-    h2_squares: np.ndarray  # shape (b2,): squares whose coordinates, after reduction, give the class in H²
+    cycles: np.ndarray  # shape (b2, S): a basis of the 2-cycles Z₂ = H₂
+
+
+def _boundaries(cx: CubeComplex) -> list[dict[int, int]]:
+    """``∂(square)`` for every square, as ``edge -> coefficient``."""
+    coef = cx.boundary_coefficients().tolist()
+    out = []
+    for s, row in enumerate(cx.squares.tolist()):
+        d: dict[int, int] = {}
+        for pos, e in enumerate(row):
+            d[e] = d.get(e, 0) + coef[s][pos]
+        out.append({e: c for e, c in d.items() if c})
+    return out
 
 
 def _field_cohomology(cx: CubeComplex, p: int) -> _FieldCohomology:
     tree = _spanning_tree_mask(cx)
     nontree = np.nonzero(~tree)[0]
-    ech = _Echelon(p, track=True)
-    for e, vec in zip(nontree.tolist(), _coboundaries(cx, nontree)):
-        ech.insert(vec, e)
-    b1 = len(ech.kernel)
-    cocycles = np.zeros((b1, cx.n_edges), dtype=np.int64)
-    for i, combo in enumerate(ech.kernel):
-        for e, c in combo.items():
-            cocycles[i, e] = c % p
-    pivots = np.zeros(cx.n_squares, dtype=bool)
-    pivots[ech.pivots] = True
-    h2 = np.nonzero(~pivots)[0]
-    return _FieldCohomology(p, b1, int(h2.size), cocycles, ech, h2)
+    # 1-cocycles vanishing on the tree = vectors on the non-tree edges orthogonal to every restricted ∂(square)
+    col = np.full(cx.n_edges, -1, dtype=np.int64)
+    col[nontree] = np.arange(nontree.size)
+    rows = _Echelon(p)
+    for vec in _boundaries(cx):
+        rows.insert({int(col[e]): c for e, c in vec.items() if col[e] >= 0})
+    cocycles = np.zeros((nontree.size - rows.rank, cx.n_edges), dtype=np.int64)
+    cocycles[:, nontree] = rows.annihilator(nontree.size)
+    # 2-cycles = vectors on the squares orthogonal to every δ(edge) (the non-tree edges span im δ)
+    cols = _Echelon(p)
+    for vec in _coboundaries(cx, nontree):
+        cols.insert(vec)
+    if cols.rank != rows.rank:
+        raise PlanningError(f"rank of the boundary map mod {p} is {rows.rank} by rows and {cols.rank} by columns")
+    cycles = cols.annihilator(cx.n_squares)
+    return _FieldCohomology(p, len(cocycles), len(cycles), cocycles, cycles)
 
 
 def _rational_rank_of_boundary(cx: CubeComplex) -> tuple[int, bool]:
@@ -302,8 +319,8 @@ def _rational_rank_of_boundary(cx: CubeComplex) -> tuple[int, bool]:
     tree = _spanning_tree_mask(cx)
     nontree = np.nonzero(~tree)[0]
     ech = _Echelon(0)
-    for e, vec in zip(nontree.tolist(), _coboundaries(cx, nontree)):
-        ech.insert(vec, e)
+    for vec in _coboundaries(cx, nontree):
+        ech.insert(vec)
     residual = []
     for v in ech.residual:
         v = dict(v)
@@ -313,15 +330,36 @@ def _rational_rank_of_boundary(cx: CubeComplex) -> tuple[int, bool]:
     return ech.rank + (_dense_rank(residual) if residual else 0), not residual
 
 
-def _cup_products(cx: CubeComplex, coh: _FieldCohomology, chunk: int = 64) -> np.ndarray:
+def _matmul_mod_p(a: np.ndarray, b: np.ndarray, p: int) -> np.ndarray:
+    """``a @ b mod p`` for int64 arrays with entries in ``[0, p)``, exact through float64 blocks of the inner index."""
+    block = max(1, (1 << 52) // max(1, (p - 1) ** 2))
+    out = np.zeros((a.shape[0], b.shape[1]), dtype=np.int64)
+    for k in range(0, a.shape[1], block):
+        part = a[:, k : k + block].astype(np.float64) @ b[k : k + block].astype(np.float64)
+        out = (out + np.fmod(part, p).astype(np.int64)) % p
+    return out
+
+
+def _cup_products(
+    cx: CubeComplex,
+    coh: _FieldCohomology,
+    *,
+    projection: np.ndarray | None = None,
+    symmetric: bool = True,
+    chunk: int = 256,
+) -> np.ndarray:
     """Structure constants of ``H¹ × H¹ -> H²``: ``m[i, j]`` is the class of ``a_i ∪ a_j``. Shape (b1, b1, b2).
 
     On a square with sides bottom, right, top, left the Serre diagonal gives
-    ``(α ∪ β)(square) = α(bottom) β(right) - α(left) β(top)``.
+    ``(α ∪ β)(square) = α(bottom) β(right) - α(left) β(top)``; its class is read off by evaluation on the 2-cycles.
+    With ``projection`` (shape (b2, r)) the classes are mapped to ``𝔽_p^r`` (shape (b1, b1, r)): a cheap first look.
+    With ``symmetric=True`` only ``i <= j`` is computed and ``m[j, i] = -m[i, j]`` (graded commutativity).
     """
     p = coh.p
     n1 = coh.b1
-    out = np.zeros((n1, n1, coh.b2), dtype=np.int64)
+    target = coh.cycles.T if projection is None else _matmul_mod_p(coh.cycles.T, projection % p, p)
+    cycles_t = np.ascontiguousarray(target)
+    out = np.zeros((n1, n1, cycles_t.shape[1]), dtype=np.int64)
     if n1 == 0 or coh.b2 == 0:
         return out
     assert cx.signs is not None
@@ -332,14 +370,16 @@ def _cup_products(cx: CubeComplex, coh: _FieldCohomology, chunk: int = 64) -> np
         return coh.cocycles[:, sides[:, pos]] * signs[None, :, pos] % p
 
     bot, right, top, left = side(BOTTOM), side(RIGHT), side(TOP), side(LEFT)
-    pairs = [(i, j) for i in range(n1) for j in range(n1)]
+    pairs = [(i, j) for i in range(n1) for j in range(i if symmetric else 0, n1)]
     for start in range(0, len(pairs), chunk):
         block = pairs[start : start + chunk]
         ii = np.array([i for i, _ in block])
         jj = np.array([j for _, j in block])
         gamma = (bot[ii] * right[jj] % p - left[ii] * top[jj] % p) % p
-        red = coh.image.reduce_dense(gamma)[:, coh.h2_squares]
-        out[ii, jj] = red
+        out[ii, jj] = _matmul_mod_p(gamma, cycles_t, p)
+    if symmetric:
+        lower = np.tril_indices(n1, -1)
+        out[lower] = (-out.transpose(1, 0, 2)[lower]) % p
     return out
 
 
@@ -416,7 +456,9 @@ def zero_divisor_cup_length(m: np.ndarray, b2: int, p: int, seed: int = 0) -> in
     Parameters
     ----------
     m : numpy.ndarray
-        Shape (b1, b1, b2): ``m[i, j]`` is ``a_i ∪ a_j`` in a basis of ``H²``, for a basis ``a_i`` of ``H¹``.
+        Shape (b1, b1, r): ``m[i, j]`` is the image of ``a_i ∪ a_j`` under a linear map ``H² -> 𝔽_p^r``, for a
+        basis ``a_i`` of ``H¹``. Exact when the map is injective (e.g. coordinates in a basis, ``r = b2``);
+        otherwise the result is a lower bound.
     b2 : int
         Dimension of ``H²``.
     p : int
@@ -448,8 +490,8 @@ def zero_divisor_cup_length(m: np.ndarray, b2: int, p: int, seed: int = 0) -> in
     """
     m = np.asarray(m, dtype=np.int64) % p
     n1 = m.shape[0]
-    if m.shape != (n1, n1, b2):
-        raise InvalidInputError(f"cup-product array has shape {m.shape}, expected ({n1}, {n1}, {b2})")
+    if m.ndim != 3 or m.shape[1] != n1:
+        raise InvalidInputError(f"cup-product array has shape {m.shape}, expected (b1, b1, r)")
     if n1 == 0 and b2 == 0:
         return 0
     squares_nonzero = p == 2 and bool(np.any(m[np.arange(n1), np.arange(n1)]))
@@ -459,6 +501,17 @@ def zero_divisor_cup_length(m: np.ndarray, b2: int, p: int, seed: int = 0) -> in
     if not (m.any() and (n1 >= 3 or b2 >= 2 or squares_nonzero)):
         return 2
     return 4 if _four_fold_product_nonzero(m, p, np.random.default_rng(seed)) else 3
+
+
+def _zero_divisor_cup_length_of(cx: CubeComplex, coh: _FieldCohomology, seed: int = 0) -> int:
+    """Zero-divisor cup-length over 𝔽_p: first with the products projected to a few random functionals on ``H²``
+    (enough when that already reaches the maximum 4), then with the full products."""
+    if coh.b2 > 16 and coh.b1:
+        rng = np.random.default_rng(seed)
+        phi = rng.integers(0, coh.p, size=(coh.b2, 16))
+        if zero_divisor_cup_length(_cup_products(cx, coh, projection=phi), coh.b2, coh.p, seed) == 4:
+            return 4
+    return zero_divisor_cup_length(_cup_products(cx, coh), coh.b2, coh.p, seed)
 
 
 # ==================================================================================================
@@ -658,11 +711,11 @@ def _connected_topology(
         return ComponentTopology(
             betti, betti_f2, euler, torsion_free, hd, None, None, tc, (tc, tc), counts, graph_components
         )
-    zcl2 = zero_divisor_cup_length(_cup_products(cx, coh2), coh2.b2, 2)
+    zcl2 = _zero_divisor_cup_length_of(cx, coh2)
     cohp = _field_cohomology(cx, FIELD_PRIME)
     if (cohp.b1, cohp.b2) != betti[1:] and torsion_free:
         raise PlanningError(f"Betti numbers over F_p {(cohp.b1, cohp.b2)} differ from those over Q {betti[1:]}")
-    zclp = zero_divisor_cup_length(_cup_products(cx, cohp), cohp.b2, FIELD_PRIME)
+    zclp = _zero_divisor_cup_length_of(cx, cohp)
     lo = max(zcl2, zclp) + 1
     hi = 2 * hdim_upper + 1 if tc_upper is None else min(2 * hdim_upper + 1, tc_upper)
     if lo > hi:

@@ -112,7 +112,9 @@ class Track(ABC):
             raise InvalidInputError(f"{name} is {p!r}, expected a number in {self._range_text()}") from None
         bad = ~np.isfinite(arr)
         if np.any(bad):
-            raise InvalidInputError(f"{name} is {float(arr[bad].flat[0])!r}, expected a finite number in {self._range_text()}")
+            raise InvalidInputError(
+                f"{name} is {float(arr[bad].flat[0])!r}, expected a finite number in {self._range_text()}"
+            )
         out = self.normalize(arr)
         ok = self._valid_mask(out)
         if not np.all(ok):
@@ -209,7 +211,7 @@ class Circle(Track):
     def normalize(self, p: ArrayLike) -> FloatArray:
         p = np.asarray(p, dtype=float)
         out = p.copy()
-        near_end = np.abs(out - self.loop) <= WRAP_TOL * max(1.0, self.loop)
+        near_end = (out >= self.loop - WRAP_TOL * max(1.0, self.loop)) & (out < self.loop)
         out[near_end] = 0.0
         return out
 
@@ -295,7 +297,7 @@ class Lollipop(Track):
         p = np.asarray(p, dtype=float)
         out = p.copy()
         end = self.stick + self.loop
-        near_end = np.abs(out - end) <= WRAP_TOL * max(1.0, end)
+        near_end = (out >= end - WRAP_TOL * max(1.0, end)) & (out < end)
         out[near_end] = self.stick
         return out
 
@@ -303,7 +305,8 @@ class Lollipop(Track):
         return (p >= 0.0) & (p < self.stick + self.loop)
 
     def _range_text(self) -> str:
-        return f"[0, {self.stick + self.loop:g}) (stick [0, {self.stick:g}], loop ({self.stick:g}, {self.stick + self.loop:g}))"
+        ell, end = self.stick, self.stick + self.loop
+        return f"[0, {end:g}) (stick [0, {ell:g}], loop ({ell:g}, {end:g}))"
 
     def on_loop(self, p: ArrayLike) -> NDArray[np.bool_]:
         return np.asarray(p, dtype=float) >= self.stick

@@ -34,7 +34,9 @@ def add_query_arguments(p: argparse.ArgumentParser) -> None:
     """Options shared by every subcommand that takes a query on a track."""
     p.add_argument("--track", required=True, choices=["interval", "circle", "lollipop"], help="track shape")
     p.add_argument("--stick", type=float, default=None, help="stick length ℓ in metres (interval, lollipop; default 1)")
-    p.add_argument("--loop", type=float, default=None, help="loop circumference c in metres (circle, lollipop; default 1)")
+    p.add_argument(
+        "--loop", type=float, default=None, help="loop circumference c in metres (circle, lollipop; default 1)"
+    )
     p.add_argument("--start", type=float, nargs=2, required=True, metavar=("A", "B"), help="start track coordinates")
     p.add_argument("--goal", type=float, nargs=2, required=True, metavar=("A", "B"), help="goal track coordinates")
 
@@ -63,8 +65,10 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     print(f"start      A = {p.start[0]:.6g}, B = {p.start[1]:.6g}")
     print(f"goal       A = {p.goal[0]:.6g}, B = {p.goal[1]:.6g}")
     print(f"domain     {p.domain}: {p.rule}")
-    print(f"skeleton   x_i' = ({p.skeleton_start[0]:.6g}, {p.skeleton_start[1]:.6g}),"
-          f" x_f' = ({p.skeleton_goal[0]:.6g}, {p.skeleton_goal[1]:.6g})")
+    print(
+        f"skeleton   x_i' = ({p.skeleton_start[0]:.6g}, {p.skeleton_start[1]:.6g}),"
+        f" x_f' = ({p.skeleton_goal[0]:.6g}, {p.skeleton_goal[1]:.6g})"
+    )
     print(f"class      {' '.join(p.word) if p.word else '(trivial)'}")
     for st in p.steps:
         pts = " -> ".join(f"({a:.4g}, {b:.4g})" for a, b in st.waypoints)
@@ -76,7 +80,9 @@ def _cmd_plan(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``mpa`` command."""
-    parser = _Parser(prog="mpa", description="Topological motion planning for two robots on a track (Boughrira & Colman).")
+    parser = _Parser(
+        prog="mpa", description="Topological motion planning for two robots on a track (Boughrira & Colman)."
+    )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     p = sub.add_parser("plan", help="plan with the paper's algorithm and print the plan")
     add_query_arguments(p)
