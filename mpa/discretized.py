@@ -42,6 +42,7 @@ __all__ = [
     "DiscretizedConfigurationSpace",
     "SimpleSubdivision",
     "collapse_free_faces",
+    "cubical_subdivision",
     "discretized_configuration_space",
     "expected_cell_counts",
     "simple_subdivision",
@@ -155,6 +156,56 @@ class CubeComplex:
                 "expected bottom v00->v10, right v10->v11, top v01->v11, left v00->v01"
             )
 
+    @classmethod
+    def from_corners(cls, n_vertices: int, corners: object) -> CubeComplex:
+        """Build a complex from squares given by their corners ``(v00, v10, v11, v01)`` (counter-clockwise).
+
+        Edges are the pairs of consecutive corners, identified when they join the same two vertices and stored
+        from the smaller to the larger vertex index; squares sharing a pair of vertices share that edge. This is
+        the convenient way to write down surfaces (a torus or a Klein bottle as a grid with identified sides).
+
+        Parameters
+        ----------
+        n_vertices : int
+        corners : array_like of int
+            Shape (S, 4).
+
+        Returns
+        -------
+        CubeComplex
+
+        Examples
+        --------
+        >>> torus = [((i, j), ((i + 1) % 3, j), ((i + 1) % 3, (j + 1) % 3), (i, (j + 1) % 3))
+        ...          for i in range(3) for j in range(3)]
+        >>> cx = CubeComplex.from_corners(9, [[3 * a + b for a, b in sq] for sq in torus])
+        >>> cx.cell_counts
+        CellCounts(vertices=9, edges=18, squares=9)
+        """
+        arr = _readonly_int_array(corners, (4,), "corners")
+        index: dict[tuple[int, int], int] = {}
+        edges: list[tuple[int, int]] = []
+        squares: list[list[int]] = []
+        signs: list[list[int]] = []
+        for v00, v10, v11, v01 in arr.tolist():
+            row: list[int] = []
+            sgn: list[int] = []
+            for a, b in ((v00, v10), (v10, v11), (v01, v11), (v00, v01)):  # bottom, right, top, left
+                key = (min(a, b), max(a, b))
+                if key not in index:
+                    index[key] = len(edges)
+                    edges.append(key)
+                row.append(index[key])
+                sgn.append(1 if a < b else -1)
+            squares.append(row)
+            signs.append(sgn)
+        return cls(
+            n_vertices,
+            np.array(edges, dtype=np.int64).reshape(-1, 2),
+            np.array(squares, dtype=np.int64).reshape(-1, 4),
+            np.array(signs, dtype=np.int64).reshape(-1, 4),
+        )
+
     # ----------------------------------------------------------------------------------------------
     @property
     def n_edges(self) -> int:
@@ -247,6 +298,54 @@ class CubeComplex:
         if (new_edges < 0).any() or (new_squares < 0).any():
             raise InvalidInputError("subcomplex is not closed under taking faces")
         return CubeComplex(len(vertices), new_edges, new_squares, self.signs[squares].reshape(-1, 4))
+
+
+def cubical_subdivision(cx: CubeComplex) -> CubeComplex:
+    """Cut every square into four, with every edge directed from the lower- to the higher-dimensional cell.
+
+    New vertices: the old vertices ``0 .. V-1``, then one midpoint per edge, then one centre per square. Every new
+    edge runs vertex -> edge midpoint or edge midpoint -> square centre, so all signs are ``+1`` and the directions
+    of the edges agree with the coordinates of every square: the result is a cubical set, on which the Serre
+    diagonal gives a well-defined cup product (:mod:`mpa.topology` subdivides when some sign is ``-1``).
+
+    Parameters
+    ----------
+    cx : CubeComplex
+
+    Returns
+    -------
+    CubeComplex
+        Homeomorphic to ``cx``; ``V + E + S`` vertices, ``2E + 4S`` edges, ``4S`` squares.
+    """
+    v, e_count = cx.n_vertices, cx.n_edges
+    mid = v + np.arange(e_count)
+    centre = v + e_count + np.arange(cx.n_squares)
+    edges = [np.stack([cx.edges[:, 0], mid], axis=1), np.stack([cx.edges[:, 1], mid], axis=1)]
+    # midpoint -> centre, one edge per (square, side) so that a side met twice gets two edges
+    spoke = 2 * e_count + np.arange(4 * cx.n_squares).reshape(-1, 4)
+    edges.append(np.stack([mid[cx.squares.ravel()], np.repeat(centre, 4)], axis=1))
+    start, end = cx.side_endpoints()
+    tails_side = cx.edges[cx.squares, 0]
+
+    def half(k: np.ndarray, corner: np.ndarray) -> np.ndarray:  # edge corner -> midpoint of side k
+        return np.where(tails_side[np.arange(len(k)), k] == corner, 0, e_count) + cx.squares[np.arange(len(k)), k]
+
+    squares = []
+    n = cx.n_squares
+    corner_sides = {  # each corner of the old square, with its x side and y side in the new small square
+        "v00": (start[:, BOTTOM], BOTTOM, LEFT),
+        "v10": (start[:, RIGHT], BOTTOM, RIGHT),
+        "v11": (end[:, RIGHT], RIGHT, TOP),
+        "v01": (start[:, TOP], TOP, LEFT),
+    }
+    for corner, sx, sy in corner_sides.values():
+        kx, ky = np.full(n, sx), np.full(n, sy)
+        squares.append(np.stack([half(kx, corner), spoke[:, sx], spoke[:, sy], half(ky, corner)], axis=1))
+    return CubeComplex(
+        v + e_count + n,
+        np.concatenate(edges).reshape(-1, 2),
+        np.concatenate(squares).reshape(-1, 4) if n else np.zeros((0, 4), dtype=np.int64),
+    )
 
 
 # --------------------------------------------------------------------------------------------------

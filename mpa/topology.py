@@ -43,6 +43,7 @@ from mpa.discretized import (
     CellCounts,
     CubeComplex,
     collapse_free_faces,
+    cubical_subdivision,
     discretized_configuration_space,
     expected_cell_counts,
 )
@@ -711,6 +712,11 @@ def _connected_topology(
         return ComponentTopology(
             betti, betti_f2, euler, torsion_free, hd, None, None, tc, (tc, tc), counts, graph_components
         )
+    # the Serre diagonal needs edge directions that agree with the coordinates of every square (all signs +1)
+    assert cx.signs is not None
+    if np.any(cx.signs != 1):
+        cx = cubical_subdivision(cx)
+        coh2 = _field_cohomology(cx, 2)
     zcl2 = _zero_divisor_cup_length_of(cx, coh2)
     cohp = _field_cohomology(cx, FIELD_PRIME)
     if (cohp.b1, cohp.b2) != betti[1:] and torsion_free:
