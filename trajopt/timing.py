@@ -1,0 +1,585 @@
+"""Stages 2 and 3: a C² geometric path, its time parametrization (toppra) and jerk-limited timing (ruckig).
+
+Path. The smoothed polyline in route coordinates becomes :class:`BlendedPath` ``q(s)`` (``s`` = Euclidean arc
+length in the σ-plane on the straight parts): straight pieces joined at every corner by a quintic Bézier
+blend with control points ``P1, P1 + r/2·u1, C, C, P2 − r/2·u2, P2`` (``C`` the corner, ``P1 = C − r·u1``,
+``P2 = C + r·u2``). It leaves and joins the straight lines with the same tangent and zero curvature (C²), and
+lies in the triangle ``P1 C P2`` (convex hull of its control points). A blend is kept only if it is exactly
+collision-free (exact minimum along its sampled polyline minus the chord deviation bound); otherwise its radius
+is halved, and a corner that cannot be blended is passed at rest.
+
+Time parametrization. toppra (``TOPPRA`` with ``ParametrizeConstAccel``, joint velocity and acceleration limits)
+gives the v/a-limited speed profile ``ṡ(s)`` of the path; its duration is reported and its speeds cap the
+speeds at the piece boundaries.
+
+Jerk limits. The path parameter ``s`` is one degree of freedom, so a 1-DoF ruckig profile of ``s(t)`` can never
+leave the path. Each piece gets its own 1-DoF limits: on a straight piece with unit direction ``u`` exactly
+``V/|u_i|, A/|u_i|, J/|u_i|``; on a blend limits from the bounds ``M1, M2, M3`` of ``|q'|, |q''|, |q'''|`` so that
+``M1·v ≤ V``, ``M2·v² + M1·a ≤ A``, ``M3·v³ + 3·M2·v·a + M1·j ≤ J`` for every joint (the chain rule
+``a = q''ṡ² + q's̈``, ``j = q'''ṡ³ + 3q''ṡs̈ + q's⃛``). Boundary states are ``(s_b, ṡ_b, 0)``; a forward-backward
+pass lowers the ``ṡ_b`` until every piece is long enough to change speed within its limits, then one ruckig
+call per piece (state to state in one DoF, no waypoints needed) times it.
+"""
+
+from __future__ import annotations
+
+import time
+from math import comb
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mpa.errors import InvalidInputError, PlanningError
+
+__all__ = [
+    "BlendedPath",
+    "Limits",
+    "PieceLimits",
+    "TimeScaling",
+    "blend_polyline",
+    "jerk_limited_scaling",
+    "min_time_rest_to_rest",
+    "toppra_profile",
+]
+
+FloatArray = NDArray[np.float64]
+#: Bézier samples used to check a blend for collisions.
+BLEND_SAMPLES = 64
+#: Radius halvings tried before a corner is passed at rest.
+BLEND_TRIES = 8
+
+
+def _pair(name: str, value: Any, unit: str) -> tuple[float, float]:
+    try:
+        arr = np.broadcast_to(np.asarray(value, dtype=float), (2,))
+    except (TypeError, ValueError):
+        raise InvalidInputError(f"{name} is {value!r}, expected a positive finite number ({unit}) or one per robot") from None
+    for i, v in enumerate(arr):
+        if not np.isfinite(v) or v <= 0:
+            who = "" if np.ndim(value) == 0 else f" of robot {'AB'[i]}"
+            raise InvalidInputError(f"{name}{who} is {float(v)!r}, expected a positive finite number ({unit})")
+    return float(arr[0]), float(arr[1])
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Per-robot symmetric limits ``|v| ≤ vmax``, ``|a| ≤ amax``, ``|j| ≤ jmax`` of the route coordinate.
+
+    Each may be one number (both robots) or a pair (A, B). Stored as pairs.
+
+    Parameters
+    ----------
+    vmax : float or (float, float)
+        m/s.
+    amax : float or (float, float)
+        m/s².
+    jmax : float or (float, float)
+        m/s³.
+
+    Raises
+    ------
+    InvalidInputError
+        A limit that is not a positive finite number.
+
+    Examples
+    --------
+    >>> Limits(0.5, 1.0, 5.0).v
+    array([0.5, 0.5])
+    """
+
+    vmax: Any = 0.5
+    amax: Any = 1.0
+    jmax: Any = 5.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "vmax", _pair("vmax", self.vmax, "m/s"))
+        object.__setattr__(self, "amax", _pair("amax", self.amax, "m/s^2"))
+        object.__setattr__(self, "jmax", _pair("jmax", self.jmax, "m/s^3"))
+
+    @property
+    def v(self) -> FloatArray:
+        """Speed limits, shape (2,)."""
+        return np.array(self.vmax)
+
+    @property
+    def a(self) -> FloatArray:
+        """Acceleration limits, shape (2,)."""
+        return np.array(self.amax)
+
+    @property
+    def j(self) -> FloatArray:
+        """Jerk limits, shape (2,)."""
+        return np.array(self.jmax)
+
+    def to_dict(self) -> dict[str, list[float]]:
+        """JSON-ready: ``{"vmax": [A, B], "amax": …, "jmax": …}``."""
+        return {"vmax": list(self.vmax), "amax": list(self.amax), "jmax": list(self.jmax)}
+
+
+# ---------------------------------------------------------------------------------------------------
+_BINOM5 = np.array([1, 5, 10, 10, 5, 1], dtype=float)
+
+
+def _bezier_to_monomial(ctrl: FloatArray, length: float) -> FloatArray:
+    """Monomial coefficients (shape (6, 2)) of a quintic Bézier in ``τ = t·length``.
+
+    The coefficient of ``t^k`` is ``C(5,k) Σ_{i≤k} (−1)^(k−i) C(k,i) P_i``.
+    """
+    coef = np.zeros((6, 2))
+    for k in range(6):
+        for i in range(k + 1):
+            coef[k] += _BINOM5[k] * comb(k, i) * (-1) ** (k - i) * ctrl[i]
+    return coef / (length ** np.arange(6))[:, None]
+
+
+@dataclass(frozen=True)
+class BlendedPath:
+    """A C² path ``q(s)`` in route coordinates made of straight pieces and quintic corner blends.
+
+    Attributes
+    ----------
+    breaks : ndarray, shape (P+1,)
+        Path parameter at the piece ends (metres of σ-plane arc length on straight pieces).
+    coef : ndarray, shape (P, 6, 2)
+        Monomial coefficients of every piece in ``τ = s − breaks[k]``.
+    is_blend : ndarray of bool, shape (P,)
+    stop : ndarray of bool, shape (P+1,)
+        Boundaries that must be passed at rest (unblended corners, start and end).
+    corners : ndarray, shape (M, 2)
+        The polyline the path was built from.
+    radii : ndarray, shape (M,)
+        Blend radius at every corner (0 at the ends and at corners passed at rest).
+    """
+
+    breaks: FloatArray
+    coef: FloatArray
+    is_blend: NDArray[np.bool_]
+    stop: NDArray[np.bool_]
+    corners: FloatArray
+    radii: FloatArray
+    bounds: FloatArray = field(repr=False)  # (P, 3, 2): M1, M2, M3 per piece and joint
+
+    @property
+    def dof(self) -> int:
+        """Degrees of freedom (2: the robots)."""
+        return 2
+
+    @property
+    def path_interval(self) -> FloatArray:
+        """``[0, S]``."""
+        return np.array([self.breaks[0], self.breaks[-1]])
+
+    @property
+    def length(self) -> float:
+        """``S``, the end of the path parameter."""
+        return float(self.breaks[-1])
+
+    def __call__(self, s: ArrayLike, order: int = 0) -> FloatArray:
+        """``q``, ``q'``, ``q''`` or ``q'''`` at ``s`` (toppra's interface). Shape ``s.shape + (2,)``."""
+        s_arr = np.asarray(s, dtype=float)
+        flat = np.clip(s_arr.ravel(), self.breaks[0], self.breaks[-1])
+        k = np.clip(np.searchsorted(self.breaks, flat, side="right") - 1, 0, len(self.coef) - 1)
+        tau = flat - self.breaks[k]
+        c = self.coef[k]  # (n, 6, 2)
+        out = np.zeros((len(flat), 2))
+        for i in range(order, 6):
+            fac = float(np.prod(np.arange(i - order + 1, i + 1))) if order > 0 else 1.0
+            out += fac * c[:, i, :] * (tau ** (i - order))[:, None]
+        return out.reshape((*s_arr.shape, 2))
+
+    def eval(self, s: ArrayLike) -> FloatArray:
+        """``q(s)``."""
+        return self(s, 0)
+
+    def evald(self, s: ArrayLike) -> FloatArray:
+        """``q'(s)``."""
+        return self(s, 1)
+
+    def evaldd(self, s: ArrayLike) -> FloatArray:
+        """``q''(s)``."""
+        return self(s, 2)
+
+
+def _piece_bounds(coef: FloatArray, length: float) -> FloatArray:
+    """Rigorous bounds (shape (3, 2)) of ``|q'|, |q''|, |q'''|`` per joint on a polynomial piece."""
+    if length <= 0:
+        return np.zeros((3, 2))
+    n = 257
+    tau = np.linspace(0.0, length, n)
+    h = length / (n - 1)
+    ders = []
+    for order in (1, 2, 3, 4):
+        val = np.zeros((n, 2))
+        for i in range(order, 6):
+            fac = float(np.prod(np.arange(i - order + 1, i + 1)))
+            val += fac * coef[i] * (tau ** (i - order))[:, None]
+        ders.append(np.max(np.abs(val), axis=0))
+    m4 = ders[3]  # q'''' is linear in τ: its maximum is at an end, exactly
+    m3 = ders[2] + m4 * h / 2
+    m2 = ders[1] + m3 * h / 2
+    m1 = ders[0] + m2 * h / 2
+    return np.stack([m1, m2, m3]) * (1 + 1e-9)
+
+
+def _blend_ctrl(c: FloatArray, u1: FloatArray, u2: FloatArray, r: float) -> FloatArray:
+    p1, p2 = c - r * u1, c + r * u2
+    return np.array([p1, p1 + 0.5 * r * u1, c, c, p2 - 0.5 * r * u2, p2])
+
+
+def _bezier_points(ctrl: FloatArray, n: int) -> FloatArray:
+    t = np.linspace(0.0, 1.0, n)[:, None]
+    out = np.zeros((n, 2))
+    for i in range(6):
+        out += _BINOM5[i] * t**i * (1 - t) ** (5 - i) * ctrl[i]
+    return out
+
+
+def blend_polyline(corners: ArrayLike, min_distance: Any = None, separation: float = 0.0, radius_cap: float = np.inf) -> BlendedPath:
+    """Build the C² path through a polyline with collision-checked corner blends.
+
+    Parameters
+    ----------
+    corners : array_like, shape (M, 2)
+        Polyline in route coordinates (first = start, last = goal); consecutive points distinct.
+    min_distance : callable, optional
+        ``min_distance(points)`` -> exact minimum separation along the polyline through ``points``
+        (:meth:`trajopt.smoothing.RouteGeometry.polyline_min_distance`). Without it no corner is blended.
+    separation : float
+        Separation every blend must keep (metres).
+    radius_cap : float
+        Largest blend radius (metres).
+
+    Returns
+    -------
+    BlendedPath
+    """
+    p = np.atleast_2d(np.asarray(corners, dtype=float))
+    m = len(p)
+    seg = np.diff(p, axis=0)
+    ln = np.linalg.norm(seg, axis=1)
+    if m >= 2 and np.any(ln <= 0):
+        raise PlanningError("polyline has repeated corners")
+    u = seg / ln[:, None] if m >= 2 else np.zeros((0, 2))
+    radii = np.zeros(m)
+    blends: dict[int, tuple[FloatArray, FloatArray]] = {}
+    if min_distance is not None:
+        for i in range(1, m - 1):
+            if abs(float(u[i - 1] @ u[i])) > 1 - 1e-12 and float(u[i - 1] @ u[i]) > 0:
+                continue  # collinear: no corner
+            r = min(0.5 * ln[i - 1], 0.5 * ln[i], radius_cap)
+            for _ in range(BLEND_TRIES):
+                ctrl = _blend_ctrl(p[i], u[i - 1], u[i], r)
+                lb = 2.5 * r
+                coef = _bezier_to_monomial(ctrl, lb)
+                bnd = _piece_bounds(coef, lb)
+                pts = _bezier_points(ctrl, BLEND_SAMPLES)
+                h = lb / (BLEND_SAMPLES - 1)  # the parameter is not arc length; h is its step
+                dev = float(np.sum(bnd[1])) * h * h / 8.0
+                if min_distance(pts) - dev >= separation:
+                    radii[i] = r
+                    blends[i] = (coef, bnd)
+                    break
+                r *= 0.5
+    # assemble pieces
+    brk = [0.0]
+    coefs: list[FloatArray] = []
+    isb: list[bool] = []
+    stop = [True]
+    bnds: list[FloatArray] = []
+    for i in range(m - 1):
+        a = p[i] + radii[i] * u[i]
+        b_len = ln[i] - radii[i] - radii[i + 1]
+        if b_len > 1e-12:
+            c = np.zeros((6, 2))
+            c[0], c[1] = a, u[i]
+            coefs.append(c)
+            isb.append(False)
+            bnds.append(np.stack([np.abs(u[i]), np.zeros(2), np.zeros(2)]))
+            brk.append(brk[-1] + b_len)
+            stop.append(False)
+        if i + 1 < m - 1:
+            if radii[i + 1] > 0:
+                c, bd = blends[i + 1]
+                coefs.append(c)
+                isb.append(True)
+                bnds.append(bd)
+                brk.append(brk[-1] + 2.5 * radii[i + 1])
+                stop.append(False)
+            else:
+                stop[-1] = True
+    stop[-1] = True
+    if not coefs:  # a single point
+        c = np.zeros((6, 2))
+        c[0] = p[0]
+        coefs.append(c)
+        isb.append(False)
+        bnds.append(np.zeros((3, 2)))
+        brk.append(0.0)
+        stop.append(True)
+    return BlendedPath(
+        breaks=np.array(brk),
+        coef=np.array(coefs),
+        is_blend=np.array(isb),
+        stop=np.array(stop),
+        corners=p,
+        radii=radii,
+        bounds=np.array(bnds),
+    )
+
+
+# ---------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class PieceLimits:
+    """1-DoF limits ``(v, a, j)`` of the path parameter on every piece. Arrays of shape (P,)."""
+
+    v: FloatArray
+    a: FloatArray
+    j: FloatArray
+
+
+def piece_limits(path: BlendedPath, limits: Limits, safety: float = 1.0) -> PieceLimits:
+    """Limits of ``s`` on every piece that keep every joint within ``limits`` (see module docstring)."""
+    V, A, J = limits.v * safety, limits.a * safety, limits.j * safety
+    n = len(path.coef)
+    vs, as_, js = np.zeros(n), np.zeros(n), np.zeros(n)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for k in range(n):
+            m1, m2, m3 = path.bounds[k]
+            if not path.is_blend[k]:
+                vs[k] = np.min(np.where(m1 > 0, V / m1, np.inf))
+                as_[k] = np.min(np.where(m1 > 0, A / m1, np.inf))
+                js[k] = np.min(np.where(m1 > 0, J / m1, np.inf))
+                continue
+            v = np.min(np.minimum.reduce([
+                np.where(m1 > 0, V / m1, np.inf),
+                np.where(m2 > 0, np.sqrt(0.5 * A / m2), np.inf),
+                np.where(m3 > 0, np.cbrt(0.5 * J / m3), np.inf),
+            ]))
+            a = np.min(np.where(m1 > 0, (A - m2 * v * v) / m1, np.inf))
+            a = min(a, float(np.min(np.where(m2 > 0, 0.5 * (J - m3 * v**3) / (3 * m2 * v), np.inf))))
+            j = np.min(np.where(m1 > 0, (J - m3 * v**3 - 3 * m2 * v * a) / m1, np.inf))
+            vs[k], as_[k], js[k] = v, a, j
+    if not (np.all(np.isfinite(vs)) and np.all(vs > 0) and np.all(as_ > 0) and np.all(js > 0)):
+        bad = PieceLimits(vs, as_, js)
+        raise PlanningError(f"no valid 1-DoF limits on some piece: {bad}")
+    return PieceLimits(vs, as_, js)
+
+
+def _dmin(v0: float, v1: float, a: float, j: float) -> float:
+    """Shortest distance to change speed from ``v0`` to ``v1`` (both ≥ 0) at zero acceleration at both ends."""
+    dv = abs(v1 - v0)
+    t = 2.0 * np.sqrt(dv / j) if dv <= a * a / j else dv / a + a / j
+    return 0.5 * (v0 + v1) * t
+
+
+def _reach(v0: float, ds: float, cap: float, a: float, j: float) -> float:
+    """Highest speed ``≤ cap`` reachable from ``v0`` within ``ds`` (a = 0 at both ends)."""
+    if _dmin(v0, cap, a, j) <= ds:
+        return cap
+    lo, hi = min(v0, cap), cap
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if _dmin(v0, mid, a, j) <= ds:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+def toppra_profile(path: BlendedPath, limits: Limits, n_grid: int = 100) -> tuple[FloatArray, FloatArray, float]:
+    """The v/a-limited time-optimal speed profile of ``path`` with toppra.
+
+    Returns
+    -------
+    grid : ndarray, shape (G,)
+        Grid of the path parameter (contains every piece boundary).
+    sd : ndarray, shape (G,)
+        Path speed ``ṡ`` on the grid.
+    duration : float
+        Duration of the const-acceleration parametrization (s): a lower bound of the jerk-limited one.
+
+    Raises
+    ------
+    PlanningError
+        toppra reports a failure (its ``return_code``).
+    """
+    import toppra
+    import toppra.algorithm as algo
+    import toppra.constraint as constraint
+
+    toppra.setup_logging("WARNING") if hasattr(toppra, "setup_logging") else None
+    grid = np.unique(np.concatenate([np.linspace(0.0, path.length, n_grid), path.breaks]))
+    vlim = np.stack([-limits.v, limits.v], axis=1)
+    alim = np.stack([-limits.a, limits.a], axis=1)
+    cons = [constraint.JointVelocityConstraint(vlim), constraint.JointAccelerationConstraint(alim)]
+    inst = algo.TOPPRA(cons, path, gridpoints=grid, parametrizer="ParametrizeConstAccel")
+    inst.compute_parameterization(0.0, 0.0)
+    data = inst.problem_data
+    if data.return_code != algo.ParameterizationReturnCode.Ok or data.sd_vec is None:
+        raise PlanningError(f"toppra failed: {data.return_code}")
+    sd = np.sqrt(np.maximum(np.asarray(data.sd_vec, dtype=float), 0.0))
+    ds = np.diff(grid)
+    avg = sd[:-1] + sd[1:]
+    with np.errstate(divide="ignore"):
+        dur = float(np.sum(np.where(avg > 0, 2 * ds / avg, np.inf)))
+    return grid, sd, dur
+
+
+# ---------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class TimeScaling:
+    """A jerk-limited timing ``s(t)`` of a :class:`BlendedPath`: piecewise-constant jerk phases.
+
+    Attributes
+    ----------
+    path : BlendedPath
+    t0 : ndarray, shape (Q,)
+        Start time of every phase (s).
+    p, v, a, j : ndarray, shape (Q,)
+        ``s``, ``ṡ``, ``s̈`` at the phase start and the constant ``s⃛`` of the phase.
+    duration : float
+        End of the motion (s).
+    boundary_speed : ndarray, shape (P+1,)
+        ``ṡ`` at the piece boundaries.
+    stats : dict
+    """
+
+    path: BlendedPath
+    t0: FloatArray
+    p: FloatArray
+    v: FloatArray
+    a: FloatArray
+    j: FloatArray
+    duration: float
+    boundary_speed: FloatArray
+    stats: dict[str, Any] = field(default_factory=dict)
+
+    def param(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """``s, ṡ, s̈, s⃛`` at times ``t`` (after the end: held at rest at the end)."""
+        tt = np.asarray(t, dtype=float)
+        if len(self.t0) == 0:
+            z = np.zeros_like(tt)
+            return z + self.path.length, z, z.copy(), z.copy()
+        k = np.clip(np.searchsorted(self.t0, tt, side="right") - 1, 0, len(self.t0) - 1)
+        tau = np.clip(tt - self.t0[k], 0.0, None)
+        j = self.j[k]
+        a = self.a[k] + j * tau
+        v = self.v[k] + self.a[k] * tau + 0.5 * j * tau**2
+        s = self.p[k] + self.v[k] * tau + 0.5 * self.a[k] * tau**2 + j * tau**3 / 6.0
+        after = tt >= self.duration
+        s = np.where(after, self.path.length, np.clip(s, 0.0, self.path.length))
+        v = np.where(after, 0.0, v)
+        a = np.where(after, 0.0, a)
+        j = np.where(after, 0.0, j)
+        return s, v, a, j
+
+    def sample(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """Route coordinates and their first three time derivatives at ``t``. Each shape ``t.shape + (2,)``."""
+        s, sd, sdd, sddd = self.param(t)
+        q0, q1, q2, q3 = (self.path(s, k) for k in range(4))
+        sd_, sdd_, sddd_ = sd[..., None], sdd[..., None], sddd[..., None]
+        vel = q1 * sd_
+        acc = q2 * sd_**2 + q1 * sdd_
+        jer = q3 * sd_**3 + 3 * q2 * sd_ * sdd_ + q1 * sddd_
+        return q0, vel, acc, jer
+
+
+def jerk_limited_scaling(
+    path: BlendedPath,
+    limits: Limits,
+    speed_caps: FloatArray | None = None,
+    safety: float = 1.0 - 1e-9,
+) -> TimeScaling:
+    """Time the path with one 1-DoF ruckig profile per piece (see module docstring).
+
+    Parameters
+    ----------
+    path : BlendedPath
+    limits : Limits
+    speed_caps : ndarray, shape (P+1,), optional
+        Upper bounds of ``ṡ`` at the piece boundaries (e.g. toppra's profile).
+    safety : float
+        Factor applied to the joint limits.
+
+    Returns
+    -------
+    TimeScaling
+
+    Raises
+    ------
+    PlanningError
+        If ruckig reports an error.
+    """
+    from ruckig import InputParameter, Result, Ruckig, Trajectory
+
+    t_start = time.perf_counter()
+    P = len(path.coef)
+    lens = np.diff(path.breaks)
+    if path.length <= 0:
+        return TimeScaling(path, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, np.zeros(P + 1))
+    pl = piece_limits(path, limits, safety)
+    vb = np.full(P + 1, np.inf)
+    vb[1:] = np.minimum(vb[1:], pl.v)
+    vb[:-1] = np.minimum(vb[:-1], pl.v)
+    vb[path.stop] = 0.0
+    if speed_caps is not None:
+        vb = np.minimum(vb, np.asarray(speed_caps, dtype=float))
+    vb = np.maximum(vb, 0.0)
+    for k in range(P):  # forward
+        vb[k + 1] = min(vb[k + 1], _reach(vb[k], lens[k] * (1 - 1e-9), vb[k + 1], pl.a[k], pl.j[k]))
+    for k in range(P - 1, -1, -1):  # backward
+        vb[k] = min(vb[k], _reach(vb[k + 1], lens[k] * (1 - 1e-9), vb[k], pl.a[k], pl.j[k]))
+    otg = Ruckig(1)
+    inp = InputParameter(1)
+    traj = Trajectory(1)
+    t0s, ps, vs, as_, js = [], [], [], [], []
+    t_acc = 0.0
+    for k in range(P):
+        if lens[k] <= 0:
+            continue
+        inp.current_position = [float(path.breaks[k])]
+        inp.current_velocity = [float(vb[k])]
+        inp.current_acceleration = [0.0]
+        inp.target_position = [float(path.breaks[k + 1])]
+        inp.target_velocity = [float(vb[k + 1])]
+        inp.target_acceleration = [0.0]
+        inp.max_velocity = [float(pl.v[k])]
+        inp.max_acceleration = [float(pl.a[k])]
+        inp.max_jerk = [float(pl.j[k])]
+        res = otg.calculate(inp, traj)
+        if res not in (Result.Working, Result.Finished):
+            raise PlanningError(f"ruckig failed on piece {k}: {res}")
+        prof = traj.profiles[0][0]
+        if prof.brake.duration > 0 or prof.accel.duration > 0:
+            raise PlanningError(f"ruckig used a brake profile on piece {k}")
+        tp = np.asarray(prof.t, dtype=float)
+        for i in range(7):
+            if tp[i] <= 0:
+                continue
+            t0s.append(t_acc)
+            ps.append(prof.p[i])
+            vs.append(prof.v[i])
+            as_.append(prof.a[i])
+            js.append(prof.j[i])
+            t_acc += tp[i]
+    stats = {"pieces": P, "blends": int(np.sum(path.is_blend)), "jerk_time": time.perf_counter() - t_start}
+    return TimeScaling(
+        path, np.array(t0s), np.array(ps), np.array(vs), np.array(as_), np.array(js), float(t_acc), vb, stats
+    )
+
+
+def min_time_rest_to_rest(distance: float, v: float, a: float, j: float) -> float:
+    """Jerk-limited minimum time (s) to travel ``distance`` from rest to rest in one DoF (ruckig)."""
+    from ruckig import InputParameter, Ruckig, Trajectory
+
+    if distance <= 0:
+        return 0.0
+    otg, inp, traj = Ruckig(1), InputParameter(1), Trajectory(1)
+    inp.current_position, inp.target_position = [0.0], [float(distance)]
+    inp.current_velocity, inp.current_acceleration = [0.0], [0.0]
+    inp.target_velocity, inp.target_acceleration = [0.0], [0.0]
+    inp.max_velocity, inp.max_acceleration, inp.max_jerk = [v], [a], [j]
+    otg.calculate(inp, traj)
+    return float(traj.duration)

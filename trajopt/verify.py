@@ -1,0 +1,268 @@
+"""Stage 4, verification: an independent check of a setpoint grid before anything leaves the library.
+
+The gate only looks at the rows (times, track and route coordinates, their derivatives), the track metric, the
+robots' routes and the limits; it does not use any of the generator's geometry. Checks:
+
+- the grid: finite values, ``t`` starts at 0 with constant step ``1/rate``;
+- consistency: ``track == route.position(s)`` for both robots (graph distance ≤ :data:`POSITION_TOL`);
+- endpoints: first row at the start and last row at the goal, both at rest (``v = a = 0``);
+- limits: ``|v|, |a|, |j| ≤ limit·(1 + LIMIT_RTOL)`` per robot at every row;
+- separation at every row: ``d ≥ D``;
+- separation between rows: along the chord between two rows (both robots linear in ``s``) the graph distance is
+  piecewise affine, and its minimum is at an end, where a robot passes the pole P (a junction of its route), or 0
+  where the robots meet; meeting is excluded when ``d_k + d_{k+1} > |Δs_A| + |Δs_B|``. The real motion deviates
+  from the chord by at most ``a_int·Δt²/8`` per robot, ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)``;
+  the distance is 1-Lipschitz in each robot's coordinate, so ``min_chord − Σ dev ≥ D − SEPARATION_TOL`` is
+  required;
+- homotopy class: the reduced skeleton word of the motion (:func:`mpa.homotopy.path_word`, rows refined
+  along the chords) equals the plan's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mpa.errors import MPAError, PlanningError
+from mpa.homotopy import path_word
+from mpa.routes import Route
+from mpa.tracks import Track
+from trajopt.timing import Limits
+
+__all__ = [
+    "LIMIT_RTOL",
+    "POSITION_TOL",
+    "SEPARATION_TOL",
+    "VerificationError",
+    "VerificationReport",
+    "between_rows_separation",
+    "verify_setpoints",
+]
+
+FloatArray = NDArray[np.float64]
+#: Relative tolerance of the limit checks.
+LIMIT_RTOL = 1e-6
+#: Absolute tolerance (metres) of the separation checks.
+SEPARATION_TOL = 1e-9
+#: Absolute tolerance (metres, m/s, m/s²) of positions, endpoints and rest.
+POSITION_TOL = 1e-9
+#: Time grid tolerance (s).
+TIME_TOL = 1e-9
+
+
+@dataclass(frozen=True)
+class VerificationReport:
+    """Outcome of :func:`verify_setpoints`.
+
+    Attributes
+    ----------
+    ok : bool
+        Every check passed.
+    failures : tuple of str
+        One message per failed check (empty when ``ok``).
+    min_separation : float
+        Smallest graph distance at the rows (metres).
+    min_separation_between : float
+        Lower bound of the distance between rows (metres).
+    peak_ratio : dict
+        ``{"v": (A, B), "a": …, "j": …}``: the largest ``|value| / limit`` per robot.
+    word : tuple of str
+        The motion's reduced skeleton word.
+    """
+
+    ok: bool
+    failures: tuple[str, ...]
+    min_separation: float
+    min_separation_between: float
+    peak_ratio: dict[str, tuple[float, float]]
+    word: tuple[str, ...]
+
+    def to_dict(self) -> dict[str, object]:
+        """JSON-ready summary."""
+        return {
+            "ok": self.ok,
+            "failures": list(self.failures),
+            "min_separation": self.min_separation,
+            "min_separation_between": self.min_separation_between,
+            "peak_ratio": {k: list(v) for k, v in self.peak_ratio.items()},
+            "word": list(self.word),
+        }
+
+
+class VerificationError(PlanningError):
+    """A setpoint grid failed the verification gate (``report`` says which checks)."""
+
+    def __init__(self, report: VerificationReport) -> None:
+        super().__init__("verification failed: " + "; ".join(report.failures))
+        self.report = report
+
+
+def between_rows_separation(
+    track: Track,
+    routes: Sequence[Route],
+    s: FloatArray,
+    a: FloatArray,
+    dt: float,
+    limits: Limits,
+) -> FloatArray:
+    """Lower bound of the graph distance between consecutive rows. Shape (N−1,).
+
+    Parameters
+    ----------
+    track : Track
+    routes : sequence of Route
+        Route of A and of B.
+    s : ndarray, shape (N, 2)
+        Route coordinates at the rows.
+    a : ndarray, shape (N, 2)
+        Accelerations at the rows.
+    dt : float
+        Row step (s).
+    limits : Limits
+    """
+    n = len(s)
+    if n < 2:
+        return np.zeros(0)
+    pos = np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1)
+    d = track.distance(pos[:, 0], pos[:, 1])
+    chord = np.minimum(d[:-1], d[1:])
+    ds = np.abs(np.diff(s, axis=0))
+    no_meet = d[:-1] + d[1:] > ds[:, 0] + ds[:, 1]
+    chord = np.where(no_meet, chord, -np.inf)
+    for r in (0, 1):
+        junc = np.sort(routes[r].junctions())
+        if len(junc) == 0:
+            continue
+        lo = np.minimum(s[:-1, r], s[1:, r])
+        hi = np.maximum(s[:-1, r], s[1:, r])
+        cnt = np.searchsorted(junc, hi, side="left") - np.searchsorted(junc, lo, side="right")
+        for k in np.flatnonzero(cnt > 0):
+            inside = junc[(junc > lo[k]) & (junc < hi[k])]
+            t = (inside - s[k, r]) / (s[k + 1, r] - s[k, r])
+            pts = s[k] + t[:, None] * (s[k + 1] - s[k])
+            pa = routes[0].position(pts[:, 0])
+            pb = routes[1].position(pts[:, 1])
+            chord[k] = min(chord[k], float(np.min(track.distance(pa, pb))))
+    amax, jmax = limits.a, limits.j
+    a_int = np.minimum(amax[None, :], np.maximum(np.abs(a[:-1]), np.abs(a[1:])) + jmax[None, :] * dt / 2)
+    dev = np.sum(a_int, axis=1) * dt * dt / 8.0
+    return chord - dev
+
+
+def _refine(s: FloatArray, step: float) -> FloatArray:
+    ds = np.max(np.abs(np.diff(s, axis=0)), axis=1)
+    if len(ds) == 0 or float(ds.max()) <= step:
+        return s
+    n = np.maximum(1, np.ceil(ds / step).astype(int))
+    parts = [s[k] + np.linspace(0.0, 1.0, n[k], endpoint=False)[:, None] * (s[k + 1] - s[k]) for k in range(len(ds))]
+    parts.append(s[-1:])
+    return np.vstack(parts)
+
+
+def verify_setpoints(
+    track: Track,
+    routes: Sequence[Route],
+    t: ArrayLike,
+    track_pos: ArrayLike,
+    s: ArrayLike,
+    v: ArrayLike,
+    a: ArrayLike,
+    j: ArrayLike,
+    *,
+    limits: Limits,
+    clearance: float,
+    start: ArrayLike,
+    goal: ArrayLike,
+    word: Sequence[str],
+    rate: float,
+) -> VerificationReport:
+    """Check a setpoint grid (see the module docstring for the list of checks).
+
+    Parameters
+    ----------
+    track : Track
+    routes : sequence of Route
+        Route of A and of B (the plan's).
+    t : array_like, shape (N,)
+        Times (s).
+    track_pos : array_like, shape (N, 2)
+        Track coordinates of A and B (metres).
+    s, v, a, j : array_like, shape (N, 2)
+        Route coordinates (m) and their derivatives (m/s, m/s², m/s³).
+    limits : Limits
+    clearance : float
+        Required separation D (metres).
+    start, goal : array_like, shape (2,)
+        Track coordinates.
+    word : sequence of str
+        The plan's reduced skeleton word.
+    rate : float
+        Row rate (Hz).
+
+    Returns
+    -------
+    VerificationReport
+        Never raises for a failed check; ``ok`` is False and ``failures`` lists them.
+    """
+    fails: list[str] = []
+    tt = np.asarray(t, dtype=float)
+    arrs = {k: np.asarray(x, dtype=float) for k, x in (("track", track_pos), ("s", s), ("v", v), ("a", a), ("j", j))}
+    n = len(tt)
+    nan = float("nan")
+    if n == 0 or tt.ndim != 1 or any(x.shape != (n, 2) for x in arrs.values()):
+        return VerificationReport(False, ("arrays have inconsistent shapes",), nan, nan, {}, ())
+    if not (np.all(np.isfinite(tt)) and all(np.all(np.isfinite(x)) for x in arrs.values())):
+        return VerificationReport(False, ("non-finite values in the setpoints",), nan, nan, {}, ())
+    dt = 1.0 / float(rate)
+    if abs(tt[0]) > TIME_TOL or np.any(np.abs(tt - dt * np.arange(n)) > TIME_TOL * max(1.0, n * dt)):
+        fails.append(f"time grid is not 0, 1/{rate:g}, 2/{rate:g}, …")
+    P, S, V, A, J = arrs["track"], arrs["s"], arrs["v"], arrs["a"], arrs["j"]
+    # consistency with the routes
+    for r in (0, 1):
+        rp = routes[r].position(S[:, r])
+        err = track.distance(rp, P[:, r])
+        if np.any(err > POSITION_TOL):
+            k = int(np.argmax(err))
+            fails.append(f"row {k}: robot {'AB'[r]} track coordinate {P[k, r]!r} is not route.position(s) = {rp[k]!r}")
+    # endpoints
+    st, gl = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
+    for name, row, target in (("first", 0, st), ("last", n - 1, gl)):
+        err = track.distance(P[row], target)
+        if np.any(err > POSITION_TOL):
+            fails.append(f"{name} row is at {P[row].tolist()}, expected {target.tolist()}")
+        if np.any(np.abs(V[row]) > POSITION_TOL) or np.any(np.abs(A[row]) > POSITION_TOL):
+            fails.append(f"{name} row is not at rest (v = {V[row].tolist()}, a = {A[row].tolist()})")
+    # limits
+    peak: dict[str, tuple[float, float]] = {}
+    for name, x, lim in (("v", V, limits.v), ("a", A, limits.a), ("j", J, limits.j)):
+        ratio = np.max(np.abs(x), axis=0) / lim
+        peak[name] = (float(ratio[0]), float(ratio[1]))
+        for r in (0, 1):
+            if ratio[r] > 1 + LIMIT_RTOL:
+                k = int(np.argmax(np.abs(x[:, r])))
+                fails.append(f"row {k}: |{name}| of robot {'AB'[r]} is {abs(x[k, r]):.9g}, limit {lim[r]:g}")
+    # separation
+    d = track.distance(P[:, 0], P[:, 1])
+    dmin = float(np.min(d))
+    if dmin < clearance:
+        k = int(np.argmin(d))
+        fails.append(f"row {k}: separation {d[k]:.9g} below the clearance {clearance:g}")
+    between = between_rows_separation(track, routes, S, A, dt, limits)
+    bmin = float(np.min(between)) if len(between) else dmin
+    if bmin < clearance - SEPARATION_TOL:
+        k = int(np.argmin(between))
+        fails.append(f"rows {k}-{k + 1}: separation between rows may drop to {between[k]:.9g} < {clearance:g}")
+    # homotopy class
+    try:
+        dense = _refine(S, 0.004 * track.total_length)
+        w = path_word(track, np.stack([routes[0].position(dense[:, 0]), routes[1].position(dense[:, 1])], axis=1))
+    except MPAError as exc:
+        w = ()
+        fails.append(f"cannot compute the homotopy class: {exc}")
+    else:
+        if tuple(w) != tuple(word):
+            fails.append(f"homotopy class {' '.join(w) or '(trivial)'} differs from the plan's {' '.join(word) or '(trivial)'}")
+    return VerificationReport(not fails, tuple(fails), dmin, bmin, peak, tuple(w))
