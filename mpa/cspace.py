@@ -70,7 +70,7 @@ class ConfigurationSpace:
         a = self.track.validate(arr[0], f"{name} of robot A")
         b = self.track.validate(arr[1], f"{name} of robot B")
         out = np.array([float(a), float(b)])
-        d = float(self.track.distance(out[0], out[1]))
+        d = self.track.distance_scalar(float(a), float(b))
         if d <= 0.0:
             raise InvalidInputError(f"{name} puts both robots at {out[0]:g}: robots coincide (distance 0)")
         if d < self.clearance:

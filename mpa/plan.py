@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mpa.routes import RobotMove, Route, lift_moves
+from mpa.routes import RobotMove, Route, lift_moves, lift_position
 from mpa.skeleton import Skeleton
 from mpa.tracks import Track
 
@@ -196,7 +196,7 @@ def build_plan(
     cum = np.concatenate([[0.0], np.cumsum(inc)])
     total = cum[-1]
     knots = cum / total if total > 0 else np.zeros_like(cum)
-    pos = np.stack([route_a.position(sig_a), route_b.position(sig_b)], axis=-1)
+    pos = np.array([[lift_position(track, la), lift_position(track, lb)] for la, lb in zip(lifts_a, lifts_b)])
     pos[0], pos[-1] = start, goal
     travel = np.array([np.sum(np.abs(np.diff(sig_a))), np.sum(np.abs(np.diff(sig_b)))])
     plan_steps = []

@@ -42,12 +42,11 @@ from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, PlanningError
 from mpa.homotopy import word_from_points
 from mpa.plan import JointMove, Plan, build_plan
-from mpa.retraction import retract, trace_moves
+from mpa.retraction import lollipop_trace_scalar, retract, trace_moves
 from mpa.routes import RobotMove
 from mpa.skeleton import (
     CIRCLE_ENDS,
     CircleSkeleton,
-    IntervalSkeleton,
     LollipopSkeleton,
     SkeletonPoint,
     skeleton_of,
@@ -139,7 +138,7 @@ class IntervalPlanner(Planner):
     def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
         s, g = self.cspace.check_query(start, goal)
         tr = self.track
-        sk = IntervalSkeleton(tr)
+        sk = skeleton_of(tr)
         mv = (RobotMove("stick", s[0], g[0] - s[0]), RobotMove("stick", s[1], g[1] - s[1]))
         on_s = retract(tr, np.array([s, g]))
         return build_plan(
@@ -181,9 +180,11 @@ class CirclePlanner(Planner):
         s, g = self.cspace.check_query(start, goal)
         tr = self.track
         assert isinstance(tr, Circle)
-        sk = CircleSkeleton(tr)
+        sk = skeleton_of(tr)
+        assert isinstance(sk, CircleSkeleton)
         h = tr.half
-        xi, xf = retract(tr, np.array([s, g]))
+        xi = np.array([(s[1] + h) % tr.loop, s[1]])
+        xf = np.array([(g[1] + h) % tr.loop, g[1]])
         domain, delta = self._main_delta(float(xi[1]), float(xf[1]))
         pieces = _circle_pieces(float(xi[1]), delta, h, lambda a: "Aa" if a == 0 else "Ab")
         main = [sk.edge_moves(e, t0, t1) for e, t0, t1 in pieces]
@@ -265,7 +266,9 @@ class LollipopPlanner(Planner):
     def __post_init__(self) -> None:
         super().__post_init__()
         assert isinstance(self.track, Lollipop)
-        object.__setattr__(self, "skeleton", LollipopSkeleton(self.track))
+        sk = skeleton_of(self.track)
+        assert isinstance(sk, LollipopSkeleton)
+        object.__setattr__(self, "skeleton", sk)
 
     # --- geometry of the chain (model units) ---------------------------------------------------
     @property
@@ -431,9 +434,17 @@ class LollipopPlanner(Planner):
         tr = self.track
         assert isinstance(tr, Lollipop)
         sk = self.skeleton
-        xi, xf = retract(tr, np.array([s, g]))
-        mx, my = sk.to_model(xi), sk.to_model(xf)
-        px, py = sk.point_of_model_state(*mx), sk.point_of_model_state(*my)
+        ell, c_model, kappa = sk.model.stick, sk.model.loop, sk.kappa
+        ends = []
+        for st in (s, g):
+            ma = st[0] if st[0] <= ell else ell + (st[0] - ell) * kappa
+            mb = st[1] if st[1] <= ell else ell + (st[1] - ell) * kappa
+            da, db = lollipop_trace_scalar(ell, c_model, ma, mb)
+            ends.append(_wrap_model(ell, c_model, ma, ma + da, mb, mb + db))
+        (mxa, mxb), (mya, myb) = ends
+        xi = sk.from_model(np.array([mxa, mxb]))
+        xf = sk.from_model(np.array([mya, myb]))
+        px, py = sk.point_of_model_state(mxa, mxb), sk.point_of_model_state(mya, myb)
         domain, pieces = self.route_in_skeleton(px, py)
         main = [tuple(sk.move_from_model(m) for m in sk.edge_moves(e, t0, t1)) for e, t0, t1 in pieces]
         word = _pieces_word(sk.graph, _drop_zero_edges(sk, pieces))
@@ -454,6 +465,18 @@ class LollipopPlanner(Planner):
             xf,
             word,
         )
+
+
+def _wrap_model(ell: float, c: float, a0: float, a1: float, b0: float, b1: float) -> tuple[float, float]:
+    """Model positions after a trace: loop coordinates wrapped into [ℓ, ℓ + c)."""
+    out = []
+    for p0, p1 in ((a0, a1), (b0, b1)):
+        if p0 > ell:
+            p1 = ell + (p1 - ell) % c
+            if p1 >= ell + c - 1e-12:
+                p1 = ell
+        out.append(p1)
+    return out[0], out[1]
 
 
 def _drop_zero_edges(sk: LollipopSkeleton, pieces: list[tuple[str, float, float]]) -> list[tuple[str, float, float]]:
@@ -512,5 +535,3 @@ def plan(
     """
     return make_planner(track, clearance, neighbourhood).plan(start, goal)
 
-
-_ = skeleton_of  # re-exported for convenience

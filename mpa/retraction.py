@@ -29,10 +29,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa.routes import RobotMove
-from mpa.skeleton import LollipopSkeleton
+from mpa.skeleton import LollipopSkeleton, skeleton_of
 from mpa.tracks import Circle, Interval, Lollipop, Track
 
-__all__ = ["circle_trace", "lollipop_trace", "retract", "trace_moves"]
+__all__ = ["circle_trace", "lollipop_trace", "lollipop_trace_scalar", "retract", "trace_moves"]
 
 FloatArray = NDArray[np.float64]
 
@@ -118,6 +118,42 @@ def lollipop_trace(model: Lollipop, states: ArrayLike) -> FloatArray:
     return out
 
 
+def lollipop_trace_scalar(ell: float, c: float, a: float, b: float) -> tuple[float, float]:
+    """Scalar twin of :func:`lollipop_trace` for one state (pure Python, for single queries)."""
+    h = 0.5 * c
+    a_st, b_st = a <= ell, b <= ell
+    if a_st and b_st:
+        front_is_b = b > a
+        rear, front = (a, b) if front_is_b else (b, a)
+        d = front - rear
+        if d >= h:
+            d_rear, d_front = d - h, 0.0
+        else:
+            total = max(rear + ell - front, 1e-300)
+            d_rear, d_front = -(h - d) * rear / total, (h - d) * (ell - front) / total
+        return (d_rear, d_front) if front_is_b else (d_front, d_rear)
+    if a_st != b_st:
+        ps, pl = (a, b) if a_st else (b, a)
+        x = ell - ps
+        th = pl - ell
+        side = 1.0 if th <= h else -1.0
+        w = min(th, c - th)
+        d = x + w
+        if d >= h:
+            x_new, w_new = h - w, w
+        else:
+            lam = h / d
+            x_new, w_new = lam * x, lam * w
+        ds, dl = -(x_new - x), side * (w_new - w)
+        return (ds, dl) if a_st else (dl, ds)
+    ta, tb = a - ell, b - ell
+    p_on_ccw = tb < ta
+    wa, wb = (c - ta, tb) if p_on_ccw else (ta, c - tb)
+    lam = h / (wa + wb)
+    da, db = (lam - 1.0) * wa, (lam - 1.0) * wb
+    return (-da, db) if p_on_ccw else (da, -db)
+
+
 def _apply(track: Track, st: FloatArray, disp: FloatArray, t: ArrayLike) -> FloatArray:
     t_arr = np.asarray(t, dtype=float)
     t_arr = t_arr[:, None] if t_arr.ndim == 1 else t_arr
@@ -158,7 +194,8 @@ def retract(track: Track, states: ArrayLike, t: ArrayLike = 1.0) -> FloatArray:
     if isinstance(track, Circle):
         return _apply(track, st, circle_trace(track, st), t)
     assert isinstance(track, Lollipop)
-    sk = LollipopSkeleton(track)
+    sk = skeleton_of(track)
+    assert isinstance(sk, LollipopSkeleton)
     ms = sk.to_model(st)
     disp = lollipop_trace(sk.model, ms)
     return sk.from_model(_apply(sk.model, ms, disp, t))
@@ -168,13 +205,15 @@ def trace_moves(track: Track, state: ArrayLike) -> tuple[RobotMove, RobotMove]:
     """The trace ``t ↦ H(x, t)`` of one state as one move per robot (real track coordinates)."""
     a, b = (float(v) for v in np.asarray(state, dtype=float))
     if isinstance(track, Circle):
-        da, db = circle_trace(track, [[a, b]])[0]
-        return RobotMove("loop", a, float(da)), RobotMove("loop", b, float(db))
+        da = track.half - (a - b) % track.loop
+        return RobotMove("loop", a, da), RobotMove("loop", b, 0.0)
     assert isinstance(track, Lollipop)
-    sk = LollipopSkeleton(track)
-    ma, mb = (float(v) for v in sk.to_model([a, b]))
-    da, db = lollipop_trace(sk.model, [[ma, mb]])[0]
+    sk = skeleton_of(track)
+    assert isinstance(sk, LollipopSkeleton)
     ell = sk.model.stick
+    ma = a if a <= ell else ell + (a - ell) * sk.kappa
+    mb = b if b <= ell else ell + (b - ell) * sk.kappa
+    da, db = lollipop_trace_scalar(ell, sk.model.loop, ma, mb)
     moves = []
     for p, dp in ((ma, float(da)), (mb, float(db))):
         mv = RobotMove("stick", p, dp) if p <= ell else RobotMove("loop", p - ell, dp)

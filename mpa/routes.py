@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 from mpa.errors import PlanningError
 from mpa.tracks import Circle, Interval, Lollipop, Track
 
-__all__ = ["Lift", "RobotMove", "Route", "lift_moves"]
+__all__ = ["Lift", "RobotMove", "Route", "lift_moves", "lift_position"]
 
 FloatArray = NDArray[np.float64]
 #: Tolerance (metres) for deciding that a lifted point sits on a junction.
@@ -60,7 +60,8 @@ class RobotMove:
         return RobotMove("stick", p, 0.0)
 
 
-def _to_track(track: Track, lift: Lift) -> float:
+def lift_position(track: Track, lift: Lift) -> float:
+    """Track coordinate of a point of the universal cover."""
     if isinstance(track, Interval):
         return lift.v
     if isinstance(track, Circle):
@@ -250,23 +251,28 @@ class Route:
         route = cls(track, tuple(pieces), r_start, direction, min(s_a, s_b), max(s_a, s_b), abs(goal))
         return route, sigma
 
+    def __post_init__(self) -> None:
+        pcs = self.pieces
+        object.__setattr__(self, "_ends", np.array([pc[5] for pc in pcs[:-1]]))
+        object.__setattr__(self, "_kinds", np.array([pc[0] == "stick" for pc in pcs]))
+        object.__setattr__(self, "_ks", np.array([pc[1] for pc in pcs]))
+        object.__setattr__(self, "_v0", np.array([pc[2] for pc in pcs]))
+        object.__setattr__(self, "_v1", np.array([pc[3] for pc in pcs]))
+        object.__setattr__(self, "_ra", np.array([pc[4] for pc in pcs]))
+        rb = np.array([pc[5] for pc in pcs])
+        object.__setattr__(self, "_span", np.where(rb > self._ra, rb - self._ra, 1.0))  # type: ignore[attr-defined]
+
     # -------------------------------------------------------------------------------------------
     def _pieces_at(self, r: FloatArray) -> NDArray[np.intp]:
-        ends = np.array([pc[5] for pc in self.pieces[:-1]])
-        return np.searchsorted(ends, r, side="left")
+        return np.searchsorted(self._ends, r, side="left")  # type: ignore[attr-defined,no-any-return]
 
     def lift_at(self, sigma: ArrayLike) -> tuple[NDArray[np.bool_], NDArray[np.int64], FloatArray]:
         """Lifted points at route coordinates ``σ``: (is_stick, copy index k, v). Same shape as ``σ``."""
         s = np.asarray(sigma, dtype=float)
         r = self.r_start + self.direction * s
         idx = self._pieces_at(r)
-        kinds = np.array([pc[0] == "stick" for pc in self.pieces])
-        ks = np.array([pc[1] for pc in self.pieces])
-        v0 = np.array([pc[2] for pc in self.pieces])
-        v1 = np.array([pc[3] for pc in self.pieces])
-        ra = np.array([pc[4] for pc in self.pieces])
-        rb = np.array([pc[5] for pc in self.pieces])
-        span = np.where(rb > ra, rb - ra, 1.0)
+        kinds, ks, v0, v1 = self._kinds, self._ks, self._v0, self._v1  # type: ignore[attr-defined]
+        ra, span = self._ra, self._span  # type: ignore[attr-defined]
         frac = (r - ra[idx]) / span[idx]
         v = v0[idx] + frac * (v1[idx] - v0[idx])
         is_stick = kinds[idx]

@@ -18,6 +18,7 @@ Shrinking the loop never increases a distance, so plans keep ``d ≥ min(d_start
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -326,8 +327,9 @@ class LollipopSkeleton(Skeleton):
         return RobotMove("loop", float(np.mod(phi0, 2 * h)), dt), RobotMove("loop", float(np.mod(phi0 + h, 2 * h)), dt)
 
 
+@lru_cache(maxsize=64)
 def skeleton_of(track: Track) -> Skeleton:
-    """The skeleton of the configuration space of two robots on ``track``."""
+    """The skeleton of the configuration space of two robots on ``track`` (cached per track)."""
     if isinstance(track, Interval):
         return IntervalSkeleton(track)
     if isinstance(track, Circle):

@@ -106,6 +106,13 @@ class Track(ABC):
         InvalidInputError
             If a value is not finite or lies outside the track's coordinate range.
         """
+        if isinstance(p, (float, int, np.floating, np.integer)) and not isinstance(p, bool):
+            v = float(p)
+            lo, hi, closed = self._bounds()
+            if lo <= v < hi or (closed and v == hi):
+                if hi - WRAP_TOL * max(1.0, hi) <= v < hi and not closed:
+                    return self.normalize(v)
+                return np.asarray(v)
         try:
             arr = np.asarray(p, dtype=float)
         except (TypeError, ValueError):
@@ -125,6 +132,14 @@ class Track(ABC):
     def on_loop(self, p: ArrayLike) -> NDArray[np.bool_]:
         """Whether positions lie on the loop (the pole P of a lollipop counts as both)."""
         return np.zeros(np.shape(p), dtype=bool)
+
+    def _bounds(self) -> tuple[float, float, bool]:
+        """(low, high, high end included) of the coordinate range."""
+        return 0.0, self.total_length, False
+
+    def distance_scalar(self, p: float, q: float) -> float:
+        """Graph distance of two scalar positions (pure Python twin of :meth:`distance`)."""
+        return float(self.distance(p, q))
 
 
 @dataclass(frozen=True)
@@ -153,6 +168,12 @@ class Interval(Track):
 
     def distance(self, p: ArrayLike, q: ArrayLike) -> FloatArray:
         return np.abs(np.asarray(q, dtype=float) - np.asarray(p, dtype=float))
+
+    def distance_scalar(self, p: float, q: float) -> float:
+        return abs(q - p)
+
+    def _bounds(self) -> tuple[float, float, bool]:
+        return 0.0, self.stick, True
 
     def normalize(self, p: ArrayLike) -> FloatArray:
         return np.asarray(p, dtype=float).copy()
@@ -207,6 +228,10 @@ class Circle(Track):
         c = self.loop
         diff = np.mod(np.asarray(q, dtype=float) - np.asarray(p, dtype=float), c)
         return np.minimum(diff, c - diff)
+
+    def distance_scalar(self, p: float, q: float) -> float:
+        diff = (q - p) % self.loop
+        return min(diff, self.loop - diff)
 
     def normalize(self, p: ArrayLike) -> FloatArray:
         p = np.asarray(p, dtype=float)
@@ -292,6 +317,18 @@ class Lollipop(Track):
             np.abs(p - q),
             np.where((p >= ell) & (q >= ell), both_loop, xp + xq + wp + wq),
         )
+
+    def distance_scalar(self, p: float, q: float) -> float:
+        ell, c = self.stick, self.loop
+        if p <= ell and q <= ell:
+            return abs(p - q)
+        if p >= ell and q >= ell:
+            diff = abs(p - q)
+            return min(diff, c - diff)
+        if p > q:
+            p, q = q, p
+        w = q - ell
+        return (ell - p) + min(w, c - w)
 
     def normalize(self, p: ArrayLike) -> FloatArray:
         p = np.asarray(p, dtype=float)
