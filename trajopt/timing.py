@@ -176,11 +176,17 @@ class BlendedPath:
         """``S``, the end of the path parameter."""
         return float(self.breaks[-1])
 
-    def __call__(self, s: ArrayLike, order: int = 0) -> FloatArray:
-        """``q``, ``q'``, ``q''`` or ``q'''`` at ``s`` (toppra's interface). Shape ``s.shape + (2,)``."""
+    def __call__(self, s: ArrayLike, order: int = 0, piece: ArrayLike | None = None) -> FloatArray:
+        """``q``, ``q'``, ``q''`` or ``q'''`` at ``s`` (toppra's interface). Shape ``s.shape + (2,)``.
+
+        ``piece`` (same shape as ``s``) chooses the piece explicitly (one-sided derivatives at a boundary).
+        """
         s_arr = np.asarray(s, dtype=float)
         flat = np.clip(s_arr.ravel(), self.breaks[0], self.breaks[-1])
-        k = np.clip(np.searchsorted(self.breaks, flat, side="right") - 1, 0, len(self.coef) - 1)
+        if piece is None:
+            k = np.clip(np.searchsorted(self.breaks, flat, side="right") - 1, 0, len(self.coef) - 1)
+        else:
+            k = np.asarray(piece, dtype=np.intp).ravel()
         tau = flat - self.breaks[k]
         c = self.coef[k]  # (n, 6, 2)
         out = np.zeros((len(flat), 2))
@@ -454,7 +460,11 @@ class TimeScaling:
     j: FloatArray
     duration: float
     boundary_speed: FloatArray
+    piece: NDArray[np.intp] = field(default_factory=lambda: np.zeros(0, dtype=np.intp))
     stats: dict[str, Any] = field(default_factory=dict)
+
+    def _phase(self, tt: FloatArray) -> NDArray[np.intp]:
+        return np.clip(np.searchsorted(self.t0, tt, side="right") - 1, 0, len(self.t0) - 1)
 
     def param(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         """``s, ṡ, s̈, s⃛`` at times ``t`` (after the end: held at rest at the end)."""
@@ -462,7 +472,7 @@ class TimeScaling:
         if len(self.t0) == 0:
             z = np.zeros_like(tt)
             return z + self.path.length, z, z.copy(), z.copy()
-        k = np.clip(np.searchsorted(self.t0, tt, side="right") - 1, 0, len(self.t0) - 1)
+        k = self._phase(tt)
         tau = np.clip(tt - self.t0[k], 0.0, None)
         j = self.j[k]
         a = self.a[k] + j * tau
@@ -477,8 +487,12 @@ class TimeScaling:
 
     def sample(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         """Route coordinates and their first three time derivatives at ``t``. Each shape ``t.shape + (2,)``."""
-        s, sd, sdd, sddd = self.param(t)
-        q0, q1, q2, q3 = (self.path(s, k) for k in range(4))
+        tt = np.asarray(t, dtype=float)
+        s, sd, sdd, sddd = self.param(tt)
+        pc = None
+        if len(self.t0):
+            pc = np.where(tt >= self.duration, len(self.path.coef) - 1, self.piece[self._phase(tt)])
+        q0, q1, q2, q3 = (self.path(s, k, pc) for k in range(4))
         sd_, sdd_, sddd_ = sd[..., None], sdd[..., None], sddd[..., None]
         vel = q1 * sd_
         acc = q2 * sd_**2 + q1 * sdd_
@@ -534,7 +548,7 @@ def jerk_limited_scaling(
     otg = Ruckig(1)
     inp = InputParameter(1)
     traj = Trajectory(1)
-    t0s, ps, vs, as_, js = [], [], [], [], []
+    t0s, ps, vs, as_, js, pcs = [], [], [], [], [], []
     t_acc = 0.0
     for k in range(P):
         if lens[k] <= 0:
@@ -563,10 +577,12 @@ def jerk_limited_scaling(
             vs.append(prof.v[i])
             as_.append(prof.a[i])
             js.append(prof.j[i])
+            pcs.append(k)
             t_acc += tp[i]
     stats = {"pieces": P, "blends": int(np.sum(path.is_blend)), "jerk_time": time.perf_counter() - t_start}
     return TimeScaling(
-        path, np.array(t0s), np.array(ps), np.array(vs), np.array(as_), np.array(js), float(t_acc), vb, stats
+        path, np.array(t0s), np.array(ps), np.array(vs), np.array(as_), np.array(js), float(t_acc), vb,
+        np.array(pcs, dtype=np.intp), stats,
     )
 
 
