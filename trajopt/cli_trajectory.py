@@ -123,7 +123,8 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     }
     write_outputs(args.out, files)
     print(f"mpa demo: lollipop stick {job['stick']:g} m, loop {job['loop']:g} m; A and B swap order through the loop")
-    print(f"start       A = {plan.start[0]:g}, B = {plan.start[1]:g} -> goal A = {plan.goal[0]:g}, B = {plan.goal[1]:g}")
+    print(f"start       A = {plan.start[0]:g}, B = {plan.start[1]:g}")
+    print(f"goal        A = {plan.goal[0]:g}, B = {plan.goal[1]:g}")
     print(_summary_text(traj))
     print(f"wrote       {', '.join(str(Path(args.out) / n) for n in files)}")
     return 0
@@ -133,7 +134,7 @@ def register(subparsers: Any) -> None:
     """Add ``trajectory`` and ``demo`` to the ``mpa`` command (called by :func:`trajopt.cli.build_parser`)."""
     p = subparsers.add_parser("trajectory", help="verified jerk-limited setpoints for a query (CSV + JSON)")
     add_query_arguments(p)
-    p.add_argument("--clearance", type=float, default=DEFAULTS["clearance"], help="clearance D in metres (default 0.05)")
+    p.add_argument("--clearance", type=float, default=DEFAULTS["clearance"], help="clearance D, m (default 0.05)")
     p.add_argument("--vmax", type=float, default=DEFAULTS["vmax"], help="speed limit per robot, m/s (default 0.5)")
     p.add_argument("--amax", type=float, default=DEFAULTS["amax"], help="acceleration limit, m/s^2 (default 1.0)")
     p.add_argument("--jmax", type=float, default=DEFAULTS["jmax"], help="jerk limit, m/s^3 (default 5.0)")

@@ -191,7 +191,7 @@ class Trajectory:
         """Whether the plan itself (re-timed) was returned instead of the optimized trajectory."""
         return self.source is Source.PLAN
 
-    def resample(self, rate: float | None = None) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    def resample(self, rate: float | None = None) -> tuple[FloatArray, ...]:
         """``t, track, s, v, a, j`` at another rate (same continuous motion; the last row at the goal, at rest).
 
         Raises

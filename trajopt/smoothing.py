@@ -39,7 +39,7 @@ from mpa.errors import PlanningError
 from mpa.homotopy import path_word
 from mpa.plan import Plan
 from mpa.routes import Route
-from mpa.tracks import Circle, Interval, Lollipop, Track
+from mpa.tracks import Interval, Track
 
 __all__ = [
     "SIZE_CLASSES",
@@ -453,7 +453,7 @@ class SmoothingProblem:
         v = np.asarray(vmax, dtype=float)
         dt0 = np.max(np.abs(np.diff(x0n, axis=0)) / v[None, :], axis=1)
         total = float(dt0.sum())
-        scale = max(float(np.max(np.abs(x0n[-1] - x0n[0]))), float(np.sum(np.max(np.abs(np.diff(x0n, axis=0)), axis=1))))
+        scale = float(np.sum(np.max(np.abs(np.diff(x0n, axis=0)), axis=1)))
         weight = 0.05 * n / max(scale * float(np.mean(v)), 1e-12)
         p = np.concatenate([coef.reshape(-1), 1.0 / v, [weight]])
         x0 = np.concatenate([x0n[:, 0], x0n[:, 1], dt0])

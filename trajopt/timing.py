@@ -24,8 +24,8 @@ call per piece (state to state in one DoF, no waypoints needed) times it.
 from __future__ import annotations
 
 import time
-from math import comb
 from dataclasses import dataclass, field
+from math import comb
 from typing import Any
 
 import numpy as np
@@ -55,7 +55,9 @@ def _pair(name: str, value: Any, unit: str) -> tuple[float, float]:
     try:
         arr = np.broadcast_to(np.asarray(value, dtype=float), (2,))
     except (TypeError, ValueError):
-        raise InvalidInputError(f"{name} is {value!r}, expected a positive finite number ({unit}) or one per robot") from None
+        raise InvalidInputError(
+            f"{name} is {value!r}, expected a positive finite number ({unit}) or one per robot"
+        ) from None
     for i, v in enumerate(arr):
         if not np.isfinite(v) or v <= 0:
             who = "" if np.ndim(value) == 0 else f" of robot {'AB'[i]}"
@@ -242,7 +244,9 @@ def _bezier_points(ctrl: FloatArray, n: int) -> FloatArray:
     return out
 
 
-def blend_polyline(corners: ArrayLike, min_distance: Any = None, separation: float = 0.0, radius_cap: float = np.inf) -> BlendedPath:
+def blend_polyline(
+    corners: ArrayLike, min_distance: Any = None, separation: float = 0.0, radius_cap: float = np.inf
+) -> BlendedPath:
     """Build the C² path through a polyline with collision-checked corner blends.
 
     Parameters

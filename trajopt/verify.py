@@ -264,5 +264,6 @@ def verify_setpoints(
         fails.append(f"cannot compute the homotopy class: {exc}")
     else:
         if tuple(w) != tuple(word):
-            fails.append(f"homotopy class {' '.join(w) or '(trivial)'} differs from the plan's {' '.join(word) or '(trivial)'}")
+            got, want = " ".join(w) or "(trivial)", " ".join(word) or "(trivial)"
+            fails.append(f"homotopy class {got} differs from the plan's {want}")
     return VerificationReport(not fails, tuple(fails), dmin, bmin, peak, tuple(w))

@@ -1,0 +1,252 @@
+"""The pipeline: plan → smooth → time-parametrize → jerk-limit → verify → :class:`~trajopt.export.Trajectory`.
+
+:class:`TrajectoryGenerator` is built once per track, clearance, limits and rate (it keeps the planner; the
+NLPs are cached per size class) and answers many queries; :func:`generate_trajectory` is the one-shot call.
+If any optimisation stage fails or its setpoints fail the gate (:func:`trajopt.verify.verify_setpoints`), the
+plan itself is re-timed (every straight step rest to rest along the plan's polyline, which is collision-free by
+construction), marked as the fallback with the reason, and verified too. Nothing unverified is returned.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from mpa.errors import InvalidInputError, MPAError, PlanningError
+from mpa.plan import Plan
+from mpa.planners import Planner, make_planner
+from mpa.tracks import Track
+from trajopt.export import Source, Trajectory, check_rate, time_grid
+from trajopt.smoothing import RouteGeometry, smooth_plan
+from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling, toppra_profile
+from trajopt.verify import VerificationError, VerificationReport, verify_setpoints
+
+__all__ = ["TrajectoryGenerator", "generate_trajectory", "separation_margin"]
+
+
+def separation_margin(limits: Limits, rate: float) -> float:
+    """Extra separation (m) the geometric path keeps so that the gate's between-rows bound holds.
+
+    The gate allows the motion to deviate from the chord between rows by ``Σ amax·Δt²/8``; the path keeps
+    twice that (the chord loses it once, the bound once more) plus 1e-9 m.
+    """
+    dt = 1.0 / rate
+    return 2.0 * float(np.sum(limits.a)) * dt * dt / 8.0 + 1e-9
+
+
+@dataclass
+class TrajectoryGenerator:
+    """Verified jerk-limited trajectories for many queries on one track.
+
+    Parameters
+    ----------
+    track : Track
+    clearance : float
+        Required separation D (m, graph distance).
+    limits : Limits
+        Per-robot limits of the route coordinate.
+    rate : float
+        Setpoint rate (Hz).
+    optimize : bool
+        False skips the optimisation and always returns the re-timed plan (the benchmark's baseline).
+
+    Raises
+    ------
+    InvalidInputError
+        Bad clearance or rate (limits are checked by :class:`~trajopt.timing.Limits`).
+
+    Examples
+    --------
+    >>> from mpa import Lollipop
+    >>> gen = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05)
+    >>> traj = gen.generate((0.2, 0.5), (0.5, 0.2))
+    >>> bool(traj.verification["ok"]), traj.word == traj.plan.word
+    (True, True)
+    """
+
+    track: Track
+    clearance: float = 0.05
+    limits: Limits = field(default_factory=Limits)
+    rate: float = 100.0
+    optimize: bool = True
+    planner: Planner = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.limits, Limits):
+            raise InvalidInputError(f"limits is {self.limits!r}, expected a trajopt.Limits")
+        self.rate = check_rate(self.rate)
+        self.planner = make_planner(self.track, self.clearance)
+        self.clearance = self.planner.clearance
+
+    # ---------------------------------------------------------------------------------------------
+    def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
+        """The topological plan of a query (validates it; see :meth:`mpa.planners.Planner.plan`)."""
+        return self.planner.plan(start, goal)
+
+    def generate(self, start: ArrayLike, goal: ArrayLike) -> Trajectory:
+        """A verified trajectory from ``start`` to ``goal`` (track coordinates of A and B).
+
+        Raises
+        ------
+        InvalidInputError
+            Bad start or goal (off the track, closer than the clearance).
+        NoMotionError
+            No collision-free motion exists (e.g. the order must change and ``D ≥ loop/2``).
+        PlanningError
+            Even the re-timed plan fails verification (never expected).
+        """
+        t0 = time.perf_counter()
+        plan = self.plan(start, goal)
+        timings: dict[str, Any] = {"plan": time.perf_counter() - t0}
+        return self.generate_from_plan(plan, timings)
+
+    def generate_from_plan(self, plan: Plan, timings: dict[str, Any] | None = None) -> Trajectory:
+        """Like :meth:`generate` for an existing plan (from this generator's planner)."""
+        timings = dict(timings or {})
+        t_all = time.perf_counter()
+        geom = RouteGeometry(plan.track, plan.routes)
+        stats: dict[str, Any] = {}
+        reason = ""
+        if self.optimize:
+            try:
+                traj = self._optimized(plan, geom, timings, stats)
+                timings["total"] = timings.get("plan", 0.0) + time.perf_counter() - t_all
+                return traj
+            except VerificationError as exc:
+                reason = str(exc)
+            except MPAError as exc:
+                reason = f"{type(exc).__name__}: {exc}"
+            except RuntimeError as exc:  # CasADi raises RuntimeError on internal failures
+                reason = f"solver error: {exc}"
+        else:
+            reason = "optimisation disabled"
+        t1 = time.perf_counter()
+        path = blend_polyline(_dedupe(plan.waypoints_s))
+        scaling = jerk_limited_scaling(path, self.limits)
+        timings["fallback_jerk"] = time.perf_counter() - t1
+        stats["fallback_pieces"] = len(path.coef)
+        try:
+            traj = self._finish(plan, scaling, Source.PLAN, reason, stats, timings)
+        except VerificationError as exc:
+            raise PlanningError(f"the re-timed plan fails verification ({exc}); after: {reason}") from exc
+        timings["total"] = timings.get("plan", 0.0) + time.perf_counter() - t_all
+        return traj
+
+    # ---------------------------------------------------------------------------------------------
+    def _optimized(self, plan: Plan, geom: RouteGeometry, timings: dict[str, Any], stats: dict[str, Any]) -> Trajectory:
+        sep = self.clearance + separation_margin(self.limits, self.rate)
+        t0 = time.perf_counter()
+        sm = smooth_plan(plan, sep, self.limits.v, geom)
+        stats.update(sm.stats)
+        t1 = time.perf_counter()
+        timings["smooth"] = t1 - t0
+        d_ends = min(float(geom.distance(sm.nodes[0])), float(geom.distance(sm.nodes[-1])))
+        path = blend_polyline(sm.nodes, geom.polyline_min_distance, min(sep, d_ends))
+        t2 = time.perf_counter()
+        timings["blend"] = t2 - t1
+        caps = None
+        if path.length > 0:
+            grid, sd, dur = toppra_profile(path, self.limits)
+            caps = sd[np.searchsorted(grid, path.breaks).clip(0, len(grid) - 1)]
+            stats["toppra_duration"] = dur
+        t3 = time.perf_counter()
+        timings["retime"] = t3 - t2
+        scaling = jerk_limited_scaling(path, self.limits, caps)
+        timings["jerk"] = time.perf_counter() - t3
+        stats.update(scaling.stats)
+        stats["blend_radii"] = path.radii.tolist()
+        return self._finish(plan, scaling, Source.OPTIMIZED, "", stats, timings)
+
+    def _finish(
+        self,
+        plan: Plan,
+        scaling: TimeScaling,
+        source: Source,
+        reason: str,
+        stats: dict[str, Any],
+        timings: dict[str, Any],
+    ) -> Trajectory:
+        t0 = time.perf_counter()
+        t = time_grid(scaling.duration, self.rate)
+        s, v, a, j = scaling.sample(t)
+        routes = plan.routes
+        tr = np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1)
+        timings["sample"] = time.perf_counter() - t0
+        t1 = time.perf_counter()
+        rep: VerificationReport = verify_setpoints(
+            plan.track, routes, t, tr, s, v, a, j,
+            limits=self.limits, clearance=self.clearance, start=plan.start, goal=plan.goal, word=plan.word,
+            rate=self.rate,
+        )
+        timings["verify" if source is Source.OPTIMIZED else "fallback_verify"] = time.perf_counter() - t1
+        if not rep.ok:
+            raise VerificationError(rep)
+        return Trajectory(
+            t=t, track=tr, s=s, v=v, a=a, j=j,
+            limits=self.limits, clearance=self.clearance, rate=self.rate,
+            makespan=float(t[-1]), motion_time=scaling.duration, min_separation=rep.min_separation,
+            domain=plan.domain, word=tuple(plan.word), source=source, fallback_reason=reason,
+            solver_stats=dict(stats), timings=timings, verification=rep.to_dict(), plan=plan,
+            sampler=scaling.sample,
+        )
+
+
+def _dedupe(pts: ArrayLike) -> np.ndarray:
+    p = np.atleast_2d(np.asarray(pts, dtype=float))
+    keep = np.concatenate([[True], np.linalg.norm(np.diff(p, axis=0), axis=1) > 1e-12])
+    out = p[keep]
+    out[-1] = p[-1]
+    return out
+
+
+def generate_trajectory(
+    track: Track,
+    start: ArrayLike,
+    goal: ArrayLike,
+    *,
+    clearance: float = 0.05,
+    vmax: Any = 0.5,
+    amax: Any = 1.0,
+    jmax: Any = 5.0,
+    rate: float = 100.0,
+) -> Trajectory:
+    """One call from a query to a verified jerk-limited :class:`~trajopt.export.Trajectory`.
+
+    Parameters
+    ----------
+    track : Track
+    start, goal : array_like, shape (2,)
+        Track coordinates of robots A and B (m).
+    clearance : float
+        Required separation D (m, graph distance).
+    vmax, amax, jmax : float or (float, float)
+        Per-robot limits (m/s, m/s², m/s³).
+    rate : float
+        Setpoint rate (Hz).
+
+    Returns
+    -------
+    Trajectory
+
+    Raises
+    ------
+    InvalidInputError
+        Bad limits, rate, clearance, start or goal.
+    NoMotionError
+        No collision-free motion exists.
+    PlanningError
+        Not even the re-timed plan passes verification.
+
+    Examples
+    --------
+    >>> from mpa import Lollipop
+    >>> traj = generate_trajectory(Lollipop(1.0, 1.0), (0.1, 0.6), (0.8, 0.3))
+    >>> traj.t.shape[0] == traj.s.shape[0], traj.fallback
+    (True, False)
+    """
+    gen = TrajectoryGenerator(track, clearance=clearance, limits=Limits(vmax, amax, jmax), rate=rate)
+    return gen.generate(start, goal)
