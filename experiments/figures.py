@@ -86,7 +86,10 @@ def query_plan(name: str) -> Plan:
 
 
 def _footer(fig: Figure, text: str) -> None:
-    fig.text(0.01, 0.005, text, fontsize=7.5, color="0.35", ha="left", va="bottom")
+    """A note under the figure (constrained layout keeps room for it)."""
+    width = int(fig.get_figwidth() * 17)
+    fig.supxlabel("\n".join(_wrap(line, width) for line in text.split("\n")), fontsize=7.5, color="0.35", x=0.01,
+                  ha="left")
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -126,10 +129,12 @@ def _surface(ax: object, xyz: np.ndarray, colour_by: np.ndarray, cmap: str = "vi
     _ = cm
 
 
-def _equal_3d(ax: object, xyz: np.ndarray) -> None:
+def _equal_3d(ax: object, xyz: np.ndarray, zoom: float = 1.0) -> None:
     pts = xyz.reshape(-1, 3)
     lo, hi = np.nanmin(pts, axis=0), np.nanmax(pts, axis=0)
-    ax.set_box_aspect(hi - lo)  # type: ignore[attr-defined]
+    for setter, a, b in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), lo, hi):  # type: ignore[attr-defined]
+        setter(a, b)
+    ax.set_box_aspect(hi - lo, zoom=zoom)  # type: ignore[attr-defined]
     ax.set_axis_off()  # type: ignore[attr-defined]
 
 
@@ -145,7 +150,7 @@ def fig_product_space() -> Figure:
     s = 0.3  # B scaled into the normal plane of A (radial direction and z): tube radius 0.45 < min r_A = π/6
     radial = ra + s * (bx - 1.5)
     xyz = np.stack([radial * np.cos(T), radial * np.sin(T), s * by], axis=-1)
-    _surface(ax, xyz, T, "viridis")
+    _surface(ax, xyz, T, "twilight")
     core = np.stack([_curve_a(th) * np.cos(th), _curve_a(th) * np.sin(th), 0 * th], axis=-1)
     ax.plot(*core.T, color="k", lw=0.8, ls=":")
     _equal_3d(ax, xyz)
@@ -171,10 +176,13 @@ def fig_torus() -> Figure:
     fig = Figure(figsize=(5.5, 4.2), layout="constrained")
     ax = fig.add_subplot(projection="3d")
     xyz, U, V = _torus()
-    _surface(ax, xyz, V, "Blues", alpha=0.85)
+    ax.computed_zorder = False
+    _surface(ax, xyz, V, "Blues", alpha=0.6)
     t = np.linspace(0, 1, 200)
-    ax.plot(*_torus_point(t, 0 * t + 0.25).T, color=dr.ROBOT_COLORS["A"], lw=2.0, label="$S^1\\times\\{b\\}$")
-    ax.plot(*_torus_point(0 * t, t).T, color=dr.ROBOT_COLORS["B"], lw=2.0, label="$\\{a\\}\\times S^1$")
+    ax.plot(*_torus_point(t, 0 * t + 0.25).T, color=dr.ROBOT_COLORS["A"], lw=2.5, label="$S^1\\times\\{b\\}$",
+            zorder=10)
+    ax.plot(*_torus_point(0 * t + 0.9, t).T, color=dr.ROBOT_COLORS["B"], lw=2.5, label="$\\{a\\}\\times S^1$",
+            zorder=10)
     _equal_3d(ax, xyz)
     ax.view_init(elev=40, azim=-60)
     ax.legend(loc="upper right", fontsize=9)
@@ -191,7 +199,7 @@ def _shortest_offset(a: float, b: np.ndarray | float, c: float) -> np.ndarray:
 def _one_robot_run(ax: object, track: Circle, a: float, b: float, delta: float, title: str) -> None:
     dr.draw_track(ax, track, ccw_arrow=False)  # type: ignore[arg-type]
     path = a + np.linspace(0, delta, 200)
-    dr.draw_motion(ax, track, np.mod(path, track.loop), "A", lane=0.06, spread=0.0)  # type: ignore[arg-type]
+    dr.draw_motion(ax, track, np.mod(path, track.loop), "A", lane=0.25, spread=0.0)  # type: ignore[arg-type]
     dr.draw_robot(ax, track, a, "A", label="a")  # type: ignore[arg-type]
     dr.draw_robot(ax, track, float(np.mod(b, track.loop)), "A", final=True, label="b")  # type: ignore[arg-type]
     ax.set_title(title, fontsize=10)  # type: ignore[attr-defined]
@@ -246,7 +254,7 @@ def fig_one_robot_interval() -> Figure:
     ax = axes[0, 0]
     dr.draw_track(ax, INTERVAL)
     a, b = 0.2, 0.75
-    dr.draw_motion(ax, INTERVAL, np.linspace(a, b, 100), "A", lane=0.05, spread=0.0)
+    dr.draw_motion(ax, INTERVAL, np.linspace(a, b, 100), "A", lane=0.5, spread=0.0)
     dr.draw_robot(ax, INTERVAL, a, "A", label="a")
     dr.draw_robot(ax, INTERVAL, b, "A", final=True, label="b")
     ax.set_title('"go in straight line towards the final position": continuous on $I\\times I$', fontsize=10)
@@ -271,8 +279,9 @@ def fig_two_instructions_circle() -> Figure:
     ax.plot([0, c], [0, c], color=dr.COLLISION_COLOR, lw=1.5)
     for sh in (0.5 * c, -0.5 * c):
         ax.plot([max(0, -sh), min(c, c - sh)], [max(0, sh), min(c, c + sh)], color="#ff7f0e", lw=1.5)
-    ax.text(0.5, 0.12, "U: not antipodal\n(shortest path)", ha="center", fontsize=8)
-    ax.text(0.18, 0.66, "V ∋ antipodal\n(ccw)", ha="center", fontsize=8, color="#b35900")
+    ax.text(0.72, 0.45, "U (not antipodal):\nshortest path", ha="center", fontsize=8, color="#1f4e79")
+    ax.text(0.22, 0.88, "near antipodal,\nin V (a ≠ b): ccw", ha="center", fontsize=8, color="#b35900")
+    ax.text(0.62, 0.75, "Δ ∉ V", ha="center", fontsize=8, color=dr.COLLISION_COLOR, rotation=45)
     ax.set_xlabel("initial position a")
     ax.set_ylabel("final position b")
     ax.set_title("domains of continuity in $S^1\\times S^1$", fontsize=10)
@@ -328,7 +337,7 @@ def fig_interval_different() -> Figure:
     except NoMotionError as exc:
         msg = str(exc)
     dr.draw_track(ax_p, INTERVAL)  # type: ignore[arg-type]
-    dr.draw_robots(ax_p, INTERVAL, s)  # type: ignore[arg-type]
+    dr.draw_robots(ax_p, INTERVAL, s, labels=("$A_i$", "$B_i$"))  # type: ignore[arg-type]
     dr.draw_robots(ax_p, INTERVAL, g, final=True, labels=("$A_f$", "$B_f$"))  # type: ignore[arg-type]
     ax_p.set_ylim(-0.3, 0.3)  # type: ignore[attr-defined]
     ax_p.set_title("the robots cannot swap on $I$", fontsize=10)  # type: ignore[attr-defined]
@@ -365,11 +374,12 @@ def fig_circle_spaces() -> Figure:
     dr.draw_robots(ax_p, CIRCLE, g, final=True, labels=("$A_f$", "$B_f$"))
     ax_p.set_title("physical space $S^1$", fontsize=10)
     xyz, U, V = _torus()
-    _surface(ax_t, xyz, V, "Blues", alpha=0.55)
+    ax_t.computed_zorder = False
+    _surface(ax_t, xyz, V, "Blues", alpha=0.45)
     t = np.linspace(0, 1, 300)
-    ax_t.plot(*_torus_point(t, t).T, color=dr.COLLISION_COLOR, lw=2.0, label="diagonal Δ")
+    ax_t.plot(*_torus_point(t, t).T, color=dr.COLLISION_COLOR, lw=2.0, label="diagonal Δ", zorder=10)
     for st, m in ((s, "o"), (g, "s")):
-        ax_t.plot(*_torus_point(np.array([st[0]]), np.array([st[1]])).T, m, color="k", ms=6)
+        ax_t.plot(*_torus_point(np.array([st[0]]), np.array([st[1]])).T, m, color="k", ms=6, zorder=11)
     _equal_3d(ax_t, xyz)
     ax_t.view_init(elev=40, azim=-60)
     ax_t.legend(loc="upper right", fontsize=8)
@@ -427,7 +437,7 @@ def fig_circle_steps_in_x() -> Figure:
     dr.draw_state(ax, p.skeleton_start, "$x_i'$", color=dr.STEP_COLORS["preliminary"])
     dr.draw_state(ax, p.skeleton_goal, "$x_f'$", color=dr.STEP_COLORS["final"], filled=False)
     dr.draw_state(ax, p.goal, "$x_f$", filled=False)
-    ax.legend(loc="upper left", fontsize=8)
+    ax.legend(loc="center right", fontsize=8)
     ax.set_title(f"the three steps in X (domain {p.domain})", fontsize=10)
     return fig
 
@@ -466,13 +476,15 @@ def fig_swapped_config() -> Figure:
 def _run_figure(name: str, step: str | None, title: str) -> Callable[[], Figure]:
     def make() -> Figure:
         p = query_plan(name)
-        fig, axes = dr.new_figure(2, width=4.4, height=4.2)
+        wide = isinstance(p.track, Lollipop)
+        fig = Figure(figsize=(11.0 if wide else 8.8, 4.4), layout="constrained")
+        axes = fig.subplots(1, 2, squeeze=False, width_ratios=[1.5, 1] if wide else [1, 1])
         dr.draw_plan_step(axes[0], p, dr.StepStyle(step=step))
         axes[0, 0].set_title(title, fontsize=10)
         what = "query" if step is None else f"{step} step"
         axes[0, 1].set_title(f"{what} in the configuration space (domain {p.domain})", fontsize=10)
         desc = next(s.description for s in p.steps if s.name == step) if step else p.rule
-        _footer(fig, _wrap(f"start {tuple(p.start)} → goal {tuple(p.goal)}: {desc}", 150))
+        _footer(fig, f"start ({p.start[0]:g}, {p.start[1]:g}) → goal ({p.goal[0]:g}, {p.goal[1]:g}); {what}: {desc}")
         return fig
 
     return make
@@ -536,8 +548,8 @@ def _lollipop_tube(a: np.ndarray, b: np.ndarray, track: Lollipop = LOLLIPOP) -> 
     alpha = np.where(a < ell, 0.0, th_a)
     m = np.stack([np.cos(alpha + beta), np.sin(alpha + beta)], axis=-1)
     th_b = np.clip(b - ell, 0, None) * k
-    fx = np.where(b < ell, 0.0, 0.16 * np.sin(th_b))
-    fz = np.where(b < ell, 0.32 + np.clip(ell - b, 0, None) * 0.55, 0.32 * np.cos(th_b))
+    fx = np.where(b < ell, 0.0, 0.3 * np.sin(th_b))
+    fz = np.where(b < ell, 0.3 + np.clip(ell - b, 0, None) * 0.7, 0.3 * np.cos(th_b))
     xy = core + fx[..., None] * m
     return np.concatenate([xy, fz[..., None]], axis=-1)
 
@@ -559,8 +571,8 @@ def fig_lollipop_cspace() -> Figure:
         A, B = np.meshgrid(ga, gb, indexing="ij")
         xyz = _lollipop_tube(A, B)
         allxyz.append(xyz.reshape(-1, 3))
-        ax3.plot_surface(*np.moveaxis(xyz, -1, 0), color=col, alpha=0.55, linewidth=0.1, edgecolor=(0, 0, 0, 0.2),
-                         shade=True)
+        ax3.plot_surface(*np.moveaxis(xyz, -1, 0), color=col, alpha=0.7, linewidth=0.1, edgecolor=(0, 0, 0, 0.12),
+                         shade=True, rstride=2, cstride=2)
         ax3.plot([], [], color=col, lw=6, label=name)
     t = np.linspace(0, ell + c, 600)
     diag = _lollipop_tube(t, t)
@@ -570,8 +582,8 @@ def fig_lollipop_cspace() -> Figure:
         xyz = _lollipop_tube(st[:, 0], st[:, 1])
         ax3.plot(*xyz.T, color=dr.BLOCK_COLORS[dr.block_of_edge(sk, e)], lw=2.0)
     ax3.plot([], [], color="k", lw=2, label="skeleton S (colours as right)")
-    _equal_3d(ax3, np.vstack(allxyz))
-    ax3.view_init(elev=28, azim=-115)
+    _equal_3d(ax3, np.vstack(allxyz), zoom=1.35)
+    ax3.view_init(elev=38, azim=-70)
     ax3.legend(loc="upper left", fontsize=7)
     ax3.set_title("$X = L\\times L-\\Delta$", fontsize=10)
     dr.draw_flat_cspace(ax_f, tr, quadrant_labels=True)

@@ -51,6 +51,7 @@ __all__ = [
     "draw_track_geodesic",
     "embed_offset",
     "loop_period",
+    "motion_lanes",
     "new_figure",
     "sample_skeleton",
     "split_wraps",
@@ -73,7 +74,7 @@ BLOCK_COLORS = {
     "B<A": "#17becf",
 }
 #: Colours of the three steps of the algorithm.
-STEP_COLORS = {"preliminary": "#d62728", "main": "#2ca02c", "final": "#9467bd"}
+STEP_COLORS = {"preliminary": "#e6ab02", "main": "#000000", "final": "#7f7f7f"}
 COLLISION_COLOR = "#d62728"
 TRACK_COLOR = "0.35"
 
@@ -194,6 +195,13 @@ def embed_offset(track: Track, p: ArrayLike, offset: ArrayLike) -> FloatArray:
     return track.embed(p) + np.asarray(offset, dtype=float)[..., None] * track_normal(track, p)
 
 
+def _lane_unit(track: Track) -> float:
+    """Length unit of the offsets of drawn motions: the loop radius, or a tenth of an interval."""
+    if isinstance(track, (Circle, Lollipop)):
+        return float(track.loop / (2 * np.pi))
+    return 0.1 * float(track.total_length)
+
+
 def _scale(track: Track) -> float:
     xy = track.embed(np.linspace(0.0, coordinate_extent(track), 200))
     return float(np.max(np.ptp(xy, axis=0)))
@@ -263,8 +271,6 @@ def draw_track(
         ring = centre + 0.55 * r * np.stack([np.cos(ang), np.sin(ang)], axis=-1)[::-1]
         ax.plot(ring[:, 0], ring[:, 1], color="0.55", lw=1.0)
         arrow_along(ax, ring, frac=1.0, color="0.55", size=10)
-        if labels:
-            ax.text(*centre, "ccw", ha="center", va="center", fontsize=8, color="0.45")
     ax.set_aspect("equal")
     ax.axis("off")
     pad = 0.12 * s
@@ -294,16 +300,16 @@ def draw_robot(
         Marker size.
     """
     color = ROBOT_COLORS[name]
-    xy = track.embed(float(p))
+    side = 1.0 if name == "A" else -1.0  # A just outside the track, B just inside: never hidden by each other
+    xy = embed_offset(track, float(p), side * 0.15 * _lane_unit(track))
     ax.plot(
         *xy, marker="^", ms=size, mec=color, mfc="white" if final else color, mew=2.0, zorder=6, linestyle="none"
     )
     text = name if label is None else label
     if text:
-        off = 0.09 * _scale(track) * track_normal(track, float(p))
-        if name == "B":
-            off = -off
-        ax.text(*(xy + off), text, color=color, fontsize=10, ha="center", va="center", zorder=7, fontweight="bold")
+        off = 15.0 * side * track_normal(track, float(p))  # points, away from the track on the robot's side
+        ax.annotate(text, xy, xytext=tuple(off), textcoords="offset points", color=color, fontsize=10, ha="center",
+                    va="center", zorder=7, fontweight="bold")
 
 
 def draw_robots(
@@ -319,11 +325,14 @@ def draw_robots(
 def arrow_along(ax: Axes, pts: ArrayLike, *, frac: float = 0.5, color: str = "k", size: float = 14.0, lw: float = 1.5) -> None:
     """An arrowhead on a polyline at the fraction ``frac`` of its arc length, pointing forwards.
 
+    NaN rows split the polyline into pieces (see :func:`split_wraps`); the arc length is that of the pieces, the
+    gaps between them do not count.
+
     Parameters
     ----------
     ax : Axes
     pts : array_like, shape (N, 2)
-        The polyline (NaN rows allowed; the arrow is put on the finite part).
+        The polyline.
     frac : float
         Position along the polyline in [0, 1].
     color : str
@@ -332,22 +341,21 @@ def arrow_along(ax: Axes, pts: ArrayLike, *, frac: float = 0.5, color: str = "k"
     lw : float
     """
     xy = np.asarray(pts, dtype=float)
-    xy = xy[np.all(np.isfinite(xy), axis=1)]
     if len(xy) < 2:
         return
     seg = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+    seg = np.where(np.isfinite(seg), seg, 0.0)
     cum = np.concatenate([[0.0], np.cumsum(seg)])
-    if cum[-1] <= 0:
+    total = cum[-1]
+    if total <= 0:
         return
-    target = np.clip(frac, 0.0, 1.0) * cum[-1]
-    i = int(np.clip(np.searchsorted(cum, target) - 1, 0, len(seg) - 1))
-    while seg[i] <= 0 and i > 0:
-        i -= 1
-    head = xy[i] + (xy[i + 1] - xy[i]) * np.clip((target - cum[i]) / max(seg[i], 1e-300), 0.0, 1.0)
-    direction = (xy[i + 1] - xy[i]) / max(seg[i], 1e-300)
-    tail = head - 1e-3 * cum[-1] * direction
-    if frac >= 1.0:
-        head, tail = xy[-1], xy[-1] - 1e-3 * cum[-1] * direction
+    target = float(np.clip(frac, 0.0, 1.0)) * total
+    usable = np.flatnonzero(seg > 0)
+    i = int(usable[np.clip(np.searchsorted(cum[usable + 1], target), 0, len(usable) - 1)])
+    t = float(np.clip((target - cum[i]) / seg[i], 0.0, 1.0))
+    direction = (xy[i + 1] - xy[i]) / seg[i]
+    head = xy[i] + t * (xy[i + 1] - xy[i])
+    tail = head - 1e-3 * total * direction
     ax.annotate(
         "",
         xy=head,
@@ -357,23 +365,84 @@ def arrow_along(ax: Axes, pts: ArrayLike, *, frac: float = 0.5, color: str = "k"
     )
 
 
+def motion_lanes(track: Track, positions: ArrayLike) -> FloatArray:
+    """Lane index of every sample of a robot's motion: how many earlier passes over the same edge it has made.
+
+    The motion is cut into passes where the robot goes through the pole P (from the stick to the loop or back) or
+    reverses; a pass gets the number of earlier passes on the same edge (stick or loop), and on the loop the index
+    also grows by the number of turns made within the pass, so that laps spiral outwards.
+
+    Parameters
+    ----------
+    track : Track
+    positions : array_like, shape (N,)
+        Track coordinates over time (dense).
+
+    Returns
+    -------
+    ndarray, shape (N,)
+    """
+    p = np.asarray(positions, dtype=float)
+    n = len(p)
+    per = loop_period(track)
+    ell = track.stick if isinstance(track, Lollipop) else (-np.inf if isinstance(track, Circle) else np.inf)
+    on_loop = p > ell + 1e-12
+    at_pole = np.abs(p - ell) <= 1e-9 * max(1.0, float(track.total_length))
+    for i in range(1, n):  # a sample at P belongs to the pass it ends or starts
+        if at_pole[i]:
+            on_loop[i] = on_loop[i - 1]
+    dp = np.diff(p)
+    if per is not None:
+        c = per[1]
+        dp = np.where(np.abs(dp) > 0.5 * c, dp - np.sign(dp) * c, dp)
+    direction = np.sign(dp)
+    for i in range(1, len(direction)):  # carry the last non-zero direction forwards
+        if direction[i] == 0:
+            direction[i] = direction[i - 1]
+    near_pole = at_pole.copy()
+    near_pole[1:] |= at_pole[:-1]
+    near_pole[:-1] |= at_pole[1:]
+    cuts = [0]
+    for i in range(1, n):
+        if on_loop[i] != on_loop[i - 1]:
+            cuts.append(i)
+        elif i >= 2 and direction[i - 1] * direction[i - 2] < 0 and not near_pole[i - 1] and on_loop[i - 2] == on_loop[i]:
+            cuts.append(i)
+    cuts.append(n)
+    out = np.zeros(n)
+    counts = {False: 0, True: 0}
+    for start, stop in zip(cuts[:-1], cuts[1:]):
+        if stop <= start:
+            continue
+        edge = bool(on_loop[start])
+        lane = float(counts[edge])
+        if edge and per is not None:
+            travel = np.concatenate([[0.0], np.cumsum(np.abs(dp[start : stop - 1]))])
+            out[start:stop] = lane + travel / per[1]
+        else:
+            out[start:stop] = lane
+        counts[edge] += 1
+    return out
+
+
 def draw_motion(
     ax: Axes,
     track: Track,
     positions: ArrayLike,
     name: str,
     *,
-    lane: float = 0.05,
-    spread: float = 0.05,
+    lane: float = 0.25,
+    spread: float = 0.3,
     arrows: Sequence[float] = (0.5, 1.0),
     lw: float = 2.0,
     alpha: float = 1.0,
 ) -> None:
     """The motion of one robot along the track, drawn beside the track with arrowheads.
 
-    The curve is the embedding of the robot's track coordinates pushed off the track along its normal by an offset
-    that grows from ``lane`` to ``lane + spread`` (fractions of the picture size), so that a robot passing the same
-    place twice draws two visibly separate passes. Robot B is drawn on the other side of the track.
+    The curve is the embedding of the robot's track coordinates pushed off the track along its normal by
+    ``lane + spread · k`` (in units of the loop radius, or of a tenth of the interval), where ``k`` counts the robot's
+    earlier passes over the same edge (:func:`motion_lanes`), so that a robot passing the same place twice draws
+    visibly separate passes. Robot B is drawn on the other side of the track.
 
     Parameters
     ----------
@@ -383,7 +452,7 @@ def draw_motion(
         The robot's track coordinates over time (dense).
     name : {"A", "B"}
     lane, spread : float
-        Offset from the track at the start, and its growth to the end (fractions of the picture size).
+        Offset from the track at the start, and its growth to the end (see above).
     arrows : sequence of float
         Fractions of the arc length where arrowheads are drawn.
     lw, alpha : float
@@ -391,9 +460,8 @@ def draw_motion(
     p = np.asarray(positions, dtype=float)
     if len(p) < 2 or float(np.max(np.abs(np.diff(p)))) == 0.0 and float(np.ptp(p)) == 0.0:
         return
-    s = _scale(track)
     sign = 1.0 if name == "A" else -1.0
-    off = sign * s * (lane + spread * np.linspace(0.0, 1.0, len(p)))
+    off = sign * _lane_unit(track) * (lane + spread * motion_lanes(track, p))
     xy = embed_offset(track, p, off)
     color = ROBOT_COLORS[name]
     ax.plot(xy[:, 0], xy[:, 1], color=color, lw=lw, alpha=alpha, zorder=4, solid_capstyle="round")
@@ -487,10 +555,10 @@ def draw_flat_cspace(
         ax.set_yticks(ticks, [n.replace("\n", " ") for n in names])
         if quadrant_labels:
             for x, y, t in (
-                (0.5 * ell, 0.5 * ell, "stick × stick"),
-                (0.5 * ell, ell + 0.5 * c, "stick × loop"),
-                (ell + 0.5 * c, 0.5 * ell, "loop × stick"),
-                (ell + 0.5 * c, ell + 0.5 * c, "loop × loop"),
+                (0.22 * ell, 0.06 * ell, "stick × stick"),
+                (0.25 * ell, ell + 0.92 * c, "stick × loop"),
+                (ell + 0.78 * c, 0.1 * ell, "loop × stick"),
+                (ell + 0.2 * c, ell + 0.92 * c, "loop × loop"),
             ):
                 ax.text(x, y, t, ha="center", va="center", fontsize=8, color="0.45", rotation=0,
                         bbox={"fc": "white", "ec": "none", "alpha": 0.7})
@@ -581,16 +649,33 @@ def draw_skeleton(
             if pts:
                 ax.plot(*pts[0], "o", color="k", ms=3.5, zorder=5)
     if labels:
+        ext = coordinate_extent(track)
         for blk, parts in blocks.items():
-            allp = np.vstack(parts)
-            cen = allp.mean(axis=0)
-            d_cen = float(track.distance(cen[0], cen[1]))
             name = r"$\mathcal{A}$" if blk == "A" else f"${blk[0]}_{blk[1]}$"
-            spots = [cen] if d_cen > 0.05 * track.total_length else [p[len(p) // 2] for p in parts]
-            for sp in spots:
+            for sp in _label_spots(track, [p for p in parts if np.ptp(p, axis=0).max() > 0], ext):
                 ax.text(*sp, name, color=BLOCK_COLORS[blk], fontsize=12, ha="center", va="center", zorder=7,
                         fontweight="bold", bbox={"fc": "white", "ec": "none", "alpha": 0.75, "pad": 1.0})
     return samples
+
+
+def _label_spots(track: Track, parts: Sequence[FloatArray], ext: float) -> list[FloatArray]:
+    """Where to write a block's name: its centroid if that is off the block and not a collision, else beside the
+    middle of each of its edges, on the side away from the diagonal."""
+    if not parts:
+        return []
+    allp = np.vstack(parts)
+    cen = allp.mean(axis=0)
+    off_curve = float(np.min(np.linalg.norm(allp - cen, axis=1))) > 0.06 * ext
+    if off_curve and float(track.distance(cen[0], cen[1])) > 0.05 * track.total_length:
+        return [cen]
+    spots = []
+    for p in parts:
+        k = len(p) // 2
+        tangent = p[min(k + 1, len(p) - 1)] - p[max(k - 1, 0)]
+        normal = np.array([-tangent[1], tangent[0]]) / max(float(np.linalg.norm(tangent)), 1e-300)
+        cands = [p[k] + s * 0.055 * ext * normal for s in (1.0, -1.0)]
+        spots.append(max(cands, key=lambda q: abs(float(q[1] - q[0]))))
+    return spots
 
 
 def draw_flat_path(
@@ -618,6 +703,11 @@ def draw_state(
 ) -> None:
     """A state (point) in the flat configuration space, with an optional label such as ``$x_i'$``."""
     x, y = (float(v) for v in np.asarray(state, dtype=float))
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    if x > x0 + 0.85 * (x1 - x0) and offset[0] > 0:
+        offset = (-offset[0] - 12, offset[1])
+    if y > y0 + 0.9 * (y1 - y0) and offset[1] > 0:
+        offset = (offset[0], -offset[1] - 8)
     ax.plot(x, y, marker=marker, ms=size, mec=color, mfc=color if filled else "white", mew=1.6, zorder=8,
             linestyle="none", clip_on=False)
     if label:
@@ -785,7 +875,7 @@ def draw_plan_step(axes: Sequence[Axes], p: Plan, style: StepStyle = StepStyle()
     ax_phys, ax_flat = axes
     track = p.track
     sk = p.skeleton if p.skeleton is not None else skeleton_of(track)
-    draw_track(ax_phys, track)
+    draw_track(ax_phys, track, ccw_arrow=style.step is None)
     draw_flat_cspace(ax_flat, track, clearance=p.clearance)
     draw_skeleton(ax_flat, sk, alpha=0.9)
     u = np.linspace(0.0, 1.0, style.samples)
