@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -79,6 +79,9 @@ class Plan:
         Reduced edge word of ``H₁∘α`` in the skeleton graph (the path's homotopy class).
     travel : ndarray, shape (2,)
         Distance travelled by A and by B (metres).
+    regime : str
+        ``"paper"`` (the paper's algorithm), or for a lollipop whose clearance forbids generalized antipodal
+        states: ``"retreat"`` (D > h) or ``"loop"`` (ℓ < D ≤ h); see :mod:`mpa.planners`.
     length : float
         Length of the path in the max-norm of route coordinates (metres): ``u`` is proportional to it, so
         equally spaced samples are at most ``length / (n − 1)`` apart for each robot.
@@ -101,6 +104,7 @@ class Plan:
     word: tuple[str, ...]
     travel: FloatArray = field(default_factory=lambda: np.zeros(2))
     length: float = 0.0
+    regime: str = "paper"
 
     def path_s(self, u: ArrayLike) -> FloatArray:
         """Route coordinates α_σ(u) (vectorized). Shape ``u.shape + (2,)``."""
@@ -139,6 +143,7 @@ class Plan:
             "goal": self.goal.tolist(),
             "clearance": self.clearance,
             "domain": self.domain,
+            "regime": self.regime,
             "rule": self.rule,
             "skeleton_start": self.skeleton_start.tolist(),
             "skeleton_goal": self.skeleton_goal.tolist(),
@@ -173,7 +178,8 @@ def build_plan(
     skeleton: Skeleton,
     skeleton_start: FloatArray,
     skeleton_goal: FloatArray,
-    word: tuple[str, ...],
+    word: tuple[str, ...] | None,
+    regime: str = "paper",
 ) -> Plan:
     """Assemble a :class:`Plan` from the three steps given as joint moves (real track coordinates)."""
     moves_a: list[RobotMove] = []
@@ -202,7 +208,7 @@ def build_plan(
     plan_steps = []
     for (desc, _), name, (i0, i1) in zip(steps, STEP_NAMES, step_ranges):
         plan_steps.append(PlanStep(name, desc, float(knots[i0]), float(knots[i1]), pos[i0 : i1 + 1].copy()))
-    return Plan(
+    result = Plan(
         track=track,
         start=np.asarray(start, dtype=float),
         goal=np.asarray(goal, dtype=float),
@@ -217,7 +223,14 @@ def build_plan(
         skeleton=skeleton,
         skeleton_start=np.asarray(skeleton_start, dtype=float),
         skeleton_goal=np.asarray(skeleton_goal, dtype=float),
-        word=word,
+        word=(),
         travel=travel,
         length=float(total),
+        regime=regime,
     )
+    if word is None:  # read the class off the sampled path (regimes whose main step is not a skeleton path)
+        from mpa.homotopy import path_word
+
+        n = max(2001, result.samples_needed(0.0005))
+        word = path_word(track, result.sample(n))
+    return replace(result, word=word)
