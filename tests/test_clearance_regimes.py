@@ -67,20 +67,20 @@ def test_interval_order_and_messages() -> None:
         plan(Interval(1.0), (0.1, 0.5), (0.6, 0.2))
     with pytest.raises(InvalidInputError, match="robots coincide"):
         plan(Interval(1.0), (0.3, 0.3), (0.6, 0.9))
-    with pytest.raises(InvalidInputError, match="expected at least the clearance 0.2"):
+    with pytest.raises(InvalidInputError, match=r"expected at least the clearance 0\.2"):
         plan(Interval(1.0), (0.3, 0.4), (0.6, 0.9), clearance=0.2)
-    with pytest.raises(InvalidInputError, match="clearance is -1.0"):
+    with pytest.raises(InvalidInputError, match=r"clearance is -1\.0"):
         plan(Interval(1.0), (0.3, 0.4), (0.6, 0.9), clearance=-1.0)
     with pytest.raises(InvalidInputError, match="clearance is nan"):
         plan(Circle(1.0), (0.3, 0.4), (0.6, 0.9), clearance=float("nan"))
-    with pytest.raises(InvalidInputError, match="neighbourhood is 0.7"):
+    with pytest.raises(InvalidInputError, match=r"neighbourhood is 0\.7"):
         make_planner(Circle(1.0), neighbourhood=0.7)
     with pytest.raises(InvalidInputError, match="start is"):
         plan(Circle(1.0), (0.3, 0.4, 0.5), (0.6, 0.9))
 
 
 def test_circle_clearance_above_half_loop_is_rejected_at_the_states() -> None:
-    with pytest.raises(InvalidInputError, match="expected at least the clearance 0.6"):
+    with pytest.raises(InvalidInputError, match=r"expected at least the clearance 0\.6"):
         plan(Circle(1.0), (0.0, 0.5), (0.1, 0.6), clearance=0.6)
 
 
