@@ -660,6 +660,7 @@ class ConfigurationSpaceTopology:
             "connected": self.connected,
             "tc": self.tc,
             "tc_bounds": list(self.tc_bounds),
+            "tc_per_component": list(self.tc_per_component),
             "tc_convention": "Farber, non-reduced (TC(point) = 1); max over path components",
             "homotopy_dimension": self.homotopy_dimension.to_dict(),
             "h1_torsion_free": self.h1_torsion_free,
@@ -825,6 +826,7 @@ def configuration_space_topology(graph: MetricGraph) -> ConfigurationSpaceTopolo
     ----------
     graph : MetricGraph
         Loops, multiple edges, isolated vertices and several components are allowed; lengths are ignored.
+        A track (anything with an ``as_graph()`` method returning a MetricGraph) is accepted too.
 
     Returns
     -------
@@ -844,8 +846,10 @@ def configuration_space_topology(graph: MetricGraph) -> ConfigurationSpaceTopolo
     >>> top.betti, top.tc
     ((1, 3, 0), 3)
     """
+    if not isinstance(graph, MetricGraph) and callable(getattr(graph, "as_graph", None)):
+        graph = graph.as_graph()
     if not isinstance(graph, MetricGraph):
-        raise InvalidInputError(f"graph is a {type(graph).__name__}, expected a MetricGraph")
+        raise InvalidInputError(f"graph is a {type(graph).__name__}, expected a MetricGraph or a track")
     if graph.n_vertices == 0 or (graph.n_vertices == 1 and graph.n_edges == 0):
         raise InvalidInputError(
             f"graph has {graph.n_vertices} vertices and no edges: two robots do not fit, expected at least one edge "

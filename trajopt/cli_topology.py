@@ -1,0 +1,91 @@
+"""``mpa topology``: Betti numbers, Euler characteristic and topological complexity of two robots on any graph.
+
+The graph is read from a JSON file ``{"edges": [[u, v], [u, v, length], ...]}`` (vertex names are strings or
+integers; loops and multiple edges are allowed). Every input error raises :class:`mpa.errors.InvalidInputError`,
+which the main command turns into exit status 2 and one ``error:`` line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from typing import Any
+
+from mpa.topology import ConfigurationSpaceTopology, configuration_space_topology, load_graph_json
+
+__all__ = ["format_topology", "register", "run_topology"]
+
+
+def format_topology(top: ConfigurationSpaceTopology) -> str:
+    """Human-readable report of :func:`mpa.topology.configuration_space_topology`.
+
+    Parameters
+    ----------
+    top : ConfigurationSpaceTopology
+
+    Returns
+    -------
+    str
+        Several lines, without a trailing newline.
+    """
+    b, b2 = top.betti, top.betti_f2
+    hd = top.homotopy_dimension
+    lines = [
+        f"subdivided graph   {top.subdivided_graph[0]} vertices, {top.subdivided_graph[1]} edges; "
+        f"{top.essential_vertices} essential vertices (degree >= 3)",
+        f"D2 cells           {top.cell_counts.vertices} vertices, {top.cell_counts.edges} edges, "
+        f"{top.cell_counts.squares} squares",
+        f"Betti over Q       b0 = {b[0]}, b1 = {b[1]}, b2 = {b[2]}",
+        f"Betti over F2      b0 = {b2[0]}, b1 = {b2[1]}, b2 = {b2[2]}",
+        f"Euler              {top.euler} (formula chi^2 + chi - sum (d-1)(d-2) = {top.euler_formula})",
+        f"connected          {'yes' if top.connected else f'no ({b[0]} path components)'}",
+        f"homotopy dimension {hd.lower if hd.exact else f'{hd.lower} .. {hd.upper}'}"
+        f"{' (collapses onto a graph)' if hd.collapsed_to_graph else ''}",
+    ]
+    tc = "undecided" if top.tc is None else str(top.tc)
+    lines.append(f"TC (Farber, non-reduced) {tc}, bounds {top.tc_bounds[0]} <= TC <= {top.tc_bounds[1]}")
+    if len(top.components) > 1:
+        lines.append("  (max over path components; per component below)")
+        for i, c in enumerate(top.components):
+            ctc = "undecided" if c.tc is None else str(c.tc)
+            lines.append(
+                f"  component {i}: betti {c.betti}, TC {ctc} in [{c.tc_bounds[0]}, {c.tc_bounds[1]}]"
+                + ("" if c.graph_components is None else f", robots on graph components {c.graph_components}")
+            )
+    return "\n".join(lines)
+
+
+def run_topology(args: argparse.Namespace) -> int:
+    """Handler of ``mpa topology``: print the report (or one JSON object with ``--json``); returns 0."""
+    top = configuration_space_topology(load_graph_json(args.graph))
+    if args.json:
+        out: dict[str, Any] = top.to_dict()
+        print(json.dumps(out))
+    else:
+        print(format_topology(top))
+    return 0
+
+
+def register(subparsers: Any) -> argparse.ArgumentParser:
+    """Add the ``topology`` subcommand to an argparse subparsers object.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        From :meth:`argparse.ArgumentParser.add_subparsers`.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The new subcommand parser (its ``func`` default is :func:`run_topology`).
+    """
+    p = subparsers.add_parser(
+        "topology",
+        help="Betti numbers, Euler characteristic and TC of two robots on a graph",
+        description="Topology of the configuration space F(G, 2) of two ordered robots on the graph G given as "
+        'JSON {"edges": [[u, v], [u, v, length], ...]}.',
+    )
+    p.add_argument("--graph", required=True, metavar="FILE", help="JSON file with the graph's edge list")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=run_topology)
+    return p
