@@ -50,6 +50,7 @@ __all__ = [
     "draw_track",
     "draw_track_geodesic",
     "embed_offset",
+    "lane_unit",
     "loop_period",
     "motion_lanes",
     "new_figure",
@@ -195,7 +196,7 @@ def embed_offset(track: Track, p: ArrayLike, offset: ArrayLike) -> FloatArray:
     return track.embed(p) + np.asarray(offset, dtype=float)[..., None] * track_normal(track, p)
 
 
-def _lane_unit(track: Track) -> float:
+def lane_unit(track: Track) -> float:
     """Length unit of the offsets of drawn motions: the loop radius, or a tenth of an interval."""
     if isinstance(track, (Circle, Lollipop)):
         return float(track.loop / (2 * np.pi))
@@ -301,7 +302,7 @@ def draw_robot(
     """
     color = ROBOT_COLORS[name]
     side = 1.0 if name == "A" else -1.0  # A just outside the track, B just inside: never hidden by each other
-    xy = embed_offset(track, float(p), side * 0.15 * _lane_unit(track))
+    xy = embed_offset(track, float(p), side * 0.15 * lane_unit(track))
     ax.plot(
         *xy, marker="^", ms=size, mec=color, mfc="white" if final else color, mew=2.0, zorder=6, linestyle="none"
     )
@@ -461,7 +462,7 @@ def draw_motion(
     if len(p) < 2 or float(np.max(np.abs(np.diff(p)))) == 0.0 and float(np.ptp(p)) == 0.0:
         return
     sign = 1.0 if name == "A" else -1.0
-    off = sign * _lane_unit(track) * (lane + spread * motion_lanes(track, p))
+    off = sign * lane_unit(track) * (lane + spread * motion_lanes(track, p))
     xy = embed_offset(track, p, off)
     color = ROBOT_COLORS[name]
     ax.plot(xy[:, 0], xy[:, 1], color=color, lw=lw, alpha=alpha, zorder=4, solid_capstyle="round")

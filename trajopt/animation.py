@@ -1,0 +1,349 @@
+"""Animations of two robots on a track: the raw plan of :mod:`mpa` beside the jerk-limited trajectory of the same query.
+
+Each motion gets one row of three panels: the robots on the track, the moving state in the flat configuration space
+with the skeleton, and both robots' speeds over time with a cursor. Rows share one clock, so the difference between
+the raw plan (corners, piecewise-constant speed, infinite acceleration) and the optimised trajectory (smooth, within
+v/a/j limits) is visible side by side.
+
+GIF files are written with matplotlib's ``PillowWriter``; MP4 files with ``FFMpegWriter``, which needs an ffmpeg
+executable: one on the ``PATH``, or the one shipped inside the ``imageio-ffmpeg`` wheel (``pip install
+imageio-ffmpeg``), found automatically. Files are written to a temporary name and renamed, so a failed run leaves no
+file behind.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import matplotlib as mpl
+import numpy as np
+from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
+from matplotlib.figure import Figure
+from numpy.typing import NDArray
+
+from mpa.errors import InvalidInputError
+from mpa.plan import Plan
+from mpa.skeleton import skeleton_of
+from mpa.tracks import Track
+from trajopt import drawing as dr
+
+__all__ = [
+    "FORMATS",
+    "Motion",
+    "animate_motions",
+    "animate_query",
+    "ffmpeg_executable",
+    "plan_motion",
+    "trajectory_motion",
+]
+
+FloatArray = NDArray[np.float64]
+#: Output formats and their file suffixes.
+FORMATS = {"gif": ".gif", "mp4": ".mp4"}
+
+
+@dataclass(frozen=True)
+class Motion:
+    """A timed motion of both robots.
+
+    Attributes
+    ----------
+    label : str
+        Title of the motion's row.
+    t : ndarray, shape (N,)
+        Times (s), increasing from 0.
+    states : ndarray, shape (N, 2)
+        Track coordinates of A and B (m).
+    speed : ndarray, shape (N, 2)
+        Signed speed of each robot along its route (m/s).
+    """
+
+    label: str
+    t: FloatArray
+    states: FloatArray
+    speed: FloatArray
+
+    @property
+    def duration(self) -> float:
+        """Time of the last sample (s)."""
+        return float(self.t[-1])
+
+    def at(self, time: float) -> tuple[FloatArray, FloatArray]:
+        """State and speed at ``time`` (the last sample at or before it; held after the end)."""
+        i = int(np.clip(np.searchsorted(self.t, time, side="right") - 1, 0, len(self.t) - 1))
+        return self.states[i], self.speed[i]
+
+    def upto(self, time: float) -> FloatArray:
+        """The states from the start up to ``time``. Shape (K, 2)."""
+        i = int(np.clip(np.searchsorted(self.t, time, side="right"), 1, len(self.t)))
+        return self.states[:i]
+
+
+def plan_motion(plan: Plan, vmax: float, *, samples: int = 2000) -> Motion:
+    """The raw plan executed as the paper describes it: along α(u), ``u`` uniform in time, at constant speed.
+
+    The plan's parameter ``u`` grows in proportion to the larger of the two robots' travel, so timing ``u``
+    uniformly over ``T = (total larger travel) / vmax`` moves the faster robot at exactly ``vmax`` and the other
+    proportionally slower: speeds jump at every corner (infinite acceleration).
+
+    Parameters
+    ----------
+    plan : Plan
+    vmax : float
+        Speed of the faster robot (m/s, > 0).
+    samples : int
+        Number of time samples.
+
+    Returns
+    -------
+    Motion
+    """
+    if not np.isfinite(vmax) or vmax <= 0:
+        raise InvalidInputError(f"vmax is {vmax!r}, expected a positive finite speed (m/s)")
+    inc = np.max(np.abs(np.diff(plan.waypoints_s, axis=0)), axis=1) if len(plan.waypoints_s) > 1 else np.zeros(1)
+    total = float(np.sum(inc))
+    duration = total / vmax
+    u = np.linspace(0.0, 1.0, max(int(samples), 2))
+    t = u * duration
+    s = plan.path_s(u)
+    speed = np.gradient(s, t, axis=0) if duration > 0 else np.zeros_like(s)
+    label = f"raw plan: α(u) with u uniform in time\n(faster robot at vmax = {vmax:g} m/s), T = {duration:.2f} s"
+    return Motion(label, t, plan.path(u), speed)
+
+
+def trajectory_motion(traj: Any) -> Motion:
+    """The jerk-limited :class:`trajopt.Trajectory` as a motion (its own time stamps and speeds)."""
+    kind = "fallback: re-timed plan" if bool(getattr(traj, "fallback", False)) else "optimised"
+    label = f"jerk-limited trajectory\n({kind}), makespan {float(traj.makespan):.2f} s"
+    return Motion(label, np.asarray(traj.t, dtype=float), np.asarray(traj.track, dtype=float), np.asarray(traj.v))
+
+
+def ffmpeg_executable() -> str | None:
+    """Path of an ffmpeg executable: on the PATH, else the one inside ``imageio-ffmpeg``, else None."""
+    exe = shutil.which("ffmpeg")
+    if exe:
+        return exe
+    try:
+        import imageio_ffmpeg
+    except ImportError:
+        return None
+    try:
+        return str(imageio_ffmpeg.get_ffmpeg_exe())
+    except (RuntimeError, OSError):  # pragma: no cover - a broken install
+        return None
+
+
+def _writer(fmt: str, fps: float) -> Any:
+    if fmt == "gif":
+        return PillowWriter(fps=fps)
+    exe = ffmpeg_executable()
+    if exe is None:
+        raise InvalidInputError(
+            "format is 'mp4', which needs an ffmpeg executable: install one (pip install imageio-ffmpeg) or use gif"
+        )
+    mpl.rcParams["animation.ffmpeg_path"] = exe
+    return FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
+
+
+def _check(name: str, value: float, lo: float, *, integer: bool = False) -> None:
+    ok = np.isfinite(value) and value >= lo and (not integer or float(value).is_integer())
+    if not ok:
+        what = "an integer" if integer else "a finite number"
+        raise InvalidInputError(f"{name} is {value!r}, expected {what} >= {lo:g}")
+
+
+def animate_motions(
+    track: Track,
+    motions: Sequence[Motion],
+    out: str | os.PathLike[str],
+    *,
+    plan: Plan | None = None,
+    fps: float = 20.0,
+    dpi: float = 80.0,
+    max_frames: int | None = None,
+    fmt: str | None = None,
+    title: str | None = None,
+) -> Path:
+    """Write an animation of one or more motions of the same query, one row each, on a shared clock.
+
+    Parameters
+    ----------
+    track : Track
+    motions : sequence of Motion
+        The motions (e.g. :func:`plan_motion` and :func:`trajectory_motion`).
+    out : path
+        Output file; its suffix (``.gif`` or ``.mp4``) chooses the format unless ``fmt`` is given.
+    plan : Plan, optional
+        Drawn faintly in the configuration space (the whole path), with the start and goal.
+    fps : float
+        Frames per second of the file; the animation plays in real time unless ``max_frames`` caps the frames
+        (then it plays faster, which the title says).
+    dpi : float
+        Resolution.
+    max_frames : int, optional
+        Upper bound on the number of frames (>= 2).
+    fmt : {"gif", "mp4"}, optional
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Raises
+    ------
+    InvalidInputError
+        Bad fps, dpi, frame count or format; mp4 without an ffmpeg executable.
+    """
+    out = Path(out)
+    fmt = fmt if fmt is not None else out.suffix.lstrip(".").lower()
+    if fmt not in FORMATS:
+        raise InvalidInputError(f"format is {fmt!r}, expected one of {sorted(FORMATS)}")
+    _check("fps", float(fps), 1.0)
+    _check("dpi", float(dpi), 10.0)
+    if max_frames is not None:
+        _check("max_frames", float(max_frames), 2.0, integer=True)
+    if not motions:
+        raise InvalidInputError("motions is empty, expected at least one motion to animate")
+    writer = _writer(fmt, fps)
+
+    duration = max(max(m.duration for m in motions), 1e-9)
+    n_frames = int(np.ceil(duration * fps)) + 1
+    speedup = 1.0
+    if max_frames is not None and n_frames > max_frames:
+        speedup = (n_frames - 1) / (max_frames - 1)
+        n_frames = int(max_frames)
+    times = np.linspace(0.0, duration, n_frames)
+
+    fig = Figure(figsize=(13.0, 4.0 * len(motions) + 0.6), layout="constrained")
+    axes = fig.subplots(len(motions), 3, squeeze=False, width_ratios=[1.35, 1.0, 1.1])
+    sk = plan.skeleton if plan is not None else skeleton_of(track)
+    artists: list[dict[str, Any]] = []
+    vlim = max(float(np.max(np.abs(m.speed))) for m in motions) * 1.1 + 1e-9
+    for row, m in enumerate(motions):
+        ax_p, ax_f, ax_v = axes[row]
+        dr.draw_track(ax_p, track, labels=True, ccw_arrow=False)
+        dr.draw_robots(ax_p, track, m.states[-1], final=True, labels=("", ""))
+        dr.draw_flat_cspace(ax_f, track, axis_labels=row == len(motions) - 1)
+        dr.draw_skeleton(ax_f, sk, alpha=0.8, lw=2.0)
+        dr.draw_flat_path(ax_f, track, m.states, color="0.65", lw=1.0, arrows=())
+        dr.draw_state(ax_f, m.states[0], "$x_i$", size=5)
+        dr.draw_state(ax_f, m.states[-1], "$x_f$", size=5, filled=False)
+        ax_p.set_title(m.label, fontsize=9, loc="left")
+        for k, name in enumerate("AB"):
+            ax_v.plot(m.t, m.speed[:, k], color=dr.ROBOT_COLORS[name], lw=1.6, label=f"robot {name}")
+        ax_v.set_xlim(0.0, duration)
+        ax_v.set_ylim(-vlim, vlim)
+        ax_v.axhline(0.0, color="0.7", lw=0.8)
+        ax_v.set_ylabel("speed along route (m/s)", fontsize=8)
+        ax_v.legend(loc="upper right", fontsize=7)
+        ax_v.grid(alpha=0.3)
+        if row == len(motions) - 1:
+            ax_v.set_xlabel("time (s)")
+        (trail,) = ax_f.plot([], [], color="k", lw=2.2, zorder=6)
+        (dot,) = ax_f.plot([], [], "o", color="k", ms=7, zorder=9)
+        marks = {}
+        for name in "AB":
+            (marks[name],) = ax_p.plot([], [], marker="^", ms=13, color=dr.ROBOT_COLORS[name], ls="none", zorder=8)
+        cursor = ax_v.axvline(0.0, color="k", lw=1.0)
+        clock = ax_p.text(0.02, 0.02, "", transform=ax_p.transAxes, fontsize=9)
+        artists.append({"trail": trail, "dot": dot, "marks": marks, "cursor": cursor, "clock": clock})
+    head = title or f"{track.kind} {track.to_dict()}"
+    if speedup > 1.0:
+        head += f"  (played {speedup:.1f}× faster than real time)"
+    fig.suptitle(head, fontsize=10)
+    unit = dr.lane_unit(track)
+
+    def update(k: int) -> list[Any]:
+        now = float(times[k])
+        changed: list[Any] = []
+        for m, art in zip(motions, artists):
+            state, _ = m.at(now)
+            path = dr.split_wraps(track, m.upto(now))
+            art["trail"].set_data(path[:, 0], path[:, 1])
+            art["dot"].set_data([state[0]], [state[1]])
+            for name, p, side in (("A", state[0], 1.0), ("B", state[1], -1.0)):
+                xy = dr.embed_offset(track, float(p), side * 0.15 * unit)
+                art["marks"][name].set_data([xy[0]], [xy[1]])
+            art["cursor"].set_xdata([now, now])
+            art["clock"].set_text(f"t = {min(now, m.duration):5.2f} s")
+            changed += [art["trail"], art["dot"], *art["marks"].values(), art["cursor"], art["clock"]]
+        return changed
+
+    anim = FuncAnimation(fig, update, frames=n_frames, blit=False)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(f".{out.stem}.tmp{FORMATS[fmt]}")
+    try:
+        anim.save(str(tmp), writer=writer, dpi=dpi, savefig_kwargs={"facecolor": "white"})
+        os.replace(tmp, out)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return out
+
+
+def animate_query(
+    track: Track,
+    start: Sequence[float],
+    goal: Sequence[float],
+    out: str | os.PathLike[str],
+    *,
+    clearance: float = 0.05,
+    vmax: float = 0.5,
+    amax: float = 1.0,
+    jmax: float = 5.0,
+    rate: float = 100.0,
+    trajectory: bool = True,
+    **kw: Any,
+) -> Path:
+    """Plan a query, optimise its trajectory and animate both (see :func:`animate_motions`).
+
+    Parameters
+    ----------
+    track : Track
+    start, goal : sequence of float, shape (2,)
+        Track coordinates of A and B (m).
+    out : path
+        Output file (``.gif`` or ``.mp4``).
+    clearance, vmax, amax, jmax, rate : float
+        As for :func:`trajopt.generate_trajectory`.
+    trajectory : bool
+        Also animate the jerk-limited trajectory (False: the raw plan only).
+    **kw
+        Passed to :func:`animate_motions` (``fps``, ``dpi``, ``max_frames``, ``fmt``).
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    InvalidInputError, NoMotionError, PlanningError
+        From the planner and the trajectory generator; see also :func:`animate_motions`.
+    """
+    from mpa.planners import plan as mpa_plan
+
+    _check("fps", float(kw.get("fps", 20.0)), 1.0)  # fail before the (slower) planning and optimisation
+    _check("dpi", float(kw.get("dpi", 80.0)), 10.0)
+    if kw.get("max_frames") is not None:
+        _check("max_frames", float(kw["max_frames"]), 2.0, integer=True)
+    if trajectory:
+        from trajopt.generator import generate_trajectory
+
+        traj = generate_trajectory(track, start, goal, clearance=clearance, vmax=vmax, amax=amax, jmax=jmax, rate=rate)
+        p = traj.plan
+        motions = [plan_motion(p, vmax), trajectory_motion(traj)]
+    else:
+        p = mpa_plan(track, start, goal, clearance)
+        motions = [plan_motion(p, vmax)]
+    title = (
+        f"{track.kind} {track.to_dict()}: ({p.start[0]:g}, {p.start[1]:g}) → ({p.goal[0]:g}, {p.goal[1]:g}), "
+        f"domain {p.domain}"
+    )
+    return animate_motions(track, motions, out, plan=p, title=title, **kw)

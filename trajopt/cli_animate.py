@@ -1,0 +1,75 @@
+"""``mpa animate``: an animation of a query, the raw plan beside the jerk-limited trajectory.
+
+Same query options as ``mpa trajectory``; writes ``DIR/animation.gif`` (or ``.mp4``) through a temporary file and a
+rename, so an error leaves no file behind (and no directory, if this run created it). Errors are
+:class:`mpa.errors.InvalidInputError` and friends, which the ``mpa`` command prints as one ``error:`` line (exit 2).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from mpa.errors import InvalidInputError
+from trajopt.cli import add_query_arguments, track_from_args
+
+__all__ = ["DEFAULTS", "register"]
+
+#: Defaults shared with ``mpa trajectory``.
+DEFAULTS = {"clearance": 0.05, "vmax": 0.5, "amax": 1.0, "jmax": 5.0, "rate": 100.0}
+
+
+def _cmd_animate(args: argparse.Namespace) -> int:
+    from trajopt.animation import FORMATS, animate_query
+
+    track = track_from_args(args)
+    if args.max_frames is not None and args.max_frames < 2:
+        raise InvalidInputError(f"--max-frames is {args.max_frames}, expected an integer >= 2")
+    d = Path(args.out)
+    if d.exists() and not d.is_dir():
+        raise InvalidInputError(f"--out is {str(d)!r}, which exists and is not a directory")
+    created = not d.exists()
+    target = d / f"animation{FORMATS[args.format]}"
+    try:
+        path = animate_query(
+            track,
+            args.start,
+            args.goal,
+            target,
+            clearance=args.clearance,
+            vmax=args.vmax,
+            amax=args.amax,
+            jmax=args.jmax,
+            rate=args.rate,
+            trajectory=not args.raw_only,
+            fps=args.fps,
+            dpi=args.dpi,
+            max_frames=args.max_frames,
+            fmt=args.format,
+        )
+    except BaseException:
+        if created and d.is_dir() and not any(d.iterdir()):
+            d.rmdir()
+        raise
+    print(path)
+    return 0
+
+
+def register(subparsers: Any) -> None:
+    """Add ``animate`` to the ``mpa`` command (called by :func:`trajopt.cli.build_parser`)."""
+    p = subparsers.add_parser("animate", help="animate a query: raw plan and jerk-limited trajectory side by side")
+    add_query_arguments(p)
+    p.add_argument("--clearance", type=float, default=DEFAULTS["clearance"], help="clearance D, m (default 0.05)")
+    p.add_argument("--vmax", type=float, default=DEFAULTS["vmax"], help="speed limit per robot, m/s (default 0.5)")
+    p.add_argument("--amax", type=float, default=DEFAULTS["amax"], help="acceleration limit, m/s^2 (default 1.0)")
+    p.add_argument("--jmax", type=float, default=DEFAULTS["jmax"], help="jerk limit, m/s^3 (default 5.0)")
+    p.add_argument("--rate", type=float, default=DEFAULTS["rate"], help="setpoint rate in Hz (default 100)")
+    p.add_argument("--out", required=True, help="output directory (animation.gif or animation.mp4)")
+    p.add_argument("--fps", type=float, default=20.0, help="frames per second (default 20)")
+    p.add_argument("--format", choices=["gif", "mp4"], default="gif",
+                   help="gif (Pillow) or mp4 (needs ffmpeg: pip install imageio-ffmpeg)")
+    p.add_argument("--dpi", type=float, default=80.0, help="resolution (default 80)")
+    p.add_argument("--max-frames", type=int, default=None, help="cap the number of frames (plays faster)")
+    p.add_argument("--raw-only", action="store_true", help="animate the raw plan only (no trajectory optimisation)")
+    p.set_defaults(func=_cmd_animate)
