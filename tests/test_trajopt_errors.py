@@ -53,7 +53,7 @@ def test_states_closer_than_clearance(start, goal, match) -> None:  # type: igno
 
 
 def test_order_change_needs_clearance_below_half_loop() -> None:
-    with pytest.raises(NoMotionError, match="clearance 0.6 >= loop/2"):
+    with pytest.raises(NoMotionError, match=r"clearance 0\.6 >= loop/2"):
         generate_trajectory(L, (0.0, 0.9), (0.9, 0.0), clearance=0.6)
     with pytest.raises(NoMotionError):
         generate_trajectory(L, (0.0, 0.5), (0.5, 0.0), clearance=0.5)

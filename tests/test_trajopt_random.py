@@ -40,6 +40,8 @@ def recheck(traj: Trajectory, start: np.ndarray, goal: np.ndarray) -> list[str]:
     lim = traj.limits
     t, pos, s, v, a, j = traj.resample(traj.rate * FINE)
     d = track.distance(pos[:, 0], pos[:, 1])
+    if len(s) > 1 and np.any(np.abs(np.diff(s, axis=0)) > lim.v / (traj.rate * FINE) * (1 + LIMIT_RTOL) + 1e-12):
+        fails.append("route coordinate jumps between fine samples")
     if d.min() < D - 1e-12:
         fails.append(f"separation {d.min():.9g} < {D} at t = {t[np.argmin(d)]:.4f}")
     for name, x, m in (("v", v, lim.v), ("a", a, lim.a), ("j", j, lim.j)):
