@@ -1,0 +1,182 @@
+"""The stages one by one: exact separation geometry, cells, smoothing NLP reuse, C² blends, 1-DoF timing, gate."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from mpa import Circle, Interval, Lollipop, make_planner
+from trajopt import Limits, TrajectoryGenerator, verify_setpoints
+from trajopt.smoothing import RouteGeometry, densify, plan_cells, problem_for, smooth_plan
+from trajopt.timing import blend_polyline, jerk_limited_scaling, min_time_rest_to_rest, toppra_profile
+
+TRACKS = [Lollipop(1.0, 1.0), Lollipop(0.4, 1.5), Circle(1.0), Interval(1.0)]
+
+
+def _plans(track, clearance, n, seed):  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(seed)
+    pl = make_planner(track, clearance)
+    out = []
+    while len(out) < n:
+        s, g = rng.uniform(0, track.total_length, 2), rng.uniform(0, track.total_length, 2)
+        try:
+            out.append(pl.plan(s, g))
+        except Exception:  # noqa: BLE001 - invalid random queries are skipped
+            continue
+    return out
+
+
+@pytest.mark.parametrize("track", TRACKS, ids=repr)
+def test_polyline_min_distance_is_exact(track) -> None:  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(5)
+    for p in _plans(track, 0.02, 15, 1):
+        geom = RouteGeometry(track, p.routes)
+        lo = np.array([r.sigma_min for r in p.routes])
+        hi = np.array([r.sigma_max for r in p.routes])
+        for _ in range(5):
+            pts = lo + rng.uniform(size=(3, 2)) * (hi - lo)
+            exact = geom.polyline_min_distance(pts)
+            dense = geom.distance(densify(pts, 2e-4)).min()
+            assert exact <= dense + 1e-9, (pts, exact, dense)
+            assert dense - exact <= 4e-4, (pts, exact, dense)
+
+
+@pytest.mark.parametrize("track", TRACKS[:3], ids=repr)
+def test_cells_imply_clearance(track) -> None:  # type: ignore[no-untyped-def]
+    """Random points inside a plan piece's cell (box and half-planes) keep d >= D."""
+    D = 0.05
+    rng = np.random.default_rng(2)
+    for p in _plans(track, D, 10, 3):
+        geom = RouteGeometry(track, p.routes)
+        cells = plan_cells(geom, p.waypoints_s)
+        for k in range(len(cells.points) - 1):
+            box, rows = cells.boxes[k], cells.rows[k]
+            lo, hi = box[:, 0], box[:, 1]
+            lo, hi = np.maximum(lo, [-5, -5]), np.minimum(hi, [5, 5])
+            pts = lo + rng.uniform(size=(400, 2)) * (hi - lo)
+            ok = np.ones(len(pts), bool)
+            for ga, gb, h in rows:
+                if np.isfinite(h):
+                    ok &= ga * pts[:, 0] + gb * pts[:, 1] + h >= D
+            d = geom.distance(pts[ok])
+            assert np.all(d >= D - 1e-12)
+            mid = 0.5 * (cells.points[k] + cells.points[k + 1])
+            assert all(ga * mid[0] + gb * mid[1] + h >= D - 1e-9 for ga, gb, h in rows if np.isfinite(h))
+
+
+def test_nlp_is_built_once_per_size_class() -> None:
+    a = problem_for(3)
+    b = problem_for(4)
+    assert a is b and a.n >= 8
+    track = Lollipop(1.0, 1.0)
+    p = make_planner(track, 0.05).plan((0.2, 0.5), (0.5, 0.2))
+    r1 = smooth_plan(p, 0.05, [0.5, 0.5])
+    r2 = smooth_plan(p, 0.05, [0.5, 0.5])
+    np.testing.assert_allclose(r1.nodes, r2.nodes)
+    assert r1.stats["ipopt_success"] and r1.stats["ipopt_iterations"] < 100
+
+
+def test_smoothing_removes_topological_detours() -> None:
+    """The plan's move apart to half a loop and back is gone: travel shrinks a lot where the class allows."""
+    track = Circle(1.0)
+    p = make_planner(track, 0.05).plan((0.3, 0.6), (0.25, 0.1))
+    r = smooth_plan(p, 0.05, [0.5, 0.5])
+    travel = lambda w: np.abs(np.diff(w, axis=0)).sum(axis=0)  # noqa: E731
+    assert travel(r.nodes).max() < 0.8 * travel(p.waypoints_s).max()
+
+
+def test_blend_is_c2_and_collision_checked() -> None:
+    track = Lollipop(1.0, 1.0)
+    p = make_planner(track, 0.05).plan((1.25, 1.75), (1.4, 1.9))
+    geom = RouteGeometry(track, p.routes)
+    corners = np.array([[0.0, 0.0], [0.3, 0.1], [0.35, 0.5]])
+    path = blend_polyline(corners, geom.polyline_min_distance, 0.05)
+    assert path.radii[1] > 0 and path.is_blend.sum() == 1
+    for b in path.breaks[1:-1]:
+        for order in (0, 1, 2):
+            left = path(np.array([b]), order, piece=[np.searchsorted(path.breaks, b) - 1])
+            right = path(np.array([b]), order, piece=[np.searchsorted(path.breaks, b)])
+            np.testing.assert_allclose(left, right, atol=1e-9, err_msg=f"order {order} at s = {b}")
+    np.testing.assert_allclose(path(np.array([0.0, path.length])), corners[[0, -1]], atol=1e-12)
+
+
+def test_unsafe_corner_is_passed_at_rest() -> None:
+    corners = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
+    path = blend_polyline(corners, lambda pts: 0.0, 0.05)  # every blend "collides"
+    assert path.radii[1] == 0 and path.stop.tolist() == [True, True, True]
+    ts = jerk_limited_scaling(path, Limits(0.5, 1.0, 5.0))
+    _, v, _, _ = ts.sample(np.array([0.0, ts.duration]))
+    assert np.allclose(v, 0.0)
+    one = min_time_rest_to_rest(1.0, 0.5, 1.0, 5.0)
+    assert ts.duration == pytest.approx(2 * one, rel=1e-9)
+
+
+def test_toppra_bounds_the_jerk_limited_time() -> None:
+    track = Lollipop(1.0, 1.0)
+    p = make_planner(track, 0.05).plan((0.3, 1.5), (1.2, 0.4))
+    gen = TrajectoryGenerator(track)
+    traj = gen.generate_from_plan(p)
+    assert not traj.fallback
+    path = blend_polyline(np.array([[0, 0], [0.5, 0.2], [0.9, 1.1]]), None)
+    _, _, dur = toppra_profile(path, gen.limits)
+    ts = jerk_limited_scaling(path, gen.limits)
+    assert dur <= ts.duration
+
+
+@pytest.fixture(scope="module")
+def good():  # type: ignore[no-untyped-def]
+    return TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05).generate((0.1, 0.6), (0.8, 0.3))
+
+
+def _check(traj, **changes):  # type: ignore[no-untyped-def]
+    arrays = {k: getattr(traj, k).copy() for k in ("t", "track", "s", "v", "a", "j")}
+    arrays.update(changes)
+    p = traj.plan
+    return verify_setpoints(
+        p.track, p.routes, arrays["t"], arrays["track"], arrays["s"], arrays["v"], arrays["a"], arrays["j"],
+        limits=traj.limits, clearance=traj.clearance, start=p.start, goal=p.goal, word=p.word, rate=traj.rate,
+    )
+
+
+def test_gate_accepts_good(good) -> None:  # type: ignore[no-untyped-def]
+    rep = _check(good)
+    assert rep.ok, rep.failures
+    assert rep.min_separation_between >= good.clearance - 1e-9
+
+
+def test_gate_rejects_tampering(good) -> None:  # type: ignore[no-untyped-def]
+    j = good.j.copy()
+    j[10, 0] = 1.01 * good.limits.j[0]
+    assert any("|j|" in f for f in _check(good, j=j).failures)
+    v = good.v.copy()
+    v[-1, 1] = 1e-3
+    assert any("not at rest" in f for f in _check(good, v=v).failures)
+    tr = good.track.copy()
+    tr[5, 0] += 0.01
+    assert any("route.position" in f for f in _check(good, track=tr).failures)
+    t = good.t.copy()
+    t[3] += 1e-4
+    assert any("time grid" in f for f in _check(good, t=t).failures)
+
+
+def test_gate_rejects_collisions_and_other_classes() -> None:
+    """A straight σ-line that cuts through the forbidden band, and a motion in another class, are refused."""
+    track = Lollipop(1.0, 1.0)
+    gen = TrajectoryGenerator(track, clearance=0.05)
+    traj = gen.generate((1.25, 1.75), (1.75, 1.25))  # domain 2: ccw round S2
+    p = traj.plan
+    rng = np.arange(len(traj.t)) / max(len(traj.t) - 1, 1)
+    # A stays, B goes straight the other way round: crosses A
+    s = np.stack([np.zeros_like(rng), -p.routes[1].length * rng], axis=1)
+    pos = np.stack([p.routes[0].position(s[:, 0]), p.routes[1].position(s[:, 1])], axis=1)
+    rep = _check(traj, s=s, track=pos, v=np.zeros_like(s), a=np.zeros_like(s), j=np.zeros_like(s))
+    assert not rep.ok
+    assert any("separation" in f for f in rep.failures)
+    assert any("goal" in f or "class" in f for f in rep.failures)
+
+
+def test_trajectory_is_frozen(good) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        good.makespan = 0.0  # type: ignore[misc]
