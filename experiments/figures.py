@@ -28,14 +28,14 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import numpy as np  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
-from mpl_toolkits.mplot3d import Axes3D  # noqa: E402,F401  (registers the 3-D projection)
+import numpy as np
+from matplotlib.figure import Figure
+from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the 3-D projection)
 
-from mpa import Circle, Interval, Lollipop, NoMotionError, plan, retract, skeleton_of  # noqa: E402
-from mpa.plan import Plan  # noqa: E402
-from mpa.skeleton import LollipopSkeleton, SkeletonPoint  # noqa: E402
-from trajopt import drawing as dr  # noqa: E402
+from mpa import Circle, Interval, Lollipop, NoMotionError, plan, retract, skeleton_of
+from mpa.plan import Plan
+from mpa.skeleton import LollipopSkeleton, SkeletonPoint
+from trajopt import drawing as dr
 
 __all__ = ["FIGURES", "FigureSpec", "main", "queries"]
 
@@ -175,7 +175,7 @@ def _torus_point(a: np.ndarray, b: np.ndarray, c: float = 1.0, R: float = 2.0, r
 def fig_torus() -> Figure:
     fig = Figure(figsize=(5.5, 4.2), layout="constrained")
     ax = fig.add_subplot(projection="3d")
-    xyz, U, V = _torus()
+    xyz, _, V = _torus()
     ax.computed_zorder = False
     _surface(ax, xyz, V, "Blues", alpha=0.6)
     t = np.linspace(0, 1, 200)
@@ -212,7 +212,8 @@ def fig_discontinuity_shortest() -> Figure:
     eps = 0.03
     for ax, b in zip(axes[0, :2], (a + 0.5 * c - eps, a + 0.5 * c + eps)):
         delta = float(_shortest_offset(a, b, c))
-        _one_robot_run(ax, CIRCLE, a, b, delta, f"b = antipode {'−' if b < a + 0.5 else '+'} {eps:g}: travel {delta:+.2f}")
+        sign = "−" if b < a + 0.5 else "+"
+        _one_robot_run(ax, CIRCLE, a, b, delta, f"b = antipode {sign} {eps:g}: travel {delta:+.2f}")
     ax = axes[0, 2]
     bs = np.linspace(0, c, 1001)
     off = _shortest_offset(a, bs, c)
@@ -373,7 +374,7 @@ def fig_circle_spaces() -> Figure:
     dr.draw_robots(ax_p, CIRCLE, s, labels=("$A_i$", "$B_i$"))
     dr.draw_robots(ax_p, CIRCLE, g, final=True, labels=("$A_f$", "$B_f$"))
     ax_p.set_title("physical space $S^1$", fontsize=10)
-    xyz, U, V = _torus()
+    xyz, _, V = _torus()
     ax_t.computed_zorder = False
     _surface(ax_t, xyz, V, "Blues", alpha=0.45)
     t = np.linspace(0, 1, 300)
@@ -684,7 +685,7 @@ def fig_wedge() -> Figure:
     ax.plot(0, 0, "o", color="k", ms=6)
     ax.set_aspect("equal")
     ax.axis("off")
-    b0, b1 = sk.betti
+    _, b1 = sk.betti
     ax.set_title(f"wedge of {len(loops)} circles (b1 of S = {b1})", fontsize=10)
     return fig
 
@@ -740,8 +741,6 @@ def fig_ccw_directions() -> Figure:
     dr.draw_flat_cspace(ax_f, tr)
     dr.draw_skeleton(ax_f, sk)
     ax_f.set_title("ccw arrows in the flat space", fontsize=10)
-    for j, ax in zip((1, 2), (fig.add_subplot(gs[1, 1]), fig.add_subplot(gs[1, 2]))):
-        pass
     sub = gs[1, 1:].subgridspec(1, 3)
     for j in (1, 2, 3):
         ax = fig.add_subplot(sub[0, j - 1])
@@ -912,7 +911,8 @@ def _figures() -> list[FigureSpec]:
         name = f"lollipop_V{dom}"
         specs += [
             (f"V{dom}_initial_final", cap_q, _run_figure(name, None, "initial (filled) and final (empty)")),
-            (f"V{dom}_preliminary", f"Preliminary step in {cap_rest}", _run_figure(name, "preliminary", "preliminary step")),
+            (f"V{dom}_preliminary", f"Preliminary step in {cap_rest}",
+             _run_figure(name, "preliminary", "preliminary step")),
             (f"V{dom}_main", f"Main step in {cap_rest}", _run_figure(name, "main", "main step")),
             (f"V{dom}_final", f"Final step in {cap_rest}", _run_figure(name, "final", "final step")),
         ]

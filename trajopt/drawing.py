@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from itertools import pairwise
 
 import matplotlib as mpl
 import numpy as np
@@ -80,7 +81,9 @@ COLLISION_COLOR = "#d62728"
 TRACK_COLOR = "0.35"
 
 
-def new_figure(ncols: int = 1, nrows: int = 1, *, width: float = 4.2, height: float = 4.0, **kw: object) -> tuple[Figure, NDArray[np.object_]]:
+def new_figure(
+    ncols: int = 1, nrows: int = 1, *, width: float = 4.2, height: float = 4.0, **kw: object
+) -> tuple[Figure, NDArray[np.object_]]:
     """A figure with ``nrows × ncols`` axes (always returned as a 2-D array), without pyplot's global state.
 
     Parameters
@@ -142,7 +145,7 @@ def split_wraps(track: Track, states: ArrayLike) -> FloatArray:
     lo, c = per
     hi = lo + c
     out: list[FloatArray] = [st[0]]
-    for p0, p1 in zip(st[:-1], st[1:]):
+    for p0, p1 in pairwise(st):
         jump = p1 - p0
         wrapped = np.abs(jump) > 0.5 * c
         if np.any(wrapped):
@@ -323,7 +326,9 @@ def draw_robots(
     draw_robot(ax, track, b, "B", final=final, label=lb)
 
 
-def arrow_along(ax: Axes, pts: ArrayLike, *, frac: float = 0.5, color: str = "k", size: float = 14.0, lw: float = 1.5) -> None:
+def arrow_along(
+    ax: Axes, pts: ArrayLike, *, frac: float = 0.5, color: str = "k", size: float = 14.0, lw: float = 1.5
+) -> None:
     """An arrowhead on a polyline at the fraction ``frac`` of its arc length, pointing forwards.
 
     NaN rows split the polyline into pieces (see :func:`split_wraps`); the arc length is that of the pieces, the
@@ -407,12 +412,13 @@ def motion_lanes(track: Track, positions: ArrayLike) -> FloatArray:
     for i in range(1, n):
         if on_loop[i] != on_loop[i - 1]:
             cuts.append(i)
-        elif i >= 2 and direction[i - 1] * direction[i - 2] < 0 and not near_pole[i - 1] and on_loop[i - 2] == on_loop[i]:
-            cuts.append(i)
+        elif i >= 2 and direction[i - 1] * direction[i - 2] < 0:
+            if not near_pole[i - 1] and on_loop[i - 2] == on_loop[i]:
+                cuts.append(i)
     cuts.append(n)
     out = np.zeros(n)
     counts = {False: 0, True: 0}
-    for start, stop in zip(cuts[:-1], cuts[1:]):
+    for start, stop in pairwise(cuts):
         if stop <= start:
             continue
         edge = bool(on_loop[start])
@@ -459,7 +465,7 @@ def draw_motion(
     lw, alpha : float
     """
     p = np.asarray(positions, dtype=float)
-    if len(p) < 2 or float(np.max(np.abs(np.diff(p)))) == 0.0 and float(np.ptp(p)) == 0.0:
+    if len(p) < 2 or (float(np.max(np.abs(np.diff(p)))) == 0.0 and float(np.ptp(p)) == 0.0):
         return
     sign = 1.0 if name == "A" else -1.0
     off = sign * lane_unit(track) * (lane + spread * motion_lanes(track, p))
@@ -592,7 +598,8 @@ def sample_skeleton(skeleton: Skeleton, n: int = 200) -> dict[str, FloatArray]:
     out: dict[str, FloatArray] = {}
     for e in skeleton.graph.edges:
         ts = np.linspace(0.0, e.length, n)
-        out[e.name] = np.array([skeleton.state(SkeletonPoint(e.name, float(t))) for t in ts])  # type: ignore[attr-defined]
+        state = skeleton.state  # type: ignore[attr-defined]
+        out[e.name] = np.array([state(SkeletonPoint(e.name, float(t))) for t in ts])
     return out
 
 
@@ -822,7 +829,7 @@ def draw_chain(
                 zorder=2)
         if arrows and blk not in ("I1", "I2") and not dim:
             arrow_along(ax, xy, frac=0.55, color=color, size=16)
-        if labels and e.name.endswith("a") or (labels and blk in ("I1", "I2")):
+        if (labels and e.name.endswith("a")) or (labels and blk in ("I1", "I2")):
             mid = xy[len(xy) // 2]
             txt = f"${blk[0]}_{blk[1]}$"
             dy = -0.28 if blk not in ("I1", "I2") else 0.25
@@ -857,7 +864,7 @@ def _step_range(p: Plan, name: str) -> tuple[float, float]:
     return st.u_start, st.u_end
 
 
-def draw_plan_step(axes: Sequence[Axes], p: Plan, style: StepStyle = StepStyle()) -> None:  # noqa: B008
+def draw_plan_step(axes: Sequence[Axes], p: Plan, style: StepStyle = StepStyle()) -> None:
     """One step of a plan in the paper's two pictures: the robots on the track, the state in the flat space.
 
     Left: the track; the robots at the beginning (filled triangles) and end (empty) of the step and each robot's
