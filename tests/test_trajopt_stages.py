@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from mpa import Circle, Interval, Lollipop, make_planner
+from mpa import Circle, Interval, Lollipop, MPAError, make_planner
 from trajopt import Limits, TrajectoryGenerator, verify_setpoints
 from trajopt.smoothing import RouteGeometry, densify, plan_cells, problem_for, smooth_plan
 from trajopt.timing import blend_polyline, jerk_limited_scaling, min_time_rest_to_rest, toppra_profile
@@ -23,7 +23,7 @@ def _plans(track, clearance, n, seed):  # type: ignore[no-untyped-def]
         s, g = rng.uniform(0, track.total_length, 2), rng.uniform(0, track.total_length, 2)
         try:
             out.append(pl.plan(s, g))
-        except Exception:  # noqa: BLE001 - invalid random queries are skipped
+        except MPAError:  # invalid random queries are skipped
             continue
     return out
 
