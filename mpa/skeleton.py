@@ -205,7 +205,7 @@ class LollipopSkeleton(Skeleton):
     @property
     def half(self) -> float:
         """Model half loop h (the arc length of every circle arc)."""
-        return self.model.half
+        return 0.5 * self.model.loop
 
     def circle_phi(self, pt: SkeletonPoint) -> float:
         """Circle parameter φ ∈ [0, c) of a point on a circle arc."""

@@ -17,7 +17,6 @@ vectorized over numpy arrays.
 
 from __future__ import annotations
 
-from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,48 +42,51 @@ def _positive_length(name: str, value: float) -> float:
     return v
 
 
-class Track(ABC):
-    """A track: a compact metric graph with a one-float coordinate (see module docstring)."""
+class Track:
+    """A track: a compact metric graph with a one-float coordinate (see module docstring).
+
+    An abstract base (not an ``abc.ABC``: ``isinstance`` checks on the hot path of the planner stay cheap).
+    """
 
     kind: str
 
     @property
-    @abstractmethod
     def total_length(self) -> float:
         """Total length of the track (metres)."""
+        raise NotImplementedError
 
     @property
-    @abstractmethod
     def has_loop(self) -> bool:
         """Whether the track contains a cycle (the only place where the robots can change order)."""
+        raise NotImplementedError
 
-    @abstractmethod
     def distance(self, p: ArrayLike, q: ArrayLike) -> FloatArray:
         """Graph distance between positions ``p`` and ``q`` (broadcast, metres)."""
+        raise NotImplementedError
 
-    @abstractmethod
     def normalize(self, p: ArrayLike) -> FloatArray:
         """Map coordinates on the loop into the canonical half-open range (no validation)."""
+        raise NotImplementedError
 
-    @abstractmethod
     def _valid_mask(self, p: FloatArray) -> NDArray[np.bool_]:
         """Which normalized coordinates lie on the track."""
+        raise NotImplementedError
 
-    @abstractmethod
     def _range_text(self) -> str:
         """Human description of the valid coordinate range."""
+        raise NotImplementedError
 
-    @abstractmethod
     def embed(self, p: ArrayLike) -> FloatArray:
         """Planar embedding for plotting. Shape ``p.shape + (2,)`` (metres)."""
+        raise NotImplementedError
 
-    @abstractmethod
     def as_graph(self) -> MetricGraph:
         """The track as a generic :class:`~mpa.graph.MetricGraph` (vertices, edges with lengths)."""
+        raise NotImplementedError
 
-    @abstractmethod
     def to_dict(self) -> dict[str, object]:
         """Parameters as a JSON-ready dict (``{"track": kind, ...}``)."""
+        raise NotImplementedError
 
     def validate(self, p: ArrayLike, name: str = "position") -> FloatArray:
         """Check that ``p`` holds finite coordinates on the track and return them normalized.
