@@ -675,13 +675,14 @@ def fig_wedge() -> Figure:
     loops = [e for e in sk.graph.edges if e.name not in tree]
     for i, e in enumerate(loops):
         ang0 = np.pi / 2 + i * 2 * np.pi / len(loops)
-        t = np.linspace(0, 2 * np.pi, 200)
-        centre = 0.8 * np.array([np.cos(ang0), np.sin(ang0)])
-        xy = centre + 0.8 * np.stack([np.cos(t + ang0 + np.pi), np.sin(t + ang0 + np.pi)], axis=-1)
+        th = np.linspace(-np.pi / 6, np.pi / 6, 200)  # one petal of the rose r = cos 3θ, traversed ccw
+        r = np.cos(3 * th)
+        xy = np.stack([r * np.cos(th + ang0), r * np.sin(th + ang0)], axis=-1)
         col = dr.BLOCK_COLORS[dr.block_of_edge(sk, e.name)]
         ax.plot(*xy.T, color=col, lw=3)
         dr.arrow_along(ax, xy, frac=0.5, color=col, size=15)
-        ax.text(*(1.75 * centre), f"${e.name[0]}_{e.name[1]}$", color=col, ha="center", va="center", fontsize=13)
+        ax.text(1.2 * np.cos(ang0), 1.2 * np.sin(ang0), f"${e.name[0]}_{e.name[1]}$", color=col, ha="center",
+                va="center", fontsize=13)
     ax.plot(0, 0, "o", color="k", ms=6)
     ax.set_aspect("equal")
     ax.axis("off")
@@ -733,24 +734,24 @@ def fig_ccw_directions() -> Figure:
     tr = LOLLIPOP
     sk = skeleton_of(tr)
     assert isinstance(sk, LollipopSkeleton)
-    fig = Figure(figsize=(12.0, 6.4), layout="constrained")
-    gs = fig.add_gridspec(2, 3, height_ratios=[1, 1.9])
+    fig = Figure(figsize=(11.0, 8.0), layout="constrained")
+    gs = fig.add_gridspec(4, 2, height_ratios=[1.0, 1, 1, 1], width_ratios=[1.15, 1])
     ax_c = fig.add_subplot(gs[0, :])
     dr.draw_chain(ax_c, sk, vertex_names=False)
-    ax_f = fig.add_subplot(gs[1, 0])
+    ax_f = fig.add_subplot(gs[1:, 0])
     dr.draw_flat_cspace(ax_f, tr)
     dr.draw_skeleton(ax_f, sk)
     ax_f.set_title("ccw arrows in the flat space", fontsize=10)
-    sub = gs[1, 1:].subgridspec(1, 3)
     for j in (1, 2, 3):
-        ax = fig.add_subplot(sub[0, j - 1])
+        ax = fig.add_subplot(gs[j, 1])
         phis = np.linspace(0.05, 0.45, 60) * tr.loop
         run = np.array([sk.state(sk.circle_point(j, float(f))) for f in phis])
-        dr.draw_track(ax, tr, labels=False)
+        dr.draw_track(ax, tr, labels=False, ccw_arrow=False)
         dr.draw_motion(ax, tr, run[:, 0], "A", spread=0)
         dr.draw_motion(ax, tr, run[:, 1], "B", spread=0)
         dr.draw_robots(ax, tr, run[0])
-        ax.set_title(f"ccw in $S_{j}$", fontsize=10, color=dr.BLOCK_COLORS[f"S{j}"])
+        ax.set_title(f"ccw in $S_{j}$: φ from {phis[0]:.2f} to {phis[-1]:.2f}", fontsize=10,
+                     color=dr.BLOCK_COLORS[f"S{j}"])
     return fig
 
 
@@ -811,8 +812,8 @@ def _prelim_case(ax_p: object, ax_f: object, tr: Lollipop, state: tuple[float, f
     dr.draw_track(ax_p, tr, labels=False)  # type: ignore[arg-type]
     dr.draw_motion(ax_p, tr, trace[:, 0], "A", spread=0)  # type: ignore[arg-type]
     dr.draw_motion(ax_p, tr, trace[:, 1], "B", spread=0)  # type: ignore[arg-type]
-    dr.draw_robots(ax_p, tr, state)  # type: ignore[arg-type]
     dr.draw_robots(ax_p, tr, trace[-1], final=True, labels=("", ""))  # type: ignore[arg-type]
+    dr.draw_robots(ax_p, tr, state)  # type: ignore[arg-type]  (on top: a robot that waits shows filled)
     d0, d1 = float(tr.distance(*state)), float(tr.distance(*trace[-1]))
     ax_p.set_title(f"({state[0]:g}, {state[1]:g}): d = {d0:.2f} → {d1:.2f}", fontsize=9)  # type: ignore[attr-defined]
     dr.draw_flat_path(ax_f, tr, trace, color=dr.STEP_COLORS["preliminary"], lw=2.2, arrows=(1.0,))  # type: ignore[arg-type]
@@ -822,7 +823,8 @@ def _prelim_case(ax_p: object, ax_f: object, tr: Lollipop, state: tuple[float, f
 def fig_prelim_more() -> Figure:
     tr = LOLLIPOP
     cases = [(0.05, 0.85), (0.2, 1.5)]
-    fig, axes = dr.new_figure(3, width=3.6, height=3.4)
+    fig = Figure(figsize=(12.0, 3.8), layout="constrained")
+    axes = fig.subplots(1, 3, squeeze=False, width_ratios=[1.5, 1.5, 1])
     for ax in axes[0, 2:]:
         dr.draw_flat_cspace(ax, tr, axis_labels=False)
         dr.draw_skeleton(ax, skeleton_of(tr), labels=False, alpha=0.6)
@@ -836,7 +838,8 @@ def fig_prelim_more() -> Figure:
 def fig_prelim_less() -> Figure:
     tr = LOLLIPOP
     cases = [(0.1, 0.4), (0.85, 1.1), (1.3, 1.6)]
-    fig, axes = dr.new_figure(4, width=3.3, height=3.2)
+    fig = Figure(figsize=(15.0, 3.8), layout="constrained")
+    axes = fig.subplots(1, 4, squeeze=False, width_ratios=[1.5, 1.5, 1.5, 1])
     dr.draw_flat_cspace(axes[0, 3], tr, axis_labels=False)
     dr.draw_skeleton(axes[0, 3], skeleton_of(tr), labels=False, alpha=0.6)
     for ax, st in zip(axes[0, :3], cases):

@@ -830,7 +830,7 @@ def draw_chain(
         if arrows and blk not in ("I1", "I2") and not dim:
             arrow_along(ax, xy, frac=0.55, color=color, size=16)
         if (labels and e.name.endswith("a")) or (labels and blk in ("I1", "I2")):
-            mid = xy[len(xy) // 2]
+            mid = xy.mean(axis=0) if len(xy) == 2 else xy[len(xy) // 2]
             txt = f"${blk[0]}_{blk[1]}$"
             dy = -0.28 if blk not in ("I1", "I2") else 0.25
             if blk.startswith("S") and mid[1] > 0:
@@ -909,8 +909,8 @@ def draw_plan_step(axes: Sequence[Axes], p: Plan, style: StepStyle = StepStyle()
         else:
             ax_phys.text(0.5, 0.02, "(empty step: the state is already on the skeleton)", transform=ax_phys.transAxes,
                          ha="center", fontsize=9, color="0.3")
-        draw_robots(ax_phys, track, seg[0], final=False)
         draw_robots(ax_phys, track, seg[-1], final=True, labels=("", ""))
+        draw_robots(ax_phys, track, seg[0], final=False)  # on top: a robot that waits shows filled
     same_i = bool(np.allclose(p.start, xi))
     same_f = bool(np.allclose(p.goal, xf))
     draw_state(ax_flat, p.start, "$x_i$", color="k", offset=(-22, -14) if not same_i else (-22, 6))
