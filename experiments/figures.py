@@ -507,7 +507,7 @@ def fig_generalized_lollipop() -> Figure:
     ax.plot(path_x, 0 * path_x, "o", color="k", ms=7)
     ax.plot(*cyc.T, "o", color="k", ms=7)
     for i, x in enumerate(path_x):
-        ax.annotate(str(i + 1) if i < 3 or i == n - g - 1 else "", (x, 0), xytext=(0, 8), textcoords="offset points",
+        ax.annotate(str(i + 1) if i < min(3, n - g - 1) else "", (x, 0), xytext=(0, 8), textcoords="offset points",
                     ha="center")
     ax.annotate("$n-g$", (path_x[-1], 0), xytext=(0, 8), textcoords="offset points", ha="center")
     for i, p in enumerate(cyc):
