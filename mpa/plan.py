@@ -197,17 +197,25 @@ def build_plan(
     lifts_b = lift_moves(track, moves_b, float(start[1]))
     route_a, sig_a = Route.through(track, lifts_a)
     route_b, sig_b = Route.through(track, lifts_b)
-    ws = np.stack([sig_a, sig_b], axis=-1)
-    inc = np.max(np.abs(np.diff(ws, axis=0)), axis=1) if len(ws) > 1 else np.zeros(0)
-    cum = np.concatenate([[0.0], np.cumsum(inc)])
-    total = cum[-1]
-    knots = cum / total if total > 0 else np.zeros_like(cum)
-    pos = np.array([[lift_position(track, la), lift_position(track, lb)] for la, lb in zip(lifts_a, lifts_b)])
-    pos[0], pos[-1] = start, goal
-    travel = np.array([np.sum(np.abs(np.diff(sig_a))), np.sum(np.abs(np.diff(sig_b)))])
+    sa, sb = sig_a.tolist(), sig_b.tolist()
+    cum_l = [0.0]
+    trav_a = trav_b = 0.0
+    for i in range(1, len(sa)):
+        da, db = abs(sa[i] - sa[i - 1]), abs(sb[i] - sb[i - 1])
+        trav_a += da
+        trav_b += db
+        cum_l.append(cum_l[-1] + (da if da > db else db))
+    total = cum_l[-1]
+    knots_l = [c / total for c in cum_l] if total > 0 else [0.0] * len(cum_l)
+    pos_l = [[lift_position(track, la), lift_position(track, lb)] for la, lb in zip(lifts_a, lifts_b)]
+    pos_l[0], pos_l[-1] = [float(start[0]), float(start[1])], [float(goal[0]), float(goal[1])]
+    pos = np.array(pos_l)
+    ws = np.array([sa, sb]).T.copy()
+    knots = np.array(knots_l)
+    travel = np.array([trav_a, trav_b])
     plan_steps = []
     for (desc, _), name, (i0, i1) in zip(steps, STEP_NAMES, step_ranges):
-        plan_steps.append(PlanStep(name, desc, float(knots[i0]), float(knots[i1]), pos[i0 : i1 + 1].copy()))
+        plan_steps.append(PlanStep(name, desc, knots_l[i0], knots_l[i1], pos[i0 : i1 + 1]))
     result = Plan(
         track=track,
         start=np.asarray(start, dtype=float),
@@ -223,7 +231,7 @@ def build_plan(
         skeleton=skeleton,
         skeleton_start=np.asarray(skeleton_start, dtype=float),
         skeleton_goal=np.asarray(skeleton_goal, dtype=float),
-        word=(),
+        word=() if word is None else word,
         travel=travel,
         length=float(total),
         regime=regime,
@@ -232,5 +240,5 @@ def build_plan(
         from mpa.homotopy import path_word
 
         n = max(2001, result.samples_needed(0.0005))
-        word = path_word(track, result.sample(n))
-    return replace(result, word=word)
+        return replace(result, word=path_word(track, result.sample(n)))
+    return result

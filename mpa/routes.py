@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -29,8 +30,7 @@ FloatArray = NDArray[np.float64]
 LIFT_TOL = 1e-9
 
 
-@dataclass(frozen=True)
-class Lift:
+class Lift(NamedTuple):
     """A point of the universal cover: ``kind`` "line" (v = U) or "stick" (copy ``k``, v = depth x >= 0)."""
 
     kind: str
@@ -38,8 +38,7 @@ class Lift:
     v: float
 
 
-@dataclass(frozen=True)
-class RobotMove:
+class RobotMove(NamedTuple):
     """One robot's motion during one elementary step, along a single edge of the track.
 
     ``edge`` is "stick" (``p`` goes linearly from ``start`` to ``start + delta``; also the interval) or
@@ -65,11 +64,11 @@ def lift_position(track: Track, lift: Lift) -> float:
     if isinstance(track, Interval):
         return lift.v
     if isinstance(track, Circle):
-        return float(np.mod(lift.v, track.loop))
+        return lift.v % track.loop
     assert isinstance(track, Lollipop)
     if lift.kind == "stick":
         return track.stick - lift.v
-    th = float(np.mod(lift.v, track.loop))
+    th = lift.v % track.loop
     if th > track.loop - LIFT_TOL:
         th = 0.0
     return track.stick + th
@@ -115,7 +114,7 @@ def lift_moves(track: Track, moves: Sequence[RobotMove], start: float) -> list[L
                     if cur.v > 1e-7 * max(1.0, ell):
                         raise PlanningError(f"robot enters the loop from the stick away from P (x = {cur.v})")
                     cur = Lift("line", 0, cur.k * c)
-                th = float(np.mod(cur.v, c))
+                th = cur.v % c
                 gap = min(abs(th - mv.start), c - abs(th - mv.start))
                 if gap > 1e-7 * max(1.0, c):
                     raise PlanningError(f"loop move starts at θ = {mv.start}, robot is at θ = {th}")
