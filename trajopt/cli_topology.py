@@ -16,6 +16,10 @@ from mpa.topology import ConfigurationSpaceTopology, configuration_space_topolog
 __all__ = ["format_topology", "register", "run_topology"]
 
 
+def _count(n: int, singular: str, plural: str | None = None) -> str:
+    return f"{n} {singular}" if n == 1 else f"{n} {plural or singular + 's'}"
+
+
 def format_topology(top: ConfigurationSpaceTopology) -> str:
     """Human-readable report of :func:`mpa.topology.configuration_space_topology`.
 
@@ -31,10 +35,11 @@ def format_topology(top: ConfigurationSpaceTopology) -> str:
     b, b2 = top.betti, top.betti_f2
     hd = top.homotopy_dimension
     lines = [
-        f"subdivided graph   {top.subdivided_graph[0]} vertices, {top.subdivided_graph[1]} edges; "
-        f"{top.essential_vertices} essential vertices (degree >= 3)",
-        f"D2 cells           {top.cell_counts.vertices} vertices, {top.cell_counts.edges} edges, "
-        f"{top.cell_counts.squares} squares",
+        f"subdivided graph   {_count(top.subdivided_graph[0], 'vertex', 'vertices')}, "
+        f"{_count(top.subdivided_graph[1], 'edge')}; "
+        f"{_count(top.essential_vertices, 'essential vertex', 'essential vertices')} (degree >= 3)",
+        f"D2 cells           {_count(top.cell_counts.vertices, 'vertex', 'vertices')}, "
+        f"{_count(top.cell_counts.edges, 'edge')}, {_count(top.cell_counts.squares, 'square')}",
         f"Betti over Q       b0 = {b[0]}, b1 = {b[1]}, b2 = {b[2]}",
         f"Betti over F2      b0 = {b2[0]}, b1 = {b2[1]}, b2 = {b2[2]}",
         f"Euler              {top.euler} (formula chi^2 + chi - sum (d-1)(d-2) = {top.euler_formula})",
