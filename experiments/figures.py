@@ -925,8 +925,8 @@ def _figures() -> list[FigureSpec]:
 FIGURES = _figures()
 
 
-def write_index(out: Path, specs: Sequence[FigureSpec], timings: dict[str, float]) -> Path:
-    """Write ``out/index.md``: every caption of the paper with its file."""
+def write_index(out: Path, specs: Sequence[FigureSpec]) -> Path:
+    """Write ``out/index.md``: the caption of the paper of every figure drawn, with its file."""
     lines = [
         "# Figures of Boughrira & Colman, redrawn from the library",
         "",
@@ -949,6 +949,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--out", required=True, type=Path, help="output directory")
     ap.add_argument("--dpi", type=float, default=110.0, help="resolution of the PNGs (default 110)")
     ap.add_argument("--only", nargs="*", default=None, help="regular expressions: draw only matching file names")
+    ap.add_argument("--no-index", action="store_true", help="do not write index.md")
     args = ap.parse_args(argv)
     if args.dpi <= 0:
         print(f"error: dpi is {args.dpi}, expected > 0", file=sys.stderr)
@@ -967,7 +968,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.replace(tmp, args.out / s.filename)
         timings[s.filename] = time.perf_counter() - t0
         print(f"{s.filename}  {timings[s.filename]:.2f} s")
-    write_index(args.out, FIGURES, timings)
+    if not args.no_index:
+        write_index(args.out, specs)
     return 0
 
 
