@@ -46,12 +46,14 @@ INTERVAL = Interval(1.0)
 
 @dataclass(frozen=True)
 class FigureSpec:
-    """One figure of the paper: number (paper order), file slug, the paper's caption, the function drawing it."""
+    """One figure of the paper: number (paper order), file slug, the paper's caption, the function drawing it, and
+    what the redrawn figure shows."""
 
     number: int
     slug: str
     caption: str
     make: Callable[[], Figure]
+    shows: str = ""
 
     @property
     def filename(self) -> str:
@@ -850,6 +852,48 @@ def fig_prelim_less() -> Figure:
 
 
 # ---------------------------------------------------------------------------------------------------
+#: What each redrawn figure shows (the sample runs are described by their step).
+SHOWS = {
+    "subspaces_A_B": "the polar curves A and B of the paper's Example",
+    "product_space_AxB": "A × B as a 3-D surface: a copy of B across A at every point",
+    "torus": "the torus S¹ × S¹ with a longitude and a meridian",
+    "discontinuity_shortest_path": "one robot on S¹, 'shortest path': final positions either side of the antipode"
+    " give opposite runs; travel vs final position jumps",
+    "discontinuity_counterclockwise": "one robot on S¹, 'counterclockwise': the travel jumps from ~c to ~0 at b = a",
+    "one_robot_on_I": "one robot on I moving straight to its goal",
+    "two_instructions_S1": "the two instructions for one robot on S¹ and their domains of continuity in S¹ × S¹",
+    "interval_physical_and_configuration": "two robots on I and their state in I × I − Δ",
+    "interval_same_component": "a query in one component of C²(I) and the planned straight path",
+    "interval_different_components": "a query across the components: the planner's NoMotionError message",
+    "circle_physical_and_flat_torus": "two robots on S¹, the torus minus its diagonal, the flat torus",
+    "antipodal_circle": "the antipodal circle (skeleton of the circle) with its ccw orientation, and a ccw run on"
+    " the track",
+    "circle_initial_final_antipodal_states": "x_i, x_f and their retractions x_i', x_f' by horizontal traces of H",
+    "circle_steps_in_X": "preliminary, main and final step of a circle plan in the flat torus",
+    "circle_swapped_physical": "swapped positions on the circle",
+    "circle_swapped_configuration": "swapped states: symmetric about Δ; on the antipodal circle, antipodal points",
+    "generalized_lollipop_Cng": "the generalized lollipop graph C(n,g)",
+    "lollipop_graph": "the lollipop L = C(2,1) from Lollipop.embed / as_graph",
+    "lollipop_configuration_space": "L × L − Δ in 3-D (torus, tube, wall, flat piece) and flat, with the skeleton",
+    "lollipop_physical_positions_states": "four physical positions and their states in the flat space",
+    "two_positions_in_skeleton": "two generalized antipodal positions and their points on the skeleton",
+    "homotopy_traces": "traces of H from mpa.retract over a grid of states, ending on the skeleton",
+    "skeleton_flat": "the skeleton I1, S1, S2, S3, I2 in the flat space with ccw arrows and the level set d = h",
+    "wedge_of_three_circles": "contracting a spanning tree of the skeleton graph leaves a wedge of b₁ = 3 circles",
+    "distance_between_robots": "graph distances between robots with the shortest path highlighted",
+    "generalized_antipodal_positions": "a generalized antipodal position (d = h) in each block of the skeleton",
+    "skeleton_chain": "the skeleton graph as the chain of three circles and two intervals, ccw arrows",
+    "ccw_directions": "the ccw orientation of each S_j: chain, flat space, and the robots' motions on the track",
+    "generalized_swapped_configuration": "generalized swapped states in each S_j and the planned ccw runs (domain 2)",
+    "generalized_swapped_physical": "generalized swapped states in each S_j on the track",
+    "extended_interval": "the extended interval Ĩ = I ∪ {P}",
+    "preliminary_distance_more_than_half": "preliminary step for d > h: the robot nearer the free end moves, the"
+    " other waits",
+    "preliminary_distance_less_than_half": "preliminary step for d < h: both robots move apart (stick, stick-loop,"
+    " loop)",
+}
+
+
 def _figures() -> list[FigureSpec]:
     specs: list[tuple[str, str, Callable[[], Figure]]] = [
         ("subspaces_A_B", "Subspaces $A$ and $B$", fig_subspaces),
@@ -919,7 +963,20 @@ def _figures() -> list[FigureSpec]:
             (f"V{dom}_main", f"Main step in {cap_rest}", _run_figure(name, "main", "main step")),
             (f"V{dom}_final", f"Final step in {cap_rest}", _run_figure(name, "final", "final step")),
         ]
-    return [FigureSpec(i + 1, slug, cap, make) for i, (slug, cap, make) in enumerate(specs)]
+    return [
+        FigureSpec(i + 1, slug, cap, make, SHOWS[slug] if slug in SHOWS else _run_shows(slug))
+        for i, (slug, cap, make) in enumerate(specs)
+    ]
+
+
+def _run_shows(slug: str) -> str:
+    name, step = slug.rsplit("_", 1) if not slug.endswith("initial_final") else (slug[:-14], "query")
+    q = {"circle_ex1": "circle example 1 (B not antipodal, domain 2)", "circle_ex2": "circle example 2 (B antipodal, "
+         "domain 1)", "V1": "lollipop domain 1 (generalized vertex position)", "V2": "lollipop domain 2 "
+         "(generalized swapped)", "V3": "lollipop domain 3"}[name]
+    what = {"setup": "initial and final positions and states", "query": "initial and final positions and states",
+            "preliminary": "preliminary step", "main": "main step", "final": "final step"}[step]
+    return f"{q}: {what}, on the track and in the flat space"
 
 
 FIGURES = _figures()
@@ -932,12 +989,12 @@ def write_index(out: Path, specs: Sequence[FigureSpec]) -> Path:
         "",
         "Generated by `python experiments/figures.py`. Numbering follows the paper's figure order.",
         "",
-        "| # | caption in the paper | file |",
-        "|---|---|---|",
+        "| # | caption in the paper | file | what the figure shows |",
+        "|---|---|---|---|",
     ]
     for s in specs:
         cap = s.caption.replace("|", "\\|")
-        lines.append(f"| {s.number} | {cap} | [{s.filename}]({s.filename}) |")
+        lines.append(f"| {s.number} | {cap} | [{s.filename}]({s.filename}) | {s.shows} |")
     path = out / "index.md"
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
