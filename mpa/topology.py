@@ -69,6 +69,12 @@ FIELD_PRIME = 524_287
 _EXHAUSTIVE_LIMIT = 20_000_000
 """Largest ``w⁴ · r(r+1)/2`` for which the four-fold zero-divisor products are checked exhaustively."""
 
+_INTEGER_MATMUL_WORK = 5_000_000
+"""Up to this many multiply-adds a product mod p is done in int64 (no BLAS threads), beyond in float64 blocks."""
+
+_SLICE_ENTRIES = 1_000_000
+"""Entries of one slice of the four-index array in the exhaustive four-fold check."""
+
 _RANDOM_TRIALS = 64
 """Random trials of the four-fold zero-divisor test when the exhaustive check is too large."""
 
@@ -332,10 +338,17 @@ def _rational_rank_of_boundary(cx: CubeComplex) -> tuple[int, bool]:
 
 
 def _matmul_mod_p(a: np.ndarray, b: np.ndarray, p: int) -> np.ndarray:
-    """``a @ b mod p`` for int64 arrays with entries in ``[0, p)``, exact through float64 blocks of the inner index."""
+    """``a @ b mod p`` for int64 arrays with entries in ``[0, p)``, exactly.
+
+    Small products use integer arithmetic (exact while ``inner · (p-1)² < 2⁶³``); large ones use float64 BLAS on
+    blocks of the inner index short enough that every partial sum stays below ``2⁵²``.
+    """
+    inner = a.shape[1]
+    if a.shape[0] * inner * b.shape[1] <= _INTEGER_MATMUL_WORK and inner * (p - 1) ** 2 < 2**62:
+        return (a @ b) % p
     block = max(1, (1 << 52) // max(1, (p - 1) ** 2))
     out = np.zeros((a.shape[0], b.shape[1]), dtype=np.int64)
-    for k in range(0, a.shape[1], block):
+    for k in range(0, inner, block):
         part = a[:, k : k + block].astype(np.float64) @ b[k : k + block].astype(np.float64)
         out = (out + np.fmod(part, p).astype(np.int64)) % p
     return out
@@ -418,14 +431,19 @@ def _four_fold_product_nonzero(m: np.ndarray, p: int, rng: np.random.Generator) 
     mw = mp[np.ix_(rows, rows)]
     w = len(rows)
     if w**4 * r * (r + 1) // 2 <= _EXHAUSTIVE_LIMIT:
+        step = max(1, _SLICE_ENTRIES // w**3)  # values of the first index per slice, to bound the memory
         for s in range(r):
             for t in range(s, r):
                 a, b = mw[:, :, s], mw[:, :, t]
-                q = np.zeros((w, w, w, w), dtype=np.int64)
-                for spec, sign in _FOUR_FOLD_TERMS:
-                    q = (q + sign * (np.einsum(spec, a, b) % p)) % p
-                if q.any():
-                    return True
+                for i0 in range(0, w, step):
+                    part = slice(i0, i0 + step)
+                    q = np.zeros((len(range(w)[part]), w, w, w), dtype=np.int64)
+                    for spec, sign in _FOUR_FOLD_TERMS:
+                        # the index i is the first index of exactly one operand: slice that operand
+                        x, y = (a[part], b) if spec.startswith("i") else (a, b[part])
+                        q = (q + sign * (np.einsum(spec, x, y) % p)) % p
+                    if q.any():
+                        return True
         return False
     if p != 2:
         # (φ⊗φ)(Q) = 2·Pfaffian of the 2-form φ∘μ on four classes: Q ≠ 0 iff some φ∘μ has rank >= 4

@@ -368,7 +368,7 @@ def _brute_force_zcl(m: np.ndarray, p: int) -> int:
     power, k = ideal, 0
     while len(power) and k < 6:
         k += 1
-        prods = np.einsum("ua,vb,abc->uvc", power, ideal, tensor).reshape(-1, dd) % p
+        prods = np.einsum("ua,vb,abc->uvc", power, ideal, tensor, optimize=True).reshape(-1, dd) % p
         power = prods[_dense_independent_columns(prods.T, p)] if len(prods) else prods
     return k
 
@@ -391,6 +391,22 @@ def test_zero_divisor_cup_length_matches_brute_force(p: int) -> None:
         assert fast == slow, f"trial {trial}, p = {p}: fast {fast} != brute force {slow} for m = {m.tolist()}"
         seen.add(fast)
     assert seen >= {1, 2, 3}
+
+
+@pytest.mark.parametrize("p", [2, 5])
+@pytest.mark.parametrize(("limit", "slice_entries"), [(0, 1_000_000), (10**9, 8)], ids=["random", "sliced"])
+def test_four_fold_check_random_and_sliced_paths(
+    p: int, limit: int, slice_entries: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the random path (used when the exhaustive check is too big) and the memory-sliced exhaustive path agree with
+    # brute force on these small rings (the random path can only miss with a tiny probability; seeded here)
+    monkeypatch.setattr(mpa.topology, "_EXHAUSTIVE_LIMIT", limit)
+    monkeypatch.setattr(mpa.topology, "_SLICE_ENTRIES", slice_entries)
+    rng = np.random.default_rng(99 + p)
+    for trial in range(25):
+        m = _random_algebra(rng, p)
+        fast, slow = zero_divisor_cup_length(m, m.shape[2], p), _brute_force_zcl(m, p)
+        assert fast == slow, f"trial {trial}, p = {p}: fast {fast} != brute force {slow} for m = {m.tolist()}"
 
 
 def test_zero_divisor_cup_length_known_rings() -> None:
