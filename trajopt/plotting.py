@@ -123,7 +123,7 @@ def plot_trajectory(traj: Trajectory) -> Figure:
     draw_profiles(prof, traj)
     what = "fallback: plan re-timed" if traj.fallback else "optimized"
     fig.suptitle(
-        f"{plan.track.kind} {plan.track.to_dict()}: ({plan.start[0]:g}, {plan.start[1]:g}) → "
+        f"{_track_label(plan.track)}: ({plan.start[0]:g}, {plan.start[1]:g}) → "
         f"({plan.goal[0]:g}, {plan.goal[1]:g}), domain {traj.domain}, makespan {traj.makespan:.2f} s ({what})"
     )
     return fig
@@ -143,3 +143,9 @@ def save_png(traj: Trajectory, path: str | os.PathLike[str]) -> None:
     """Write the demo figure of ``traj`` to ``path``."""
     with open(path, "wb") as fh:
         fh.write(figure_png(plot_trajectory(traj)))
+
+
+def _track_label(track) -> str:  # type: ignore[no-untyped-def]
+    """``"lollipop (stick 1 m, loop 1 m)"``."""
+    params = ", ".join(f"{k} {v:g} m" for k, v in track.to_dict().items() if k != "track")
+    return f"{track.kind} ({params})"
