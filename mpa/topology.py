@@ -724,10 +724,13 @@ def _connected_topology(
         )
     lower = 2 if (betti[2] or betti_f2[2]) else (1 if (betti[1] or betti_f2[1]) else 0)
     if lower > hdim_upper:
-        raise PlanningError(f"b2 = {betti[2]} > 0 although the homotopy dimension is at most {hdim_upper}")
+        raise PlanningError(
+            f"Betti numbers {betti} need homotopy dimension >= {lower}, but theory bounds it by {hdim_upper}"
+        )
     hd = HomotopyDimension(lower, hdim_upper, collapsed_to_graph)
-    if hdim_upper <= 1:  # homotopy equivalent to a graph: Farber's formula
+    if hdim_upper <= 1:  # homotopy equivalent to a connected graph: Farber's formula, hdim 1 (or 0 for a tree)
         tc = farber_tc_of_graph(betti[1])
+        hd = HomotopyDimension(lower, lower, collapsed_to_graph)
         return ComponentTopology(
             betti, betti_f2, euler, torsion_free, hd, None, None, tc, (tc, tc), counts, graph_components
         )

@@ -24,7 +24,7 @@ from mpa.discretized import (
     expected_cell_counts,
     simple_subdivision,
 )
-from mpa.errors import InvalidInputError
+from mpa.errors import InvalidInputError, PlanningError
 from mpa.graph import Edge, MetricGraph
 from mpa.topology import (
     FIELD_PRIME,
@@ -476,6 +476,9 @@ def test_bad_cube_complexes() -> None:
         CubeComplex(4, [[0, 1], [1, 2], [2, 3], [0, 3]], [[0, 1, 2, 3]])
     with pytest.raises(InvalidInputError, match=r"max_homotopy_dimension is 3, expected 0, 1 or 2"):
         cube_complex_topology(torus_or_klein(3, False), max_homotopy_dimension=3)
+    # a wrong theoretical bound is caught by the consistency checks, never silently used
+    with pytest.raises(PlanningError, match=r"need homotopy dimension >= 2, but theory bounds it by 1"):
+        cube_complex_topology(torus_or_klein(3, False), max_homotopy_dimension=1)
 
 
 # --------------------------------------------------------------------------------------------------
