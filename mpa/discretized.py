@@ -83,7 +83,7 @@ class CellCounts:
         return {"vertices": self.vertices, "edges": self.edges, "squares": self.squares}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class CubeComplex:
     """A finite cube complex of dimension <= 2 (vertices, oriented edges, squares).
 
@@ -349,7 +349,7 @@ def cubical_subdivision(cx: CubeComplex) -> CubeComplex:
 
 
 # --------------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SimpleSubdivision:
     """A simple graph (no loops, no multiple edges) subdividing a :class:`~mpa.graph.MetricGraph`.
 
@@ -436,7 +436,7 @@ def expected_cell_counts(subdivision: SimpleSubdivision) -> CellCounts:
     return CellCounts(v * (v - 1), 2 * e * (v - 2), 2 * pairs)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class DiscretizedConfigurationSpace:
     """Abrams' discretized configuration space ``D₂(Γ)`` of two ordered robots.
 
@@ -508,7 +508,7 @@ def discretized_configuration_space(graph: MetricGraph | SimpleSubdivision) -> D
 
 
 # --------------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Collapse:
     """Result of :func:`collapse_free_faces`.
 

@@ -270,7 +270,7 @@ def _coboundaries(cx: CubeComplex, edges: np.ndarray) -> list[dict[int, int]]:
     return [{s: c for s, c in where[int(e)].items() if c} for e in edges]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class _FieldCohomology:
     """``H¹`` and ``H²`` of a connected cube complex over 𝔽_p, with what is needed for cup products.
 
