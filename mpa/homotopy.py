@@ -119,13 +119,39 @@ def skeleton_points(skeleton: Skeleton, states: ArrayLike) -> tuple[np.ndarray, 
     raise PlanningError(f"no skeleton words for {type(skeleton).__name__}")
 
 
-def path_word(track: Track, states: ArrayLike) -> tuple[str, ...]:
+def _jumps(sk: Skeleton, edge: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Indices i where samples i and i+1 lie on skeleton edges without a common vertex."""
+    E = sk.graph.edges
+    ends = [{E[i].tail, E[i].head} for i in range(len(E))]
+    idx = np.flatnonzero(edge[1:] != edge[:-1])
+    return np.array([i for i in idx if not (ends[edge[i]] & ends[edge[i + 1]])], dtype=np.int64)
+
+
+def path_word(track: Track, states: ArrayLike, refine: int = 6) -> tuple[str, ...]:
     """Reduced skeleton word of a densely sampled path of states (track coordinates, shape (N, 2)).
 
+    Near a collision (d → 0) the retraction H₁ moves fast, so two consecutive samples can retract to skeleton
+    edges without a common vertex; such gaps are refined (up to ``refine`` times, 16 sub-samples each) along
+    the shortest motion between the two samples, which is the motion itself when the samples are close.
     The interval's skeleton has no edges: every path there has the empty word.
     """
     sk = skeleton_of(track)
     if isinstance(sk, IntervalSkeleton):
         return ()
-    edge, t = skeleton_points(sk, states)
+    st = np.atleast_2d(np.asarray(states, dtype=float))
+    edge, t = skeleton_points(sk, st)
+    f = np.linspace(0.0, 1.0, 18)[1:-1]
+    for _ in range(refine):
+        gaps = _jumps(sk, edge, t)
+        if len(gaps) == 0:
+            break
+        parts, last = [], 0
+        for i in gaps:
+            a = track.interpolate(st[i, 0], st[i + 1, 0], f)
+            b = track.interpolate(st[i, 1], st[i + 1, 1], f)
+            parts += [st[last : i + 1], np.stack([a, b], axis=-1)]
+            last = i + 1
+        parts.append(st[last:])
+        st = np.vstack(parts)
+        edge, t = skeleton_points(sk, st)
     return word_from_points(sk.graph, edge, t)

@@ -143,6 +143,13 @@ class Track:
         """Graph distance of two scalar positions (pure Python twin of :meth:`distance`)."""
         return float(self.distance(p, q))
 
+    def interpolate(self, p: ArrayLike, q: ArrayLike, f: ArrayLike) -> FloatArray:
+        """Points a fraction ``f`` of the way along a shortest path from ``p`` to ``q`` (broadcast).
+
+        Used to refine densely sampled motions: between two close samples the shortest path is the motion.
+        """
+        raise NotImplementedError
+
 
 @dataclass(frozen=True)
 class Interval(Track):
@@ -176,6 +183,10 @@ class Interval(Track):
 
     def _bounds(self) -> tuple[float, float, bool]:
         return 0.0, self.stick, True
+
+    def interpolate(self, p: ArrayLike, q: ArrayLike, f: ArrayLike) -> FloatArray:
+        p, q, f = (np.asarray(v, dtype=float) for v in (p, q, f))
+        return p + f * (q - p)
 
     def normalize(self, p: ArrayLike) -> FloatArray:
         return np.asarray(p, dtype=float).copy()
@@ -234,6 +245,13 @@ class Circle(Track):
     def distance_scalar(self, p: float, q: float) -> float:
         diff = (q - p) % self.loop
         return min(diff, self.loop - diff)
+
+    def interpolate(self, p: ArrayLike, q: ArrayLike, f: ArrayLike) -> FloatArray:
+        p, q, f = (np.asarray(v, dtype=float) for v in (p, q, f))
+        c = self.loop
+        d = np.mod(q - p, c)
+        d = np.where(d > 0.5 * c, d - c, d)
+        return np.mod(p + f * d, c)
 
     def normalize(self, p: ArrayLike) -> FloatArray:
         p = np.asarray(p, dtype=float)
@@ -331,6 +349,33 @@ class Lollipop(Track):
             p, q = q, p
         w = q - ell
         return (ell - p) + min(w, c - w)
+
+    def interpolate(self, p: ArrayLike, q: ArrayLike, f: ArrayLike) -> FloatArray:
+        p, q, f = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (p, q, f)))
+        ell, c = self.stick, self.loop
+        out = np.empty(p.shape)
+        ps, qs = p <= ell, q <= ell
+        m = ps & qs
+        out[m] = p[m] + f[m] * (q[m] - p[m])
+        m = ~ps & ~qs
+        d = np.mod(q[m] - p[m], c)
+        d = np.where(d > 0.5 * c, d - c, d)
+        th = np.mod(p[m] - ell + f[m] * d, c)
+        out[m] = ell + th
+        m = ps != qs  # through P: stick part, then loop part
+        if np.any(m):
+            pm, qm, fm = p[m], q[m], f[m]
+            stick_pt = np.where(pm <= ell, pm, qm)
+            loop_pt = np.where(pm <= ell, qm, pm)
+            x = ell - stick_pt
+            th = loop_pt - ell
+            w = np.minimum(th, c - th)
+            side = np.where(th <= 0.5 * c, 1.0, -1.0)
+            total = x + w
+            along = np.where(pm <= ell, fm, 1.0 - fm) * total  # distance travelled from the stick end
+            on_stick = along <= x
+            out[m] = np.where(on_stick, stick_pt + along, ell + np.mod(side * (along - x), c))
+        return out
 
     def normalize(self, p: ArrayLike) -> FloatArray:
         p = np.asarray(p, dtype=float)
