@@ -19,7 +19,7 @@ from mpa.retraction import retract
 from mpa.skeleton import CircleSkeleton, IntervalSkeleton, LollipopSkeleton, Skeleton, skeleton_of
 from mpa.tracks import Track
 
-__all__ = ["path_word", "reduce_word", "word_from_points"]
+__all__ = ["path_word", "reduce_word", "word_from_points", "word_from_samples"]
 
 #: Skeleton points within this arc length (model metres) of an edge's end count as at that vertex.
 END_TOL = 1e-9
@@ -67,26 +67,36 @@ def word_from_points(graph: MetricGraph, edges: ArrayLike, ts: ArrayLike) -> tup
     t_arr = np.asarray(ts, dtype=float)
     if len(e_idx) == 0:
         return ()
+    change = (np.flatnonzero(e_idx[1:] != e_idx[:-1]) + 1).tolist()
+    # only the samples around edge changes matter, plus the first and the last
+    keep = sorted({0, len(e_idx) - 1, *change, *(k - 1 for k in change)})
+    return word_from_samples(graph, e_idx[keep].tolist(), t_arr[keep].tolist())
+
+
+def word_from_samples(graph: MetricGraph, edges: list[int], ts: list[float]) -> tuple[str, ...]:
+    """Pure-Python core of :func:`word_from_points` (edge indices and arc lengths as lists)."""
     E = graph.edges
-    lengths = np.array([e.length for e in E])
+    n = len(edges)
+    if n == 0:
+        return ()
 
     def at_vertex(i: int, t: float) -> str | None:
         if t <= END_TOL:
             return str(E[i].tail)
-        if t >= lengths[i] - END_TOL:
+        if t >= E[i].length - END_TOL:
             return str(E[i].head)
         return None
 
     tokens: list[str] = []
-    cur = int(e_idx[0])
-    entry = at_vertex(cur, float(t_arr[0]))
-    prev_t = float(t_arr[0])
-    change = np.flatnonzero(e_idx[1:] != e_idx[:-1]) + 1
-    for k in change:
-        nxt, t_next = int(e_idx[k]), float(t_arr[k])
-        prev_t = float(t_arr[k - 1])
-        ends_cur = {str(E[cur].tail): prev_t, str(E[cur].head): lengths[cur] - prev_t}
-        ends_nxt = {str(E[nxt].tail): t_next, str(E[nxt].head): lengths[nxt] - t_next}
+    cur = edges[0]
+    entry = at_vertex(cur, ts[0])
+    for k in range(1, n):
+        nxt = edges[k]
+        if nxt == cur:
+            continue
+        prev_t, t_next = ts[k - 1], ts[k]
+        ends_cur = {str(E[cur].tail): prev_t, str(E[cur].head): E[cur].length - prev_t}
+        ends_nxt = {str(E[nxt].tail): t_next, str(E[nxt].head): E[nxt].length - t_next}
         shared = [v for v in ends_cur if v in ends_nxt]
         if not shared:
             raise PlanningError(f"path jumps from edge {E[cur].name} to {E[nxt].name}: sample it more densely")
@@ -94,7 +104,7 @@ def word_from_points(graph: MetricGraph, edges: ArrayLike, ts: ArrayLike) -> tup
         if entry != v:
             tokens.append(("+" if v == str(E[cur].head) else "-") + E[cur].name)
         cur, entry = nxt, v
-    last_v = at_vertex(cur, float(t_arr[-1]))
+    last_v = at_vertex(cur, ts[-1])
     if last_v is not None and entry != last_v:
         # the last visit ends on a vertex: a (possibly partial) traversal towards it
         tokens.append(("+" if last_v == str(E[cur].head) else "-") + E[cur].name)

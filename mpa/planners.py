@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike
 
 from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, PlanningError
-from mpa.homotopy import word_from_points
+from mpa.homotopy import word_from_samples
 from mpa.plan import JointMove, Plan, build_plan
 from mpa.retraction import lollipop_trace_scalar, retract, trace_moves
 from mpa.routes import RobotMove
@@ -242,12 +242,12 @@ def _circle_pieces(phi0: float, delta: float, h: float, edge_name) -> list[tuple
 
 
 def _pieces_word(graph, pieces: Sequence[tuple[str, float, float]]) -> tuple[str, ...]:  # type: ignore[no-untyped-def]
-    names = [e.name for e in graph.edges]
+    index = {e.name: i for i, e in enumerate(graph.edges)}
     edges, ts = [], []
     for e, t0, t1 in pieces:
-        edges += [names.index(e)] * 2
+        edges += [index[e], index[e]]
         ts += [t0, t1]
-    return word_from_points(graph, edges, ts)
+    return word_from_samples(graph, edges, ts)
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -440,15 +440,21 @@ class LollipopPlanner(Planner):
             return self._plan_loop(s, g)
         sk = self.skeleton
         ell, c_model, kappa = sk.model.stick, sk.model.loop, sk.kappa
-        ends = []
+        ends, traces = [], []
         for st in (s, g):
             ma = st[0] if st[0] <= ell else ell + (st[0] - ell) * kappa
             mb = st[1] if st[1] <= ell else ell + (st[1] - ell) * kappa
             da, db = lollipop_trace_scalar(ell, c_model, ma, mb)
             ends.append(_wrap_model(ell, c_model, ma, ma + da, mb, mb + db))
+            traces.append(
+                tuple(
+                    RobotMove("stick", p, dp) if p <= ell else RobotMove("loop", (p - ell) / kappa, dp / kappa)
+                    for p, dp in ((ma, da), (mb, db))
+                )
+            )
         (mxa, mxb), (mya, myb) = ends
-        xi = sk.from_model(np.array([mxa, mxb]))
-        xf = sk.from_model(np.array([mya, myb]))
+        xi = np.array([v if v <= ell else ell + (v - ell) / kappa for v in (mxa, mxb)])
+        xf = np.array([v if v <= ell else ell + (v - ell) / kappa for v in (mya, myb)])
         px, py = sk.point_of_model_state(mxa, mxb), sk.point_of_model_state(mya, myb)
         domain, pieces = self.route_in_skeleton(px, py)
         main = [tuple(sk.move_from_model(m) for m in sk.edge_moves(e, t0, t1)) for e, t0, t1 in pieces]
@@ -461,9 +467,9 @@ class LollipopPlanner(Planner):
             domain,
             RULES[("lollipop", domain)],
             [
-                (PRELIM["lollipop"], [trace_moves(tr, s)]),
+                (PRELIM["lollipop"], [traces[0]]),  # type: ignore[list-item]
                 (RULES[("lollipop", domain)], main),  # type: ignore[list-item]
-                (FINAL["lollipop"], [_reverse(trace_moves(tr, g))]),
+                (FINAL["lollipop"], [_reverse(traces[1])]),  # type: ignore[arg-type]
             ],
             sk,
             xi,

@@ -236,21 +236,23 @@ class Route:
 
     @classmethod
     def _oriented(cls, track, pieces, r, goal_index):  # type: ignore[no-untyped-def]
-        r_start = float(r[0])
-        diffs = r - r_start
-        goal = float(diffs[goal_index])
+        r = [float(v) for v in r]
+        r_start = r[0]
+        diffs = [v - r_start for v in r]
+        goal = diffs[goal_index]
         if abs(goal) > 1e-12:
             direction = 1 if goal > 0 else -1
         else:
-            nz = np.flatnonzero(np.abs(diffs) > 1e-12)
-            direction = 1 if (len(nz) == 0 or diffs[nz[0]] > 0) else -1
+            nz = [d for d in diffs if abs(d) > 1e-12]
+            direction = 1 if (not nz or nz[0] > 0) else -1
         r_lo, r_hi = pieces[0][4], pieces[-1][5]
         s_a, s_b = direction * (r_lo - r_start), direction * (r_hi - r_start)
-        sigma = direction * diffs
+        sigma = np.array(diffs) * direction
         route = cls(track, tuple(pieces), r_start, direction, min(s_a, s_b), max(s_a, s_b), abs(goal))
         return route, sigma
 
-    def __post_init__(self) -> None:
+    def _arrays(self) -> None:
+        """Per-piece arrays for :meth:`lift_at` (built on first use)."""
         pcs = self.pieces
         object.__setattr__(self, "_ends", np.array([pc[5] for pc in pcs[:-1]]))
         object.__setattr__(self, "_kinds", np.array([pc[0] == "stick" for pc in pcs]))
@@ -263,6 +265,8 @@ class Route:
 
     # -------------------------------------------------------------------------------------------
     def _pieces_at(self, r: FloatArray) -> NDArray[np.intp]:
+        if "_ends" not in self.__dict__:
+            self._arrays()
         return np.searchsorted(self._ends, r, side="left")  # type: ignore[attr-defined,no-any-return]
 
     def lift_at(self, sigma: ArrayLike) -> tuple[NDArray[np.bool_], NDArray[np.int64], FloatArray]:
@@ -282,19 +286,55 @@ class Route:
                 v = np.clip(v, 0.0, lim)
         return is_stick, ks[idx], v
 
+    def _affine(self) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:
+        """Per piece, in order of increasing σ: breakpoints, and ``A + B·σ`` = depth-or-track value."""
+        cached = self.__dict__.get("_affine_cache")
+        if cached is not None:
+            return cached  # type: ignore[no-any-return]
+        tr = self.track
+        ell = tr.stick if isinstance(tr, Lollipop) else 0.0
+        rows = []
+        for kind, _k, v0, v1, ra, rb in self.pieces:
+            span = rb - ra if rb > ra else 1.0
+            beta = self.direction * (v1 - v0) / span
+            alpha = v0 + (self.r_start - ra) * (v1 - v0) / span
+            s_a, s_b = self.direction * (ra - self.r_start), self.direction * (rb - self.r_start)
+            if kind == "stick" and isinstance(tr, Lollipop):
+                rows.append((min(s_a, s_b), ell - alpha, -beta, False))
+            else:
+                rows.append((min(s_a, s_b), alpha, beta, True))
+        rows.sort(key=lambda r: r[0])
+        out = (
+            np.array([r[0] for r in rows[1:]]),
+            np.array([r[1] for r in rows]),
+            np.array([r[2] for r in rows]),
+            np.array([r[3] for r in rows]),
+        )
+        object.__setattr__(self, "_affine_cache", out)
+        return out
+
     def position(self, sigma: ArrayLike) -> FloatArray:
         """Track coordinate at route coordinate ``σ`` (vectorized; metres)."""
-        is_stick, _k, v = self.lift_at(sigma)
+        s = np.asarray(sigma, dtype=float)
+        breaks, A, B, is_line = self._affine()
         tr = self.track
-        if isinstance(tr, Interval):
-            return v
-        if isinstance(tr, Circle):
-            th = np.mod(v, tr.loop)
-            return np.where(th >= tr.loop - 1e-12, 0.0, th)
-        assert isinstance(tr, Lollipop)
-        th = np.mod(v, tr.loop)
-        th = np.where(th >= tr.loop - 1e-12, 0.0, th)
-        return np.where(is_stick, tr.stick - v, tr.stick + th)
+        if len(A) == 1:
+            val = A[0] + B[0] * s
+            line = bool(is_line[0])
+            if isinstance(tr, Interval):
+                return np.clip(val, 0.0, tr.stick)
+            if not line:
+                return np.clip(val, 0.0, tr.stick)  # type: ignore[attr-defined]
+            th = np.mod(val, tr.loop)  # type: ignore[attr-defined]
+            th = np.where(th >= tr.loop - 1e-12, 0.0, th)  # type: ignore[attr-defined]
+            return tr.stick + th if isinstance(tr, Lollipop) else th
+        idx = np.searchsorted(breaks, s, side="left")
+        val = A[idx] + B[idx] * s
+        assert isinstance(tr, Lollipop)  # only lollipop routes have several pieces
+        c = tr.loop
+        th = np.mod(val, c)
+        th = np.where(th >= c - 1e-12, 0.0, th)
+        return np.where(is_line[idx], tr.stick + th, np.clip(val, 0.0, tr.stick))
 
     def junctions(self) -> FloatArray:
         """Route coordinates where the route passes the pole P (empty for the circle and the interval)."""
