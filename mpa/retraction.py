@@ -25,6 +25,8 @@ both on the loop       both move along the arc between them that contains P, kee
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -32,7 +34,15 @@ from mpa.routes import RobotMove
 from mpa.skeleton import LollipopSkeleton, skeleton_of
 from mpa.tracks import Circle, Interval, Lollipop, Track
 
-__all__ = ["circle_trace", "lollipop_trace", "lollipop_trace_scalar", "retract", "trace_moves"]
+__all__ = [
+    "TraceInfo",
+    "circle_trace",
+    "lollipop_trace",
+    "lollipop_trace_scalar",
+    "retract",
+    "trace_info",
+    "trace_moves",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -199,6 +209,69 @@ def retract(track: Track, states: ArrayLike, t: ArrayLike = 1.0) -> FloatArray:
     ms = sk.to_model(st)
     disp = lollipop_trace(sk.model, ms)
     return sk.from_model(_apply(sk.model, ms, disp, t))
+
+
+@dataclass(frozen=True)
+class TraceInfo:
+    """Physical meaning of the trace ``t ↦ H(x, t)`` of one state.
+
+    Attributes
+    ----------
+    moves : tuple of RobotMove
+        A's and B's motion (one edge each, constant speed over t ∈ [0, 1]).
+    moving : str
+        ``"none"``, ``"A"``, ``"B"`` or ``"both"``.
+    speed_ratio : float
+        |speed of A| / |speed of B| (``inf`` if only A moves, 0 if only B moves, nan if none).
+    distance : tuple of float
+        Distance between the robots at t = 0 and t = 1 (it changes monotonically in between).
+    text : str
+        The instruction in words.
+    """
+
+    moves: tuple[RobotMove, RobotMove]
+    moving: str
+    speed_ratio: float
+    distance: tuple[float, float]
+    text: str
+
+
+def trace_info(track: Track, state: ArrayLike) -> TraceInfo:
+    """Which robot moves along the trace of ``state``, in which direction, at what speed ratio.
+
+    Examples
+    --------
+    >>> from mpa.tracks import Lollipop
+    >>> trace_info(Lollipop(1.0, 1.0), (0.1, 0.9)).text
+    'A moves 0.3 m towards P while B waits (distance 0.8 -> 0.5 m)'
+    """
+    ma, mb = trace_moves(track, state)
+    end = retract(track, np.asarray(state, dtype=float)[None, :], 1.0)[0]
+    d0 = float(track.distance(*np.asarray(state, dtype=float)))
+    d1 = float(track.distance(*end))
+    la, lb = abs(ma.delta), abs(mb.delta)
+    moving = "both" if la > 1e-15 and lb > 1e-15 else ("A" if la > 1e-15 else ("B" if lb > 1e-15 else "none"))
+    ratio = la / lb if lb > 1e-15 else (float("inf") if la > 1e-15 else float("nan"))
+
+    def words(name: str, mv: RobotMove) -> str:
+        if mv.edge == "stick" and isinstance(track, Lollipop):
+            where = "towards P" if mv.delta > 0 else "towards the free end"
+        elif mv.edge == "stick":
+            where = "forwards" if mv.delta > 0 else "backwards"
+        else:
+            where = "counterclockwise" if mv.delta > 0 else "clockwise"
+        return f"{name} moves {abs(mv.delta):.3g} m {where}"
+
+    span = f"(distance {d0:.3g} -> {d1:.3g} m)"
+    if moving == "none":
+        text = f"both robots wait: already on the skeleton {span}"
+    elif moving == "A":
+        text = f"{words('A', ma)} while B waits {span}"
+    elif moving == "B":
+        text = f"{words('B', mb)} while A waits {span}"
+    else:
+        text = f"{words('A', ma)} and {words('B', mb)}, speeds in ratio {ratio:.3g} : 1 {span}"
+    return TraceInfo((ma, mb), moving, ratio, (d0, d1), text)
 
 
 def trace_moves(track: Track, state: ArrayLike) -> tuple[RobotMove, RobotMove]:

@@ -81,6 +81,21 @@ def test_distance_changes_monotonically_along_every_trace(track) -> None:  # typ
         assert np.max(np.abs(d - want)) < 1e-9
 
 
+def test_trace_info_says_which_robot_moves_and_the_speed_ratio() -> None:
+    from mpa.retraction import trace_info
+
+    L = Lollipop(1.0, 1.0)
+    far = trace_info(L, (0.1, 0.9))  # farther than h on the stick: the robot nearer the free end moves, B waits
+    assert far.moving == "A" and far.speed_ratio == float("inf") and far.distance == pytest.approx((0.8, 0.5))
+    assert far.text.startswith("A moves 0.3 m towards P while B waits")
+    through_p = trace_info(L, (0.9, 1.2))  # x = 0.1, w = 0.2: radial scaling about P, speed ratio x : w
+    assert through_p.moving == "both" and through_p.speed_ratio == pytest.approx(0.5)
+    on_loop = trace_info(L, (1.1, 1.3))  # short arc avoids P: both move towards P along the long arc
+    assert on_loop.moving == "both" and on_loop.speed_ratio == pytest.approx(0.1 / 0.7)
+    assert trace_info(Circle(1.0), (0.1, 0.3)).moving == "A"  # the paper: A moves away from B, B waits
+    assert trace_info(L, (0.1, 0.6)).moving == "none"
+
+
 @settings(max_examples=3000, deadline=None)
 @given(st.sampled_from(LOOPED), st.floats(0, 1), st.floats(0, 1), st.floats(-1, 1), st.floats(-1, 1))
 def test_retraction_is_continuous(track, u, v, du, dv) -> None:  # type: ignore[no-untyped-def]

@@ -17,6 +17,7 @@ import numpy as np
 
 from mpa.errors import MPAError
 from mpa.planners import make_planner
+from mpa.retraction import trace_info
 from mpa.tracks import make_track
 
 __all__ = ["add_query_arguments", "main", "track_from_args"]
@@ -73,6 +74,9 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     for st in p.steps:
         pts = " -> ".join(f"({a:.4g}, {b:.4g})" for a, b in st.waypoints)
         print(f"{st.name:<10} {st.description}")
+        if p.regime == "paper" and track.kind != "interval" and st.name != "main":
+            info = trace_info(track, p.start if st.name == "preliminary" else p.goal)
+            print(f"{'':<10} {'' if st.name == 'preliminary' else 'reversed trace of the goal: '}{info.text}")
         print(f"{'':<10} {pts}")
     print(f"travel     A {p.travel[0]:.4g} m, B {p.travel[1]:.4g} m; min distance {p.min_distance():.4g} m")
     return 0
