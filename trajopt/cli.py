@@ -20,7 +20,7 @@ from mpa.planners import make_planner
 from mpa.retraction import trace_info
 from mpa.tracks import make_track
 
-__all__ = ["add_query_arguments", "main", "track_from_args"]
+__all__ = ["TRAJECTORY_DEFAULTS", "add_query_arguments", "add_trajectory_arguments", "main", "track_from_args"]
 
 #: Modules that add subcommands through a ``register(subparsers)`` function (missing ones are skipped).
 SUBCOMMAND_MODULES = ("trajopt.cli_trajectory", "trajopt.cli_animate", "trajopt.cli_topology")
@@ -40,6 +40,21 @@ def add_query_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--start", type=float, nargs=2, required=True, metavar=("A", "B"), help="start track coordinates")
     p.add_argument("--goal", type=float, nargs=2, required=True, metavar=("A", "B"), help="goal track coordinates")
+
+
+#: Defaults of the trajectory options (pinned by the trajectory issue).
+TRAJECTORY_DEFAULTS = {"clearance": 0.05, "vmax": 0.5, "amax": 1.0, "jmax": 5.0, "rate": 100.0}
+
+
+def add_trajectory_arguments(p: argparse.ArgumentParser) -> None:
+    """The query plus clearance and per-robot limits (``mpa trajectory`` and ``mpa animate``)."""
+    add_query_arguments(p)
+    d = TRAJECTORY_DEFAULTS
+    p.add_argument("--clearance", type=float, default=d["clearance"], help="clearance D, m (default 0.05)")
+    p.add_argument("--vmax", type=float, default=d["vmax"], help="speed limit per robot, m/s (default 0.5)")
+    p.add_argument("--amax", type=float, default=d["amax"], help="acceleration limit, m/s^2 (default 1.0)")
+    p.add_argument("--jmax", type=float, default=d["jmax"], help="jerk limit, m/s^3 (default 5.0)")
+    p.add_argument("--rate", type=float, default=d["rate"], help="setpoint rate in Hz (default 100)")
 
 
 def track_from_args(args: argparse.Namespace):  # type: ignore[no-untyped-def]

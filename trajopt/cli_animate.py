@@ -12,12 +12,12 @@ from pathlib import Path
 from typing import Any
 
 from mpa.errors import InvalidInputError
-from trajopt.cli import add_query_arguments, track_from_args
+from trajopt.cli import TRAJECTORY_DEFAULTS, add_trajectory_arguments, track_from_args
 
 __all__ = ["DEFAULTS", "register"]
 
 #: Defaults shared with ``mpa trajectory``.
-DEFAULTS = {"clearance": 0.05, "vmax": 0.5, "amax": 1.0, "jmax": 5.0, "rate": 100.0}
+DEFAULTS = TRAJECTORY_DEFAULTS
 
 
 def _cmd_animate(args: argparse.Namespace) -> int:
@@ -59,12 +59,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add ``animate`` to the ``mpa`` command (called by :func:`trajopt.cli.build_parser`)."""
     p = subparsers.add_parser("animate", help="animate a query: raw plan and jerk-limited trajectory side by side")
-    add_query_arguments(p)
-    p.add_argument("--clearance", type=float, default=DEFAULTS["clearance"], help="clearance D, m (default 0.05)")
-    p.add_argument("--vmax", type=float, default=DEFAULTS["vmax"], help="speed limit per robot, m/s (default 0.5)")
-    p.add_argument("--amax", type=float, default=DEFAULTS["amax"], help="acceleration limit, m/s^2 (default 1.0)")
-    p.add_argument("--jmax", type=float, default=DEFAULTS["jmax"], help="jerk limit, m/s^3 (default 5.0)")
-    p.add_argument("--rate", type=float, default=DEFAULTS["rate"], help="setpoint rate in Hz (default 100)")
+    add_trajectory_arguments(p)
     p.add_argument("--out", required=True, help="output directory (animation.gif or animation.mp4)")
     p.add_argument("--fps", type=float, default=20.0, help="frames per second (default 20)")
     p.add_argument("--format", choices=["gif", "mp4"], default="gif",

@@ -16,7 +16,7 @@ from typing import Any
 
 from mpa.errors import InvalidInputError
 from mpa.tracks import Lollipop
-from trajopt.cli import add_query_arguments, track_from_args
+from trajopt.cli import TRAJECTORY_DEFAULTS, add_trajectory_arguments, track_from_args
 from trajopt.export import Trajectory, atomic_write_bytes, atomic_write_text
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
@@ -35,7 +35,7 @@ DEMO_JOB: dict[str, Any] = {
     "jmax": 5.0,
     "rate": 100.0,
 }
-DEFAULTS = {"clearance": 0.05, "vmax": 0.5, "amax": 1.0, "jmax": 5.0, "rate": 100.0}
+DEFAULTS = TRAJECTORY_DEFAULTS
 
 
 def write_outputs(out: str | os.PathLike[str], files: dict[str, str | bytes]) -> list[Path]:
@@ -133,12 +133,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add ``trajectory`` and ``demo`` to the ``mpa`` command (called by :func:`trajopt.cli.build_parser`)."""
     p = subparsers.add_parser("trajectory", help="verified jerk-limited setpoints for a query (CSV + JSON)")
-    add_query_arguments(p)
-    p.add_argument("--clearance", type=float, default=DEFAULTS["clearance"], help="clearance D, m (default 0.05)")
-    p.add_argument("--vmax", type=float, default=DEFAULTS["vmax"], help="speed limit per robot, m/s (default 0.5)")
-    p.add_argument("--amax", type=float, default=DEFAULTS["amax"], help="acceleration limit, m/s^2 (default 1.0)")
-    p.add_argument("--jmax", type=float, default=DEFAULTS["jmax"], help="jerk limit, m/s^3 (default 5.0)")
-    p.add_argument("--rate", type=float, default=DEFAULTS["rate"], help="setpoint rate in Hz (default 100)")
+    add_trajectory_arguments(p)
     p.add_argument("--out", required=True, help="output directory (setpoints.csv, summary.json)")
     p.set_defaults(func=_cmd_trajectory)
     d = subparsers.add_parser("demo", help="the embedded default job: a lollipop swap, files and a PNG")
