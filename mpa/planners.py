@@ -393,12 +393,9 @@ class LollipopPlanner(Planner):
             pieces += self._slide(x.edge, x.t, ell_h) if x.edge in ("I1", "I2") else []
         else:
             (_, lp), (_, rp) = CIRCLE_ENDS[jx]
-            exit_phi = (rp if right else lp) * h
-            px = self._phi_in(jx, x)
-            a_x = _circ_dist(px, exit_phi + h, c) < eps
+            a_x, run = self._own_circle_run(jx, (rp if right else lp) * h, self._phi_in(jx, x), towards_vertex=True)
             amb |= a_x
-            dccw = float(np.mod(exit_phi - px, c))
-            pieces += self._circle_run(jx, px, dccw if (a_x or dccw <= h) else dccw - c)
+            pieces += run
         # intermediate circles: counterclockwise
         for j in range(jx + 1, jy) if right else range(jx - 1, jy, -1):
             (_, lp), (_, rp) = CIRCLE_ENDS[j]
@@ -408,13 +405,24 @@ class LollipopPlanner(Planner):
             pieces += self._slide(y.edge, ell_h, y.t) if y.edge in ("I1", "I2") else []
         else:
             (_, lp), (_, rp) = CIRCLE_ENDS[jy]
-            entry_phi = (lp if right else rp) * h
-            py = self._phi_in(jy, y)
-            a_y = _circ_dist(py, entry_phi + h, c) < eps
+            a_y, run = self._own_circle_run(jy, (lp if right else rp) * h, self._phi_in(jy, y), towards_vertex=False)
             amb |= a_y
-            dccw = float(np.mod(py - entry_phi, c))
-            pieces += self._circle_run(jy, entry_phi, dccw if (a_y or dccw <= h) else dccw - c)
+            pieces += run
         return (2 if amb else 3), pieces
+
+    def _own_circle_run(
+        self, j: int, vertex_phi: float, phi: float, towards_vertex: bool
+    ) -> tuple[bool, list[tuple[str, float, float]]]:
+        """Run inside the start's (goal's) own circle between the point φ and the exit (entry) vertex.
+
+        Ambiguous (returned flag) when the point is within ε of the antipode of that vertex: then ccw (domain 2),
+        otherwise the shorter way.
+        """
+        h, c = self._h, 2 * self._h
+        amb = _circ_dist(phi, vertex_phi + h, c) < self._eps
+        frm, to = (phi, vertex_phi) if towards_vertex else (vertex_phi, phi)
+        dccw = float(np.mod(to - frm, c))
+        return amb, self._circle_run(j, frm, dccw if (amb or dccw <= h) else dccw - c)
 
     def _same_comp(self, x: SkeletonPoint, y: SkeletonPoint, comp: str) -> list[tuple[str, float, float]]:
         ell_h = self.skeleton.graph.edge("I1").length
