@@ -214,6 +214,8 @@ class Context:
 
 _CONTEXTS: dict[str, Context] = {}
 _LOCK = threading.Lock()
+#: One query at a time per process (threads of a Dask worker would share the GIL and OMPL's global seeding).
+_RUN_LOCK = threading.Lock()
 
 
 def context(config: BenchConfig) -> Context:
@@ -392,7 +394,11 @@ def run_query(config_dict: dict[str, Any], query: dict[str, Any]) -> list[dict[s
         Records with ``method``, ``query``, ``track``, ``domain``, ``success``, ``verified``, ``compute_time``,
         ``makespan``, ``lower_bound``, ``makespan_ratio``, ``min_separation``, ``word``, ``discontinuity``, …
     """
-    config = BenchConfig.from_dict(config_dict)
+    with _RUN_LOCK:
+        return _run_query(BenchConfig.from_dict(config_dict), query)
+
+
+def _run_query(config: BenchConfig, query: dict[str, Any]) -> list[dict[str, Any]]:
     ctx = context(config)
     track = ctx.track
     start, goal = np.asarray(query["start"], dtype=float), np.asarray(query["goal"], dtype=float)

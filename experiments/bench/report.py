@@ -1,0 +1,395 @@
+"""Summaries of benchmark records: Markdown tables and PNG plots (matplotlib, Agg, imported lazily)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "METHOD_LABELS",
+    "plot_results",
+    "plot_scaling",
+    "results_markdown",
+    "scaling_markdown",
+    "summarize",
+]
+
+Record = dict[str, Any]
+METHOD_LABELS = {
+    "ours": "ours (plan → IPOPT → toppra → ruckig)",
+    "raw_plan": "raw plan (rest to rest)",
+    "ompl_rest": "OMPL RRTConnect, rest to rest",
+    "ompl_bspline": "OMPL + B-spline, timed like ours",
+    "ompl_geo": "OMPL, geodesic motions, rest to rest",
+    "grid": "grid A*, shortcut, timed like ours",
+}
+ORDER = tuple(METHOD_LABELS)
+
+
+def _vals(recs: Sequence[Record], key: str, only_verified: bool = False) -> np.ndarray:
+    out = [r[key] for r in recs if r.get(key) is not None and (r["verified"] or not only_verified)]
+    return np.asarray(out, dtype=float)
+
+
+def _q(x: np.ndarray, p: float) -> float:
+    return float(np.percentile(x, p)) if len(x) else math.nan
+
+
+def _by(records: Sequence[Record], *keys: str) -> dict[tuple[Any, ...], list[Record]]:
+    out: dict[tuple[Any, ...], list[Record]] = {}
+    for r in records:
+        out.setdefault(tuple(r[k] for k in keys), []).append(r)
+    return out
+
+
+def _ratios(records: Sequence[Record], method: str, ref: str, key: str = "makespan") -> np.ndarray:
+    """Per-query ``key(method) / key(ref)`` over queries where both verified (and ref > 0)."""
+    by_q = _by(records, "track", "query")
+    out = []
+    for recs in by_q.values():
+        d = {r["method"]: r for r in recs}
+        a, b = d.get(method), d.get(ref)
+        if a and b and a["verified"] and b["verified"] and a.get(key) is not None and b.get(key):
+            out.append(a[key] / b[key])
+    return np.asarray(out, dtype=float)
+
+
+def summarize(records: Sequence[Record]) -> dict[str, dict[str, dict[str, float]]]:
+    """Per track and method: success, timing, makespan, ratios to ours, stability and class statistics."""
+    out: dict[str, dict[str, dict[str, float]]] = {}
+    for (track, method), recs in sorted(_by(records, "track", "method").items(),
+                                        key=lambda kv: (kv[0][0], ORDER.index(kv[0][1]))):
+        ct = _vals(recs, "compute_time")
+        mk = _vals(recs, "makespan", only_verified=True)
+        lb = _vals(recs, "makespan_ratio", only_verified=True)
+        rat = _ratios([r for r in records if r["track"] == track], method, "ours")
+        ours_ct = _vals([r for r in records if r["track"] == track and r["method"] == "ours"], "compute_time")
+        disc = [r["discontinuous"] for r in recs if r.get("discontinuous") is not None]
+        dres = [r["discontinuous_reseeded"] for r in recs if r.get("discontinuous_reseeded") is not None]
+        ours_words = {r["query"]: r["word"] for r in records
+                      if r["track"] == track and r["method"] == "ours" and r["verified"]}
+        same = [r["word"] == ours_words[r["query"]] for r in recs if r["verified"] and r["query"] in ours_words]
+        seps = _vals(recs, "min_separation", only_verified=True)
+        out.setdefault(track, {})[method] = {
+            "queries": len(recs),
+            "success": float(np.mean([r["success"] for r in recs])),
+            "verified": float(np.mean([r["verified"] for r in recs])),
+            "ct_median": _q(ct, 50),
+            "ct_p95": _q(ct, 95),
+            "ct_vs_ours": (_q(ct, 50) / _q(ours_ct, 50)) if len(ours_ct) else math.nan,
+            "mk_median": _q(mk, 50),
+            "mk_p95": _q(mk, 95),
+            "ratio_median": _q(rat, 50),
+            "ratio_p95": _q(rat, 95),
+            "ratio_n": len(rat),
+            "lb_median": _q(lb, 50),
+            "lb_p95": _q(lb, 95),
+            "min_sep": float(np.min(seps)) if len(seps) else math.nan,
+            "disc_rate": float(np.mean(disc)) if disc else math.nan,
+            "disc_n": len(disc),
+            "disc_reseeded_rate": float(np.mean(dres)) if dres else math.nan,
+            "same_class": float(np.mean(same)) if same else math.nan,
+            "rests_mean": float(np.mean(_vals(recs, "rests", only_verified=True))) if len(mk) else math.nan,
+            "fallbacks": float(sum(bool(r["stats"].get("fallback")) for r in recs)),
+        }
+    return out
+
+
+def _f(x: float, fmt: str = "{:.2f}") -> str:
+    return "—" if x is None or (isinstance(x, float) and not math.isfinite(x)) else fmt.format(x)
+
+
+def _pct(x: float) -> str:
+    return _f(100 * x if x is not None and math.isfinite(x) else math.nan, "{:.0f} %")
+
+
+def results_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
+    """The Markdown report: per track a method table, the per-domain gap of ours vs the grid, and the
+    lollipop queries that change the robots' coordinate order."""
+    summ = summarize(records)
+    lines = ["# Benchmark: ours against the planners a user would pick instead", ""]
+    if meta.get("command"):
+        lines += ["Command:", "", "```", meta["command"], "```", ""]
+    for k in ("machine", "versions", "wall_time_s", "workers"):
+        if k in meta:
+            lines.append(f"- {k.replace('_', ' ')}: {meta[k]}")
+    if "config" in meta:
+        c = meta["config"]
+        lines.append(
+            f"- clearance D = {c['clearance']} m, limits v/a/j = {c['vmax']}/{c['amax']}/{c['jmax']}, "
+            f"{c['rate']:g} Hz, OMPL budget {c['ompl_time']} s, grid spacing {c['grid']} m, seed {c['seed']}, "
+            f"twin δ = {c['delta']:g} m, discontinuity threshold {c['threshold']} m"
+        )
+    lines.append("")
+    lines += [
+        "Times are measured inside the worker around each method's whole pipeline (query → verified setpoints). "
+        "Makespan = motion time (s); medians and p95 over verified results; `/ ours` = median (p95) of the "
+        "per-query ratio over queries both verified; `/ LB` = makespan over the lower bound (max over robots of "
+        "the jerk-limited rest-to-rest time along its own shortest route); `disc.` = share of perturbed twins "
+        "(start and goal moved by δ) whose trajectories differ by more than the threshold (sup over normalised "
+        "time of the larger robot's graph distance); for OMPL `disc. (reseeded)` solves the twin with another "
+        "seed, as a re-planning robot would; `class = ours` = share of verified results in our homotopy class.",
+        "",
+    ]
+    for track, methods in summ.items():
+        lines += [f"## {track}", ""]
+        lines.append("| method | queries | success | verified | compute median ms | p95 ms | compute ÷ ours | "
+                     "makespan median s | p95 s | / ours median | / ours p95 | / LB median | min sep. m | "
+                     "disc. | disc. (reseeded) | class = ours | mean rests |")
+        lines.append("|" + "---|" * 17)
+        for m in ORDER:
+            if m not in methods:
+                continue
+            s = methods[m]
+            lines.append(
+                f"| {METHOD_LABELS[m]} | {s['queries']} | {_pct(s['success'])} | {_pct(s['verified'])} | "
+                f"{_f(1e3 * s['ct_median'], '{:.1f}')} | {_f(1e3 * s['ct_p95'], '{:.1f}')} | "
+                f"{_f(s['ct_vs_ours'], '{:.2f}×')} | {_f(s['mk_median'])} | {_f(s['mk_p95'])} | "
+                f"{_f(s['ratio_median'], '{:.3f}')} | {_f(s['ratio_p95'], '{:.3f}')} | {_f(s['lb_median'], '{:.3f}')} | "
+                f"{_f(s['min_sep'], '{:.4f}')} | {_pct(s['disc_rate'])} ({s['disc_n']}) | "
+                f"{_pct(s['disc_reseeded_rate'])} | {_pct(s['same_class'])} | {_f(s['rests_mean'], '{:.1f}')} |"
+            )
+        lines.append("")
+        trecs = [r for r in records if r["track"] == track]
+        if "ours" in methods:
+            lines += _ratio_table(trecs)
+        if "grid" in methods and "ours" in methods:
+            lines += _domain_table(trecs)
+        if track == "lollipop" and any(m.startswith("ompl") for m in methods):
+            lines += _order_table(trecs)
+    return "\n".join(lines) + "\n"
+
+
+def _ratio_table(recs: Sequence[Record]) -> list[str]:
+    """Ours against every other method: medians of the per-query ratios and ratios of medians."""
+    out = ["Ours against each method (queries both verified): makespan ours ÷ method, per-query median and "
+           "ratio of the medians; compute time method ÷ ours (ratio of medians).", "",
+           "| method | n | makespan ours ÷ method, median | p95 | ratio of medians | ours faster on | "
+           "compute method ÷ ours |", "|---|---|---|---|---|---|---|"]
+    by_m = _by(recs, "method")
+    ours = {r["query"]: r for r in by_m.get(("ours",), [])}
+    for m in ORDER:
+        if m == "ours" or (m,) not in by_m:
+            continue
+        pairs = [(ours[r["query"]], r) for r in by_m[(m,)]
+                 if r["query"] in ours and ours[r["query"]]["verified"] and r["verified"]]
+        if not pairs:
+            out.append(f"| {METHOD_LABELS[m]} | 0 | — | — | — | — | — |")
+            continue
+        a = np.array([p[0]["makespan"] for p in pairs])
+        b = np.array([p[1]["makespan"] for p in pairs])
+        ca = np.array([r["compute_time"] for r in by_m[("ours",)]])
+        cb = np.array([r["compute_time"] for r in by_m[(m,)]])
+        rr = a / b
+        out.append(
+            f"| {METHOD_LABELS[m]} | {len(pairs)} | {np.median(rr):.3f} | {np.percentile(rr, 95):.3f} | "
+            f"{np.median(a) / np.median(b):.3f} | {_pct(float(np.mean(rr < 1 - 1e-3)))} | "
+            f"{np.median(cb) / np.median(ca):.2f}× |"
+        )
+    return [*out, ""]
+
+
+def _domain_table(recs: Sequence[Record]) -> list[str]:
+    out = ["Per domain of our plan: makespan ours ÷ grid (the price of keeping the plan's homotopy class; the "
+           "grid is resolution-complete for its time-like L∞ cost, not for the jerk-limited makespan, so ratios "
+           "below 1 occur).", "",
+           "| domain | n | median | p95 | max | ours within 1 % of the grid or better |", "|---|---|---|---|---|---|"]
+    for (dom,), drecs in sorted(_by(recs, "domain").items(), key=lambda kv: (kv[0][0] is None, kv[0][0] or 0)):
+        r = _ratios(drecs, "ours", "grid")
+        if len(r) == 0:
+            continue
+        out.append(f"| {dom} | {len(r)} | {np.median(r):.3f} | {np.percentile(r, 95):.3f} | {np.max(r):.3f} | "
+                   f"{_pct(float(np.mean(r <= 1.01)))} |")
+    r = _ratios(recs, "ours", "grid")
+    if len(r):
+        out.append(f"| all | {len(r)} | {np.median(r):.3f} | {np.percentile(r, 95):.3f} | {np.max(r):.3f} | "
+                   f"{_pct(float(np.mean(r <= 1.01)))} |")
+    return [*out, ""]
+
+
+def _order_table(recs: Sequence[Record]) -> list[str]:
+    out = ["Success by whether the query changes the robots' order in track coordinates (a planner in a vector "
+           "space of track coordinates cannot: the robots would have to meet).", "",
+           "| method | same order: success | n | order change: success | n |", "|---|---|---|---|---|"]
+    by_m = _by(recs, "method")
+    for m in ORDER:
+        if (m,) not in by_m:
+            continue
+        same = [r["verified"] for r in by_m[(m,)] if not r["order_change"]]
+        chg = [r["verified"] for r in by_m[(m,)] if r["order_change"]]
+        out.append(f"| {METHOD_LABELS[m]} | {_pct(float(np.mean(same)) if same else math.nan)} | {len(same)} | "
+                   f"{_pct(float(np.mean(chg)) if chg else math.nan)} | {len(chg)} |")
+    return [*out, ""]
+
+
+# ---------------------------------------------------------------------------------------------------
+def _plt() -> Any:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def plot_results(records: Sequence[Record], out: Path, dpi: int = 90) -> list[Path]:
+    """``makespan.png`` (makespan ÷ lower bound), ``compute_time.png`` (ECDF) and ``discontinuity.png``."""
+    plt = _plt()
+    tracks = sorted({r["track"] for r in records})
+    files = []
+    fig, axes = plt.subplots(1, len(tracks), figsize=(5.5 * len(tracks), 4.2), squeeze=False)
+    for ax, tr in zip(axes[0], tracks):
+        by_m = _by([r for r in records if r["track"] == tr], "method")
+        ms = [m for m in ORDER if (m,) in by_m]
+        data = [_vals(by_m[(m,)], "makespan_ratio", only_verified=True) for m in ms]
+        ax.boxplot([d if len(d) else [np.nan] for d in data], whis=(5, 95), showfliers=True,
+                   flierprops={"markersize": 2})
+        ax.set_xticks(range(1, len(ms) + 1), ms, rotation=30, ha="right", fontsize=8)
+        ax.set_yscale("log")
+        ax.set_ylabel("makespan ÷ lower bound")
+        ax.set_title(f"{tr}: makespan (verified; whiskers 5–95 %)", fontsize=9)
+        ax.grid(alpha=0.3, which="both")
+    fig.tight_layout()
+    files.append(out / "makespan.png")
+    fig.savefig(files[-1], dpi=dpi)
+    plt.close(fig)
+
+    fig, axes = plt.subplots(1, len(tracks), figsize=(5.5 * len(tracks), 4.2), squeeze=False)
+    for ax, tr in zip(axes[0], tracks):
+        by_m = _by([r for r in records if r["track"] == tr], "method")
+        for m in ORDER:
+            if (m,) not in by_m:
+                continue
+            x = np.sort(1e3 * _vals(by_m[(m,)], "compute_time"))
+            ax.step(x, np.arange(1, len(x) + 1) / len(x), where="post", label=m)
+        ax.set_xscale("log")
+        ax.set_xlabel("compute time per query (ms, inside the worker)")
+        ax.set_ylabel("share of queries")
+        ax.set_title(f"{tr}: compute time (all attempts)", fontsize=9)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    files.append(out / "compute_time.png")
+    fig.savefig(files[-1], dpi=dpi)
+    plt.close(fig)
+
+    summ = summarize(records)
+    fig, ax = plt.subplots(figsize=(7, 3.8))
+    width = 0.8 / max(1, len(tracks))
+    for i, tr in enumerate(tracks):
+        ms = [m for m in ORDER if m in summ[tr]]
+        x = np.array([ORDER.index(m) for m in ms]) + (i - (len(tracks) - 1) / 2) * width
+        rate = [100 * summ[tr][m]["disc_rate"] for m in ms]
+        ax.bar(x, rate, width, label=f"{tr} (same seed)")
+        rs = [100 * summ[tr][m]["disc_reseeded_rate"] for m in ms]
+        ax.bar(x, rs, width, fill=False, hatch="//", edgecolor="k", linewidth=0.5,
+               label=f"{tr}: OMPL twin reseeded" if i == 0 else None)
+    ax.set_xticks(range(len(ORDER)), ORDER, rotation=30, ha="right", fontsize=8)
+    ax.set_ylabel("discontinuity rate (%)")
+    ax.set_title("twins (start/goal moved by δ) differing by more than the threshold", fontsize=9)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3, axis="y")
+    fig.tight_layout()
+    files.append(out / "discontinuity.png")
+    fig.savefig(files[-1], dpi=dpi)
+    plt.close(fig)
+    return files
+
+
+# ---------------------------------------------------------------------------------------------------
+def scaling_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
+    """Compute time and makespan against the track scale, the grid resolution and our IPOPT size class."""
+    lines = ["# Scaling: compute time and makespan against track size and solver grid size", ""]
+    if meta.get("command"):
+        lines += ["Command:", "", "```", meta["command"], "```", ""]
+    lines += ["## Track scale (lollipop ℓ = c = scale; grid spacing scaled with the track)", "",
+              "| scale | method | n | verified | compute median ms | p95 ms | makespan median s | / ours median |",
+              "|---|---|---|---|---|---|---|---|"]
+    sweep = [r for r in records if r.get("sweep") == "scale"]
+    for (scale,), srecs in sorted(_by(sweep, "scale").items()):
+        for m in ORDER:
+            mr = [r for r in srecs if r["method"] == m]
+            if not mr:
+                continue
+            ct, mk = _vals(mr, "compute_time"), _vals(mr, "makespan", only_verified=True)
+            rat = _ratios(srecs, m, "ours")
+            lines.append(f"| {scale:g} | {m} | {len(mr)} | {_pct(float(np.mean([r['verified'] for r in mr])))} | "
+                         f"{1e3 * _q(ct, 50):.1f} | {1e3 * _q(ct, 95):.1f} | {_f(_q(mk, 50))} | "
+                         f"{_f(_q(rat, 50), '{:.3f}')} |")
+    lines += ["", "## Grid resolution (base track)", "",
+              "| spacing m | product nodes | edges | n | compute median ms | p95 ms | makespan median s | "
+              "ours ÷ grid median |", "|---|---|---|---|---|---|---|---|"]
+    gsw = [r for r in records if r.get("sweep") == "grid"]
+    for (h,), grecs in sorted(_by(gsw, "grid_h").items(), reverse=True):
+        g = [r for r in grecs if r["method"] == "grid"]
+        if not g:
+            continue
+        ct, mk = _vals(g, "compute_time"), _vals(g, "makespan", only_verified=True)
+        st = g[0]["stats"].get("grid", {})
+        rat = _ratios(grecs, "ours", "grid")
+        lines.append(f"| {h:g} | {st.get('nodes', '—')} | {st.get('edges', '—')} | {len(g)} | {1e3 * _q(ct, 50):.1f} | "
+                     f"{1e3 * _q(ct, 95):.1f} | {_f(_q(mk, 50))} | {_f(_q(rat, 50), '{:.3f}')} |")
+    lines += ["", "## Our IPOPT size class (segments of the NLP, chosen per plan)", "",
+              "| NLP segments | n | compute median ms | p95 ms | IPOPT iterations median |", "|---|---|---|---|---|"]
+    ours = [r for r in records if r["method"] == "ours" and r["success"]]
+    for (nseg,), orecs in sorted(_by([{**r, "nseg": r["stats"].get("ipopt_segments")} for r in ours],
+                                     "nseg").items(), key=lambda kv: kv[0][0] or 0):
+        ct = _vals(orecs, "compute_time")
+        it = np.array([r["stats"].get("ipopt_iterations", 0) for r in orecs], dtype=float)
+        lines.append(f"| {nseg} | {len(orecs)} | {1e3 * _q(ct, 50):.1f} | {1e3 * _q(ct, 95):.1f} | {_q(it, 50):.0f} |")
+    return "\n".join(lines) + "\n"
+
+
+def plot_scaling(records: Sequence[Record], path: Path, dpi: int = 90) -> Path:
+    """Four panels: compute time and makespan against the track scale, grid compute time against the number
+    of product nodes, and our compute time against the IPOPT size class."""
+    plt = _plt()
+    fig, axes = plt.subplots(2, 2, figsize=(10, 7))
+    sweep = [r for r in records if r.get("sweep") == "scale"]
+    scales = sorted({r["scale"] for r in sweep})
+    for m in ORDER:
+        ct, mk = [], []
+        for s in scales:
+            mr = [r for r in sweep if r["scale"] == s and r["method"] == m]
+            ct.append(1e3 * _q(_vals(mr, "compute_time"), 50) if mr else np.nan)
+            mk.append(_q(_vals(mr, "makespan", only_verified=True), 50) if mr else np.nan)
+        if np.all(np.isnan(ct)):
+            continue
+        axes[0, 0].plot(scales, ct, "o-", label=m)
+        axes[0, 1].plot(scales, mk, "o-", label=m)
+    for ax, lab in ((axes[0, 0], "compute time median (ms)"), (axes[0, 1], "makespan median (s)")):
+        ax.set_xscale("log", base=2)
+        ax.set_yscale("log")
+        ax.set_xlabel("track scale (lollipop ℓ = c)")
+        ax.set_ylabel(lab)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7)
+    gsw = [r for r in records if r.get("sweep") == "grid" and r["method"] == "grid"]
+    hs = sorted({r["grid_h"] for r in gsw}, reverse=True)
+    nodes = [next(r["stats"].get("grid", {}).get("nodes", np.nan) for r in gsw if r["grid_h"] == h) for h in hs]
+    gct = [1e3 * _q(_vals([r for r in gsw if r["grid_h"] == h], "compute_time"), 50) for h in hs]
+    axes[1, 0].plot(nodes, gct, "o-", color="C5")
+    for h, x, y in zip(hs, nodes, gct):
+        axes[1, 0].annotate(f"h = {h:g} m", (x, y), fontsize=7)
+    axes[1, 0].set_xscale("log")
+    axes[1, 0].set_yscale("log")
+    axes[1, 0].set_xlabel("grid: product nodes")
+    axes[1, 0].set_ylabel("grid compute median (ms)")
+    axes[1, 0].grid(alpha=0.3, which="both")
+    ours = [r for r in records if r["method"] == "ours" and r["success"]]
+    seg = np.array([r["stats"].get("ipopt_segments", 0) for r in ours], dtype=float)
+    ct = np.array([1e3 * r["compute_time"] for r in ours])
+    axes[1, 1].scatter(seg * (1 + 0.05 * np.random.default_rng(0).standard_normal(len(seg))), ct, s=6, alpha=0.5)
+    axes[1, 1].set_xscale("log", base=2)
+    axes[1, 1].set_yscale("log")
+    axes[1, 1].set_xlabel("ours: IPOPT segments (size class, jittered)")
+    axes[1, 1].set_ylabel("ours compute time (ms)")
+    axes[1, 1].grid(alpha=0.3, which="both")
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+    return path

@@ -1,0 +1,248 @@
+"""Benchmark: ours against the planners a robotics engineer would pick instead, side by side in one run.
+
+Every method turns the same seeded queries into jerk-limited setpoints through the same time parametrization
+(``trajopt.timing``) and the same verification gate (``trajopt.verify.verify_setpoints``):
+
+- ``ours``: plan → IPOPT smoothing in the plan's homotopy class → toppra → ruckig (``trajopt.TrajectoryGenerator``);
+- ``raw_plan``: the paper's plan as is, step by step, rest to rest;
+- ``ompl_rest`` / ``ompl_bspline``: OMPL 2.x RRTConnect with an exact motion validator, shortcut, executed rest
+  to rest at its waypoints / B-spline-smoothed, re-verified and timed like ours;
+- ``ompl_geo`` (lollipop): the same with motions along shortest paths of the track (the robots may then change
+  order through the loop's seam, which a vector space of track coordinates forbids);
+- ``grid``: A* on the product of the discretized track graphs (exact edge checks, time-like L∞ cost), shortcut,
+  timed like ours: the resolution-complete reference.
+
+Metrics per method and query: success, verification, compute time (inside the worker), makespan, makespan over
+the lower bound, minimum separation, homotopy class, and stability: the sup distance to the trajectory of a
+perturbed twin query (start and goal moved by δ) over normalised time; the discontinuity rate is the share of
+twins farther apart than the threshold.
+
+Usage::
+
+    python experiments/benchmark.py --queries 100,50 --track lollipop,circle --seed 0 --out DIR
+    python experiments/benchmark.py --queries 3 --workers 1 --grid 0.05 --ompl-time 0.05 --out DIR
+    python experiments/benchmark.py --queries 200 --dask tcp://scheduler:8786 --out DIR
+    python experiments/benchmark.py --scaling --queries 20 --out DIR
+
+Writes ``DIR/results.json`` (one record per method and query), ``DIR/results.md`` (tables),
+``DIR/makespan.png``, ``DIR/compute_time.png``, ``DIR/discontinuity.png`` and ``DIR/run.json``; with
+``--scaling`` ``DIR/scaling.json``, ``DIR/scaling.md`` and ``DIR/scaling.png`` instead.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import shlex
+import sys
+import time
+from collections.abc import Sequence
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from bench.parallel import run_tasks  # noqa: E402
+from bench.report import plot_results, plot_scaling, results_markdown, scaling_markdown  # noqa: E402
+from bench.runner import METHODS, BenchConfig, make_queries  # noqa: E402
+from trajopt.export import atomic_write_text  # noqa: E402
+
+__all__ = ["main", "run_benchmark", "run_scaling"]
+
+
+def _versions() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = [f"python {platform.python_version()}"]
+    for pkg in ("ompl", "casadi", "toppra", "ruckig", "numpy"):
+        try:
+            out.append(f"{pkg} {version(pkg)}")
+        except PackageNotFoundError:
+            out.append(f"{pkg} missing")
+    return ", ".join(out)
+
+
+def _machine() -> str:
+    return f"{platform.machine()}, {os.cpu_count()} cores ({platform.processor() or platform.system()})"
+
+
+def _write_json(path: Path, obj: Any) -> None:
+    atomic_write_text(path, json.dumps(obj, indent=1, allow_nan=False, default=_json_default) + "\n")
+
+
+def _json_default(obj: Any) -> Any:
+    if hasattr(obj, "item"):
+        return obj.item()
+    raise TypeError(f"not JSON serializable: {type(obj).__name__}")
+
+
+def _clean(x: Any) -> Any:
+    """NaN/inf to None, recursively (strict JSON)."""
+    if isinstance(x, float):
+        return x if x == x and abs(x) != float("inf") else None
+    if isinstance(x, dict):
+        return {k: _clean(v) for k, v in x.items()}
+    if isinstance(x, list):
+        return [_clean(v) for v in x]
+    return x
+
+
+def run_benchmark(
+    configs: Sequence[tuple[BenchConfig, int]],
+    out: Path,
+    *,
+    workers: int | None = None,
+    dask_address: str | None = None,
+    progress: bool = True,
+    command: str = "",
+) -> list[dict[str, Any]]:
+    """Run the side-by-side benchmark for every ``(config, number of queries)`` and write the outputs to ``out``.
+
+    Returns
+    -------
+    list of dict
+        The records written to ``out/results.json``.
+    """
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    tasks = [(cfg.to_dict(), q) for cfg, n in configs for q in make_queries(cfg, n)]
+    records = _clean(run_tasks(tasks, workers=workers, dask_address=dask_address, progress=progress))
+    wall = time.perf_counter() - t0
+    meta = {
+        "command": command,
+        "machine": _machine(),
+        "versions": _versions(),
+        "wall_time_s": round(wall, 1),
+        "workers": f"dask {dask_address}" if dask_address else (workers or os.cpu_count()),
+        "config": configs[0][0].to_dict() if configs else {},
+        "configs": [c.to_dict() | {"queries": n} for c, n in configs],
+    }
+    _write_json(out / "results.json", records)
+    _write_json(out / "run.json", meta)
+    atomic_write_text(out / "results.md", results_markdown(records, meta))
+    plot_results(records, out)
+    return records
+
+
+def run_scaling(
+    base: BenchConfig,
+    n: int,
+    out: Path,
+    *,
+    scales: Sequence[float] = (0.5, 1.0, 2.0, 4.0),
+    grid_sweep: Sequence[float] = (0.04, 0.02, 0.01, 0.005),
+    workers: int | None = None,
+    dask_address: str | None = None,
+    progress: bool = True,
+    command: str = "",
+) -> list[dict[str, Any]]:
+    """Compute time and makespan against the track size (lollipops ℓ = c = scale, grid spacing scaled with it)
+    and against the grid resolution (base track, ``ours`` and ``grid``); no twins. Writes ``scaling.*``."""
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    tasks = []
+    ell = base.stick or 1.0
+    c = base.loop or 1.0
+    for s in scales:
+        cfg = replace(base, track="lollipop", stick=ell * s, loop=c * s, grid=base.grid * s, twins=False)
+        tasks += [(cfg.to_dict(), {**q, "tags": {"sweep": "scale", "scale": s}}) for q in make_queries(cfg, n)]
+    for h in grid_sweep:
+        cfg = replace(base, track="lollipop", stick=ell, loop=c, grid=h, twins=False, methods=("ours", "grid"))
+        tasks += [(cfg.to_dict(), {**q, "tags": {"sweep": "grid", "grid_h": h}}) for q in make_queries(cfg, n)]
+    records = _clean(run_tasks(tasks, workers=workers, dask_address=dask_address, progress=progress, desc="scaling"))
+    meta = {"command": command, "machine": _machine(), "versions": _versions(),
+            "wall_time_s": round(time.perf_counter() - t0, 1)}
+    _write_json(out / "scaling.json", records)
+    atomic_write_text(out / "scaling.md", scaling_markdown(records, meta)
+                      + f"\nMachine: {meta['machine']}; {meta['versions']}; wall time {meta['wall_time_s']} s.\n")
+    plot_scaling(records, out / "scaling.png")
+    return records
+
+
+def _floats(text: str, name: str) -> list[float]:
+    try:
+        vals = [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{name} is {text!r}, expected comma-separated numbers") from None
+    if not vals or any(not (v > 0) for v in vals):
+        raise argparse.ArgumentTypeError(f"{name} is {text!r}, expected positive numbers")
+    return vals
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Command line entry point (see the module docstring)."""
+    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    ap.add_argument("--queries", default="50", help="queries per track, or one count per --track (comma list)")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--out", required=True, type=Path, help="output directory")
+    ap.add_argument("--track", default="lollipop", help="lollipop, circle, or a comma list of both")
+    ap.add_argument("--stick", type=float, default=None, help="lollipop stick length (m, default 1)")
+    ap.add_argument("--loop", type=float, default=None, help="loop length (m, default 1)")
+    ap.add_argument("--clearance", type=float, default=0.05, help="required separation D (m)")
+    ap.add_argument("--vmax", type=float, default=0.5)
+    ap.add_argument("--amax", type=float, default=1.0)
+    ap.add_argument("--jmax", type=float, default=5.0)
+    ap.add_argument("--rate", type=float, default=100.0, help="setpoint rate (Hz)")
+    ap.add_argument("--ompl-time", type=float, default=1.0, help="RRTConnect time budget per query (s)")
+    ap.add_argument("--grid", type=float, default=0.01, help="grid node spacing (m)")
+    ap.add_argument("--methods", default=",".join(METHODS), help=f"comma list from {','.join(METHODS)}")
+    ap.add_argument("--delta", type=float, default=1e-4, help="twin perturbation (m)")
+    ap.add_argument("--threshold", type=float, default=0.05, help="discontinuity threshold (m)")
+    ap.add_argument("--workers", type=int, default=None, help="worker processes (default: all cores)")
+    ap.add_argument("--dask", default=None, metavar="ADDRESS", help="run on an existing Dask cluster")
+    ap.add_argument("--scaling", action="store_true", help="track-size and grid-resolution sweep instead")
+    ap.add_argument("--scales", default="0.5,1,2,4", help="track scales of --scaling")
+    ap.add_argument("--grid-sweep", default="0.04,0.02,0.01,0.005", help="grid spacings of --scaling (m)")
+    ap.add_argument("--no-progress", action="store_true")
+    args = ap.parse_args(argv)
+    try:
+        tracks = [t.strip() for t in args.track.split(",") if t.strip()]
+        if not tracks or any(t not in ("lollipop", "circle") for t in tracks):
+            raise ValueError(f"track is {args.track!r}, expected lollipop, circle or both")
+        counts = [int(x) for x in args.queries.split(",")]
+        if len(counts) == 1:
+            counts *= len(tracks)
+        if len(counts) != len(tracks) or any(n < 1 for n in counts):
+            raise ValueError(f"queries is {args.queries!r}, expected one positive count or one per track")
+        methods = tuple(m.strip() for m in args.methods.split(",") if m.strip())
+        bad = [m for m in methods if m not in METHODS]
+        if bad or not methods:
+            raise ValueError(f"methods {bad or args.methods!r} unknown, expected a comma list from {METHODS}")
+        if "ours" not in methods:
+            methods = ("ours", *methods)  # ratios, domains and classes are relative to ours
+        for name in ("clearance", "vmax", "amax", "jmax", "rate", "ompl_time", "grid", "delta", "threshold"):
+            v = getattr(args, name)
+            if not (v > 0) or v != v or v == float("inf"):
+                raise ValueError(f"{name} is {v!r}, expected a positive finite number")
+        if args.workers is not None and args.workers < 1:
+            raise ValueError(f"workers is {args.workers}, expected at least 1")
+        scales = _floats(args.scales, "scales")
+        sweep = _floats(args.grid_sweep, "grid-sweep")
+    except (ValueError, argparse.ArgumentTypeError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    command = "python experiments/benchmark.py " + " ".join(shlex.quote(a) for a in (argv or sys.argv[1:]))
+    configs = []
+    for t, n in zip(tracks, counts):
+        cfg = BenchConfig(
+            track=t, stick=args.stick if t == "lollipop" else None, loop=args.loop, clearance=args.clearance,
+            vmax=args.vmax, amax=args.amax, jmax=args.jmax, rate=args.rate, ompl_time=args.ompl_time,
+            grid=args.grid, methods=methods, seed=args.seed, delta=args.delta, threshold=args.threshold,
+        )
+        configs.append((cfg, n))
+    common = {"workers": args.workers, "dask_address": args.dask, "progress": not args.no_progress,
+              "command": command}
+    if args.scaling:
+        run_scaling(configs[0][0], counts[0], args.out, scales=scales, grid_sweep=sweep, **common)
+        print(f"wrote {args.out / 'scaling.md'}")
+        return 0
+    run_benchmark(configs, args.out, **common)
+    print(f"wrote {args.out / 'results.json'} and {args.out / 'results.md'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
