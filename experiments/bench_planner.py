@@ -104,7 +104,9 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default=None, help="write the results as JSON here")
     args = ap.parse_args()
-    rows = [bench(t, args.queries, args.seed) for t in (Lollipop(1.0, 1.0), Lollipop(0.3, 1.0), Circle(1.0), Interval(1.0))]
+    rows = [
+        bench(t, args.queries, args.seed) for t in (Lollipop(1.0, 1.0), Lollipop(0.3, 1.0), Circle(1.0), Interval(1.0))
+    ]
     print(f"{'track':<32}{'plan med':>10}{'p95':>9}{'+400 smp med':>14}{'p95':>9}{'batch q/s':>11}")
     for r in rows:
         print(
