@@ -45,10 +45,11 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench.parallel import run_tasks  # noqa: E402
-from bench.report import plot_results, plot_scaling, results_markdown, scaling_markdown  # noqa: E402
-from bench.runner import METHODS, BenchConfig, make_queries  # noqa: E402
-from trajopt.export import atomic_write_text  # noqa: E402
+from bench.parallel import run_tasks
+from bench.report import plot_results, plot_scaling, results_markdown, scaling_markdown
+from bench.runner import METHODS, BenchConfig, make_queries
+
+from trajopt.export import atomic_write_text
 
 __all__ = ["main", "run_benchmark", "run_scaling"]
 

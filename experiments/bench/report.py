@@ -149,7 +149,8 @@ def results_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
                 f"| {METHOD_LABELS[m]} | {s['queries']} | {_pct(s['success'])} | {_pct(s['verified'])} | "
                 f"{_f(1e3 * s['ct_median'], '{:.1f}')} | {_f(1e3 * s['ct_p95'], '{:.1f}')} | "
                 f"{_f(s['ct_vs_ours'], '{:.2f}×')} | {_f(s['mk_median'])} | {_f(s['mk_p95'])} | "
-                f"{_f(s['ratio_median'], '{:.3f}')} | {_f(s['ratio_p95'], '{:.3f}')} | {_f(s['lb_median'], '{:.3f}')} | "
+                f"{_f(s['ratio_median'], '{:.3f}')} | {_f(s['ratio_p95'], '{:.3f}')} | "
+                f"{_f(s['lb_median'], '{:.3f}')} | "
                 f"{_f(s['min_sep'], '{:.4f}')} | {_pct(s['disc_rate'])} ({s['disc_n']}) | "
                 f"{_pct(s['disc_reseeded_rate'])} | {_pct(s['same_class'])} | {_f(s['rests_mean'], '{:.1f}')} |"
             )
