@@ -121,8 +121,10 @@ class Plan:
         return np.stack([self.routes[0].position(s[..., 0]), self.routes[1].position(s[..., 1])], axis=-1)
 
     def sample(self, n: int = 400) -> FloatArray:
-        """α at ``n`` equally spaced values of u in [0, 1] (first = start, last = goal). Shape (n, 2)."""
-        return self.path(np.linspace(0.0, 1.0, max(int(n), 2)))
+        """α at ``n`` equally spaced values of u in [0, 1] (first = start, last = goal, exactly). Shape (n, 2)."""
+        out = self.path(np.linspace(0.0, 1.0, max(int(n), 2)))
+        out[0], out[-1] = self.start, self.goal
+        return out
 
     def samples_needed(self, fraction: float = 0.01) -> int:
         """Number of equally spaced samples so that consecutive points are at most ``fraction`` of the track's
