@@ -158,6 +158,7 @@ def results_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
         trecs = [r for r in records if r["track"] == track]
         if "ours" in methods:
             lines += _ratio_table(trecs)
+            lines += _stage_table(trecs)
         if "grid" in methods and "ours" in methods:
             lines += _domain_table(trecs)
         if track == "lollipop" and any(m.startswith("ompl") for m in methods):
@@ -166,11 +167,13 @@ def results_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
 
 
 def _ratio_table(recs: Sequence[Record]) -> list[str]:
-    """Ours against every other method: medians of the per-query ratios and ratios of medians."""
-    out = ["Ours against each method (queries both verified): makespan ours ÷ method, per-query median and "
-           "ratio of the medians; compute time method ÷ ours (ratio of medians).", "",
-           "| method | n | makespan ours ÷ method, median | p95 | ratio of medians | ours faster on | "
-           "compute method ÷ ours |", "|---|---|---|---|---|---|---|"]
+    """Ours against every other method, on all queries and on the interacting ones."""
+    out = ["Ours against each method on the queries both verified: makespan ours ÷ method (median and p95 of the "
+           "per-query ratio, ratio of the medians, share of queries where ours is faster by more than 0.1 %); "
+           "the same on the *interacting* queries (the naive motion, each robot along its own shortest path at "
+           "proportional speed, collides); compute time method ÷ ours (ratio of the medians on those queries).",
+           "", "| method | n | median | p95 | ratio of medians | ours faster | interacting n | median | p95 | "
+           "ratio of medians | compute method ÷ ours |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     by_m = _by(recs, "method")
     ours = {r["query"]: r for r in by_m.get(("ours",), [])}
     for m in ORDER:
@@ -179,18 +182,41 @@ def _ratio_table(recs: Sequence[Record]) -> list[str]:
         pairs = [(ours[r["query"]], r) for r in by_m[(m,)]
                  if r["query"] in ours and ours[r["query"]]["verified"] and r["verified"]]
         if not pairs:
-            out.append(f"| {METHOD_LABELS[m]} | 0 | — | — | — | — | — |")
+            out.append(f"| {METHOD_LABELS[m]} | 0 | — | — | — | — | — | — | — | — | — |")
             continue
         a = np.array([p[0]["makespan"] for p in pairs])
         b = np.array([p[1]["makespan"] for p in pairs])
-        ca = np.array([r["compute_time"] for r in by_m[("ours",)]])
-        cb = np.array([r["compute_time"] for r in by_m[(m,)]])
+        inter = np.array([bool(p[0].get("interacting")) for p in pairs])
+        ca = np.array([p[0]["compute_time"] for p in pairs])
+        cb = np.array([p[1]["compute_time"] for p in pairs])
         rr = a / b
+        ri = rr[inter]
+        cells = ["—"] * 3
+        if len(ri):
+            cells = [f"{np.median(ri):.3f}", f"{np.percentile(ri, 95):.3f}",
+                     f"{np.median(a[inter]) / np.median(b[inter]):.3f}"]
         out.append(
             f"| {METHOD_LABELS[m]} | {len(pairs)} | {np.median(rr):.3f} | {np.percentile(rr, 95):.3f} | "
-            f"{np.median(a) / np.median(b):.3f} | {_pct(float(np.mean(rr < 1 - 1e-3)))} | "
-            f"{np.median(cb) / np.median(ca):.2f}× |"
+            f"{np.median(a) / np.median(b):.3f} | {_pct(float(np.mean(rr < 1 - 1e-3)))} | {int(inter.sum())} | "
+            f"{' | '.join(cells)} | {np.median(cb) / np.median(ca):.2f}× |"
         )
+    return [*out, ""]
+
+
+def _stage_table(recs: Sequence[Record]) -> list[str]:
+    """Where our compute time goes (the generator's own stage timings)."""
+    ours = [r for r in recs if r["method"] == "ours" and r["success"]]
+    if not ours:
+        return []
+    stages = ("plan", "smooth", "blend", "retime", "jerk", "sample", "verify")
+    out = ["Where our time goes (stage timings of `TrajectoryGenerator`, ms; smooth = cells + IPOPT + exact "
+           "checks + shortcut, retime = toppra, jerk = ruckig, verify = the gate):", "",
+           "| " + " | ".join(("", *stages, "IPOPT solve", "IPOPT iterations")) + " |", "|---" * (len(stages) + 3) + "|"]
+    for name, q in (("median", 50), ("p95", 95)):
+        vals = [_q(np.array([1e3 * r["stats"].get("timings", {}).get(s, 0.0) for r in ours]), q) for s in stages]
+        solve = _q(np.array([1e3 * r["stats"].get("ipopt_solve", 0.0) for r in ours]), q)
+        it = _q(np.array([r["stats"].get("ipopt_iterations", 0) for r in ours], dtype=float), q)
+        out.append("| " + " | ".join((name, *(f"{v:.2f}" for v in vals), f"{solve:.2f}", f"{it:.0f}")) + " |")
     return [*out, ""]
 
 
@@ -302,24 +328,37 @@ def plot_results(records: Sequence[Record], out: Path, dpi: int = 90) -> list[Pa
 
 
 # ---------------------------------------------------------------------------------------------------
+def _common_verified(recs: Sequence[Record]) -> set[Any]:
+    """Queries verified by every method present."""
+    by_q = _by(recs, "query")
+    methods = {r["method"] for r in recs}
+    return {q for (q,), rs in by_q.items() if {r["method"] for r in rs if r["verified"]} == methods}
+
+
 def scaling_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
     """Compute time and makespan against the track scale, the grid resolution and our IPOPT size class."""
     lines = ["# Scaling: compute time and makespan against track size and solver grid size", ""]
     if meta.get("command"):
         lines += ["Command:", "", "```", meta["command"], "```", ""]
     lines += ["## Track scale (lollipop ℓ = c = scale; grid spacing scaled with the track)", "",
-              "| scale | method | n | verified | compute median ms | p95 ms | makespan median s | / ours median |",
-              "|---|---|---|---|---|---|---|---|"]
+              "Compute times over all attempts and over verified results only (a failed OMPL query costs its "
+              "whole budget); makespans over the queries every method verified (`common`).", "",
+              "| scale | method | n | verified | compute median ms (all) | verified: median ms | p95 ms | "
+              "makespan median s (common) | / ours median |", "|---|---|---|---|---|---|---|---|---|"]
     sweep = [r for r in records if r.get("sweep") == "scale"]
     for (scale,), srecs in sorted(_by(sweep, "scale").items()):
+        common = _common_verified(srecs)
         for m in ORDER:
             mr = [r for r in srecs if r["method"] == m]
             if not mr:
                 continue
-            ct, mk = _vals(mr, "compute_time"), _vals(mr, "makespan", only_verified=True)
+            ct = _vals(mr, "compute_time")
+            cv = _vals([r for r in mr if r["verified"]], "compute_time")
+            mk = _vals([r for r in mr if r["query"] in common], "makespan", only_verified=True)
             rat = _ratios(srecs, m, "ours")
             lines.append(f"| {scale:g} | {m} | {len(mr)} | {_pct(float(np.mean([r['verified'] for r in mr])))} | "
-                         f"{1e3 * _q(ct, 50):.1f} | {1e3 * _q(ct, 95):.1f} | {_f(_q(mk, 50))} | "
+                         f"{1e3 * _q(ct, 50):.1f} | {_f(1e3 * _q(cv, 50), '{:.1f}')} | "
+                         f"{_f(1e3 * _q(cv, 95), '{:.1f}')} | {_f(_q(mk, 50))} ({len(common)}) | "
                          f"{_f(_q(rat, 50), '{:.3f}')} |")
     lines += ["", "## Grid resolution (base track)", "",
               "| spacing m | product nodes | edges | n | compute median ms | p95 ms | makespan median s | "
@@ -334,9 +373,9 @@ def scaling_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
         rat = _ratios(grecs, "ours", "grid")
         lines.append(f"| {h:g} | {st.get('nodes', '—')} | {st.get('edges', '—')} | {len(g)} | {1e3 * _q(ct, 50):.1f} | "
                      f"{1e3 * _q(ct, 95):.1f} | {_f(_q(mk, 50))} | {_f(_q(rat, 50), '{:.3f}')} |")
-    lines += ["", "## Our IPOPT size class (segments of the NLP, chosen per plan)", "",
+    lines += ["", "## Our IPOPT size class (segments of the NLP, chosen per plan; track-scale sweep)", "",
               "| NLP segments | n | compute median ms | p95 ms | IPOPT iterations median |", "|---|---|---|---|---|"]
-    ours = [r for r in records if r["method"] == "ours" and r["success"]]
+    ours = [r for r in sweep if r["method"] == "ours" and r["success"]]
     for (nseg,), orecs in sorted(_by([{**r, "nseg": r["stats"].get("ipopt_segments")} for r in ours],
                                      "nseg").items(), key=lambda kv: kv[0][0] or 0):
         ct = _vals(orecs, "compute_time")
@@ -346,50 +385,68 @@ def scaling_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
 
 
 def plot_scaling(records: Sequence[Record], path: Path, dpi: int = 90) -> Path:
-    """Four panels: compute time and makespan against the track scale, grid compute time against the number
-    of product nodes, and our compute time against the IPOPT size class."""
+    """Four panels: compute time (verified results) and makespan (queries every method verified) against the
+    track scale, grid compute time against the number of product nodes, our compute time against the IPOPT
+    size class."""
     plt = _plt()
+    from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
+
     fig, axes = plt.subplots(2, 2, figsize=(10, 7))
     sweep = [r for r in records if r.get("sweep") == "scale"]
     scales = sorted({r["scale"] for r in sweep})
+    commons = {s: _common_verified([r for r in sweep if r["scale"] == s]) for s in scales}
     for m in ORDER:
         ct, mk = [], []
         for s in scales:
             mr = [r for r in sweep if r["scale"] == s and r["method"] == m]
-            ct.append(1e3 * _q(_vals(mr, "compute_time"), 50) if mr else np.nan)
-            mk.append(_q(_vals(mr, "makespan", only_verified=True), 50) if mr else np.nan)
+            cv = _vals([r for r in mr if r["verified"]], "compute_time")
+            ct.append(1e3 * _q(cv, 50) if len(cv) else np.nan)
+            mv = _vals([r for r in mr if r["query"] in commons[s]], "makespan", only_verified=True)
+            mk.append(_q(mv, 50) if len(mv) else np.nan)
         if np.all(np.isnan(ct)):
             continue
         axes[0, 0].plot(scales, ct, "o-", label=m)
         axes[0, 1].plot(scales, mk, "o-", label=m)
-    for ax, lab in ((axes[0, 0], "compute time median (ms)"), (axes[0, 1], "makespan median (s)")):
+    labels = ("compute time median, verified (ms)", "makespan median, queries all verified (s)")
+    for ax, lab in zip(axes[0], labels):
         ax.set_xscale("log", base=2)
         ax.set_yscale("log")
-        ax.set_xlabel("track scale (lollipop ℓ = c)")
+        ax.set_xticks(scales, [f"{s:g}" for s in scales])
+        ax.set_xlabel("track scale (lollipop ℓ = c, m)")
         ax.set_ylabel(lab)
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7)
     gsw = [r for r in records if r.get("sweep") == "grid" and r["method"] == "grid"]
     hs = sorted({r["grid_h"] for r in gsw}, reverse=True)
-    nodes = [next(r["stats"].get("grid", {}).get("nodes", np.nan) for r in gsw if r["grid_h"] == h) for h in hs]
-    gct = [1e3 * _q(_vals([r for r in gsw if r["grid_h"] == h], "compute_time"), 50) for h in hs]
-    axes[1, 0].plot(nodes, gct, "o-", color="C5")
-    for h, x, y in zip(hs, nodes, gct):
-        axes[1, 0].annotate(f"h = {h:g} m", (x, y), fontsize=7)
-    axes[1, 0].set_xscale("log")
-    axes[1, 0].set_yscale("log")
-    axes[1, 0].set_xlabel("grid: product nodes")
+    if hs:
+        nodes = [next(r["stats"].get("grid", {}).get("nodes", np.nan) for r in gsw if r["grid_h"] == h) for h in hs]
+        gct = [1e3 * _q(_vals([r for r in gsw if r["grid_h"] == h], "compute_time"), 50) for h in hs]
+        axes[1, 0].plot(nodes, gct, "o-", color="C5")
+        for h, x, y in zip(hs, nodes, gct):
+            axes[1, 0].annotate(f"h = {h:g} m", (x, y), fontsize=7, xytext=(4, -10), textcoords="offset points")
+        axes[1, 0].set_xscale("log")
+        axes[1, 0].set_yscale("log")
+    axes[1, 0].set_xlabel("grid A*: product nodes")
     axes[1, 0].set_ylabel("grid compute median (ms)")
     axes[1, 0].grid(alpha=0.3, which="both")
-    ours = [r for r in records if r["method"] == "ours" and r["success"]]
+    ours = [r for r in sweep if r["method"] == "ours" and r["success"]]
     seg = np.array([r["stats"].get("ipopt_segments", 0) for r in ours], dtype=float)
     ct = np.array([1e3 * r["compute_time"] for r in ours])
-    axes[1, 1].scatter(seg * (1 + 0.05 * np.random.default_rng(0).standard_normal(len(seg))), ct, s=6, alpha=0.5)
+    jit = 1 + 0.05 * np.random.default_rng(0).standard_normal(len(seg))
+    axes[1, 1].scatter(np.maximum(seg, 1) * jit, ct, s=6, alpha=0.5)
     axes[1, 1].set_xscale("log", base=2)
     axes[1, 1].set_yscale("log")
+    ticks = sorted({int(x) for x in seg if x > 0})
+    axes[1, 1].set_xticks(ticks, [str(t) for t in ticks])
     axes[1, 1].set_xlabel("ours: IPOPT segments (size class, jittered)")
     axes[1, 1].set_ylabel("ours compute time (ms)")
     axes[1, 1].grid(alpha=0.3, which="both")
+    for ax in axes.flat:
+        axes_log = [a for a in (ax.yaxis, *([ax.xaxis] if ax is axes[1, 0] else [])) if a.get_scale() == "log"]
+        for axis in axes_log:
+            axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+            axis.set_major_formatter(ScalarFormatter())
+            axis.set_minor_formatter(NullFormatter())
     fig.tight_layout()
     fig.savefig(path, dpi=dpi)
     plt.close(fig)

@@ -31,7 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from bench.baselines import GridPlanner, OmplPlanner, OmplResult, shortcut_segment
-from bench.geometry import JointPath, split_routes
+from bench.geometry import JointPath, joint_move_min_distance, leg_moves_geodesic, split_routes
 from bench.motion import Motion, TimingOutcome, time_segments
 from mpa.errors import MPAError
 from mpa.tracks import Circle, Lollipop, Track, make_track
@@ -284,6 +284,7 @@ def _trajopt_outcome(gen: TrajectoryGenerator, start: FloatArray, goal: FloatArr
         "fallback": traj.fallback,
         "ipopt_segments": int(st.get("n_segments", 0)),
         "ipopt_iterations": int(st.get("ipopt_iterations", 0)),
+        "ipopt_solve": float(st.get("solve_time", 0.0)),
         "timings": {k: float(v) for k, v in traj.timings.items()},
         "domain": traj.domain,
     }
@@ -420,6 +421,7 @@ def _run_query(config: BenchConfig, query: dict[str, Any]) -> list[dict[str, Any
             domain = None
     lb = lower_bound(track, start, goal, ctx.limits)
     order_change = bool(np.sign(goal[1] - goal[0]) != np.sign(start[1] - start[0]))
+    interacting = _interacting(track, start, goal, config.clearance)
     records = []
     for m in config.active_methods():
         o = main[m]
@@ -432,6 +434,7 @@ def _run_query(config: BenchConfig, query: dict[str, Any]) -> list[dict[str, Any
             "goal": goal.tolist(),
             "domain": domain,
             "order_change": order_change,
+            "interacting": interacting,
             "success": o.success,
             "verified": o.verified,
             "compute_time": o.compute_time,
@@ -449,6 +452,13 @@ def _run_query(config: BenchConfig, query: dict[str, Any]) -> list[dict[str, Any
             rec.update(_stability(track, o, reseeded.get(m), config, "_reseeded"))
         records.append(rec)
     return records
+
+
+def _interacting(track: Track, start: FloatArray, goal: FloatArray, clearance: float) -> bool:
+    """Whether the naive motion collides: each robot along its own shortest path, both at proportional speed."""
+    ma = leg_moves_geodesic(track, float(start[0]), float(goal[0]))
+    mb = leg_moves_geodesic(track, float(start[1]), float(goal[1]))
+    return joint_move_min_distance(track, ma, mb) < clearance
 
 
 def replace_ctx(ctx: Context, config: BenchConfig) -> Context:
