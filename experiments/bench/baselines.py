@@ -476,15 +476,32 @@ class GridPlanner:
         return GridResult(JointPath(track, np.array(states), tuple(legs)), float(gcost[G]), stats)
 
 
-def shortcut_segment(track: Track, seg: RouteSegment, separation: float) -> RouteSegment:
-    """Replace runs of a segment's nodes by exactly collision-free straight σ-chords (galloping search).
+def _collinear(nodes: FloatArray, tol: float = 1e-12) -> list[int]:
+    """Indices of the nodes to keep when runs of nodes on one straight line going on are merged."""
+    sel = [0]
+    for k in range(1, len(nodes) - 1):
+        u, w = nodes[k] - nodes[sel[-1]], nodes[k + 1] - nodes[k]
+        if abs(u[0] * w[1] - u[1] * w[0]) <= tol * max(1.0, float(np.linalg.norm(u) * np.linalg.norm(w))):
+            if float(u @ w) > 0:
+                continue
+        sel.append(k)
+    sel.append(len(nodes) - 1)
+    return sel
 
-    From the current node the farthest node reachable by a chord is searched by doubling then bisection (a
-    heuristic: chords are not monotone in the end index); every accepted chord is checked exactly with
-    :meth:`trajopt.smoothing.RouteGeometry.polyline_min_distance`. Collinear nodes are merged.
+
+def shortcut_segment(track: Track, seg: RouteSegment, separation: float, exhaustive_limit: int = 400) -> RouteSegment:
+    """Replace runs of a segment's nodes by exactly collision-free straight σ-chords.
+
+    The grid's staircase is first reduced to its corners (collinear runs merged); then, greedily from the
+    start, the farthest later corner reachable by a chord that keeps ``separation`` (checked exactly with
+    :meth:`trajopt.smoothing.RouteGeometry.polyline_min_distance`). Above ``exhaustive_limit`` corners the
+    farthest corner is searched by doubling and bisection instead (a heuristic: reachability is not monotone
+    in the end index). Collinear results are merged again.
     """
     geom = RouteGeometry(track, seg.routes)
-    p = seg.nodes
+    base = _collinear(seg.nodes)
+    p = seg.nodes[base]
+    states0 = seg.states[base]
     m = len(p)
 
     def ok(i: int, j: int) -> bool:
@@ -493,34 +510,28 @@ def shortcut_segment(track: Track, seg: RouteSegment, separation: float) -> Rout
     keep = [0]
     i = 0
     while i < m - 1:
-        if ok(i, m - 1):
-            keep.append(m - 1)
-            break
-        lo, step, hi = i + 1, 1, m - 1
-        while lo + step < hi:
-            if ok(i, lo + step):
-                lo += step
-                step *= 2
-            else:
-                hi = lo + step
-                break
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            if ok(i, mid):
-                lo = mid
-            else:
-                hi = mid
-        keep.append(lo)
-        i = lo
+        if m <= exhaustive_limit:
+            nxt = next(j for j in range(m - 1, i, -1) if ok(i, j))
+        else:
+            lo, step, hi = i + 1, 1, m - 1
+            if ok(i, hi):
+                lo = hi
+            while lo + step < hi:
+                if ok(i, lo + step):
+                    lo += step
+                    step *= 2
+                else:
+                    hi = lo + step
+                    break
+            while hi - lo > 1:
+                mid = (lo + hi) // 2
+                if ok(i, mid):
+                    lo = mid
+                else:
+                    hi = mid
+            nxt = lo
+        keep.append(nxt)
+        i = nxt
     nodes = p[keep]
-    states = seg.states[keep]
-    # merge collinear nodes
-    sel = [0]
-    for k in range(1, len(nodes) - 1):
-        u, w = nodes[k] - nodes[sel[-1]], nodes[k + 1] - nodes[k]
-        if abs(u[0] * w[1] - u[1] * w[0]) <= 1e-12 * max(1.0, float(np.linalg.norm(u) * np.linalg.norm(w))):
-            if float(u @ w) > 0:
-                continue
-        sel.append(k)
-    sel.append(len(nodes) - 1)
-    return RouteSegment(seg.routes, nodes[sel], states[sel])
+    sel = _collinear(nodes)
+    return RouteSegment(seg.routes, nodes[sel], states0[keep][sel])

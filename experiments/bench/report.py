@@ -266,6 +266,8 @@ def _plt() -> Any:
 def plot_results(records: Sequence[Record], out: Path, dpi: int = 90) -> list[Path]:
     """``makespan.png`` (makespan ÷ lower bound), ``compute_time.png`` (ECDF) and ``discontinuity.png``."""
     plt = _plt()
+    from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
+
     tracks = sorted({r["track"] for r in records})
     files = []
     fig, axes = plt.subplots(1, len(tracks), figsize=(5.5 * len(tracks), 4.2), squeeze=False)
@@ -275,10 +277,14 @@ def plot_results(records: Sequence[Record], out: Path, dpi: int = 90) -> list[Pa
         data = [_vals(by_m[(m,)], "makespan_ratio", only_verified=True) for m in ms]
         ax.boxplot([d if len(d) else [np.nan] for d in data], whis=(5, 95), showfliers=True,
                    flierprops={"markersize": 2})
-        ax.set_xticks(range(1, len(ms) + 1), ms, rotation=30, ha="right", fontsize=8)
+        ax.set_xticks(range(1, len(ms) + 1), [f"{m} ({len(d)})" for m, d in zip(ms, data)], rotation=30,
+                      ha="right", fontsize=8)
         ax.set_yscale("log")
+        ax.yaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 1.5, 2.0, 3.0, 5.0)))
+        ax.yaxis.set_major_formatter(ScalarFormatter())
+        ax.yaxis.set_minor_formatter(NullFormatter())
         ax.set_ylabel("makespan ÷ lower bound")
-        ax.set_title(f"{tr}: makespan (verified; whiskers 5–95 %)", fontsize=9)
+        ax.set_title(f"{tr}: makespan of the verified results (count); whiskers 5–95 %", fontsize=9)
         ax.grid(alpha=0.3, which="both")
     fig.tight_layout()
     files.append(out / "makespan.png")
@@ -305,21 +311,26 @@ def plot_results(records: Sequence[Record], out: Path, dpi: int = 90) -> list[Pa
     plt.close(fig)
 
     summ = summarize(records)
-    fig, ax = plt.subplots(figsize=(7, 3.8))
-    width = 0.8 / max(1, len(tracks))
-    for i, tr in enumerate(tracks):
+    fig, axes = plt.subplots(1, len(tracks), figsize=(5.5 * len(tracks), 3.8), squeeze=False)
+    for ax, tr in zip(axes[0], tracks):
         ms = [m for m in ORDER if m in summ[tr]]
-        x = np.array([ORDER.index(m) for m in ms]) + (i - (len(tracks) - 1) / 2) * width
-        rate = [100 * summ[tr][m]["disc_rate"] for m in ms]
-        ax.bar(x, rate, width, label=f"{tr} (same seed)")
-        rs = [100 * summ[tr][m]["disc_reseeded_rate"] for m in ms]
-        ax.bar(x, rs, width, fill=False, hatch="//", edgecolor="k", linewidth=0.5,
-               label=f"{tr}: OMPL twin reseeded" if i == 0 else None)
-    ax.set_xticks(range(len(ORDER)), ORDER, rotation=30, ha="right", fontsize=8)
-    ax.set_ylabel("discontinuity rate (%)")
-    ax.set_title("twins (start/goal moved by δ) differing by more than the threshold", fontsize=9)
-    ax.legend(fontsize=7)
-    ax.grid(alpha=0.3, axis="y")
+        x = np.arange(len(ms))
+        same = np.array([100 * summ[tr][m]["disc_rate"] for m in ms])
+        res = np.array([100 * summ[tr][m]["disc_reseeded_rate"] for m in ms])
+        ax.bar(x - 0.2, np.nan_to_num(same), 0.4, color="C0", label="twin, same seed")
+        ax.bar(x + 0.2, np.nan_to_num(res), 0.4, color="C1", hatch="//", edgecolor="k", linewidth=0.5,
+               label="OMPL twin, another seed")
+        for xi, v in zip(x, same):
+            ax.annotate(f"{v:.0f}", (xi - 0.2, v), ha="center", va="bottom", fontsize=7)
+        for xi, v in zip(x, res):
+            if np.isfinite(v):
+                ax.annotate(f"{v:.0f}", (xi + 0.2, v), ha="center", va="bottom", fontsize=7)
+        ax.set_xticks(x, ms, rotation=30, ha="right", fontsize=8)
+        ax.set_ylabel("discontinuity rate (%)")
+        ax.set_ylim(0, max(10.0, float(np.nanmax(np.concatenate([same, res, [0.0]]))) * 1.15))
+        ax.set_title(f"{tr}: twins (start, goal moved by δ) farther apart than the threshold", fontsize=9)
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3, axis="y")
     fig.tight_layout()
     files.append(out / "discontinuity.png")
     fig.savefig(files[-1], dpi=dpi)
