@@ -108,11 +108,11 @@ class Plan:
 
     def path_s(self, u: ArrayLike) -> FloatArray:
         """Route coordinates α_σ(u) (vectorized). Shape ``u.shape + (2,)``."""
-        u = np.clip(np.asarray(u, dtype=float), 0.0, 1.0)
+        uu: FloatArray = np.clip(np.asarray(u, dtype=float), 0.0, 1.0)
         if self.knots[-1] <= 0.0:
-            return np.broadcast_to(self.waypoints_s[0], (*u.shape, 2)).copy()
-        sa = np.interp(u, self.knots, self.waypoints_s[:, 0])
-        sb = np.interp(u, self.knots, self.waypoints_s[:, 1])
+            return np.broadcast_to(self.waypoints_s[0], (*uu.shape, 2)).copy()
+        sa = np.interp(uu, self.knots, self.waypoints_s[:, 0])
+        sb = np.interp(uu, self.knots, self.waypoints_s[:, 1])
         return np.stack([sa, sb], axis=-1)
 
     def path(self, u: ArrayLike) -> FloatArray:

@@ -436,6 +436,119 @@ class LollipopPlanner(Planner):
             )
         return self._to_comp_vertex(x, comp) + self._reverse_pieces(self._to_comp_vertex(y, comp))
 
+    # --- clearances above min(ℓ, h): outside the paper -----------------------------------------
+    def _plan_retreat(self, s: np.ndarray, g: np.ndarray) -> Plan:
+        """D > h: the robots keep their order; the rear robot waits at the free end while the front one moves."""
+        tr = self.track
+        assert isinstance(tr, Lollipop)
+        ell, c, h, D = tr.stick, tr.loop, tr.half, self.clearance
+        r = 0 if self.cspace.order(s) > 0 else 1  # the rear robot (nearer the free end)
+        f = 1 - r
+
+        def joint(mr: RobotMove, mf: RobotMove) -> JointMove:
+            return (mr, mf) if r == 0 else (mf, mr)
+
+        rear_s, rear_g, fs, fg = s[r], g[r], s[f], g[f]
+        prelim = [joint(RobotMove("stick", rear_s, -rear_s), RobotMove.stay(tr, fs))]
+        final = [joint(RobotMove("stick", 0.0, rear_g), RobotMove.stay(tr, fg))]
+        main: list[JointMove] = []
+        rest = RobotMove("stick", 0.0, 0.0)
+        th_s = fs - ell if fs > ell else 0.0
+        th_g = fg - ell if fg > ell else 0.0
+        if fs < ell:
+            main.append(joint(rest, RobotMove("stick", fs, ell - fs)))
+        if ell >= D:
+            domain, delta = _loop_rule(c, self._eps / self._h * h, th_s, th_g)
+            rule = (
+                "clearance above half the loop, order kept: the rear robot waits at the free end; the front robot's "
+                + (
+                    "start and goal are antipodal on the loop: it goes counterclockwise"
+                    if domain == 1
+                    else "shortest route"
+                )
+            )
+        else:  # the front robot can only use an arc of the loop around the antipode of P
+            domain, delta = 1, th_g - th_s
+            rule = "clearance above the stick and half the loop: the front robot moves within its arc of the loop"
+        if abs(delta) > 0:
+            main.append(joint(rest, RobotMove("loop", th_s, delta)))
+        if fg < ell:
+            main.append(joint(rest, RobotMove("stick", ell, fg - ell)))
+        xi = s.copy()
+        xi[r] = 0.0
+        xf = g.copy()
+        xf[r] = 0.0
+        return build_plan(
+            tr,
+            s,
+            g,
+            D,
+            domain,
+            rule,
+            [
+                ("the rear robot retreats to the free end; the other waits", prelim),
+                (rule, main),
+                ("the rear robot advances to its goal; the other waits", final),
+            ],
+            self.skeleton,
+            xi,
+            xf,
+            None,
+            regime="retreat",
+        )
+
+    def _loop_trace(self, st: np.ndarray) -> tuple[RobotMove, RobotMove]:
+        tr = self.track
+        assert isinstance(tr, Lollipop)
+        ell, c, h = tr.stick, tr.loop, tr.half
+        a, b = float(st[0]), float(st[1])
+        if a > ell and b > ell:
+            da, db = lollipop_trace_scalar(ell, c, a, b)  # both on the loop: the paper's loop trace
+            return RobotMove("loop", a - ell, da), RobotMove("loop", b - ell, db)
+        ps, pl = (a, b) if a <= ell else (b, a)
+        th = pl - ell
+        w = min(th, c - th)
+        ms = RobotMove("stick", ps, ell - ps)  # the stick robot goes to P
+        ml = RobotMove("loop", th, (h - w) if th <= h else -(h - w))  # the loop robot to the antipode of P
+        return (ms, ml) if a <= ell else (ml, ms)
+
+    def _plan_loop(self, s: np.ndarray, g: np.ndarray) -> Plan:
+        """ℓ < D ≤ h: the stick is too short to pass; retract onto the antipodal circle S2 and plan there."""
+        tr = self.track
+        assert isinstance(tr, Lollipop)
+        ell, c = tr.stick, tr.loop
+        ti, tf = self._loop_trace(s), self._loop_trace(g)
+        ends = []
+        for mv in (*ti, *tf):
+            th = ((mv.start + mv.delta) % c) if mv.edge == "loop" else 0.0
+            ends.append(th)
+        domain, delta = _loop_rule(c, self.neighbourhood * tr.half, ends[0], ends[2])
+        main = [(RobotMove("loop", ends[0], delta), RobotMove("loop", ends[1], delta))]
+        rule = "clearance above the stick length: both robots to antipodal positions on the loop, then " + (
+            "counterclockwise (A's positions antipodal)" if domain == 1 else "A's shortest way round, together"
+        )
+        return build_plan(
+            tr,
+            s,
+            g,
+            self.clearance,
+            domain,
+            rule,
+            [
+                (
+                    "the stick robot moves to P and the loop robot to the antipode of P; on the loop both move apart",
+                    [ti],
+                ),
+                (rule, main),
+                ("the reversed trace of the goal", [_reverse(tf)]),
+            ],
+            self.skeleton,
+            np.array([ell + ends[0], ell + ends[1]]),
+            np.array([ell + ends[2], ell + ends[3]]),
+            None,
+            regime="loop",
+        )
+
     # --- the plan ---------------------------------------------------------------------------------
     def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
         s, g = self.cspace.check_query(start, goal)
@@ -506,128 +619,6 @@ def _wrap_model(ell: float, c: float, a0: float, a1: float, b0: float, b1: float
                 p1 = ell
         out.append(p1)
     return out[0], out[1]
-
-
-def _lollipop_extra_methods() -> None:
-    """Attach the planners for clearances above min(ℓ, h) (outside the paper) to :class:`LollipopPlanner`."""
-
-    def _plan_retreat(self: LollipopPlanner, s: np.ndarray, g: np.ndarray) -> Plan:
-        """D > h: the robots keep their order; the rear robot waits at the free end while the front one moves."""
-        tr = self.track
-        assert isinstance(tr, Lollipop)
-        ell, c, h, D = tr.stick, tr.loop, tr.half, self.clearance
-        r = 0 if self.cspace.order(s) > 0 else 1  # the rear robot (nearer the free end)
-        f = 1 - r
-
-        def joint(mr: RobotMove, mf: RobotMove) -> JointMove:
-            return (mr, mf) if r == 0 else (mf, mr)
-
-        rear_s, rear_g, fs, fg = s[r], g[r], s[f], g[f]
-        prelim = [joint(RobotMove("stick", rear_s, -rear_s), RobotMove.stay(tr, fs))]
-        final = [joint(RobotMove("stick", 0.0, rear_g), RobotMove.stay(tr, fg))]
-        main: list[JointMove] = []
-        rest = RobotMove("stick", 0.0, 0.0)
-        th_s = fs - ell if fs > ell else 0.0
-        th_g = fg - ell if fg > ell else 0.0
-        if fs < ell:
-            main.append(joint(rest, RobotMove("stick", fs, ell - fs)))
-        if ell >= D:
-            domain, delta = _loop_rule(c, self._eps / self._h * h, th_s, th_g)
-            rule = (
-                "clearance above half the loop, order kept: the rear robot waits at the free end; the front robot's "
-                + (
-                    "start and goal are antipodal on the loop: it goes counterclockwise"
-                    if domain == 1
-                    else "shortest route"
-                )
-            )
-        else:  # the front robot can only use an arc of the loop around the antipode of P
-            domain, delta = 1, th_g - th_s
-            rule = "clearance above the stick and half the loop: the front robot moves within its arc of the loop"
-        if abs(delta) > 0:
-            main.append(joint(rest, RobotMove("loop", th_s, delta)))
-        if fg < ell:
-            main.append(joint(rest, RobotMove("stick", ell, fg - ell)))
-        xi = s.copy()
-        xi[r] = 0.0
-        xf = g.copy()
-        xf[r] = 0.0
-        return build_plan(
-            tr,
-            s,
-            g,
-            D,
-            domain,
-            rule,
-            [
-                ("the rear robot retreats to the free end; the other waits", prelim),
-                (rule, main),
-                ("the rear robot advances to its goal; the other waits", final),
-            ],
-            self.skeleton,
-            xi,
-            xf,
-            None,
-            regime="retreat",
-        )
-
-    def _loop_trace(self: LollipopPlanner, st: np.ndarray) -> tuple[RobotMove, RobotMove]:
-        tr = self.track
-        assert isinstance(tr, Lollipop)
-        ell, c, h = tr.stick, tr.loop, tr.half
-        a, b = float(st[0]), float(st[1])
-        if a > ell and b > ell:
-            da, db = lollipop_trace_scalar(ell, c, a, b)  # both on the loop: the paper's loop trace
-            return RobotMove("loop", a - ell, da), RobotMove("loop", b - ell, db)
-        ps, pl = (a, b) if a <= ell else (b, a)
-        th = pl - ell
-        w = min(th, c - th)
-        ms = RobotMove("stick", ps, ell - ps)  # the stick robot goes to P
-        ml = RobotMove("loop", th, (h - w) if th <= h else -(h - w))  # the loop robot to the antipode of P
-        return (ms, ml) if a <= ell else (ml, ms)
-
-    def _plan_loop(self: LollipopPlanner, s: np.ndarray, g: np.ndarray) -> Plan:
-        """ℓ < D ≤ h: the stick is too short to pass; retract onto the antipodal circle S2 and plan there."""
-        tr = self.track
-        assert isinstance(tr, Lollipop)
-        ell, c = tr.stick, tr.loop
-        ti, tf = _loop_trace(self, s), _loop_trace(self, g)
-        ends = []
-        for mv in (*ti, *tf):
-            th = ((mv.start + mv.delta) % c) if mv.edge == "loop" else 0.0
-            ends.append(th)
-        domain, delta = _loop_rule(c, self.neighbourhood * tr.half, ends[0], ends[2])
-        main = [(RobotMove("loop", ends[0], delta), RobotMove("loop", ends[1], delta))]
-        rule = "clearance above the stick length: both robots to antipodal positions on the loop, then " + (
-            "counterclockwise (A's positions antipodal)" if domain == 1 else "A's shortest way round, together"
-        )
-        return build_plan(
-            tr,
-            s,
-            g,
-            self.clearance,
-            domain,
-            rule,
-            [
-                (
-                    "the stick robot moves to P and the loop robot to the antipode of P; on the loop both move apart",
-                    [ti],
-                ),
-                (rule, main),
-                ("the reversed trace of the goal", [_reverse(tf)]),
-            ],
-            self.skeleton,
-            np.array([ell + ends[0], ell + ends[1]]),
-            np.array([ell + ends[2], ell + ends[3]]),
-            None,
-            regime="loop",
-        )
-
-    LollipopPlanner._plan_retreat = _plan_retreat  # type: ignore[attr-defined]
-    LollipopPlanner._plan_loop = _plan_loop  # type: ignore[attr-defined]
-
-
-_lollipop_extra_methods()
 
 
 def _drop_zero_edges(sk: LollipopSkeleton, pieces: list[tuple[str, float, float]]) -> list[tuple[str, float, float]]:

@@ -267,7 +267,8 @@ class Route:
     def _pieces_at(self, r: FloatArray) -> NDArray[np.intp]:
         if "_ends" not in self.__dict__:
             self._arrays()
-        return np.searchsorted(self._ends, r, side="left")  # type: ignore[attr-defined,no-any-return]
+        ends: FloatArray = self.__dict__["_ends"]
+        return np.searchsorted(ends, r, side="left")
 
     def lift_at(self, sigma: ArrayLike) -> tuple[NDArray[np.bool_], NDArray[np.int64], FloatArray]:
         """Lifted points at route coordinates ``σ``: (is_stick, copy index k, v). Same shape as ``σ``."""
