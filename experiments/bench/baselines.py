@@ -31,12 +31,11 @@ from __future__ import annotations
 import heapq
 import math
 import time
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from bench.geometry import (
     JointPath,
@@ -127,7 +126,8 @@ class OmplPlanner:
             return (state[0].value * self._scale) % c, (state[1].value * self._scale) % c
         return state[0], state[1]
 
-    def _set(self, state: Any, p: Sequence[float]) -> None:
+    def _set(self, state: Any, p: ArrayLike) -> None:
+        p = np.asarray(p, dtype=float)
         if self.circle:
             for r in (0, 1):
                 ang = float(p[r]) / self._scale
@@ -147,7 +147,7 @@ class OmplPlanner:
         return JointPath.from_states(self.track, pts, geodesic=self.geodesic)
 
     # --- one query -------------------------------------------------------------------------------
-    def solve(self, start: Sequence[float], goal: Sequence[float], seed: int) -> OmplResult:
+    def solve(self, start: ArrayLike, goal: ArrayLike, seed: int) -> OmplResult:
         """Plan one query (``seed`` ≥ 1 seeds OMPL's random numbers)."""
         from ompl import base as ob
         from ompl import geometric as og
@@ -338,11 +338,12 @@ class GridPlanner:
         Node spacing (m).
     """
 
-    def __init__(self, track: Track, separation: float, vmax: Sequence[float], h: float) -> None:
+    def __init__(self, track: Track, separation: float, vmax: ArrayLike, h: float) -> None:
         t0 = time.perf_counter()
         self.track = track
         self.separation = float(separation)
-        self.v = (float(vmax[0]), float(vmax[1]))
+        v = np.broadcast_to(np.asarray(vmax, dtype=float), (2,))
+        self.v = (float(v[0]), float(v[1]))
         self.h = float(h)
         g = robot_graph(track, h)
         self.graph = g
@@ -400,8 +401,10 @@ class GridPlanner:
         return out
 
     # --- one query -------------------------------------------------------------------------------
-    def solve(self, start: Sequence[float], goal: Sequence[float]) -> GridResult:
+    def solve(self, start: ArrayLike, goal: ArrayLike) -> GridResult:
         """A* from ``start`` to ``goal`` (track coordinates)."""
+        start_p = np.asarray(start, dtype=float)
+        goal_p = np.asarray(goal, dtype=float)
         track, sep, n = self.track, self.separation, self.n
         va, vb = self.v
         g = self.graph
@@ -412,19 +415,19 @@ class GridPlanner:
 
         S, G = n * n, n * n + 1
         start_edges = []
-        for na, ma in self._attach(float(start[0])):
-            for nb, mb in self._attach(float(start[1])):
+        for na, ma in self._attach(float(start_p[0])):
+            for nb, mb in self._attach(float(start_p[1])):
                 if self.node_ok[na, nb] and joint_move_min_distance(track, (ma,), (mb,)) >= sep:
                     start_edges.append((na * n + nb, leg_cost(ma, mb), (ma, mb)))
         goal_edges: dict[int, tuple[float, tuple[RobotMove, RobotMove]]] = {}
-        for na, ma in self._attach(float(goal[0])):
-            for nb, mb in self._attach(float(goal[1])):
+        for na, ma in self._attach(float(goal_p[0])):
+            for nb, mb in self._attach(float(goal_p[1])):
                 ra = RobotMove(ma.edge, ma.start + ma.delta, -ma.delta)
                 rb = RobotMove(mb.edge, mb.start + mb.delta, -mb.delta)
                 if self.node_ok[na, nb] and joint_move_min_distance(track, (ra,), (rb,)) >= sep:
                     goal_edges[na * n + nb] = (leg_cost(ra, rb), (ra, rb))
-        ha = (track.distance(g.pos, goal[0]) / va).tolist()
-        hb = (track.distance(g.pos, goal[1]) / vb).tolist()
+        ha = (track.distance(g.pos, goal_p[0]) / va).tolist()
+        hb = (track.distance(g.pos, goal_p[1]) / vb).tolist()
         gcost = [math.inf] * (n * n + 2)
         parent = [-1] * (n * n + 2)
         pedge: list[Any] = [None] * (n * n + 2)
@@ -462,7 +465,7 @@ class GridPlanner:
         while chain[-1] != S:
             chain.append(parent[chain[-1]])
         chain.reverse()
-        states = [np.asarray(start, dtype=float)]
+        states = [start_p]
         legs = []
         for v in chain[1:]:
             e = pedge[v]
@@ -471,7 +474,7 @@ class GridPlanner:
             else:
                 ma, mb = self._move(int(self._ma[e])), self._move(int(self._mb[e]))
             legs.append(((ma,), (mb,)))
-            states.append(np.asarray(goal, dtype=float) if v == G else np.array([g.pos[v // n], g.pos[v % n]]))
+            states.append(goal_p if v == G else np.array([g.pos[v // n], g.pos[v % n]]))
         stats["grid_steps"] = len(legs)
         return GridResult(JointPath(track, np.array(states), tuple(legs)), float(gcost[G]), stats)
 

@@ -314,7 +314,7 @@ def plot_results(records: Sequence[Record], out: Path, dpi: int = 90) -> list[Pa
     fig, axes = plt.subplots(1, len(tracks), figsize=(5.5 * len(tracks), 3.8), squeeze=False)
     for ax, tr in zip(axes[0], tracks):
         ms = [m for m in ORDER if m in summ[tr]]
-        x = np.arange(len(ms))
+        x = np.arange(len(ms), dtype=float)
         same = np.array([100 * summ[tr][m]["disc_rate"] for m in ms])
         res = np.array([100 * summ[tr][m]["disc_reseeded_rate"] for m in ms])
         ax.bar(x - 0.2, np.nan_to_num(same), 0.4, color="C0", label="twin, same seed")
@@ -442,9 +442,9 @@ def plot_scaling(records: Sequence[Record], path: Path, dpi: int = 90) -> Path:
     axes[1, 0].grid(alpha=0.3, which="both")
     ours = [r for r in sweep if r["method"] == "ours" and r["success"]]
     seg = np.array([r["stats"].get("ipopt_segments", 0) for r in ours], dtype=float)
-    ct = np.array([1e3 * r["compute_time"] for r in ours])
+    ours_ct = np.array([1e3 * r["compute_time"] for r in ours])
     jit = 1 + 0.05 * np.random.default_rng(0).standard_normal(len(seg))
-    axes[1, 1].scatter(np.maximum(seg, 1) * jit, ct, s=6, alpha=0.5)
+    axes[1, 1].scatter(np.maximum(seg, 1) * jit, ours_ct, s=6, alpha=0.5)
     axes[1, 1].set_xscale("log", base=2)
     axes[1, 1].set_yscale("log")
     ticks = sorted({int(x) for x in seg if x > 0})

@@ -134,7 +134,7 @@ def make_queries(config: BenchConfig, n: int) -> list[dict[str, Any]]:
     rng = np.random.default_rng(config.seed)
     need = config.clearance + config.query_margin
     L = track.total_length
-    out = []
+    out: list[dict[str, Any]] = []
     while len(out) < n:
         s, g = rng.uniform(0.0, L, 2), rng.uniform(0.0, L, 2)
         if track.distance(s[0], s[1]) < need or track.distance(g[0], g[1]) < need:
