@@ -74,22 +74,33 @@ def word_from_points(graph: MetricGraph, edges: ArrayLike, ts: ArrayLike) -> tup
 
 
 def word_from_samples(graph: MetricGraph, edges: list[int], ts: list[float]) -> tuple[str, ...]:
-    """Pure-Python core of :func:`word_from_points` (edge indices and arc lengths as lists)."""
+    """Pure-Python core of :func:`word_from_points` (edge indices and arc lengths as lists).
+
+    The path is cut into *steps*, one per visit of an edge, each with its extent along the edge (from where it
+    entered to where it left). Consecutive steps on the same edge meet at a vertex and form a back-and-forth:
+    they merge into their net displacement (dropped if zero). This is free reduction in the universal cover, so a
+    full traversal followed by a partial return leaves the partial remainder (a plain token cancellation would
+    lose it). The word lists the remaining steps' edges with the direction of their displacement.
+    """
     E = graph.edges
     n = len(edges)
     if n == 0:
         return ()
+    steps: list[list[object]] = []  # [edge index, t_from, t_to]
 
-    def at_vertex(i: int, t: float) -> str | None:
-        if t <= END_TOL:
-            return str(E[i].tail)
-        if t >= E[i].length - END_TOL:
-            return str(E[i].head)
-        return None
+    def push(e: int, t0: float, t1: float) -> None:
+        while True:
+            if abs(t1 - t0) <= END_TOL:
+                return
+            if steps and steps[-1][0] == e:
+                top = steps.pop()
+                t0 = top[1]  # type: ignore[assignment]
+                continue
+            steps.append([e, t0, t1])
+            return
 
-    tokens: list[str] = []
     cur = edges[0]
-    entry = at_vertex(cur, ts[0])
+    t_from = ts[0]
     for k in range(1, n):
         nxt = edges[k]
         if nxt == cur:
@@ -101,16 +112,11 @@ def word_from_samples(graph: MetricGraph, edges: list[int], ts: list[float]) -> 
         if not shared:
             raise PlanningError(f"path jumps from edge {E[cur].name} to {E[nxt].name}: sample it more densely")
         v = min(shared, key=lambda s: ends_cur[s] + ends_nxt[s])
-        if entry != v:
-            tokens.append(("+" if v == str(E[cur].head) else "-") + E[cur].name)
-        cur, entry = nxt, v
-    last_v = at_vertex(cur, ts[-1])
-    if last_v is not None and entry != last_v:
-        # the last visit ends on a vertex: a (possibly partial) traversal towards it
-        tokens.append(("+" if last_v == str(E[cur].head) else "-") + E[cur].name)
-    elif last_v is None and entry is not None:
-        tokens.append(("+" if entry == str(E[cur].tail) else "-") + E[cur].name)
-    return reduce_word(tokens)
+        push(cur, t_from, 0.0 if v == str(E[cur].tail) else E[cur].length)
+        cur = nxt
+        t_from = 0.0 if v == str(E[nxt].tail) else E[nxt].length
+    push(cur, t_from, ts[-1])
+    return tuple(("+" if st[2] > st[1] else "-") + E[st[0]].name for st in steps)  # type: ignore[operator,index]
 
 
 def skeleton_points(skeleton: Skeleton, states: ArrayLike) -> tuple[np.ndarray, np.ndarray]:

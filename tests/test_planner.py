@@ -243,3 +243,24 @@ def test_interval_plan_is_a_straight_translation() -> None:
     assert p.domain == 1 and p.word == ()
     u = np.linspace(0, 1, 11)
     assert np.allclose(p.path(u), (1 - u)[:, None] * [0.1, 0.5] + u[:, None] * [1.2, 1.9])
+
+
+def test_word_keeps_a_partial_remainder_after_returning_through_a_vertex() -> None:
+    """A full traversal of S1b, a sample exactly on the vertex v1 (an I1 point), then part of S1b back: the class
+    is the partial +S1b, not the empty word (found by the benchmark on the raw-plan fallback)."""
+    from mpa.homotopy import word_from_samples
+
+    sk = make_planner(Lollipop()).skeleton  # type: ignore[attr-defined]
+    idx = {e.name: i for i, e in enumerate(sk.graph.edges)}
+    edges = [idx["S2b"], idx["S2b"], idx["S1b"], idx["S1b"], idx["I1"], idx["S1b"]]
+    assert word_from_samples(sk.graph, edges, [0.3, 0.5, 0.0, 0.5, 0.5, 0.475]) == ("+S2b", "+S1b")
+    assert word_from_samples(sk.graph, edges, [0.3, 0.5, 0.0, 0.5, 0.5, 0.5]) == ("+S2b", "+S1b")
+    assert word_from_samples(sk.graph, [idx["S1b"], idx["I1"], idx["S1b"]], [0.4, 0.5, 0.45]) == ()
+
+
+def test_raw_plan_fallback_verifies_where_it_stops_on_a_vertex() -> None:
+    from trajopt import TrajectoryGenerator
+
+    s, g = (0.18955335672233398, 0.009798829977151202), (0.6458416073279567, 1.981489436482444)
+    traj = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05, optimize=False).generate(s, g)
+    assert traj.word == ("+I2", "+S3a", "+S2b", "+S1b") == traj.plan.word
