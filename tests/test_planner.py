@@ -255,7 +255,9 @@ def test_word_keeps_a_partial_remainder_after_returning_through_a_vertex() -> No
     edges = [idx["S2b"], idx["S2b"], idx["S1b"], idx["S1b"], idx["I1"], idx["S1b"]]
     assert word_from_samples(sk.graph, edges, [0.3, 0.5, 0.0, 0.5, 0.5, 0.475]) == ("+S2b", "+S1b")
     assert word_from_samples(sk.graph, edges, [0.3, 0.5, 0.0, 0.5, 0.5, 0.5]) == ("+S2b", "+S1b")
-    assert word_from_samples(sk.graph, [idx["S1b"], idx["I1"], idx["S1b"]], [0.4, 0.5, 0.45]) == ()
+    # a path that never leaves S1b (up to v1 and back): its net run along the edge
+    assert word_from_samples(sk.graph, [idx["S1b"], idx["I1"], idx["S1b"]], [0.4, 0.5, 0.45]) == ("+S1b",)
+    assert word_from_samples(sk.graph, [idx["S1b"], idx["I1"], idx["S1b"]], [0.4, 0.5, 0.4]) == ()
 
 
 def test_raw_plan_fallback_verifies_where_it_stops_on_a_vertex() -> None:
