@@ -2,8 +2,11 @@
 
 The class of a path α in the configuration space (rel endpoints) is read off ``H₁∘α``, a path in the skeleton
 graph: the sequence of edges it runs along, each with a direction (``"+S1a"`` along the edge's orientation,
-``"-S1a"`` against it; the first and last token may be partial edges), freely reduced (``+e -e`` cancels).
-Because the skeleton is a graph, two paths with the same endpoints are homotopic iff their reduced words agree.
+``"-S1a"`` against it; the first and last step may cover part of an edge), freely reduced in the universal cover:
+consecutive runs along the same edge merge into their net run (a back-and-forth through a vertex cancels,
+leaving any remainder). A path that never reaches a vertex has the one-step word of its net run (or the empty
+word if it returns to its start). Because the skeleton is a graph, two paths with the same endpoints are
+homotopic iff their reduced words agree.
 """
 
 from __future__ import annotations
