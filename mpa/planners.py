@@ -93,7 +93,7 @@ def _reverse(moves: tuple[RobotMove, RobotMove]) -> JointMove:
 
 
 def _circ_dist(a: float, b: float, c: float) -> float:
-    d = abs(float(np.mod(a - b, c)))
+    d = abs((a - b) % c)
     return min(d, c - d)
 
 
@@ -169,7 +169,7 @@ class CirclePlanner(Planner):
         assert isinstance(tr, Circle)
         c, h = tr.loop, tr.half
         eps = self.neighbourhood * h
-        dccw = float(np.mod(b_f - b_i, c))
+        dccw = (b_f - b_i) % c
         if dccw >= c - 1e-15:
             dccw = 0.0
         if abs(dccw - h) < eps:
@@ -213,7 +213,7 @@ def _circle_pieces(phi0: float, delta: float, h: float, edge_name) -> list[tuple
     """Split the run of a circle parameter from ``φ0`` by ``delta`` into pieces on the arcs [0, h] and [h, 2h]."""
     c = 2.0 * h
     out: list[tuple[str, float, float]] = []
-    phi = float(np.mod(phi0, c))
+    phi = (phi0) % c
     if phi >= c - 1e-12:
         phi = 0.0
     rem = float(delta)
@@ -236,7 +236,7 @@ def _circle_pieces(phi0: float, delta: float, h: float, edge_name) -> list[tuple
                 t = h
             step = min(t, -rem)
             out.append((edge_name(arc), t, t - step))
-        phi = float(np.mod(base + out[-1][2], c))
+        phi = (base + out[-1][2]) % c
         rem -= direction * step
     return out
 
@@ -313,7 +313,7 @@ class LollipopPlanner(Planner):
         phi = self.skeleton.circle_phi(pt)
         target = 0.0 if _CIRCLE_COMPS[j][0] == comp else self._h
         c = 2 * self._h
-        d = float(np.mod(target - phi, c))
+        d = (target - phi) % c
         if d > self._h:
             d -= c
         return self._circle_run(j, phi, d)
@@ -374,7 +374,7 @@ class LollipopPlanner(Planner):
         if common:
             j = common[0]
             px, py = self._phi_in(j, x), self._phi_in(j, y)
-            dccw = float(np.mod(py - px, c))
+            dccw = (py - px) % c
             if dccw >= c - 1e-15:
                 dccw = 0.0
             if abs(dccw - h) < eps:
@@ -421,7 +421,7 @@ class LollipopPlanner(Planner):
         h, c = self._h, 2 * self._h
         amb = _circ_dist(phi, vertex_phi + h, c) < self._eps
         frm, to = (phi, vertex_phi) if towards_vertex else (vertex_phi, phi)
-        dccw = float(np.mod(to - frm, c))
+        dccw = (to - frm) % c
         return amb, self._circle_run(j, frm, dccw if (amb or dccw <= h) else dccw - c)
 
     def _same_comp(self, x: SkeletonPoint, y: SkeletonPoint, comp: str) -> list[tuple[str, float, float]]:

@@ -103,7 +103,7 @@ class CircleSkeleton(Skeleton):
         """Skeleton point with circle parameter ``φ`` (B's position)."""
         c = self.circumference
         h = 0.5 * c
-        phi = float(np.mod(phi, c))
+        phi = (phi) % c
         return SkeletonPoint("Aa", phi) if phi < h else SkeletonPoint("Ab", phi - h)
 
     def phi_of_point(self, pt: SkeletonPoint) -> float:
@@ -129,8 +129,8 @@ class CircleSkeleton(Skeleton):
         c = self.circumference
         phi0 = self.phi_of_point(SkeletonPoint(edge, t0))
         return (
-            RobotMove("loop", float(np.mod(phi0 + 0.5 * c, c)), t1 - t0),
-            RobotMove("loop", float(np.mod(phi0, c)), t1 - t0),
+            RobotMove("loop", ((phi0 + 0.5 * c) % (c)), t1 - t0),
+            RobotMove("loop", ((phi0) % (c)), t1 - t0),
         )
 
 
@@ -214,7 +214,7 @@ class LollipopSkeleton(Skeleton):
     def circle_point(self, j: int, phi: float) -> SkeletonPoint:
         """Point of circle ``S_j`` with parameter ``φ`` (taken mod c)."""
         c = 2.0 * self.half
-        phi = float(np.mod(phi, c))
+        phi = (phi) % c
         if phi >= c - VERTEX_TOL:
             phi = 0.0
         return SkeletonPoint(f"S{j}a", phi) if phi < self.half else SkeletonPoint(f"S{j}b", phi - self.half)
@@ -250,7 +250,7 @@ class LollipopSkeleton(Skeleton):
             return np.array([ell - (h - w), ell + phi])
         if e.startswith("S2"):
             phi = self.circle_phi(pt)
-            return np.array([ell + phi, ell + float(np.mod(phi + h, 2 * h))])
+            return np.array([ell + phi, ell + ((phi + h) % (2 * h))])
         phi = self.circle_phi(pt)  # S3
         w = min(phi, 2 * h - phi)
         return np.array([ell + phi, ell - (h - w)])
@@ -265,8 +265,8 @@ class LollipopSkeleton(Skeleton):
         a_stick, b_stick = a <= ell + VERTEX_TOL, b <= ell + VERTEX_TOL
         if a_stick and b_stick:
             if b > a:
-                return SkeletonPoint("I1", float(np.clip(a, 0.0, ell - h)))
-            return SkeletonPoint("I2", float(np.clip(b, 0.0, ell - h)))
+                return SkeletonPoint("I1", min(max(a, 0.0), ell - h))
+            return SkeletonPoint("I2", min(max(b, 0.0), ell - h))
         if a_stick:
             return self.circle_point(1, b - ell)
         if b_stick:
@@ -318,13 +318,13 @@ class LollipopSkeleton(Skeleton):
         stick_sign = 1.0 if arc == "a" else -1.0
         if j == 1:
             return RobotMove("stick", ell - h + min(phi0, 2 * h - phi0), stick_sign * dt), RobotMove(
-                "loop", float(np.mod(phi0, 2 * h)), dt
+                "loop", ((phi0) % (2 * h)), dt
             )
         if j == 3:
-            return RobotMove("loop", float(np.mod(phi0, 2 * h)), dt), RobotMove(
+            return RobotMove("loop", ((phi0) % (2 * h)), dt), RobotMove(
                 "stick", ell - h + min(phi0, 2 * h - phi0), stick_sign * dt
             )
-        return RobotMove("loop", float(np.mod(phi0, 2 * h)), dt), RobotMove("loop", float(np.mod(phi0 + h, 2 * h)), dt)
+        return RobotMove("loop", ((phi0) % (2 * h)), dt), RobotMove("loop", ((phi0 + h) % (2 * h)), dt)
 
 
 @lru_cache(maxsize=64)
