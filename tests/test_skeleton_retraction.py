@@ -113,3 +113,20 @@ def test_retraction_is_continuous(track, u, v, du, dv) -> None:  # type: ignore[
     kappa = getattr(skeleton_of(track), "kappa", 1.0)
     bound = 4.0 * max(1.0, track.half / (kappa * track.distance(*x))) * delta
     assert gap <= bound
+
+
+@pytest.mark.parametrize("track", [*LOOPED, Interval(1.0)], ids=repr)
+def test_scalar_twins_agree_with_the_vectorized_versions(track) -> None:  # type: ignore[no-untyped-def]
+    """The planner's scalar fast paths (distance, traces of H) equal the vectorized ones they shadow."""
+    from mpa.retraction import lollipop_trace, lollipop_trace_scalar
+
+    rng = np.random.default_rng(31)
+    x = random_states(track, 3000, rng, min_gap=1e-4)
+    vec = track.distance(x[:, 0], x[:, 1])
+    assert max(abs(track.distance_scalar(float(a), float(b)) - d) for (a, b), d in zip(x, vec)) < EXACT
+    if isinstance(track, Lollipop):
+        sk = skeleton_of(track)
+        m = sk.to_model(x)
+        want = lollipop_trace(sk.model, m)
+        got = np.array([lollipop_trace_scalar(sk.model.stick, sk.model.loop, a, b) for a, b in m])
+        assert np.max(np.abs(got - want)) < EXACT
