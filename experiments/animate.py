@@ -1,7 +1,7 @@
 """Animations of the paper's sample runs: both circle examples and the three lollipop domains.
 
 For each query of :func:`figures.queries` (the same queries as the step-by-step figures) this writes one animation
-with the raw plan and the jerk-limited trajectory of the same query on a shared clock (:mod:`trajopt.animation`).
+with the raw plan and the jerk-limited trajectory of the same query on a shared clock (:mod:`trajopt.viz.animation`).
 
 Usage::
 
@@ -29,7 +29,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from figures import queries
 
 from mpa.errors import MPAError
-from trajopt.animation import FORMATS, animate_query
+from trajopt.viz.animation import FORMATS, animate_query
 
 __all__ = ["main"]
 

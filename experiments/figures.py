@@ -35,7 +35,7 @@ from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the 3-D projec
 from mpa import Circle, Interval, Lollipop, NoMotionError, plan, retract, skeleton_of
 from mpa.plan import Plan
 from mpa.skeleton import LollipopSkeleton, SkeletonPoint
-from trajopt import drawing as dr
+from trajopt.viz import drawing as dr
 
 __all__ = ["FIGURES", "FigureSpec", "main", "queries"]
 

@@ -3,11 +3,10 @@
 Layout follows the paper: :mod:`mpa.tracks` (physical spaces), :mod:`mpa.cspace` (configuration spaces),
 :mod:`mpa.skeleton` and :mod:`mpa.retraction` (the deformation onto the skeleton), :mod:`mpa.planners`
 (the algorithms and their domains of continuity), :mod:`mpa.plan` (results), :mod:`mpa.homotopy` (classes of
-paths as skeleton words), :mod:`mpa.complexity` (topological complexity), :mod:`mpa.discretized` and :mod:`mpa.topology`
-(homology and TC of two robots on any graph). numpy only.
+paths as skeleton words), :mod:`mpa.topology` (topological complexity of the tracks; homology and TC of two
+robots on any graph). numpy only.
 """
 
-from mpa.complexity import rules_needed, topological_complexity
 from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
 from mpa.graph import Edge, MetricGraph, farber_tc_of_graph
@@ -17,7 +16,13 @@ from mpa.planners import CirclePlanner, IntervalPlanner, LollipopPlanner, Planne
 from mpa.retraction import retract
 from mpa.routes import Route
 from mpa.skeleton import CircleSkeleton, IntervalSkeleton, LollipopSkeleton, Skeleton, skeleton_of
-from mpa.topology import ConfigurationSpaceTopology, configuration_space_topology, load_graph_json
+from mpa.topology import (
+    ConfigurationSpaceTopology,
+    configuration_space_topology,
+    load_graph_json,
+    rules_needed,
+    topological_complexity,
+)
 from mpa.tracks import Circle, Interval, Lollipop, Track, make_track
 
 __all__ = [

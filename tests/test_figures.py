@@ -120,7 +120,7 @@ def test_cli_animate_and_its_errors(tmp_path: Path) -> None:
 
 def test_mp4_needs_ffmpeg_or_says_so(tmp_path: Path) -> None:
     from mpa import Circle, InvalidInputError, plan
-    from trajopt.animation import animate_motions, ffmpeg_executable, plan_motion
+    from trajopt.viz.animation import animate_motions, ffmpeg_executable, plan_motion
 
     p = plan(Circle(1.0), (0.3, 0.6), (0.25, 0.1))
     target = tmp_path / "a.mp4"

@@ -9,7 +9,7 @@ from hypothesis import given, note, settings
 from hypothesis import strategies as st
 
 from mpa import Circle, Interval, Lollipop, make_planner, path_word, plan
-from mpa.complexity import rules_needed
+from mpa.topology import rules_needed
 from tests.common import (
     ALL_TRACKS,
     CIRCLES,

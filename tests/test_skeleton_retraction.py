@@ -8,8 +8,8 @@ from hypothesis import given, note, settings
 from hypothesis import strategies as st
 
 from mpa import Circle, Interval, Lollipop, retract, skeleton_of
-from mpa.complexity import rules_needed, topological_complexity
 from mpa.skeleton import SkeletonPoint
+from mpa.topology import rules_needed, topological_complexity
 from tests.common import CIRCLES, EXACT, LOLLIPOPS, random_states
 
 LOOPED = [*LOLLIPOPS, *CIRCLES]

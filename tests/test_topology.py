@@ -14,24 +14,14 @@ import pytest
 from hypothesis import HealthCheck, event, given, note, settings
 from hypothesis import strategies as st
 
-import mpa.discretized
 import mpa.topology
-from mpa.discretized import (
-    CubeComplex,
-    collapse_free_faces,
-    cubical_subdivision,
-    discretized_configuration_space,
-    expected_cell_counts,
-    simple_subdivision,
-)
+import mpa.topology.cohomology
+import mpa.topology.configuration
+import mpa.topology.discretized
 from mpa.errors import InvalidInputError, PlanningError
 from mpa.graph import Edge, MetricGraph
 from mpa.topology import (
     FIELD_PRIME,
-    _cup_products,
-    _dense_independent_columns,
-    _Echelon,
-    _field_cohomology,
     configuration_space_topology,
     cube_complex_topology,
     euler_characteristic_formula,
@@ -39,8 +29,18 @@ from mpa.topology import (
     load_graph_json,
     zero_divisor_cup_length,
 )
+from mpa.topology.algebra import Echelon, dense_independent_columns
+from mpa.topology.cohomology import cup_products, field_cohomology
+from mpa.topology.discretized import (
+    CubeComplex,
+    collapse_free_faces,
+    cubical_subdivision,
+    discretized_configuration_space,
+    expected_cell_counts,
+    simple_subdivision,
+)
 from mpa.tracks import Circle, Interval, Lollipop
-from trajopt import cli_topology
+from trajopt.cli import topology as cli_topology
 
 
 def seeded(max_examples: int) -> settings:
@@ -306,7 +306,7 @@ K5 = [[a, b] for a, b in itertools.combinations(range(5), 2)]
 @pytest.mark.parametrize("p", [2, FIELD_PRIME])
 def test_cup_product_is_well_defined_and_graded_commutative(edges: list[list[object]], p: int) -> None:
     cx = _d2_collapsed(edges)
-    coh = _field_cohomology(cx, p)
+    coh = field_cohomology(cx, p)
     assert coh.b1 and coh.b2
     # cocycles and cycles really are cocycles and cycles
     coef = cx.boundary_coefficients()
@@ -317,27 +317,27 @@ def test_cup_product_is_well_defined_and_graded_commutative(edges: list[list[obj
         np.add.at(bd.T, cx.squares[:, pos], (coh.cycles * coef[:, pos][None]).T)
     assert not (bd % p).any(), "∂(cycle) = 0"
     # graded commutativity on cohomology: a_j a_i = -a_i a_j
-    m = _cup_products(cx, coh, symmetric=False)
+    m = cup_products(cx, coh, symmetric=False)
     assert not ((m + m.transpose(1, 0, 2)) % p).any()
     # (α + δf) ∪ β has the class of α ∪ β (Leibniz rule of the Serre diagonal)
     rng = np.random.default_rng(7)
     f = rng.integers(0, p, size=cx.n_vertices)
     df = (f[cx.edges[:, 1]] - f[cx.edges[:, 0]]) % p
     shifted = type(coh)(p, coh.b1, coh.b2, (coh.cocycles + df[None]) % p, coh.cycles)
-    assert np.array_equal(_cup_products(cx, shifted, symmetric=False), m)
+    assert np.array_equal(cup_products(cx, shifted, symmetric=False), m)
     # a closed orientable surface (K5): the cup pairing H¹ × H¹ -> H² = F_p is nondegenerate
     if edges is K5:
-        assert len(_dense_independent_columns(m[:, :, 0], p)) == coh.b1
+        assert len(dense_independent_columns(m[:, :, 0], p)) == coh.b1
 
 
 @pytest.mark.parametrize("p", [2, FIELD_PRIME])
 def test_cup_length_is_invariant_under_subdivision(p: int) -> None:
     cx = _d2_collapsed(PRISM)
     for k in (cx, cubical_subdivision(cx)):
-        coh = _field_cohomology(k, p)
-        m = _cup_products(k, coh)
+        coh = field_cohomology(k, p)
+        m = cup_products(k, coh)
         assert (coh.b1, coh.b2) == (9, 2)
-        assert len(_dense_independent_columns(m.reshape(-1, coh.b2), p)) == 2  # cup products span H²
+        assert len(dense_independent_columns(m.reshape(-1, coh.b2), p)) == 2  # cup products span H²
         assert zero_divisor_cup_length(m, coh.b2, p) == 4
 
 
@@ -361,7 +361,7 @@ def _brute_force_zcl(m: np.ndarray, p: int) -> int:
         if u.any() and v.any():
             sign = -1 if deg[y] * deg[x2] % 2 else 1
             tensor[x * d + y, x2 * d + y2] = sign * np.outer(u, v).ravel() % p
-    ech = _Echelon(p)
+    ech = Echelon(p)
     for col in range(d):
         ech.insert({r: int(mult[r // d, r % d, col]) for r in range(dd) if mult[r // d, r % d, col]})
     ideal = ech.annihilator(dd)
@@ -369,7 +369,7 @@ def _brute_force_zcl(m: np.ndarray, p: int) -> int:
     while len(power) and k < 6:
         k += 1
         prods = np.einsum("ua,vb,abc->uvc", power, ideal, tensor, optimize=True).reshape(-1, dd) % p
-        power = prods[_dense_independent_columns(prods.T, p)] if len(prods) else prods
+        power = prods[dense_independent_columns(prods.T, p)] if len(prods) else prods
     return k
 
 
@@ -400,8 +400,8 @@ def test_four_fold_check_random_and_sliced_paths(
 ) -> None:
     # the random path (used when the exhaustive check is too big) and the memory-sliced exhaustive path agree with
     # brute force on these small rings (the random path can only miss with a tiny probability; seeded here)
-    monkeypatch.setattr(mpa.topology, "_EXHAUSTIVE_LIMIT", limit)
-    monkeypatch.setattr(mpa.topology, "_SLICE_ENTRIES", slice_entries)
+    monkeypatch.setattr(mpa.topology.cohomology, "_EXHAUSTIVE_LIMIT", limit)
+    monkeypatch.setattr(mpa.topology.cohomology, "_SLICE_ENTRIES", slice_entries)
     rng = np.random.default_rng(99 + p)
     for trial in range(25):
         m = _random_algebra(rng, p)
@@ -534,7 +534,7 @@ def test_cli_errors(tmp_path: Path) -> None:
 # docs and the timing experiment
 
 
-@pytest.mark.parametrize("module", [mpa.discretized, mpa.topology])
+@pytest.mark.parametrize("module", [mpa.topology.discretized, mpa.topology.configuration])
 def test_doctests(module: object) -> None:
     result = doctest.testmod(module, optionflags=doctest.ELLIPSIS)  # type: ignore[arg-type]
     assert result.attempted > 0 and result.failed == 0

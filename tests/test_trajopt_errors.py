@@ -107,7 +107,7 @@ def test_cli_out_is_a_file(tmp_path, capsys) -> None:  # type: ignore[no-untyped
 
 
 def test_cli_write_failure_leaves_nothing(tmp_path, capsys, monkeypatch) -> None:  # type: ignore[no-untyped-def]
-    import trajopt.cli_trajectory as ct
+    import trajopt.cli.trajectory as ct
 
     calls = {"n": 0}
     real = ct.atomic_write_text

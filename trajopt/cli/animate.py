@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from mpa.errors import InvalidInputError
-from trajopt.cli import TRAJECTORY_DEFAULTS, add_trajectory_arguments, track_from_args
+from trajopt.cli.common import TRAJECTORY_DEFAULTS, add_trajectory_arguments, track_from_args
 
 __all__ = ["DEFAULTS", "register"]
 
@@ -21,7 +21,7 @@ DEFAULTS = TRAJECTORY_DEFAULTS
 
 
 def _cmd_animate(args: argparse.Namespace) -> int:
-    from trajopt.animation import FORMATS, animate_query
+    from trajopt.viz.animation import FORMATS, animate_query
 
     track = track_from_args(args)
     if args.max_frames is not None and args.max_frames < 2:
@@ -57,7 +57,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
 
 
 def register(subparsers: Any) -> None:
-    """Add ``animate`` to the ``mpa`` command (called by :func:`trajopt.cli.build_parser`)."""
+    """Add ``animate`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
     p = subparsers.add_parser("animate", help="animate a query: raw plan and jerk-limited trajectory side by side")
     add_trajectory_arguments(p)
     p.add_argument("--out", required=True, help="output directory (animation.gif or animation.mp4)")

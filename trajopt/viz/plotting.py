@@ -2,7 +2,7 @@
 
 One figure, three views: the track with both robots' routes, the path in the flat configuration space
 (track coordinates of A and B) with the skeleton and the forbidden band ``d < D``, and ``s, v, a, j`` of both
-robots over time with the limits. Kept small on purpose; richer drawings belong to ``trajopt.drawing``.
+robots over time with the limits. Kept small on purpose; richer drawings belong to ``trajopt.viz.drawing``.
 """
 
 from __future__ import annotations

@@ -30,7 +30,7 @@ from mpa.errors import InvalidInputError
 from mpa.plan import Plan
 from mpa.skeleton import skeleton_of
 from mpa.tracks import Track
-from trajopt import drawing as dr
+from trajopt.viz import drawing as dr
 
 __all__ = [
     "FORMATS",

@@ -32,223 +32,34 @@ Choices the paper leaves open (all explicit here):
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from mpa.cspace import ConfigurationSpace
-from mpa.errors import InvalidInputError, PlanningError
-from mpa.homotopy import word_from_samples
+from mpa.errors import PlanningError
 from mpa.plan import JointMove, Plan, build_plan
-from mpa.retraction import lollipop_trace_scalar, retract, trace_moves
+from mpa.planners.base import (
+    FINAL,
+    PRELIM,
+    RULES,
+    Planner,
+    circle_distance,
+    circle_pieces,
+    pieces_word,
+    reverse_moves,
+)
+from mpa.retraction import lollipop_trace_scalar
 from mpa.routes import RobotMove
 from mpa.skeleton import (
     CIRCLE_ENDS,
-    CircleSkeleton,
     LollipopSkeleton,
     SkeletonPoint,
     skeleton_of,
 )
-from mpa.tracks import Circle, Interval, Lollipop, Track
+from mpa.tracks import Lollipop
 
-__all__ = ["RULES", "CirclePlanner", "IntervalPlanner", "LollipopPlanner", "Planner", "make_planner", "plan"]
-
-RULES = {
-    ("interval", 1): "same order: straight translation of both robots",
-    ("circle", 1): "B's initial and final positions are antipodal: both robots move counterclockwise until B arrives",
-    ("circle", 2): "otherwise: both robots move the same way along B's shortest path until B arrives",
-    ("lollipop", 1): (
-        "generalized vertex position: shortest path in the skeleton, counterclockwise across every circle "
-        "(same order: slide along the stick; reverse order: go round the loop)"
-    ),
-    ("lollipop", 2): (
-        "generalized swapped states: counterclockwise in the circle S_j where start and goal (or the start or goal "
-        "and the vertex where the path leaves or enters S_j) are antipodal"
-    ),
-    ("lollipop", 3): "all other pairs: shortest path in the skeleton, counterclockwise whenever crossing a circle",
-}
-PRELIM = {
-    "interval": "none: the robots move straight to their goals",
-    "circle": "robot A moves away from robot B until it is antipodal to B; B waits",
-    "lollipop": (
-        "if farther apart than half the loop, the robot nearer the free end moves towards the other, which waits; "
-        "otherwise both move apart (staying on the loop if on it) until generalized antipodal"
-    ),
-}
-FINAL = {
-    "interval": "none",
-    "circle": (
-        "robot A moves along its shortest path to its goal; B waits (the preliminary trace of the goal, reversed)"
-    ),
-    "lollipop": "both robots move to their goals along the reversed preliminary trace of the goal",
-}
-
-DEFAULT_NEIGHBOURHOOD = 0.1
-
-
-def _reverse(moves: tuple[RobotMove, RobotMove]) -> JointMove:
-    return tuple(RobotMove(m.edge, m.start + m.delta, -m.delta) for m in moves)  # type: ignore[return-value]
-
-
-def _circ_dist(a: float, b: float, c: float) -> float:
-    d = abs((a - b) % c)
-    return min(d, c - d)
-
-
-@dataclass(frozen=True)
-class Planner:
-    """Base class: a planner built once for a track and a clearance, re-used for many queries.
-
-    Parameters
-    ----------
-    track : Track
-    clearance : float
-        Required clearance D (metres); start and goal must respect it.
-    neighbourhood : float
-        Size ε of the domains' neighbourhoods as a fraction of half the loop (0 < neighbourhood < 0.5).
-    """
-
-    track: Track
-    clearance: float = 0.0
-    neighbourhood: float = DEFAULT_NEIGHBOURHOOD
-    cspace: ConfigurationSpace = field(init=False)
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "cspace", ConfigurationSpace(self.track, self.clearance))
-        object.__setattr__(self, "clearance", self.cspace.clearance)
-        nb = float(self.neighbourhood)
-        if not np.isfinite(nb) or not 0.0 < nb < 0.5:
-            raise InvalidInputError(f"neighbourhood is {self.neighbourhood!r}, expected a number in (0, 0.5)")
-
-    def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:  # pragma: no cover - abstract
-        """Plan a motion from ``start`` to ``goal`` (each ``(a, b)`` in track coordinates)."""
-        raise NotImplementedError
-
-    def domain(self, start: ArrayLike, goal: ArrayLike) -> int:
-        """Domain of continuity of a query (same numbering as :attr:`Plan.domain`)."""
-        return self.plan(start, goal).domain
-
-
-@dataclass(frozen=True)
-class IntervalPlanner(Planner):
-    """Two robots on an interval: one rule, straight translation, same order only."""
-
-    def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
-        s, g = self.cspace.check_query(start, goal)
-        tr = self.track
-        sk = skeleton_of(tr)
-        mv = (RobotMove("stick", s[0], g[0] - s[0]), RobotMove("stick", s[1], g[1] - s[1]))
-        on_s = retract(tr, np.array([s, g]))
-        return build_plan(
-            tr,
-            s,
-            g,
-            self.clearance,
-            1,
-            RULES[("interval", 1)],
-            [
-                (PRELIM["interval"], []),
-                ("both robots translate straight to their goals", [mv]),
-                (FINAL["interval"], []),
-            ],
-            sk,
-            on_s[0],
-            on_s[1],
-            (),
-        )
-
-
-@dataclass(frozen=True)
-class CirclePlanner(Planner):
-    """Two robots on a circle: the paper's algorithm with TC = 2 rules (§5.2)."""
-
-    def _main_delta(self, b_i: float, b_f: float) -> tuple[int, float]:
-        tr = self.track
-        assert isinstance(tr, Circle)
-        c, h = tr.loop, tr.half
-        eps = self.neighbourhood * h
-        dccw = (b_f - b_i) % c
-        if dccw >= c - 1e-15:
-            dccw = 0.0
-        if abs(dccw - h) < eps:
-            return 1, dccw
-        return 2, dccw if dccw <= h else dccw - c
-
-    def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
-        s, g = self.cspace.check_query(start, goal)
-        tr = self.track
-        assert isinstance(tr, Circle)
-        sk = skeleton_of(tr)
-        assert isinstance(sk, CircleSkeleton)
-        h = tr.half
-        xi = np.array([(s[1] + h) % tr.loop, s[1]])
-        xf = np.array([(g[1] + h) % tr.loop, g[1]])
-        domain, delta = self._main_delta(float(xi[1]), float(xf[1]))
-        pieces = _circle_pieces(float(xi[1]), delta, h, lambda a: "Aa" if a == 0 else "Ab")
-        main = [sk.edge_moves(e, t0, t1) for e, t0, t1 in pieces]
-        word = _pieces_word(sk.graph, pieces)
-        what = "both robots move counterclockwise" if domain == 1 else "both robots move along B's shortest path"
-        return build_plan(
-            tr,
-            s,
-            g,
-            self.clearance,
-            domain,
-            RULES[("circle", domain)],
-            [
-                (PRELIM["circle"], [trace_moves(tr, s)]),
-                (f"{what} until B reaches its final position", main),
-                (FINAL["circle"], [_reverse(trace_moves(tr, g))]),
-            ],
-            sk,
-            xi,
-            xf,
-            word,
-        )
-
-
-def _circle_pieces(phi0: float, delta: float, h: float, edge_name) -> list[tuple[str, float, float]]:  # type: ignore[no-untyped-def]
-    """Split the run of a circle parameter from ``φ0`` by ``delta`` into pieces on the arcs [0, h] and [h, 2h]."""
-    c = 2.0 * h
-    out: list[tuple[str, float, float]] = []
-    phi = (phi0) % c
-    if phi >= c - 1e-12:
-        phi = 0.0
-    rem = float(delta)
-    direction = 1.0 if rem > 0 else -1.0
-    guard = 0
-    while abs(rem) > 1e-13:
-        guard += 1
-        if guard > 64:
-            raise PlanningError("circle run did not terminate")
-        arc = 0 if phi < h else 1
-        base = arc * h
-        t = phi - base
-        if direction > 0:
-            step = min(h - t, rem)
-            out.append((edge_name(arc), t, t + step))
-        else:
-            if t <= 1e-13:  # at the arc's tail: continue on the previous arc from its head
-                arc = 1 - arc
-                base = arc * h
-                t = h
-            step = min(t, -rem)
-            out.append((edge_name(arc), t, t - step))
-        phi = (base + out[-1][2]) % c
-        rem -= direction * step
-    return out
-
-
-def _pieces_word(graph, pieces: Sequence[tuple[str, float, float]]) -> tuple[str, ...]:  # type: ignore[no-untyped-def]
-    index = {e.name: i for i, e in enumerate(graph.edges)}
-    edges, ts = [], []
-    for e, t0, t1 in pieces:
-        edges += [index[e], index[e]]
-        ts += [t0, t1]
-    return word_from_samples(graph, edges, ts)
-
+__all__ = ["LollipopPlanner"]
 
 # ---------------------------------------------------------------------------------------------------
 # lollipop
@@ -303,7 +114,7 @@ class LollipopPlanner(Planner):
         return self.skeleton.circle_phi(pt)
 
     def _circle_run(self, j: int, phi0: float, delta: float) -> list[tuple[str, float, float]]:
-        return _circle_pieces(phi0, delta, self._h, lambda a: f"S{j}{'ab'[a]}")
+        return circle_pieces(phi0, delta, self._h, lambda a: f"S{j}{'ab'[a]}")
 
     def _to_comp_vertex(self, pt: SkeletonPoint, comp: str) -> list[tuple[str, float, float]]:
         """Pieces from ``pt`` (within ε of component ``comp``) to that component (I1/I2: stay on the stick)."""
@@ -419,7 +230,7 @@ class LollipopPlanner(Planner):
         otherwise the shorter way.
         """
         h, c = self._h, 2 * self._h
-        amb = _circ_dist(phi, vertex_phi + h, c) < self._eps
+        amb = circle_distance(phi, vertex_phi + h, c) < self._eps
         frm, to = (phi, vertex_phi) if towards_vertex else (vertex_phi, phi)
         dccw = (to - frm) % c
         return amb, self._circle_run(j, frm, dccw if (amb or dccw <= h) else dccw - c)
@@ -540,7 +351,7 @@ class LollipopPlanner(Planner):
                     [ti],
                 ),
                 (rule, main),
-                ("the reversed trace of the goal", [_reverse(tf)]),
+                ("the reversed trace of the goal", [reverse_moves(tf)]),
             ],
             self.skeleton,
             np.array([ell + ends[0], ell + ends[1]]),
@@ -579,7 +390,7 @@ class LollipopPlanner(Planner):
         px, py = sk.point_of_model_state(mxa, mxb), sk.point_of_model_state(mya, myb)
         domain, pieces = self.route_in_skeleton(px, py)
         main = [tuple(sk.move_from_model(m) for m in sk.edge_moves(e, t0, t1)) for e, t0, t1 in pieces]
-        word = _pieces_word(sk.graph, _drop_zero_edges(sk, pieces))
+        word = pieces_word(sk.graph, _drop_zero_edges(sk, pieces))
         return build_plan(
             tr,
             s,
@@ -590,7 +401,7 @@ class LollipopPlanner(Planner):
             [
                 (PRELIM["lollipop"], [traces[0]]),  # type: ignore[list-item]
                 (RULES[("lollipop", domain)], main),  # type: ignore[list-item]
-                (FINAL["lollipop"], [_reverse(traces[1])]),  # type: ignore[arg-type]
+                (FINAL["lollipop"], [reverse_moves(traces[1])]),  # type: ignore[arg-type]
             ],
             sk,
             xi,
@@ -625,54 +436,3 @@ def _drop_zero_edges(sk: LollipopSkeleton, pieces: list[tuple[str, float, float]
     if sk.graph.edge("I1").length > 1e-9:
         return pieces
     return [p for p in pieces if p[0] not in ("I1", "I2")]
-
-
-def make_planner(track: Track, clearance: float = 0.0, neighbourhood: float = DEFAULT_NEIGHBOURHOOD) -> Planner:
-    """The planner of ``track`` (built once; call ``.plan(start, goal)`` for every query)."""
-    if isinstance(track, Interval):
-        return IntervalPlanner(track, clearance, neighbourhood)
-    if isinstance(track, Circle):
-        return CirclePlanner(track, clearance, neighbourhood)
-    if isinstance(track, Lollipop):
-        return LollipopPlanner(track, clearance, neighbourhood)
-    raise InvalidInputError(f"track is {track!r}, expected an Interval, Circle or Lollipop")
-
-
-def plan(
-    track: Track,
-    start: ArrayLike,
-    goal: ArrayLike,
-    clearance: float = 0.0,
-    neighbourhood: float = DEFAULT_NEIGHBOURHOOD,
-) -> Plan:
-    """Plan a collision-free motion of two robots from ``start`` to ``goal`` with the paper's algorithm.
-
-    Parameters
-    ----------
-    track : Track
-    start, goal : array_like, shape (2,)
-        Track coordinates of robots A and B.
-    clearance : float
-        Required clearance D >= 0 (metres).
-    neighbourhood : float
-        Neighbourhood size of the domains, as a fraction of half the loop.
-
-    Returns
-    -------
-    Plan
-
-    Raises
-    ------
-    InvalidInputError
-        Bad start, goal, clearance or track.
-    NoMotionError
-        No collision-free motion exists (the message says why).
-
-    Examples
-    --------
-    >>> from mpa import Lollipop, plan
-    >>> p = plan(Lollipop(1.0, 1.0), (0.1, 0.6), (0.8, 0.3))
-    >>> p.domain, p.word
-    (1, ('+I1', '+S1a', '+S2a', '+S3b', '-I2'))
-    """
-    return make_planner(track, clearance, neighbourhood).plan(start, goal)

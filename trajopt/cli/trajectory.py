@@ -16,7 +16,7 @@ from typing import Any
 
 from mpa.errors import InvalidInputError
 from mpa.tracks import Lollipop
-from trajopt.cli import TRAJECTORY_DEFAULTS, add_trajectory_arguments, track_from_args
+from trajopt.cli.common import TRAJECTORY_DEFAULTS, add_trajectory_arguments, track_from_args
 from trajopt.export import Trajectory, atomic_write_bytes, atomic_write_text
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
@@ -105,7 +105,7 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    from trajopt.plotting import figure_png, plot_trajectory
+    from trajopt.viz.plotting import figure_png, plot_trajectory
 
     job = DEMO_JOB
     track = Lollipop(job["stick"], job["loop"])
@@ -131,7 +131,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
 
 def register(subparsers: Any) -> None:
-    """Add ``trajectory`` and ``demo`` to the ``mpa`` command (called by :func:`trajopt.cli.build_parser`)."""
+    """Add ``trajectory`` and ``demo`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
     p = subparsers.add_parser("trajectory", help="verified jerk-limited setpoints for a query (CSV + JSON)")
     add_trajectory_arguments(p)
     p.add_argument("--out", required=True, help="output directory (setpoints.csv, summary.json)")

@@ -1,0 +1,60 @@
+"""``mpa plan``: the paper's planner on the command line (domain, rule, steps, skeleton word; ``--json``)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+import numpy as np
+
+from mpa.planners import make_planner
+from mpa.retraction import trace_info
+from trajopt.cli.common import add_query_arguments, track_from_args
+
+__all__ = ["register"]
+
+
+def _cmd_plan(args: argparse.Namespace) -> int:
+    track = track_from_args(args)
+    planner = make_planner(track, args.clearance, args.neighbourhood)
+    p = planner.plan(args.start, args.goal)
+    if args.samples < 2:
+        from mpa.errors import InvalidInputError
+
+        raise InvalidInputError(f"samples is {args.samples}, expected an integer >= 2")
+    n = max(args.samples, 200, p.samples_needed(0.01))
+    if args.json:
+        out = p.to_dict(samples=n)
+        out["samples"] = n
+        out["min_distance"] = float(np.min(track.distance(*np.asarray(out["path"]).T)))
+        print(json.dumps(out))
+        return 0
+    print(f"track      {track.kind} {json.dumps(track.to_dict())}")
+    print(f"start      A = {p.start[0]:.6g}, B = {p.start[1]:.6g}")
+    print(f"goal       A = {p.goal[0]:.6g}, B = {p.goal[1]:.6g}")
+    print(f"domain     {p.domain}: {p.rule}")
+    print(
+        f"skeleton   x_i' = ({p.skeleton_start[0]:.6g}, {p.skeleton_start[1]:.6g}),"
+        f" x_f' = ({p.skeleton_goal[0]:.6g}, {p.skeleton_goal[1]:.6g})"
+    )
+    print(f"class      {' '.join(p.word) if p.word else '(trivial)'}")
+    for st in p.steps:
+        pts = " -> ".join(f"({a:.4g}, {b:.4g})" for a, b in st.waypoints)
+        print(f"{st.name:<10} {st.description}")
+        if p.regime == "paper" and track.kind != "interval" and st.name != "main":
+            info = trace_info(track, p.start if st.name == "preliminary" else p.goal)
+            print(f"{'':<10} {'' if st.name == 'preliminary' else 'reversed trace of the goal: '}{info.text}")
+        print(f"{'':<10} {pts}")
+    print(f"travel     A {p.travel[0]:.4g} m, B {p.travel[1]:.4g} m; min distance {p.min_distance():.4g} m")
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Add ``plan`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
+    p = sub.add_parser("plan", help="plan with the paper's algorithm and print the plan")
+    add_query_arguments(p)
+    p.add_argument("--clearance", type=float, default=0.0, help="required clearance D in metres (default 0)")
+    p.add_argument("--neighbourhood", type=float, default=0.1, help="domain neighbourhood ε as a fraction of loop/2")
+    p.add_argument("--samples", type=int, default=400, help="path samples in the JSON (at least 200 and the 1%% rule)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=_cmd_plan)
