@@ -54,8 +54,15 @@ def main(argv: Sequence[str] | None = None) -> int:
             track, start, goal, _dom = queries()[name]
             t0 = time.perf_counter()
             path = animate_query(
-                track, start, goal, args.out / f"{name}{FORMATS[args.format]}",  # type: ignore[arg-type]
-                trajectory=not args.raw_only, fps=args.fps, dpi=args.dpi, max_frames=args.max_frames, fmt=args.format,
+                track,
+                start,
+                goal,
+                args.out / f"{name}{FORMATS[args.format]}",  # type: ignore[arg-type]
+                trajectory=not args.raw_only,
+                fps=args.fps,
+                dpi=args.dpi,
+                max_frames=args.max_frames,
+                fmt=args.format,
             )
             print(f"{path}  {time.perf_counter() - t0:.1f} s")
     except MPAError as exc:

@@ -68,17 +68,25 @@ def run(n: int = 120, seed: int = 0, kind: str = "lollipop", clearance: float = 
             min_time_rest_to_rest(float(track.distance(s[r], g[r])), limits.v[r], limits.a[r], limits.j[r])
             for r in (0, 1)
         )
-        rows.append({
-            "start": s.tolist(), "goal": g.tolist(), "domain": tr.domain, "fallback": tr.fallback,
-            "reason": tr.fallback_reason, "wall": wall,
-            **{k: tr.timings.get(k, 0.0) for k in STAGES},
-            "ipopt_solve": tr.solver_stats.get("solve_time", 0.0),
-            "shortcut": tr.solver_stats.get("shortcut_time", 0.0),
-            "ipopt_iterations": tr.solver_stats.get("ipopt_iterations", 0),
-            "corners": tr.solver_stats.get("n_corners", 0),
-            "motion_time": tr.motion_time, "plan_time": b.motion_time, "lower_bound": lb,
-            "toppra_duration": tr.solver_stats.get("toppra_duration", float("nan")),
-        })
+        rows.append(
+            {
+                "start": s.tolist(),
+                "goal": g.tolist(),
+                "domain": tr.domain,
+                "fallback": tr.fallback,
+                "reason": tr.fallback_reason,
+                "wall": wall,
+                **{k: tr.timings.get(k, 0.0) for k in STAGES},
+                "ipopt_solve": tr.solver_stats.get("solve_time", 0.0),
+                "shortcut": tr.solver_stats.get("shortcut_time", 0.0),
+                "ipopt_iterations": tr.solver_stats.get("ipopt_iterations", 0),
+                "corners": tr.solver_stats.get("n_corners", 0),
+                "motion_time": tr.motion_time,
+                "plan_time": b.motion_time,
+                "lower_bound": lb,
+                "toppra_duration": tr.solver_stats.get("toppra_duration", float("nan")),
+            }
+        )
     keys = ("wall", *STAGES, "ipopt_solve", "shortcut", "ipopt_iterations")
     arr = {k: np.array([r[k] for r in rows], dtype=float) for k in keys}
     mt = np.array([r["motion_time"] for r in rows])
@@ -88,12 +96,18 @@ def run(n: int = 120, seed: int = 0, kind: str = "lollipop", clearance: float = 
     ra = mt[moving] / ptime[moving]
     rb = mt[lb > 0] / lb[lb > 0]
     table = {
-        "queries": len(rows), "skipped": skipped, "fallbacks": int(sum(r["fallback"] for r in rows)),
+        "queries": len(rows),
+        "skipped": skipped,
+        "fallbacks": int(sum(r["fallback"] for r in rows)),
         "nlp_build_s": build,
-        "time_ms": {k: (1e3 * float(np.median(v)), 1e3 * float(np.percentile(v, 95))) for k, v in arr.items()
-                    if k != "ipopt_iterations"},
+        "time_ms": {
+            k: (1e3 * float(np.median(v)), 1e3 * float(np.percentile(v, 95)))
+            for k, v in arr.items()
+            if k != "ipopt_iterations"
+        },
         "ipopt_iterations": (
-            float(np.median(arr["ipopt_iterations"])), float(np.percentile(arr["ipopt_iterations"], 95))
+            float(np.median(arr["ipopt_iterations"])),
+            float(np.percentile(arr["ipopt_iterations"], 95)),
         ),
         "ratio_vs_plan": (float(np.median(ra)), float(np.percentile(ra, 95)), float(np.max(ra))),
         "ratio_vs_lower_bound": (float(np.median(rb)), float(np.percentile(rb, 95)), float(np.max(rb))),

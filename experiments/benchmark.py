@@ -154,11 +154,18 @@ def run_scaling(
         cfg = replace(base, track="lollipop", stick=ell, loop=c, grid=h, twins=False, methods=("ours", "grid"))
         tasks += [(cfg.to_dict(), {**q, "tags": {"sweep": "grid", "grid_h": h}}) for q in make_queries(cfg, n)]
     records = _clean(run_tasks(tasks, workers=workers, dask_address=dask_address, progress=progress, desc="scaling"))
-    meta = {"command": command, "machine": _machine(), "versions": _versions(),
-            "wall_time_s": round(time.perf_counter() - t0, 1)}
+    meta = {
+        "command": command,
+        "machine": _machine(),
+        "versions": _versions(),
+        "wall_time_s": round(time.perf_counter() - t0, 1),
+    }
     _write_json(out / "scaling.json", records)
-    atomic_write_text(out / "scaling.md", scaling_markdown(records, meta)
-                      + f"\nMachine: {meta['machine']}; {meta['versions']}; wall time {meta['wall_time_s']} s.\n")
+    atomic_write_text(
+        out / "scaling.md",
+        scaling_markdown(records, meta)
+        + f"\nMachine: {meta['machine']}; {meta['versions']}; wall time {meta['wall_time_s']} s.\n",
+    )
     plot_scaling(records, out / "scaling.png")
     return records
 
@@ -229,13 +236,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     configs = []
     for t, n in zip(tracks, counts):
         cfg = BenchConfig(
-            track=t, stick=args.stick if t == "lollipop" else None, loop=args.loop, clearance=args.clearance,
-            vmax=args.vmax, amax=args.amax, jmax=args.jmax, rate=args.rate, ompl_time=args.ompl_time,
-            grid=args.grid, methods=methods, seed=args.seed, delta=args.delta, threshold=args.threshold,
+            track=t,
+            stick=args.stick if t == "lollipop" else None,
+            loop=args.loop,
+            clearance=args.clearance,
+            vmax=args.vmax,
+            amax=args.amax,
+            jmax=args.jmax,
+            rate=args.rate,
+            ompl_time=args.ompl_time,
+            grid=args.grid,
+            methods=methods,
+            seed=args.seed,
+            delta=args.delta,
+            threshold=args.threshold,
         )
         configs.append((cfg, n))
-    common = {"workers": args.workers, "dask_address": args.dask, "progress": not args.no_progress,
-              "command": command}
+    common = {"workers": args.workers, "dask_address": args.dask, "progress": not args.no_progress, "command": command}
     if args.scaling:
         run_scaling(configs[0][0], counts[0], args.out, scales=scales, grid_sweep=sweep, **common)
         print(f"wrote {args.out / 'scaling.md'}")

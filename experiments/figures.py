@@ -90,8 +90,9 @@ def query_plan(name: str) -> Plan:
 def _footer(fig: Figure, text: str) -> None:
     """A note under the figure (constrained layout keeps room for it)."""
     width = int(fig.get_figwidth() * 17)
-    fig.supxlabel("\n".join(_wrap(line, width) for line in text.split("\n")), fontsize=7.5, color="0.35", x=0.01,
-                  ha="left")
+    fig.supxlabel(
+        "\n".join(_wrap(line, width) for line in text.split("\n")), fontsize=7.5, color="0.35", x=0.01, ha="left"
+    )
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -126,8 +127,19 @@ def _surface(ax: object, xyz: np.ndarray, colour_by: np.ndarray, cmap: str = "vi
     from matplotlib import cm
 
     colors = matplotlib.colormaps[cmap]((colour_by - colour_by.min()) / max(np.ptp(colour_by), 1e-12))
-    ax.plot_surface(xyz[..., 0], xyz[..., 1], xyz[..., 2], facecolors=colors, rstride=1, cstride=1,  # type: ignore[attr-defined]
-                    linewidth=0.15, edgecolor=(0, 0, 0, 0.15), antialiased=True, shade=False, alpha=alpha)
+    ax.plot_surface(
+        xyz[..., 0],
+        xyz[..., 1],
+        xyz[..., 2],
+        facecolors=colors,
+        rstride=1,
+        cstride=1,  # type: ignore[attr-defined]
+        linewidth=0.15,
+        edgecolor=(0, 0, 0, 0.15),
+        antialiased=True,
+        shade=False,
+        alpha=alpha,
+    )
     _ = cm
 
 
@@ -181,10 +193,12 @@ def fig_torus() -> Figure:
     ax.computed_zorder = False
     _surface(ax, xyz, V, "Blues", alpha=0.6)
     t = np.linspace(0, 1, 200)
-    ax.plot(*_torus_point(t, 0 * t + 0.25).T, color=dr.ROBOT_COLORS["A"], lw=2.5, label="$S^1\\times\\{b\\}$",
-            zorder=10)
-    ax.plot(*_torus_point(0 * t + 0.9, t).T, color=dr.ROBOT_COLORS["B"], lw=2.5, label="$\\{a\\}\\times S^1$",
-            zorder=10)
+    ax.plot(
+        *_torus_point(t, 0 * t + 0.25).T, color=dr.ROBOT_COLORS["A"], lw=2.5, label="$S^1\\times\\{b\\}$", zorder=10
+    )
+    ax.plot(
+        *_torus_point(0 * t + 0.9, t).T, color=dr.ROBOT_COLORS["B"], lw=2.5, label="$\\{a\\}\\times S^1$", zorder=10
+    )
     _equal_3d(ax, xyz)
     ax.view_init(elev=40, azim=-60)
     ax.legend(loc="upper right", fontsize=9)
@@ -412,8 +426,11 @@ def fig_antipodal_circle() -> Figure:
     dr.draw_robots(ax_p, CIRCLE, run[0])  # type: ignore[arg-type]
     ax_p.set_title("ccw on $\\mathcal{A}$: both robots move ccw, antipodal", fontsize=10)  # type: ignore[attr-defined]
     err = max(float(np.max(np.abs(CIRCLE.distance(s[:, 0], s[:, 1]) - CIRCLE.half))) for s in samples.values())
-    _footer(fig, f"skeleton sampled from mpa.CircleSkeleton.state; max |d − c/2| on it = {err:.1e} "
-                 "(dotted: level set d = c/2 from Circle.distance)")
+    _footer(
+        fig,
+        f"skeleton sampled from mpa.CircleSkeleton.state; max |d − c/2| on it = {err:.1e} "
+        "(dotted: level set d = c/2 from Circle.distance)",
+    )
     return fig
 
 
@@ -509,12 +526,18 @@ def fig_generalized_lollipop() -> Figure:
     ax.plot(path_x, 0 * path_x, "o", color="k", ms=7)
     ax.plot(*cyc.T, "o", color="k", ms=7)
     for i, x in enumerate(path_x):
-        ax.annotate(str(i + 1) if i < min(3, n - g - 1) else "", (x, 0), xytext=(0, 8), textcoords="offset points",
-                    ha="center")
+        ax.annotate(
+            str(i + 1) if i < min(3, n - g - 1) else "", (x, 0), xytext=(0, 8), textcoords="offset points", ha="center"
+        )
     ax.annotate("$n-g$", (path_x[-1], 0), xytext=(0, 8), textcoords="offset points", ha="center")
     for i, p in enumerate(cyc):
-        ax.annotate(str(i + 1) if i < 3 else ("$g$" if i == g - 1 else ""), p, xytext=(10, 0),
-                    textcoords="offset points", va="center")
+        ax.annotate(
+            str(i + 1) if i < 3 else ("$g$" if i == g - 1 else ""),
+            p,
+            xytext=(10, 0),
+            textcoords="offset points",
+            va="center",
+        )
     ax.set_aspect("equal")
     ax.axis("off")
     ax.set_title(f"$C_{{n,g}}$ with n = {n}, g = {g}: a path of n − g vertices, a g-cycle appended", fontsize=10)
@@ -530,8 +553,11 @@ def fig_lollipop_graph() -> Figure:
     for v, p in (("F", 0.0), ("P", LOLLIPOP.stick)):
         xy = LOLLIPOP.embed(p)
         ax.annotate(f"{gr.vertices.index(v) + 1}", xy, xytext=(-6, 8), textcoords="offset points", fontsize=12)
-    ax.set_title("$L = C_{2,1}$: vertices 1 (free end) and 2 (pole P); edges " +
-                 ", ".join(f"{e.name} ({e.length:g})" for e in gr.edges), fontsize=9)
+    ax.set_title(
+        "$L = C_{2,1}$: vertices 1 (free end) and 2 (pole P); edges "
+        + ", ".join(f"{e.name} ({e.length:g})" for e in gr.edges),
+        fontsize=9,
+    )
     return fig
 
 
@@ -574,8 +600,16 @@ def fig_lollipop_cspace() -> Figure:
         A, B = np.meshgrid(ga, gb, indexing="ij")
         xyz = _lollipop_tube(A, B)
         allxyz.append(xyz.reshape(-1, 3))
-        ax3.plot_surface(*np.moveaxis(xyz, -1, 0), color=col, alpha=0.7, linewidth=0.1, edgecolor=(0, 0, 0, 0.12),
-                         shade=True, rstride=2, cstride=2)
+        ax3.plot_surface(
+            *np.moveaxis(xyz, -1, 0),
+            color=col,
+            alpha=0.7,
+            linewidth=0.1,
+            edgecolor=(0, 0, 0, 0.12),
+            shade=True,
+            rstride=2,
+            cstride=2,
+        )
         ax3.plot([], [], color=col, lw=6, label=name)
     t = np.linspace(0, ell + c, 600)
     diag = _lollipop_tube(t, t)
@@ -661,8 +695,11 @@ def fig_skeleton_flat() -> Figure:
     err = max(float(np.max(np.abs(tr.distance(s[:, 0], s[:, 1]) - tr.half))) for s in samples.values())
     b0, b1 = sk.betti
     ax.set_title("the skeleton S: $I_1$, $S_1$, $S_2$, $S_3$, $I_2$ with ccw orientations", fontsize=10)
-    _footer(fig, f"edges of LollipopSkeleton.graph sampled via state(SkeletonPoint(edge, t)); max |d − h| = {err:.1e}; "
-                 f"graph Betti numbers b0 = {b0}, b1 = {b1}")
+    _footer(
+        fig,
+        f"edges of LollipopSkeleton.graph sampled via state(SkeletonPoint(edge, t)); max |d − h| = {err:.1e}; "
+        f"graph Betti numbers b0 = {b0}, b1 = {b1}",
+    )
     return fig
 
 
@@ -683,8 +720,15 @@ def fig_wedge() -> Figure:
         col = dr.BLOCK_COLORS[dr.block_of_edge(sk, e.name)]
         ax.plot(*xy.T, color=col, lw=3)
         dr.arrow_along(ax, xy, frac=0.5, color=col, size=15)
-        ax.text(1.2 * np.cos(ang0), 1.2 * np.sin(ang0), f"${e.name[0]}_{e.name[1]}$", color=col, ha="center",
-                va="center", fontsize=13)
+        ax.text(
+            1.2 * np.cos(ang0),
+            1.2 * np.sin(ang0),
+            f"${e.name[0]}_{e.name[1]}$",
+            color=col,
+            ha="center",
+            va="center",
+            fontsize=13,
+        )
     ax.plot(0, 0, "o", color="k", ms=6)
     ax.set_aspect("equal")
     ax.axis("off")
@@ -709,8 +753,13 @@ def fig_distances() -> Figure:
 def fig_generalized_antipodal() -> Figure:
     tr = LOLLIPOP
     sk = skeleton_of(tr)
-    pts = [SkeletonPoint("I1", 0.25), SkeletonPoint("S1a", 0.2), SkeletonPoint("S2a", 0.15),
-           SkeletonPoint("S3b", 0.35), SkeletonPoint("I2", 0.1)]
+    pts = [
+        SkeletonPoint("I1", 0.25),
+        SkeletonPoint("S1a", 0.2),
+        SkeletonPoint("S2a", 0.15),
+        SkeletonPoint("S3b", 0.35),
+        SkeletonPoint("I2", 0.1),
+    ]
     fig, axes = dr.new_figure(len(pts), width=2.9, height=2.6)
     for ax, pt in zip(axes[0], pts):
         st = sk.state(pt)  # type: ignore[attr-defined]
@@ -727,8 +776,9 @@ def fig_chain() -> Figure:
     assert isinstance(sk, LollipopSkeleton)
     fig, axes = dr.new_figure(1, width=9.0, height=2.8)
     dr.draw_chain(axes[0, 0], sk)
-    axes[0, 0].set_title("the skeleton graph (LollipopSkeleton.graph): arrows = ccw orientation of each circle",
-                         fontsize=10)
+    axes[0, 0].set_title(
+        "the skeleton graph (LollipopSkeleton.graph): arrows = ccw orientation of each circle", fontsize=10
+    )
     return fig
 
 
@@ -752,8 +802,9 @@ def fig_ccw_directions() -> Figure:
         dr.draw_motion(ax, tr, run[:, 0], "A", spread=0)
         dr.draw_motion(ax, tr, run[:, 1], "B", spread=0)
         dr.draw_robots(ax, tr, run[0])
-        ax.set_title(f"ccw in $S_{j}$: φ from {phis[0]:.2f} to {phis[-1]:.2f}", fontsize=10,
-                     color=dr.BLOCK_COLORS[f"S{j}"])
+        ax.set_title(
+            f"ccw in $S_{j}$: φ from {phis[0]:.2f} to {phis[-1]:.2f}", fontsize=10, color=dr.BLOCK_COLORS[f"S{j}"]
+        )
     return fig
 
 
@@ -832,8 +883,9 @@ def fig_prelim_more() -> Figure:
         dr.draw_skeleton(ax, skeleton_of(tr), labels=False, alpha=0.6)
     for ax, st in zip(axes[0, :2], cases):
         _prelim_case(ax, axes[0, 2], tr, st)
-    fig.suptitle("d > h: the robot nearer the free end moves towards the other, which waits (traces of mpa.retract)",
-                 fontsize=10)
+    fig.suptitle(
+        "d > h: the robot nearer the free end moves towards the other, which waits (traces of mpa.retract)", fontsize=10
+    )
     return fig
 
 
@@ -846,8 +898,9 @@ def fig_prelim_less() -> Figure:
     dr.draw_skeleton(axes[0, 3], skeleton_of(tr), labels=False, alpha=0.6)
     for ax, st in zip(axes[0, :3], cases):
         _prelim_case(ax, axes[0, 3], tr, st)
-    fig.suptitle("d < h: both robots move apart (staying on the loop if on it) until d = h (traces of mpa.retract)",
-                 fontsize=10)
+    fig.suptitle(
+        "d < h: both robots move apart (staying on the loop if on it) until d = h (traces of mpa.retract)", fontsize=10
+    )
     return fig
 
 
@@ -903,14 +956,22 @@ def _figures() -> list[FigureSpec]:
         ("discontinuity_counterclockwise", "Discontinuity at configuration $(a,a)$", fig_discontinuity_ccw),
         ("one_robot_on_I", "One robot moving on I", fig_one_robot_interval),
         ("two_instructions_S1", "Two Instructions for one robot moving on $S^1$", fig_two_instructions_circle),
-        ("interval_physical_and_configuration", "Physical and configuration spaces for two robots in $I$",
-         fig_interval_spaces),
-        ("interval_same_component", "Initial and final states are in the same connected component.",
-         fig_interval_same),
-        ("interval_different_components", "Initial and final states are in different connected components.",
-         fig_interval_different),
-        ("circle_physical_and_flat_torus", "Physical and configuration spaces for two robots on $S^1$",
-         fig_circle_spaces),
+        (
+            "interval_physical_and_configuration",
+            "Physical and configuration spaces for two robots in $I$",
+            fig_interval_spaces,
+        ),
+        ("interval_same_component", "Initial and final states are in the same connected component.", fig_interval_same),
+        (
+            "interval_different_components",
+            "Initial and final states are in different connected components.",
+            fig_interval_different,
+        ),
+        (
+            "circle_physical_and_flat_torus",
+            "Physical and configuration spaces for two robots on $S^1$",
+            fig_circle_spaces,
+        ),
         ("antipodal_circle", "The antipodal circle $\\A$ and its counterclockwise orientation", fig_antipodal_circle),
         ("circle_initial_final_antipodal_states", "Initial and final antipodal states", fig_circle_antipodal_states),
         ("circle_steps_in_X", "The steps of the MPA in $X$", fig_circle_steps_in_x),
@@ -918,19 +979,28 @@ def _figures() -> list[FigureSpec]:
         ("circle_swapped_configuration", "Swapped states in the configuration space", fig_swapped_config),
         ("circle_ex1_setup", "Initial setup", _run_figure("circle_ex1", None, "initial (filled) and final (empty)")),
         ("circle_ex1_preliminary", "Preliminary step", _run_figure("circle_ex1", "preliminary", "preliminary step")),
-        ("circle_ex1_main", 'Main step: "Move following the shortest path"',
-         _run_figure("circle_ex1", "main", "main step: shortest path")),
+        (
+            "circle_ex1_main",
+            'Main step: "Move following the shortest path"',
+            _run_figure("circle_ex1", "main", "main step: shortest path"),
+        ),
         ("circle_ex1_final", "Final step", _run_figure("circle_ex1", "final", "final step")),
         ("circle_ex2_setup", "Initial setup", _run_figure("circle_ex2", None, "initial (filled) and final (empty)")),
         ("circle_ex2_preliminary", "Preliminary step", _run_figure("circle_ex2", "preliminary", "preliminary step")),
-        ("circle_ex2_main", 'Main step: "Move both robots in counterclockwise direction"',
-         _run_figure("circle_ex2", "main", "main step: both robots ccw")),
+        (
+            "circle_ex2_main",
+            'Main step: "Move both robots in counterclockwise direction"',
+            _run_figure("circle_ex2", "main", "main step: both robots ccw"),
+        ),
         ("circle_ex2_final", "Final step", _run_figure("circle_ex2", "final", "final step")),
         ("generalized_lollipop_Cng", "Generalized lollipop graph $C_{n,g}$", fig_generalized_lollipop),
         ("lollipop_graph", "Lollipop graph $L=C_{2,1}$", fig_lollipop_graph),
         ("lollipop_configuration_space", "Configuration space $X$ and its flat representation", fig_lollipop_cspace),
-        ("lollipop_physical_positions_states", "Physical positions and their state in configuration space",
-         fig_physical_states),
+        (
+            "lollipop_physical_positions_states",
+            "Physical positions and their state in configuration space",
+            fig_physical_states,
+        ),
         ("two_positions_in_skeleton", "Two positions in the skeleton $S$", fig_two_positions_skeleton),
         ("homotopy_traces", "Traces of the homotopy deformation $H$", fig_homotopy_traces),
         ("skeleton_flat", "The skeleton $S$", fig_skeleton_flat),
@@ -939,10 +1009,16 @@ def _figures() -> list[FigureSpec]:
         ("generalized_antipodal_positions", "Generalized antipodal positions", fig_generalized_antipodal),
         ("skeleton_chain", "The skeleton $S$", fig_chain),
         ("ccw_directions", "Counterclockwise directions in each circle $Sj \\subset S$", fig_ccw_directions),
-        ("generalized_swapped_configuration", "Generalized swapped states in the configuration space",
-         fig_swapped_generalized_config),
-        ("generalized_swapped_physical", "Generalized swapped states in the physical space",
-         fig_swapped_generalized_physical),
+        (
+            "generalized_swapped_configuration",
+            "Generalized swapped states in the configuration space",
+            fig_swapped_generalized_config,
+        ),
+        (
+            "generalized_swapped_physical",
+            "Generalized swapped states in the physical space",
+            fig_swapped_generalized_physical,
+        ),
         ("extended_interval", "Extended interval $\\tilde I$", fig_extended_interval),
         ("preliminary_distance_more_than_half", "Distance greater than half unit.", fig_prelim_more),
         ("preliminary_distance_less_than_half", "Distance shorter than half unit.", fig_prelim_less),
@@ -958,8 +1034,11 @@ def _figures() -> list[FigureSpec]:
         name = f"lollipop_V{dom}"
         specs += [
             (f"V{dom}_initial_final", cap_q, _run_figure(name, None, "initial (filled) and final (empty)")),
-            (f"V{dom}_preliminary", f"Preliminary step in {cap_rest}",
-             _run_figure(name, "preliminary", "preliminary step")),
+            (
+                f"V{dom}_preliminary",
+                f"Preliminary step in {cap_rest}",
+                _run_figure(name, "preliminary", "preliminary step"),
+            ),
             (f"V{dom}_main", f"Main step in {cap_rest}", _run_figure(name, "main", "main step")),
             (f"V{dom}_final", f"Final step in {cap_rest}", _run_figure(name, "final", "final step")),
         ]
@@ -971,11 +1050,20 @@ def _figures() -> list[FigureSpec]:
 
 def _run_shows(slug: str) -> str:
     name, step = slug.rsplit("_", 1) if not slug.endswith("initial_final") else (slug[:-14], "query")
-    q = {"circle_ex1": "circle example 1 (B not antipodal, domain 2)", "circle_ex2": "circle example 2 (B antipodal, "
-         "domain 1)", "V1": "lollipop domain 1 (generalized vertex position)", "V2": "lollipop domain 2 "
-         "(generalized swapped)", "V3": "lollipop domain 3"}[name]
-    what = {"setup": "initial and final positions and states", "query": "initial and final positions and states",
-            "preliminary": "preliminary step", "main": "main step", "final": "final step"}[step]
+    q = {
+        "circle_ex1": "circle example 1 (B not antipodal, domain 2)",
+        "circle_ex2": "circle example 2 (B antipodal, domain 1)",
+        "V1": "lollipop domain 1 (generalized vertex position)",
+        "V2": "lollipop domain 2 (generalized swapped)",
+        "V3": "lollipop domain 3",
+    }[name]
+    what = {
+        "setup": "initial and final positions and states",
+        "query": "initial and final positions and states",
+        "preliminary": "preliminary step",
+        "main": "main step",
+        "final": "final step",
+    }[step]
     return f"{q}: {what}, on the track and in the flat space"
 
 

@@ -25,8 +25,19 @@ from bench.geometry import (  # noqa: E402
 
 #: Fields every record must have (issue 5).
 FIELDS = (
-    "method", "query", "success", "compute_time", "makespan", "min_separation", "discontinuity", "track",
-    "domain", "lower_bound", "makespan_ratio", "word", "verified",
+    "method",
+    "query",
+    "success",
+    "compute_time",
+    "makespan",
+    "min_separation",
+    "discontinuity",
+    "track",
+    "domain",
+    "lower_bound",
+    "makespan_ratio",
+    "word",
+    "verified",
 )
 TINY = ["--grid", "0.05", "--ompl-time", "0.05", "--no-progress"]
 
@@ -51,8 +62,9 @@ def test_smoke_run_writes_files_and_fields(tmp_path: Path) -> None:
     import benchmark
 
     out = tmp_path / "run"
-    rc = benchmark.main(["--queries", "3,2", "--track", "lollipop,circle", "--workers", "1", "--seed", "3",
-                         "--out", str(out), *TINY])
+    rc = benchmark.main(
+        ["--queries", "3,2", "--track", "lollipop,circle", "--workers", "1", "--seed", "3", "--out", str(out), *TINY]
+    )
     assert rc == 0
     for name in ("results.json", "results.md", "run.json", "makespan.png", "compute_time.png", "discontinuity.png"):
         assert (out / name).is_file(), name
@@ -60,16 +72,34 @@ def test_smoke_run_writes_files_and_fields(tmp_path: Path) -> None:
         assert png.stat().st_size < 200_000, png
     records = json.loads((out / "results.json").read_text())
     assert len(records) == 3 * 6 + 2 * 5  # ompl_geo is lollipop-only
-    _check_records([r for r in records if r["track"] == "lollipop"],
-                   {"ours", "raw_plan", "ompl_rest", "ompl_bspline", "ompl_geo", "grid"})
-    _check_records([r for r in records if r["track"] == "circle"],
-                   {"ours", "raw_plan", "ompl_rest", "ompl_bspline", "grid"})
+    _check_records(
+        [r for r in records if r["track"] == "lollipop"],
+        {"ours", "raw_plan", "ompl_rest", "ompl_bspline", "ompl_geo", "grid"},
+    )
+    _check_records(
+        [r for r in records if r["track"] == "circle"], {"ours", "raw_plan", "ompl_rest", "ompl_bspline", "grid"}
+    )
     md = (out / "results.md").read_text()
     assert "## lollipop" in md and "## circle" in md and "Per domain of our plan" in md
     # seeded and reproducible: the same command gives the same results (times aside)
     out2 = tmp_path / "again"
-    benchmark.main(["--queries", "3", "--track", "lollipop", "--workers", "1", "--seed", "3",
-                    "--methods", "ours,grid,ompl_rest", "--out", str(out2), *TINY])
+    benchmark.main(
+        [
+            "--queries",
+            "3",
+            "--track",
+            "lollipop",
+            "--workers",
+            "1",
+            "--seed",
+            "3",
+            "--methods",
+            "ours,grid,ompl_rest",
+            "--out",
+            str(out2),
+            *TINY,
+        ]
+    )
     again = {(r["method"], r["query"]): r for r in json.loads((out2 / "results.json").read_text())}
     for r in records:
         key = (r["method"], r["query"])
@@ -82,18 +112,32 @@ def test_dask_local_cluster(tmp_path: Path) -> None:
     distributed = pytest.importorskip("dask.distributed")
     import benchmark
 
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
-        rc = benchmark.main(["--queries", "2", "--track", "circle", "--methods", "ours,ompl_rest,grid",
-                             "--dask", cluster.scheduler_address, "--out", str(tmp_path), *TINY])
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        rc = benchmark.main(
+            [
+                "--queries",
+                "2",
+                "--track",
+                "circle",
+                "--methods",
+                "ours,ompl_rest,grid",
+                "--dask",
+                cluster.scheduler_address,
+                "--out",
+                str(tmp_path),
+                *TINY,
+            ]
+        )
     assert rc == 0
     records = json.loads((tmp_path / "results.json").read_text())
     _check_records(records, {"ours", "ompl_rest", "grid"})
     assert sorted({r["query"] for r in records}) == [0, 1]
 
 
-@pytest.mark.parametrize("args", [["--track", "interval"], ["--methods", "rrt"], ["--queries", "0"],
-                                  ["--clearance", "-1"], ["--queries", "2,3"]])
+@pytest.mark.parametrize(
+    "args",
+    [["--track", "interval"], ["--methods", "rrt"], ["--queries", "0"], ["--clearance", "-1"], ["--queries", "2,3"]],
+)
 def test_bad_arguments_exit_2(tmp_path: Path, args: list[str], capsys: pytest.CaptureFixture[str]) -> None:
     import benchmark
 
@@ -125,8 +169,13 @@ def test_exact_leg_minimum_is_a_lower_bound_and_tight(track) -> None:  # type: i
         assert dense - exact <= 2 * (abs(a.delta) + abs(b.delta)) / 4000, (case, a, b)
         if abs(a.delta) < track.loop / 4 and abs(b.delta) < track.loop / 4:
             vec = single_edge_min_distance_vec(
-                track, np.array([a.edge == "loop"]), np.array([a.start]), np.array([a.delta]),
-                np.array([b.edge == "loop"]), np.array([b.start]), np.array([b.delta]),
+                track,
+                np.array([a.edge == "loop"]),
+                np.array([a.start]),
+                np.array([a.delta]),
+                np.array([b.edge == "loop"]),
+                np.array([b.start]),
+                np.array([b.delta]),
             )
             assert abs(vec[0] - exact) < 1e-12, (case, a, b)
 

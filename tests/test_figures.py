@@ -91,8 +91,18 @@ def _frames(path: Path) -> list[np.ndarray]:
 
 
 def test_animation_script_writes_moving_gifs(tmp_path: Path) -> None:
-    res = _run("experiments/animate.py", "--out", str(tmp_path), "--dpi", "30", "--max-frames", "3",
-               "--only", "circle_ex2", "lollipop_V2")
+    res = _run(
+        "experiments/animate.py",
+        "--out",
+        str(tmp_path),
+        "--dpi",
+        "30",
+        "--max-frames",
+        "3",
+        "--only",
+        "circle_ex2",
+        "lollipop_V2",
+    )
     assert res.returncode == 0, res.stderr
     for name in ("circle_ex2", "lollipop_V2"):
         frames = _frames(tmp_path / f"{name}.gif")
@@ -105,15 +115,51 @@ def test_cli_animate_and_its_errors(tmp_path: Path) -> None:
     from trajopt.cli import main
 
     out = tmp_path / "anim"
-    assert main(["animate", "--track", "circle", "--start", "0.3", "0.6", "--goal", "0.25", "0.1", "--out", str(out),
-                 "--dpi", "30", "--max-frames", "2", "--raw-only"]) == 0
+    assert (
+        main(
+            [
+                "animate",
+                "--track",
+                "circle",
+                "--start",
+                "0.3",
+                "0.6",
+                "--goal",
+                "0.25",
+                "0.1",
+                "--out",
+                str(out),
+                "--dpi",
+                "30",
+                "--max-frames",
+                "2",
+                "--raw-only",
+            ]
+        )
+        == 0
+    )
     assert len(_frames(out / "animation.gif")) == 2
     bad = tmp_path / "bad"
     rc = main(["animate", "--track", "circle", "--start", "0.3", "0.6", "--goal", "0.25", "1.5", "--out", str(bad)])
     assert rc == 2
     assert not bad.exists(), "an error left an output directory behind"
-    rc = main(["animate", "--track", "circle", "--start", "0.3", "0.6", "--goal", "0.25", "0.1", "--out", str(bad),
-               "--fps", "0"])
+    rc = main(
+        [
+            "animate",
+            "--track",
+            "circle",
+            "--start",
+            "0.3",
+            "0.6",
+            "--goal",
+            "0.25",
+            "0.1",
+            "--out",
+            str(bad),
+            "--fps",
+            "0",
+        ]
+    )
     assert rc == 2
     assert not bad.exists()
 

@@ -22,6 +22,6 @@ def test_quick_start_lines_and_ci_agree() -> None:
     quick = re.search(r"## Quick start\n\n```bash\n(.*?)```", text, flags=re.S)
     assert quick is not None
     lines = [ln for ln in quick.group(1).splitlines() if ln.strip()]
-    assert lines == ['pip install -e . && mpa demo', 'pip install -e ".[test]" && python -m pytest -q']
+    assert lines == ["pip install -e . && mpa demo", 'pip install -e ".[test]" && python -m pytest -q']
     ci = (README.parent / ".ci" / "run").read_text()
     assert 'pip install --quiet -e ".[test]"' in ci and "python -m pytest -q" in ci

@@ -18,11 +18,35 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def test_cli_trajectory_writes_files(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     out = tmp_path / "run"
-    code = main([
-        "trajectory", "--track", "lollipop", "--stick", "1.2", "--loop", "0.9", "--start", "0.1", "0.6",
-        "--goal", "0.8", "0.3", "--clearance", "0.1", "--vmax", "0.4", "--amax", "0.9", "--jmax", "4",
-        "--rate", "50", "--out", str(out),
-    ])
+    code = main(
+        [
+            "trajectory",
+            "--track",
+            "lollipop",
+            "--stick",
+            "1.2",
+            "--loop",
+            "0.9",
+            "--start",
+            "0.1",
+            "0.6",
+            "--goal",
+            "0.8",
+            "0.3",
+            "--clearance",
+            "0.1",
+            "--vmax",
+            "0.4",
+            "--amax",
+            "0.9",
+            "--jmax",
+            "4",
+            "--rate",
+            "50",
+            "--out",
+            str(out),
+        ]
+    )
     assert code == 0
     assert "makespan" in capsys.readouterr().out
     assert sorted(p.name for p in out.iterdir()) == ["setpoints.csv", "summary.json"]
@@ -39,8 +63,10 @@ def test_cli_trajectory_writes_files(tmp_path, capsys) -> None:  # type: ignore[
 
 def test_cli_defaults(tmp_path) -> None:  # type: ignore[no-untyped-def]
     out = tmp_path / "d"
-    assert main(["trajectory", "--track", "circle", "--start", "0.3", "0.6", "--goal", "0.25", "0.1",
-                 "--out", str(out)]) == 0
+    assert (
+        main(["trajectory", "--track", "circle", "--start", "0.3", "0.6", "--goal", "0.25", "0.1", "--out", str(out)])
+        == 0
+    )
     js = json.loads((out / "summary.json").read_text())
     assert js["clearance"] == 0.05 and js["rate"] == 100.0
     assert js["limits"] == {"vmax": [0.5, 0.5], "amax": [1.0, 1.0], "jmax": [5.0, 5.0]}
@@ -50,9 +76,19 @@ def test_demo_subprocess(tmp_path) -> None:  # type: ignore[no-untyped-def]
     out = tmp_path / "demo"
     env = dict(os.environ, MPLBACKEND="Agg")
     proc = subprocess.run(
-        [sys.executable, "-c", "import sys; from trajopt.cli import main; sys.exit(main(sys.argv[1:]))",
-         "demo", "--out", str(out)],
-        capture_output=True, text=True, timeout=120, cwd=tmp_path, env=env,
+        [
+            sys.executable,
+            "-c",
+            "import sys; from trajopt.cli import main; sys.exit(main(sys.argv[1:]))",
+            "demo",
+            "--out",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=tmp_path,
+        env=env,
     )
     assert proc.returncode == 0, proc.stderr
     names = sorted(p.name for p in out.iterdir())

@@ -76,12 +76,18 @@ BAD_CLI = [
     (["trajectory", *QUERY, "--amax", "nan"], "amax is nan"),
     (["trajectory", *QUERY, "--jmax", "-1"], "jmax is -1.0"),
     (["trajectory", "--track", "lollipop", "--start", "0.2", "0.21", "--goal", "0.5", "0.2"], "start (0.2, 0.21)"),
-    (["trajectory", "--track", "lollipop", "--start", "0", "0.9", "--goal", "0.9", "0", "--clearance", "0.6"],
-     "no collision-free motion exists"),
-    (["trajectory", "--track", "interval", "--start", "0.1", "0.5", "--goal", "0.5", "0.1"],
-     "no collision-free motion exists"),
-    (["trajectory", "--track", "circle", "--stick", "1", "--start", "0.1", "0.5", "--goal", "0.5", "0.1"],
-     "circle track has no stick"),
+    (
+        ["trajectory", "--track", "lollipop", "--start", "0", "0.9", "--goal", "0.9", "0", "--clearance", "0.6"],
+        "no collision-free motion exists",
+    ),
+    (
+        ["trajectory", "--track", "interval", "--start", "0.1", "0.5", "--goal", "0.5", "0.1"],
+        "no collision-free motion exists",
+    ),
+    (
+        ["trajectory", "--track", "circle", "--stick", "1", "--start", "0.1", "0.5", "--goal", "0.5", "0.1"],
+        "circle track has no stick",
+    ),
 ]
 
 

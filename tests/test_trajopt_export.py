@@ -66,8 +66,19 @@ def test_csv_default_rate_matches_arrays(traj, tmp_path) -> None:  # type: ignor
 def test_json_summary(traj, tmp_path) -> None:  # type: ignore[no-untyped-def]
     traj.to_json(tmp_path / "s.json")
     js = json.loads((tmp_path / "s.json").read_text())
-    for key in ("makespan", "min_separation", "domain", "fallback", "fallback_reason", "limits", "clearance",
-                "rate", "word", "solver", "timings"):
+    for key in (
+        "makespan",
+        "min_separation",
+        "domain",
+        "fallback",
+        "fallback_reason",
+        "limits",
+        "clearance",
+        "rate",
+        "word",
+        "solver",
+        "timings",
+    ):
         assert key in js, key
     assert isinstance(js["fallback"], bool) and isinstance(js["domain"], int)
     assert js["makespan"] == pytest.approx(traj.makespan)

@@ -135,8 +135,20 @@ def _check(traj, **changes):  # type: ignore[no-untyped-def]
     arrays.update(changes)
     p = traj.plan
     return verify_setpoints(
-        p.track, p.routes, arrays["t"], arrays["track"], arrays["s"], arrays["v"], arrays["a"], arrays["j"],
-        limits=traj.limits, clearance=traj.clearance, start=p.start, goal=p.goal, word=p.word, rate=traj.rate,
+        p.track,
+        p.routes,
+        arrays["t"],
+        arrays["track"],
+        arrays["s"],
+        arrays["v"],
+        arrays["a"],
+        arrays["j"],
+        limits=traj.limits,
+        clearance=traj.clearance,
+        start=p.start,
+        goal=p.goal,
+        word=p.word,
+        rate=traj.rate,
     )
 
 

@@ -178,19 +178,45 @@ class TrajectoryGenerator:
         timings["sample"] = time.perf_counter() - t0
         t1 = time.perf_counter()
         rep: VerificationReport = verify_setpoints(
-            plan.track, routes, t, tr, s, v, a, j,
-            limits=self.limits, clearance=self.clearance, start=plan.start, goal=plan.goal, word=plan.word,
+            plan.track,
+            routes,
+            t,
+            tr,
+            s,
+            v,
+            a,
+            j,
+            limits=self.limits,
+            clearance=self.clearance,
+            start=plan.start,
+            goal=plan.goal,
+            word=plan.word,
             rate=self.rate,
         )
         timings["verify" if source is Source.OPTIMIZED else "fallback_verify"] = time.perf_counter() - t1
         if not rep.ok:
             raise VerificationError(rep)
         return Trajectory(
-            t=t, track=tr, s=s, v=v, a=a, j=j,
-            limits=self.limits, clearance=self.clearance, rate=self.rate,
-            makespan=float(t[-1]), motion_time=scaling.duration, min_separation=rep.min_separation,
-            domain=plan.domain, word=tuple(plan.word), source=source, fallback_reason=reason,
-            solver_stats=dict(stats), timings=timings, verification=rep.to_dict(), plan=plan,
+            t=t,
+            track=tr,
+            s=s,
+            v=v,
+            a=a,
+            j=j,
+            limits=self.limits,
+            clearance=self.clearance,
+            rate=self.rate,
+            makespan=float(t[-1]),
+            motion_time=scaling.duration,
+            min_separation=rep.min_separation,
+            domain=plan.domain,
+            word=tuple(plan.word),
+            source=source,
+            fallback_reason=reason,
+            solver_stats=dict(stats),
+            timings=timings,
+            verification=rep.to_dict(),
+            plan=plan,
             sampler=scaling.sample,
         )
 

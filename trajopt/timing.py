@@ -362,11 +362,15 @@ def piece_limits(path: BlendedPath, limits: Limits, safety: float = 1.0) -> Piec
                 as_[k] = np.min(np.where(m1 > 0, A / m1, np.inf))
                 js[k] = np.min(np.where(m1 > 0, J / m1, np.inf))
                 continue
-            v = np.min(np.minimum.reduce([
-                np.where(m1 > 0, V / m1, np.inf),
-                np.where(m2 > 0, np.sqrt(0.5 * A / m2), np.inf),
-                np.where(m3 > 0, np.cbrt(0.5 * J / m3), np.inf),
-            ]))
+            v = np.min(
+                np.minimum.reduce(
+                    [
+                        np.where(m1 > 0, V / m1, np.inf),
+                        np.where(m2 > 0, np.sqrt(0.5 * A / m2), np.inf),
+                        np.where(m3 > 0, np.cbrt(0.5 * J / m3), np.inf),
+                    ]
+                )
+            )
             a = np.min(np.where(m1 > 0, (A - m2 * v * v) / m1, np.inf))
             a = min(a, float(np.min(np.where(m2 > 0, 0.5 * (J - m3 * v**3) / (3 * m2 * v), np.inf))))
             j = np.min(np.where(m1 > 0, (J - m3 * v**3 - 3 * m2 * v * a) / m1, np.inf))
@@ -585,8 +589,16 @@ def jerk_limited_scaling(
             t_acc += tp[i]
     stats = {"pieces": P, "blends": int(np.sum(path.is_blend)), "jerk_time": time.perf_counter() - t_start}
     return TimeScaling(
-        path, np.array(t0s), np.array(ps), np.array(vs), np.array(as_), np.array(js), float(t_acc), vb,
-        np.array(pcs, dtype=np.intp), stats,
+        path,
+        np.array(t0s),
+        np.array(ps),
+        np.array(vs),
+        np.array(as_),
+        np.array(js),
+        float(t_acc),
+        vb,
+        np.array(pcs, dtype=np.intp),
+        stats,
     )
 
 

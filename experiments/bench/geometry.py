@@ -413,9 +413,7 @@ def split_routes(path: JointPath) -> list[RouteSegment]:
 
     hulls = fresh(0)
     for k in range(n_wp - 1):
-        ok = all(
-            hulls[r].add(data[r][0][i + 1]) for r in (0, 1) for i in range(data[r][1][k], data[r][1][k + 1])
-        )
+        ok = all(hulls[r].add(data[r][0][i + 1]) for r in (0, 1) for i in range(data[r][1][k], data[r][1][k + 1]))
         if not ok:
             cuts.append(k)
             hulls = fresh(k)

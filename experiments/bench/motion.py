@@ -235,8 +235,20 @@ def time_segments(
             fails.append(f"segment {i}: homotopy class of the path: {exc}")
             word = ()
         rep = verify_setpoints(
-            track, seg.routes, t, tr, s, v, a, j,
-            limits=limits, clearance=clearance, start=seg.states[0], goal=seg.states[-1], word=word, rate=rate,
+            track,
+            seg.routes,
+            t,
+            tr,
+            s,
+            v,
+            a,
+            j,
+            limits=limits,
+            clearance=clearance,
+            start=seg.states[0],
+            goal=seg.states[-1],
+            word=word,
+            rate=rate,
         )
         if not rep.ok:
             fails.extend(f"segment {i}: {f}" for f in rep.failures)

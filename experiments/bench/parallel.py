@@ -37,8 +37,12 @@ def sort_records(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return sorted(
         records,
         key=lambda r: (
-            str(r.get("sweep", "")), float(r.get("scale", 0.0)), -float(r.get("grid_h", 0.0)), r["track"],
-            r["query"], METHODS.index(r["method"]),
+            str(r.get("sweep", "")),
+            float(r.get("scale", 0.0)),
+            -float(r.get("grid_h", 0.0)),
+            r["track"],
+            r["query"],
+            METHODS.index(r["method"]),
         ),
     )
 

@@ -61,8 +61,9 @@ def _ratios(records: Sequence[Record], method: str, ref: str, key: str = "makesp
 def summarize(records: Sequence[Record]) -> dict[str, dict[str, dict[str, float]]]:
     """Per track and method: success, timing, makespan, ratios to ours, stability and class statistics."""
     out: dict[str, dict[str, dict[str, float]]] = {}
-    for (track, method), recs in sorted(_by(records, "track", "method").items(),
-                                        key=lambda kv: (kv[0][0], ORDER.index(kv[0][1]))):
+    for (track, method), recs in sorted(
+        _by(records, "track", "method").items(), key=lambda kv: (kv[0][0], ORDER.index(kv[0][1]))
+    ):
         ct = _vals(recs, "compute_time")
         mk = _vals(recs, "makespan", only_verified=True)
         lb = _vals(recs, "makespan_ratio", only_verified=True)
@@ -70,8 +71,9 @@ def summarize(records: Sequence[Record]) -> dict[str, dict[str, dict[str, float]
         ours_ct = _vals([r for r in records if r["track"] == track and r["method"] == "ours"], "compute_time")
         disc = [r["discontinuous"] for r in recs if r.get("discontinuous") is not None]
         dres = [r["discontinuous_reseeded"] for r in recs if r.get("discontinuous_reseeded") is not None]
-        ours_words = {r["query"]: r["word"] for r in records
-                      if r["track"] == track and r["method"] == "ours" and r["verified"]}
+        ours_words = {
+            r["query"]: r["word"] for r in records if r["track"] == track and r["method"] == "ours" and r["verified"]
+        }
         same = [r["word"] == ours_words[r["query"]] for r in recs if r["verified"] and r["query"] in ours_words]
         seps = _vals(recs, "min_separation", only_verified=True)
         out.setdefault(track, {})[method] = {
@@ -137,9 +139,11 @@ def results_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
     ]
     for track, methods in summ.items():
         lines += [f"## {track}", ""]
-        lines.append("| method | queries | success | verified | compute median ms | p95 ms | compute ÷ ours | "
-                     "makespan median s | p95 s | / ours median | / ours p95 | / LB median | min sep. m | "
-                     "disc. | disc. (reseeded) | class = ours | mean rests |")
+        lines.append(
+            "| method | queries | success | verified | compute median ms | p95 ms | compute ÷ ours | "
+            "makespan median s | p95 s | / ours median | / ours p95 | / LB median | min sep. m | "
+            "disc. | disc. (reseeded) | class = ours | mean rests |"
+        )
         lines.append("|" + "---|" * 17)
         for m in ORDER:
             if m not in methods:
@@ -168,19 +172,26 @@ def results_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
 
 def _ratio_table(recs: Sequence[Record]) -> list[str]:
     """Ours against every other method, on all queries and on the interacting ones."""
-    out = ["Ours against each method on the queries both verified: makespan ours ÷ method (median and p95 of the "
-           "per-query ratio, ratio of the medians, share of queries where ours is faster by more than 0.1 %); "
-           "the same on the *interacting* queries (the naive motion, each robot along its own shortest path at "
-           "proportional speed, collides); compute time method ÷ ours (ratio of the medians on those queries).",
-           "", "| method | n | median | p95 | ratio of medians | ours faster | interacting n | median | p95 | "
-           "ratio of medians | compute method ÷ ours |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    out = [
+        "Ours against each method on the queries both verified: makespan ours ÷ method (median and p95 of the "
+        "per-query ratio, ratio of the medians, share of queries where ours is faster by more than 0.1 %); "
+        "the same on the *interacting* queries (the naive motion, each robot along its own shortest path at "
+        "proportional speed, collides); compute time method ÷ ours (ratio of the medians on those queries).",
+        "",
+        "| method | n | median | p95 | ratio of medians | ours faster | interacting n | median | p95 | "
+        "ratio of medians | compute method ÷ ours |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
     by_m = _by(recs, "method")
     ours = {r["query"]: r for r in by_m.get(("ours",), [])}
     for m in ORDER:
         if m == "ours" or (m,) not in by_m:
             continue
-        pairs = [(ours[r["query"]], r) for r in by_m[(m,)]
-                 if r["query"] in ours and ours[r["query"]]["verified"] and r["verified"]]
+        pairs = [
+            (ours[r["query"]], r)
+            for r in by_m[(m,)]
+            if r["query"] in ours and ours[r["query"]]["verified"] and r["verified"]
+        ]
         if not pairs:
             out.append(f"| {METHOD_LABELS[m]} | 0 | — | — | — | — | — | — | — | — | — |")
             continue
@@ -193,8 +204,11 @@ def _ratio_table(recs: Sequence[Record]) -> list[str]:
         ri = rr[inter]
         cells = ["—"] * 3
         if len(ri):
-            cells = [f"{np.median(ri):.3f}", f"{np.percentile(ri, 95):.3f}",
-                     f"{np.median(a[inter]) / np.median(b[inter]):.3f}"]
+            cells = [
+                f"{np.median(ri):.3f}",
+                f"{np.percentile(ri, 95):.3f}",
+                f"{np.median(a[inter]) / np.median(b[inter]):.3f}",
+            ]
         out.append(
             f"| {METHOD_LABELS[m]} | {len(pairs)} | {np.median(rr):.3f} | {np.percentile(rr, 95):.3f} | "
             f"{np.median(a) / np.median(b):.3f} | {_pct(float(np.mean(rr < 1 - 1e-3)))} | {int(inter.sum())} | "
@@ -209,9 +223,13 @@ def _stage_table(recs: Sequence[Record]) -> list[str]:
     if not ours:
         return []
     stages = ("plan", "smooth", "blend", "retime", "jerk", "sample", "verify")
-    out = ["Where our time goes (stage timings of `TrajectoryGenerator`, ms; smooth = cells + IPOPT + exact "
-           "checks + shortcut, retime = toppra, jerk = ruckig, verify = the gate):", "",
-           "| " + " | ".join(("", *stages, "IPOPT solve", "IPOPT iterations")) + " |", "|---" * (len(stages) + 3) + "|"]
+    out = [
+        "Where our time goes (stage timings of `TrajectoryGenerator`, ms; smooth = cells + IPOPT + exact "
+        "checks + shortcut, retime = toppra, jerk = ruckig, verify = the gate):",
+        "",
+        "| " + " | ".join(("", *stages, "IPOPT solve", "IPOPT iterations")) + " |",
+        "|---" * (len(stages) + 3) + "|",
+    ]
     for name, q in (("median", 50), ("p95", 95)):
         vals = [_q(np.array([1e3 * r["stats"].get("timings", {}).get(s, 0.0) for r in ours]), q) for s in stages]
         solve = _q(np.array([1e3 * r["stats"].get("ipopt_solve", 0.0) for r in ours]), q)
@@ -221,35 +239,49 @@ def _stage_table(recs: Sequence[Record]) -> list[str]:
 
 
 def _domain_table(recs: Sequence[Record]) -> list[str]:
-    out = ["Per domain of our plan: makespan ours ÷ grid (the price of keeping the plan's homotopy class; the "
-           "grid is resolution-complete for its time-like L∞ cost, not for the jerk-limited makespan, so ratios "
-           "below 1 occur).", "",
-           "| domain | n | median | p95 | max | ours within 1 % of the grid or better |", "|---|---|---|---|---|---|"]
+    out = [
+        "Per domain of our plan: makespan ours ÷ grid (the price of keeping the plan's homotopy class; the "
+        "grid is resolution-complete for its time-like L∞ cost, not for the jerk-limited makespan, so ratios "
+        "below 1 occur).",
+        "",
+        "| domain | n | median | p95 | max | ours within 1 % of the grid or better |",
+        "|---|---|---|---|---|---|",
+    ]
     for (dom,), drecs in sorted(_by(recs, "domain").items(), key=lambda kv: (kv[0][0] is None, kv[0][0] or 0)):
         r = _ratios(drecs, "ours", "grid")
         if len(r) == 0:
             continue
-        out.append(f"| {dom} | {len(r)} | {np.median(r):.3f} | {np.percentile(r, 95):.3f} | {np.max(r):.3f} | "
-                   f"{_pct(float(np.mean(r <= 1.01)))} |")
+        out.append(
+            f"| {dom} | {len(r)} | {np.median(r):.3f} | {np.percentile(r, 95):.3f} | {np.max(r):.3f} | "
+            f"{_pct(float(np.mean(r <= 1.01)))} |"
+        )
     r = _ratios(recs, "ours", "grid")
     if len(r):
-        out.append(f"| all | {len(r)} | {np.median(r):.3f} | {np.percentile(r, 95):.3f} | {np.max(r):.3f} | "
-                   f"{_pct(float(np.mean(r <= 1.01)))} |")
+        out.append(
+            f"| all | {len(r)} | {np.median(r):.3f} | {np.percentile(r, 95):.3f} | {np.max(r):.3f} | "
+            f"{_pct(float(np.mean(r <= 1.01)))} |"
+        )
     return [*out, ""]
 
 
 def _order_table(recs: Sequence[Record]) -> list[str]:
-    out = ["Success by whether the query changes the robots' order in track coordinates (a planner in a vector "
-           "space of track coordinates cannot: the robots would have to meet).", "",
-           "| method | same order: success | n | order change: success | n |", "|---|---|---|---|---|"]
+    out = [
+        "Success by whether the query changes the robots' order in track coordinates (a planner in a vector "
+        "space of track coordinates cannot: the robots would have to meet).",
+        "",
+        "| method | same order: success | n | order change: success | n |",
+        "|---|---|---|---|---|",
+    ]
     by_m = _by(recs, "method")
     for m in ORDER:
         if (m,) not in by_m:
             continue
         same = [r["verified"] for r in by_m[(m,)] if not r["order_change"]]
         chg = [r["verified"] for r in by_m[(m,)] if r["order_change"]]
-        out.append(f"| {METHOD_LABELS[m]} | {_pct(float(np.mean(same)) if same else math.nan)} | {len(same)} | "
-                   f"{_pct(float(np.mean(chg)) if chg else math.nan)} | {len(chg)} |")
+        out.append(
+            f"| {METHOD_LABELS[m]} | {_pct(float(np.mean(same)) if same else math.nan)} | {len(same)} | "
+            f"{_pct(float(np.mean(chg)) if chg else math.nan)} | {len(chg)} |"
+        )
     return [*out, ""]
 
 
@@ -275,10 +307,12 @@ def plot_results(records: Sequence[Record], out: Path, dpi: int = 90) -> list[Pa
         by_m = _by([r for r in records if r["track"] == tr], "method")
         ms = [m for m in ORDER if (m,) in by_m]
         data = [_vals(by_m[(m,)], "makespan_ratio", only_verified=True) for m in ms]
-        ax.boxplot([d if len(d) else [np.nan] for d in data], whis=(5, 95), showfliers=True,
-                   flierprops={"markersize": 2})
-        ax.set_xticks(range(1, len(ms) + 1), [f"{m} ({len(d)})" for m, d in zip(ms, data)], rotation=30,
-                      ha="right", fontsize=8)
+        ax.boxplot(
+            [d if len(d) else [np.nan] for d in data], whis=(5, 95), showfliers=True, flierprops={"markersize": 2}
+        )
+        ax.set_xticks(
+            range(1, len(ms) + 1), [f"{m} ({len(d)})" for m, d in zip(ms, data)], rotation=30, ha="right", fontsize=8
+        )
         ax.set_yscale("log")
         ax.yaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 1.5, 2.0, 3.0, 5.0)))
         ax.yaxis.set_major_formatter(ScalarFormatter())
@@ -318,8 +352,16 @@ def plot_results(records: Sequence[Record], out: Path, dpi: int = 90) -> list[Pa
         same = np.array([100 * summ[tr][m]["disc_rate"] for m in ms])
         res = np.array([100 * summ[tr][m]["disc_reseeded_rate"] for m in ms])
         ax.bar(x - 0.2, np.nan_to_num(same), 0.4, color="C0", label="twin, same seed")
-        ax.bar(x + 0.2, np.nan_to_num(res), 0.4, color="C1", hatch="//", edgecolor="k", linewidth=0.5,
-               label="OMPL twin, another seed")
+        ax.bar(
+            x + 0.2,
+            np.nan_to_num(res),
+            0.4,
+            color="C1",
+            hatch="//",
+            edgecolor="k",
+            linewidth=0.5,
+            label="OMPL twin, another seed",
+        )
         for xi, v in zip(x, same):
             ax.annotate(f"{v:.0f}", (xi - 0.2, v), ha="center", va="bottom", fontsize=7)
         for xi, v in zip(x, res):
@@ -351,11 +393,16 @@ def scaling_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
     lines = ["# Scaling: compute time and makespan against track size and solver grid size", ""]
     if meta.get("command"):
         lines += ["Command:", "", "```", meta["command"], "```", ""]
-    lines += ["## Track scale (lollipop ℓ = c = scale; grid spacing scaled with the track)", "",
-              "Compute times over all attempts and over verified results only (a failed OMPL query costs its "
-              "whole budget); makespans over the queries every method verified (`common`).", "",
-              "| scale | method | n | verified | compute median ms (all) | verified: median ms | p95 ms | "
-              "makespan median s (common) | / ours median |", "|---|---|---|---|---|---|---|---|---|"]
+    lines += [
+        "## Track scale (lollipop ℓ = c = scale; grid spacing scaled with the track)",
+        "",
+        "Compute times over all attempts and over verified results only (a failed OMPL query costs its "
+        "whole budget); makespans over the queries every method verified (`common`).",
+        "",
+        "| scale | method | n | verified | compute median ms (all) | verified: median ms | p95 ms | "
+        "makespan median s (common) | / ours median |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
     sweep = [r for r in records if r.get("sweep") == "scale"]
     for (scale,), srecs in sorted(_by(sweep, "scale").items()):
         common = _common_verified(srecs)
@@ -367,13 +414,20 @@ def scaling_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
             cv = _vals([r for r in mr if r["verified"]], "compute_time")
             mk = _vals([r for r in mr if r["query"] in common], "makespan", only_verified=True)
             rat = _ratios(srecs, m, "ours")
-            lines.append(f"| {scale:g} | {m} | {len(mr)} | {_pct(float(np.mean([r['verified'] for r in mr])))} | "
-                         f"{1e3 * _q(ct, 50):.1f} | {_f(1e3 * _q(cv, 50), '{:.1f}')} | "
-                         f"{_f(1e3 * _q(cv, 95), '{:.1f}')} | {_f(_q(mk, 50))} ({len(common)}) | "
-                         f"{_f(_q(rat, 50), '{:.3f}')} |")
-    lines += ["", "## Grid resolution (base track)", "",
-              "| spacing m | product nodes | edges | n | compute median ms | p95 ms | makespan median s | "
-              "ours ÷ grid median |", "|---|---|---|---|---|---|---|---|"]
+            lines.append(
+                f"| {scale:g} | {m} | {len(mr)} | {_pct(float(np.mean([r['verified'] for r in mr])))} | "
+                f"{1e3 * _q(ct, 50):.1f} | {_f(1e3 * _q(cv, 50), '{:.1f}')} | "
+                f"{_f(1e3 * _q(cv, 95), '{:.1f}')} | {_f(_q(mk, 50))} ({len(common)}) | "
+                f"{_f(_q(rat, 50), '{:.3f}')} |"
+            )
+    lines += [
+        "",
+        "## Grid resolution (base track)",
+        "",
+        "| spacing m | product nodes | edges | n | compute median ms | p95 ms | makespan median s | "
+        "ours ÷ grid median |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     gsw = [r for r in records if r.get("sweep") == "grid"]
     for (h,), grecs in sorted(_by(gsw, "grid_h").items(), reverse=True):
         g = [r for r in grecs if r["method"] == "grid"]
@@ -382,13 +436,22 @@ def scaling_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
         ct, mk = _vals(g, "compute_time"), _vals(g, "makespan", only_verified=True)
         st = g[0]["stats"].get("grid", {})
         rat = _ratios(grecs, "ours", "grid")
-        lines.append(f"| {h:g} | {st.get('nodes', '—')} | {st.get('edges', '—')} | {len(g)} | {1e3 * _q(ct, 50):.1f} | "
-                     f"{1e3 * _q(ct, 95):.1f} | {_f(_q(mk, 50))} | {_f(_q(rat, 50), '{:.3f}')} |")
-    lines += ["", "## Our IPOPT size class (segments of the NLP, chosen per plan; track-scale sweep)", "",
-              "| NLP segments | n | compute median ms | p95 ms | IPOPT iterations median |", "|---|---|---|---|---|"]
+        lines.append(
+            f"| {h:g} | {st.get('nodes', '—')} | {st.get('edges', '—')} | {len(g)} | {1e3 * _q(ct, 50):.1f} | "
+            f"{1e3 * _q(ct, 95):.1f} | {_f(_q(mk, 50))} | {_f(_q(rat, 50), '{:.3f}')} |"
+        )
+    lines += [
+        "",
+        "## Our IPOPT size class (segments of the NLP, chosen per plan; track-scale sweep)",
+        "",
+        "| NLP segments | n | compute median ms | p95 ms | IPOPT iterations median |",
+        "|---|---|---|---|---|",
+    ]
     ours = [r for r in sweep if r["method"] == "ours" and r["success"]]
-    for (nseg,), orecs in sorted(_by([{**r, "nseg": r["stats"].get("ipopt_segments")} for r in ours],
-                                     "nseg").items(), key=lambda kv: kv[0][0] or 0):
+    for (nseg,), orecs in sorted(
+        _by([{**r, "nseg": r["stats"].get("ipopt_segments")} for r in ours], "nseg").items(),
+        key=lambda kv: kv[0][0] or 0,
+    ):
         ct = _vals(orecs, "compute_time")
         it = np.array([r["stats"].get("ipopt_iterations", 0) for r in orecs], dtype=float)
         lines.append(f"| {nseg} | {len(orecs)} | {1e3 * _q(ct, 50):.1f} | {1e3 * _q(ct, 95):.1f} | {_q(it, 50):.0f} |")

@@ -142,14 +142,16 @@ def make_queries(config: BenchConfig, n: int) -> list[dict[str, Any]]:
         signs = rng.choice([-1.0, 1.0], size=4)
         twin = [_nudge(track, float(x), config.delta * sg) for x, sg in zip([*s, *g], signs)]
         qid = len(out)
-        out.append({
-            "query": qid,
-            "start": s.tolist(),
-            "goal": g.tolist(),
-            "twin_start": twin[:2],
-            "twin_goal": twin[2:],
-            "ompl_seed": 1 + (config.seed * 1_000_003 + qid) % 2_000_000_000,
-        })
+        out.append(
+            {
+                "query": qid,
+                "start": s.tolist(),
+                "goal": g.tolist(),
+                "twin_start": twin[:2],
+                "twin_goal": twin[2:],
+                "ompl_seed": 1 + (config.seed * 1_000_003 + qid) % 2_000_000_000,
+            }
+        )
     return out
 
 
@@ -289,15 +291,31 @@ def _trajopt_outcome(gen: TrajectoryGenerator, start: FloatArray, goal: FloatArr
         "domain": traj.domain,
     }
     return MethodOutcome(
-        True, bool(traj.verification["ok"]), dt, float(traj.motion_time), float(traj.min_separation),
-        tuple(traj.word), rests, traj.fallback_reason, Motion.from_trajectory(traj), stats,
+        True,
+        bool(traj.verification["ok"]),
+        dt,
+        float(traj.motion_time),
+        float(traj.min_separation),
+        tuple(traj.word),
+        rests,
+        traj.fallback_reason,
+        Motion.from_trajectory(traj),
+        stats,
     )
 
 
 def _timed_outcome(out: TimingOutcome, compute: float, stats: dict[str, Any]) -> MethodOutcome:
     return MethodOutcome(
-        True, out.verified, compute, out.motion.duration, out.min_separation, out.word, out.rests,
-        "; ".join(out.failures[:3]), out.motion, {**stats, **out.stats},
+        True,
+        out.verified,
+        compute,
+        out.motion.duration,
+        out.min_separation,
+        out.word,
+        out.rests,
+        "; ".join(out.failures[:3]),
+        out.motion,
+        {**stats, **out.stats},
     )
 
 
@@ -308,8 +326,15 @@ def _time_path(
     if shortcut:
         segs = [shortcut_segment(ctx.track, s, ctx.separation) for s in segs]
     return time_segments(
-        ctx.track, segs, mode=mode, limits=ctx.limits, clearance=ctx.config.clearance,
-        separation=ctx.separation, rate=ctx.config.rate, start=start, goal=goal,
+        ctx.track,
+        segs,
+        mode=mode,
+        limits=ctx.limits,
+        clearance=ctx.config.clearance,
+        separation=ctx.separation,
+        rate=ctx.config.rate,
+        start=start,
+        goal=goal,
     )
 
 
@@ -463,8 +488,18 @@ def _interacting(track: Track, start: FloatArray, goal: FloatArray, clearance: f
 
 def replace_ctx(ctx: Context, config: BenchConfig) -> Context:
     """The same worker objects with another method list (for the reseeded OMPL twins)."""
-    return Context(config, ctx.track, ctx.limits, ctx.separation, ctx.ours, ctx.raw, ctx.ompl, ctx.ompl_geo,
-                   ctx.grid, ctx.build_times)
+    return Context(
+        config,
+        ctx.track,
+        ctx.limits,
+        ctx.separation,
+        ctx.ours,
+        ctx.raw,
+        ctx.ompl,
+        ctx.ompl_geo,
+        ctx.grid,
+        ctx.build_times,
+    )
 
 
 def _stability(
@@ -493,4 +528,3 @@ def _jsonable(x: Any) -> Any:
     if isinstance(x, float) and not math.isfinite(x):
         return None
     return x
-

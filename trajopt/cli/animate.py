@@ -62,8 +62,12 @@ def register(subparsers: Any) -> None:
     add_trajectory_arguments(p)
     p.add_argument("--out", required=True, help="output directory (animation.gif or animation.mp4)")
     p.add_argument("--fps", type=float, default=20.0, help="frames per second (default 20)")
-    p.add_argument("--format", choices=["gif", "mp4"], default="gif",
-                   help="gif (Pillow) or mp4 (needs ffmpeg: pip install imageio-ffmpeg)")
+    p.add_argument(
+        "--format",
+        choices=["gif", "mp4"],
+        default="gif",
+        help="gif (Pillow) or mp4 (needs ffmpeg: pip install imageio-ffmpeg)",
+    )
     p.add_argument("--dpi", type=float, default=80.0, help="resolution (default 80)")
     p.add_argument("--max-frames", type=int, default=None, help="cap the number of frames (plays faster)")
     p.add_argument("--raw-only", action="store_true", help="animate the raw plan only (no trajectory optimisation)")

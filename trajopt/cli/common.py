@@ -38,5 +38,3 @@ def add_trajectory_arguments(p: argparse.ArgumentParser) -> None:
 def track_from_args(args: argparse.Namespace):  # type: ignore[no-untyped-def]
     """The track named by ``--track/--stick/--loop``."""
     return make_track(args.track, args.stick, args.loop)
-
-

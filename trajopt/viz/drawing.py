@@ -306,14 +306,22 @@ def draw_robot(
     color = ROBOT_COLORS[name]
     side = 1.0 if name == "A" else -1.0  # A just outside the track, B just inside: never hidden by each other
     xy = embed_offset(track, float(p), side * 0.15 * lane_unit(track))
-    ax.plot(
-        *xy, marker="^", ms=size, mec=color, mfc="white" if final else color, mew=2.0, zorder=6, linestyle="none"
-    )
+    ax.plot(*xy, marker="^", ms=size, mec=color, mfc="white" if final else color, mew=2.0, zorder=6, linestyle="none")
     text = name if label is None else label
     if text:
         off = 15.0 * side * track_normal(track, float(p))  # points, away from the track on the robot's side
-        ax.annotate(text, xy, xytext=tuple(off), textcoords="offset points", color=color, fontsize=10, ha="center",
-                    va="center", zorder=7, fontweight="bold")
+        ax.annotate(
+            text,
+            xy,
+            xytext=tuple(off),
+            textcoords="offset points",
+            color=color,
+            fontsize=10,
+            ha="center",
+            va="center",
+            zorder=7,
+            fontweight="bold",
+        )
 
 
 def draw_robots(
@@ -541,8 +549,13 @@ def draw_flat_cspace(
     if clearance > 0:
         bad = np.where(d < clearance, 1.0, np.nan)
         ax.imshow(
-            bad, origin="lower", extent=(0, ext, 0, ext), cmap=mpl.colors.ListedColormap([COLLISION_COLOR]),
-            alpha=0.22, zorder=1, interpolation="nearest",
+            bad,
+            origin="lower",
+            extent=(0, ext, 0, ext),
+            cmap=mpl.colors.ListedColormap([COLLISION_COLOR]),
+            alpha=0.22,
+            zorder=1,
+            interpolation="nearest",
         )
     ax.plot([0, ext], [0, ext], color=COLLISION_COLOR, lw=2.0, alpha=0.85, zorder=2)
     if level_h and track.has_loop:
@@ -567,8 +580,17 @@ def draw_flat_cspace(
                 (ell + 0.78 * c, 0.1 * ell, "loop × stick"),
                 (ell + 0.2 * c, ell + 0.92 * c, "loop × loop"),
             ):
-                ax.text(x, y, t, ha="center", va="center", fontsize=8, color="0.45", rotation=0,
-                        bbox={"fc": "white", "ec": "none", "alpha": 0.7})
+                ax.text(
+                    x,
+                    y,
+                    t,
+                    ha="center",
+                    va="center",
+                    fontsize=8,
+                    color="0.45",
+                    rotation=0,
+                    bbox={"fc": "white", "ec": "none", "alpha": 0.7},
+                )
     elif isinstance(track, Circle):
         c = track.loop
         ax.set_xticks([0, 0.5 * c, c], ["0", f"{0.5 * c:g}", f"{c:g}"])
@@ -661,8 +683,17 @@ def draw_skeleton(
         for blk, parts in blocks.items():
             name = r"$\mathcal{A}$" if blk == "A" else f"${blk[0]}_{blk[1]}$"
             for sp in _label_spots(track, [p for p in parts if np.ptp(p, axis=0).max() > 0], ext):
-                ax.text(*sp, name, color=BLOCK_COLORS[blk], fontsize=12, ha="center", va="center", zorder=7,
-                        fontweight="bold", bbox={"fc": "white", "ec": "none", "alpha": 0.75, "pad": 1.0})
+                ax.text(
+                    *sp,
+                    name,
+                    color=BLOCK_COLORS[blk],
+                    fontsize=12,
+                    ha="center",
+                    va="center",
+                    zorder=7,
+                    fontweight="bold",
+                    bbox={"fc": "white", "ec": "none", "alpha": 0.75, "pad": 1.0},
+                )
     return samples
 
 
@@ -706,8 +737,15 @@ def draw_flat_path(
 
 
 def draw_state(
-    ax: Axes, state: ArrayLike, label: str | None = None, *, color: str = "k", marker: str = "o", filled: bool = True,
-    offset: tuple[float, float] = (6, 6), size: float = 7.0,
+    ax: Axes,
+    state: ArrayLike,
+    label: str | None = None,
+    *,
+    color: str = "k",
+    marker: str = "o",
+    filled: bool = True,
+    offset: tuple[float, float] = (6, 6),
+    size: float = 7.0,
 ) -> None:
     """A state (point) in the flat configuration space, with an optional label such as ``$x_i'$``."""
     x, y = (float(v) for v in np.asarray(state, dtype=float))
@@ -716,11 +754,29 @@ def draw_state(
         offset = (-offset[0] - 12, offset[1])
     if y > y0 + 0.9 * (y1 - y0) and offset[1] > 0:
         offset = (offset[0], -offset[1] - 8)
-    ax.plot(x, y, marker=marker, ms=size, mec=color, mfc=color if filled else "white", mew=1.6, zorder=8,
-            linestyle="none", clip_on=False)
+    ax.plot(
+        x,
+        y,
+        marker=marker,
+        ms=size,
+        mec=color,
+        mfc=color if filled else "white",
+        mew=1.6,
+        zorder=8,
+        linestyle="none",
+        clip_on=False,
+    )
     if label:
-        ax.annotate(label, (x, y), xytext=offset, textcoords="offset points", fontsize=12, color=color, zorder=9,
-                    bbox={"fc": "white", "ec": "none", "alpha": 0.7, "pad": 0.5})
+        ax.annotate(
+            label,
+            (x, y),
+            xytext=offset,
+            textcoords="offset points",
+            fontsize=12,
+            color=color,
+            zorder=9,
+            bbox={"fc": "white", "ec": "none", "alpha": 0.7, "pad": 0.5},
+        )
 
 
 def draw_traces(
@@ -825,8 +881,9 @@ def draw_chain(
             # lower half if tail left of head: angle from π to 2π; upper half otherwise: from 0 to π
             ang = np.linspace(a0, a0 + np.pi, 100)
             xy = centre + r * np.stack([np.cos(ang), np.sin(ang)], axis=-1)
-        ax.plot(xy[:, 0], xy[:, 1], color="0.6" if dim else color, lw=1.5 if dim else 3.0, ls="--" if dim else "-",
-                zorder=2)
+        ax.plot(
+            xy[:, 0], xy[:, 1], color="0.6" if dim else color, lw=1.5 if dim else 3.0, ls="--" if dim else "-", zorder=2
+        )
         if arrows and blk not in ("I1", "I2") and not dim:
             arrow_along(ax, xy, frac=0.55, color=color, size=16)
         if (labels and e.name.endswith("a")) or (labels and blk in ("I1", "I2")):
@@ -907,8 +964,15 @@ def draw_plan_step(axes: Sequence[Axes], p: Plan, style: StepStyle = StepStyle()
             draw_motion(ax_phys, track, seg[:, 1], "B")
             draw_flat_path(ax_flat, track, seg, color=STEP_COLORS[style.step], lw=2.6, arrows=(0.5, 1.0))
         else:
-            ax_phys.text(0.5, 0.02, "(empty step: the state is already on the skeleton)", transform=ax_phys.transAxes,
-                         ha="center", fontsize=9, color="0.3")
+            ax_phys.text(
+                0.5,
+                0.02,
+                "(empty step: the state is already on the skeleton)",
+                transform=ax_phys.transAxes,
+                ha="center",
+                fontsize=9,
+                color="0.3",
+            )
         draw_robots(ax_phys, track, seg[-1], final=True, labels=("", ""))
         draw_robots(ax_phys, track, seg[0], final=False)  # on top: a robot that waits shows filled
     same_i = bool(np.allclose(p.start, xi))
