@@ -11,6 +11,7 @@ import argparse
 import json
 import os
 import shutil
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -38,7 +39,7 @@ DEMO_JOB: dict[str, Any] = {
 DEFAULTS = TRAJECTORY_DEFAULTS
 
 
-def write_outputs(out: str | os.PathLike[str], files: dict[str, str | bytes]) -> list[Path]:
+def write_outputs(out: str | os.PathLike[str], files: Mapping[str, str | bytes]) -> list[Path]:
     """Write ``files`` (name -> content) into directory ``out``, all or nothing.
 
     Raises
