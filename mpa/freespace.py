@@ -133,11 +133,11 @@ class FreeSpace:
     # ------------------------------------------------------------------------------------------ build
     def _build(self) -> None:
         g = self.geometry
-        n_e, n_v = g.n_edges, g.n_vertices
+        n_e = g.n_edges
         lengths = g.lengths
         dmin = self.clearance_used - self.tol
         self._dmin = dmin
-        # faces: robot at vertex w, other robot on edge f at offset x: d = min(x + DV[w, tail f], L_f - x + DV[w, head f])
+        # faces: robot at vertex w, other on edge f at offset x: d = min(x + DV[w, tail f], L_f - x + DV[w, head f])
         lo = np.maximum(0.0, dmin - g.dv[:, g.tails])
         hi = np.minimum(lengths[None, :], lengths[None, :] + g.dv[:, g.heads] - dmin)
         self.faces = _Faces(lo, hi, lo <= hi)
@@ -244,7 +244,7 @@ class FreeSpace:
     # ---------------------------------------------------------------------------------------- queries
     def vertices(self, pid: PolygonId) -> FloatArray:
         """Corners of a free polygon in offsets ``(s, t)`` (metres), counter-clockwise. Shape (n, 2)."""
-        e, f, k = pid
+        e, f, _ = pid
         if pid not in self._index:
             raise InvalidInputError(f"polygon {pid!r} is not a free polygon of this space")
         if self.status[e, f] == _FULL:
