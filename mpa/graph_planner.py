@@ -42,6 +42,7 @@ __all__ = ["OBJECTIVES", "GraphPlan", "plan_graph"]
 FloatArray = NDArray[np.float64]
 OBJECTIVES = ("fastest", "shortest")
 TIE_BREAK = 1e-6
+FACE_POINTS = 3  # interior nodes per face (besides its two ends), so that the search sees crossings inside faces
 Key = tuple[Any, ...]
 Coords = tuple[float, float]
 
@@ -168,8 +169,9 @@ class GraphPlan:
 class _Search:
     """The visibility graph of one free space, built lazily per polygon."""
 
-    def __init__(self, fs: FreeSpace) -> None:
+    def __init__(self, fs: FreeSpace, face_points: int = FACE_POINTS) -> None:
         self.fs = fs
+        self.face_points = face_points
         g = fs.geometry
         self.g = g
         self.inc: list[list[tuple[int, float]]] = [[] for _ in range(g.n_vertices)]
@@ -183,9 +185,20 @@ class _Search:
         self._nodes: dict[PolygonId, list[tuple[Key, Coords]]] = {}
         self._members: dict[Key, list[tuple[PolygonId, Coords]]] = {}
 
+    def face_value(self, w: int, f: int, j: int) -> float:
+        """Offset of face node ``j`` of face (vertex w, edge f): 0 the low end, 1 the high end, 2.. interior."""
+        lo, hi = self.lo[w][f], self.hi[w][f]
+        if j == 0:
+            return lo
+        if j == 1:
+            return hi
+        return lo + (hi - lo) * (j - 1) / (self.face_points + 1)
+
     def endpoints(self, w: int, f: int) -> list[tuple[int, float]]:
         lo, hi = self.lo[w][f], self.hi[w][f]
-        return [(0, lo)] if lo >= hi else [(0, lo), (1, hi)]
+        if lo >= hi:
+            return [(0, lo)]
+        return [(j, self.face_value(w, f, j)) for j in range(self.face_points + 2)]
 
     def face_key(self, role: str, w: int, other: int, j: int, x: float) -> Key:
         g = self.g
@@ -232,14 +245,14 @@ class _Search:
             out = [(pid, tuple(self.fs.vertices(pid)[key[2]].tolist()))]
         elif kind == "A":
             _, w, f, j = key
-            t = self.lo[w][f] if j == 0 else self.hi[w][f]
+            t = self.face_value(w, f, j)
             for e, s in self.inc[w]:
                 pid = (e, f, 0 if e != f else (1 if s == 0.0 else 0))
                 if pid in index:
                     out.append((pid, (s, t)))
         elif kind == "B":
             _, w, e, j = key
-            s = self.lo[w][e] if j == 0 else self.hi[w][e]
+            s = self.face_value(w, e, j)
             for f, t in self.inc[w]:
                 pid = (e, f, 0 if e != f else (0 if t == 0.0 else 1))
                 if pid in index:
@@ -410,6 +423,67 @@ def _straighten(srch: _Search, segs: list[list[Any]], cost: Any, sweeps: int = 3
                     segs[j][1] = (x, b0[1])
         if moved <= 1e-12:
             break
+
+
+def _total(segs: list[list[Any]], cost: Any) -> float:
+    return sum(cost(b[0] - a[0], b[1] - a[1]) for _, a, b in segs)
+
+
+def _taut(srch: _Search, segs: list[list[Any]], wa: float, wb: float, scale: float) -> None:
+    """Straighten (in place) for the length ``hypot(wa Δs, wb Δt)``, smoothed as ``sqrt(... + ε²)`` with ε -> 0
+    so that coordinate descent does not stall where a segment has zero length."""
+    for eps in (1e-2 * scale, 1e-4 * scale, 1e-6 * scale, 1e-9 * scale, 0.0):
+        e2 = eps * eps
+        _straighten(srch, segs, lambda ds, dt, e2=e2: math.sqrt((ds * wa) ** 2 + (dt * wb) ** 2 + e2))
+
+
+def _split_corners(srch: _Search, segs: list[list[Any]], wa: float, wb: float, scale: float) -> list[list[Any]]:
+    """Where the path passes a corner (both robots on vertices) changing both edges, let the robots pass their
+    vertices at different times: insert the middle cell (A's new edge × B's old edge, or the other order) and keep
+    the order whose straightened path is cheaper."""
+    g, fs = srch.g, srch.fs
+    _taut(srch, segs, wa, wb, scale)
+
+    def cost(ds: float, dt: float) -> float:
+        return math.hypot(ds * wa, dt * wb)
+
+    j = 1
+    while j < len(segs):
+        p1, _, a1 = segs[j - 1]
+        p2, b0, _ = segs[j]
+        at_a = a1[0] in (0.0, g._L[p1[0]]) and b0[0] in (0.0, g._L[p2[0]])
+        at_b = a1[1] in (0.0, g._L[p1[1]]) and b0[1] in (0.0, g._L[p2[1]])
+        if not (at_a and at_b and p1[0] != p2[0] and p1[1] != p2[1]):
+            j += 1
+            continue
+        best, best_cost = segs, _total(segs, cost)
+        inserted = False
+        for mid in (((p2[0], b0[0]), (p1[1], a1[1])), ((p1[0], a1[0]), (p2[1], b0[1]))):
+            pid = fs.polygon_of(*mid)
+            if pid is None:
+                continue
+            c = (mid[0][1], mid[1][1])
+            trial = [list(x) for x in segs[:j]] + [[pid, c, c]] + [list(x) for x in segs[j:]]
+            _taut(srch, trial, wa, wb, scale)
+            tc = _total(trial, cost)
+            if tc < best_cost - 1e-12 * max(1.0, best_cost):
+                best, best_cost, inserted = trial, tc, True
+        segs = best
+        j += 2 if inserted else 1
+    return segs
+
+
+def _merge_same_polygon(segs: list[list[Any]]) -> list[list[Any]]:
+    """Join consecutive segments inside one convex polygon into one straight segment (never longer, still free)."""
+    out: list[list[Any]] = []
+    for x in segs:
+        if out and out[-1][0] == x[0] and out[-1][2] == x[1]:
+            out[-1] = [x[0], out[-1][1], x[2]]
+            if out[-1][1] == out[-1][2]:
+                out.pop()
+        else:
+            out.append(list(x))
+    return out
 
 
 def _route(moves: list[tuple[int, float, float]], start: Position) -> tuple[DirectedRoute, list[float]]:
@@ -599,8 +673,12 @@ def plan_graph(
 
     srch = _Search(fs)
     segs = [list(x) for x in _astar(srch, s, gl, cost, heur)]
-    _straighten(srch, segs, cost)
-    segs = [x for x in segs if x[1] != x[2]]
+    # Straighten with the Euclidean length in coordinates scaled by the speeds (s/vA, t/vB): strictly convex, so
+    # coordinate descent does not stall, and in a corridor its taut path is also shortest for the weighted L∞ time.
+    wa, wb = (1.0, 1.0) if objective == "shortest" else (1.0 / va, 1.0 / vb)
+    scale = max(1.0, float(tr.lengths.max())) * max(wa, wb)
+    segs = _split_corners(srch, segs, wa, wb, scale)
+    segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])
     return _assemble(tr, fs, s, gl, objective, (va, vb), segs)
 
 
