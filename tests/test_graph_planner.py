@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import heapq
 import itertools
 from collections import deque
 
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 from mpa import Lollipop
-from mpa.errors import NoMotionError
+from mpa.errors import InvalidInputError, NoMotionError
 from mpa.graph_planner import plan_graph
 from mpa.graph_track import GraphTrack
 from tests.graph_helpers import random_layout
@@ -78,7 +79,7 @@ def _grid_reachable(track: GraphTrack, D: float, h: float, start: tuple[object, 
     return seen
 
 
-@pytest.mark.parametrize("seed", range(24))
+@pytest.mark.parametrize("seed", range(60))
 def test_complete_whenever_a_grid_search_finds_a_path(seed: int) -> None:
     rng = np.random.default_rng(5000 + seed)
     track = random_layout(rng)
@@ -115,8 +116,62 @@ def test_complete_whenever_a_grid_search_finds_a_path(seed: int) -> None:
         assert g.distance_scalar(int(rb[0]), float(rb[1]), t[1][0], t[1][1]) < 1e-9
 
 
-def test_report_completeness_counts() -> None:
-    print(f"completeness cases: {COUNTS}")
+def _grid_time(track: GraphTrack, D: float, h: float, start: tuple, goal: tuple, va: float, vb: float) -> float | None:
+    """Minimum time max(|Δs|/vA, |Δt|/vB) over grid paths (8-neighbour moves keeping >= D), None if unreachable."""
+    g = track.geometry
+    names, nbrs = _grid(track, h)
+    best = {start: 0.0}
+    heap = [(0.0, 0, start)]
+    n = 1
+    while heap:
+        c, _, (ka, kb) = heapq.heappop(heap)
+        if (ka, kb) == goal:
+            return c
+        if c > best[(ka, kb)]:
+            continue
+        moves_a = [(ka, names[ka][0][0], names[ka][0][1], names[ka][0][1]), *nbrs[ka]]
+        moves_b = [(kb, names[kb][0][0], names[kb][0][1], names[kb][0][1]), *nbrs[kb]]
+        for (na, ea, sa0, sa1), (nb, eb, sb0, sb1) in itertools.product(moves_a, moves_b):
+            if na == ka and nb == kb:
+                continue
+            if na == ka:
+                ea, sa0 = names[ka][0]
+                sa1 = sa0
+            if nb == kb:
+                eb, sb0 = names[kb][0]
+                sb1 = sb0
+            if g.segment_min_scalar(ea, eb, sa0, sb0, sa1, sb1) < D:
+                continue
+            nc = c + max(abs(sa1 - sa0) / va, abs(sb1 - sb0) / vb)
+            if nc < best.get((na, nb), np.inf):
+                best[(na, nb)] = nc
+                heapq.heappush(heap, (nc, n, (na, nb)))
+                n += 1
+    return None
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_fastest_is_never_slower_than_the_grid_optimum(seed: int) -> None:
+    """Every grid path is a free path, so the planner's time must not exceed the grid's best time."""
+    rng = np.random.default_rng(9000 + seed)
+    track = random_layout(rng)
+    D = float(rng.uniform(0.05, 0.5))
+    va, vb = (1.0, 1.0) if seed % 2 else (1.0, 0.6)
+    h = 0.05
+    names, _ = _grid(track, h)
+    keys = sorted(names, key=str)
+    for _ in range(3):
+        a, b, c, d = (keys[int(i)] for i in rng.integers(0, len(keys), 4))
+        s, t = (names[a][0], names[b][0]), (names[c][0], names[d][0])
+        try:
+            p = plan_graph(track, s, t, D, objective="fastest", speeds=(va, vb))
+        except (NoMotionError, InvalidInputError):
+            continue
+        gt = _grid_time(track, D, h, (a, b), (c, d), va, vb)
+        if gt is None:
+            continue
+        COUNTS["optimality"] = COUNTS.get("optimality", 0) + 1
+        assert p.makespan <= gt + 1e-9, (seed, D, s, t, p.makespan, gt)
 
 
 @pytest.mark.parametrize(("b1", "b2", "b3"), [(1.0, 2.0, 3.0), (0.6, 1.0, 1.0)])
@@ -190,3 +245,7 @@ def test_standing_still_is_a_plan() -> None:
     t = Lollipop(1.0, 1.0).as_graph_track()
     p = plan_graph(t, ("stick:0.2", "loop:0.5"), ("stick:0.2", "loop:0.5"), 0.05)
     assert p.makespan == 0.0 and p.n_corners == 1
+
+
+def test_report_completeness_counts() -> None:
+    print(f"completeness cases: {COUNTS}")
