@@ -83,7 +83,9 @@ class DirectedRoute:
     entry : ndarray of float, shape (M,)
         Offset where the piece starts (metres).
     breaks : ndarray of float, shape (M + 1,)
-        Route coordinates of the piece boundaries, ``breaks[0] = 0``, non-decreasing (metres).
+        Route coordinates of the piece boundaries, non-decreasing (metres). A plan's routes start at
+        ``breaks[0] = 0`` (distance travelled); any origin works, e.g. a smoother's signed route coordinate σ.
+        A polyline may move either way along the route coordinate: only the pieces' affine maps are used.
     """
 
     edges: IntArray
@@ -96,10 +98,29 @@ class DirectedRoute:
         """The route of a robot that does not move (one piece of length 0)."""
         return cls(np.array([edge]), np.array([1]), np.array([float(offset)]), np.array([0.0, 0.0]))
 
+    @classmethod
+    def from_pieces(
+        cls,
+        edges: Sequence[int],
+        dirs: Sequence[int],
+        entry: Sequence[float],
+        lengths: Sequence[float],
+        origin: float = 0.0,
+    ) -> DirectedRoute:
+        """A route from its pieces' edges, directions (±1), entry offsets and lengths (metres), from ``origin``."""
+        ln = np.asarray(lengths, dtype=float)
+        if len(ln) == 0 or not (len(edges) == len(dirs) == len(entry) == len(ln)) or np.any(ln < 0):
+            raise InvalidInputError("route pieces need one edge, direction, entry and length >= 0 each, at least one")
+        d = np.asarray(dirs, dtype=np.int64)
+        if not np.all(np.abs(d) == 1):
+            raise InvalidInputError(f"route directions are {d.tolist()}, expected +1 or -1 each")
+        breaks = float(origin) + np.concatenate([[0.0], np.cumsum(ln)])
+        return cls(np.asarray(edges, dtype=np.int64), d, np.asarray(entry, dtype=float), breaks)
+
     @property
     def length(self) -> float:
         """Total route length (metres)."""
-        return float(self.breaks[-1])
+        return float(self.breaks[-1] - self.breaks[0])
 
     def piece_index(self, r: ArrayLike) -> IntArray:
         """Index of the piece holding route coordinate ``r`` (broadcast; ties go to the later piece)."""
@@ -109,7 +130,7 @@ class DirectedRoute:
 
     def positions(self, r: ArrayLike) -> tuple[IntArray, FloatArray]:
         """Positions ``(edge, offset)`` at route coordinates ``r`` (broadcast; clamped to the route)."""
-        r = np.clip(np.asarray(r, dtype=float), 0.0, self.length)
+        r = np.clip(np.asarray(r, dtype=float), self.breaks[0], self.breaks[-1])
         i = self.piece_index(r)
         return self.edges[i], self.entry[i] + self.dirs[i] * (r - self.breaks[i])
 

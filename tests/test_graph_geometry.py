@@ -103,3 +103,20 @@ def test_geometry_rejects_mismatched_arrays() -> None:
 
     with pytest.raises(InvalidInputError, match="1-D arrays"):
         GraphGeometry(2, [0], [1, 0], [1.0])
+
+
+def test_route_with_origin_and_backward_moves() -> None:
+    """A smoother's signed route coordinate: origin -1, polyline moving back and forth across a vertex."""
+    track = GraphTrack.from_layout({"edges": [["F", "P", 1.0], ["P", "P", 2.0]]})
+    g = track.geometry
+    ra = DirectedRoute.from_pieces([0, 1], [1, 1], [0.0, 0.0], [1.0, 2.0], origin=-1.0)
+    rb = DirectedRoute.from_pieces([1], [-1], [2.0], [2.0])
+    w = np.array([[-0.5, 0.0], [1.5, 0.5], [0.2, 1.9], [-1.0, 0.3]])
+    exact = g.route_min_distance(ra, rb, w)
+    lam = np.linspace(0, 1, 4001)[:, None]
+    pts = np.concatenate([w[k] + lam * (w[k + 1] - w[k]) for k in range(len(w) - 1)])
+    (ea, sa), (eb, sb) = ra.positions(pts[:, 0]), rb.positions(pts[:, 1])
+    sampled = float(np.min(g.distance(ea, sa, eb, sb)))
+    assert exact <= sampled + 1e-12
+    assert exact >= sampled - 2 * 2.0 / 4000 - 1e-12
+    assert ra.length == 3.0 and ra.positions(-1.0)[1] == 0.0

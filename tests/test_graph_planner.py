@@ -4,14 +4,19 @@ from __future__ import annotations
 
 import heapq
 import itertools
+import math
 from collections import deque
+from collections.abc import Callable
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mpa import Lollipop
 from mpa.errors import InvalidInputError, NoMotionError
-from mpa.graph_planner import plan_graph
+from mpa.freespace import free_space
+from mpa.graph_planner import OBJECTIVES, plan_graph
 from mpa.graph_track import GraphTrack
 from tests.graph_helpers import random_layout
 
@@ -116,8 +121,8 @@ def test_complete_whenever_a_grid_search_finds_a_path(seed: int) -> None:
         assert g.distance_scalar(int(rb[0]), float(rb[1]), t[1][0], t[1][1]) < 1e-9
 
 
-def _grid_time(track: GraphTrack, D: float, h: float, start: tuple, goal: tuple, va: float, vb: float) -> float | None:
-    """Minimum time max(|Δs|/vA, |Δt|/vB) over grid paths (8-neighbour moves keeping >= D), None if unreachable."""
+def _grid_cost(track: GraphTrack, D: float, h: float, start: tuple, goal: tuple, cost: Callable) -> float | None:
+    """Minimum ``sum cost(Δs, Δt)`` over grid paths (8-neighbour moves keeping >= D), None if unreachable."""
     g = track.geometry
     names, nbrs = _grid(track, h)
     best = {start: 0.0}
@@ -142,7 +147,7 @@ def _grid_time(track: GraphTrack, D: float, h: float, start: tuple, goal: tuple,
                 sb1 = sb0
             if g.segment_min_scalar(ea, eb, sa0, sb0, sa1, sb1) < D:
                 continue
-            nc = c + max(abs(sa1 - sa0) / va, abs(sb1 - sb0) / vb)
+            nc = c + cost(sa1 - sa0, sb1 - sb0)
             if nc < best.get((na, nb), np.inf):
                 best[(na, nb)] = nc
                 heapq.heappush(heap, (nc, n, (na, nb)))
@@ -167,11 +172,15 @@ def test_fastest_is_never_slower_than_the_grid_optimum(seed: int) -> None:
             p = plan_graph(track, s, t, D, objective="fastest", speeds=(va, vb))
         except (NoMotionError, InvalidInputError):
             continue
-        gt = _grid_time(track, D, h, (a, b), (c, d), va, vb)
+        gt = _grid_cost(track, D, h, (a, b), (c, d), lambda x, y: max(abs(x) / va, abs(y) / vb))
         if gt is None:
             continue
         COUNTS["optimality"] = COUNTS.get("optimality", 0) + 1
         assert p.makespan <= gt + 1e-9, (seed, D, s, t, p.makespan, gt)
+        q = plan_graph(track, s, t, D, objective="shortest", speeds=(va, vb))
+        gl = _grid_cost(track, D, h, (a, b), (c, d), math.hypot)
+        assert gl is not None and q.length <= gl + 1e-9, (seed, D, s, t, q.length, gl)
+        assert q.min_distance() >= q.clearance_used - 1e-9
 
 
 @pytest.mark.parametrize(("b1", "b2", "b3"), [(1.0, 2.0, 3.0), (0.6, 1.0, 1.0)])
@@ -245,6 +254,45 @@ def test_standing_still_is_a_plan() -> None:
     t = Lollipop(1.0, 1.0).as_graph_track()
     p = plan_graph(t, ("stick:0.2", "loop:0.5"), ("stick:0.2", "loop:0.5"), 0.05)
     assert p.makespan == 0.0 and p.n_corners == 1
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.integers(0, 2**31 - 1),
+    st.floats(0.0, 0.8),
+    st.sampled_from(OBJECTIVES),
+    st.floats(0.2, 3.0),
+    st.floats(0.2, 3.0),
+)
+def test_random_graphs_plans_keep_clearance_and_reach_the_goal(
+    seed: int, D: float, objective: str, va: float, vb: float
+) -> None:
+    rng = np.random.default_rng(seed)
+    track = random_layout(rng)
+    fs = free_space(track, D)
+    g = track.geometry
+    for _ in range(20):
+        e = rng.integers(track.n_edges, size=4)
+        o = rng.uniform(0, 1, 4) * track.lengths[e]
+        s = ((int(e[0]), float(o[0])), (int(e[1]), float(o[1])))
+        t = ((int(e[2]), float(o[2])), (int(e[3]), float(o[3])))
+        if fs.is_free(*s) and fs.is_free(*t):
+            break
+    else:
+        return
+    try:
+        p = plan_graph(track, s, t, D, objective=objective, speeds=(va, vb))
+    except NoMotionError:
+        assert fs.component_of(*s) != fs.component_of(*t)
+        return
+    assert p.min_distance() >= p.clearance_used - 1e-9
+    da = g.distance_scalar(s[0][0], s[0][1], t[0][0], t[0][1])
+    db = g.distance_scalar(s[1][0], s[1][1], t[1][0], t[1][1])
+    assert p.makespan >= max(da / va, db / vb) - 1e-9
+    assert p.length >= math.hypot(da, db) - 1e-9
+    (ea, sa), (eb, sb) = p.positions(1.0)
+    assert g.distance_scalar(int(ea), float(sa), t[0][0], t[0][1]) <= 1e-9
+    assert g.distance_scalar(int(eb), float(sb), t[1][0], t[1][1]) <= 1e-9
 
 
 def test_report_completeness_counts() -> None:
