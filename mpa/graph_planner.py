@@ -354,74 +354,65 @@ def _astar(
     return segs[::-1]
 
 
-def _golden(fun: Any, lo: float, hi: float, iters: int = 60) -> float:
-    r = (math.sqrt(5) - 1) / 2
-    a, b = lo, hi
-    x1, x2 = b - r * (b - a), a + r * (b - a)
-    f1, f2 = fun(x1), fun(x2)
-    for _ in range(iters):
-        if f1 <= f2:
-            b, x2, f2 = x2, x1, f1
-            x1 = b - r * (b - a)
-            f1 = fun(x1)
-        else:
-            a, x1, f1 = x1, x2, f2
-            x2 = a + r * (b - a)
-            f2 = fun(x2)
-        if b - a <= 1e-13 * max(1.0, abs(hi)):
-            break
-    return 0.5 * (a + b)
-
-
-def _straighten(srch: _Search, segs: list[list[Any]], cost: Any, sweeps: int = 30) -> None:
-    """Slide face crossings along their faces (in place); each step lowers a convex function of one point."""
+def _face_of_crossing(
+    srch: _Search, a1: Coords, b0: Coords, p1: PolygonId, p2: PolygonId
+) -> tuple[str, int, int] | None:
+    """The face a path crosses between polygons ``p1`` and ``p2`` at ``a1`` (in p1) = ``b0`` (in p2), if any."""
     g = srch.g
+    w1 = g._t[p1[0]] if a1[0] == 0.0 else g._h[p1[0]] if a1[0] == g._L[p1[0]] else None
+    w2 = g._t[p2[0]] if b0[0] == 0.0 else g._h[p2[0]] if b0[0] == g._L[p2[0]] else None
+    if w1 is not None and w1 == w2 and p1[1] == p2[1] and a1[1] == b0[1] and srch.ok[w1][p1[1]]:
+        return ("A", w1, p1[1])
+    v1 = g._t[p1[1]] if a1[1] == 0.0 else g._h[p1[1]] if a1[1] == g._L[p1[1]] else None
+    v2 = g._t[p2[1]] if b0[1] == 0.0 else g._h[p2[1]] if b0[1] == g._L[p2[1]] else None
+    if v1 is not None and v1 == v2 and p1[0] == p2[0] and a1[0] == b0[0] and srch.ok[v1][p1[0]]:
+        return ("B", v1, p1[0])
+    return None
+
+
+def _straighten(
+    srch: _Search, segs: list[list[Any]], wa: float, wb: float, eps: float, tol: float, sweeps: int = 400
+) -> None:
+    """Slide face crossings along their faces (in place) to shorten ``sum sqrt((wa Δs)² + (wb Δt)² + eps²)``.
+
+    Each crossing's optimum given its neighbours is closed-form (the straight line through the face, unfolded),
+    clamped to the face's interval; Gauss–Seidel sweeps until no crossing moves more than ``tol``.
+    """
+    faces = [None] + [
+        _face_of_crossing(srch, segs[j - 1][2], segs[j][1], segs[j - 1][0], segs[j][0]) for j in range(1, len(segs))
+    ]
+    e2 = eps * eps
     for _ in range(sweeps):
         moved = 0.0
         for j in range(1, len(segs)):
-            p1, a0, a1 = segs[j - 1]
-            p2, b0, b1 = segs[j]
-            face = None
-            w1 = g._t[p1[0]] if a1[0] == 0.0 else g._h[p1[0]] if a1[0] == g._L[p1[0]] else None
-            w2 = g._t[p2[0]] if b0[0] == 0.0 else g._h[p2[0]] if b0[0] == g._L[p2[0]] else None
-            if w1 is not None and w1 == w2 and p1[1] == p2[1] and a1[1] == b0[1] and srch.ok[w1][p1[1]]:
-                face = ("A", w1, p1[1])
-            else:
-                v1 = g._t[p1[1]] if a1[1] == 0.0 else g._h[p1[1]] if a1[1] == g._L[p1[1]] else None
-                v2 = g._t[p2[1]] if b0[1] == 0.0 else g._h[p2[1]] if b0[1] == g._L[p2[1]] else None
-                if v1 is not None and v1 == v2 and p1[0] == p2[0] and a1[0] == b0[0] and srch.ok[v1][p1[0]]:
-                    face = ("B", v1, p1[0])
+            face = faces[j]
             if face is None:
                 continue
             role, w, other = face
             lo, hi = srch.lo[w][other], srch.hi[w][other]
-            if hi <= lo:
+            a0, a1 = segs[j - 1][1], segs[j - 1][2]
+            b0, b1 = segs[j][1], segs[j][2]
+            if role == "A":  # A on the vertex: t varies
+                u = math.sqrt((wa * (a1[0] - a0[0])) ** 2 + e2)
+                v = math.sqrt((wa * (b1[0] - b0[0])) ** 2 + e2)
+                y0, y1, old = a0[1], b1[1], a1[1]
+            else:  # B on the vertex: s varies
+                u = math.sqrt((wb * (a1[1] - a0[1])) ** 2 + e2)
+                v = math.sqrt((wb * (b1[1] - b0[1])) ** 2 + e2)
+                y0, y1, old = a0[0], b1[0], a1[0]
+            if u + v <= 0.0:
                 continue
+            x = min(max(y0 + (y1 - y0) * u / (u + v), lo), hi)
+            if x == old:
+                continue
+            moved = max(moved, abs(x - old))
             if role == "A":
-
-                def fun(x: float, a0: Coords = a0, a1: Coords = a1, b0: Coords = b0, b1: Coords = b1) -> float:
-                    return cost(a1[0] - a0[0], x - a0[1]) + cost(b1[0] - b0[0], b1[1] - x)
-
-                old = a1[1]
+                segs[j - 1][2] = (a1[0], x)
+                segs[j][1] = (b0[0], x)
             else:
-
-                def fun(x: float, a0: Coords = a0, a1: Coords = a1, b0: Coords = b0, b1: Coords = b1) -> float:
-                    return cost(x - a0[0], a1[1] - a0[1]) + cost(b1[0] - x, b1[1] - b0[1])
-
-                old = a1[0]
-            x = _golden(fun, lo, hi)
-            for cand in (lo, hi):
-                if fun(cand) <= fun(x):
-                    x = cand
-            if fun(x) < fun(old) - 1e-15 * max(1.0, fun(old)):
-                moved = max(moved, abs(x - old))
-                if role == "A":
-                    segs[j - 1][2] = (a1[0], x)
-                    segs[j][1] = (b0[0], x)
-                else:
-                    segs[j - 1][2] = (x, a1[1])
-                    segs[j][1] = (x, b0[1])
-        if moved <= 1e-12:
+                segs[j - 1][2] = (x, a1[1])
+                segs[j][1] = (x, b0[1])
+        if moved <= tol:
             break
 
 
@@ -432,9 +423,8 @@ def _total(segs: list[list[Any]], cost: Any) -> float:
 def _taut(srch: _Search, segs: list[list[Any]], wa: float, wb: float, scale: float) -> None:
     """Straighten (in place) for the length ``hypot(wa Δs, wb Δt)``, smoothed as ``sqrt(... + ε²)`` with ε -> 0
     so that coordinate descent does not stall where a segment has zero length."""
-    for eps in (1e-2 * scale, 1e-4 * scale, 1e-6 * scale, 1e-9 * scale, 0.0):
-        e2 = eps * eps
-        _straighten(srch, segs, lambda ds, dt, e2=e2: math.sqrt((ds * wa) ** 2 + (dt * wb) ** 2 + e2))
+    for eps in (1e-2 * scale, 1e-4 * scale, 1e-6 * scale, 0.0):
+        _straighten(srch, segs, wa, wb, eps, 1e-3 * eps if eps > 0 else 1e-12 * scale)
 
 
 def _split_corners(srch: _Search, segs: list[list[Any]], wa: float, wb: float, scale: float) -> list[list[Any]]:
