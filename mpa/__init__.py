@@ -9,7 +9,10 @@ robots on any graph). numpy only.
 
 from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
+from mpa.freespace import FreeSpace, free_space
 from mpa.graph import Edge, MetricGraph, farber_tc_of_graph
+from mpa.graph_planner import GraphPlan, plan_graph
+from mpa.graph_track import GraphTrack
 from mpa.homotopy import path_word, reduce_word
 from mpa.plan import Plan, PlanStep
 from mpa.planners import CirclePlanner, IntervalPlanner, LollipopPlanner, Planner, make_planner, plan
@@ -62,3 +65,4 @@ __all__ = [
     "skeleton_of",
     "topological_complexity",
 ]
+__all__ += ["FreeSpace", "GraphPlan", "GraphTrack", "free_space", "plan_graph"]

@@ -18,12 +18,16 @@ vectorized over numpy arrays.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import InvalidInputError
 from mpa.graph import Edge, MetricGraph
+
+if TYPE_CHECKING:
+    from mpa.graph_track import GraphTrack
 
 __all__ = ["Circle", "Interval", "Lollipop", "Track", "make_track"]
 
@@ -149,6 +153,28 @@ class Track:
         Used to refine densely sampled motions: between two close samples the shortest path is the motion.
         """
         raise NotImplementedError
+
+    def as_graph_track(self) -> GraphTrack:
+        """This track as a :class:`~mpa.graph_track.GraphTrack` with edges ``stick`` and/or ``loop``.
+
+        Interval: ``stick`` (F -> E); circle: ``loop`` (P -> P, ccw); lollipop: ``stick`` (free end F -> pole P) and
+        ``loop`` (P -> P, ccw). Offsets: ``p`` on the stick, ``p - stick`` on a lollipop's loop, ``p`` on a circle.
+        """
+        from mpa.graph_track import paper_track_as_graph
+
+        return paper_track_as_graph(self)
+
+    def to_graph_position(self, p: ArrayLike) -> tuple[NDArray[np.int64], FloatArray]:
+        """Track coordinates -> ``(edge index, offset)`` on :meth:`as_graph_track` (vectorized)."""
+        from mpa.graph_track import paper_to_graph_position
+
+        return paper_to_graph_position(self, p)
+
+    def from_graph_position(self, edge: ArrayLike, offset: ArrayLike) -> FloatArray:
+        """``(edge index, offset)`` on :meth:`as_graph_track` -> track coordinates (vectorized)."""
+        from mpa.graph_track import paper_from_graph_position
+
+        return paper_from_graph_position(self, edge, offset)
 
 
 @dataclass(frozen=True)

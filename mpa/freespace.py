@@ -1,0 +1,332 @@
+"""The free configuration space of two robots on a graph track with clearance D, exactly, as convex polygons.
+
+For robot A on edge ``e`` (offset ``s``) and robot B on edge ``f`` (offset ``t``) the graph distance is the minimum
+of four affine terms (and ``|s - t|`` when ``e == f``; see :mod:`mpa.geometry`). The free set ``{d >= D}`` in the
+cell ``e × f`` is therefore one convex polygon (``e != f``) or two (``e == f``: piece 0 where ``s - t >= D``,
+piece 1 where ``t - s >= D``). Polygons are stored with their vertices in offsets ``(s, t)`` (metres),
+counter-clockwise; a cell that is entirely free is not clipped (its polygon is the box).
+
+Gluing. A robot standing on a vertex ``w`` belongs to every edge at ``w``. The *face* ``A at w, B on f`` is the set
+``{t : d(w, (f, t)) >= D}``, one closed interval ``[lo, hi]`` (``d`` is a minimum of affine functions of ``t``, so its
+super-level set is convex); every free polygon of a cell ``e × f`` with ``w`` an end of ``e`` restricts to exactly
+this interval on its side ``s = 0`` (``w`` the tail of ``e``) or ``s = L_e`` (``w`` the head). Faces ``A on e, B at
+w`` likewise. Polygons sharing a face are adjacent (a face that is a single point still connects: point contacts
+count). Corners, where both robots stand on vertices, lie on faces and need no extra gluing. Path components of the
+free set are the connected components of the polygon–face incidence graph (union-find).
+
+Tolerances. Membership uses ``d >= D - tol`` with ``tol = 1e-12 · max(1, total length)``, so thresholds that are met
+exactly (a siding exactly as long as the clearance) count as free. A clearance of 0 (the paper's ``C²``, only the
+diagonal removed) is replaced internally by ``1e-9 · max(1, total length)`` metres: :attr:`FreeSpace.clearance_used`.
+
+Swapping. :meth:`FreeSpace.can_swap` with two positions answers whether ``(x, y)`` and ``(y, x)`` are in one path
+component (the robots can exchange these places); without arguments, whether any configuration can be exchanged,
+i.e. some component is mapped to itself by the swap ``(x, y) -> (y, x)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from numpy.typing import NDArray
+
+from mpa.errors import InvalidInputError
+from mpa.graph_track import GraphTrack, Position, as_graph_track
+
+__all__ = ["FreeSpace", "PolygonId", "free_space"]
+
+FloatArray = NDArray[np.float64]
+#: ``(e, f, k)``: robot A's edge, robot B's edge, piece (0 unless ``e == f``; then 0: ``s > t``, 1: ``t > s``).
+PolygonId = tuple[int, int, int]
+
+ZERO_CLEARANCE = 1e-9  # times max(1, total length): the clearance used for D = 0
+TOL = 1e-12  # times max(1, total length): membership tolerance
+
+_EMPTY, _FULL, _PARTIAL = 0, 1, 2
+_SLOPES = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))
+
+
+def _clip(poly: list[tuple[float, float]], a: float, b: float, c: float) -> list[tuple[float, float]]:
+    """Sutherland–Hodgman: keep ``a*s + b*t >= c`` of a convex polygon (list of (s, t))."""
+    out: list[tuple[float, float]] = []
+    n = len(poly)
+    if n == 0:
+        return out
+    prev = poly[-1]
+    fp = a * prev[0] + b * prev[1] - c
+    for cur in poly:
+        fc = a * cur[0] + b * cur[1] - c
+        if fc >= 0.0:
+            if fp < 0.0:
+                lam = fp / (fp - fc)
+                out.append((prev[0] + lam * (cur[0] - prev[0]), prev[1] + lam * (cur[1] - prev[1])))
+            out.append(cur)
+        elif fp >= 0.0:
+            lam = fp / (fp - fc)
+            out.append((prev[0] + lam * (cur[0] - prev[0]), prev[1] + lam * (cur[1] - prev[1])))
+        prev, fp = cur, fc
+    return out
+
+
+def _dedupe(poly: list[tuple[float, float]], eps: float) -> list[tuple[float, float]]:
+    out: list[tuple[float, float]] = []
+    for p in poly:
+        if not out or abs(p[0] - out[-1][0]) > eps or abs(p[1] - out[-1][1]) > eps:
+            out.append(p)
+    while len(out) > 1 and abs(out[0][0] - out[-1][0]) <= eps and abs(out[0][1] - out[-1][1]) <= eps:
+        out.pop()
+    return out
+
+
+@dataclass(frozen=True)
+class _Faces:
+    lo: FloatArray  # (V, E): face "robot at vertex w, other robot on edge f", interval [lo, hi] in offsets on f
+    hi: FloatArray
+    ok: NDArray[np.bool_]  # lo <= hi
+
+
+class FreeSpace:
+    """Free configuration space ``{d >= D}`` of two robots on a graph track, as glued convex polygons.
+
+    Parameters
+    ----------
+    track : GraphTrack or paper track or layout
+        The track (paper tracks are converted with ``as_graph_track()``).
+    clearance : float
+        D (metres, >= 0). D = 0 uses :data:`ZERO_CLEARANCE` · max(1, total length) internally.
+
+    Attributes
+    ----------
+    track : GraphTrack
+    clearance : float
+        The clearance asked for (metres).
+    clearance_used : float
+        The clearance the polygons are built with (metres).
+    tol : float
+        Membership tolerance (metres): free means ``d >= clearance_used - tol``.
+    status : ndarray of int, shape (E, E)
+        Per cell ``e × f``: 0 empty, 1 entirely free (the box), 2 clipped.
+    polygon_ids : list of PolygonId
+        The non-empty free polygons; the index in this list is the polygon's number.
+
+    Notes
+    -----
+    Prefer :func:`free_space`, which caches one instance per ``(track, clearance)``.
+    """
+
+    def __init__(self, track: object, clearance: float) -> None:
+        tr = as_graph_track(track)
+        if isinstance(clearance, bool) or not isinstance(clearance, (int, float, np.integer, np.floating)):
+            raise InvalidInputError(f"clearance is {clearance!r}, expected a finite number >= 0 (metres)")
+        dd = float(clearance)
+        if not np.isfinite(dd) or dd < 0:
+            raise InvalidInputError(f"clearance is {clearance!r}, expected a finite number >= 0 (metres)")
+        self.track: GraphTrack = tr
+        self.clearance = dd
+        scale = max(1.0, tr.total_length)
+        self.tol = TOL * scale
+        self.clearance_used = dd if dd > 0 else ZERO_CLEARANCE * scale
+        self.geometry = tr.geometry
+        self._build()
+
+    # ------------------------------------------------------------------------------------------ build
+    def _build(self) -> None:
+        g = self.geometry
+        n_e = g.n_edges
+        lengths = g.lengths
+        dmin = self.clearance_used - self.tol
+        self._dmin = dmin
+        # faces: robot at vertex w, other on edge f at offset x: d = min(x + DV[w, tail f], L_f - x + DV[w, head f])
+        lo = np.maximum(0.0, dmin - g.dv[:, g.tails])
+        hi = np.minimum(lengths[None, :], lengths[None, :] + g.dv[:, g.heads] - dmin)
+        self.faces = _Faces(lo, hi, lo <= hi)
+        # classify cells
+        ee, ff = np.meshgrid(np.arange(n_e), np.arange(n_e), indexing="ij")
+        c0 = g.cell_terms_array(ee, ff)  # (E, E, 4)
+        le = lengths[ee][..., None]
+        lf = lengths[ff][..., None]
+        ca = np.array([s[0] for s in _SLOPES])
+        cb = np.array([s[1] for s in _SLOPES])
+        tmin = c0 + np.minimum(0.0, ca * le) + np.minimum(0.0, cb * lf)
+        tmax = c0 + np.maximum(0.0, ca * le) + np.maximum(0.0, cb * lf)
+        with np.errstate(invalid="ignore"):
+            empty = np.any(tmax < dmin, axis=-1)
+            full = np.all(tmin >= dmin, axis=-1) & (ee != ff)
+        status = np.full((n_e, n_e), _PARTIAL, dtype=np.int8)
+        status[full] = _FULL
+        status[empty] = _EMPTY
+        self.status = status
+        self._c0 = c0
+        self._tmin = tmin
+        # clip the partial cells
+        self._vertices: dict[PolygonId, FloatArray] = {}
+        eps = 1e-12 * max(1.0, float(lengths.max()))
+        for e, f in zip(*np.nonzero(status == _PARTIAL)):
+            e, f = int(e), int(f)
+            le_, lf_ = float(lengths[e]), float(lengths[f])
+            box = [(0.0, 0.0), (le_, 0.0), (le_, lf_), (0.0, lf_)]
+            poly = box
+            for j, (a, b) in enumerate(_SLOPES):
+                if tmin[e, f, j] < dmin:
+                    poly = _clip(poly, a, b, dmin - float(c0[e, f, j]))
+                    if not poly:
+                        break
+            pieces = ((0, 1.0, -1.0), (1, -1.0, 1.0)) if e == f else ((0, 0.0, 0.0),)
+            for k, a, b in pieces:
+                q = _clip(poly, a, b, dmin) if e == f else poly
+                q = _dedupe(q, eps)
+                if q:
+                    self._vertices[(e, f, k)] = np.asarray(q, dtype=float)
+            if not any((e, f, k) in self._vertices for k in (0, 1)):
+                status[e, f] = _EMPTY
+        ids: list[PolygonId] = []
+        for e, f in zip(*np.nonzero(status != _EMPTY)):
+            e, f = int(e), int(f)
+            if status[e, f] == _FULL:
+                ids.append((e, f, 0))
+            else:
+                ids.extend((e, f, k) for k in (0, 1) if (e, f, k) in self._vertices)
+        self.polygon_ids: list[PolygonId] = ids
+        self._index = {pid: i for i, pid in enumerate(ids)}
+        self._components()
+
+    def _components(self) -> None:
+        g = self.geometry
+        n_e, n_v = g.n_edges, g.n_vertices
+        n_poly = len(self.polygon_ids)
+        # nodes: polygons 0..P-1, A-faces P + w*E + f, B-faces P + V*E + e*V + w
+        parent = list(range(n_poly + 2 * n_v * n_e))
+
+        def find(x: int) -> int:
+            while parent[x] != x:
+                parent[x] = parent[parent[x]]
+                x = parent[x]
+            return x
+
+        ok = self.faces.ok.tolist()
+        base_a, base_b = n_poly, n_poly + n_v * n_e
+        for i, (e, f, k) in enumerate(self.polygon_ids):
+            for _, w in self._sides_a(e, f, k):
+                if ok[w][f]:
+                    r1, r2 = find(i), find(base_a + w * n_e + f)
+                    if r1 != r2:
+                        parent[r1] = r2
+            for _, w in self._sides_b(e, f, k):
+                if ok[w][e]:
+                    r1, r2 = find(i), find(base_b + e * n_v + w)
+                    if r1 != r2:
+                        parent[r1] = r2
+        roots = [find(i) for i in range(n_poly)]
+        labels: dict[int, int] = {}
+        comp = np.empty(n_poly, dtype=np.int64)
+        for i, r in enumerate(roots):
+            comp[i] = labels.setdefault(r, len(labels))
+        self.polygon_component = comp
+        self.n_components = len(labels)
+
+    def _sides_a(self, e: int, f: int, k: int) -> list[tuple[float, int]]:
+        """Sides of polygon ``(e, f, k)`` where robot A stands on a vertex: list of (s of the side, vertex)."""
+        g = self.geometry
+        le = g._L[e]
+        if e != f:
+            return [(0.0, g._t[e]), (le, g._h[e])]
+        return [(0.0, g._t[e])] if k == 1 else [(le, g._h[e])]
+
+    def _sides_b(self, e: int, f: int, k: int) -> list[tuple[float, int]]:
+        """Sides of polygon ``(e, f, k)`` where robot B stands on a vertex: list of (t of the side, vertex)."""
+        g = self.geometry
+        lf = g._L[f]
+        if e != f:
+            return [(0.0, g._t[f]), (lf, g._h[f])]
+        return [(0.0, g._t[f])] if k == 0 else [(lf, g._h[f])]
+
+    # ---------------------------------------------------------------------------------------- queries
+    def vertices(self, pid: PolygonId) -> FloatArray:
+        """Corners of a free polygon in offsets ``(s, t)`` (metres), counter-clockwise. Shape (n, 2)."""
+        e, f, _ = pid
+        if pid not in self._index:
+            raise InvalidInputError(f"polygon {pid!r} is not a free polygon of this space")
+        if self.status[e, f] == _FULL:
+            le, lf = self.geometry._L[e], self.geometry._L[f]
+            return np.array([(0.0, 0.0), (le, 0.0), (le, lf), (0.0, lf)])
+        return self._vertices[pid]
+
+    def polygons(self) -> dict[PolygonId, FloatArray]:
+        """All free polygons ``{(e, f, k): corners (n, 2)}`` (builds the boxes of entirely free cells)."""
+        return {pid: self.vertices(pid) for pid in self.polygon_ids}
+
+    def face_interval(self, vertex: int, edge: int) -> tuple[float, float] | None:
+        """Free offsets ``[lo, hi]`` of a robot on ``edge`` while the other stands on ``vertex`` (None if empty)."""
+        if not self.faces.ok[vertex, edge]:
+            return None
+        return float(self.faces.lo[vertex, edge]), float(self.faces.hi[vertex, edge])
+
+    def is_free(self, pos_a: Position, pos_b: Position) -> bool:
+        """Whether the robots at these positions are at least the clearance apart (within :attr:`tol`)."""
+        return self.geometry.distance_scalar(pos_a[0], pos_a[1], pos_b[0], pos_b[1]) >= self._dmin
+
+    def polygon_of(self, pos_a: Position, pos_b: Position) -> PolygonId | None:
+        """The free polygon of cell ``(edge A) × (edge B)`` holding the configuration, None if it is not free."""
+        (e, s), (f, t) = pos_a, pos_b
+        if not self.is_free(pos_a, pos_b):
+            return None
+        pid = (e, f, 0 if e != f or s > t else 1)
+        return pid if pid in self._index else None
+
+    def component_of(self, pos_a: object, pos_b: object) -> int | None:
+        """Path component (0 .. n_components - 1) of a configuration, None if it is not free.
+
+        Parameters
+        ----------
+        pos_a, pos_b : position
+            Anything :meth:`GraphTrack.position` accepts (``(edge, offset)``, ``"EDGE:OFFSET"``, a vertex name).
+        """
+        a = self.track.position(pos_a, "position of robot A")
+        b = self.track.position(pos_b, "position of robot B")
+        pid = self.polygon_of(a, b)
+        return None if pid is None else int(self.polygon_component[self._index[pid]])
+
+    def components(self) -> int:
+        """Number of path components of the free space."""
+        return self.n_components
+
+    def swap_component(self, comp: int) -> int:
+        """The component that the swap ``(x, y) -> (y, x)`` maps component ``comp`` to."""
+        i = int(np.nonzero(self.polygon_component == comp)[0][0])
+        e, f, k = self.polygon_ids[i]
+        s, t = self.vertices((e, f, k)).mean(axis=0)
+        pid = self.polygon_of((f, float(t)), (e, float(s)))
+        if pid is None:  # pragma: no cover - the centroid of a free polygon is free
+            raise InvalidInputError("internal: swapped centroid not free")
+        return int(self.polygon_component[self._index[pid]])
+
+    def can_swap(self, pos_a: object | None = None, pos_b: object | None = None) -> bool:
+        """Whether the robots can exchange places.
+
+        With positions: whether ``(pos_a, pos_b)`` and ``(pos_b, pos_a)`` lie in one path component. Without: whether
+        some configuration can be exchanged (some component is mapped to itself by the swap).
+        """
+        if pos_a is None and pos_b is None:
+            return any(self.swap_component(c) == c for c in range(self.n_components))
+        if pos_a is None or pos_b is None:
+            raise InvalidInputError("can_swap takes two positions or none")
+        c1 = self.component_of(pos_a, pos_b)
+        if c1 is None:
+            raise InvalidInputError(
+                f"configuration {pos_a!r}, {pos_b!r} has the robots closer than the clearance {self.clearance:g}"
+            )
+        return c1 == self.component_of(pos_b, pos_a)
+
+
+@lru_cache(maxsize=16)
+def _cached(track: GraphTrack, clearance: float) -> FreeSpace:
+    return FreeSpace(track, clearance)
+
+
+def free_space(track: object, clearance: float) -> FreeSpace:
+    """The :class:`FreeSpace` of ``(track, clearance)``, built once and cached (the last 16 are kept)."""
+    tr = as_graph_track(track)
+    if isinstance(clearance, bool) or not isinstance(clearance, (int, float, np.integer, np.floating)):
+        raise InvalidInputError(f"clearance is {clearance!r}, expected a finite number >= 0 (metres)")
+    return _cached(tr, float(clearance))

@@ -1,0 +1,347 @@
+"""Exact geometry of two robots on a metric graph: the one module of graph distance in this project.
+
+A metric graph has ``V`` vertices (indices ``0..V-1``) and ``E`` edges ``i = (tail[i], head[i], length[i])``;
+loops (``tail == head``) and parallel edges are allowed. A *position* is ``(edge, offset)``: the edge index and the
+offset in metres from the edge's tail, ``0 <= offset <= length``.
+
+Facts used everywhere (see ``/work/shared/GRAPHS.md``):
+
+- ``DV`` is the all-pairs shortest vertex distance; a loop or the longer of two parallel edges never shortens it.
+- For ``x = (e, s)`` and ``y = (f, t)``, ``d(x, y) = min(|s - t| if e == f, min over the four affine terms
+  r_e(s, a) + DV[a, b] + r_f(t, b))`` with ``r_e(s, tail) = s`` and ``r_e(s, head) = L_e - s``. On a loop both terms
+  exist, which covers going round it.
+- In a *cell* ``e × f`` the distance is ``min`` over terms ``ca*s + cb*t + c0`` (``ca, cb ∈ {±1}``), plus ``|s - t|``
+  when ``e == f``. Along a straight move ``(s0, t0) -> (s1, t1)`` inside one cell every term is affine in the move
+  parameter, so the minimum of ``d`` sits at an end of the move, except that ``|s - t|`` reaches 0 when the robots
+  cross on one edge. :meth:`GraphGeometry.segment_min` is therefore exact and costs a few flops.
+
+The paper's tracks convert to graphs with ``as_graph_track()`` (see :mod:`mpa.graph_track`): an interval is one edge
+``stick`` (free end ``F`` -> end ``E``), a circle one loop edge ``loop`` at ``P`` (counter-clockwise), a lollipop the
+edges ``stick`` (free end ``F`` -> pole ``P``) and ``loop`` (``P`` -> ``P``, counter-clockwise). In *route
+coordinates* (distance travelled along a route of directed edges, :class:`DirectedRoute`) the exact minimum
+separation along a polyline is :meth:`GraphGeometry.route_min_distance`; smoothing and the verification gate of
+``trajopt`` can use it instead of their own copies.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mpa.errors import InvalidInputError
+
+__all__ = ["DirectedRoute", "GraphGeometry", "vertex_distance_matrix"]
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+
+def vertex_distance_matrix(n_vertices: int, tails: ArrayLike, heads: ArrayLike, lengths: ArrayLike) -> FloatArray:
+    """All-pairs shortest distances between vertices (Floyd–Warshall, vectorized over one pivot at a time).
+
+    Parameters
+    ----------
+    n_vertices : int
+        ``V``.
+    tails, heads : array_like of int, shape (E,)
+        End vertices of each edge.
+    lengths : array_like of float, shape (E,)
+        Edge lengths (metres, >= 0).
+
+    Returns
+    -------
+    ndarray, shape (V, V)
+        ``DV[a, b]`` in metres, ``inf`` between graph components, 0 on the diagonal. Loops never change it and
+        of parallel edges only the shortest counts.
+    """
+    dv = np.full((n_vertices, n_vertices), np.inf)
+    np.fill_diagonal(dv, 0.0)
+    for u, v, w in zip(np.asarray(tails, int), np.asarray(heads, int), np.asarray(lengths, float)):
+        if u != v and w < dv[u, v]:
+            dv[u, v] = dv[v, u] = w
+    for k in range(n_vertices):
+        np.minimum(dv, dv[:, k, None] + dv[None, k, :], out=dv)
+    return dv
+
+
+@dataclass(frozen=True, eq=False)
+class DirectedRoute:
+    """A robot's route: a sequence of directed edges, with route coordinate = distance travelled along it.
+
+    Piece ``i`` runs on edge ``edges[i]`` in direction ``dirs[i]`` (+1 along the edge's orientation, -1 against),
+    entering at offset ``entry[i]`` and covering route coordinates ``[breaks[i], breaks[i+1]]``; on it the offset is
+    ``entry[i] + dirs[i] * (r - breaks[i])``.
+
+    Attributes
+    ----------
+    edges : ndarray of int, shape (M,)
+    dirs : ndarray of int, shape (M,)
+        +1 or -1.
+    entry : ndarray of float, shape (M,)
+        Offset where the piece starts (metres).
+    breaks : ndarray of float, shape (M + 1,)
+        Route coordinates of the piece boundaries, non-decreasing (metres). A plan's routes start at
+        ``breaks[0] = 0`` (distance travelled); any origin works, e.g. a smoother's signed route coordinate σ.
+        A polyline may move either way along the route coordinate: only the pieces' affine maps are used.
+    """
+
+    edges: IntArray
+    dirs: IntArray
+    entry: FloatArray
+    breaks: FloatArray
+
+    @classmethod
+    def standing(cls, edge: int, offset: float) -> DirectedRoute:
+        """The route of a robot that does not move (one piece of length 0)."""
+        return cls(np.array([edge]), np.array([1]), np.array([float(offset)]), np.array([0.0, 0.0]))
+
+    @classmethod
+    def from_pieces(
+        cls,
+        edges: Sequence[int],
+        dirs: Sequence[int],
+        entry: Sequence[float],
+        lengths: Sequence[float],
+        origin: float = 0.0,
+    ) -> DirectedRoute:
+        """A route from its pieces' edges, directions (±1), entry offsets and lengths (metres), from ``origin``."""
+        ln = np.asarray(lengths, dtype=float)
+        if len(ln) == 0 or not (len(edges) == len(dirs) == len(entry) == len(ln)) or np.any(ln < 0):
+            raise InvalidInputError("route pieces need one edge, direction, entry and length >= 0 each, at least one")
+        d = np.asarray(dirs, dtype=np.int64)
+        if not np.all(np.abs(d) == 1):
+            raise InvalidInputError(f"route directions are {d.tolist()}, expected +1 or -1 each")
+        breaks = float(origin) + np.concatenate([[0.0], np.cumsum(ln)])
+        return cls(np.asarray(edges, dtype=np.int64), d, np.asarray(entry, dtype=float), breaks)
+
+    @property
+    def length(self) -> float:
+        """Total route length (metres)."""
+        return float(self.breaks[-1] - self.breaks[0])
+
+    def piece_index(self, r: ArrayLike) -> IntArray:
+        """Index of the piece holding route coordinate ``r`` (broadcast; ties go to the later piece)."""
+        r = np.asarray(r, dtype=float)
+        i = np.searchsorted(self.breaks, r, side="right") - 1
+        return np.clip(i, 0, len(self.edges) - 1)
+
+    def positions(self, r: ArrayLike) -> tuple[IntArray, FloatArray]:
+        """Positions ``(edge, offset)`` at route coordinates ``r`` (broadcast; clamped to the route)."""
+        r = np.clip(np.asarray(r, dtype=float), self.breaks[0], self.breaks[-1])
+        i = self.piece_index(r)
+        return self.edges[i], self.entry[i] + self.dirs[i] * (r - self.breaks[i])
+
+    def to_list(self, names: Sequence[str] | None = None) -> list[dict[str, object]]:
+        """JSON-friendly pieces ``{"edge", "dir", "entry", "from_s", "to_s"}``."""
+        out = []
+        for i in range(len(self.edges)):
+            e = int(self.edges[i])
+            out.append(
+                {
+                    "edge": names[e] if names is not None else e,
+                    "dir": int(self.dirs[i]),
+                    "entry": float(self.entry[i]),
+                    "from_s": float(self.breaks[i]),
+                    "to_s": float(self.breaks[i + 1]),
+                }
+            )
+        return out
+
+
+class GraphGeometry:
+    """Exact distances on one metric graph (built once; cheap to query).
+
+    Parameters
+    ----------
+    n_vertices : int
+        ``V``.
+    tails, heads : array_like of int, shape (E,)
+        Edge ends (vertex indices).
+    lengths : array_like of float, shape (E,)
+        Edge lengths (metres, > 0).
+
+    Attributes
+    ----------
+    dv : ndarray, shape (V, V)
+        All-pairs vertex distance (metres).
+    """
+
+    def __init__(self, n_vertices: int, tails: ArrayLike, heads: ArrayLike, lengths: ArrayLike) -> None:
+        self.tails: IntArray = np.asarray(tails, dtype=np.int64)
+        self.heads: IntArray = np.asarray(heads, dtype=np.int64)
+        self.lengths: FloatArray = np.asarray(lengths, dtype=float)
+        if not (self.tails.shape == self.heads.shape == self.lengths.shape) or self.tails.ndim != 1:
+            raise InvalidInputError("tails, heads and lengths must be 1-D arrays of one length (E,)")
+        self.n_vertices = int(n_vertices)
+        self.n_edges = len(self.lengths)
+        self.dv: FloatArray = vertex_distance_matrix(self.n_vertices, self.tails, self.heads, self.lengths)
+        # python lists for the scalar fast path
+        self._t = self.tails.tolist()
+        self._h = self.heads.tolist()
+        self._L = self.lengths.tolist()
+        self._dv = self.dv.tolist()
+
+    # ---------------------------------------------------------------------------------------- distance
+    def distance(self, ea: ArrayLike, sa: ArrayLike, eb: ArrayLike, sb: ArrayLike) -> FloatArray:
+        """Exact graph distance between positions ``(ea, sa)`` and ``(eb, sb)`` (broadcast, metres).
+
+        Parameters
+        ----------
+        ea, eb : array_like of int
+            Edge indices.
+        sa, sb : array_like of float
+            Offsets from the edges' tails (metres).
+
+        Returns
+        -------
+        ndarray
+            Broadcast shape of the inputs.
+        """
+        ea, sa, eb, sb = np.broadcast_arrays(
+            np.asarray(ea, dtype=np.int64), np.asarray(sa, float), np.asarray(eb, dtype=np.int64), np.asarray(sb, float)
+        )
+        ta, ha, la = self.tails[ea], self.heads[ea], self.lengths[ea]
+        tb, hb, lb = self.tails[eb], self.heads[eb], self.lengths[eb]
+        dv = self.dv
+        ra, qa = sa, la - sa
+        rb, qb = sb, lb - sb
+        d = np.minimum(
+            np.minimum(ra + dv[ta, tb] + rb, ra + dv[ta, hb] + qb),
+            np.minimum(qa + dv[ha, tb] + rb, qa + dv[ha, hb] + qb),
+        )
+        return np.where(ea == eb, np.minimum(d, np.abs(sa - sb)), d)
+
+    def distance_scalar(self, ea: int, sa: float, eb: int, sb: float) -> float:
+        """:meth:`distance` for one pair of positions, in plain Python (about 1 µs)."""
+        dv = self._dv
+        ta, ha, la = self._t[ea], self._h[ea], self._L[ea]
+        tb, hb, lb = self._t[eb], self._h[eb], self._L[eb]
+        qa, qb = la - sa, lb - sb
+        d = min(sa + dv[ta][tb] + sb, sa + dv[ta][hb] + qb, qa + dv[ha][tb] + sb, qa + dv[ha][hb] + qb)
+        if ea == eb:
+            d = min(d, abs(sa - sb))
+        return d
+
+    def vertex_position_distance(self, w: int, e: int, s: float) -> float:
+        """Distance from vertex ``w`` to position ``(e, s)`` (metres)."""
+        dv = self._dv
+        return min(s + dv[w][self._t[e]], self._L[e] - s + dv[w][self._h[e]])
+
+    # ------------------------------------------------------------------------------------------ cells
+    def cell_terms(self, e: int, f: int) -> list[tuple[float, float, float]]:
+        """The affine terms of the cell ``e × f``.
+
+        Returns
+        -------
+        list of (ca, cb, c0)
+            Four terms; in the cell, ``d(s, t) = min(ca*s + cb*t + c0 over the terms)``, and additionally
+            ``min(..., |s - t|)`` when ``e == f`` (not included here). Terms through unreachable vertices have
+            ``c0 = inf``.
+        """
+        dv = self._dv
+        ta, ha, la = self._t[e], self._h[e], self._L[e]
+        tb, hb, lb = self._t[f], self._h[f], self._L[f]
+        return [
+            (1.0, 1.0, dv[ta][tb]),
+            (1.0, -1.0, dv[ta][hb] + lb),
+            (-1.0, 1.0, la + dv[ha][tb]),
+            (-1.0, -1.0, la + lb + dv[ha][hb]),
+        ]
+
+    def cell_terms_array(self, e: ArrayLike, f: ArrayLike) -> FloatArray:
+        """Constant parts ``c0`` of the four terms for arrays of cells. Shape ``e.shape + (4,)``.
+
+        The slopes ``(ca, cb)`` are ``(1, 1), (1, -1), (-1, 1), (-1, -1)`` in that order.
+        """
+        e, f = np.broadcast_arrays(np.asarray(e, dtype=np.int64), np.asarray(f, dtype=np.int64))
+        ta, ha, la = self.tails[e], self.heads[e], self.lengths[e]
+        tb, hb, lb = self.tails[f], self.heads[f], self.lengths[f]
+        dv = self.dv
+        return np.stack([dv[ta, tb], dv[ta, hb] + lb, la + dv[ha, tb], la + lb + dv[ha, hb]], axis=-1)
+
+    def segment_min(self, e: ArrayLike, f: ArrayLike, p0: ArrayLike, p1: ArrayLike) -> FloatArray:
+        """Exact minimum of ``d`` along straight moves ``p0 -> p1`` inside cells ``e × f`` (broadcast).
+
+        Parameters
+        ----------
+        e, f : array_like of int
+            Edge of robot A and of robot B (shape ``(...)``).
+        p0, p1 : array_like of float, shape (..., 2)
+            Ends of the moves in offsets ``(s, t)`` (metres); both must lie in the cell's box.
+
+        Returns
+        -------
+        ndarray, shape (...)
+            ``min over λ ∈ [0, 1] of d(p0 + λ (p1 - p0))`` (metres). Every term is affine in λ, so the minimum is
+            at an end, except ``|s - t|`` on one edge, which is 0 when ``s - t`` changes sign.
+        """
+        p0 = np.asarray(p0, dtype=float)
+        p1 = np.asarray(p1, dtype=float)
+        e, f = np.broadcast_arrays(np.asarray(e, dtype=np.int64), np.asarray(f, dtype=np.int64))
+        d0 = self.distance(e, p0[..., 0], f, p0[..., 1])
+        d1 = self.distance(e, p1[..., 0], f, p1[..., 1])
+        g0 = p0[..., 0] - p0[..., 1]
+        g1 = p1[..., 0] - p1[..., 1]
+        cross = (e == f) & (g0 * g1 <= 0.0)
+        return np.where(cross, 0.0, np.minimum(d0, d1))
+
+    def segment_min_scalar(self, e: int, f: int, s0: float, t0: float, s1: float, t1: float) -> float:
+        """:meth:`segment_min` for one move, in plain Python."""
+        if e == f and (s0 - t0) * (s1 - t1) <= 0.0:
+            return 0.0
+        return min(self.distance_scalar(e, s0, f, t0), self.distance_scalar(e, s1, f, t1))
+
+    # ----------------------------------------------------------------------------------------- routes
+    def route_min_distance(self, route_a: DirectedRoute, route_b: DirectedRoute, waypoints: ArrayLike) -> float:
+        """Exact minimum separation along a polyline in route coordinates.
+
+        Parameters
+        ----------
+        route_a, route_b : DirectedRoute
+            The robots' routes.
+        waypoints : array_like, shape (K, 2)
+            Corners ``(r_A, r_B)`` of the polyline in route coordinates (metres), each within its route's length.
+
+        Returns
+        -------
+        float
+            ``min`` of the graph distance over the whole polyline (metres). Each segment is split where either robot
+            changes piece; on each sub-segment both robots are on fixed edges with affine offsets, and
+            :meth:`segment_min` is exact there.
+        """
+        w = np.asarray(waypoints, dtype=float)
+        if w.ndim != 2 or w.shape[1] != 2 or len(w) < 1:
+            raise InvalidInputError(f"waypoints have shape {w.shape}, expected (K, 2) with K >= 1")
+        if len(w) == 1:
+            ea, sa = route_a.positions(w[0, 0])
+            eb, sb = route_b.positions(w[0, 1])
+            return self.distance_scalar(int(ea), float(sa), int(eb), float(sb))
+        lam_all = []
+        for k in range(len(w) - 1):
+            a, b = w[k], w[k + 1]
+            lams = [0.0, 1.0]
+            for j, route in ((0, route_a), (1, route_b)):
+                lo, hi = min(a[j], b[j]), max(a[j], b[j])
+                if hi > lo:
+                    br = route.breaks[(route.breaks > lo) & (route.breaks < hi)]
+                    lams.extend(((br - a[j]) / (b[j] - a[j])).tolist())
+            lam = np.unique(np.asarray(lams))
+            lam_all.append(np.stack([np.full(len(lam) - 1, k), lam[:-1], lam[1:]], axis=1))
+        seg = np.concatenate(lam_all)
+        k = seg[:, 0].astype(np.int64)
+        a, b = w[k], w[k + 1]
+        q0 = a + seg[:, 1:2] * (b - a)
+        q1 = a + seg[:, 2:3] * (b - a)
+        mid = 0.5 * (q0 + q1)
+        ia = route_a.piece_index(mid[:, 0])
+        ib = route_b.piece_index(mid[:, 1])
+
+        def offs(route: DirectedRoute, i: IntArray, r: FloatArray) -> FloatArray:
+            return route.entry[i] + route.dirs[i] * (r - route.breaks[i])
+
+        p0 = np.stack([offs(route_a, ia, q0[:, 0]), offs(route_b, ib, q0[:, 1])], axis=1)
+        p1 = np.stack([offs(route_a, ia, q1[:, 0]), offs(route_b, ib, q1[:, 1])], axis=1)
+        return float(np.min(self.segment_min(route_a.edges[ia], route_b.edges[ib], p0, p1)))

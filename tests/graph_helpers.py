@@ -1,0 +1,74 @@
+"""Shared helpers of the graph-track tests: random small layouts and a brute-force distance."""
+
+from __future__ import annotations
+
+import heapq
+
+import numpy as np
+
+from mpa.graph_track import GraphTrack
+
+EXACT = 1e-9  # metres
+
+
+def random_layout(rng: np.random.Generator, n_edges: int | None = None, loops: bool = True) -> GraphTrack:
+    """A random connected layout of 3-6 edges (loops and parallel edges included), lengths 0.3-2 m."""
+    n_e = int(rng.integers(3, 7)) if n_edges is None else n_edges
+    n_v = int(rng.integers(2, n_e + 1))
+    edges = []
+    for v in range(1, n_v):  # a random spanning tree keeps it connected
+        u = int(rng.integers(0, v))
+        edges.append([f"v{u}", f"v{v}", round(float(rng.uniform(0.3, 2.0)), 3)])
+    while len(edges) < n_e:
+        u = int(rng.integers(0, n_v))
+        w = u if (loops and rng.random() < 0.3) else int(rng.integers(0, n_v))
+        length = round(float(rng.uniform(0.3, 2.0)), 3)
+        if u == w and length < 0.6:
+            length += 0.6
+        edges.append([f"v{u}", f"v{w}", length])
+    return GraphTrack.from_layout({"edges": edges})
+
+
+def random_position(track: GraphTrack, rng: np.random.Generator, vertex_p: float = 0.15) -> tuple[int, float]:
+    """A random position; with probability ``vertex_p`` exactly at an end of its edge."""
+    e = int(rng.integers(0, track.n_edges))
+    length = float(track.lengths[e])
+    if rng.random() < vertex_p:
+        return e, float(rng.choice([0.0, length]))
+    return e, float(rng.uniform(0.0, length))
+
+
+def brute_distance(track: GraphTrack, a: tuple[int, float], b: tuple[int, float]) -> float:
+    """Graph distance by Dijkstra on the graph subdivided at both positions (independent of mpa.geometry)."""
+    nodes: dict[object, list[tuple[object, float]]] = {}
+
+    def link(x: object, y: object, w: float) -> None:
+        nodes.setdefault(x, []).append((y, w))
+        nodes.setdefault(y, []).append((x, w))
+
+    for i, e in enumerate(track.graph.edges):
+        offs = sorted({0.0, e.length} | {p[1] for p in (a, b) if p[0] == i})
+        keys = [("v", e.tail) if o == 0.0 else ("v", e.head) if o == e.length else ("p", i, o) for o in offs]
+        for k in range(len(offs) - 1):
+            link(keys[k], keys[k + 1], offs[k + 1] - offs[k])
+
+    def key(p: tuple[int, float]) -> object:
+        e = track.graph.edges[p[0]]
+        return ("v", e.tail) if p[1] == 0.0 else ("v", e.head) if p[1] == e.length else ("p", p[0], p[1])
+
+    src, dst = key(a), key(b)
+    best = {src: 0.0}
+    heap = [(0.0, 0, src)]
+    n = 1
+    while heap:
+        d, _, x = heapq.heappop(heap)
+        if x == dst:
+            return d
+        if d > best.get(x, np.inf):
+            continue
+        for y, w in nodes.get(x, []):
+            if d + w < best.get(y, np.inf):
+                best[y] = d + w
+                heapq.heappush(heap, (d + w, n, y))
+                n += 1
+    return float("inf")
