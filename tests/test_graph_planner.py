@@ -328,3 +328,14 @@ def test_fastest_on_lollipops_is_never_slower_than_the_paper_plan(stick: float, 
 
 def test_report_completeness_counts() -> None:
     print(f"completeness cases: {COUNTS}")
+
+
+def test_disconnected_layout_and_isolated_vertex() -> None:
+    two = GraphTrack.from_layout({"edges": [["a", "b", 2.0], ["c", "c", 3.0]]})
+    with pytest.raises(NoMotionError, match="robot A's goal is on another part of the track"):
+        plan_graph(two, ("e0:0.5", "e1:1"), ("e1:0.5", "e1:2"), 0.1)
+    p = plan_graph(two, ("e0:0.5", "e1:1"), ("e0:1.5", "e1:2.5"), 0.1)
+    assert p.min_distance() == float("inf") or p.min_distance() >= 0.1
+    iso = GraphTrack.from_layout({"vertices": {"a": [0, 0], "b": [1, 0], "z": [5, 5]}, "edges": [["a", "b"]]})
+    with pytest.raises(InvalidInputError, match="vertex 'z' has no edge"):
+        iso.position("z")
