@@ -1,25 +1,36 @@
 """A complete planner for two robots on any graph track: shortest or fastest paths in the exact free space.
 
-The free space ``{d >= D}`` is a union of convex polygons glued along faces (:mod:`mpa.freespace`). The planner
-searches a visibility graph whose nodes are the polygons' corners and the end points of the shared faces (plus start
-and goal): inside one convex polygon every pair of its points is visible, so each polygon contributes all pairs of
-its nodes, and every straight segment inside one polygon is free. Polygons sharing a face share its end-point nodes,
-so the graph is connected exactly where the free space is: the search finds a path whenever one exists
-(**complete**), and :func:`plan_graph` raises :class:`~mpa.errors.NoMotionError` otherwise, naming the reason.
+One self-contained module (it is meant to move to ``mpa/planners/graph.py``); entry point :func:`plan_graph`.
 
-Cost of a straight move ``(Δs, Δt)``: ``"shortest"`` the Euclidean length ``hypot(Δs, Δt)`` (metres);
-``"fastest"`` the time ``max(|Δs|/vA, |Δt|/vB)`` for per-robot speed limits (seconds; a weighted L∞ length), ties
-broken towards the Euclidean shortest (``+ 1e-6 · hypot / max(v)``). The search is A* with the consistent heuristic
-``hypot(dA, dB)`` resp. ``max(dA/vA, dB/vB)`` (``dA, dB``: graph distances of each robot to its goal). After the
-search, the points where the path crosses faces are slid along their faces (coordinate descent on a convex function
-of each crossing point) so that the path does not bend at face ends needlessly. The result is optimal among paths
-bending at the graph's nodes and then locally straightened; it is not proven globally optimal (see
-``docs`` of the issue): the face crossing points of the chosen corridor are optimized, the corridor is chosen with
-crossings at face ends.
+**Search.** The free space ``{d >= D}`` is a union of convex polygons glued along faces (:mod:`mpa.freespace`).
+The planner runs A* on a visibility graph whose nodes are the polygons' corners, the two ends of every shared face
+and :data:`FACE_POINTS` evenly spaced points inside it, plus start and goal. Inside one convex polygon every pair of
+its points is visible, so each polygon contributes all pairs of its nodes, and each straight segment inside one
+polygon is free. Polygons sharing a face share its nodes, so the graph is connected exactly where the free space is:
+the search finds a path whenever one exists (**complete**), and :func:`plan_graph` raises
+:class:`~mpa.errors.NoMotionError` otherwise, naming the reason.
 
-The plan's route coordinates: each robot's route is a sequence of directed edges (a new piece at every edge change
-and every reversal), its route coordinate the distance travelled; the path is a polyline in route coordinates
-(straight in each segment).
+**Costs.** A straight move ``(Δs, Δt)`` costs ``hypot(Δs, Δt)`` (metres) for ``"shortest"`` and
+``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the Euclidean
+shortest (``+ 1e-6 · hypot / max(v)``). A*'s heuristic ``hypot(dA, dB)`` resp. ``max(dA/vA, dB/vB)`` (graph
+distances of each robot to its goal) is consistent.
+
+**Straightening.** The search's path bends at face nodes; the polygon sequence it found is then pulled taut: each
+face crossing slides along its face to the closed-form optimum given its neighbours (Gauss–Seidel, on the length
+``hypot(Δs/vA, Δt/vB)`` — speeds scaled for ``"fastest"``, so that the taut path is also of least weighted-L∞
+time in its corridor — smoothed with ``ε → 0`` so that it does not stall on zero-length pieces). Where the path
+passes a corner (both robots on vertices, both changing edges) the robots may instead pass their vertices one after
+the other (both orders tried). Consecutive segments in one polygon are merged.
+
+**What is and is not guaranteed.** Completeness and the clearance (exact, up to the membership tolerance
+``1e-12 · max(1, total length)`` of :mod:`mpa.freespace`) are guaranteed. Optimality is not proven: the corridor is
+chosen by the discretized search and then straightened. Checked: on seeded random layouts the ``"fastest"`` time is
+never above the best 8-neighbour grid path's (0.05 m grid) and ``"shortest"`` never longer; on lollipops it is never
+slower than the paper planner's plan.
+
+**Routes.** Each robot's route is a sequence of directed edges (a new piece at every edge change and every
+reversal); its route coordinate is the distance travelled, and the plan is a polyline in route coordinates
+(straight on each segment).
 """
 
 from __future__ import annotations

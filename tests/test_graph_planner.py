@@ -295,5 +295,47 @@ def test_random_graphs_plans_keep_clearance_and_reach_the_goal(
     assert g.distance_scalar(int(eb), float(sb), t[1][0], t[1][1]) <= 1e-9
 
 
+@pytest.mark.parametrize(("stick", "loop"), [(1.0, 1.0), (2.0, 3.0), (100.0, 300.0)])
+def test_fastest_on_lollipops_is_never_slower_than_the_paper_plan(stick: float, loop: float) -> None:
+    """The paper's plan is a free path, so its speed-limited time bounds ours (both as max(|Δs|, |Δt|) at v = 1)."""
+    import mpa
+
+    lol = Lollipop(stick, loop)
+    t = lol.as_graph_track()
+    D = 0.05 * min(stick, loop)
+    rng = np.random.default_rng(11)
+    checked = 0
+    for k in range(40):
+        st_ = rng.uniform(0, stick + loop, 2)
+        go = st_[::-1].copy() if k % 2 else rng.uniform(0, stick + loop, 2)
+        if min(lol.distance_scalar(*st_), lol.distance_scalar(*go)) < D + 1e-6:
+            continue
+        paper = mpa.plan(lol, tuple(st_), tuple(go), clearance=D)
+        paper_time = float(np.sum(np.max(np.abs(np.diff(paper.waypoints_s, axis=0)), axis=1)))
+        ea, oa = lol.to_graph_position(st_)
+        eb, ob = lol.to_graph_position(go)
+        ours = plan_graph(
+            t,
+            ((int(ea[0]), float(oa[0])), (int(ea[1]), float(oa[1]))),
+            ((int(eb[0]), float(ob[0])), (int(eb[1]), float(ob[1]))),
+            D,
+        )
+        assert ours.makespan <= paper_time * (1 + 1e-9) + 1e-12, (stick, loop, st_, go, ours.makespan, paper_time)
+        assert ours.min_distance() >= ours.clearance_used - 1e-9
+        checked += 1
+    assert checked >= 20
+
+
 def test_report_completeness_counts() -> None:
     print(f"completeness cases: {COUNTS}")
+
+
+def test_disconnected_layout_and_isolated_vertex() -> None:
+    two = GraphTrack.from_layout({"edges": [["a", "b", 2.0], ["c", "c", 3.0]]})
+    with pytest.raises(NoMotionError, match="robot A's goal is on another part of the track"):
+        plan_graph(two, ("e0:0.5", "e1:1"), ("e1:0.5", "e1:2"), 0.1)
+    p = plan_graph(two, ("e0:0.5", "e1:1"), ("e0:1.5", "e1:2.5"), 0.1)
+    assert p.min_distance() == float("inf") or p.min_distance() >= 0.1
+    iso = GraphTrack.from_layout({"vertices": {"a": [0, 0], "b": [1, 0], "z": [5, 5]}, "edges": [["a", "b"]]})
+    with pytest.raises(InvalidInputError, match="vertex 'z' has no edge"):
+        iso.position("z")
