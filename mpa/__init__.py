@@ -11,11 +11,11 @@ from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
 from mpa.freespace import FreeSpace, free_space
 from mpa.graph import Edge, MetricGraph, farber_tc_of_graph
-from mpa.graph_planner import GraphPlan, plan_graph
 from mpa.graph_track import GraphTrack
 from mpa.homotopy import path_word, reduce_word
 from mpa.plan import Plan, PlanStep
 from mpa.planners import CirclePlanner, IntervalPlanner, LollipopPlanner, Planner, make_planner, plan
+from mpa.planners.graph import GraphPlan, plan_graph
 from mpa.retraction import retract
 from mpa.routes import Route
 from mpa.skeleton import CircleSkeleton, IntervalSkeleton, LollipopSkeleton, Skeleton, skeleton_of

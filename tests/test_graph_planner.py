@@ -16,8 +16,8 @@ from hypothesis import strategies as st
 from mpa import Lollipop
 from mpa.errors import InvalidInputError, NoMotionError
 from mpa.freespace import free_space
-from mpa.graph_planner import OBJECTIVES, plan_graph
 from mpa.graph_track import GraphTrack
+from mpa.planners.graph import OBJECTIVES, plan_graph
 from tests.graph_helpers import random_layout
 
 COUNTS = {"cases": 0, "grid_found": 0, "planned": 0}

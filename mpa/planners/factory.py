@@ -1,21 +1,37 @@
-"""Choosing the planner of a track: :func:`make_planner` (built once) and :func:`plan` (one query)."""
+"""Choosing the planner of a track: :func:`make_planner` (built once) and :func:`plan` (one query).
+
+The paper's tracks (:class:`~mpa.tracks.Interval`, :class:`~mpa.tracks.Circle`, :class:`~mpa.tracks.Lollipop`) are
+planned by the paper's algorithm unless ``planner="graph"`` asks for the complete graph planner
+(:mod:`mpa.planners.graph`); a :class:`~mpa.graph_track.GraphTrack` (or a layout) is always planned by the graph
+planner.
+"""
 
 from __future__ import annotations
 
-from numpy.typing import ArrayLike
+from typing import Any
+
+import numpy as np
 
 from mpa.errors import InvalidInputError
+from mpa.graph_track import GraphTrack
 from mpa.plan import Plan
 from mpa.planners.base import (
     DEFAULT_NEIGHBOURHOOD,
     Planner,
 )
 from mpa.planners.circle import CirclePlanner
+from mpa.planners.graph import GraphPlan, plan_graph
 from mpa.planners.interval import IntervalPlanner
 from mpa.planners.lollipop import LollipopPlanner
 from mpa.tracks import Circle, Interval, Lollipop, Track
 
-__all__ = ["make_planner", "plan"]
+__all__ = ["OBJECTIVES", "PLANNERS", "make_planner", "plan"]
+
+#: Values of ``plan(..., planner=)``: the paper's algorithm or the complete graph planner (``auto``: the paper's on
+#: the paper's tracks, the graph planner on any other layout).
+PLANNERS = ("auto", "paper", "graph")
+#: Values of ``plan(..., objective=)`` for the graph planner.
+OBJECTIVES = ("fastest", "shortest")
 
 
 def make_planner(track: Track, clearance: float = 0.0, neighbourhood: float = DEFAULT_NEIGHBOURHOOD) -> Planner:
@@ -30,32 +46,47 @@ def make_planner(track: Track, clearance: float = 0.0, neighbourhood: float = DE
 
 
 def plan(
-    track: Track,
-    start: ArrayLike,
-    goal: ArrayLike,
+    track: Track | GraphTrack,
+    start: Any,
+    goal: Any,
     clearance: float = 0.0,
     neighbourhood: float = DEFAULT_NEIGHBOURHOOD,
-) -> Plan:
-    """Plan a collision-free motion of two robots from ``start`` to ``goal`` with the paper's algorithm.
+    *,
+    planner: str = "auto",
+    objective: str = "fastest",
+    speeds: Any = (1.0, 1.0),
+) -> Plan | GraphPlan:
+    """Plan a collision-free motion of two robots from ``start`` to ``goal``.
+
+    On the paper's tracks the paper's algorithm answers (a :class:`~mpa.plan.Plan` with its domain of continuity);
+    with ``planner="graph"``, or on any other track graph, the complete graph planner answers (a
+    :class:`~mpa.planners.graph.GraphPlan`: it finds a motion whenever one exists).
 
     Parameters
     ----------
-    track : Track
-    start, goal : array_like, shape (2,)
-        Track coordinates of robots A and B.
+    track : Track or GraphTrack
+    start, goal : pair
+        Robots A and B: track coordinates on the paper's tracks (floats, m); on a graph track positions
+        ``(edge, offset)``, ``"EDGE:OFFSET"`` or vertex names.
     clearance : float
         Required clearance D >= 0 (metres).
     neighbourhood : float
-        Neighbourhood size of the domains, as a fraction of half the loop.
+        Neighbourhood size of the paper planner's domains, as a fraction of half the loop.
+    planner : {"auto", "paper", "graph"}
+        ``auto``: the paper's algorithm on the paper's tracks, the graph planner otherwise.
+    objective : {"fastest", "shortest"}
+        Graph planner only: minimum time for the per-robot ``speeds`` over all homotopy classes, or minimum length.
+    speeds : float or (float, float)
+        Graph planner only: per-robot speed limits for ``objective="fastest"`` (m/s).
 
     Returns
     -------
-    Plan
+    Plan or GraphPlan
 
     Raises
     ------
     InvalidInputError
-        Bad start, goal, clearance or track.
+        Bad start, goal, clearance, track, planner or objective.
     NoMotionError
         No collision-free motion exists (the message says why).
 
@@ -65,5 +96,35 @@ def plan(
     >>> p = plan(Lollipop(1.0, 1.0), (0.1, 0.6), (0.8, 0.3))
     >>> p.domain, p.word
     (1, ('+I1', '+S1a', '+S2a', '+S3b', '-I2'))
+    >>> g = plan(Lollipop(1.0, 1.0), (0.2, 0.5), (0.5, 0.2), clearance=0.05, planner="graph")
+    >>> round(g.min_distance(), 9) >= 0.05
+    True
     """
-    return make_planner(track, clearance, neighbourhood).plan(start, goal)
+    if planner not in PLANNERS:
+        raise InvalidInputError(f"planner is {planner!r}, expected one of {', '.join(PLANNERS)}")
+    if objective not in OBJECTIVES:
+        raise InvalidInputError(f"objective is {objective!r}, expected one of {', '.join(OBJECTIVES)}")
+    paper_track = isinstance(track, (Interval, Circle, Lollipop))
+    if paper_track and planner != "graph":
+        return make_planner(track, clearance, neighbourhood).plan(start, goal)  # type: ignore[arg-type]
+    if planner == "paper":
+        raise InvalidInputError(f"planner is 'paper' for {track!r}, expected an Interval, Circle or Lollipop track")
+    if paper_track:
+        return plan_graph(
+            track.as_graph_track(),  # type: ignore[union-attr]
+            _paper_positions(track, start, "start"),  # type: ignore[arg-type]
+            _paper_positions(track, goal, "goal"),  # type: ignore[arg-type]
+            clearance,
+            objective,
+            speeds,
+        )
+    return plan_graph(track, start, goal, clearance, objective, speeds)
+
+
+def _paper_positions(track: Track, pair: Any, name: str) -> tuple[tuple[int, float], tuple[int, float]]:
+    """Track coordinates ``(a, b)`` of a paper track as graph positions on :meth:`Track.as_graph_track`."""
+    p = np.asarray(track.validate(pair, name), dtype=float)
+    if p.shape != (2,):
+        raise InvalidInputError(f"{name} has shape {p.shape}, expected two track coordinates (robot A, robot B)")
+    edges, offsets = track.to_graph_position(p)
+    return (int(edges[0]), float(offsets[0])), (int(edges[1]), float(offsets[1]))

@@ -16,7 +16,10 @@ __all__ = ["graph_from_json_data", "load_graph_json"]
 # Graph input
 # ==================================================================================================
 def graph_from_json_data(data: object) -> MetricGraph:
-    """Build a graph from decoded JSON ``{"edges": [[u, v], [u, v, length], ...]}``.
+    """Build a graph from decoded JSON ``{"edges": [[u, v], [u, v, length], ...]}`` or a full track layout.
+
+    A layout with ``"vertices"`` or named edges (objects) is read by :meth:`mpa.graph_track.GraphTrack.from_layout`;
+    the plain edge list is read here (integer vertex names and zero lengths allowed: only the combinatorics count).
 
     Parameters
     ----------
@@ -39,6 +42,11 @@ def graph_from_json_data(data: object) -> MetricGraph:
     >>> graph_from_json_data({"edges": [["F", "P"], ["P", "P", 2.5]]}).n_edges
     2
     """
+    edges = data.get("edges") if isinstance(data, dict) else None
+    if isinstance(edges, list) and ("vertices" in data or any(isinstance(e, dict) for e in edges)):  # type: ignore[operator]
+        from mpa.graph_track import GraphTrack  # the full layout format (named edges, coordinates)
+
+        return GraphTrack.from_layout(data).as_graph()
     if not isinstance(data, dict):
         raise InvalidInputError(f'graph JSON is a {type(data).__name__}, expected an object with key "edges"')
     if "edges" not in data:

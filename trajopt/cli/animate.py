@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from mpa.errors import InvalidInputError
-from trajopt.cli.common import TRAJECTORY_DEFAULTS, add_trajectory_arguments, track_from_args
+from trajopt.cli.common import TRAJECTORY_DEFAULTS, add_trajectory_arguments, query_from_args
 
 __all__ = ["DEFAULTS", "register"]
 
@@ -23,7 +23,7 @@ DEFAULTS = TRAJECTORY_DEFAULTS
 def _cmd_animate(args: argparse.Namespace) -> int:
     from trajopt.viz.animation import FORMATS, animate_query
 
-    track = track_from_args(args)
+    track, start, goal = query_from_args(args)
     if args.max_frames is not None and args.max_frames < 2:
         raise InvalidInputError(f"--max-frames is {args.max_frames}, expected an integer >= 2")
     d = Path(args.out)
@@ -34,8 +34,8 @@ def _cmd_animate(args: argparse.Namespace) -> int:
     try:
         path = animate_query(
             track,
-            args.start,
-            args.goal,
+            start,
+            goal,
             target,
             clearance=args.clearance,
             vmax=args.vmax,

@@ -8,20 +8,27 @@ import json
 import numpy as np
 
 from mpa.planners import make_planner
+from mpa.planners.factory import OBJECTIVES, PLANNERS, plan
+from mpa.planners.graph import GraphPlan
 from mpa.retraction import trace_info
-from trajopt.cli.common import add_query_arguments, track_from_args
+from mpa.tracks import Track
+from trajopt.cli.common import add_query_arguments, query_from_args
 
 __all__ = ["register"]
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
-    track = track_from_args(args)
-    planner = make_planner(track, args.clearance, args.neighbourhood)
-    p = planner.plan(args.start, args.goal)
+    track, start, goal = query_from_args(args)
     if args.samples < 2:
         from mpa.errors import InvalidInputError
 
         raise InvalidInputError(f"samples is {args.samples}, expected an integer >= 2")
+    if args.planner == "graph" or not isinstance(track, Track):
+        which = args.planner or "auto"
+        g = plan(track, start, goal, args.clearance, planner=which, objective=args.objective)
+        return _print_graph_plan(g, args)  # type: ignore[arg-type]
+    planner = make_planner(track, args.clearance, args.neighbourhood)
+    p = planner.plan(start, goal)
     n = max(args.samples, 200, p.samples_needed(0.01))
     if args.json:
         out = p.to_dict(samples=n)
@@ -49,10 +56,59 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     return 0
 
 
+def _route_text(plan: GraphPlan, robot: int) -> str:
+    """A robot's route as ``edge(+) -> edge(-) ...`` (+ along the edge's orientation, - against)."""
+    names = plan.track.edge_names
+    r = plan.route_a if robot == 0 else plan.route_b
+    parts = [
+        f"{names[e]}({'+' if d > 0 else '-'}) {hi - lo:.4g} m"
+        for e, d, lo, hi in zip(r.edges, r.dirs, r.breaks[:-1], r.breaks[1:])
+        if hi - lo > 0
+    ]
+    return " -> ".join(parts) if parts else "stays"
+
+
+def _print_graph_plan(p: GraphPlan, args: argparse.Namespace) -> int:
+    """Output of ``mpa plan`` for the complete graph planner (text, or one JSON object with ``--json``)."""
+    tr = p.track
+    n = max(args.samples, 200)
+    if args.json:
+        out = p.to_dict()
+        out["planner"] = "graph"
+        _, path_s = p.sample(n)
+        (ea, oa), (eb, ob) = p.route_a.positions(path_s[:, 0]), p.route_b.positions(path_s[:, 1])
+        names = tr.edge_names
+        out["path"] = [[[names[int(a)], float(x)], [names[int(b)], float(y)]] for a, x, b, y in zip(ea, oa, eb, ob)]
+        out["path_s"] = path_s.tolist()
+        out["samples"] = n
+        out["min_distance"] = p.min_distance()
+        print(json.dumps(out))
+        return 0
+    print(f"track      graph: {tr.n_edges} edges, {tr.total_length:.6g} m")
+    print(f"start      A = {tr.position_name(*p.start[0])}, B = {tr.position_name(*p.start[1])}")
+    print(f"goal       A = {tr.position_name(*p.goal[0])}, B = {tr.position_name(*p.goal[1])}")
+    print(f"planner    complete graph planner, objective {p.objective}")
+    print(f"class      {' '.join(p.word) if p.word else '(trivial)'}")
+    print(f"route A    {_route_text(p, 0)}")
+    print(f"route B    {_route_text(p, 1)}")
+    print(f"makespan   {p.makespan:.4g} s at speeds {p.speeds[0]:g}, {p.speeds[1]:g} m/s (no acceleration limits)")
+    print(f"travel     A {p.route_a.length:.4g} m, B {p.route_b.length:.4g} m; min distance {p.min_distance():.4g} m")
+    return 0
+
+
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     """Add ``plan`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
-    p = sub.add_parser("plan", help="plan with the paper's algorithm and print the plan")
-    add_query_arguments(p)
+    p = sub.add_parser("plan", help="plan a motion (the paper's algorithm, or the complete graph planner) and print it")
+    add_query_arguments(p, graph=True)
+    p.add_argument(
+        "--planner",
+        choices=[x for x in PLANNERS if x != "auto"],
+        default=None,
+        help="paper: the paper's algorithm (paper tracks only; default there); graph: the complete graph planner",
+    )
+    p.add_argument(
+        "--objective", choices=OBJECTIVES, default="fastest", help="graph planner: fastest (default) or shortest"
+    )
     p.add_argument("--clearance", type=float, default=0.0, help="required clearance D in metres (default 0)")
     p.add_argument("--neighbourhood", type=float, default=0.1, help="domain neighbourhood ε as a fraction of loop/2")
     p.add_argument("--samples", type=int, default=400, help="path samples in the JSON (at least 200 and the 1%% rule)")

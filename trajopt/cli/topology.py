@@ -11,9 +11,11 @@ import argparse
 import json
 from typing import Any
 
+from mpa.freespace import free_space
+from mpa.graph_track import GraphTrack
 from mpa.topology import ConfigurationSpaceTopology, configuration_space_topology, load_graph_json
 
-__all__ = ["format_topology", "register", "run_topology"]
+__all__ = ["format_topology", "free_space_report", "register", "run_topology"]
 
 
 def _count(n: int, singular: str, plural: str | None = None) -> str:
@@ -60,14 +62,36 @@ def format_topology(top: ConfigurationSpaceTopology) -> str:
     return "\n".join(lines)
 
 
+def free_space_report(path: str, clearance: float) -> dict[str, Any]:
+    """Path components of the free space ``{d >= D}`` of the layout in ``path`` and whether the robots can swap.
+
+    Returns
+    -------
+    dict
+        ``clearance`` (m), ``free_components`` (int: path components of the free configuration space) and
+        ``can_swap`` (bool: some configuration ``(x, y)`` lies in one component with ``(y, x)``, i.e. the two robots
+        can exchange places somewhere on the layout).
+    """
+    fs = free_space(GraphTrack.from_json(path), clearance)
+    return {"clearance": fs.clearance, "free_components": fs.components(), "can_swap": fs.can_swap()}
+
+
 def run_topology(args: argparse.Namespace) -> int:
     """Handler of ``mpa topology``: print the report (or one JSON object with ``--json``); returns 0."""
     top = configuration_space_topology(load_graph_json(args.graph))
+    free = None if args.clearance is None else free_space_report(args.graph, args.clearance)
     if args.json:
         out: dict[str, Any] = top.to_dict()
+        if free is not None:
+            out.update(free)
         print(json.dumps(out))
     else:
         print(format_topology(top))
+        if free is not None:
+            print(
+                f"free space D = {free['clearance']:g} m: {_count(free['free_components'], 'path component')}; "
+                f"the robots can exchange places: {'yes' if free['can_swap'] else 'no'}"
+            )
     return 0
 
 
@@ -91,6 +115,13 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
         'JSON {"edges": [[u, v], [u, v, length], ...]}.',
     )
     p.add_argument("--graph", required=True, metavar="FILE", help="JSON file with the graph's edge list")
+    p.add_argument(
+        "--clearance",
+        type=float,
+        default=None,
+        metavar="D",
+        help="also report the path components of the free space {d >= D} (m) and whether the robots can swap",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run_topology)
     return p

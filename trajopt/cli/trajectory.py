@@ -17,7 +17,7 @@ from typing import Any
 
 from mpa.errors import InvalidInputError
 from mpa.tracks import Lollipop
-from trajopt.cli.common import TRAJECTORY_DEFAULTS, add_trajectory_arguments, track_from_args
+from trajopt.cli.common import TRAJECTORY_DEFAULTS, add_trajectory_arguments, query_from_args
 from trajopt.export import Trajectory, atomic_write_bytes, atomic_write_text
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
@@ -93,11 +93,11 @@ def _json(obj: Any) -> str:
 
 
 def _cmd_trajectory(args: argparse.Namespace) -> int:
-    track = track_from_args(args)
+    track, start, goal = query_from_args(args)
     gen = TrajectoryGenerator(
         track, clearance=args.clearance, limits=Limits(args.vmax, args.amax, args.jmax), rate=args.rate
     )
-    traj = gen.generate(args.start, args.goal)
+    traj = gen.generate(start, goal)
     files = {"setpoints.csv": traj.csv_text(), "summary.json": _json(traj.summary())}
     write_outputs(args.out, files)
     print(_summary_text(traj))
