@@ -67,7 +67,8 @@ def queries() -> dict[str, tuple[object, tuple[float, float], tuple[float, float
     """The sample queries: name to (track, start, goal, expected domain).
 
     The circle examples and the lollipop domain runs start and end off the skeleton so that the preliminary and
-    final steps are not empty; each retracts onto the SPEC §4 canonical situation of its domain.
+    final steps are not empty; each retracts onto the canonical situation of its domain
+    (docs/conventions.md, "Domains of continuity").
     """
     return {
         "circle_ex1": (CIRCLE, (0.3, 0.6), (0.6, 0.85), 2),
