@@ -258,7 +258,7 @@ def _frame_times(motions: Sequence[Motion], fps: float, max_frames: int | None) 
 def _draw_motion_row(
     row_axes: Sequence[Any], track: Track, sk: Any, m: Motion, *, duration: float, vlim: float, last: bool
 ) -> dict[str, Any]:
-    """The static part of one motion's row (track, flat space, speeds); returns the artists that move."""
+    """Draw the static part of one motion's row (track, flat space, speeds); returns the artists that move."""
     ax_p, ax_f, ax_v = row_axes
     dr.draw_track(ax_p, track, labels=True, ccw_arrow=False)
     dr.draw_robots(ax_p, track, m.states[-1], final=True, labels=("", ""))
@@ -268,6 +268,7 @@ def _draw_motion_row(
     dr.draw_state(ax_f, m.states[0], "$x_i$", size=5)
     dr.draw_state(ax_f, m.states[-1], "$x_f$", size=5, filled=False)
     ax_p.set_title(m.label, fontsize=10, loc="left")
+    ax_p.text(0.98, 0.02, "filled ▲: now, empty △: goal", transform=ax_p.transAxes, fontsize=9, ha="right")
     for k, name in enumerate("AB"):
         ax_v.plot(
             m.t,
@@ -285,6 +286,12 @@ def _draw_motion_row(
     ax_v.grid(alpha=0.3)
     if last:
         ax_v.set_xlabel("time (s)")
+    return _moving_artists(ax_p, ax_f, ax_v)
+
+
+def _moving_artists(ax_p: Any, ax_f: Any, ax_v: Any) -> dict[str, Any]:
+    """The artists of one row that each frame moves: the trail and dot in the flat space, the robots (triangles
+    with their names) on the track, the time cursor and the clock."""
     (trail,) = ax_f.plot([], [], color="k", lw=2.2, zorder=6)
     (dot,) = ax_f.plot([], [], "o", color="k", ms=7, zorder=9)
     marks, names = {}, {}
@@ -305,7 +312,6 @@ def _draw_motion_row(
         )
     cursor = ax_v.axvline(0.0, color="k", lw=1.0)
     clock = ax_p.text(0.02, 0.02, "", transform=ax_p.transAxes, fontsize=11)
-    ax_p.text(0.98, 0.02, "filled ▲: now, empty △: goal", transform=ax_p.transAxes, fontsize=9, ha="right")
     return {"trail": trail, "dot": dot, "marks": marks, "names": names, "cursor": cursor, "clock": clock}
 
 

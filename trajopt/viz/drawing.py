@@ -10,7 +10,8 @@ shaded red. The loop coordinates are periodic: a path that leaves the square at 
 ``ℓ`` (or 0), and every polyline is broken there (:func:`split_wraps`) instead of being drawn as a long chord.
 
 Robot A is blue, robot B orange; a filled triangle is a robot's initial position, an empty one its final position
-(the paper's icons).
+(the paper's icons). On the track A is drawn on the outer side (outside the loop, above the stick) and B on the
+inner side; where both robots' curves share axes, A is solid and B dashed (:data:`ROBOT_LINESTYLES`).
 """
 
 from __future__ import annotations
