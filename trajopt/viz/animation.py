@@ -141,14 +141,14 @@ def ffmpeg_executable() -> str | None:
 
 def _writer(fmt: str, fps: float) -> Any:
     if fmt == "gif":
-        return PillowWriter(fps=fps)
+        return PillowWriter(fps=fps)  # type: ignore[arg-type]
     exe = ffmpeg_executable()
     if exe is None:
         raise InvalidInputError(
             "format is 'mp4', which needs an ffmpeg executable: install one (pip install imageio-ffmpeg) or use gif"
         )
     mpl.rcParams["animation.ffmpeg_path"] = exe
-    return FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
+    return FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])  # type: ignore[arg-type]
 
 
 def _check(name: str, value: float, lo: float, *, integer: bool = False) -> None:

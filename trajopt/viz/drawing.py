@@ -106,8 +106,14 @@ def new_figure(
     axes : ndarray of Axes, shape (nrows, ncols)
     """
     fig = Figure(figsize=(width * ncols, height * nrows), layout="constrained")
-    axes = fig.subplots(nrows, ncols, squeeze=False, **kw)  # type: ignore[arg-type]
+    axes = fig.subplots(nrows, ncols, squeeze=False, **kw)  # type: ignore[call-overload]
     return fig, axes
+
+
+def _xy(p: ArrayLike) -> tuple[float, float]:
+    """A point as a pair of floats (what matplotlib's annotations expect)."""
+    x, y = np.asarray(p, dtype=float).reshape(2)
+    return float(x), float(y)
 
 
 def track_title(track: Track) -> str:
@@ -270,13 +276,13 @@ def draw_track(
         f = track.embed(0.0)
         ax.plot(*f, "o", color="k", ms=4, zorder=3)
         if labels:
-            ax.annotate("P", pxy, xytext=(-10, 8), textcoords="offset points", fontsize=11)
-            ax.annotate("0", f, xytext=(-4, 8), textcoords="offset points", fontsize=9, color="0.3")
+            ax.annotate("P", _xy(pxy), xytext=(-10, 8), textcoords="offset points", fontsize=11)
+            ax.annotate("0", _xy(f), xytext=(-4, 8), textcoords="offset points", fontsize=9, color="0.3")
     if isinstance(track, Interval):
         for q, name in ((0.0, "0"), (track.stick, f"{track.stick:g}")):
             ax.plot(*track.embed(q), "|", color="k", ms=12, zorder=3)
             if labels:
-                ax.annotate(name, track.embed(q), xytext=(-4, -16), textcoords="offset points", fontsize=9)
+                ax.annotate(name, _xy(track.embed(q)), xytext=(-4, -16), textcoords="offset points", fontsize=9)
     if ccw_arrow and track.has_loop:
         per = loop_period(track)
         assert per is not None
@@ -324,8 +330,8 @@ def draw_robot(
         off = 15.0 * side * track_normal(track, float(p))  # points, away from the track on the robot's side
         ax.annotate(
             text,
-            xy,
-            xytext=tuple(off),
+            _xy(xy),
+            xytext=_xy(off),
             textcoords="offset points",
             color=color,
             fontsize=10,
@@ -711,7 +717,8 @@ def draw_skeleton(
             name = r"$\mathcal{A}$" if blk == "A" else f"${blk[0]}_{blk[1]}$"
             for sp in _label_spots(track, [p for p in parts if np.ptp(p, axis=0).max() > 0], ext):
                 ax.text(
-                    *sp,
+                    float(sp[0]),
+                    float(sp[1]),
                     name,
                     color=BLOCK_COLORS[blk],
                     fontsize=12,
@@ -864,7 +871,7 @@ def draw_traces(
 # the abstract chain I1 — S1 — S2 — S3 — I2
 def chain_layout(skeleton: LollipopSkeleton, *, radius: float = 1.0, stick: float = 1.2) -> dict[str, FloatArray]:
     """Positions of the vertices of the skeleton graph for the chain picture: a row, circles of ``radius``."""
-    names = list(skeleton.graph.vertices)
+    names = [str(v) for v in skeleton.graph.vertices]
     x = {"e1": 0.0, "v1": stick}
     x["v2"] = x["v1"] + 2 * radius
     x["v3"] = x["v2"] + 2 * radius
@@ -903,7 +910,7 @@ def draw_chain(
     """
     pos = chain_layout(skeleton)
     for e in skeleton.graph.edges:
-        p0, p1 = pos[e.tail], pos[e.head]
+        p0, p1 = pos[str(e.tail)], pos[str(e.head)]
         blk = block_of_edge(skeleton, e.name)
         color = BLOCK_COLORS[blk]
         dim = e.name in dim_edges
@@ -931,7 +938,7 @@ def draw_chain(
     for v, p in pos.items():
         ax.plot(*p, "o", color="k", ms=5, zorder=4)
         if vertex_names:
-            ax.annotate(v, p, xytext=(0, 7), textcoords="offset points", ha="center", fontsize=8, color="0.3")
+            ax.annotate(v, _xy(p), xytext=(0, 7), textcoords="offset points", ha="center", fontsize=8, color="0.3")
     ax.set_aspect("equal")
     ax.axis("off")
     allp = np.array(list(pos.values()))

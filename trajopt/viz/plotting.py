@@ -58,10 +58,10 @@ def draw_cspace(ax: Axes, track: Track, clearance: float, paths: dict[str, NDArr
     dr.draw_flat_cspace(ax, track, clearance=clearance, axis_labels=False)
     dr.draw_skeleton(ax, skeleton_of(track), labels=False, arrows=False, lw=1.2, alpha=0.6, vertices=False)
     ax.plot([], [], color=dr.BLOCK_COLORS["S1"], lw=1.2, alpha=0.6, label="skeleton")
-    styles = ({"color": "k", "ls": "--", "lw": 1.2}, {"color": "tab:red", "ls": "-", "lw": 1.8})
-    for (name, pts), st in zip(paths.items(), styles):
-        dr.draw_flat_path(ax, track, pts, arrows=(), zorder=6 if st["ls"] == "-" else 7, **st)
-        ax.plot([], [], label=name, **st)
+    styles = (("k", "--", 1.2, 7.0), ("tab:red", "-", 1.8, 6.0))  # colour, line style, width, zorder
+    for (name, pts), (color, ls, lw, zorder) in zip(paths.items(), styles):
+        dr.draw_flat_path(ax, track, pts, arrows=(), color=color, ls=ls, lw=lw, zorder=zorder)
+        ax.plot([], [], label=name, color=color, ls=ls, lw=lw)
     any_pts = next(iter(paths.values()))
     dr.draw_state(ax, any_pts[0], "start", size=6, offset=(6, -14))
     dr.draw_state(ax, any_pts[-1], "goal", size=6, filled=False, offset=(6, 6))
