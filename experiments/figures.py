@@ -67,7 +67,8 @@ def queries() -> dict[str, tuple[object, tuple[float, float], tuple[float, float
     """The sample queries: name to (track, start, goal, expected domain).
 
     The circle examples and the lollipop domain runs start and end off the skeleton so that the preliminary and
-    final steps are not empty; each retracts onto the SPEC §4 canonical situation of its domain.
+    final steps are not empty; each retracts onto the canonical situation of its domain
+    (docs/conventions.md, "Domains of continuity").
     """
     return {
         "circle_ex1": (CIRCLE, (0.3, 0.6), (0.6, 0.85), 2),
@@ -124,8 +125,6 @@ def fig_subspaces() -> Figure:
 
 
 def _surface(ax: object, xyz: np.ndarray, colour_by: np.ndarray, cmap: str = "viridis", alpha: float = 0.9) -> None:
-    from matplotlib import cm
-
     colors = matplotlib.colormaps[cmap]((colour_by - colour_by.min()) / max(np.ptp(colour_by), 1e-12))
     ax.plot_surface(
         xyz[..., 0],
@@ -140,7 +139,6 @@ def _surface(ax: object, xyz: np.ndarray, colour_by: np.ndarray, cmap: str = "vi
         shade=False,
         alpha=alpha,
     )
-    _ = cm
 
 
 def _equal_3d(ax: object, xyz: np.ndarray, zoom: float = 1.0) -> None:
@@ -308,13 +306,13 @@ def fig_two_instructions_circle() -> Figure:
 
 # ---------------------------------------------------------------------------------------------------
 # §5.1 two robots on an interval
-def _phys_and_flat(track: object, *, width: float = 4.2) -> tuple[Figure, object, object]:
+def _phys_and_flat(*, width: float = 4.2) -> tuple[Figure, object, object]:
     fig, axes = dr.new_figure(2, width=width, height=4.0)
     return fig, axes[0, 0], axes[0, 1]
 
 
 def fig_interval_spaces() -> Figure:
-    fig, ax_p, ax_f = _phys_and_flat(INTERVAL)
+    fig, ax_p, ax_f = _phys_and_flat()
     s = (0.25, 0.7)
     dr.draw_track(ax_p, INTERVAL)  # type: ignore[arg-type]
     dr.draw_robots(ax_p, INTERVAL, s)  # type: ignore[arg-type]
@@ -327,7 +325,7 @@ def fig_interval_spaces() -> Figure:
 
 
 def fig_interval_same() -> Figure:
-    fig, ax_p, ax_f = _phys_and_flat(INTERVAL)
+    fig, ax_p, ax_f = _phys_and_flat()
     s, g = (0.15, 0.5), (0.45, 0.9)
     p = plan(INTERVAL, s, g)
     dr.draw_track(ax_p, INTERVAL)  # type: ignore[arg-type]
@@ -346,7 +344,7 @@ def fig_interval_same() -> Figure:
 
 
 def fig_interval_different() -> Figure:
-    fig, ax_p, ax_f = _phys_and_flat(INTERVAL)
+    fig, ax_p, ax_f = _phys_and_flat()
     s, g = (0.2, 0.6), (0.8, 0.35)
     try:
         plan(INTERVAL, s, g)
@@ -409,7 +407,7 @@ def fig_circle_spaces() -> Figure:
 
 
 def fig_antipodal_circle() -> Figure:
-    fig, ax_p, ax_f = _phys_and_flat(CIRCLE)
+    fig, ax_p, ax_f = _phys_and_flat()
     sk = skeleton_of(CIRCLE)
     dr.draw_flat_cspace(ax_f, CIRCLE, level_h=True)  # type: ignore[arg-type]
     samples = dr.draw_skeleton(ax_f, sk)  # type: ignore[arg-type]
@@ -621,7 +619,8 @@ def fig_lollipop_cspace() -> Figure:
     ax3.plot([], [], color="k", lw=2, label="skeleton S (colours as right)")
     _equal_3d(ax3, np.vstack(allxyz), zoom=1.35)
     ax3.view_init(elev=38, azim=-70)
-    ax3.legend(loc="upper left", fontsize=7)
+    # the legend goes below the 3-D axes: inside them the surface is drawn over it
+    fig.legend(*ax3.get_legend_handles_labels(), loc="outside lower left", fontsize=8, ncols=3, frameon=False)
     ax3.set_title("$X = L\\times L-\\Delta$", fontsize=10)
     dr.draw_flat_cspace(ax_f, tr, quadrant_labels=True)
     dr.draw_skeleton(ax_f, sk)
@@ -732,6 +731,7 @@ def fig_wedge() -> Figure:
     ax.plot(0, 0, "o", color="k", ms=6)
     ax.set_aspect("equal")
     ax.axis("off")
+    ax.set_ylim(-1.4, 1.45)  # room for the petal labels below the title
     _, b1 = sk.betti
     ax.set_title(f"wedge of {len(loops)} circles (b1 of S = {b1})", fontsize=10)
     return fig
@@ -947,8 +947,13 @@ SHOWS = {
 }
 
 
-def _figures() -> list[FigureSpec]:
-    specs: list[tuple[str, str, Callable[[], Figure]]] = [
+#: One figure: file slug, the paper's caption, the function drawing it.
+_Entry = tuple[str, str, Callable[[], Figure]]
+
+
+def _one_robot_figures() -> list[_Entry]:
+    """§2-§4: product spaces, the torus, one robot on the circle and on the interval."""
+    return [
         ("subspaces_A_B", "Subspaces $A$ and $B$", fig_subspaces),
         ("product_space_AxB", "Product space $A \\times B$", fig_product_space),
         ("torus", "Torus $T = S^1 \\times S^1$", fig_torus),
@@ -956,6 +961,12 @@ def _figures() -> list[FigureSpec]:
         ("discontinuity_counterclockwise", "Discontinuity at configuration $(a,a)$", fig_discontinuity_ccw),
         ("one_robot_on_I", "One robot moving on I", fig_one_robot_interval),
         ("two_instructions_S1", "Two Instructions for one robot moving on $S^1$", fig_two_instructions_circle),
+    ]
+
+
+def _interval_and_circle_figures() -> list[_Entry]:
+    """§5: two robots on the interval and on the circle (spaces, antipodal circle, swapped states)."""
+    return [
         (
             "interval_physical_and_configuration",
             "Physical and configuration spaces for two robots in $I$",
@@ -977,6 +988,12 @@ def _figures() -> list[FigureSpec]:
         ("circle_steps_in_X", "The steps of the MPA in $X$", fig_circle_steps_in_x),
         ("circle_swapped_physical", "Swapped states in the physical space", fig_swapped_physical),
         ("circle_swapped_configuration", "Swapped states in the configuration space", fig_swapped_config),
+    ]
+
+
+def _circle_run_figures() -> list[_Entry]:
+    """§5.3: the two sample runs on the circle, step by step."""
+    return [
         ("circle_ex1_setup", "Initial setup", _run_figure("circle_ex1", None, "initial (filled) and final (empty)")),
         ("circle_ex1_preliminary", "Preliminary step", _run_figure("circle_ex1", "preliminary", "preliminary step")),
         (
@@ -993,6 +1010,12 @@ def _figures() -> list[FigureSpec]:
             _run_figure("circle_ex2", "main", "main step: both robots ccw"),
         ),
         ("circle_ex2_final", "Final step", _run_figure("circle_ex2", "final", "final step")),
+    ]
+
+
+def _lollipop_figures() -> list[_Entry]:
+    """§6.1-§6.3: the lollipop, its configuration space, the skeleton, the definitions of the algorithm."""
+    return [
         ("generalized_lollipop_Cng", "Generalized lollipop graph $C_{n,g}$", fig_generalized_lollipop),
         ("lollipop_graph", "Lollipop graph $L=C_{2,1}$", fig_lollipop_graph),
         ("lollipop_configuration_space", "Configuration space $X$ and its flat representation", fig_lollipop_cspace),
@@ -1023,6 +1046,11 @@ def _figures() -> list[FigureSpec]:
         ("preliminary_distance_more_than_half", "Distance greater than half unit.", fig_prelim_more),
         ("preliminary_distance_less_than_half", "Distance shorter than half unit.", fig_prelim_less),
     ]
+
+
+def _lollipop_run_figures() -> list[_Entry]:
+    """§6.4: the sample runs in the three domains V1, V2, V3, step by step."""
+    specs: list[_Entry] = []
     for dom, (cap_q, cap_rest) in zip(
         (1, 2, 3),
         (
@@ -1042,6 +1070,18 @@ def _figures() -> list[FigureSpec]:
             (f"V{dom}_main", f"Main step in {cap_rest}", _run_figure(name, "main", "main step")),
             (f"V{dom}_final", f"Final step in {cap_rest}", _run_figure(name, "final", "final step")),
         ]
+    return specs
+
+
+def _figures() -> list[FigureSpec]:
+    """Every figure of the paper, numbered in paper order."""
+    specs = (
+        _one_robot_figures()
+        + _interval_and_circle_figures()
+        + _circle_run_figures()
+        + _lollipop_figures()
+        + _lollipop_run_figures()
+    )
     return [
         FigureSpec(i + 1, slug, cap, make, SHOWS[slug] if slug in SHOWS else _run_shows(slug))
         for i, (slug, cap, make) in enumerate(specs)

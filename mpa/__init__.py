@@ -4,7 +4,8 @@ Layout follows the paper: :mod:`mpa.tracks` (physical spaces), :mod:`mpa.cspace`
 :mod:`mpa.skeleton` and :mod:`mpa.retraction` (the deformation onto the skeleton), :mod:`mpa.planners`
 (the algorithms and their domains of continuity), :mod:`mpa.plan` (results), :mod:`mpa.homotopy` (classes of
 paths as skeleton words), :mod:`mpa.topology` (topological complexity of the tracks; homology and TC of two
-robots on any graph). numpy only.
+robots on any graph); shared pieces: :mod:`mpa.graph` (metric graphs), :mod:`mpa.routes` (a robot's route in
+unwrapped coordinates), :mod:`mpa.errors` (the error family). numpy only.
 """
 
 from mpa.cspace import ConfigurationSpace

@@ -1,4 +1,6 @@
-"""Configuration space of two robots with a clearance (SPEC §2).
+"""Configuration space of two robots with a clearance.
+
+Conventions: docs/conventions.md, "Robots, clearance, configuration space".
 
 The free configuration space is ``{(a, b) ∈ Γ×Γ : d(a, b) ≥ D}``; the paper's ``C²(Γ) = Γ² − Δ`` is ``D → 0``
 (a state with ``d = 0`` is always a collision). Connectivity facts used to answer "no motion exists":

@@ -58,7 +58,7 @@ class Plan:
     clearance : float
         The clearance the query was checked against (metres).
     domain : int
-        Domain of continuity (SPEC §4 numbering).
+        Domain of continuity (numbering of docs/conventions.md, "Domains of continuity").
     rule : str
         The instruction of the domain, in words.
     steps : tuple of PlanStep

@@ -1,4 +1,5 @@
-"""The deformation retraction H: X × [0, 1] → X onto the skeleton (paper §5.2 and §6.1, SPEC §3-4).
+"""The deformation retraction H: X × [0, 1] → X onto the skeleton (paper §5.2 and §6.1; docs/conventions.md,
+"The lollipop skeleton").
 
 ``H(x, 0) = x``, ``H(x, 1) ∈ S``, ``H(s, t) = s`` for every skeleton point ``s``. Along each trace every
 robot moves at constant speed along one edge of the track, so ``H(x, t)`` is the linear interpolation, in

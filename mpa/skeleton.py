@@ -1,4 +1,6 @@
-"""Skeletons: the 1-dimensional deformation retracts of the configuration spaces (paper §5.2, §6.1; SPEC §3).
+"""Skeletons: the 1-dimensional deformation retracts of the configuration spaces (paper §5.2, §6.1).
+
+Conventions: docs/conventions.md, "The lollipop skeleton".
 
 - Circle: the *antipodal circle* ``A = {(a, b) : b = a + c/2 mod c}``, a graph with two vertices
   (B at 0 and B at h) and two edges ``Aa`` (B's angle in [0, h]) and ``Ab`` (in [h, c]); b₁ = 1.
@@ -9,7 +11,7 @@
   B's loop angle on S1, A's loop angle on S2 and S3.
 - Interval: one point per component (the robots at the two ends), b₀ = 2, b₁ = 0.
 
-For a lollipop with ``ℓ < h`` the set ``{d = h}`` is not a retract (SPEC §3): the skeleton is then defined
+For a lollipop with ``ℓ < h`` the set ``{d = h}`` is not a retract: the skeleton is then defined
 through the homeomorphism ``ψ`` that shrinks the loop to circumference ``2ℓ`` (stick unchanged), i.e. in the
 *model lollipop* ``(ℓ, 2ℓ)``; all skeleton coordinates (and arc lengths) are model coordinates.
 Shrinking the loop never increases a distance, so plans keep ``d ≥ min(d_start, d_goal, ℓ)``.

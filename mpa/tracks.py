@@ -1,4 +1,6 @@
-"""Tracks: the interval, the circle and the lollipop as metric graphs (SPEC §1).
+"""Tracks: the interval, the circle and the lollipop as metric graphs.
+
+Conventions: docs/conventions.md, "Tracks and track coordinates".
 
 A position on a track is one float, the *track coordinate* ``p`` (metres):
 

@@ -1,4 +1,4 @@
-"""`mpa plan`: the pinned JSON contract (SPEC §5) and the error contract."""
+"""`mpa plan`: the JSON contract (docs/conventions.md, "Command line and files") and the error contract."""
 
 from __future__ import annotations
 

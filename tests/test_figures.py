@@ -177,3 +177,26 @@ def test_mp4_needs_ffmpeg_or_says_so(tmp_path: Path) -> None:
     else:
         animate_motions(p.track, [plan_motion(p, 0.5)], target, plan=p, dpi=30, max_frames=2)
         assert target.stat().st_size > 1000
+
+
+def test_architecture_layers_hold_and_the_picture_is_drawn(tmp_path: Path) -> None:
+    import architecture
+
+    assert architecture.check_layers() == []
+    res = _run("experiments/architecture.py", "--out", str(tmp_path / "arch.png"), "--dpi", "30")
+    assert res.returncode == 0, res.stderr
+    with Image.open(tmp_path / "arch.png") as img:
+        ink, colours = _ink(img)
+    assert ink > MIN_INK and colours >= MIN_COLOURS
+
+
+def test_a_layer_violation_is_reported(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import architecture
+
+    fake = tmp_path / "mpa"
+    fake.mkdir()
+    (fake / "bad.py").write_text("import matplotlib\nfrom trajopt import generator\n", encoding="utf-8")
+    monkeypatch.setattr(architecture, "ROOT", tmp_path)
+    problems = architecture.check_layers()
+    assert any("mpa.bad imports matplotlib" in p for p in problems), problems
+    assert any("mpa.bad imports trajopt from the layer above" in p for p in problems), problems

@@ -1,4 +1,5 @@
-"""Topology of F(Γ, 2): SPEC §7 examples, random multigraphs, surfaces as cube complexes, cup-length, CLI, errors."""
+"""Topology of F(Γ, 2): the reference examples of docs/conventions.md, random multigraphs, surfaces as cube
+complexes, cup-length, CLI, errors."""
 
 from __future__ import annotations
 
@@ -51,7 +52,8 @@ def seeded(max_examples: int) -> settings:
 
 
 # --------------------------------------------------------------------------------------------------
-# SPEC §7 examples: (edge list, (b0, b1, b2), TC of every path component)
+# reference examples (docs/conventions.md, "Topology of two robots on a graph"):
+# (edge list, (b0, b1, b2), TC of every path component)
 EXAMPLES = {
     "interval": ([["F", "P"]], (2, 0, 0), (1, 1)),
     "circle": ([["P", "P"]], (1, 1, 0), (2,)),

@@ -1,6 +1,7 @@
 """Stage 5, export: the :class:`Trajectory` result and its CSV / JSON files (written atomically).
 
-CSV (SPEC §5): header ``time,a_track,a_s,a_v,a_a,a_j,b_track,b_s,b_v,b_a,b_j``; one row every ``1/rate``
+CSV (docs/conventions.md, "Command line and files"): header
+``time,a_track,a_s,a_v,a_a,a_j,b_track,b_s,b_v,b_a,b_j``; one row every ``1/rate``
 seconds from 0. ``*_track`` is the track coordinate, ``*_s`` the route coordinate σ (signed distance travelled
 along the robot's own route, continuous through P and round the loop), ``*_v/_a/_j`` its first three time
 derivatives. The motion lasts :attr:`Trajectory.motion_time`; the grid ends at the first multiple of

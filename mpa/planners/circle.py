@@ -1,4 +1,5 @@
-"""The circle: two domains of continuity, TC = 2 (the paper's §4)."""
+"""The circle: two domains of continuity, TC = 2 (the paper's §5.2): ccw when B's positions are antipodal, else
+B's shortest path."""
 
 from __future__ import annotations
 

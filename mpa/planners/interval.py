@@ -1,4 +1,4 @@
-"""The interval: robots never change order; one rule, a straight translation (the paper's §3)."""
+"""The interval: robots never change order; one rule, a straight translation (the paper's §5.1)."""
 
 from __future__ import annotations
 

@@ -1,8 +1,9 @@
-"""The motion planning algorithms of the paper, one per track, with their domains of continuity.
+"""The lollipop: the paper's algorithm with three domains of continuity (TC = 3, §6.3), and the choices it leaves open.
 
 Every planner follows the paper's three steps: the *preliminary step* ``H(x_i, ·)`` moves the start onto the
 skeleton, the *main step* moves inside the skeleton by the rule of the query's domain, the *final step* is
-``H(x_f, ·)`` reversed. Domain numbering is SPEC §4.
+``H(x_f, ·)`` reversed. Domain numbering: docs/conventions.md, "Domains of continuity"; departures from
+the paper, with their reasons: docs/paper.md.
 
 Choices the paper leaves open (all explicit here):
 

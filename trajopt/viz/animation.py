@@ -39,6 +39,7 @@ __all__ = [
     "animate_query",
     "ffmpeg_executable",
     "plan_motion",
+    "query_title",
     "trajectory_motion",
 ]
 
@@ -140,14 +141,14 @@ def ffmpeg_executable() -> str | None:
 
 def _writer(fmt: str, fps: float) -> Any:
     if fmt == "gif":
-        return PillowWriter(fps=fps)
+        return PillowWriter(fps=fps)  # type: ignore[arg-type]
     exe = ffmpeg_executable()
     if exe is None:
         raise InvalidInputError(
             "format is 'mp4', which needs an ffmpeg executable: install one (pip install imageio-ffmpeg) or use gif"
         )
     mpl.rcParams["animation.ffmpeg_path"] = exe
-    return FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
+    return FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])  # type: ignore[arg-type]
 
 
 def _check(name: str, value: float, lo: float, *, integer: bool = False) -> None:
@@ -189,7 +190,7 @@ def animate_motions(
         Upper bound on the number of frames (>= 2).
     fmt : {"gif", "mp4"}, optional
     title : str, optional
-        Figure title.
+        Figure title (default: the track and its size, e.g. "lollipop ℓ = 1 m, c = 1 m").
 
     Returns
     -------
@@ -202,6 +203,35 @@ def animate_motions(
         Bad fps, dpi, frame count or format; mp4 without an ffmpeg executable.
     """
     out = Path(out)
+    fmt = _check_animation_options(out, motions, fps=fps, dpi=dpi, max_frames=max_frames, fmt=fmt)
+    writer = _writer(fmt, fps)
+    times, speedup = _frame_times(motions, fps, max_frames)
+
+    fig = Figure(figsize=(11.0, 3.3 * len(motions) + 0.5), layout="constrained")
+    axes = fig.subplots(len(motions), 3, squeeze=False, width_ratios=[1.35, 1.0, 1.1])
+    sk = plan.skeleton if plan is not None else skeleton_of(track)
+    vlim = max(float(np.max(np.abs(m.speed))) for m in motions) * 1.1 + 1e-9
+    artists = [
+        _draw_motion_row(axes[row], track, sk, m, duration=float(times[-1]), vlim=vlim, last=row == len(motions) - 1)
+        for row, m in enumerate(motions)
+    ]
+    head = title or dr.track_title(track)
+    if speedup > 1.0:
+        head += f"  (played {speedup:.1f}× faster than real time)"
+    fig.suptitle(head, fontsize=12)
+
+    def update(k: int) -> list[Any]:
+        return _update_frame(track, motions, artists, float(times[k]))
+
+    anim = FuncAnimation(fig, update, frames=len(times), blit=False)
+    _save_atomically(anim, out, fmt, writer, dpi)
+    return out
+
+
+def _check_animation_options(
+    out: Path, motions: Sequence[Motion], *, fps: float, dpi: float, max_frames: int | None, fmt: str | None
+) -> str:
+    """Validate the options of :func:`animate_motions`; returns the format."""
     fmt = fmt if fmt is not None else out.suffix.lstrip(".").lower()
     if fmt not in FORMATS:
         raise InvalidInputError(f"format is {fmt!r}, expected one of {sorted(FORMATS)}")
@@ -211,72 +241,103 @@ def animate_motions(
         _check("max_frames", float(max_frames), 2.0, integer=True)
     if not motions:
         raise InvalidInputError("motions is empty, expected at least one motion to animate")
-    writer = _writer(fmt, fps)
+    return fmt
 
+
+def _frame_times(motions: Sequence[Motion], fps: float, max_frames: int | None) -> tuple[FloatArray, float]:
+    """Times of the frames (s, shape (F,)) on the shared clock, and how much faster than real time they play."""
     duration = max(max(m.duration for m in motions), 1e-9)
     n_frames = int(np.ceil(duration * fps)) + 1
     speedup = 1.0
     if max_frames is not None and n_frames > max_frames:
         speedup = (n_frames - 1) / (max_frames - 1)
         n_frames = int(max_frames)
-    times = np.linspace(0.0, duration, n_frames)
+    return np.linspace(0.0, duration, n_frames), speedup
 
-    fig = Figure(figsize=(13.0, 4.0 * len(motions) + 0.6), layout="constrained")
-    axes = fig.subplots(len(motions), 3, squeeze=False, width_ratios=[1.35, 1.0, 1.1])
-    sk = plan.skeleton if plan is not None else skeleton_of(track)
-    artists: list[dict[str, Any]] = []
-    vlim = max(float(np.max(np.abs(m.speed))) for m in motions) * 1.1 + 1e-9
-    for row, m in enumerate(motions):
-        ax_p, ax_f, ax_v = axes[row]
-        dr.draw_track(ax_p, track, labels=True, ccw_arrow=False)
-        dr.draw_robots(ax_p, track, m.states[-1], final=True, labels=("", ""))
-        dr.draw_flat_cspace(ax_f, track, axis_labels=row == len(motions) - 1)
-        dr.draw_skeleton(ax_f, sk, alpha=0.8, lw=2.0)
-        dr.draw_flat_path(ax_f, track, m.states, color="0.65", lw=1.0, arrows=())
-        dr.draw_state(ax_f, m.states[0], "$x_i$", size=5)
-        dr.draw_state(ax_f, m.states[-1], "$x_f$", size=5, filled=False)
-        ax_p.set_title(m.label, fontsize=9, loc="left")
-        for k, name in enumerate("AB"):
-            ax_v.plot(m.t, m.speed[:, k], color=dr.ROBOT_COLORS[name], lw=1.6, label=f"robot {name}")
-        ax_v.set_xlim(0.0, duration)
-        ax_v.set_ylim(-vlim, vlim)
-        ax_v.axhline(0.0, color="0.7", lw=0.8)
-        ax_v.set_ylabel("speed along route (m/s)", fontsize=8)
-        ax_v.legend(loc="upper right", fontsize=7)
-        ax_v.grid(alpha=0.3)
-        if row == len(motions) - 1:
-            ax_v.set_xlabel("time (s)")
-        (trail,) = ax_f.plot([], [], color="k", lw=2.2, zorder=6)
-        (dot,) = ax_f.plot([], [], "o", color="k", ms=7, zorder=9)
-        marks = {}
-        for name in "AB":
-            (marks[name],) = ax_p.plot([], [], marker="^", ms=13, color=dr.ROBOT_COLORS[name], ls="none", zorder=8)
-        cursor = ax_v.axvline(0.0, color="k", lw=1.0)
-        clock = ax_p.text(0.02, 0.02, "", transform=ax_p.transAxes, fontsize=9)
-        artists.append({"trail": trail, "dot": dot, "marks": marks, "cursor": cursor, "clock": clock})
-    head = title or f"{track.kind} {track.to_dict()}"
-    if speedup > 1.0:
-        head += f"  (played {speedup:.1f}× faster than real time)"
-    fig.suptitle(head, fontsize=10)
+
+def _draw_motion_row(
+    row_axes: Sequence[Any], track: Track, sk: Any, m: Motion, *, duration: float, vlim: float, last: bool
+) -> dict[str, Any]:
+    """Draw the static part of one motion's row (track, flat space, speeds); returns the artists that move."""
+    ax_p, ax_f, ax_v = row_axes
+    dr.draw_track(ax_p, track, labels=True, ccw_arrow=False)
+    dr.draw_robots(ax_p, track, m.states[-1], final=True, labels=("", ""))
+    dr.draw_flat_cspace(ax_f, track, axis_labels=last)
+    dr.draw_skeleton(ax_f, sk, alpha=0.8, lw=2.0)
+    dr.draw_flat_path(ax_f, track, m.states, color="0.65", lw=1.0, arrows=())
+    dr.draw_state(ax_f, m.states[0], "$x_i$", size=5)
+    dr.draw_state(ax_f, m.states[-1], "$x_f$", size=5, filled=False)
+    ax_p.set_title(m.label, fontsize=10, loc="left")
+    ax_p.text(0.98, 0.02, "filled ▲: now, empty △: goal", transform=ax_p.transAxes, fontsize=9, ha="right")
+    for k, name in enumerate("AB"):
+        ax_v.plot(
+            m.t,
+            m.speed[:, k],
+            color=dr.ROBOT_COLORS[name],
+            ls=dr.ROBOT_LINESTYLES[name],
+            lw=2.2 if name == "A" else 1.6,
+            label=f"robot {name}",
+        )
+    ax_v.set_xlim(0.0, duration)
+    ax_v.set_ylim(-vlim, vlim)
+    ax_v.axhline(0.0, color="0.7", lw=0.8)
+    ax_v.set_ylabel("speed along route (m/s)", fontsize=10)
+    ax_v.legend(loc="upper right", fontsize=9)
+    ax_v.grid(alpha=0.3)
+    if last:
+        ax_v.set_xlabel("time (s)")
+    return _moving_artists(ax_p, ax_f, ax_v)
+
+
+def _moving_artists(ax_p: Any, ax_f: Any, ax_v: Any) -> dict[str, Any]:
+    """The artists of one row that each frame moves: the trail and dot in the flat space, the robots (triangles
+    with their names) on the track, the time cursor and the clock."""
+    (trail,) = ax_f.plot([], [], color="k", lw=2.2, zorder=6)
+    (dot,) = ax_f.plot([], [], "o", color="k", ms=7, zorder=9)
+    marks, names = {}, {}
+    for name in "AB":
+        color = dr.ROBOT_COLORS[name]
+        (marks[name],) = ax_p.plot([], [], marker="^", ms=13, color=color, ls="none", zorder=8)
+        names[name] = ax_p.annotate(
+            name,
+            (0.0, 0.0),
+            xytext=(0.0, 0.0),
+            textcoords="offset points",
+            color=color,
+            fontsize=12,
+            fontweight="bold",
+            ha="center",
+            va="center",
+            zorder=9,
+        )
+    cursor = ax_v.axvline(0.0, color="k", lw=1.0)
+    clock = ax_p.text(0.02, 0.02, "", transform=ax_p.transAxes, fontsize=11)
+    return {"trail": trail, "dot": dot, "marks": marks, "names": names, "cursor": cursor, "clock": clock}
+
+
+def _update_frame(track: Track, motions: Sequence[Motion], artists: Sequence[dict[str, Any]], now: float) -> list[Any]:
+    """Move every row's artists to the time ``now`` (s); returns the artists changed."""
     unit = dr.lane_unit(track)
+    changed: list[Any] = []
+    for m, art in zip(motions, artists):
+        state, _ = m.at(now)
+        path = dr.split_wraps(track, m.upto(now))
+        art["trail"].set_data(path[:, 0], path[:, 1])
+        art["dot"].set_data([state[0]], [state[1]])
+        for name, p, side in (("A", state[0], 1.0), ("B", state[1], -1.0)):
+            xy = dr.embed_offset(track, float(p), side * 0.15 * unit)
+            art["marks"][name].set_data([xy[0]], [xy[1]])
+            art["names"][name].xy = (float(xy[0]), float(xy[1]))
+            art["names"][name].set_position(tuple(16.0 * side * dr.track_normal(track, float(p))))
+        art["cursor"].set_xdata([now, now])
+        art["clock"].set_text(f"t = {min(now, m.duration):5.2f} s")
+        changed += [art["trail"], art["dot"], *art["marks"].values(), *art["names"].values()]
+        changed += [art["cursor"], art["clock"]]
+    return changed
 
-    def update(k: int) -> list[Any]:
-        now = float(times[k])
-        changed: list[Any] = []
-        for m, art in zip(motions, artists):
-            state, _ = m.at(now)
-            path = dr.split_wraps(track, m.upto(now))
-            art["trail"].set_data(path[:, 0], path[:, 1])
-            art["dot"].set_data([state[0]], [state[1]])
-            for name, p, side in (("A", state[0], 1.0), ("B", state[1], -1.0)):
-                xy = dr.embed_offset(track, float(p), side * 0.15 * unit)
-                art["marks"][name].set_data([xy[0]], [xy[1]])
-            art["cursor"].set_xdata([now, now])
-            art["clock"].set_text(f"t = {min(now, m.duration):5.2f} s")
-            changed += [art["trail"], art["dot"], *art["marks"].values(), art["cursor"], art["clock"]]
-        return changed
 
-    anim = FuncAnimation(fig, update, frames=n_frames, blit=False)
+def _save_atomically(anim: FuncAnimation, out: Path, fmt: str, writer: Any, dpi: float) -> None:
+    """Render the animation to a temporary file beside ``out`` and rename it; nothing is left on a failure."""
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = out.with_name(f".{out.stem}.tmp{FORMATS[fmt]}")
     try:
@@ -285,7 +346,17 @@ def animate_motions(
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
-    return out
+
+
+def query_title(track: Track, plan: Plan) -> str:
+    """A readable title of a query, e.g. "lollipop ℓ = 1 m, c = 1 m — A and B swap: (1.3, 1.7) → (1.7, 1.3),
+    D = 0.05 m, domain 2"."""
+    (a0, b0), (a1, b1) = plan.start, plan.goal
+    swap = " A and B swap:" if np.allclose((a0, b0), (b1, a1)) else ""
+    return (
+        f"{dr.track_title(track)} —{swap} ({a0:g}, {b0:g}) → ({a1:g}, {b1:g}), "
+        f"D = {plan.clearance:g} m, domain {plan.domain}"
+    )
 
 
 def animate_query(
@@ -342,8 +413,4 @@ def animate_query(
     else:
         p = mpa_plan(track, start, goal, clearance)
         motions = [plan_motion(p, vmax)]
-    title = (
-        f"{track.kind} {track.to_dict()}: ({p.start[0]:g}, {p.start[1]:g}) → ({p.goal[0]:g}, {p.goal[1]:g}), "
-        f"domain {p.domain}"
-    )
-    return animate_motions(track, motions, out, plan=p, title=title, **kw)
+    return animate_motions(track, motions, out, plan=p, title=query_title(track, p), **kw)

@@ -10,7 +10,8 @@ shaded red. The loop coordinates are periodic: a path that leaves the square at 
 ``ℓ`` (or 0), and every polyline is broken there (:func:`split_wraps`) instead of being drawn as a long chord.
 
 Robot A is blue, robot B orange; a filled triangle is a robot's initial position, an empty one its final position
-(the paper's icons).
+(the paper's icons). On the track A is drawn on the outer side (outside the loop, above the stick) and B on the
+inner side; where both robots' curves share axes, A is solid and B dashed (:data:`ROBOT_LINESTYLES`).
 """
 
 from __future__ import annotations
@@ -51,6 +52,7 @@ __all__ = [
     "draw_track",
     "draw_track_geodesic",
     "embed_offset",
+    "free_offset",
     "lane_unit",
     "loop_period",
     "motion_lanes",
@@ -58,6 +60,7 @@ __all__ = [
     "sample_skeleton",
     "split_wraps",
     "track_normal",
+    "track_title",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -78,6 +81,8 @@ BLOCK_COLORS = {
 #: Colours of the three steps of the algorithm.
 STEP_COLORS = {"preliminary": "#e6ab02", "main": "#000000", "final": "#7f7f7f"}
 COLLISION_COLOR = "#d62728"
+#: Line styles of robots A and B where their curves share axes (speed over time): B dashed on top of A.
+ROBOT_LINESTYLES = {"A": "-", "B": (0, (4, 2))}
 TRACK_COLOR = "0.35"
 
 
@@ -101,8 +106,21 @@ def new_figure(
     axes : ndarray of Axes, shape (nrows, ncols)
     """
     fig = Figure(figsize=(width * ncols, height * nrows), layout="constrained")
-    axes = fig.subplots(nrows, ncols, squeeze=False, **kw)  # type: ignore[arg-type]
+    axes = fig.subplots(nrows, ncols, squeeze=False, **kw)  # type: ignore[call-overload]
     return fig, axes
+
+
+def _xy(p: ArrayLike) -> tuple[float, float]:
+    """A point as a pair of floats (what matplotlib's annotations expect)."""
+    x, y = np.asarray(p, dtype=float).reshape(2)
+    return float(x), float(y)
+
+
+def track_title(track: Track) -> str:
+    """A readable name of a track and its size, e.g. ``"lollipop ℓ = 1 m, c = 1 m"``."""
+    params = track.to_dict()
+    sizes = [f"{sym} = {params[key]:g} m" for key, sym in (("stick", "ℓ"), ("loop", "c")) if key in params]
+    return f"{track.kind} {', '.join(sizes)}".strip()
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -258,13 +276,13 @@ def draw_track(
         f = track.embed(0.0)
         ax.plot(*f, "o", color="k", ms=4, zorder=3)
         if labels:
-            ax.annotate("P", pxy, xytext=(-10, 8), textcoords="offset points", fontsize=11)
-            ax.annotate("0", f, xytext=(-4, 8), textcoords="offset points", fontsize=9, color="0.3")
+            ax.annotate("P", _xy(pxy), xytext=(-10, 8), textcoords="offset points", fontsize=11)
+            ax.annotate("0", _xy(f), xytext=(-4, 8), textcoords="offset points", fontsize=9, color="0.3")
     if isinstance(track, Interval):
         for q, name in ((0.0, "0"), (track.stick, f"{track.stick:g}")):
             ax.plot(*track.embed(q), "|", color="k", ms=12, zorder=3)
             if labels:
-                ax.annotate(name, track.embed(q), xytext=(-4, -16), textcoords="offset points", fontsize=9)
+                ax.annotate(name, _xy(track.embed(q)), xytext=(-4, -16), textcoords="offset points", fontsize=9)
     if ccw_arrow and track.has_loop:
         per = loop_period(track)
         assert per is not None
@@ -312,8 +330,8 @@ def draw_robot(
         off = 15.0 * side * track_normal(track, float(p))  # points, away from the track on the robot's side
         ax.annotate(
             text,
-            xy,
-            xytext=tuple(off),
+            _xy(xy),
+            xytext=_xy(off),
             textcoords="offset points",
             color=color,
             fontsize=10,
@@ -541,22 +559,9 @@ def draw_flat_cspace(
     aa, bb = np.meshgrid(g, g)
     d = track.distance(aa, bb)
     if components and isinstance(track, Interval):
-        tint = np.where(bb > aa, 1.0, 0.0)
-        cmap = mpl.colors.ListedColormap(["#e6f2ff", "#fff0e0"])
-        ax.imshow(tint, origin="lower", extent=(0, ext, 0, ext), cmap=cmap, vmin=0, vmax=1, zorder=0)
-        ax.text(0.25 * ext, 0.8 * ext, "A < B", ha="center", fontsize=10, color="0.3")
-        ax.text(0.75 * ext, 0.2 * ext, "B < A", ha="center", fontsize=10, color="0.3")
+        _shade_interval_components(ax, aa, bb, ext)
     if clearance > 0:
-        bad = np.where(d < clearance, 1.0, np.nan)
-        ax.imshow(
-            bad,
-            origin="lower",
-            extent=(0, ext, 0, ext),
-            cmap=mpl.colors.ListedColormap([COLLISION_COLOR]),
-            alpha=0.22,
-            zorder=1,
-            interpolation="nearest",
-        )
+        _shade_clearance_band(ax, d, clearance, ext)
     ax.plot([0, ext], [0, ext], color=COLLISION_COLOR, lw=2.0, alpha=0.85, zorder=2)
     if level_h and track.has_loop:
         h = 0.5 * float(track.loop)  # type: ignore[attr-defined]
@@ -565,32 +570,7 @@ def draw_flat_cspace(
     ax.set_ylim(0, ext)
     ax.set_aspect("equal")
     if isinstance(track, Lollipop):
-        ell, c = track.stick, track.loop
-        for v in (ell,):
-            ax.axvline(v, color="0.4", ls="--", lw=0.9, zorder=1)
-            ax.axhline(v, color="0.4", ls="--", lw=0.9, zorder=1)
-        ticks = [0.0, ell, ell + 0.5 * c, ell + c]
-        names = ["0", f"P\n{ell:g}", f"{ell + 0.5 * c:g}", f"{ell + c:g}"]
-        ax.set_xticks(ticks, names)
-        ax.set_yticks(ticks, [n.replace("\n", " ") for n in names])
-        if quadrant_labels:
-            for x, y, t in (
-                (0.22 * ell, 0.06 * ell, "stick × stick"),
-                (0.25 * ell, ell + 0.92 * c, "stick × loop"),
-                (ell + 0.78 * c, 0.1 * ell, "loop × stick"),
-                (ell + 0.2 * c, ell + 0.92 * c, "loop × loop"),
-            ):
-                ax.text(
-                    x,
-                    y,
-                    t,
-                    ha="center",
-                    va="center",
-                    fontsize=8,
-                    color="0.45",
-                    rotation=0,
-                    bbox={"fc": "white", "ec": "none", "alpha": 0.7},
-                )
+        _lollipop_flat_axes(ax, track, quadrant_labels=quadrant_labels)
     elif isinstance(track, Circle):
         c = track.loop
         ax.set_xticks([0, 0.5 * c, c], ["0", f"{0.5 * c:g}", f"{c:g}"])
@@ -598,6 +578,59 @@ def draw_flat_cspace(
     if axis_labels:
         ax.set_xlabel("robot A (track coordinate)", color=ROBOT_COLORS["A"])
         ax.set_ylabel("robot B (track coordinate)", color=ROBOT_COLORS["B"])
+
+
+def _shade_interval_components(ax: Axes, aa: FloatArray, bb: FloatArray, ext: float) -> None:
+    """The two components of the interval's configuration space (A < B, B < A) in two tints."""
+    tint = np.where(bb > aa, 1.0, 0.0)
+    cmap = mpl.colors.ListedColormap(["#e6f2ff", "#fff0e0"])
+    ax.imshow(tint, origin="lower", extent=(0, ext, 0, ext), cmap=cmap, vmin=0, vmax=1, zorder=0)
+    ax.text(0.25 * ext, 0.8 * ext, "A < B", ha="center", fontsize=10, color="0.3")
+    ax.text(0.75 * ext, 0.2 * ext, "B < A", ha="center", fontsize=10, color="0.3")
+
+
+def _shade_clearance_band(ax: Axes, d: FloatArray, clearance: float, ext: float) -> None:
+    """The states closer than the clearance (``d < D``), shaded in the collision colour."""
+    bad = np.where(d < clearance, 1.0, np.nan)
+    ax.imshow(
+        bad,
+        origin="lower",
+        extent=(0, ext, 0, ext),
+        cmap=mpl.colors.ListedColormap([COLLISION_COLOR]),
+        alpha=0.22,
+        zorder=1,
+        interpolation="nearest",
+    )
+
+
+def _lollipop_flat_axes(ax: Axes, track: Lollipop, *, quadrant_labels: bool) -> None:
+    """Dashed lines at the pole P, ticks at 0, P, P + h, ℓ + c, and optionally the names of the four quadrants."""
+    ell, c = track.stick, track.loop
+    ax.axvline(ell, color="0.4", ls="--", lw=0.9, zorder=1)
+    ax.axhline(ell, color="0.4", ls="--", lw=0.9, zorder=1)
+    ticks = [0.0, ell, ell + 0.5 * c, ell + c]
+    names = ["0", f"P\n{ell:g}", f"{ell + 0.5 * c:g}", f"{ell + c:g}"]
+    ax.set_xticks(ticks, names)
+    ax.set_yticks(ticks, [n.replace("\n", " ") for n in names])
+    if not quadrant_labels:
+        return
+    for x, y, text in (
+        (0.22 * ell, 0.06 * ell, "stick × stick"),
+        (0.25 * ell, ell + 0.92 * c, "stick × loop"),
+        (ell + 0.78 * c, 0.1 * ell, "loop × stick"),
+        (ell + 0.2 * c, ell + 0.92 * c, "loop × loop"),
+    ):
+        ax.text(
+            x,
+            y,
+            text,
+            ha="center",
+            va="center",
+            fontsize=8,
+            color="0.45",
+            rotation=0,
+            bbox={"fc": "white", "ec": "none", "alpha": 0.7},
+        )
 
 
 def block_of_edge(skeleton: Skeleton, edge: str) -> str:
@@ -684,7 +717,8 @@ def draw_skeleton(
             name = r"$\mathcal{A}$" if blk == "A" else f"${blk[0]}_{blk[1]}$"
             for sp in _label_spots(track, [p for p in parts if np.ptp(p, axis=0).max() > 0], ext):
                 ax.text(
-                    *sp,
+                    float(sp[0]),
+                    float(sp[1]),
                     name,
                     color=BLOCK_COLORS[blk],
                     fontsize=12,
@@ -746,8 +780,14 @@ def draw_state(
     filled: bool = True,
     offset: tuple[float, float] = (6, 6),
     size: float = 7.0,
+    ha: str = "left",
+    va: str = "baseline",
 ) -> None:
-    """A state (point) in the flat configuration space, with an optional label such as ``$x_i'$``."""
+    """A state (point) in the flat configuration space, with an optional label such as ``$x_i'$``.
+
+    The label sits ``offset`` points from the point, aligned by ``ha``/``va``; near the top or right edge of the
+    axes a positive offset is turned round so that the label stays inside.
+    """
     x, y = (float(v) for v in np.asarray(state, dtype=float))
     (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
     if x > x0 + 0.85 * (x1 - x0) and offset[0] > 0:
@@ -775,6 +815,8 @@ def draw_state(
             fontsize=12,
             color=color,
             zorder=9,
+            ha=ha,
+            va=va,
             bbox={"fc": "white", "ec": "none", "alpha": 0.7, "pad": 0.5},
         )
 
@@ -829,7 +871,7 @@ def draw_traces(
 # the abstract chain I1 — S1 — S2 — S3 — I2
 def chain_layout(skeleton: LollipopSkeleton, *, radius: float = 1.0, stick: float = 1.2) -> dict[str, FloatArray]:
     """Positions of the vertices of the skeleton graph for the chain picture: a row, circles of ``radius``."""
-    names = list(skeleton.graph.vertices)
+    names = [str(v) for v in skeleton.graph.vertices]
     x = {"e1": 0.0, "v1": stick}
     x["v2"] = x["v1"] + 2 * radius
     x["v3"] = x["v2"] + 2 * radius
@@ -868,7 +910,7 @@ def draw_chain(
     """
     pos = chain_layout(skeleton)
     for e in skeleton.graph.edges:
-        p0, p1 = pos[e.tail], pos[e.head]
+        p0, p1 = pos[str(e.tail)], pos[str(e.head)]
         blk = block_of_edge(skeleton, e.name)
         color = BLOCK_COLORS[blk]
         dim = e.name in dim_edges
@@ -896,7 +938,7 @@ def draw_chain(
     for v, p in pos.items():
         ax.plot(*p, "o", color="k", ms=5, zorder=4)
         if vertex_names:
-            ax.annotate(v, p, xytext=(0, 7), textcoords="offset points", ha="center", fontsize=8, color="0.3")
+            ax.annotate(v, _xy(p), xytext=(0, 7), textcoords="offset points", ha="center", fontsize=8, color="0.3")
     ax.set_aspect("equal")
     ax.axis("off")
     allp = np.array(list(pos.values()))
@@ -942,7 +984,7 @@ def draw_plan_step(axes: Sequence[Axes], p: Plan, style: StepStyle = StepStyle()
     sk = p.skeleton if p.skeleton is not None else skeleton_of(track)
     draw_track(ax_phys, track, ccw_arrow=style.step is None)
     draw_flat_cspace(ax_flat, track, clearance=p.clearance)
-    draw_skeleton(ax_flat, sk, alpha=0.9)
+    sk_samples = draw_skeleton(ax_flat, sk, alpha=0.9)
     u = np.linspace(0.0, 1.0, style.samples)
     whole = p.path(u)
     draw_flat_path(ax_flat, track, whole, color="0.6", lw=1.2, arrows=(), alpha=0.8)
@@ -975,11 +1017,58 @@ def draw_plan_step(axes: Sequence[Axes], p: Plan, style: StepStyle = StepStyle()
             )
         draw_robots(ax_phys, track, seg[-1], final=True, labels=("", ""))
         draw_robots(ax_phys, track, seg[0], final=False)  # on top: a robot that waits shows filled
-    same_i = bool(np.allclose(p.start, xi))
-    same_f = bool(np.allclose(p.goal, xf))
-    draw_state(ax_flat, p.start, "$x_i$", color="k", offset=(-22, -14) if not same_i else (-22, 6))
-    draw_state(ax_flat, p.goal, "$x_f$", color="k", filled=False, offset=(8, -14) if not same_f else (8, 6))
-    if not same_i:
-        draw_state(ax_flat, xi, "$x_i'$", color=STEP_COLORS["preliminary"], size=6)
-    if not same_f:
-        draw_state(ax_flat, xf, "$x_f'$", color=STEP_COLORS["final"], filled=False, size=6)
+    lines = np.vstack([whole[::5], *sk_samples.values()]) if sk_samples else whole[::5]
+    _draw_query_states(ax_flat, p.start, xi, "i", STEP_COLORS["preliminary"], filled=True, lines=lines)
+    _draw_query_states(ax_flat, p.goal, xf, "f", STEP_COLORS["final"], filled=False, lines=lines)
+
+
+def _draw_query_states(
+    ax: Axes, state: ArrayLike, on_skeleton: ArrayLike, index: str, color: str, *, filled: bool, lines: FloatArray
+) -> None:
+    """A state ``x`` and its retraction ``x'``, each label placed where it covers the least (:func:`free_offset`).
+
+    When ``x = x'`` only ``x`` is drawn.
+    """
+    x = np.asarray(state, dtype=float)
+    xs = np.asarray(on_skeleton, dtype=float)
+    both = np.vstack([lines, x, xs])
+    label = f"$x_{index}$"
+    draw_state(ax, x, label, color="k", filled=filled, offset=free_offset(ax, x, both), ha="center", va="center")
+    if float(np.max(np.abs(xs - x))) > 1e-9 * max(1.0, float(np.max(np.abs(x)))):
+        off = free_offset(ax, xs, both)
+        draw_state(ax, xs, f"$x_{index}'$", color=color, filled=filled, size=6, offset=off, ha="center", va="center")
+
+
+def free_offset(ax: Axes, xy: ArrayLike, obstacles: ArrayLike, *, radius: float = 15.0) -> tuple[float, float]:
+    """An offset (points) for a label of the point ``xy`` that keeps it clear of lines and of the other labels.
+
+    Tries eight directions at ``radius`` points and picks the one farthest (on screen) from the ``obstacles``
+    (data points, shape (K, 2), e.g. samples of the drawn paths) and from the texts already on the axes.
+
+    Returns
+    -------
+    (float, float)
+        The offset in points.
+    """
+    to_px = ax.figure.dpi / 72.0
+    centre = ax.transData.transform(np.asarray(xy, dtype=float).reshape(1, 2))[0]
+    obs = ax.transData.transform(np.asarray(obstacles, dtype=float).reshape(-1, 2))
+    texts = [_text_anchor_px(ax, tx) for tx in ax.texts]
+    best, best_score = (radius, radius), -np.inf
+    for ang in np.arange(8) * np.pi / 4 + np.pi / 4:
+        off = (radius * float(np.cos(ang)), radius * float(np.sin(ang)))
+        spot = centre + to_px * np.array(off)
+        score = float(np.min(np.linalg.norm(obs - spot, axis=1))) if len(obs) else np.inf
+        for anchor in texts:
+            score = min(score, 0.5 * float(np.linalg.norm(anchor - spot)))
+        if score > best_score:
+            best, best_score = off, score
+    return best
+
+
+def _text_anchor_px(ax: Axes, text: mpl.text.Text) -> FloatArray:
+    """Where a text of the axes sits, in display pixels (annotations: the point plus the offset)."""
+    if isinstance(text, mpl.text.Annotation) and text.anncoords == "offset points":
+        base = ax.transData.transform(np.asarray(text.xy, dtype=float).reshape(1, 2))[0]
+        return np.asarray(base + np.asarray(text.xyann, dtype=float) * ax.figure.dpi / 72.0)
+    return np.asarray(text.get_transform().transform(text.get_position()))

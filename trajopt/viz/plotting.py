@@ -2,19 +2,19 @@
 
 One figure, three views: the track with both robots' routes, the path in the flat configuration space
 (track coordinates of A and B) with the skeleton and the forbidden band ``d < D``, and ``s, v, a, j`` of both
-robots over time with the limits. Kept small on purpose; richer drawings belong to ``trajopt.viz.drawing``.
+robots over time with the limits (A solid, B dashed, so that equal curves of a symmetric swap both show). The
+track and configuration-space panels are drawn with :mod:`trajopt.viz.drawing`.
 """
 
 from __future__ import annotations
 
 import io
-import os
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from mpa.skeleton import IntervalSkeleton, SkeletonPoint, skeleton_of
+from mpa.skeleton import skeleton_of
 from mpa.tracks import Track
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -26,90 +26,75 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["draw_cspace", "draw_profiles", "draw_track", "figure_png", "plot_trajectory"]
 
 COLORS = ("tab:blue", "tab:orange")
-
-
-def _split_jumps(pts: NDArray[np.float64], jump: float) -> list[NDArray[np.float64]]:
-    """Split a polyline where consecutive points jump (wrap of a coordinate) by more than ``jump``."""
-    if len(pts) < 2:
-        return [pts]
-    cut = np.flatnonzero(np.max(np.abs(np.diff(pts, axis=0)), axis=1) > jump) + 1
-    return np.split(pts, cut)
+#: Line styles of robots A and B in the profiles: B dashed on top of A, so equal curves (a symmetric swap) show both.
+LINESTYLES = ("-", (0, (4, 2)))
+LINEWIDTHS = (2.2, 1.4)
 
 
 def draw_track(ax: Axes, track: Track, track_pos: NDArray[np.float64] | None = None) -> None:
-    """The track in its planar embedding, with the robots' motion (track coordinates, shape (N, 2))."""
-    p = np.linspace(0.0, track.total_length, 800, endpoint=False)
-    xy = track.embed(p)
-    for part in _split_jumps(xy, 0.05 * track.total_length):
-        ax.plot(part[:, 0], part[:, 1], color="0.75", lw=6, solid_capstyle="round", zorder=1)
+    """The track in its planar embedding, with the robots' motion (track coordinates, shape (N, 2)).
+
+    Each robot's route is drawn beside the track on its own side (A outside the loop and above the stick, B inside
+    and below), with its start (filled triangle) and goal (empty triangle) labelled "A start", "B goal", ...
+    """
+    from trajopt.viz import drawing as dr
+
+    dr.draw_track(ax, track, labels=True, ccw_arrow=False)
     if track_pos is not None:
         for r, name in enumerate("AB"):
-            pts = track.embed(track_pos[:, r])
-            off = (0.012 if r else -0.012) * track.total_length
-            for part in _split_jumps(pts, 0.05 * track.total_length):
-                ax.plot(part[:, 0], part[:, 1] + off, color=COLORS[r], lw=1.5, zorder=2)
-            ax.plot(*pts[0], "o", color=COLORS[r], ms=7, zorder=3, label=f"{name} start")
-            ax.plot(*pts[-1], "s", color=COLORS[r], ms=7, zorder=3, mfc="white", label=f"{name} goal")
-    ax.set_aspect("equal")
-    ax.set_title("track and routes")
-    ax.legend(fontsize=7, loc="best")
-    ax.set_xticks([])
-    ax.set_yticks([])
+            dr.draw_motion(ax, track, track_pos[:, r], name, arrows=(0.5,), lw=1.8)
+        dr.draw_robots(ax, track, track_pos[-1], final=True, labels=("A goal", "B goal"))
+        dr.draw_robots(ax, track, track_pos[0], labels=("A start", "B start"))
+    ax.set_title("track and routes (A: outer side, B: inner side)")
 
 
 def draw_cspace(ax: Axes, track: Track, clearance: float, paths: dict[str, NDArray[np.float64]]) -> None:
-    """The flat configuration space ``(a, b)`` with the band ``d < D``, the skeleton and some paths."""
-    L = track.total_length
-    g = np.linspace(0.0, L, 301)
-    A, B = np.meshgrid(g, g, indexing="xy")
-    d = track.distance(A, B)
-    ax.contourf(A, B, d, levels=[-1.0, clearance], colors=["0.85"])
-    sk = skeleton_of(track)
-    if not isinstance(sk, IntervalSkeleton):
-        for e in sk.graph.edges:
-            ts = np.linspace(0.0, e.length, 60)
-            pts = np.array([sk.state(SkeletonPoint(e.name, float(t))) for t in ts])
-            for part in _split_jumps(pts, 0.25 * L):
-                ax.plot(part[:, 0], part[:, 1], color="tab:green", lw=1, alpha=0.8)
-        ax.plot([], [], color="tab:green", lw=1, label="skeleton")
-    styles = ("k--", "tab:red")
-    for (name, pts), st in zip(paths.items(), styles):
-        for i, part in enumerate(_split_jumps(pts, 0.25 * L)):
-            if st.startswith("k"):
-                ax.plot(part[:, 0], part[:, 1], st, lw=1, label=name if i == 0 else None)
-            else:
-                ax.plot(part[:, 0], part[:, 1], color=st, lw=1.8, label=name if i == 0 else None)
+    """The flat configuration space ``(a, b)`` with the band ``d < D``, the skeleton and some paths.
+
+    The first path is drawn dashed black, the second solid red; the start (filled) and goal (empty) are labelled.
+    """
+    from trajopt.viz import drawing as dr
+
+    dr.draw_flat_cspace(ax, track, clearance=clearance, axis_labels=False)
+    dr.draw_skeleton(ax, skeleton_of(track), labels=False, arrows=False, lw=1.2, alpha=0.6, vertices=False)
+    ax.plot([], [], color=dr.BLOCK_COLORS["S1"], lw=1.2, alpha=0.6, label="skeleton")
+    styles = (("k", "--", 1.2, 7.0), ("tab:red", "-", 1.8, 6.0))  # colour, line style, width, zorder
+    for (name, pts), (color, ls, lw, zorder) in zip(paths.items(), styles):
+        dr.draw_flat_path(ax, track, pts, arrows=(), color=color, ls=ls, lw=lw, zorder=zorder)
+        ax.plot([], [], label=name, color=color, ls=ls, lw=lw)
     any_pts = next(iter(paths.values()))
-    ax.plot(*any_pts[0], "ko", ms=5)
-    ax.plot(*any_pts[-1], "ks", ms=5, mfc="white")
-    ax.set_xlim(0, L)
-    ax.set_ylim(0, L)
-    ax.set_aspect("equal")
+    dr.draw_state(ax, any_pts[0], "start", size=6, offset=(6, -14))
+    dr.draw_state(ax, any_pts[-1], "goal", size=6, filled=False, offset=(6, 6))
     ax.set_xlabel("a (track coordinate of A, m)")
-    ax.set_ylabel("b (m)")
-    ax.set_title(f"configuration space (grey: d < {clearance:g} m)")
-    ax.legend(fontsize=7, loc="upper left")
+    ax.set_ylabel("b (track coordinate of B, m)")
+    ax.set_title(f"configuration space (red: d < {clearance:g} m)")
+    ax.legend(fontsize=7, loc="upper left", framealpha=0.9)
 
 
 def draw_profiles(axes: Any, traj: Trajectory) -> None:
-    """``s, v, a, j`` of both robots over time on four axes, with the limits dashed."""
+    """``s, v, a, j`` of both robots over time on four axes, with the limits dotted (A solid, B dashed)."""
     lims = {"v": traj.limits.v, "a": traj.limits.a, "j": traj.limits.j}
     for ax, (key, unit) in zip(axes, (("s", "m"), ("v", "m/s"), ("a", "m/s²"), ("j", "m/s³"))):
         val = getattr(traj, key)
         for r, name in enumerate("AB"):
-            ax.plot(traj.t, val[:, r], color=COLORS[r], lw=1.2, label=name)
-            if key in lims:
-                ax.axhline(lims[key][r], color=COLORS[r], ls=":", lw=0.8)
-                ax.axhline(-lims[key][r], color=COLORS[r], ls=":", lw=0.8)
+            ax.plot(traj.t, val[:, r], color=COLORS[r], ls=LINESTYLES[r], lw=LINEWIDTHS[r], label=name, zorder=3 + r)
+        if key in lims:
+            same = lims[key][0] == lims[key][1]
+            for r in (0,) if same else (0, 1):
+                col = "0.4" if same else COLORS[r]
+                ax.axhline(lims[key][r], color=col, ls=":", lw=0.9)
+                ax.axhline(-lims[key][r], color=col, ls=":", lw=0.9)
         ax.set_ylabel(f"{key} ({unit})")
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=7)
+    axes[0].legend(fontsize=8, loc="upper left")
     axes[-1].set_xlabel("t (s)")
 
 
 def plot_trajectory(traj: Trajectory) -> Figure:
     """The demo figure (track, configuration space, profiles) of a trajectory."""
     from matplotlib.figure import Figure
+
+    from trajopt.viz.drawing import track_title
 
     fig = Figure(figsize=(12, 8), constrained_layout=True)
     gs = fig.add_gridspec(4, 2, width_ratios=[1.0, 1.2])
@@ -123,7 +108,7 @@ def plot_trajectory(traj: Trajectory) -> Figure:
     draw_profiles(prof, traj)
     what = "fallback: plan re-timed" if traj.fallback else "optimized"
     fig.suptitle(
-        f"{_track_label(plan.track)}: ({plan.start[0]:g}, {plan.start[1]:g}) → "
+        f"{track_title(plan.track)}: ({plan.start[0]:g}, {plan.start[1]:g}) → "
         f"({plan.goal[0]:g}, {plan.goal[1]:g}), domain {traj.domain}, makespan {traj.makespan:.2f} s ({what})"
     )
     return fig
@@ -137,15 +122,3 @@ def figure_png(fig: Figure) -> bytes:
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110)
     return buf.getvalue()
-
-
-def save_png(traj: Trajectory, path: str | os.PathLike[str]) -> None:
-    """Write the demo figure of ``traj`` to ``path``."""
-    with open(path, "wb") as fh:
-        fh.write(figure_png(plot_trajectory(traj)))
-
-
-def _track_label(track) -> str:  # type: ignore[no-untyped-def]
-    """``"lollipop (stick 1 m, loop 1 m)"``."""
-    params = ", ".join(f"{k} {v:g} m" for k, v in track.to_dict().items() if k != "track")
-    return f"{track.kind} ({params})"
