@@ -130,13 +130,13 @@ class DirectedRoute:
 
     def positions(self, r: ArrayLike) -> tuple[IntArray, FloatArray]:
         """Positions ``(edge, offset)`` at route coordinates ``r`` (broadcast; clamped to the route)."""
-        r = np.clip(np.asarray(r, dtype=float), self.breaks[0], self.breaks[-1])
-        i = self.piece_index(r)
-        return self.edges[i], self.entry[i] + self.dirs[i] * (r - self.breaks[i])
+        rr: FloatArray = np.clip(np.asarray(r, dtype=float), self.breaks[0], self.breaks[-1])
+        i = self.piece_index(rr)
+        return self.edges[i], self.entry[i] + self.dirs[i] * (rr - self.breaks[i])
 
     def to_list(self, names: Sequence[str] | None = None) -> list[dict[str, object]]:
         """JSON-friendly pieces ``{"edge", "dir", "entry", "from_s", "to_s"}``."""
-        out = []
+        out: list[dict[str, object]] = []
         for i in range(len(self.edges)):
             e = int(self.edges[i])
             out.append(
@@ -331,8 +331,8 @@ class GraphGeometry:
             lam = np.unique(np.asarray(lams))
             lam_all.append(np.stack([np.full(len(lam) - 1, k), lam[:-1], lam[1:]], axis=1))
         seg = np.concatenate(lam_all)
-        k = seg[:, 0].astype(np.int64)
-        a, b = w[k], w[k + 1]
+        seg_k = seg[:, 0].astype(np.int64)
+        a, b = w[seg_k], w[seg_k + 1]
         q0 = a + seg[:, 1:2] * (b - a)
         q1 = a + seg[:, 2:3] * (b - a)
         mid = 0.5 * (q0 + q1)

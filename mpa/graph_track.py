@@ -152,8 +152,8 @@ class GraphTrack:
                 raise InvalidInputError(
                     f'layout "vertices" is a {type(raw_vertices).__name__}, expected an object {{"name": [x, y]}}'
                 )
-            for name, xy in raw_vertices.items():
-                vname = _vertex_name(name, "vertex name")
+            for raw_name, xy in raw_vertices.items():
+                vname = _vertex_name(raw_name, "vertex name")
                 vertex_xy[vname] = None if xy is None else _point(xy, f"coordinates of vertex {vname!r}")
         order: list[str] = list(vertex_xy)
         out_edges: list[Edge] = []
@@ -216,7 +216,7 @@ class GraphTrack:
                         "expected a finite number > 0: give a length"
                     )
             else:
-                if not _is_number(length) or not math.isfinite(length) or length <= 0:  # type: ignore[arg-type]
+                if not _is_number(length) or not math.isfinite(length) or float(length) <= 0:  # type: ignore[arg-type]
                     raise InvalidInputError(f"length of edge {name!r} is {length!r}, expected a finite number > 0")
                 length_f = float(length)  # type: ignore[arg-type]
             out_edges.append(Edge(name, u, v, length_f))

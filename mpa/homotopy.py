@@ -119,7 +119,7 @@ def word_from_samples(graph: MetricGraph, edges: list[int], ts: list[float]) -> 
         cur = nxt
         t_from = 0.0 if v == str(E[nxt].tail) else E[nxt].length
     push(cur, t_from, ts[-1])
-    return tuple(("+" if st[2] > st[1] else "-") + E[st[0]].name for st in steps)  # type: ignore[operator,index]
+    return tuple(("+" if st[2] > st[1] else "-") + E[st[0]].name for st in steps)  # type: ignore[operator,index,call-overload]
 
 
 def skeleton_points(skeleton: Skeleton, states: ArrayLike) -> tuple[np.ndarray, np.ndarray]:

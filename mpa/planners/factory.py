@@ -76,7 +76,7 @@ def plan(
         ``auto``: the paper's algorithm on the paper's tracks, the graph planner otherwise.
     objective : {"fastest", "shortest"}
         Graph planner only: minimum time for the per-robot ``speeds`` over all homotopy classes, or minimum length.
-    speeds : float or (float, float)
+    speeds : (float, float)
         Graph planner only: per-robot speed limits for ``objective="fastest"`` (m/s).
 
     Returns

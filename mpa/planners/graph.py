@@ -38,7 +38,7 @@ from __future__ import annotations
 import heapq
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -579,7 +579,7 @@ def _why_no_motion(track: GraphTrack, fs: FreeSpace, start: tuple[Position, ...]
 # ------------------------------------------------------------------------------------------------- API
 def _speeds(speeds: object) -> tuple[float, float]:
     try:
-        va, vb = speeds  # type: ignore[misc]
+        va, vb = cast("tuple[object, object]", speeds)
     except (TypeError, ValueError):
         raise InvalidInputError(f"speeds is {speeds!r}, expected two positive numbers (vA, vB) in m/s") from None
     out = []

@@ -398,7 +398,7 @@ def animate_query(
     InvalidInputError, NoMotionError, PlanningError
         From the planner and the trajectory generator; see also :func:`animate_motions`.
     """
-    from mpa.planners import plan as mpa_plan
+    from mpa.planners import make_planner
 
     _check("fps", float(kw.get("fps", 20.0)), 1.0)  # fail before the (slower) planning and optimisation
     _check("dpi", float(kw.get("dpi", 80.0)), 10.0)
@@ -411,6 +411,6 @@ def animate_query(
         p = traj.plan
         motions = [plan_motion(p, vmax), trajectory_motion(traj)]
     else:
-        p = mpa_plan(track, start, goal, clearance)
+        p = make_planner(track, clearance).plan(start, goal)
         motions = [plan_motion(p, vmax)]
     return animate_motions(track, motions, out, plan=p, title=query_title(track, p), **kw)
