@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import InvalidInputError
 
-__all__ = ["DirectedRoute", "GraphGeometry", "vertex_distance_matrix"]
+__all__ = ["DirectedRoute", "GraphGeometry", "RouteGeometry", "vertex_distance_matrix"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -345,3 +345,89 @@ class GraphGeometry:
         p0 = np.stack([offs(route_a, ia, q0[:, 0]), offs(route_b, ib, q0[:, 1])], axis=1)
         p1 = np.stack([offs(route_a, ia, q1[:, 0]), offs(route_b, ib, q1[:, 1])], axis=1)
         return float(np.min(self.segment_min(route_a.edges[ia], route_b.edges[ib], p0, p1)))
+
+
+@dataclass(frozen=True, eq=False)
+class RouteGeometry:
+    """The separation of two robots on their routes as a function of route coordinates ``σ = (σ_A, σ_B)``.
+
+    The plane of route coordinates is cut into *rectangles* at every break of either route (a robot changes
+    edge); inside a rectangle each robot's offset is affine in its σ with slope ±1, so the graph distance is the
+    minimum of the cell's affine terms (and ``|s - t|`` when both robots are on one edge): piecewise affine in σ.
+    This is what trajectory smoothing (cells as half-planes), the verification gate (exact minimum along chords)
+    and the benchmark's baselines use, for the paper's tracks (routes from :func:`mpa.routes.directed_route`) and
+    for any track graph alike.
+
+    Parameters
+    ----------
+    geometry : GraphGeometry
+    routes : (DirectedRoute, DirectedRoute)
+        Route of robot A and of robot B.
+    """
+
+    geometry: GraphGeometry
+    routes: tuple[DirectedRoute, DirectedRoute]
+
+    @property
+    def breaks(self) -> tuple[FloatArray, FloatArray]:
+        """Per robot, the route coordinates of its pieces' boundaries (metres)."""
+        return self.routes[0].breaks, self.routes[1].breaks
+
+    @property
+    def junctions(self) -> tuple[FloatArray, FloatArray]:
+        """Per robot, the interior boundaries (where it moves onto another edge or turns back)."""
+        return self.routes[0].breaks[1:-1], self.routes[1].breaks[1:-1]
+
+    def positions(self, sigma: ArrayLike) -> tuple[tuple[IntArray, FloatArray], tuple[IntArray, FloatArray]]:
+        """``((edge_A, offset_A), (edge_B, offset_B))`` at route coordinates ``σ`` (shape (..., 2))."""
+        s = np.asarray(sigma, dtype=float)
+        return self.routes[0].positions(s[..., 0]), self.routes[1].positions(s[..., 1])
+
+    def distance(self, sigma: ArrayLike) -> FloatArray:
+        """Exact graph distance between the robots at route coordinates ``σ`` (shape (..., 2) -> (...); metres)."""
+        (ea, oa), (eb, ob) = self.positions(sigma)
+        return self.geometry.distance(ea, oa, eb, ob)
+
+    def polyline_min_distance(self, pts: ArrayLike) -> float:
+        """Exact minimum of the distance along the polyline through ``pts`` (shape (n, 2), route coordinates)."""
+        p = np.atleast_2d(np.asarray(pts, dtype=float))
+        if len(p) == 1:
+            return float(self.distance(p)[0])
+        return self.geometry.route_min_distance(self.routes[0], self.routes[1], p)
+
+    def interval(self, robot: int, sigma: ArrayLike) -> IntArray:
+        """Index of the route piece of ``robot`` that holds ``σ`` (the later one at a break)."""
+        return self.routes[robot].piece_index(sigma)
+
+    def box(self, ia: int, ib: int) -> FloatArray:
+        """The rectangle ``[[σA_lo, σA_hi], [σB_lo, σB_hi]]`` of pieces ``(ia, ib)``."""
+        ba, bb = self.breaks
+        return np.array([[ba[ia], ba[ia + 1]], [bb[ib], bb[ib + 1]]])
+
+    def cell_rows(self, mid: ArrayLike) -> tuple[tuple[int, int], list[tuple[float, float, float]]]:
+        """The convex cell of the free set that contains the point ``mid`` (route coordinates).
+
+        Returns
+        -------
+        (ia, ib) : tuple of int
+            The rectangle (route piece of each robot).
+        rows : list of (gA, gB, h)
+            Half-planes ``gA·σ_A + gB·σ_B + h >= D`` whose intersection with the rectangle is the convex piece
+            of ``{d >= D}`` holding ``mid`` (the cell's finite affine terms, and the side of ``s = t`` on one edge).
+        """
+        m = np.asarray(mid, dtype=float)
+        ra, rb = self.routes
+        ia, ib = int(ra.piece_index(m[0])), int(rb.piece_index(m[1]))
+        ea, eb = int(ra.edges[ia]), int(rb.edges[ib])
+        # offset = o0 + dr·σ on each piece
+        da, db = float(ra.dirs[ia]), float(rb.dirs[ib])
+        oa0, ob0 = float(ra.entry[ia] - da * ra.breaks[ia]), float(rb.entry[ib] - db * rb.breaks[ib])
+        rows = [
+            (ca * da, cb * db, c0 + ca * oa0 + cb * ob0)
+            for ca, cb, c0 in self.geometry.cell_terms(ea, eb)
+            if np.isfinite(c0)
+        ]
+        if ea == eb:
+            sg = 1.0 if (oa0 + da * m[0]) - (ob0 + db * m[1]) >= 0 else -1.0
+            rows.append((sg * da, -sg * db, sg * (oa0 - ob0)))
+        return (ia, ib), rows

@@ -13,6 +13,7 @@ and round the loop; the goal has ``σ ≥ 0``. Trajectory optimisation works in 
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -21,9 +22,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import PlanningError
+from mpa.geometry import DirectedRoute
 from mpa.tracks import Circle, Interval, Lollipop, Track
 
-__all__ = ["Lift", "RobotMove", "Route", "lift_moves", "lift_position"]
+__all__ = ["Lift", "RobotMove", "Route", "directed_route", "lift_moves", "lift_position"]
 
 FloatArray = NDArray[np.float64]
 #: Tolerance (metres) for deciding that a lifted point sits on a junction.
@@ -350,3 +352,54 @@ class Route:
                 rs.extend(ra + (m * c - v0) * np.sign(v1 - v0 if v1 != v0 else 1.0))
         s = self.direction * (np.array(sorted(set(np.round(rs, 12)))) - self.r_start)
         return np.sort(s[(s >= self.sigma_min - 1e-12) & (s <= self.sigma_max + 1e-12)])
+
+
+def directed_route(route: Route) -> DirectedRoute:
+    """A paper track's route as a :class:`~mpa.geometry.DirectedRoute` on :meth:`Track.as_graph_track`.
+
+    The route coordinate is kept (``breaks`` run from ``sigma_min`` to ``sigma_max``); the unrolled loop is cut
+    into one piece per turn, so every piece lies on one edge (``stick`` or ``loop``) with its offset affine in σ.
+
+    Parameters
+    ----------
+    route : Route
+
+    Returns
+    -------
+    DirectedRoute
+    """
+    tr = route.track
+    breaks, alpha, beta, is_line = route._affine()
+    lo = np.concatenate([[route.sigma_min], breaks])
+    hi = np.concatenate([breaks, [route.sigma_max]])
+    names = ("stick", "loop") if isinstance(tr, Lollipop) else (("loop",) if isinstance(tr, Circle) else ("stick",))
+    stick_edge, loop_edge = 0, len(names) - 1
+    c = getattr(tr, "loop", 0.0)
+    edges: list[int] = []
+    dirs: list[int] = []
+    entry: list[float] = []
+    lengths: list[float] = []
+
+    def piece(edge: int, s0: float, s1: float, a: float, b: float, shift: float) -> None:
+        edges.append(edge)
+        dirs.append(1 if b >= 0 else -1)
+        entry.append(a + b * s0 - shift)
+        lengths.append(s1 - s0)
+
+    for s0, s1, a, b, line in zip(lo, hi, alpha, beta, is_line):
+        s0, s1 = max(float(s0), route.sigma_min), min(float(s1), route.sigma_max)
+        if s1 < s0:
+            continue
+        if not line or isinstance(tr, Interval):
+            piece(stick_edge, s0, s1, float(a), float(b), 0.0)
+            continue
+        # the unrolled loop coordinate U = a + b·σ: one piece per turn, cut where U is a multiple of c
+        u0, u1 = a + b * s0, a + b * s1
+        cuts = np.arange(np.floor(min(u0, u1) / c) + 1, np.ceil(max(u0, u1) / c)) * c
+        ss = np.unique(np.concatenate([[s0, s1], np.clip((cuts - a) / b, s0, s1)]))
+        for p0, p1 in itertools.pairwise(ss):
+            m = np.floor((a + b * 0.5 * (p0 + p1)) / c)
+            piece(loop_edge, float(p0), float(p1), float(a), float(b), float(m * c))
+        if len(ss) == 1:  # a piece of length 0
+            piece(loop_edge, s0, s1, float(a), float(b), float(np.floor((a + b * s0) / c) * c))
+    return DirectedRoute.from_pieces(edges, dirs, entry, lengths, origin=route.sigma_min)
