@@ -419,11 +419,10 @@ def toppra_profile(path: BlendedPath, limits: Limits, n_grid: int = 100) -> tupl
     PlanningError
         toppra reports a failure (its ``return_code``).
     """
-    import toppra
+    # (toppra's logging is left as the application configured it: a library configures no logging)
     import toppra.algorithm as algo
     import toppra.constraint as constraint
 
-    toppra.setup_logging("WARNING") if hasattr(toppra, "setup_logging") else None
     grid = np.unique(np.concatenate([np.linspace(0.0, path.length, n_grid), path.breaks]))
     vlim = np.stack([-limits.v, limits.v], axis=1)
     alim = np.stack([-limits.a, limits.a], axis=1)
