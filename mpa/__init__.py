@@ -7,6 +7,7 @@ paths as skeleton words), :mod:`mpa.topology` (topological complexity of the tra
 robots on any graph). numpy only.
 """
 
+from mpa._version import __version__
 from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
 from mpa.graph import Edge, MetricGraph, farber_tc_of_graph
@@ -49,6 +50,7 @@ __all__ = [
     "Route",
     "Skeleton",
     "Track",
+    "__version__",
     "configuration_space_topology",
     "farber_tc_of_graph",
     "load_graph_json",
