@@ -65,7 +65,12 @@ class ConfigurationSpace:
         InvalidInputError
             Wrong shape, a coordinate not finite or off the track, robots coincident or closer than D.
         """
-        arr = np.asarray(state, dtype=float) if not isinstance(state, str) else None
+        arr: NDArray[np.float64] | None = None
+        if not isinstance(state, (str, bytes)):
+            try:
+                arr = np.asarray(state, dtype=float)
+            except (TypeError, ValueError, OverflowError):
+                arr = None
         if arr is None or arr.shape != (2,):
             raise InvalidInputError(f"{name} is {state!r}, expected two track coordinates (A B)")
         a = self.track.validate(arr[0], f"{name} of robot A")

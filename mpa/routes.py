@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mpa.errors import PlanningError
+from mpa.errors import InvalidInputError, PlanningError
 from mpa.tracks import Circle, Interval, Lollipop, Track
 
 __all__ = ["Lift", "RobotMove", "Route", "lift_moves", "lift_position"]
@@ -65,7 +65,8 @@ def lift_position(track: Track, lift: Lift) -> float:
         return lift.v
     if isinstance(track, Circle):
         return lift.v % track.loop
-    assert isinstance(track, Lollipop)
+    if not isinstance(track, Lollipop):
+        raise InvalidInputError(f"track is {track!r}, expected a Lollipop")
     if lift.kind == "stick":
         return track.stick - lift.v
     th = lift.v % track.loop
@@ -363,7 +364,8 @@ class Route:
             return tr.stick + th if isinstance(tr, Lollipop) else th
         idx = np.searchsorted(breaks, s, side="left")
         val = A[idx] + B[idx] * s
-        assert isinstance(tr, Lollipop)  # only lollipop routes have several pieces
+        if not isinstance(tr, Lollipop):
+            raise InvalidInputError(f"track is {tr!r}, expected a Lollipop")
         c = tr.loop
         th = np.mod(val, c)
         th = np.where(th >= c - 1e-12, 0.0, th)

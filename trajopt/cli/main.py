@@ -70,10 +70,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if not args_list:
             parser.print_usage(sys.stderr)
             return EXIT_USAGE
-        try:
-            args = parser.parse_args(args_list)
-        except SystemExit as exc:  # --help / --version (0) or a usage error (2, its line already printed)
-            return exc.code if isinstance(exc.code, int) else EXIT_USAGE
+        args = parser.parse_args(args_list)  # --help, --version and usage errors raise SystemExit (0 or 2)
         return int(args.func(args))
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)

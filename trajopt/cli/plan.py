@@ -1,4 +1,10 @@
-"""``mpa plan``: the paper's planner on the command line (domain, rule, steps, skeleton word; ``--json``)."""
+"""``mpa plan``: the paper's planner on the command line (domain, rule, steps, skeleton word; ``--json``).
+
+``--samples N`` accepts any ``N >= 2`` (smaller is an error); the JSON's ``path`` then holds
+``max(N, 200, n_1%)`` points, ``n_1%`` being the number that keeps consecutive points within 1 % of the track's
+length for each robot, and its ``samples`` field says how many. ``--clearance`` defaults to
+:data:`mpa.defaults.CLEARANCE` like every subcommand.
+"""
 
 from __future__ import annotations
 
@@ -7,22 +13,24 @@ import json
 
 import numpy as np
 
+from mpa.errors import InvalidInputError
 from mpa.planners import make_planner
 from mpa.retraction import trace_info
-from trajopt.cli.common import add_query_arguments, track_from_args
+from trajopt.cli.common import add_clearance_argument, add_query_arguments, track_from_args
+
+#: Fewest path samples in the JSON (the 1 % rule may ask for more).
+MIN_JSON_SAMPLES = 200
 
 __all__ = ["register"]
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
+    if args.samples < 2:
+        raise InvalidInputError(f"--samples is {args.samples}, expected an integer >= 2")
     track = track_from_args(args)
     planner = make_planner(track, args.clearance, args.neighbourhood)
     p = planner.plan(args.start, args.goal)
-    if args.samples < 2:
-        from mpa.errors import InvalidInputError
-
-        raise InvalidInputError(f"samples is {args.samples}, expected an integer >= 2")
-    n = max(args.samples, 200, p.samples_needed(0.01))
+    n = max(args.samples, MIN_JSON_SAMPLES, p.samples_needed(0.01))
     if args.json:
         out = p.to_dict(samples=n)
         out["samples"] = n
@@ -53,8 +61,14 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     """Add ``plan`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
     p = sub.add_parser("plan", help="plan with the paper's algorithm and print the plan")
     add_query_arguments(p)
-    p.add_argument("--clearance", type=float, default=0.0, help="required clearance D in metres (default 0)")
+    add_clearance_argument(p)
     p.add_argument("--neighbourhood", type=float, default=0.1, help="domain neighbourhood ε as a fraction of loop/2")
-    p.add_argument("--samples", type=int, default=400, help="path samples in the JSON (at least 200 and the 1%% rule)")
+    p.add_argument(
+        "--samples",
+        type=int,
+        default=400,
+        help="path samples in the JSON: any N >= 2; the JSON holds max(N, 200, the 1%% rule) points and says how "
+        "many in 'samples' (default 400)",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_cmd_plan)
