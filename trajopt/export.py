@@ -84,13 +84,47 @@ def _umask() -> int:
     return mask
 
 
+def _remove_stale_temporaries(p: Path) -> None:
+    """Remove ``.NAME.PID.*.tmp`` files of ``p`` left by a process that no longer exists (e.g. ``kill -9``)."""
+    parent = p.parent if str(p.parent) else Path(".")
+    try:
+        candidates = list(parent.glob(f".{glob_escape(p.name)}.*.tmp"))
+    except OSError:
+        return
+    for tmp in candidates:
+        parts = tmp.name[len(p.name) + 2 :].split(".")
+        if not parts or not parts[0].isdigit():
+            continue
+        pid = int(parts[0])
+        if pid == os.getpid():
+            continue
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            tmp.unlink(missing_ok=True)
+        except OSError:  # alive but not ours (PermissionError): keep it
+            continue
+
+
+def glob_escape(name: str) -> str:
+    """``name`` with the glob metacharacters escaped."""
+    import glob
+
+    return glob.escape(name)
+
+
 def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
     """Write ``data`` to ``path`` through a temporary file in the same directory and :func:`os.replace`.
 
     The file gets the usual permissions (``0o666`` less the umask); on any error the temporary file is removed.
+    A reader never sees a partial file, even if the writer is killed (``kill -9``): then only the hidden
+    temporary ``.NAME.PID.XXXX.tmp`` is left, and the next write of ``path`` removes it.
     """
     p = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=p.parent if str(p.parent) else ".", prefix=f".{p.name}.", suffix=".tmp")
+    _remove_stale_temporaries(p)
+    fd, tmp = tempfile.mkstemp(
+        dir=p.parent if str(p.parent) else ".", prefix=f".{p.name}.{os.getpid()}.", suffix=".tmp"
+    )
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)

@@ -8,9 +8,11 @@ removed, so no half-filled output directory is left behind.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import shutil
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -28,7 +30,7 @@ from trajopt.export import Trajectory, atomic_write_bytes, atomic_write_text
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
 
-__all__ = ["DEMO_JOB", "register", "write_outputs"]
+__all__ = ["DEMO_JOB", "output_lock", "register", "write_outputs"]
 
 #: The embedded job of ``mpa demo``: the paper's lollipop, the robots swap order through the loop.
 DEMO_JOB: dict[str, Any] = {
@@ -45,8 +47,29 @@ DEMO_JOB: dict[str, Any] = {
 DEFAULTS = TRAJECTORY_DEFAULTS
 
 
+@contextlib.contextmanager
+def output_lock(directory: str | os.PathLike[str]) -> Iterator[None]:
+    """Hold an exclusive lock on ``directory`` (``flock`` on the directory itself; no lock file).
+
+    :func:`write_outputs` writes all its files under it, so two processes writing into one directory never
+    interleave their files: the directory holds one run's complete set. Readers that want a consistent set
+    take it too. Without ``fcntl`` (Windows) it does nothing.
+    """
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX
+        yield
+        return
+    fd = os.open(directory, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)  # releases the lock
+
+
 def write_outputs(out: str | os.PathLike[str], files: dict[str, str | bytes]) -> list[Path]:
-    """Write ``files`` (name -> content) into directory ``out``, all or nothing.
+    """Write ``files`` (name -> content) into directory ``out``, all or nothing, under :func:`output_lock`.
 
     Raises
     ------
@@ -64,13 +87,14 @@ def write_outputs(out: str | os.PathLike[str], files: dict[str, str | bytes]) ->
     target = d
     try:
         d.mkdir(parents=True, exist_ok=True)
-        for name, content in files.items():
-            target = d / name
-            if isinstance(content, bytes):
-                atomic_write_bytes(target, content)
-            else:
-                atomic_write_text(target, content)
-            written.append(target)
+        with output_lock(d):
+            for name, content in files.items():
+                target = d / name
+                if isinstance(content, bytes):
+                    atomic_write_bytes(target, content)
+                else:
+                    atomic_write_text(target, content)
+                written.append(target)
     except OSError as exc:
         for p in written:
             p.unlink(missing_ok=True)
