@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa import defaults
 from mpa.errors import InvalidInputError, PlanningError
 
 __all__ = [
@@ -91,9 +92,9 @@ class Limits:
     array([0.5, 0.5])
     """
 
-    vmax: Any = 0.5
-    amax: Any = 1.0
-    jmax: Any = 5.0
+    vmax: Any = defaults.VMAX
+    amax: Any = defaults.AMAX
+    jmax: Any = defaults.JMAX
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "vmax", _pair("vmax", self.vmax, "m/s"))
