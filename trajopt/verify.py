@@ -178,10 +178,12 @@ def between_rows_separation(
         for k in np.flatnonzero(cnt > 0):
             inside = junc[(junc > lo[k]) & (junc < hi[k])]
             cuts[k].extend(((inside - s[k, r]) / (s[k + 1, r] - s[k, r])).tolist())
-    ks, t0s, t1s = [], [], []
-    for k, c in enumerate(cuts):
+    ks: list[int] = []
+    t0s: list[float] = []
+    t1s: list[float] = []
+    for row, c in enumerate(cuts):
         ts = [0.0, *sorted(c), 1.0] if c else [0.0, 1.0]
-        ks.extend([k] * (len(ts) - 1))
+        ks.extend([row] * (len(ts) - 1))
         t0s.extend(ts[:-1])
         t1s.extend(ts[1:])
     kk, t0, t1 = np.array(ks), np.array(t0s)[:, None], np.array(t1s)[:, None]
