@@ -21,7 +21,9 @@ Usage::
     python experiments/soak.py --only 1234 --seed 0
 
 Writes ``--out`` (JSON: the summary and every non-``ok`` record) atomically, also every ``--checkpoint``
-queries, and prints the summary table (markdown).
+queries, and prints the summary table (markdown). Resident memory, log handlers and warnings filters are those of
+the process that runs the queries (with ``--dask``, of the client only). Exit status 1 if any query is a bug
+(crash, rejected, invalid) or an unexpected fallback.
 """
 
 from __future__ import annotations

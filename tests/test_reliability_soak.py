@@ -50,3 +50,27 @@ def test_expected_fallback_rule() -> None:
     assert re.match(r"at 1 Hz", rec2["reason"]) and expected_fallback(rec2, seed=1) == (
         separation_margin(_limits(q), 1.0) >= EXPECTED_FALLBACK_MARGIN
     )
+
+
+def test_soak_script_on_a_dask_cluster(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """`--dask ADDRESS` runs the queries on a cluster (here a local one) and reports the same summary."""
+    import json
+    import os
+    import subprocess
+
+    distributed = pytest.importorskip("dask.distributed")
+    out = tmp_path / "soak.json"
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as c:
+        env = {**os.environ, "PYTHONPATH": str(ROOT)}
+        args = ["--queries", "12", "--chunk", "5", "--subprocess", "0", "--dask", c.scheduler_address]
+        cp = subprocess.run(
+            [sys.executable, str(ROOT / "experiments" / "soak.py"), *args, "--no-progress", "--out", str(out)],
+            capture_output=True,
+            text=True,
+            env=env,
+            timeout=600,
+        )
+    assert cp.returncode == 0, cp.stderr[-2000:]
+    s = json.loads(out.read_text())
+    assert s["queries"] == 12 and s["where"].startswith("dask ")
+    assert s["counts"]["crash"] == s["counts"]["rejected"] == 0
