@@ -23,6 +23,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from mpa import defaults
 from mpa.errors import MPAError
 from mpa.tracks import make_track
 from trajopt import Limits, TrajectoryGenerator
@@ -143,7 +144,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--n", type=int, default=120, help="number of queries (default 120)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--track", default="lollipop", choices=["lollipop", "circle"])
-    ap.add_argument("--clearance", type=float, default=0.05)
+    ap.add_argument("--clearance", type=float, default=defaults.CLEARANCE)
     ap.add_argument("--json", default=None, help="write the raw numbers to this file")
     args = ap.parse_args(argv)
     res = run(args.n, args.seed, args.track, args.clearance)

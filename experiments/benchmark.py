@@ -49,6 +49,7 @@ from bench.parallel import run_tasks
 from bench.report import plot_results, plot_scaling, results_markdown, scaling_markdown
 from bench.runner import METHODS, BenchConfig, make_queries
 
+from mpa import defaults
 from trajopt.export import atomic_write_text
 
 __all__ = ["main", "run_benchmark", "run_scaling"]
@@ -189,11 +190,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--track", default="lollipop", help="lollipop, circle, or a comma list of both")
     ap.add_argument("--stick", type=float, default=None, help="lollipop stick length (m, default 1)")
     ap.add_argument("--loop", type=float, default=None, help="loop length (m, default 1)")
-    ap.add_argument("--clearance", type=float, default=0.05, help="required separation D (m)")
-    ap.add_argument("--vmax", type=float, default=0.5)
-    ap.add_argument("--amax", type=float, default=1.0)
-    ap.add_argument("--jmax", type=float, default=5.0)
-    ap.add_argument("--rate", type=float, default=100.0, help="setpoint rate (Hz)")
+    ap.add_argument("--clearance", type=float, default=defaults.CLEARANCE, help="required separation D (m)")
+    ap.add_argument("--vmax", type=float, default=defaults.VMAX)
+    ap.add_argument("--amax", type=float, default=defaults.AMAX)
+    ap.add_argument("--jmax", type=float, default=defaults.JMAX)
+    ap.add_argument("--rate", type=float, default=defaults.RATE, help="setpoint rate (Hz)")
     ap.add_argument("--ompl-time", type=float, default=1.0, help="RRTConnect time budget per query (s)")
     ap.add_argument("--grid", type=float, default=0.01, help="grid node spacing (m)")
     ap.add_argument("--methods", default=",".join(METHODS), help=f"comma list from {','.join(METHODS)}")

@@ -8,6 +8,7 @@ robots on any graph); shared pieces: :mod:`mpa.graph` (metric graphs), :mod:`mpa
 unwrapped coordinates), :mod:`mpa.errors` (the error family). numpy only.
 """
 
+from mpa._version import __version__
 from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
 from mpa.freespace import FreeSpace, free_space
@@ -53,6 +54,7 @@ __all__ = [
     "Route",
     "Skeleton",
     "Track",
+    "__version__",
     "configuration_space_topology",
     "farber_tc_of_graph",
     "load_graph_json",

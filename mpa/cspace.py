@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa.defaults import CLEARANCE_TOL
 from mpa.errors import InvalidInputError, NoMotionError
 from mpa.tracks import Circle, Interval, Lollipop, Track
 
@@ -66,7 +67,12 @@ class ConfigurationSpace:
         InvalidInputError
             Wrong shape, a coordinate not finite or off the track, robots coincident or closer than D.
         """
-        arr = np.asarray(state, dtype=float) if not isinstance(state, str) else None
+        arr: NDArray[np.float64] | None = None
+        if not isinstance(state, (str, bytes)):
+            try:
+                arr = np.asarray(state, dtype=float)
+            except (TypeError, ValueError, OverflowError):
+                arr = None
         if arr is None or arr.shape != (2,):
             raise InvalidInputError(f"{name} is {state!r}, expected two track coordinates (A B)")
         a = self.track.validate(arr[0], f"{name} of robot A")
@@ -75,10 +81,11 @@ class ConfigurationSpace:
         d = self.track.distance_scalar(float(a), float(b))
         if d <= 0.0:
             raise InvalidInputError(f"{name} puts both robots at {out[0]:g}: robots coincide (distance 0)")
-        if d < self.clearance:
+        if d < self.clearance - CLEARANCE_TOL:
             raise InvalidInputError(
-                f"{name} ({out[0]:g}, {out[1]:g}) has the robots {d:g} apart, "
-                f"expected at least the clearance {self.clearance:g}"
+                f"{name} ({float(out[0])!r}, {float(out[1])!r}) has the robots {d:g} apart, expected at least the "
+                f"clearance {self.clearance:g} (distance {d!r} m, clearance {self.clearance!r} m, "
+                f"tolerance {CLEARANCE_TOL:g} m)"
             )
         return out
 

@@ -14,7 +14,15 @@ __all__ = ["InvalidInputError", "MPAError", "NoMotionError", "PlanningError"]
 
 
 class MPAError(Exception):
-    """Base class of the errors raised by this project."""
+    """Base class of the errors raised by this project.
+
+    The message is one line (a value's multi-line ``repr``, e.g. of an array, is joined with spaces), so that
+    the command line can print it as one ``error:`` line.
+    """
+
+    def __str__(self) -> str:
+        text = super().__str__()
+        return " ".join(text.split()) if "\n" in text else text
 
 
 class InvalidInputError(MPAError, ValueError):

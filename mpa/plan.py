@@ -116,9 +116,17 @@ class Plan:
         return np.stack([sa, sb], axis=-1)
 
     def path(self, u: ArrayLike) -> FloatArray:
-        """The path α(u) in track coordinates (vectorized). Shape ``u.shape + (2,)``."""
-        s = self.path_s(u)
-        return np.stack([self.routes[0].position(s[..., 0]), self.routes[1].position(s[..., 1])], axis=-1)
+        """The path α(u) in track coordinates (vectorized). Shape ``u.shape + (2,)``.
+
+        ``path(0)`` is the start and ``path(1)`` the goal exactly (the routes reproduce them to a few ulps; the
+        ends are then set bit for bit).
+        """
+        uu = np.asarray(u, dtype=float)
+        s = self.path_s(uu)
+        out = np.stack([self.routes[0].position(s[..., 0]), self.routes[1].position(s[..., 1])], axis=-1)
+        out[uu <= 0.0] = self.start
+        out[uu >= 1.0] = self.goal
+        return out
 
     def sample(self, n: int = 400) -> FloatArray:
         """α at ``n`` equally spaced values of u in [0, 1] (first = start, last = goal, exactly). Shape (n, 2)."""

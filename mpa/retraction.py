@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa.errors import InvalidInputError, PlanningError
 from mpa.routes import RobotMove
 from mpa.skeleton import LollipopSkeleton, skeleton_of
 from mpa.tracks import Circle, Interval, Lollipop, Track
@@ -204,9 +205,11 @@ def retract(track: Track, states: ArrayLike, t: ArrayLike = 1.0) -> FloatArray:
         return _apply(track, st, target - st, t)
     if isinstance(track, Circle):
         return _apply(track, st, circle_trace(track, st), t)
-    assert isinstance(track, Lollipop)
+    if not isinstance(track, Lollipop):
+        raise InvalidInputError(f"track is {track!r}, expected a Lollipop")
     sk = skeleton_of(track)
-    assert isinstance(sk, LollipopSkeleton)
+    if not isinstance(sk, LollipopSkeleton):
+        raise PlanningError(f"internal: sk is a {type(sk).__name__}, expected a LollipopSkeleton")
     ms = sk.to_model(st)
     disp = lollipop_trace(sk.model, ms)
     return sk.from_model(_apply(sk.model, ms, disp, t))
@@ -281,9 +284,11 @@ def trace_moves(track: Track, state: ArrayLike) -> tuple[RobotMove, RobotMove]:
     if isinstance(track, Circle):
         da = track.half - (a - b) % track.loop
         return RobotMove("loop", a, da), RobotMove("loop", b, 0.0)
-    assert isinstance(track, Lollipop)
+    if not isinstance(track, Lollipop):
+        raise InvalidInputError(f"track is {track!r}, expected a Lollipop")
     sk = skeleton_of(track)
-    assert isinstance(sk, LollipopSkeleton)
+    if not isinstance(sk, LollipopSkeleton):
+        raise PlanningError(f"internal: sk is a {type(sk).__name__}, expected a LollipopSkeleton")
     ell = sk.model.stick
     ma = a if a <= ell else ell + (a - ell) * sk.kappa
     mb = b if b <= ell else ell + (b - ell) * sk.kappa

@@ -21,7 +21,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mpa.errors import PlanningError
+from mpa.errors import InvalidInputError, PlanningError
 from mpa.geometry import DirectedRoute
 from mpa.tracks import Circle, Interval, Lollipop, Track
 
@@ -67,7 +67,8 @@ def lift_position(track: Track, lift: Lift) -> float:
         return lift.v
     if isinstance(track, Circle):
         return lift.v % track.loop
-    assert isinstance(track, Lollipop)
+    if not isinstance(track, Lollipop):
+        raise InvalidInputError(f"track is {track!r}, expected a Lollipop")
     if lift.kind == "stick":
         return track.stick - lift.v
     th = lift.v % track.loop
@@ -116,15 +117,34 @@ def lift_moves(track: Track, moves: Sequence[RobotMove], start: float) -> list[L
                     if cur.v > 1e-7 * max(1.0, ell):
                         raise PlanningError(f"robot enters the loop from the stick away from P (x = {cur.v})")
                     cur = Lift("line", 0, cur.k * c)
-                th = cur.v % c
-                gap = min(abs(th - mv.start), c - abs(th - mv.start))
-                if gap > 1e-7 * max(1.0, c):
-                    raise PlanningError(f"loop move starts at θ = {mv.start}, robot is at θ = {th}")
-                cur = Lift("line", 0, cur.v + mv.delta)
+                cur = Lift("line", 0, cur.v + _loop_gap(cur.v, mv.start, c) + mv.delta)
+        elif isinstance(track, Circle):
+            cur = Lift("line", 0, cur.v + _loop_gap(cur.v, mv.start, c) + mv.delta)
         else:
-            cur = Lift("line", 0, cur.v + mv.delta)
+            if abs(cur.v - mv.start) > 1e-7 * max(1.0, track.total_length):
+                raise PlanningError(f"move starts at {mv.start}, robot is at {cur.v}")
+            cur = Lift("line", 0, mv.start + mv.delta)
         out.append(cur)
     return out
+
+
+def _loop_gap(u: float, theta: float, c: float) -> float:
+    """Signed shortest step from the unrolled loop coordinate ``u`` to the loop coordinate ``theta``.
+
+    Moves are chained by their absolute ends (the start of a move may differ from the previous end by rounding),
+    so that the last corner is exactly where the last move ends, with no drift along the chain.
+
+    Raises
+    ------
+    PlanningError
+        If the gap exceeds 1e-7 (relative): the moves are not consecutive.
+    """
+    gap = (theta - u) % c
+    if gap > 0.5 * c:
+        gap -= c
+    if abs(gap) > 1e-7 * max(1.0, c):
+        raise PlanningError(f"loop move starts at θ = {theta}, robot is at θ = {u % c}")
+    return gap
 
 
 @dataclass(frozen=True)
@@ -185,9 +205,11 @@ class Route:
         ell = track.stick if isinstance(track, (Lollipop, Interval)) else 0.0
         tol = 1e-7 * max(1.0, track.total_length)
         # normalise: a stick point at depth 0 is the junction on the line
+        # (the start and the goal only when exactly at P: a robot a hair below P must keep its own position)
+        ends = {0, goal_index % len(lifts)}
         pts = []
-        for lf in lifts:
-            if lf.kind == "stick" and lf.v <= tol:
+        for i, lf in enumerate(lifts):
+            if lf.kind == "stick" and (lf.v <= 0.0 if i in ends else lf.v <= tol):
                 pts.append(Lift("line", 0, lf.k * c))
             else:
                 pts.append(lf)
@@ -205,14 +227,25 @@ class Route:
         lo, hi = min(line_vals), max(line_vals)
         if len(sticks) > 2:
             raise PlanningError(f"robot visits {len(sticks)} copies of the stick: not a geodesic route")
-        only_stick = all(p.kind == "stick" or abs(p.v - sticks[0] * c) <= tol for p in pts) if sticks else False
+        only_stick = (
+            all(p.kind == "stick" or abs(p.v - sticks[0] * c) <= (0.0 if i in ends else tol) for i, p in enumerate(pts))
+            if sticks
+            else False
+        )
         if only_stick and len(sticks) == 1:
             k = sticks[0]
             pieces = (("stick", k, ell, 0.0, 0.0, ell),)  # from the free end up to P_k: r = ℓ − x
             r = np.array([ell - (p.v if p.kind == "stick" else 0.0) for p in pts])
             return cls._oriented(track, pieces, r, goal_index)
-        low_stick = [k for k in sticks if abs(k * c - lo) <= tol]
-        high_stick = [k for k in sticks if abs(k * c - hi) <= tol and k not in low_stick]
+        # a stick hangs at the low (high) end of the line if no point of the line lies below (above) its P_k; the
+        # start and the goal count exactly, other corners within ``tol``
+        line_pts = [(p.v, 0.0 if i in ends else tol) for i, p in enumerate(pts) if p.kind == "line"]
+        low_stick = [k for k in sticks if abs(k * c - lo) <= tol and all(v >= k * c - t for v, t in line_pts)]
+        high_stick = [
+            k
+            for k in sticks
+            if abs(k * c - hi) <= tol and k not in low_stick and all(v <= k * c + t for v, t in line_pts)
+        ]
         if len(low_stick) + len(high_stick) != len(sticks):
             raise PlanningError("robot's path branches off its route at a lift of P: not a geodesic route")
         parts: list[tuple[str, int, float, float, float, float]] = []
@@ -333,7 +366,8 @@ class Route:
             return tr.stick + th if isinstance(tr, Lollipop) else th
         idx = np.searchsorted(breaks, s, side="left")
         val = A[idx] + B[idx] * s
-        assert isinstance(tr, Lollipop)  # only lollipop routes have several pieces
+        if not isinstance(tr, Lollipop):
+            raise InvalidInputError(f"track is {tr!r}, expected a Lollipop")
         c = tr.loop
         th = np.mod(val, c)
         th = np.where(th >= c - 1e-12, 0.0, th)

@@ -25,7 +25,7 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mpa.errors import PlanningError
+from mpa.errors import InvalidInputError, PlanningError
 from mpa.graph import Edge, MetricGraph
 from mpa.routes import RobotMove
 from mpa.tracks import Circle, Interval, Lollipop, Track
@@ -80,7 +80,8 @@ class IntervalSkeleton(Skeleton):
     """Two points: ``A<B`` = (0, ℓ) and ``B<A`` = (ℓ, 0), one per component of the configuration space."""
 
     def __post_init__(self) -> None:
-        assert isinstance(self.track, Interval)
+        if not isinstance(self.track, Interval):
+            raise InvalidInputError(f"track is {self.track!r}, expected an Interval")
         object.__setattr__(self, "graph", MetricGraph(("A<B", "B<A"), ()))
 
 
@@ -90,7 +91,8 @@ class CircleSkeleton(Skeleton):
     """The antipodal circle, parametrized by B's position φ = b ∈ [0, c) (A at b + h)."""
 
     def __post_init__(self) -> None:
-        assert isinstance(self.track, Circle)
+        if not isinstance(self.track, Circle):
+            raise InvalidInputError(f"track is {self.track!r}, expected a Circle")
         h = self.track.half
         object.__setattr__(
             self, "graph", MetricGraph(("B0", "Bh"), (Edge("Aa", "B0", "Bh", h), Edge("Ab", "Bh", "B0", h)))
@@ -172,7 +174,8 @@ class LollipopSkeleton(Skeleton):
 
     def __post_init__(self) -> None:
         tr = self.track
-        assert isinstance(tr, Lollipop)
+        if not isinstance(tr, Lollipop):
+            raise InvalidInputError(f"track is {tr!r}, expected a Lollipop")
         if tr.stick >= tr.half:
             model, kappa = tr, 1.0
         else:

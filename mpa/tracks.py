@@ -453,6 +453,8 @@ def make_track(kind: str, stick: float | None = None, loop: float | None = None)
     -------
     Track
     """
+    if not isinstance(kind, str):
+        raise InvalidInputError(f"track is {kind!r}, expected one of 'interval', 'circle', 'lollipop'")
     if kind == "interval":
         if loop is not None:
             raise InvalidInputError(f"loop is {loop!r}, but an interval track has no loop (give --stick only)")

@@ -52,7 +52,6 @@ def test_plan_samples_option_and_text_output(capsys) -> None:  # type: ignore[no
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["--track", "interval", "--start", "0.1", "0.5", "--goal", "0.6", "0.2"], "can never change order"),
         (["--track", "circle", "--start", "nan", "0.5", "--goal", "0.6", "0.2"], "is nan"),
         (["--track", "lollipop", "--start", "0.1", "0.1", "--goal", "0.6", "0.2"], "robots coincide"),
         (["--track", "lollipop", "--loop", "-1", "--start", "0.1", "0.6", "--goal", "0.6", "0.2"], "loop length is -1"),
@@ -72,6 +71,15 @@ def test_plan_errors_exit_2_with_one_error_line(argv, message, capsys) -> None: 
     assert code == 2
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error:") and message in lines[0], err
+
+
+def test_plan_no_motion_exits_3_with_one_line(capsys) -> None:  # type: ignore[no-untyped-def]
+    """Valid input without a collision-free motion: exit 3, one ``no motion:`` line (the reliability issue)."""
+    code = main(["plan", "--track", "interval", "--start", "0.1", "0.5", "--goal", "0.6", "0.2"])
+    err = capsys.readouterr().err
+    assert code == 3
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("no motion:") and "can never change order" in lines[0], err
 
 
 class _nullcontext:
@@ -102,5 +110,5 @@ def test_console_script_prints_no_traceback() -> None:
         text=True,
         timeout=60,
     )
-    assert r.returncode == 2
-    assert r.stderr.startswith("error:") and "Traceback" not in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    assert r.returncode == 3  # no motion (exit 2 is bad input since the reliability issue)
+    assert r.stderr.startswith("no motion:") and "Traceback" not in r.stderr and len(r.stderr.strip().splitlines()) == 1

@@ -77,14 +77,6 @@ BAD_CLI = [
     (["trajectory", *QUERY, "--jmax", "-1"], "jmax is -1.0"),
     (["trajectory", "--track", "lollipop", "--start", "0.2", "0.21", "--goal", "0.5", "0.2"], "start (0.2, 0.21)"),
     (
-        ["trajectory", "--track", "lollipop", "--start", "0", "0.9", "--goal", "0.9", "0", "--clearance", "0.6"],
-        "no collision-free motion exists",
-    ),
-    (
-        ["trajectory", "--track", "interval", "--start", "0.1", "0.5", "--goal", "0.5", "0.1"],
-        "no collision-free motion exists",
-    ),
-    (
         ["trajectory", "--track", "circle", "--stick", "1", "--start", "0.1", "0.5", "--goal", "0.5", "0.1"],
         "circle track has no stick",
     ),
@@ -100,6 +92,26 @@ def test_cli_errors_exit_2_one_line_no_files(argv, needle, tmp_path, capsys) -> 
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error:"), err
     assert needle in lines[0]
+    assert not out.exists()
+    assert list(tmp_path.iterdir()) == []
+
+
+NO_MOTION_CLI = [
+    ["trajectory", "--track", "lollipop", "--start", "0", "0.9", "--goal", "0.9", "0", "--clearance", "0.6"],
+    ["trajectory", "--track", "interval", "--start", "0.1", "0.5", "--goal", "0.5", "0.1"],
+]
+
+
+@pytest.mark.parametrize("argv", NO_MOTION_CLI, ids=["lollipop", "interval"])
+def test_cli_no_motion_exit_3_one_line_no_files(argv, tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """Valid input without a collision-free motion: exit 3 and one ``no motion:`` line (the reliability issue)."""
+    out = tmp_path / "out"
+    code = main([*argv, "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 3
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("no motion:"), err
+    assert "no collision-free motion exists" in lines[0]
     assert not out.exists()
     assert list(tmp_path.iterdir()) == []
 

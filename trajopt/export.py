@@ -20,7 +20,7 @@ import json
 import os
 import tempfile
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 from mpa.errors import InvalidInputError
 from mpa.plan import Plan
 from trajopt.timing import Limits
+from trajopt.verify import VerificationError, verify_setpoints
 
 __all__ = ["CSV_COLUMNS", "Source", "Trajectory", "atomic_write_bytes", "atomic_write_text", "check_rate", "time_grid"]
 
@@ -84,13 +85,47 @@ def _umask() -> int:
     return mask
 
 
+def _remove_stale_temporaries(p: Path) -> None:
+    """Remove ``.NAME.PID.*.tmp`` files of ``p`` left by a process that no longer exists (e.g. ``kill -9``)."""
+    parent = p.parent if str(p.parent) else Path(".")
+    try:
+        candidates = list(parent.glob(f".{glob_escape(p.name)}.*.tmp"))
+    except OSError:
+        return
+    for tmp in candidates:
+        parts = tmp.name[len(p.name) + 2 :].split(".")
+        if not parts or not parts[0].isdigit():
+            continue
+        pid = int(parts[0])
+        if pid == os.getpid():
+            continue
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            tmp.unlink(missing_ok=True)
+        except OSError:  # alive but not ours (PermissionError): keep it
+            continue
+
+
+def glob_escape(name: str) -> str:
+    """``name`` with the glob metacharacters escaped."""
+    import glob
+
+    return glob.escape(name)
+
+
 def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
     """Write ``data`` to ``path`` through a temporary file in the same directory and :func:`os.replace`.
 
     The file gets the usual permissions (``0o666`` less the umask); on any error the temporary file is removed.
+    A reader never sees a partial file, even if the writer is killed (``kill -9``): then only the hidden
+    temporary ``.NAME.PID.XXXX.tmp`` is left, and the next write of ``path`` removes it.
     """
     p = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=p.parent if str(p.parent) else ".", prefix=f".{p.name}.", suffix=".tmp")
+    _remove_stale_temporaries(p)
+    fd, tmp = tempfile.mkstemp(
+        dir=p.parent if str(p.parent) else ".", prefix=f".{p.name}.{os.getpid()}.", suffix=".tmp"
+    )
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
@@ -186,32 +221,89 @@ class Trajectory:
     sampler: Callable[[FloatArray], tuple[FloatArray, FloatArray, FloatArray, FloatArray]] = field(
         repr=False, compare=False
     )
+    retimer: Callable[[float], Trajectory] | None = field(default=None, repr=False, compare=False)
 
     @property
     def fallback(self) -> bool:
         """Whether the plan itself (re-timed) was returned instead of the optimized trajectory."""
         return self.source is Source.PLAN
 
-    def resample(self, rate: float | None = None) -> tuple[FloatArray, ...]:
-        """``t, track, s, v, a, j`` at another rate (same continuous motion; the last row at the goal, at rest).
+    def at_rate(self, rate: float) -> Trajectory:
+        """This trajectory with its setpoints at another rate, verified at that rate.
+
+        The same continuous motion is sampled every ``1/rate`` seconds and passed through the gate
+        (:func:`trajopt.verify.verify_setpoints`) at that rate. If the gate rejects it (at a low rate the
+        robots may come closer between rows than the rows show), the plan is re-timed for that rate by the
+        generator (optimised with the separation margin the rate needs, else the re-timed plan), verified again;
+        ``solver_stats["retimed_for_rate"]`` then holds the reason. No rows the gate rejects are ever returned.
 
         Raises
         ------
         InvalidInputError
-            ``rate`` not a positive finite number.
+            ``rate`` not a positive finite number, too many rows, or too low for this motion (the message names
+            the lowest usable rate).
+        PlanningError
+            No verified setpoints at that rate could be made (never expected).
         """
-        if rate is None:
-            return self.t, self.track, self.s, self.v, self.a, self.j
         r = check_rate(rate)
+        if r == self.rate:
+            return self
         t = time_grid(self.motion_time, r)
         s, v, a, j = self.sampler(t)
         routes = self.plan.routes
         tr = np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1)
-        tr[0], tr[-1] = self.plan.start, self.plan.goal
-        return t, tr, s, v, a, j
+        plan = self.plan
+        rep = verify_setpoints(
+            plan.track,
+            routes,
+            t,
+            tr,
+            s,
+            v,
+            a,
+            j,
+            limits=self.limits,
+            clearance=self.clearance,
+            start=plan.start,
+            goal=plan.goal,
+            word=plan.word,
+            rate=r,
+        )
+        if rep.ok:
+            return replace(
+                self,
+                t=t,
+                track=tr,
+                s=s,
+                v=v,
+                a=a,
+                j=j,
+                rate=r,
+                makespan=float(t[-1]),
+                min_separation=rep.min_separation,
+                verification=rep.to_dict(),
+            )
+        if self.retimer is None:
+            raise VerificationError(rep)
+        new = self.retimer(r)
+        new.solver_stats["retimed_for_rate"] = f"resampled at {r:g} Hz: {'; '.join(rep.failures)}"
+        return new
+
+    def resample(self, rate: float | None = None) -> tuple[FloatArray, ...]:
+        """``t, track, s, v, a, j`` at another rate, verified at that rate (see :meth:`at_rate`).
+
+        Raises
+        ------
+        InvalidInputError
+            ``rate`` not a positive finite number, or too low for this motion.
+        """
+        if rate is None:
+            return self.t, self.track, self.s, self.v, self.a, self.j
+        tr = self.at_rate(rate)
+        return tr.t, tr.track, tr.s, tr.v, tr.a, tr.j
 
     def csv_text(self, rate: float | None = None) -> str:
-        """The CSV file's content (see the module docstring)."""
+        """The CSV file's content (see the module docstring), verified at ``rate`` (see :meth:`at_rate`)."""
         t, tr, s, v, a, j = self.resample(rate)
         cols = [t, tr[:, 0], s[:, 0], v[:, 0], a[:, 0], j[:, 0], tr[:, 1], s[:, 1], v[:, 1], a[:, 1], j[:, 1]]
         buf = io.StringIO()
@@ -220,7 +312,11 @@ class Trajectory:
         return buf.getvalue()
 
     def to_csv(self, path: str | os.PathLike[str], rate: float | None = None) -> None:
-        """Write the setpoints as CSV (atomically); ``rate`` (Hz) defaults to the trajectory's own."""
+        """Write the setpoints as CSV (atomically); ``rate`` (Hz) defaults to the trajectory's own.
+
+        At another rate the rows are verified at that rate first (see :meth:`at_rate`); nothing is written
+        if that fails.
+        """
         text = self.csv_text(rate)
         atomic_write_text(path, text)
 

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from mpa import defaults
 from mpa.errors import InvalidInputError, MPAError, PlanningError
 from mpa.plan import Plan
 from mpa.planners import Planner, make_planner
@@ -25,7 +26,7 @@ from trajopt.smoothing import RouteGeometry, smooth_plan
 from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling, toppra_profile
 from trajopt.verify import VerificationError, VerificationReport, verify_setpoints
 
-__all__ = ["TrajectoryGenerator", "generate_trajectory", "separation_margin"]
+__all__ = ["RATE_LADDER", "TrajectoryGenerator", "generate_trajectory", "separation_margin"]
 
 
 def separation_margin(limits: Limits, rate: float) -> float:
@@ -69,9 +70,9 @@ class TrajectoryGenerator:
     """
 
     track: Track
-    clearance: float = 0.05
+    clearance: float = defaults.CLEARANCE
     limits: Limits = field(default_factory=Limits)
-    rate: float = 100.0
+    rate: float = defaults.RATE
     optimize: bool = True
     planner: Planner = field(init=False, repr=False)
 
@@ -105,7 +106,92 @@ class TrajectoryGenerator:
         return self.generate_from_plan(plan, timings)
 
     def generate_from_plan(self, plan: Plan, timings: dict[str, Any] | None = None) -> Trajectory:
-        """Like :meth:`generate` for an existing plan (from this generator's planner)."""
+        """Like :meth:`generate` for an existing plan (from this generator's planner).
+
+        Raises
+        ------
+        InvalidInputError
+            The rate is too low for this motion (the message names the lowest usable rate), or the start or
+            goal is so close to the clearance that no setpoints at this rate can be verified.
+        PlanningError
+            Not even the re-timed plan passes verification (never expected).
+        """
+        try:
+            return self._generate(plan, timings)
+        except _RejectedError as exc:
+            why = self._explain_rejection(plan)
+            if why:
+                raise InvalidInputError(why) from None
+            raise PlanningError(str(exc)) from exc
+
+    def at_rate(self, rate: float) -> TrajectoryGenerator:
+        """The same generator at another setpoint rate (Hz; the planner is shared)."""
+        gen = TrajectoryGenerator.__new__(TrajectoryGenerator)
+        gen.track, gen.clearance, gen.limits, gen.optimize, gen.planner = (
+            self.track,
+            self.clearance,
+            self.limits,
+            self.optimize,
+            self.planner,
+        )
+        gen.rate = check_rate(rate)
+        return gen
+
+    def lowest_rate(self, plan: Plan, upto: float = 20_000.0) -> float | None:
+        """The lowest rate of :data:`RATE_LADDER` above :attr:`rate` at which ``plan`` gives verified setpoints.
+
+        Exponential then bisection search over the ladder (passing is assumed monotone in the rate, as the
+        gate's between-rows bound shrinks with the step); ``None`` if even ``upto`` Hz fails.
+        """
+        ladder = [r for r in _ladder(self.rate, upto) if r > self.rate]
+
+        def ok(r: float) -> bool:
+            try:
+                self.at_rate(r)._generate(plan, None)
+            except (_RejectedError, MPAError):
+                return False
+            return True
+
+        lo, step, hi = -1, 1, None
+        i = 0
+        while i < len(ladder):
+            if ok(ladder[i]):
+                hi = i
+                break
+            lo, i, step = i, i + step, step * 2
+        if hi is None:
+            if lo == len(ladder) - 1 or not ok(ladder[-1]):
+                return None
+            hi = len(ladder) - 1
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if ok(ladder[mid]):
+                hi = mid
+            else:
+                lo = mid
+        return ladder[hi]
+
+    def _explain_rejection(self, plan: Plan) -> str:
+        """Why every candidate of ``plan`` fails the gate at this rate, if the caller can fix it ("" if not)."""
+        best = self.lowest_rate(plan)
+        if best is not None:
+            return (
+                f"rate is {self.rate!r} Hz, too low for this motion: between rows the robots could come closer "
+                f"than the clearance {self.clearance!r} m; the lowest usable rate is {best:g} Hz"
+            )
+        margin = separation_margin(self.limits, self.rate)
+        for name, st in (("start", plan.start), ("goal", plan.goal)):
+            d = float(plan.track.distance_scalar(float(st[0]), float(st[1])))
+            if d < self.clearance + margin:
+                return (
+                    f"{name} ({float(st[0])!r}, {float(st[1])!r}) has the robots {d!r} apart, expected more than "
+                    f"the clearance {self.clearance!r} plus {margin:.3g} m: the gate cannot verify setpoints that "
+                    f"leave robots at rest exactly at the clearance (at {self.rate:g} Hz); lower the clearance "
+                    f"or move the {name} apart"
+                )
+        return ""
+
+    def _generate(self, plan: Plan, timings: dict[str, Any] | None = None) -> Trajectory:
         timings = dict(timings or {})
         t_all = time.perf_counter()
         geom = RouteGeometry(plan.track, plan.routes)
@@ -120,19 +206,24 @@ class TrajectoryGenerator:
                 reason = str(exc)
             except MPAError as exc:
                 reason = f"{type(exc).__name__}: {exc}"
-            except RuntimeError as exc:  # CasADi raises RuntimeError on internal failures
+            except RuntimeError as exc:  # CasADi and ruckig raise RuntimeError on internal failures
                 reason = f"solver error: {exc}"
+            except Exception as exc:  # numerical trouble of any kind in an optional stage: fall back, say why
+                reason = f"optimisation failed ({type(exc).__name__}: {exc})"
         else:
             reason = "optimisation disabled"
         t1 = time.perf_counter()
-        path = blend_polyline(_dedupe(plan.waypoints_s))
-        scaling = jerk_limited_scaling(path, self.limits)
+        try:
+            path = blend_polyline(_dedupe(plan.waypoints_s))
+            scaling = jerk_limited_scaling(path, self.limits)
+        except (MPAError, RuntimeError, ArithmeticError, ValueError) as exc:
+            raise _RejectedError(f"the re-timed plan cannot be computed ({exc}); after: {reason}") from exc
         timings["fallback_jerk"] = time.perf_counter() - t1
         stats["fallback_pieces"] = len(path.coef)
         try:
             traj = self._finish(plan, scaling, Source.PLAN, reason, stats, timings)
         except VerificationError as exc:
-            raise PlanningError(f"the re-timed plan fails verification ({exc}); after: {reason}") from exc
+            raise _RejectedError(f"the re-timed plan fails verification ({exc}); after: {reason}") from exc
         timings["total"] = timings.get("plan", 0.0) + time.perf_counter() - t_all
         return traj
 
@@ -218,7 +309,29 @@ class TrajectoryGenerator:
             verification=rep.to_dict(),
             plan=plan,
             sampler=scaling.sample,
+            retimer=lambda r: self.at_rate(r).generate_from_plan(plan),
         )
+
+
+class _RejectedError(PlanningError):
+    """Neither the optimised motion nor the re-timed plan passes the gate (the caller may be told why)."""
+
+
+def _ladder(lo: float, hi: float) -> list[float]:
+    """Round rates (Hz) from below ``lo`` up to ``hi``: 1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8 per decade."""
+    out: list[float] = []
+    e = int(np.floor(np.log10(max(lo, 1e-3))))
+    while True:
+        for m in RATE_LADDER:
+            r = float(f"{m * 10.0**e:.6g}")
+            if r > hi:
+                return out
+            out.append(r)
+        e += 1
+
+
+#: Mantissas of the round rates tried when a rate is too low (see :meth:`TrajectoryGenerator.lowest_rate`).
+RATE_LADDER = (1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0)
 
 
 def _dedupe(pts: ArrayLike) -> np.ndarray:
@@ -234,11 +347,11 @@ def generate_trajectory(
     start: ArrayLike,
     goal: ArrayLike,
     *,
-    clearance: float = 0.05,
-    vmax: Any = 0.5,
-    amax: Any = 1.0,
-    jmax: Any = 5.0,
-    rate: float = 100.0,
+    clearance: float = defaults.CLEARANCE,
+    vmax: Any = defaults.VMAX,
+    amax: Any = defaults.AMAX,
+    jmax: Any = defaults.JMAX,
+    rate: float = defaults.RATE,
 ) -> Trajectory:
     """One call from a query to a verified jerk-limited :class:`~trajopt.export.Trajectory`.
 

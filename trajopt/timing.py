@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa import defaults
 from mpa.errors import InvalidInputError, PlanningError
 
 __all__ = [
@@ -91,9 +92,9 @@ class Limits:
     array([0.5, 0.5])
     """
 
-    vmax: Any = 0.5
-    amax: Any = 1.0
-    jmax: Any = 5.0
+    vmax: Any = defaults.VMAX
+    amax: Any = defaults.AMAX
+    jmax: Any = defaults.JMAX
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "vmax", _pair("vmax", self.vmax, "m/s"))
@@ -419,11 +420,10 @@ def toppra_profile(path: BlendedPath, limits: Limits, n_grid: int = 100) -> tupl
     PlanningError
         toppra reports a failure (its ``return_code``).
     """
-    import toppra
+    # (toppra's logging is left as the application configured it: a library configures no logging)
     import toppra.algorithm as algo
     import toppra.constraint as constraint
 
-    toppra.setup_logging("WARNING") if hasattr(toppra, "setup_logging") else None
     grid = np.unique(np.concatenate([np.linspace(0.0, path.length, n_grid), path.breaks]))
     vlim = np.stack([-limits.v, limits.v], axis=1)
     alim = np.stack([-limits.a, limits.a], axis=1)

@@ -7,10 +7,11 @@ robots' routes and the limits; it does not use any of the generator's geometry. 
 - consistency: ``track == route.position(s)`` for both robots (graph distance ≤ :data:`POSITION_TOL`);
 - endpoints: first row at the start and last row at the goal, both at rest (``v = a = 0``);
 - limits: ``|v|, |a|, |j| ≤ limit·(1 + LIMIT_RTOL)`` per robot at every row;
-- separation at every row: ``d ≥ D``;
+- separation at every row: ``d ≥ D − SEPARATION_TOL``;
 - separation between rows: along the chord between two rows (both robots linear in ``s``) the graph distance is
   piecewise affine, and its minimum is at an end, where a robot passes the pole P (a junction of its route), or 0
-  where the robots meet; meeting is excluded when ``d_k + d_{k+1} > |Δs_A| + |Δs_B|``. The real motion deviates
+  where the robots meet; meeting is excluded when ``d_k + d_{k+1} > |Δs_A| + |Δs_B|``, else the chord is bisected
+  until it is (robots moving side by side, close but apart, pass after a few halvings). The real motion deviates
   from the chord by at most ``a_int·Δt²/8`` per robot, ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)``;
   the distance is 1-Lipschitz in each robot's coordinate, so ``min_chord − Σ dev ≥ D − SEPARATION_TOL`` is
   required;
@@ -100,6 +101,45 @@ class VerificationError(PlanningError):
         self.report = report
 
 
+def _chord_min(
+    track: Track, routes: Sequence[Route], s0: FloatArray, s1: FloatArray, d0: FloatArray, d1: FloatArray
+) -> FloatArray:
+    """Exact minimum (up to :data:`SEPARATION_TOL`) of the distance along chords ``s0 → s1`` (shape (M, 2)).
+
+    Along a chord the distance is piecewise affine in the chord parameter; between the points where a robot
+    passes a junction it has no interior minimum unless the robots meet there. Meeting on a (sub)chord is
+    excluded when ``d_lo + d_hi > |ΔsA| + |ΔsB|`` (the distance is 1-Lipschitz in each route coordinate).
+    Chords where it is not excluded are bisected (the distance is evaluated at the midpoints) until it is,
+    which takes few steps unless the robots really come close; after :data:`_BISECT_DEPTH` halvings the
+    Lipschitz bound ``(d_lo + d_hi − |ΔsA| − |ΔsB|) / 2`` is used instead (a valid lower bound).
+    """
+    out = np.minimum(d0, d1)
+    lo_s, hi_s, lo_d, hi_d = s0, s1, d0, d1
+    owner = np.arange(len(s0))
+    for depth in range(_BISECT_DEPTH + 1):
+        span = np.sum(np.abs(hi_s - lo_s), axis=1)
+        open_ = ~(lo_d + hi_d > span)
+        if not np.any(open_):
+            break
+        lo_s, hi_s, lo_d, hi_d, owner, span = (x[open_] for x in (lo_s, hi_s, lo_d, hi_d, owner, span))
+        if depth == _BISECT_DEPTH or len(owner) > _BISECT_MAX:
+            np.minimum.at(out, owner, np.maximum(0.5 * (lo_d + hi_d - span), 0.0))
+            break
+        mid_s = 0.5 * (lo_s + hi_s)
+        mid_d = track.distance(routes[0].position(mid_s[:, 0]), routes[1].position(mid_s[:, 1]))
+        np.minimum.at(out, owner, mid_d)
+        lo_s, hi_s = np.vstack([lo_s, mid_s]), np.vstack([mid_s, hi_s])
+        lo_d, hi_d = np.concatenate([lo_d, mid_d]), np.concatenate([mid_d, hi_d])
+        owner = np.concatenate([owner, owner])
+    return out
+
+
+#: Halvings of a chord before the gate falls back to the Lipschitz bound between rows.
+_BISECT_DEPTH = 40
+#: Largest number of open sub-chords the gate bisects at once (beyond it: the Lipschitz bound).
+_BISECT_MAX = 200_000
+
+
 def between_rows_separation(
     track: Track,
     routes: Sequence[Route],
@@ -126,12 +166,8 @@ def between_rows_separation(
     n = len(s)
     if n < 2:
         return np.zeros(0)
-    pos = np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1)
-    d = track.distance(pos[:, 0], pos[:, 1])
-    chord = np.minimum(d[:-1], d[1:])
-    ds = np.abs(np.diff(s, axis=0))
-    no_meet = d[:-1] + d[1:] > ds[:, 0] + ds[:, 1]
-    chord = np.where(no_meet, chord, -np.inf)
+    # cut every chord where a robot passes a junction (P): on the pieces, both robots stay on one edge each
+    cuts: list[list[float]] = [[] for _ in range(n - 1)]
     for r in (0, 1):
         junc = np.sort(routes[r].junctions())
         if len(junc) == 0:
@@ -141,11 +177,26 @@ def between_rows_separation(
         cnt = np.searchsorted(junc, hi, side="left") - np.searchsorted(junc, lo, side="right")
         for k in np.flatnonzero(cnt > 0):
             inside = junc[(junc > lo[k]) & (junc < hi[k])]
-            t = (inside - s[k, r]) / (s[k + 1, r] - s[k, r])
-            pts = s[k] + t[:, None] * (s[k + 1] - s[k])
-            pa = routes[0].position(pts[:, 0])
-            pb = routes[1].position(pts[:, 1])
-            chord[k] = min(chord[k], float(np.min(track.distance(pa, pb))))
+            cuts[k].extend(((inside - s[k, r]) / (s[k + 1, r] - s[k, r])).tolist())
+    ks: list[int] = []
+    t0s: list[float] = []
+    t1s: list[float] = []
+    for row, c in enumerate(cuts):
+        ts = [0.0, *sorted(c), 1.0] if c else [0.0, 1.0]
+        ks.extend([row] * (len(ts) - 1))
+        t0s.extend(ts[:-1])
+        t1s.extend(ts[1:])
+    kk, t0, t1 = np.array(ks), np.array(t0s)[:, None], np.array(t1s)[:, None]
+    ds = s[kk + 1] - s[kk]
+    p0 = np.where(t0 == 0.0, s[kk], s[kk] + t0 * ds)
+    p1 = np.where(t1 == 1.0, s[kk + 1], s[kk] + t1 * ds)
+
+    def dist(q: FloatArray) -> FloatArray:
+        return track.distance(routes[0].position(q[:, 0]), routes[1].position(q[:, 1]))
+
+    sub = _chord_min(track, routes, p0, p1, dist(p0), dist(p1))
+    chord = np.full(n - 1, np.inf)
+    np.minimum.at(chord, kk, sub)
     amax, jmax = limits.a, limits.j
     a_int = np.minimum(amax[None, :], np.maximum(np.abs(a[:-1]), np.abs(a[1:])) + jmax[None, :] * dt / 2)
     dev = np.sum(a_int, axis=1) * dt * dt / 8.0
@@ -247,14 +298,20 @@ def verify_setpoints(
     # separation
     d = track.distance(P[:, 0], P[:, 1])
     dmin = float(np.min(d))
-    if dmin < clearance:
+    if dmin < clearance - SEPARATION_TOL:
         k = int(np.argmin(d))
-        fails.append(f"row {k}: separation {d[k]:.9g} below the clearance {clearance:g}")
+        fails.append(
+            f"row {k}: separation {float(d[k])!r} below the clearance {float(clearance)!r} "
+            f"(tolerance {SEPARATION_TOL:g} m)"
+        )
     between = between_rows_separation(track, routes, S, A, dt, limits)
     bmin = float(np.min(between)) if len(between) else dmin
     if bmin < clearance - SEPARATION_TOL:
         k = int(np.argmin(between))
-        fails.append(f"rows {k}-{k + 1}: separation between rows may drop to {between[k]:.9g} < {clearance:g}")
+        fails.append(
+            f"rows {k}-{k + 1}: separation between rows may drop to {float(between[k])!r} < {float(clearance)!r} "
+            f"(tolerance {SEPARATION_TOL:g} m)"
+        )
     # homotopy class
     try:
         dense = _refine(S, 0.004 * track.total_length)

@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 from bench.baselines import GridPlanner, OmplPlanner, OmplResult, shortcut_segment
 from bench.geometry import JointPath, joint_move_min_distance, leg_moves_geodesic, split_routes
 from bench.motion import Motion, TimingOutcome, time_segments
+from mpa import defaults
 from mpa.errors import MPAError
 from mpa.tracks import Circle, Lollipop, Track, make_track
 from trajopt import Limits, TrajectoryGenerator
@@ -82,11 +83,11 @@ class BenchConfig:
     track: str = "lollipop"
     stick: float | None = None
     loop: float | None = None
-    clearance: float = 0.05
-    vmax: float = 0.5
-    amax: float = 1.0
-    jmax: float = 5.0
-    rate: float = 100.0
+    clearance: float = defaults.CLEARANCE
+    vmax: float = defaults.VMAX
+    amax: float = defaults.AMAX
+    jmax: float = defaults.JMAX
+    rate: float = defaults.RATE
     ompl_time: float = 1.0
     grid: float = 0.01
     methods: tuple[str, ...] = METHODS

@@ -95,7 +95,10 @@ class Planner:
     def __post_init__(self) -> None:
         object.__setattr__(self, "cspace", ConfigurationSpace(self.track, self.clearance))
         object.__setattr__(self, "clearance", self.cspace.clearance)
-        nb = float(self.neighbourhood)
+        try:
+            nb = float(self.neighbourhood)
+        except (TypeError, ValueError, OverflowError):
+            nb = float("nan")
         if not np.isfinite(nb) or not 0.0 < nb < 0.5:
             raise InvalidInputError(f"neighbourhood is {self.neighbourhood!r}, expected a number in (0, 0.5)")
 

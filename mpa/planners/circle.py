@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from mpa.errors import InvalidInputError, PlanningError
 from mpa.plan import Plan, build_plan
 from mpa.planners.base import (
     FINAL,
@@ -34,7 +35,8 @@ class CirclePlanner(Planner):
 
     def _main_delta(self, b_i: float, b_f: float) -> tuple[int, float]:
         tr = self.track
-        assert isinstance(tr, Circle)
+        if not isinstance(tr, Circle):
+            raise InvalidInputError(f"track is {tr!r}, expected a Circle")
         c, h = tr.loop, tr.half
         eps = self.neighbourhood * h
         dccw = (b_f - b_i) % c
@@ -47,9 +49,11 @@ class CirclePlanner(Planner):
     def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
         s, g = self.cspace.check_query(start, goal)
         tr = self.track
-        assert isinstance(tr, Circle)
+        if not isinstance(tr, Circle):
+            raise InvalidInputError(f"track is {tr!r}, expected a Circle")
         sk = skeleton_of(tr)
-        assert isinstance(sk, CircleSkeleton)
+        if not isinstance(sk, CircleSkeleton):
+            raise PlanningError(f"internal: sk is a {type(sk).__name__}, expected a CircleSkeleton")
         h = tr.half
         xi = np.array([(s[1] + h) % tr.loop, s[1]])
         xf = np.array([(g[1] + h) % tr.loop, g[1]])

@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from mpa.errors import PlanningError
+from mpa.errors import InvalidInputError, PlanningError
 from mpa.plan import JointMove, Plan, build_plan
 from mpa.planners.base import (
     FINAL,
@@ -77,9 +77,11 @@ class LollipopPlanner(Planner):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        assert isinstance(self.track, Lollipop)
+        if not isinstance(self.track, Lollipop):
+            raise InvalidInputError(f"track is {self.track!r}, expected a Lollipop")
         sk = skeleton_of(self.track)
-        assert isinstance(sk, LollipopSkeleton)
+        if not isinstance(sk, LollipopSkeleton):
+            raise PlanningError(f"internal: sk is a {type(sk).__name__}, expected a LollipopSkeleton")
         object.__setattr__(self, "skeleton", sk)
 
     # --- geometry of the chain (model units) ---------------------------------------------------
@@ -252,7 +254,8 @@ class LollipopPlanner(Planner):
     def _plan_retreat(self, s: np.ndarray, g: np.ndarray) -> Plan:
         """D > h: the robots keep their order; the rear robot waits at the free end while the front one moves."""
         tr = self.track
-        assert isinstance(tr, Lollipop)
+        if not isinstance(tr, Lollipop):
+            raise InvalidInputError(f"track is {tr!r}, expected a Lollipop")
         ell, c, h, D = tr.stick, tr.loop, tr.half, self.clearance
         r = 0 if self.cspace.order(s) > 0 else 1  # the rear robot (nearer the free end)
         f = 1 - r
@@ -311,7 +314,8 @@ class LollipopPlanner(Planner):
 
     def _loop_trace(self, st: np.ndarray) -> tuple[RobotMove, RobotMove]:
         tr = self.track
-        assert isinstance(tr, Lollipop)
+        if not isinstance(tr, Lollipop):
+            raise InvalidInputError(f"track is {tr!r}, expected a Lollipop")
         ell, c, h = tr.stick, tr.loop, tr.half
         a, b = float(st[0]), float(st[1])
         if a > ell and b > ell:
@@ -327,7 +331,8 @@ class LollipopPlanner(Planner):
     def _plan_loop(self, s: np.ndarray, g: np.ndarray) -> Plan:
         """ℓ < D ≤ h: the stick is too short to pass; retract onto the antipodal circle S2 and plan there."""
         tr = self.track
-        assert isinstance(tr, Lollipop)
+        if not isinstance(tr, Lollipop):
+            raise InvalidInputError(f"track is {tr!r}, expected a Lollipop")
         ell, c = tr.stick, tr.loop
         ti, tf = self._loop_trace(s), self._loop_trace(g)
         ends = []
@@ -365,7 +370,8 @@ class LollipopPlanner(Planner):
     def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
         s, g = self.cspace.check_query(start, goal)
         tr = self.track
-        assert isinstance(tr, Lollipop)
+        if not isinstance(tr, Lollipop):
+            raise InvalidInputError(f"track is {tr!r}, expected a Lollipop")
         D = self.clearance
         if D > tr.half:
             return self._plan_retreat(s, g)

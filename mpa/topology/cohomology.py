@@ -183,7 +183,8 @@ def cup_products(
     out = np.zeros((n1, n1, cycles_t.shape[1]), dtype=np.int64)
     if n1 == 0 or coh.b2 == 0:
         return out
-    assert cx.signs is not None
+    if cx.signs is None:
+        raise PlanningError("internal: cx.signs is not set")
     sides = cx.squares
     signs = cx.signs % p
 

@@ -254,7 +254,8 @@ def _connected_topology(
             betti, betti_f2, euler, torsion_free, hd, None, None, tc, (tc, tc), counts, graph_components
         )
     # the Serre diagonal needs edge directions that agree with the coordinates of every square (all signs +1)
-    assert cx.signs is not None
+    if cx.signs is None:
+        raise PlanningError("internal: cx.signs is not set")
     if np.any(cx.signs != 1):
         cx = cubical_subdivision(cx)
         coh2 = field_cohomology(cx, 2)

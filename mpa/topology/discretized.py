@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mpa.errors import InvalidInputError
+from mpa.errors import InvalidInputError, PlanningError
 from mpa.graph import MetricGraph
 
 __all__ = [
@@ -235,7 +235,8 @@ class CubeComplex:
         start, end : numpy.ndarray
             Shape (S, 4) each.
         """
-        assert self.signs is not None
+        if self.signs is None:
+            raise PlanningError("internal: self.signs is not set")
         tails = self.edges[self.squares, 0]
         heads = self.edges[self.squares, 1]
         forward = self.signs > 0
@@ -249,7 +250,8 @@ class CubeComplex:
         numpy.ndarray
             Shape (S, 4).
         """
-        assert self.signs is not None
+        if self.signs is None:
+            raise PlanningError("internal: self.signs is not set")
         return self.signs * np.array([1, 1, -1, -1], dtype=np.int64)
 
     def vertex_components(self) -> np.ndarray:
@@ -292,7 +294,8 @@ class CubeComplex:
         vmap[vertices] = np.arange(len(vertices))
         emap = np.full(self.n_edges, -1, dtype=np.int64)
         emap[edges] = np.arange(len(edges))
-        assert self.signs is not None
+        if self.signs is None:
+            raise PlanningError("internal: self.signs is not set")
         new_edges = vmap[self.edges[edges]].reshape(-1, 2)
         new_squares = emap[self.squares[squares]].reshape(-1, 4)
         if (new_edges < 0).any() or (new_squares < 0).any():

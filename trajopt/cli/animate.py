@@ -12,7 +12,13 @@ from pathlib import Path
 from typing import Any
 
 from mpa.errors import InvalidInputError
-from trajopt.cli.common import TRAJECTORY_DEFAULTS, add_trajectory_arguments, query_from_args
+from trajopt.cli.common import (
+    TRAJECTORY_DEFAULTS,
+    add_trajectory_arguments,
+    check_output_dir,
+    output_error,
+    query_from_args,
+)
 
 __all__ = ["DEFAULTS", "register"]
 
@@ -21,14 +27,13 @@ DEFAULTS = TRAJECTORY_DEFAULTS
 
 
 def _cmd_animate(args: argparse.Namespace) -> int:
-    from trajopt.viz.animation import FORMATS, animate_query
-
+    check_output_dir(args.out)
     track, start, goal = query_from_args(args)
     if args.max_frames is not None and args.max_frames < 2:
         raise InvalidInputError(f"--max-frames is {args.max_frames}, expected an integer >= 2")
+    from trajopt.viz.animation import FORMATS, animate_query
+
     d = Path(args.out)
-    if d.exists() and not d.is_dir():
-        raise InvalidInputError(f"--out is {str(d)!r}, which exists and is not a directory")
     created = not d.exists()
     target = d / f"animation{FORMATS[args.format]}"
     try:
@@ -48,9 +53,11 @@ def _cmd_animate(args: argparse.Namespace) -> int:
             max_frames=args.max_frames,
             fmt=args.format,
         )
-    except BaseException:
+    except BaseException as exc:
         if created and d.is_dir() and not any(d.iterdir()):
             d.rmdir()
+        if isinstance(exc, OSError) and not isinstance(exc, BrokenPipeError):
+            raise output_error("--out", target, exc) from None
         raise
     print(path)
     return 0

@@ -3,8 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import errno
+import os
+import tempfile
+from pathlib import Path
 from typing import Any
 
+from mpa import defaults
 from mpa.errors import InvalidInputError
 from mpa.graph_track import GraphTrack
 from mpa.tracks import Track, make_track
@@ -13,6 +18,8 @@ __all__ = [
     "TRAJECTORY_DEFAULTS",
     "add_query_arguments",
     "add_trajectory_arguments",
+    "check_output_dir",
+    "output_error",
     "query_from_args",
     "track_from_args",
 ]
@@ -67,21 +74,78 @@ def query_from_args(args: argparse.Namespace) -> tuple[Track | GraphTrack, Any, 
     return track_from_args(args), _coordinates(args.start, "--start"), _coordinates(args.goal, "--goal")
 
 
-#: Defaults of the trajectory options (pinned by the trajectory issue).
-TRAJECTORY_DEFAULTS = {"clearance": 0.05, "vmax": 0.5, "amax": 1.0, "jmax": 5.0, "rate": 100.0}
+#: Defaults of the query options of every subcommand (from :mod:`mpa.defaults`).
+TRAJECTORY_DEFAULTS = {
+    "clearance": defaults.CLEARANCE,
+    "vmax": defaults.VMAX,
+    "amax": defaults.AMAX,
+    "jmax": defaults.JMAX,
+    "rate": defaults.RATE,
+}
 
 
 def add_trajectory_arguments(p: argparse.ArgumentParser) -> None:
     """The query plus clearance and per-robot limits (``mpa trajectory`` and ``mpa animate``)."""
     add_query_arguments(p)
     d = TRAJECTORY_DEFAULTS
-    p.add_argument("--clearance", type=float, default=d["clearance"], help="clearance D, m (default 0.05)")
-    p.add_argument("--vmax", type=float, default=d["vmax"], help="speed limit per robot, m/s (default 0.5)")
-    p.add_argument("--amax", type=float, default=d["amax"], help="acceleration limit, m/s^2 (default 1.0)")
-    p.add_argument("--jmax", type=float, default=d["jmax"], help="jerk limit, m/s^3 (default 5.0)")
-    p.add_argument("--rate", type=float, default=d["rate"], help="setpoint rate in Hz (default 100)")
+    add_clearance_argument(p)
+    p.add_argument("--vmax", type=float, default=d["vmax"], help=f"speed limit per robot, m/s (default {d['vmax']:g})")
+    p.add_argument("--amax", type=float, default=d["amax"], help=f"acceleration limit, m/s^2 (default {d['amax']:g})")
+    p.add_argument("--jmax", type=float, default=d["jmax"], help=f"jerk limit, m/s^3 (default {d['jmax']:g})")
+    p.add_argument("--rate", type=float, default=d["rate"], help=f"setpoint rate in Hz (default {d['rate']:g})")
+
+
+def add_clearance_argument(p: argparse.ArgumentParser) -> None:
+    """``--clearance`` with the one default of every subcommand (:data:`mpa.defaults.CLEARANCE`)."""
+    c = TRAJECTORY_DEFAULTS["clearance"]
+    p.add_argument("--clearance", type=float, default=c, help=f"required clearance D in metres (default {c:g})")
 
 
 def track_from_args(args: argparse.Namespace):  # type: ignore[no-untyped-def]
     """The track named by ``--track/--stick/--loop``."""
     return make_track(args.track, args.stick, args.loop)
+
+
+def output_error(option: str, path: str | os.PathLike[str], exc: OSError) -> InvalidInputError:
+    """The error of an output that cannot be written: ``--out: cannot write PATH: reason``."""
+    reason = exc.strerror or type(exc).__name__
+    return InvalidInputError(f"{option}: cannot write {str(path)!r}: {reason}")
+
+
+def check_output_dir(out: str, option: str = "--out") -> Path:
+    """Check, before any work, that directory ``out`` can be created (if needed) and written into.
+
+    Probes by creating the missing directories and a temporary file, then removes everything it created, so
+    a failing command leaves nothing behind.
+
+    Raises
+    ------
+    InvalidInputError
+        ``out`` is empty, exists and is not a directory, or cannot be written (``--out: cannot write ...``).
+    """
+    if not isinstance(out, str) or not out.strip():
+        raise InvalidInputError(f"{option} is {out!r}, expected a directory path")
+    d = Path(out)
+    if d.exists() and not d.is_dir():
+        raise InvalidInputError(f"{option} is {out!r}, which exists and is not a directory")
+    created: list[Path] = []
+    try:
+        missing = [q for q in (d, *d.parents) if not q.exists()]
+        for q in reversed(missing):
+            q.mkdir()
+            created.append(q)
+        fd, tmp = tempfile.mkstemp(dir=d, prefix=".mpa-probe-")
+        os.close(fd)
+        os.unlink(tmp)
+    except OSError as exc:
+        if exc.errno == errno.EEXIST:  # raced with another process: fine if it is a directory now
+            if d.is_dir():
+                return d
+        raise output_error(option, d, exc) from None
+    finally:
+        for q in reversed(created):
+            try:
+                q.rmdir()
+            except OSError:
+                pass
+    return d

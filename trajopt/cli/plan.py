@@ -1,4 +1,10 @@
-"""``mpa plan``: the paper's planner on the command line (domain, rule, steps, skeleton word; ``--json``)."""
+"""``mpa plan``: the paper's planner on the command line (domain, rule, steps, skeleton word; ``--json``).
+
+``--samples N`` accepts any ``N >= 2`` (smaller is an error); the JSON's ``path`` then holds
+``max(N, 200, n_1%)`` points, ``n_1%`` being the number that keeps consecutive points within 1 % of the track's
+length for each robot, and its ``samples`` field says how many. ``--clearance`` defaults to
+:data:`mpa.defaults.CLEARANCE` like every subcommand.
+"""
 
 from __future__ import annotations
 
@@ -7,29 +13,31 @@ import json
 
 import numpy as np
 
+from mpa.errors import InvalidInputError
 from mpa.planners import make_planner
 from mpa.planners.factory import OBJECTIVES, PLANNERS, plan
 from mpa.planners.graph import GraphPlan
 from mpa.retraction import trace_info
 from mpa.tracks import Track
-from trajopt.cli.common import add_query_arguments, query_from_args
+from trajopt.cli.common import add_clearance_argument, add_query_arguments, query_from_args
+
+#: Fewest path samples in the JSON (the 1 % rule may ask for more).
+MIN_JSON_SAMPLES = 200
 
 __all__ = ["register"]
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
-    track, start, goal = query_from_args(args)
     if args.samples < 2:
-        from mpa.errors import InvalidInputError
-
-        raise InvalidInputError(f"samples is {args.samples}, expected an integer >= 2")
+        raise InvalidInputError(f"--samples is {args.samples}, expected an integer >= 2")
+    track, start, goal = query_from_args(args)
     if args.planner == "graph" or not isinstance(track, Track):
         which = args.planner or "auto"
         g = plan(track, start, goal, args.clearance, planner=which, objective=args.objective)
         return _print_graph_plan(g, args)  # type: ignore[arg-type]
     planner = make_planner(track, args.clearance, args.neighbourhood)
     p = planner.plan(start, goal)
-    n = max(args.samples, 200, p.samples_needed(0.01))
+    n = max(args.samples, MIN_JSON_SAMPLES, p.samples_needed(0.01))
     if args.json:
         out = p.to_dict(samples=n)
         out["samples"] = n
@@ -71,7 +79,7 @@ def _route_text(plan: GraphPlan, robot: int) -> str:
 def _print_graph_plan(p: GraphPlan, args: argparse.Namespace) -> int:
     """Output of ``mpa plan`` for the complete graph planner (text, or one JSON object with ``--json``)."""
     tr = p.track
-    n = max(args.samples, 200)
+    n = max(args.samples, MIN_JSON_SAMPLES)
     if args.json:
         out = p.to_dict()
         out["planner"] = "graph"
@@ -109,8 +117,14 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument(
         "--objective", choices=OBJECTIVES, default="fastest", help="graph planner: fastest (default) or shortest"
     )
-    p.add_argument("--clearance", type=float, default=0.0, help="required clearance D in metres (default 0)")
+    add_clearance_argument(p)
     p.add_argument("--neighbourhood", type=float, default=0.1, help="domain neighbourhood ε as a fraction of loop/2")
-    p.add_argument("--samples", type=int, default=400, help="path samples in the JSON (at least 200 and the 1%% rule)")
+    p.add_argument(
+        "--samples",
+        type=int,
+        default=400,
+        help="path samples in the JSON: any N >= 2; the JSON holds max(N, 200, the 1%% rule) points and says how "
+        "many in 'samples' (default 400)",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_cmd_plan)

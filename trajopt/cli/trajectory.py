@@ -8,21 +8,29 @@ removed, so no half-filled output directory is left behind.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import shutil
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
+from mpa import defaults
 from mpa.errors import InvalidInputError
 from mpa.tracks import Lollipop
-from trajopt.cli.common import TRAJECTORY_DEFAULTS, add_trajectory_arguments, query_from_args
+from trajopt.cli.common import (
+    TRAJECTORY_DEFAULTS,
+    add_trajectory_arguments,
+    check_output_dir,
+    output_error,
+    query_from_args,
+)
 from trajopt.export import Trajectory, atomic_write_bytes, atomic_write_text
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
 
-__all__ = ["DEMO_JOB", "register", "write_outputs"]
+__all__ = ["DEMO_JOB", "output_lock", "register", "write_outputs"]
 
 #: The embedded job of ``mpa demo``: the paper's lollipop, the robots swap order through the loop.
 DEMO_JOB: dict[str, Any] = {
@@ -30,39 +38,69 @@ DEMO_JOB: dict[str, Any] = {
     "loop": 1.0,
     "start": (0.2, 0.5),
     "goal": (0.5, 0.2),
-    "clearance": 0.05,
-    "vmax": 0.5,
-    "amax": 1.0,
-    "jmax": 5.0,
-    "rate": 100.0,
+    "clearance": defaults.CLEARANCE,
+    "vmax": defaults.VMAX,
+    "amax": defaults.AMAX,
+    "jmax": defaults.JMAX,
+    "rate": defaults.RATE,
 }
 DEFAULTS = TRAJECTORY_DEFAULTS
 
 
+@contextlib.contextmanager
+def output_lock(directory: str | os.PathLike[str]) -> Iterator[None]:
+    """Hold an exclusive lock on ``directory`` (``flock`` on the directory itself; no lock file).
+
+    :func:`write_outputs` writes all its files under it, so two processes writing into one directory never
+    interleave their files: the directory holds one run's complete set. Readers that want a consistent set
+    take it too. Without ``fcntl`` (Windows) it does nothing.
+    """
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX
+        yield
+        return
+    fd = os.open(directory, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)  # releases the lock
+
+
 def write_outputs(out: str | os.PathLike[str], files: Mapping[str, str | bytes]) -> list[Path]:
-    """Write ``files`` (name -> content) into directory ``out``, all or nothing.
+    """Write ``files`` (name -> content) into directory ``out``, all or nothing, under :func:`output_lock`.
 
     Raises
     ------
     InvalidInputError
-        ``out`` exists and is not a directory.
-    OSError
-        A file could not be written (everything written so far is removed).
+        ``out`` is empty or exists and is not a directory, or a file could not be written
+        (``--out: cannot write PATH: reason``; everything written so far is removed).
     """
+    if not str(out).strip():
+        raise InvalidInputError(f"--out is {str(out)!r}, expected a directory path")
     d = Path(out)
     if d.exists() and not d.is_dir():
         raise InvalidInputError(f"--out is {str(d)!r}, which exists and is not a directory")
     created = not d.exists()
     written: list[Path] = []
+    target = d
     try:
         d.mkdir(parents=True, exist_ok=True)
-        for name, content in files.items():
-            target = d / name
-            if isinstance(content, bytes):
-                atomic_write_bytes(target, content)
-            else:
-                atomic_write_text(target, content)
-            written.append(target)
+        with output_lock(d):
+            for name, content in files.items():
+                target = d / name
+                if isinstance(content, bytes):
+                    atomic_write_bytes(target, content)
+                else:
+                    atomic_write_text(target, content)
+                written.append(target)
+    except OSError as exc:
+        for p in written:
+            p.unlink(missing_ok=True)
+        if created:
+            shutil.rmtree(d, ignore_errors=True)
+        raise output_error("--out", target, exc) from None
     except BaseException:
         for p in written:
             p.unlink(missing_ok=True)
@@ -93,6 +131,7 @@ def _json(obj: Any) -> str:
 
 
 def _cmd_trajectory(args: argparse.Namespace) -> int:
+    check_output_dir(args.out)
     track, start, goal = query_from_args(args)
     gen = TrajectoryGenerator(
         track, clearance=args.clearance, limits=Limits(args.vmax, args.amax, args.jmax), rate=args.rate
@@ -108,6 +147,7 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
 def _cmd_demo(args: argparse.Namespace) -> int:
     from trajopt.viz.plotting import figure_png, plot_trajectory
 
+    check_output_dir(args.out)
     job = DEMO_JOB
     track = Lollipop(job["stick"], job["loop"])
     gen = TrajectoryGenerator(
@@ -140,6 +180,3 @@ def register(subparsers: Any) -> None:
     d = subparsers.add_parser("demo", help="the embedded default job: a lollipop swap, files and a PNG")
     d.add_argument("--out", default="mpa-demo", help="output directory (default ./mpa-demo)")
     d.set_defaults(func=_cmd_demo)
-
-
-_ = InvalidInputError  # re-exported for callers that catch it here

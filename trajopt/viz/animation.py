@@ -26,6 +26,7 @@ from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
 from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
+from mpa import defaults
 from mpa.errors import InvalidInputError
 from mpa.plan import Plan
 from mpa.skeleton import skeleton_of
@@ -365,11 +366,11 @@ def animate_query(
     goal: Sequence[float],
     out: str | os.PathLike[str],
     *,
-    clearance: float = 0.05,
-    vmax: float = 0.5,
-    amax: float = 1.0,
-    jmax: float = 5.0,
-    rate: float = 100.0,
+    clearance: float = defaults.CLEARANCE,
+    vmax: float = defaults.VMAX,
+    amax: float = defaults.AMAX,
+    jmax: float = defaults.JMAX,
+    rate: float = defaults.RATE,
     trajectory: bool = True,
     **kw: Any,
 ) -> Path:

@@ -26,6 +26,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike, NDArray
 
+from mpa.errors import InvalidInputError, PlanningError
 from mpa.plan import Plan
 from mpa.retraction import retract
 from mpa.skeleton import CircleSkeleton, IntervalSkeleton, LollipopSkeleton, Skeleton, SkeletonPoint, skeleton_of
@@ -190,7 +191,8 @@ def split_wraps(track: Track, states: ArrayLike) -> FloatArray:
 def _loop_centre(track: Track) -> FloatArray:
     if isinstance(track, Circle):
         return np.zeros(2)
-    assert isinstance(track, Lollipop)
+    if not isinstance(track, Lollipop):
+        raise InvalidInputError(f"track is {track!r}, expected a Lollipop")
     pts = track.embed(np.linspace(track.stick, track.stick + track.loop, 65)[:-1])
     return np.asarray(pts.mean(axis=0))
 
@@ -206,7 +208,8 @@ def track_normal(track: Track, p: ArrayLike) -> FloatArray:
     radial = radial / np.maximum(np.linalg.norm(radial, axis=-1, keepdims=True), 1e-300)
     if isinstance(track, Circle):
         return radial
-    assert isinstance(track, Lollipop)
+    if not isinstance(track, Lollipop):
+        raise InvalidInputError(f"track is {track!r}, expected a Lollipop")
     up = np.broadcast_to(np.array([0.0, 1.0]), xy.shape)
     return np.where((p < track.stick)[..., None], up, radial)
 
@@ -285,7 +288,8 @@ def draw_track(
                 ax.annotate(name, _xy(track.embed(q)), xytext=(-4, -16), textcoords="offset points", fontsize=9)
     if ccw_arrow and track.has_loop:
         per = loop_period(track)
-        assert per is not None
+        if per is None:
+            raise PlanningError("internal: per is not set")
         lo, c = per
         centre = _loop_centre(track)
         r = float(np.linalg.norm(track.embed(lo + 0.25 * c) - centre))

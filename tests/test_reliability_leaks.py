@@ -1,0 +1,63 @@
+"""No growth (reliability issue, item 3): many trajectories in one process keep logging handlers, warnings
+filters and the solver caches constant (toppra's logging is no longer configured on every call)."""
+
+from __future__ import annotations
+
+import logging
+import warnings
+
+import numpy as np
+import pytest
+
+from mpa import Lollipop, NoMotionError
+from trajopt import TrajectoryGenerator
+
+
+def _handlers() -> int:
+    loggers = [logging.getLogger(), *(logging.getLogger(n) for n in list(logging.root.manager.loggerDict))]
+    return sum(len(lg.handlers) for lg in loggers)
+
+
+def _run(n: int) -> tuple[list[int], list[int]]:
+    gen = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05)
+    rng = np.random.default_rng(3)
+    gen.generate((0.2, 0.5), (0.5, 0.2))  # warm-up: imports may configure their own logging once
+    h, w = [_handlers()], [len(warnings.filters)]
+    done = 0
+    while done < n:
+        s, g = rng.uniform(0, 2, 2), rng.uniform(0, 2, 2)
+        if min(Lollipop(1.0, 1.0).distance(*s), Lollipop(1.0, 1.0).distance(*g)) < 0.06:
+            continue
+        try:
+            gen.generate(s, g)
+        except NoMotionError:
+            continue
+        done += 1
+        if done % 50 == 0:
+            h.append(_handlers())
+            w.append(len(warnings.filters))
+    return h, w
+
+
+def test_200_trajectories_keep_handlers_and_filters_constant() -> None:
+    h, w = _run(200)
+    assert len(set(h)) == 1, h
+    assert len(set(w)) == 1, w
+
+
+def test_toppra_profile_adds_no_handler() -> None:
+    from trajopt.timing import Limits, blend_polyline, toppra_profile
+
+    path = blend_polyline(np.array([[0.0, 0.0], [0.5, 0.2], [1.0, 1.0]]))
+    toppra_profile(path, Limits())
+    before = (_handlers(), len(logging.getLogger("toppra").handlers), logging.getLogger("toppra").level)
+    for _ in range(20):
+        toppra_profile(path, Limits())
+    assert (_handlers(), len(logging.getLogger("toppra").handlers), logging.getLogger("toppra").level) == before
+
+
+@pytest.mark.slow
+def test_1000_trajectories_keep_handlers_and_filters_constant() -> None:
+    h, w = _run(1000)
+    assert len(set(h)) == 1, h
+    assert len(set(w)) == 1, w

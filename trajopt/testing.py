@@ -1,0 +1,184 @@
+"""An independent checker of exported setpoints, for the test suite and the soak script (not the gate).
+
+:func:`check_setpoints` re-checks what :func:`trajopt.verify.verify_setpoints` promises, written separately
+and with other means, so that a bug in the gate does not hide a bad file:
+
+- the time grid: ``t_k = k / rate`` from 0, every array finite and of the right shape;
+- endpoints: first row at the start and last row at the goal (exact track distance :meth:`mpa.Track.distance`
+  ≤ :data:`POS_TOL`), both at rest (``v = a = 0``);
+- limits: ``|v|, |a|, |j| ≤ limit · (1 + LIMIT_RTOL)`` per robot;
+- kinematic consistency: ``s`` is the integral of ``v`` and ``v`` of ``a`` (trapezoid rules with the jerk bound
+  as the error bound), and ``a`` changes by at most ``jmax · Δt`` between rows;
+- the track column moves at most ``vmax · Δt`` per row (exact track distance), so it follows ``s``;
+- separation: the exact track distance between the robots at every row, and on a grid ``fine`` times denser
+  over the continuous motion when one is given, is at least ``D − SEP_TOL``;
+- the homotopy class of the dense motion (:func:`mpa.path_word`) equals the plan's word when one is given.
+
+Each check returns a message on failure; :func:`check_trajectory` applies them to a
+:class:`~trajopt.export.Trajectory`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mpa.homotopy import path_word
+from mpa.tracks import Track
+
+__all__ = ["LIMIT_RTOL", "POS_TOL", "SEP_TOL", "check_setpoints", "check_trajectory"]
+
+FloatArray = NDArray[np.float64]
+#: Relative tolerance of the limit checks.
+LIMIT_RTOL = 1e-6
+#: Absolute tolerance of positions and rest (m, m/s, m/s²).
+POS_TOL = 1e-9
+#: Absolute tolerance of the separation checks (m).
+SEP_TOL = 1e-9
+
+
+def check_setpoints(
+    track: Track,
+    t: ArrayLike,
+    pos: ArrayLike,
+    s: ArrayLike,
+    v: ArrayLike,
+    a: ArrayLike,
+    j: ArrayLike,
+    *,
+    rate: float,
+    clearance: float,
+    vmax: ArrayLike,
+    amax: ArrayLike,
+    jmax: ArrayLike,
+    start: ArrayLike,
+    goal: ArrayLike,
+) -> list[str]:
+    """Check a setpoint grid (see the module docstring); returns the failures, empty when fine.
+
+    Parameters
+    ----------
+    track : Track
+    t : array_like, shape (N,)
+        Times (s).
+    pos : array_like, shape (N, 2)
+        Track coordinates of A and B (m).
+    s, v, a, j : array_like, shape (N, 2)
+        Route coordinates and their derivatives (m, m/s, m/s², m/s³).
+    rate : float
+        Row rate (Hz).
+    clearance : float
+        Required separation (m).
+    vmax, amax, jmax : array_like, shape (2,)
+        Per-robot limits.
+    start, goal : array_like, shape (2,)
+        Track coordinates of the query.
+    """
+    fails: list[str] = []
+    tt = np.asarray(t, dtype=float)
+    arrs = [np.asarray(x, dtype=float) for x in (pos, s, v, a, j)]
+    n = len(tt)
+    if n < 1 or any(x.shape != (n, 2) for x in arrs):
+        return [f"shapes {tt.shape} and {[x.shape for x in arrs]} are not (N,) and (N, 2)"]
+    if not (np.all(np.isfinite(tt)) and all(np.all(np.isfinite(x)) for x in arrs)):
+        return ["non-finite values"]
+    P, S, V, A, J = arrs
+    dt = 1.0 / float(rate)
+    V_, A_, J_ = (np.broadcast_to(np.asarray(x, dtype=float), (2,)) for x in (vmax, amax, jmax))
+    k = np.arange(n)
+    if np.max(np.abs(tt - k * dt)) > 1e-9 * max(1.0, tt[-1]):
+        fails.append("time grid is not k / rate")
+    for name, row, target in (("first", 0, start), ("last", n - 1, goal)):
+        err = track.distance(P[row], np.asarray(target, dtype=float))
+        if np.any(err > POS_TOL):
+            fails.append(f"{name} row at {P[row].tolist()} is {err.tolist()} from {np.asarray(target).tolist()}")
+        if np.any(np.abs(V[row]) > POS_TOL) or np.any(np.abs(A[row]) > POS_TOL):
+            fails.append(f"{name} row not at rest: v {V[row].tolist()}, a {A[row].tolist()}")
+    for name, x, lim in (("v", V, V_), ("a", A, A_), ("j", J, J_)):
+        peak = np.max(np.abs(x), axis=0)
+        if np.any(peak > lim * (1 + LIMIT_RTOL)):
+            fails.append(f"|{name}| peaks {peak.tolist()} above {lim.tolist()}")
+    if n > 1:
+        # s(t+dt) - s(t) = dt (v0 + v1)/2 + dt² (a0 - a1)/12 + O(J dt³) ; v(t+dt) - v(t) = dt (a0 + a1)/2 + O(J dt²)
+        ds_pred = dt * 0.5 * (V[:-1] + V[1:]) + dt * dt * (A[:-1] - A[1:]) / 12.0
+        e_s = np.abs(np.diff(S, axis=0) - ds_pred)
+        if np.any(e_s > J_ * dt**3 / 6.0 + 1e-9):
+            r = int(np.argmax(np.max(e_s - J_ * dt**3 / 6.0, axis=1)))
+            fails.append(f"rows {r}-{r + 1}: s is not the integral of v and a (error {e_s[r].tolist()})")
+        e_v = np.abs(np.diff(V, axis=0) - dt * 0.5 * (A[:-1] + A[1:]))
+        if np.any(e_v > J_ * dt * dt / 4.0 + 1e-9):
+            r = int(np.argmax(np.max(e_v - J_ * dt * dt / 4.0, axis=1)))
+            fails.append(f"rows {r}-{r + 1}: v is not the integral of a (error {e_v[r].tolist()})")
+        e_a = np.abs(np.diff(A, axis=0))
+        if np.any(e_a > J_ * dt * (1 + LIMIT_RTOL) + 1e-9):
+            fails.append("a changes faster than jmax between rows")
+        for r in (0, 1):
+            step = track.distance(P[:-1, r], P[1:, r])
+            if np.any(step > V_[r] * dt * (1 + LIMIT_RTOL) + POS_TOL):
+                fails.append(f"robot {'AB'[r]} jumps {float(np.max(step))!r} m between rows")
+    d = track.distance(P[:, 0], P[:, 1])
+    if np.min(d) < clearance - SEP_TOL:
+        r = int(np.argmin(d))
+        fails.append(f"row {r}: separation {float(d[r])!r} < clearance {float(clearance)!r}")
+    return fails
+
+
+def check_trajectory(
+    traj: Any, start: ArrayLike | None = None, goal: ArrayLike | None = None, *, fine: int = 8
+) -> list[str]:
+    """Check a :class:`~trajopt.export.Trajectory` (its rows, and its continuous motion ``fine`` times denser).
+
+    Parameters
+    ----------
+    traj : Trajectory
+    start, goal : array_like, shape (2,), optional
+        The query (default: the plan's, already normalized).
+    fine : int
+        Density of the extra grid over the continuous motion (0: rows only).
+
+    Returns
+    -------
+    list of str
+        Failures (empty when fine).
+    """
+    plan = traj.plan
+    track = plan.track
+    st = plan.start if start is None else start
+    gl = plan.goal if goal is None else goal
+    lim = traj.limits
+    fails = check_setpoints(
+        track,
+        traj.t,
+        traj.track,
+        traj.s,
+        traj.v,
+        traj.a,
+        traj.j,
+        rate=traj.rate,
+        clearance=traj.clearance,
+        vmax=lim.v,
+        amax=lim.a,
+        jmax=lim.j,
+        start=st,
+        goal=gl,
+    )
+    if traj.makespan < traj.motion_time - 1e-12 or traj.makespan - traj.motion_time > 1.0 / traj.rate + 1e-12:
+        fails.append("makespan is not the motion time rounded up to the grid")
+    if fine > 0:
+        tf = np.linspace(0.0, traj.makespan, max(2, fine * (len(traj.t) - 1) + 1))
+        s, _v, _a, _j = traj.sampler(tf)
+        routes: Sequence[Any] = plan.routes
+        pos = np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1)
+        d = track.distance(pos[:, 0], pos[:, 1])
+        if np.min(d) < traj.clearance - SEP_TOL:
+            r = int(np.argmin(d))
+            fails.append(f"t = {tf[r]:.6f}: separation {float(d[r])!r} < clearance {float(traj.clearance)!r}")
+        if np.max(np.abs(s[[0, -1]] - traj.s[[0, -1]])) > POS_TOL:
+            fails.append("the continuous motion does not start and end at the rows")
+        w = path_word(track, pos)
+        if tuple(w) != tuple(plan.word):
+            fails.append(f"homotopy class {w} differs from the plan's {tuple(plan.word)}")
+    return fails
