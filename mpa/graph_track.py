@@ -22,6 +22,7 @@ vertex is on the lowest-indexed edge incident to it (offset 0 if it is that edge
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 from collections.abc import Mapping
@@ -478,6 +479,7 @@ def _circle_points(n: int, centre: tuple[float, float], r: float, phase: float) 
     return tuple((float(centre[0] + r * np.cos(a)), float(centre[1] + r * np.sin(a))) for a in ang)
 
 
+@functools.lru_cache(maxsize=64)
 def paper_track_as_graph(track: Any) -> GraphTrack:
     """The graph track of a paper track (:class:`~mpa.tracks.Interval`, ``Circle`` or ``Lollipop``).
 

@@ -21,15 +21,16 @@ robots' routes and the limits; it does not use any of the generator's geometry. 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import MPAError, PlanningError
+from mpa.geometry import DirectedRoute, GraphGeometry
 from mpa.homotopy import path_word
-from mpa.routes import Route
+from mpa.routes import Route, directed_route
 from mpa.tracks import Track
 from trajopt.timing import Limits
 
@@ -40,6 +41,7 @@ __all__ = [
     "VerificationError",
     "VerificationReport",
     "between_rows_separation",
+    "verify_graph_setpoints",
     "verify_setpoints",
 ]
 
@@ -102,15 +104,15 @@ class VerificationError(PlanningError):
 
 
 def _chord_min(
-    track: Track, routes: Sequence[Route], s0: FloatArray, s1: FloatArray, d0: FloatArray, d1: FloatArray
+    dist: Callable[[FloatArray], FloatArray], s0: FloatArray, s1: FloatArray, d0: FloatArray, d1: FloatArray
 ) -> FloatArray:
     """Exact minimum (up to :data:`SEPARATION_TOL`) of the distance along chords ``s0 → s1`` (shape (M, 2)).
 
     Along a chord the distance is piecewise affine in the chord parameter; between the points where a robot
-    passes a junction it has no interior minimum unless the robots meet there. Meeting on a (sub)chord is
+    changes edge it has no interior minimum unless the robots meet there. Meeting on a (sub)chord is
     excluded when ``d_lo + d_hi > |ΔsA| + |ΔsB|`` (the distance is 1-Lipschitz in each route coordinate).
-    Chords where it is not excluded are bisected (the distance is evaluated at the midpoints) until it is,
-    which takes few steps unless the robots really come close; after :data:`_BISECT_DEPTH` halvings the
+    Chords where it is not excluded are bisected (the distance ``dist`` is evaluated at the midpoints) until it
+    is, which takes few steps unless the robots really come close; after :data:`_BISECT_DEPTH` halvings the
     Lipschitz bound ``(d_lo + d_hi − |ΔsA| − |ΔsB|) / 2`` is used instead (a valid lower bound).
     """
     out = np.minimum(d0, d1)
@@ -126,7 +128,7 @@ def _chord_min(
             np.minimum.at(out, owner, np.maximum(0.5 * (lo_d + hi_d - span), 0.0))
             break
         mid_s = 0.5 * (lo_s + hi_s)
-        mid_d = track.distance(routes[0].position(mid_s[:, 0]), routes[1].position(mid_s[:, 1]))
+        mid_d = dist(mid_s)
         np.minimum.at(out, owner, mid_d)
         lo_s, hi_s = np.vstack([lo_s, mid_s]), np.vstack([mid_s, hi_s])
         lo_d, hi_d = np.concatenate([lo_d, mid_d]), np.concatenate([mid_d, hi_d])
@@ -140,9 +142,14 @@ _BISECT_DEPTH = 40
 _BISECT_MAX = 200_000
 
 
+def _graph_form(track: Track, routes: Sequence[Route]) -> tuple[GraphGeometry, tuple[DirectedRoute, DirectedRoute]]:
+    """A paper track's metric and routes in the graph form the gate works in (edges ``stick``/``loop``)."""
+    return track.as_graph_track().geometry, (directed_route(routes[0]), directed_route(routes[1]))
+
+
 def between_rows_separation(
-    track: Track,
-    routes: Sequence[Route],
+    track: Track | GraphGeometry,
+    routes: Sequence[Route] | Sequence[DirectedRoute],
     s: FloatArray,
     a: FloatArray,
     dt: float,
@@ -152,8 +159,10 @@ def between_rows_separation(
 
     Parameters
     ----------
-    track : Track
-    routes : sequence of Route
+    track : Track or GraphGeometry
+        A paper track (its routes are :class:`~mpa.routes.Route`) or the metric of a track graph (its routes are
+        :class:`~mpa.geometry.DirectedRoute`).
+    routes : sequence of Route or DirectedRoute
         Route of A and of B.
     s : ndarray, shape (N, 2)
         Route coordinates at the rows.
@@ -163,13 +172,17 @@ def between_rows_separation(
         Row step (s).
     limits : Limits
     """
+    if isinstance(track, Track):
+        geometry, droutes = _graph_form(track, routes)  # type: ignore[arg-type]
+    else:
+        geometry, droutes = track, (routes[0], routes[1])  # type: ignore[assignment]
     n = len(s)
     if n < 2:
         return np.zeros(0)
-    # cut every chord where a robot passes a junction (P): on the pieces, both robots stay on one edge each
+    # cut every chord where a robot changes edge: on the pieces, both robots stay on one edge each
     cuts: list[list[float]] = [[] for _ in range(n - 1)]
     for r in (0, 1):
-        junc = np.sort(routes[r].junctions())
+        junc = np.sort(droutes[r].breaks[1:-1])
         if len(junc) == 0:
             continue
         lo = np.minimum(s[:-1, r], s[1:, r])
@@ -192,9 +205,10 @@ def between_rows_separation(
     p1 = np.where(t1 == 1.0, s[kk + 1], s[kk] + t1 * ds)
 
     def dist(q: FloatArray) -> FloatArray:
-        return track.distance(routes[0].position(q[:, 0]), routes[1].position(q[:, 1]))
+        (ea, oa), (eb, ob) = droutes[0].positions(q[:, 0]), droutes[1].positions(q[:, 1])
+        return geometry.distance(ea, oa, eb, ob)
 
-    sub = _chord_min(track, routes, p0, p1, dist(p0), dist(p1))
+    sub = _chord_min(dist, p0, p1, dist(p0), dist(p1))
     chord = np.full(n - 1, np.inf)
     np.minimum.at(chord, kk, sub)
     amax, jmax = limits.a, limits.j
@@ -230,7 +244,10 @@ def verify_setpoints(
     word: Sequence[str],
     rate: float,
 ) -> VerificationReport:
-    """Check a setpoint grid (see the module docstring for the list of checks).
+    """Check a setpoint grid on one of the paper's tracks (see the module docstring for the list of checks).
+
+    The rows are checked in the graph form of the track (:meth:`mpa.tracks.Track.as_graph_track`, edges
+    ``stick`` and ``loop``) by :func:`verify_graph_setpoints`, and the motion's skeleton word against ``word``.
 
     Parameters
     ----------
@@ -258,32 +275,131 @@ def verify_setpoints(
     VerificationReport
         Never raises for a failed check; ``ok`` is False and ``failures`` lists them.
     """
+    geometry, droutes = _graph_form(track, routes)
+    P = np.asarray(track_pos, dtype=float)
+    if P.ndim != 2 or P.shape[1:] != (2,):
+        nan = float("nan")
+        return VerificationReport(False, ("arrays have inconsistent shapes",), nan, nan, {}, ())
+    finite = np.all(np.isfinite(P))
+    pos = [track.to_graph_position(np.where(finite, P[:, r], 0.0)) for r in (0, 1)]
+    edges = np.stack([pos[0][0], pos[1][0]], axis=1)
+    offsets = np.where(finite, np.stack([pos[0][1], pos[1][1]], axis=1), np.nan)
+    ends = []
+    for q in (start, goal):
+        e, o = track.to_graph_position(np.asarray(q, dtype=float))
+        ends.append(((int(e[0]), float(o[0])), (int(e[1]), float(o[1]))))
+    rep = verify_graph_setpoints(
+        geometry,
+        droutes,
+        t,
+        edges,
+        offsets,
+        s,
+        v,
+        a,
+        j,
+        limits=limits,
+        clearance=clearance,
+        start=ends[0],
+        goal=ends[1],
+        rate=rate,
+    )
+    if not np.isfinite(rep.min_separation):
+        return rep
+    # homotopy class: the reduced skeleton word of the motion
+    fails = list(rep.failures)
+    S = np.asarray(s, dtype=float)
+    try:
+        dense = _refine(S, 0.004 * track.total_length)
+        w = path_word(track, np.stack([routes[0].position(dense[:, 0]), routes[1].position(dense[:, 1])], axis=1))
+    except MPAError as exc:
+        w = ()
+        fails.append(f"cannot compute the homotopy class: {exc}")
+    else:
+        if tuple(w) != tuple(word):
+            got, want = " ".join(w) or "(trivial)", " ".join(word) or "(trivial)"
+            fails.append(f"homotopy class {got} differs from the plan's {want}")
+    return VerificationReport(
+        not fails, tuple(fails), rep.min_separation, rep.min_separation_between, rep.peak_ratio, tuple(w)
+    )
+
+
+def verify_graph_setpoints(
+    geometry: GraphGeometry,
+    routes: Sequence[DirectedRoute],
+    t: ArrayLike,
+    edges: ArrayLike,
+    offsets: ArrayLike,
+    s: ArrayLike,
+    v: ArrayLike,
+    a: ArrayLike,
+    j: ArrayLike,
+    *,
+    limits: Limits,
+    clearance: float,
+    start: tuple[tuple[int, float], tuple[int, float]],
+    goal: tuple[tuple[int, float], tuple[int, float]],
+    rate: float,
+) -> VerificationReport:
+    """Check a setpoint grid on any track graph (see the module docstring; no skeleton word on a graph).
+
+    Parameters
+    ----------
+    geometry : GraphGeometry
+        The exact metric of the track graph.
+    routes : sequence of DirectedRoute
+        Route of A and of B.
+    t : array_like, shape (N,)
+        Times (s).
+    edges, offsets : array_like, shape (N, 2)
+        Positions of A and B: edge index and offset from the edge's tail (m).
+    s, v, a, j : array_like, shape (N, 2)
+        Route coordinates (m) and their derivatives (m/s, m/s², m/s³).
+    limits : Limits
+    clearance : float
+        Required separation D (metres).
+    start, goal : pair of (int, float)
+        Positions ``(edge, offset)`` of A and B.
+    rate : float
+        Row rate (Hz).
+
+    Returns
+    -------
+    VerificationReport
+        Never raises for a failed check; ``ok`` is False and ``failures`` lists them; ``word`` is empty.
+    """
     fails: list[str] = []
     tt = np.asarray(t, dtype=float)
-    arrs = {k: np.asarray(x, dtype=float) for k, x in (("track", track_pos), ("s", s), ("v", v), ("a", a), ("j", j))}
+    E = np.asarray(edges)
+    arrs = {k: np.asarray(x, dtype=float) for k, x in (("offset", offsets), ("s", s), ("v", v), ("a", a), ("j", j))}
     n = len(tt)
     nan = float("nan")
-    if n == 0 or tt.ndim != 1 or any(x.shape != (n, 2) for x in arrs.values()):
+    if n == 0 or tt.ndim != 1 or E.shape != (n, 2) or any(x.shape != (n, 2) for x in arrs.values()):
         return VerificationReport(False, ("arrays have inconsistent shapes",), nan, nan, {}, ())
     if not (np.all(np.isfinite(tt)) and all(np.all(np.isfinite(x)) for x in arrs.values())):
         return VerificationReport(False, ("non-finite values in the setpoints",), nan, nan, {}, ())
+    if not np.issubdtype(E.dtype, np.integer) or np.any(E < 0) or np.any(E >= len(geometry.lengths)):
+        return VerificationReport(False, ("edge indices out of range",), nan, nan, {}, ())
     dt = 1.0 / float(rate)
     if abs(tt[0]) > TIME_TOL or np.any(np.abs(tt - dt * np.arange(n)) > TIME_TOL * max(1.0, n * dt)):
         fails.append(f"time grid is not 0, 1/{rate:g}, 2/{rate:g}, …")
-    P, S, V, A, J = arrs["track"], arrs["s"], arrs["v"], arrs["a"], arrs["j"]
+    OFF, S, V, A, J = arrs["offset"], arrs["s"], arrs["v"], arrs["a"], arrs["j"]
     # consistency with the routes
     for r in (0, 1):
-        rp = routes[r].position(S[:, r])
-        err = track.distance(rp, P[:, r])
+        re_, ro = routes[r].positions(S[:, r])
+        err = geometry.distance(re_, ro, E[:, r], OFF[:, r])
         if np.any(err > POSITION_TOL):
             k = int(np.argmax(err))
-            fails.append(f"row {k}: robot {'AB'[r]} track coordinate {P[k, r]!r} is not route.position(s) = {rp[k]!r}")
+            fails.append(
+                f"row {k}: robot {'AB'[r]} position (edge {int(E[k, r])}, {OFF[k, r]!r}) is not route.position(s) = "
+                f"(edge {int(re_[k])}, {float(ro[k])!r}) at s = {S[k, r]!r}"
+            )
     # endpoints
-    st, gl = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
-    for name, row, target in (("first", 0, st), ("last", n - 1, gl)):
-        err = track.distance(P[row], target)
-        if np.any(err > POSITION_TOL):
-            fails.append(f"{name} row is at {P[row].tolist()}, expected {target.tolist()}")
+    for name, row, target in (("first", 0, start), ("last", n - 1, goal)):
+        gaps = [geometry.distance_scalar(int(E[row, r]), float(OFF[row, r]), *target[r]) for r in (0, 1)]
+        err = max(float(g) for g in gaps)
+        if err > POSITION_TOL:
+            fails.append(f"{name} row is {err:.3g} m from {'the start' if row == 0 else 'the goal'}")
         if np.any(np.abs(V[row]) > POSITION_TOL) or np.any(np.abs(A[row]) > POSITION_TOL):
             fails.append(f"{name} row is not at rest (v = {V[row].tolist()}, a = {A[row].tolist()})")
     # limits
@@ -296,7 +412,7 @@ def verify_setpoints(
                 k = int(np.argmax(np.abs(x[:, r])))
                 fails.append(f"row {k}: |{name}| of robot {'AB'[r]} is {abs(x[k, r]):.9g}, limit {lim[r]:g}")
     # separation
-    d = track.distance(P[:, 0], P[:, 1])
+    d = geometry.distance(E[:, 0], OFF[:, 0], E[:, 1], OFF[:, 1])
     dmin = float(np.min(d))
     if dmin < clearance - SEPARATION_TOL:
         k = int(np.argmin(d))
@@ -304,7 +420,7 @@ def verify_setpoints(
             f"row {k}: separation {float(d[k])!r} below the clearance {float(clearance)!r} "
             f"(tolerance {SEPARATION_TOL:g} m)"
         )
-    between = between_rows_separation(track, routes, S, A, dt, limits)
+    between = between_rows_separation(geometry, routes, S, A, dt, limits)
     bmin = float(np.min(between)) if len(between) else dmin
     if bmin < clearance - SEPARATION_TOL:
         k = int(np.argmin(between))
@@ -312,15 +428,4 @@ def verify_setpoints(
             f"rows {k}-{k + 1}: separation between rows may drop to {float(between[k])!r} < {float(clearance)!r} "
             f"(tolerance {SEPARATION_TOL:g} m)"
         )
-    # homotopy class
-    try:
-        dense = _refine(S, 0.004 * track.total_length)
-        w = path_word(track, np.stack([routes[0].position(dense[:, 0]), routes[1].position(dense[:, 1])], axis=1))
-    except MPAError as exc:
-        w = ()
-        fails.append(f"cannot compute the homotopy class: {exc}")
-    else:
-        if tuple(w) != tuple(word):
-            got, want = " ".join(w) or "(trivial)", " ".join(word) or "(trivial)"
-            fails.append(f"homotopy class {got} differs from the plan's {want}")
-    return VerificationReport(not fails, tuple(fails), dmin, bmin, peak, tuple(w))
+    return VerificationReport(not fails, tuple(fails), dmin, bmin, peak, ())
