@@ -1,0 +1,158 @@
+"""Pictures of graph tracks and graph plans: drawable geometry, switches, the figure script, ``mpa plan --plot``."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import matplotlib as mpl
+
+mpl.use("Agg")
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+from PIL import Image
+
+from mpa import GraphTrack, free_space, plan
+from mpa.planners.graph import GraphPlan
+from trajopt.cli import main
+from trajopt.viz.layout import (
+    draw_configuration_cells,
+    draw_layout,
+    graph_plan_figure,
+    layout_geometry,
+    route_switches,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples" / "tracks"
+Y = EXAMPLES / "y_junction.json"
+sys.path.insert(0, str(ROOT / "experiments"))
+
+#: A picture is "not blank" if at least this fraction of its pixels is not white and it has this many colours.
+MIN_INK = 0.01
+MIN_COLOURS = 8
+
+
+def _ink(path: Path) -> tuple[float, int]:
+    arr = np.asarray(Image.open(path).convert("RGB"), dtype=np.int16)
+    return float(np.mean(np.any(arr < 245, axis=-1))), len(np.unique(arr.reshape(-1, 3), axis=0))
+
+
+def _y_swap() -> GraphPlan:
+    p = plan(GraphTrack.from_json(Y), ("left", "right"), ("right", "left"), clearance=0.5)
+    assert isinstance(p, GraphPlan)
+    return p
+
+
+def test_geometry_follows_the_layout_coordinates() -> None:
+    rng = np.random.default_rng(3)
+    for name in ("y_junction", "passing_loop", "theta", "figure_eight", "two_sidings", "lollipop"):
+        tr = GraphTrack.from_json(EXAMPLES / f"{name}.json")
+        geo = layout_geometry(tr)
+        assert not geo.automatic
+        e = rng.integers(0, tr.n_edges, 50)
+        o = rng.uniform(0, 1, 50) * tr.lengths[e]
+        np.testing.assert_allclose(geo.embed(e, o, tr.lengths), tr.embed(e, o), atol=1e-12, err_msg=name)
+        n = geo.normal(e, o, tr.lengths)
+        np.testing.assert_allclose(np.hypot(n[:, 0], n[:, 1]), 1.0, err_msg=name)
+
+
+def test_automatic_layout_is_deterministic_and_draws_loops_and_parallel_edges() -> None:
+    layout = {"edges": [["a", "b", 2.0], ["b", "c", 1.0], ["c", "c", 3.0], ["a", "b", 2.5], ["a", "b", 3.0]]}
+    tr = GraphTrack.from_layout(layout)
+    g1, g2 = layout_geometry(tr), layout_geometry(GraphTrack.from_layout(layout))
+    assert g1.automatic
+    for p, q in zip(g1.polylines, g2.polylines):
+        np.testing.assert_array_equal(p, q)
+    for i in range(tr.n_edges):  # every polyline runs from its tail's point to its head's point
+        np.testing.assert_allclose(g1.polylines[i][0], g1.vertices[tr.tails[i]], atol=1e-12)
+        np.testing.assert_allclose(g1.polylines[i][-1], g1.vertices[tr.heads[i]], atol=1e-12)
+    # the loop is a circle of circumference = its length, through its vertex
+    loop = g1.polylines[2]
+    drawn = float(np.sum(np.hypot(*np.diff(loop, axis=0).T)))
+    assert drawn == pytest.approx(3.0, rel=0.01)
+    # the three parallel edges a-b are drawn apart (their midpoints differ)
+    mids = [g1.embed(i, tr.lengths[i] / 2, tr.lengths) for i in (0, 3, 4)]
+    assert min(np.hypot(*(mids[i] - mids[j])) for i in range(3) for j in range(i + 1, 3)) > 0.1
+    # graph distances are roughly kept: b-c drawn about 1 m, a-b about 2 m
+    v = g1.vertices
+    assert np.hypot(*(v[0] - v[1])) == pytest.approx(2.0, rel=0.25)
+    assert np.hypot(*(v[1] - v[2])) == pytest.approx(1.0, rel=0.25)
+
+
+def test_single_vertex_layout_without_coordinates() -> None:
+    tr = GraphTrack.from_layout({"edges": [["O", "O", 2.0], ["O", "O", 4.0]]})
+    geo = layout_geometry(tr)
+    assert geo.automatic
+    ends = [p[0] for p in geo.polylines] + [p[-1] for p in geo.polylines]
+    np.testing.assert_allclose(ends, 0.0, atol=1e-12)
+    centres = [p.mean(axis=0) for p in geo.polylines]
+    assert np.hypot(*(centres[0] - centres[1])) > 0.5  # the two loops do not lie on top of each other
+    fig = Figure()
+    draw_layout(fig.subplots(), tr)
+
+
+def test_switches_of_the_y_junction_swap() -> None:
+    p = _y_swap()
+    tr = p.track
+    a = [s.text(tr) for s in route_switches(tr, p.route_a, "A")]
+    b = [s.text(tr) for s in route_switches(tr, p.route_b, "B")]
+    # A waits in the short branch (in and out: a reversal, not a switch); B passes J once
+    assert a == ["A: switch at J: b_left → b_short", "A: switch at J: b_short → b_right"]
+    assert b == ["B: switch at J: b_right → b_left"]
+
+
+def test_plan_figure_has_legend_entries_and_cells() -> None:
+    p = _y_swap()
+    fig = graph_plan_figure(p, name="y_junction")
+    ax_top = fig.axes[0]
+    labels = [t.get_text() for t in ax_top.get_legend().get_texts()]
+    assert "A: switch at J: b_left → b_short" in labels and "route A" in labels and "route B" in labels
+    texts = [t.get_text() for t in ax_top.texts]
+    for lab in ("A start", "A goal", "B start", "B goal", "J", "b_short"):
+        assert lab in texts
+    assert "D = 0.5 m" in ax_top.get_title() and "makespan" in ax_top.get_title()
+    fig2 = Figure()
+    drawn = draw_configuration_cells(fig2.subplots(), free_space(p.track, 0.5), p)
+    assert {(e, f) for e, f, _ in drawn} == {(e, f) for e, f, _ in p.segment_cells}
+
+
+def test_figure_script_writes_non_blank_pictures(tmp_path: Path) -> None:
+    import figures_graphs
+
+    assert figures_graphs.main(["--out", str(tmp_path), "--dpi", "40"]) == 0
+    layouts = sorted((tmp_path / "layouts").glob("*.png"))
+    graphs = sorted((tmp_path / "graphs").glob("*.png"))
+    assert {p.stem for p in layouts} >= {p.stem for p in EXAMPLES.glob("*.json")} | {"theta_no_coordinates"}
+    assert len(graphs) == len(figures_graphs.QUERIES)
+    for path in layouts + graphs:
+        ink, colours = _ink(path)
+        assert ink >= MIN_INK and colours >= MIN_COLOURS, (path.name, ink, colours)
+    assert not list(tmp_path.rglob(".*tmp*"))
+
+
+def test_cli_plan_plot(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "y.png"
+    argv = ["plan", "--graph", str(Y), "--start", "left", "right", "--goal", "right", "left", "--clearance", "0.5"]
+    assert main([*argv, "--plot", str(out), "--dpi", "40"]) == 0
+    assert f"plot       {out}" in capsys.readouterr().out
+    ink, colours = _ink(out)
+    assert ink >= MIN_INK and colours >= MIN_COLOURS
+    # failures write nothing and say why in one line
+    for extra, message in (
+        (["--plot", str(tmp_path / "missing" / "y.png")], "does not exist"),
+        (["--plot", str(tmp_path / "y.txt")], "expected a file name ending"),
+        (["--plot", str(tmp_path / "z.png"), "--dpi", "nan"], "--dpi is nan"),
+    ):
+        assert main([*argv, *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("error: ") and message in err and err.count("\n") == 1
+    paper = ["plan", "--track", "lollipop", "--start", "0.2", "1.5", "--goal", "1.5", "0.2", "--clearance", "0.1"]
+    assert main([*paper, "--plot", str(tmp_path / "p.png")]) == 2
+    assert "--planner graph" in capsys.readouterr().err
+    assert main([*paper, "--planner", "graph", "--plot", str(tmp_path / "p.png"), "--dpi", "40"]) == 0
+    no_motion = [*argv[:-1], "1.5", "--plot", str(tmp_path / "none.png")]
+    assert main(no_motion) != 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.png", "y.png"]
