@@ -3,7 +3,8 @@
 Writes ``<out>/layouts/<name>.png`` for every layout in ``examples/tracks/`` (plus ``theta_no_coordinates``, the
 theta layout with its coordinates removed, drawn by the automatic layout), and ``<out>/graphs/<name>_<query>.png``
 for one plan on each small layout: the layout, both routes, start and goal, the switches used, and the configuration
-cells the plan crosses with their exact free polygons.
+cells the plan crosses with their exact free polygons; and ``<out>/graphs/y_junction_swap.gif``, the robots moving
+along that plan at 1 m/s.
 
 Usage::
 
@@ -27,6 +28,7 @@ from matplotlib.figure import Figure
 from mpa.graph_track import GraphTrack
 from mpa.planners.factory import plan
 from trajopt.viz.layout import draw_layout, graph_plan_figure, layout_geometry
+from trajopt.viz.layout_animation import animate_graph_plan
 
 ROOT = Path(__file__).resolve().parents[1]
 TRACKS = ROOT / "examples" / "tracks"
@@ -92,6 +94,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=ROOT / "docs" / "img", help="output folder (default docs/img)")
     ap.add_argument("--dpi", type=float, default=100.0, help="resolution (default 100)")
     ap.add_argument("--only", nargs="*", default=None, help="only these layouts")
+    ap.add_argument("--gif-frames", type=int, default=40, help="frames of the animation of the Y junction swap")
+    ap.add_argument("--gif-dpi", type=float, default=60.0, help="resolution of that animation (default 60)")
     args = ap.parse_args(argv)
     written: list[Path] = []
     for name, track in layouts().items():
@@ -108,6 +112,10 @@ def main(argv: list[str] | None = None) -> int:
         path = args.out / "graphs" / f"{name}_{suffix}.png"
         _save(graph_plan_figure(gp, name=name), path, args.dpi)  # type: ignore[arg-type]
         written.append(path)
+        if name == "y_junction" and args.gif_frames > 0:
+            gif = args.out / "graphs" / f"{name}_{suffix}.gif"
+            animate_graph_plan(gp, gif, name=name, fps=10, dpi=args.gif_dpi, max_frames=args.gif_frames)  # type: ignore[arg-type]
+            written.append(gif)
     for path in written:
         print(path)
     return 0

@@ -9,6 +9,8 @@ import matplotlib as mpl
 
 mpl.use("Agg")
 
+import itertools
+
 import numpy as np
 import pytest
 from matplotlib.figure import Figure
@@ -24,6 +26,7 @@ from trajopt.viz.layout import (
     layout_geometry,
     route_switches,
 )
+from trajopt.viz.layout_animation import StreamingGifWriter, animate_layout, plan_motion
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples" / "tracks"
@@ -36,7 +39,8 @@ MIN_COLOURS = 8
 
 
 def _ink(path: Path) -> tuple[float, int]:
-    arr = np.asarray(Image.open(path).convert("RGB"), dtype=np.int16)
+    with Image.open(path) as im:
+        arr = np.asarray(im.convert("RGB"), dtype=np.int16)
     return float(np.mean(np.any(arr < 245, axis=-1))), len(np.unique(arr.reshape(-1, 3), axis=0))
 
 
@@ -122,7 +126,8 @@ def test_plan_figure_has_legend_entries_and_cells() -> None:
 def test_figure_script_writes_non_blank_pictures(tmp_path: Path) -> None:
     import figures_graphs
 
-    assert figures_graphs.main(["--out", str(tmp_path), "--dpi", "40"]) == 0
+    argv = ["--out", str(tmp_path), "--dpi", "40", "--gif-frames", "4", "--gif-dpi", "30"]
+    assert figures_graphs.main(argv) == 0
     layouts = sorted((tmp_path / "layouts").glob("*.png"))
     graphs = sorted((tmp_path / "graphs").glob("*.png"))
     assert {p.stem for p in layouts} >= {p.stem for p in EXAMPLES.glob("*.json")} | {"theta_no_coordinates"}
@@ -130,6 +135,7 @@ def test_figure_script_writes_non_blank_pictures(tmp_path: Path) -> None:
     for path in layouts + graphs:
         ink, colours = _ink(path)
         assert ink >= MIN_INK and colours >= MIN_COLOURS, (path.name, ink, colours)
+    assert len(_frames(tmp_path / "graphs" / "y_junction_swap.gif")) == 4
     assert not list(tmp_path.rglob(".*tmp*"))
 
 
@@ -156,3 +162,75 @@ def test_cli_plan_plot(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
     no_motion = [*argv[:-1], "1.5", "--plot", str(tmp_path / "none.png")]
     assert main(no_motion) != 0
     assert sorted(p.name for p in tmp_path.iterdir()) == ["p.png", "y.png"]
+
+
+def _frames(path: Path) -> list[np.ndarray]:
+    out = []
+    with Image.open(path) as im:
+        for k in range(im.n_frames):
+            im.seek(k)
+            out.append(np.asarray(im.convert("RGB")))
+    return out
+
+
+def test_animation_of_a_plan_moves_both_robots(tmp_path: Path) -> None:
+    p = _y_swap()
+    t, s = plan_motion(p, samples=50)
+    assert t[0] == 0.0 and t[-1] == pytest.approx(p.makespan)
+    np.testing.assert_allclose(s[0], 0.0)
+    np.testing.assert_allclose(s[-1], [p.route_a.length, p.route_b.length])
+    out = tmp_path / "y.gif"
+    assert animate_layout(p.track, p.route_a, p.route_b, t, s, out, clearance=0.5, dpi=30, max_frames=6) == out
+    frames = _frames(out)
+    assert len(frames) == 6
+    assert all(f.shape == frames[0].shape for f in frames)
+    diffs = [int(np.sum(np.any(a != b, axis=-1))) for a, b in itertools.pairwise(frames)]
+    assert min(diffs) > 0  # the robots and the clock move in every frame
+    # the robots' colours are there, at different places in the first and last frame
+    blue = np.array([0x1F, 0x77, 0xB4])
+    where = [
+        np.argwhere(np.all(np.abs(f.astype(int) - blue) < 40, axis=-1)).mean(axis=0) for f in (frames[0], frames[-1])
+    ]
+    assert np.hypot(*(where[0] - where[1])) > 5
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["y.gif"]
+
+
+def test_animation_rejects_bad_input_and_writes_nothing(tmp_path: Path) -> None:
+    p = _y_swap()
+    t, s = plan_motion(p, samples=20)
+    out = tmp_path / "bad.gif"
+    cases = [
+        ((t, s[:, :1]), {}, "s has shape"),
+        ((t[::-1], s[::-1]), {}, "t decreases"),
+        ((t, np.where(s > 1, np.nan, s)), {}, "not finite"),
+        ((t, s), {"fps": 0}, "fps is 0"),
+        ((t, s), {"max_frames": 1}, "max_frames is 1"),
+        ((t, s), {"fmt": "avi"}, "format is 'avi'"),
+    ]
+    from mpa import InvalidInputError
+
+    for (tt, ss), kw, message in cases:
+        with pytest.raises(InvalidInputError, match=message):
+            animate_layout(p.track, p.route_a, p.route_b, tt, ss, out, **kw)
+    from trajopt.viz.animation import ffmpeg_executable
+
+    if ffmpeg_executable() is None:
+        with pytest.raises(InvalidInputError, match="ffmpeg"):
+            animate_layout(p.track, p.route_a, p.route_b, t, s, tmp_path / "x.mp4")
+    assert not list(tmp_path.iterdir())
+
+
+def test_gif_frames_are_streamed_to_the_file(tmp_path: Path) -> None:
+    fig = Figure(figsize=(2, 1.5))
+    ax = fig.subplots()
+    (line,) = ax.plot([0, 1], [0, 0])
+    writer = StreamingGifWriter(fps=5)
+    sizes = []
+    with writer.saving(fig, str(tmp_path / "s.gif"), 40):
+        for k in range(5):
+            line.set_ydata([0, k])
+            writer.grab_frame()
+            sizes.append(writer._fp.tell())
+    assert all(b > a for a, b in itertools.pairwise(sizes))  # every frame went to the file when it was grabbed
+    assert not any(isinstance(v, list) and len(v) >= 5 for v in vars(writer).values())  # no list of frames is kept
+    assert len(_frames(tmp_path / "s.gif")) == 5

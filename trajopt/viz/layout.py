@@ -270,7 +270,9 @@ def layout_geometry(track: object) -> LayoutGeometry:
 
 
 # ------------------------------------------------------------------------------------------------- layout
-def _arrowhead(ax: Axes, pts: FloatArray, frac: FloatArray, at: float, color: str, size: float, **kw: Any) -> None:
+def _arrowhead(
+    ax: Axes, pts: FloatArray, frac: FloatArray, at: float, color: str, size: float, alpha: float = 1.0, **kw: Any
+) -> None:
     """A small arrowhead on a polyline at fraction ``at`` of its length, pointing along it."""
     f0, f1 = max(at - 0.02, 0.0), min(at + 0.02, 1.0)
     p0 = np.array([np.interp(f0, frac, pts[:, 0]), np.interp(f0, frac, pts[:, 1])])
@@ -281,7 +283,15 @@ def _arrowhead(ax: Axes, pts: FloatArray, frac: FloatArray, at: float, color: st
         "",
         xy=(float(p1[0]), float(p1[1])),
         xytext=(float(p0[0]), float(p0[1])),
-        arrowprops={"arrowstyle": "-|>", "color": color, "lw": 0.0, "mutation_scale": size, "shrinkA": 0, "shrinkB": 0},
+        arrowprops={
+            "arrowstyle": "-|>",
+            "color": color,
+            "lw": 0.0,
+            "mutation_scale": size,
+            "shrinkA": 0,
+            "shrinkB": 0,
+            "alpha": alpha,
+        },
         **kw,
     )
 
@@ -478,6 +488,7 @@ def draw_routes(
     lane: float | None = None,
     switches: bool = True,
     lw: float = 2.0,
+    alpha: float = 0.9,
 ) -> list[Switch]:
     """Draw both robots' routes beside the track, with arrowheads along them and the switches they use.
 
@@ -494,6 +505,9 @@ def draw_routes(
     switches : bool
         Mark the switches (diamonds at the vertex) and add legend entries "A: switch at J: e1 → e2".
     lw : float
+        Line width (points).
+    alpha : float
+        Opacity of the routes.
 
     Returns
     -------
@@ -511,9 +525,9 @@ def draw_routes(
         pieces = _route_lane_points(tr, geo, route, float(st["side"]), lane, per_metre)  # type: ignore[arg-type]
         if pieces:
             pts = np.vstack(pieces)
-            ax.plot(pts[:, 0], pts[:, 1], color=color, lw=lw, ls=st["ls"], alpha=0.9, zorder=4, label=f"route {name}")
+            ax.plot(pts[:, 0], pts[:, 1], color=color, lw=lw, ls=st["ls"], alpha=alpha, zorder=4, label=f"route {name}")
             for p in pieces:
-                _arrowhead(ax, p, _fractions(p), 0.6, color, 15.0, zorder=4.5)
+                _arrowhead(ax, p, _fractions(p), 0.6, color, 15.0, zorder=4.5, alpha=alpha)
         else:
             ax.plot([], [], color=color, lw=lw, ls=st["ls"], label=f"route {name} (stays)")
         if switches:
@@ -770,6 +784,7 @@ def draw_configuration_cells(
                 ms=7 if what == "start" else 10,
                 mfc="black" if what == "start" else "white",
                 zorder=5,
+                clip_on=False,
             )
     more = f" (first {len(shown)} of {len(order)})" if len(order) > len(shown) else ""
     ax.set_title(
