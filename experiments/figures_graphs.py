@@ -66,6 +66,10 @@ def layouts() -> dict[str, GraphTrack]:
     return out
 
 
+def _count(n: int, one: str, many: str) -> str:
+    return f"{n} {one if n == 1 else many}"
+
+
 def draw_layout_figure(name: str, track: GraphTrack) -> Figure:
     """One layout: edges, direction arrows, vertex and edge names, title with its size."""
     geo = layout_geometry(track)
@@ -81,8 +85,8 @@ def draw_layout_figure(name: str, track: GraphTrack) -> Figure:
     how = "automatic layout (no coordinates)" if geo.automatic else "from the layout's coordinates"
     _, b1 = track.graph.betti()
     ax.set_title(
-        f"{name}: {track.graph.n_vertices} vertices, {track.n_edges} edges, {track.total_length:.4g} m, "
-        f"{b1} independent cycle{'s' if b1 != 1 else ''}\n{how}",
+        f"{name}: {_count(track.graph.n_vertices, 'vertex', 'vertices')}, {_count(track.n_edges, 'edge', 'edges')}, "
+        f"{track.total_length:.4g} m, {_count(b1, 'independent cycle', 'independent cycles')}\n{how}",
         fontsize=9,
     )
     return fig

@@ -388,6 +388,7 @@ def draw_layout(
                 bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8},
                 zorder=6,
             )
+    _pad(ax, geo)
     ax.set_aspect("equal", adjustable="box")
     ax.set_xlabel("x (m)" if not geo.automatic else "x (m, automatic layout)")
     ax.set_ylabel("y (m)" if not geo.automatic else "y (m, automatic layout)")
@@ -656,7 +657,7 @@ def draw_graph_plan(
 def _pad(ax: Axes, geo: LayoutGeometry) -> None:
     pts = np.vstack(geo.polylines)
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    m = 0.08 * geo.size
+    m = 0.1 * geo.size
     ax.set_xlim(lo[0] - m, hi[0] + m)
     ax.set_ylim(lo[1] - m, hi[1] + m)
 
@@ -752,7 +753,10 @@ def draw_configuration_cells(
                 ax.add_patch(Polygon(v + np.array([ox, 0.0]), closed=True, fc="white", ec="0.5", lw=0.8, zorder=2))
                 drawn.append(pid)
         ax.add_patch(Rectangle((ox, 0.0), le, lf, fc="none", ec="0.2", lw=1.0, zorder=3))
-        ax.text(ox + le / 2, lf, f"A on {names[e]}\nB on {names[f]}", ha="center", va="bottom", fontsize=7, color="0.2")
+        top = lf + 0.06 * float(lengths.max())
+        ax.text(
+            ox + le / 2, top, f"A on {names[e]}\nB on {names[f]}", ha="center", va="bottom", fontsize=7, color="0.2"
+        )
     for j, ((e, f, _), seg) in enumerate(zip(plan.segment_cells, plan.segment_offsets)):
         if (e, f) not in x0:
             continue
@@ -795,5 +799,5 @@ def draw_configuration_cells(
     ax.set_aspect("equal", adjustable="box")
     ax.set_xticks([])
     ax.set_xlim(-0.05 * gap, x - gap + 0.05 * gap)
-    ax.set_ylim(-0.05 * float(lengths.max()), 1.3 * float(max(lengths[f] for _, f in shown)))
+    ax.set_ylim(-0.05 * float(lengths.max()), float(max(lengths[f] for _, f in shown)) + 0.4 * float(lengths.max()))
     return drawn
