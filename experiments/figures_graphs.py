@@ -98,8 +98,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=ROOT / "docs" / "img", help="output folder (default docs/img)")
     ap.add_argument("--dpi", type=float, default=100.0, help="resolution (default 100)")
     ap.add_argument("--only", nargs="*", default=None, help="only these layouts")
-    ap.add_argument("--gif-frames", type=int, default=40, help="frames of the animation of the Y junction swap")
-    ap.add_argument("--gif-dpi", type=float, default=60.0, help="resolution of that animation (default 60)")
+    ap.add_argument("--gif-frames", type=int, default=26, help="frames of the animation of the Y junction swap")
+    ap.add_argument("--gif-dpi", type=float, default=80.0, help="resolution of that animation (default 80)")
     args = ap.parse_args(argv)
     written: list[Path] = []
     for name, track in layouts().items():
