@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
+from pathlib import Path
 
 import numpy as np
 
@@ -31,10 +33,18 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     if args.samples < 2:
         raise InvalidInputError(f"--samples is {args.samples}, expected an integer >= 2")
     track, start, goal = query_from_args(args)
-    if args.planner == "graph" or not isinstance(track, Track):
+    graph_plan = args.planner == "graph" or not isinstance(track, Track)
+    if args.plot is not None:
+        _check_plot_path(args.plot, graph_plan, args.dpi)
+    if graph_plan or not isinstance(track, Track):
         which = args.planner or "auto"
         g = plan(track, start, goal, args.clearance, planner=which, objective=args.objective)
-        return _print_graph_plan(g, args)  # type: ignore[arg-type]
+        if args.plot is not None:
+            _write_plot(g, args)  # type: ignore[arg-type]
+        rc = _print_graph_plan(g, args)  # type: ignore[arg-type]
+        if args.plot is not None and not args.json:
+            print(f"plot       {args.plot}")
+        return rc
     planner = make_planner(track, args.clearance, args.neighbourhood)
     p = planner.plan(start, goal)
     n = max(args.samples, MIN_JSON_SAMPLES, p.samples_needed(0.01))
@@ -62,6 +72,41 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         print(f"{'':<10} {pts}")
     print(f"travel     A {p.travel[0]:.4g} m, B {p.travel[1]:.4g} m; min distance {p.min_distance():.4g} m")
     return 0
+
+
+PLOT_SUFFIXES = (".png", ".pdf", ".svg")
+
+
+def _check_plot_path(path: str, graph_plan: bool, dpi: float) -> None:
+    """Fail before planning if ``--plot`` cannot be honoured (not a graph plan, bad suffix, folder not writable)."""
+    from mpa.errors import InvalidInputError
+
+    if not graph_plan:
+        raise InvalidInputError("--plot draws graph plans, expected --graph FILE or --planner graph")
+    if not (np.isfinite(dpi) and dpi >= 10):
+        raise InvalidInputError(f"--dpi is {dpi!r}, expected a finite number >= 10")
+    out = Path(path)
+    if out.suffix.lower() not in PLOT_SUFFIXES:
+        raise InvalidInputError(f"--plot is {path!r}, expected a file name ending in one of {list(PLOT_SUFFIXES)}")
+    folder = out.parent if str(out.parent) else Path(".")
+    if not folder.is_dir():
+        raise InvalidInputError(f"--plot folder {str(folder)!r} does not exist, expected an existing folder")
+    if not os.access(folder, os.W_OK) or (out.exists() and not os.access(out, os.W_OK)):
+        raise InvalidInputError(f"--plot file {path!r} is not writable, expected a writable location")
+
+
+def _write_plot(p: GraphPlan, args: argparse.Namespace) -> None:
+    """Draw the plan (layout, routes, switches, cells crossed) into ``--plot``, atomically (temp file, rename)."""
+    from trajopt.viz.layout import graph_plan_figure
+
+    out = Path(args.plot)
+    fig = graph_plan_figure(p, name=Path(args.graph).stem if args.graph else args.track)
+    tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
+    try:
+        fig.savefig(tmp, dpi=args.dpi, facecolor="white", format=out.suffix.lstrip(".").lower())
+        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def _route_text(plan: GraphPlan, robot: int) -> str:
@@ -127,4 +172,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         "many in 'samples' (default 400)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument(
+        "--plot", metavar="FILE", default=None, help="graph plans: draw layout, routes and switches (.png/.pdf/.svg)"
+    )
+    p.add_argument("--dpi", type=float, default=110.0, help="resolution of --plot (default 110)")
     p.set_defaults(func=_cmd_plan)

@@ -1,0 +1,803 @@
+"""Drawing graph tracks (:class:`mpa.GraphTrack`) and plans of the complete graph planner with matplotlib.
+
+Everything is drawn in the layout's own plane, in metres, with equal aspect:
+
+- :func:`layout_geometry` turns a track into drawable polylines: the layout's coordinates and ``points`` when every
+  vertex has coordinates, else an automatic layout (classical multidimensional scaling of the graph distances between
+  vertices, refined by stress majorization; numpy only and deterministic). A loop without ``points`` is drawn as a
+  circle through its vertex, of circumference equal to its length; parallel edges without ``points`` are bent apart.
+- :func:`draw_layout` draws the edges, a subtle arrowhead on each (``from`` -> ``to``), vertex names and (optionally)
+  edge names.
+- :func:`draw_routes` draws two robots' routes (:class:`mpa.geometry.DirectedRoute`) beside the track, robot A
+  on the left of each edge's orientation (solid, blue), robot B on the right (dashed, orange), so that routes that
+  share a stretch both show; the switches used (a robot changes edges at a vertex) are marked with a diamond and
+  listed in the legend ("A: switch at J: b_left → b_short").
+- :func:`draw_graph_plan` draws a :class:`mpa.GraphPlan`: layout, routes, start and goal markers labelled
+  "A start", "B goal", and a title with clearance, objective and makespan.
+- :func:`draw_configuration_cells` draws the cells ``A's edge × B's edge`` a plan crosses, side by side in offsets,
+  with their exact free polygons (:mod:`mpa.freespace`) and the plan's path in them.
+
+Robot colours and the start/goal icons (filled triangle = start, empty = goal) follow :mod:`trajopt.viz.drawing`.
+Nothing in :mod:`mpa` or the trajectory pipeline imports this module.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Polygon, Rectangle
+from numpy.typing import ArrayLike, NDArray
+
+from mpa.errors import InvalidInputError
+from mpa.freespace import FreeSpace, free_space
+from mpa.geometry import DirectedRoute
+from mpa.graph_track import GraphTrack, as_graph_track
+from mpa.planners.graph import GraphPlan
+from trajopt.viz.drawing import COLLISION_COLOR, ROBOT_COLORS
+
+__all__ = [
+    "ROUTE_STYLES",
+    "LayoutGeometry",
+    "Switch",
+    "draw_configuration_cells",
+    "draw_graph_plan",
+    "draw_layout",
+    "draw_routes",
+    "graph_plan_figure",
+    "layout_geometry",
+    "plan_title",
+    "route_switches",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Line styles of the robots' routes (A solid on the left of each edge, B dashed on the right).
+ROUTE_STYLES = {"A": {"ls": "-", "side": 1.0}, "B": {"ls": (0, (4.0, 2.0)), "side": -1.0}}
+EDGE_COLOR = "0.35"
+SWITCH_COLOR = "#2ca02c"
+#: Points per circle drawn for a loop without ``points``.
+CIRCLE_POINTS = 64
+
+
+# ------------------------------------------------------------------------------------------------ geometry
+@dataclass(frozen=True)
+class LayoutGeometry:
+    """Drawable polylines of a track's edges (metres).
+
+    Attributes
+    ----------
+    vertices : ndarray, shape (V, 2)
+        Vertex coordinates (the layout's, or the automatic layout's).
+    polylines : tuple of ndarray
+        Per edge, shape (n_i, 2), from its tail to its head.
+    fractions : tuple of ndarray
+        Per edge, shape (n_i,): cumulative drawn length of the polyline divided by its total (0 ... 1).
+    automatic : bool
+        Whether the vertex coordinates were computed (the layout has none or not all).
+    size : float
+        Diagonal of the bounding box of everything drawn (metres), a scale for offsets and markers.
+    """
+
+    vertices: FloatArray
+    polylines: tuple[FloatArray, ...]
+    fractions: tuple[FloatArray, ...]
+    automatic: bool
+    size: float
+
+    def embed(self, edge: ArrayLike, offset: ArrayLike, lengths: ArrayLike) -> FloatArray:
+        """Points of positions ``(edge, offset)``: at the same fraction of the drawn polyline as of the edge.
+
+        Parameters
+        ----------
+        edge : array_like of int
+        offset : array_like of float
+            Metres from the edge's tail.
+        lengths : array_like of float, shape (E,)
+            Edge lengths (metres).
+
+        Returns
+        -------
+        ndarray, shape ``broadcast(edge, offset).shape + (2,)``
+        """
+        e, o = np.broadcast_arrays(np.asarray(edge, dtype=np.int64), np.asarray(offset, dtype=float))
+        ln = np.asarray(lengths, dtype=float)
+        out = np.empty((*e.shape, 2))
+        for i in np.unique(e):
+            m = e == i
+            pts, frac = self.polylines[int(i)], self.fractions[int(i)]
+            f = np.clip(o[m] / ln[i], 0.0, 1.0)
+            out[m, 0] = np.interp(f, frac, pts[:, 0])
+            out[m, 1] = np.interp(f, frac, pts[:, 1])
+        return out
+
+    def normal(self, edge: ArrayLike, offset: ArrayLike, lengths: ArrayLike) -> FloatArray:
+        """Unit normals on the left of each edge's orientation at positions ``(edge, offset)``. Same shape as
+        :meth:`embed`."""
+        e, o = np.broadcast_arrays(np.asarray(edge, dtype=np.int64), np.asarray(offset, dtype=float))
+        ln = np.asarray(lengths, dtype=float)
+        out = np.empty((*e.shape, 2))
+        for i in np.unique(e):
+            m = e == i
+            pts, frac = self.polylines[int(i)], self.fractions[int(i)]
+            seg = np.diff(pts, axis=0)
+            f = np.clip(o[m] / ln[i], 0.0, 1.0)
+            j = np.clip(np.searchsorted(frac, f, side="right") - 1, 0, len(seg) - 1)
+            d = seg[j]
+            nrm = np.hypot(d[:, 0], d[:, 1])
+            nrm[nrm == 0] = 1.0
+            out[m, 0] = -d[:, 1] / nrm
+            out[m, 1] = d[:, 0] / nrm
+        return out
+
+
+def _fractions(pts: FloatArray) -> FloatArray:
+    seg = np.hypot(*np.diff(pts, axis=0).T)
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    return cum / cum[-1] if cum[-1] > 0 else np.linspace(0.0, 1.0, len(pts))
+
+
+def _auto_vertices(track: GraphTrack) -> FloatArray:
+    """Deterministic planar-ish vertex coordinates from the graph distances (classical MDS + stress majorization)."""
+    n = track.graph.n_vertices
+    if n == 1:
+        return np.zeros((1, 2))
+    dv = np.array(track.geometry.dv, dtype=float)
+    finite = np.isfinite(dv)
+    big = float(dv[finite].max()) if np.any(finite & (dv > 0)) else 1.0
+    dv = np.where(finite, dv, 1.5 * big + 1.0)
+    # classical MDS
+    j = np.eye(n) - 1.0 / n
+    b = -0.5 * j @ (dv**2) @ j
+    w, v = np.linalg.eigh(b)
+    order = np.argsort(w)[::-1][:2]
+    x = v[:, order] * np.sqrt(np.maximum(w[order], 1e-12))
+    if x.shape[1] < 2:  # pragma: no cover - n >= 2 gives two eigenvectors
+        x = np.column_stack([x, np.zeros(n)])
+    # break ties of collinear layouts (a path) a little, deterministically
+    x = x + 1e-3 * big * np.column_stack([np.zeros(n), np.cos(np.arange(n))])
+    # stress majorization (SMACOF) with weights 1/d^2
+    with np.errstate(divide="ignore"):
+        wts = np.where(dv > 0, 1.0 / dv**2, 0.0)
+    lap = -wts.copy()
+    np.fill_diagonal(lap, wts.sum(axis=1))
+    lap_pinv = np.linalg.pinv(lap)
+    for _ in range(200):
+        diff = x[:, None, :] - x[None, :, :]
+        dist = np.hypot(diff[..., 0], diff[..., 1])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(dist > 0, wts * dv / dist, 0.0)
+        bz = -ratio
+        np.fill_diagonal(bz, ratio.sum(axis=1))
+        x_new = lap_pinv @ (bz @ x)
+        if np.max(np.abs(x_new - x)) < 1e-9 * big:
+            x = x_new
+            break
+        x = x_new
+    x -= x.mean(axis=0)
+    # canonical orientation: principal axis horizontal, signs fixed by the first vertex that is off an axis
+    _, _, vt = np.linalg.svd(x, full_matrices=False)
+    x = x @ vt.T
+    for k in range(2):
+        col = x[:, k]
+        i = int(np.argmax(np.abs(col) > 1e-9 * big)) if np.any(np.abs(col) > 1e-9 * big) else 0
+        if col[i] < 0:
+            x[:, k] = -col
+    return x
+
+
+def _loop_circle(centre_dir: FloatArray, at: FloatArray, length: float) -> FloatArray:
+    r = length / (2 * math.pi)
+    c = at + r * centre_dir
+    phase = math.atan2(-centre_dir[1], -centre_dir[0])
+    ang = phase + 2 * math.pi * np.linspace(0.0, 1.0, CIRCLE_POINTS + 1)
+    pts = np.column_stack([c[0] + r * np.cos(ang), c[1] + r * np.sin(ang)])
+    pts[0] = pts[-1] = at
+    return pts
+
+
+def layout_geometry(track: object) -> LayoutGeometry:
+    """Drawable polylines of a track: its coordinates, or an automatic layout when some vertex has none.
+
+    Parameters
+    ----------
+    track : GraphTrack, paper track, layout dict or path to a JSON layout
+
+    Returns
+    -------
+    LayoutGeometry
+    """
+    tr = as_graph_track(track)
+    automatic = not tr.has_coordinates
+    if automatic:
+        xy = _auto_vertices(tr)
+    else:
+        xy = np.array([c if c is not None else (np.nan, np.nan) for c in tr.coords], dtype=float)
+    tails, heads, lengths = tr.tails, tr.heads, tr.lengths
+    polys: list[FloatArray | None] = [None] * tr.n_edges
+    pair_count: dict[tuple[int, int], int] = {}
+    loops_at: dict[int, list[int]] = {}
+    for i in range(tr.n_edges):
+        u, v = int(tails[i]), int(heads[i])
+        if tr.points[i] and not automatic:
+            polys[i] = np.array([xy[u], *tr.points[i], xy[v]], dtype=float)
+        elif u == v:
+            loops_at.setdefault(u, []).append(i)
+        else:
+            key = (min(u, v), max(u, v))
+            k = pair_count.get(key, 0)
+            pair_count[key] = k + 1
+            a, b = xy[u], xy[v]
+            if k == 0:
+                polys[i] = np.array([a, b])
+            else:  # bend the k-th parallel edge: alternate sides, growing sagitta
+                side = 1.0 if k % 2 else -1.0
+                sag = side * 0.22 * ((k + 1) // 2) * float(np.hypot(*(b - a)))
+                lo, hi = (a, b) if u < v else (b, a)
+                nrm = np.array([-(hi - lo)[1], (hi - lo)[0]]) / max(float(np.hypot(*(hi - lo))), 1e-300)
+                q = np.linspace(0.0, 1.0, 25)[:, None]
+                mid = 0.5 * (lo + hi) + 2 * sag * nrm
+                curve = (1 - q) ** 2 * lo + 2 * q * (1 - q) * mid + q**2 * hi
+                polys[i] = curve if u < v else curve[::-1]
+    # loops: circles pointing away from the vertex's other edges, spread if several
+    for w, idx in loops_at.items():
+        away = np.zeros(2)
+        for i in range(tr.n_edges):
+            p = polys[i]
+            if p is None or tails[i] == heads[i]:
+                continue
+            if int(tails[i]) == w:
+                away -= (p[1] - p[0]) / max(float(np.hypot(*(p[1] - p[0]))), 1e-300)
+            if int(heads[i]) == w:
+                away -= (p[-2] - p[-1]) / max(float(np.hypot(*(p[-2] - p[-1]))), 1e-300)
+        alone = float(np.hypot(*away)) <= 1e-9
+        base = math.pi / 2 if alone else math.atan2(away[1], away[0])
+        n = len(idx)
+        for k, i in enumerate(idx):
+            # alone: spread evenly round the vertex (two loops: a figure eight); else fanned out away from its edges
+            ang = base + 2 * math.pi * k / n if alone else base + (k - (n - 1) / 2) * (math.pi / 2) / max(n - 1, 1)
+            polys[i] = _loop_circle(np.array([math.cos(ang), math.sin(ang)]), xy[w], float(lengths[i]))
+    done = tuple(np.asarray(p, dtype=float) for p in polys)
+    allpts = np.vstack([*done, xy[np.isfinite(xy[:, 0])]])
+    span = allpts.max(axis=0) - allpts.min(axis=0)
+    size = float(np.hypot(*span)) or 1.0
+    return LayoutGeometry(xy, done, tuple(_fractions(p) for p in done), automatic, size)
+
+
+# ------------------------------------------------------------------------------------------------- layout
+def _arrowhead(
+    ax: Axes, pts: FloatArray, frac: FloatArray, at: float, color: str, size: float, alpha: float = 1.0, **kw: Any
+) -> None:
+    """A small arrowhead on a polyline at fraction ``at`` of its length, pointing along it."""
+    f0, f1 = max(at - 0.02, 0.0), min(at + 0.02, 1.0)
+    p0 = np.array([np.interp(f0, frac, pts[:, 0]), np.interp(f0, frac, pts[:, 1])])
+    p1 = np.array([np.interp(f1, frac, pts[:, 0]), np.interp(f1, frac, pts[:, 1])])
+    if np.allclose(p0, p1):
+        return
+    ax.annotate(
+        "",
+        xy=(float(p1[0]), float(p1[1])),
+        xytext=(float(p0[0]), float(p0[1])),
+        arrowprops={
+            "arrowstyle": "-|>",
+            "color": color,
+            "lw": 0.0,
+            "mutation_scale": size,
+            "shrinkA": 0,
+            "shrinkB": 0,
+            "alpha": alpha,
+        },
+        **kw,
+    )
+
+
+def draw_layout(
+    ax: Axes,
+    track: object,
+    *,
+    geometry: LayoutGeometry | None = None,
+    vertex_labels: bool | None = None,
+    edge_labels: bool | None = None,
+    arrows: bool = True,
+    color: str = EDGE_COLOR,
+    lw: float = 2.2,
+    label_size: float = 8.0,
+) -> LayoutGeometry:
+    """Draw a graph track: edges as polylines, direction arrowheads, vertex and edge names.
+
+    Parameters
+    ----------
+    ax : Axes
+    track : GraphTrack, paper track, layout dict or path to a JSON layout
+    geometry : LayoutGeometry, optional
+        Precomputed :func:`layout_geometry` (computed when omitted).
+    vertex_labels : bool, optional
+        Write vertex names (bold, beside the vertex); default: all when the track has at most 20 vertices, else only
+        the vertices of degree 1 or 2 (ends of sidings, docks), so that large grids stay readable.
+    edge_labels : bool, optional
+        Write edge names (small, grey italics, at the middle of each edge); default: when the track has at most 30
+        edges.
+    arrows : bool
+        A subtle arrowhead at the middle of each edge, from its ``from`` to its ``to`` vertex.
+    color : str
+    lw : float
+        Edge line width (points).
+    label_size : float
+        Font size of the names (points).
+
+    Returns
+    -------
+    LayoutGeometry
+        The geometry drawn (pass it on to :func:`draw_routes`).
+    """
+    tr = as_graph_track(track)
+    geo = geometry if geometry is not None else layout_geometry(tr)
+    if edge_labels is None:
+        edge_labels = tr.n_edges <= 30
+    lengths = tr.lengths
+    for i, pts in enumerate(geo.polylines):
+        ax.plot(pts[:, 0], pts[:, 1], color=color, lw=lw, solid_capstyle="round", zorder=1)
+        if arrows:
+            _arrowhead(ax, pts, geo.fractions[i], 0.5, "0.6", 15.0, zorder=1.5)
+        if edge_labels:
+            at = 0.5 * lengths[i]
+            p = geo.embed(i, at, lengths)
+            n = geo.normal(i, at, lengths)
+            ax.annotate(
+                tr.edge_names[i],
+                xy=(float(p[0]), float(p[1])),
+                xytext=(float(-n[0] * 15.0), float(-n[1] * 15.0)),
+                textcoords="offset points",
+                ha="center",
+                va="center",
+                fontsize=label_size - 1.0,
+                fontstyle="italic",
+                color="0.4",
+                zorder=2,
+            )
+    used = sorted(set(tr.tails.tolist()) | set(tr.heads.tolist()))
+    vx = geo.vertices[used]
+    ax.plot(vx[:, 0], vx[:, 1], "o", color="white", mec=color, mew=1.4, ms=5.5, zorder=3)
+    named = used
+    if vertex_labels is None:
+        named = used if len(used) <= 20 else [w for w in used if tr.degree(w) <= 2]
+    elif not vertex_labels:
+        named = []
+    if named:
+        centre = np.nanmean(vx, axis=0)
+        for w in named:
+            p = geo.vertices[w]
+            d = p - centre
+            nd = float(np.hypot(*d))
+            d = d / nd if nd > 1e-9 * geo.size else np.array([0.0, 1.0])
+            ax.annotate(
+                str(tr.graph.vertices[w]),
+                xy=(float(p[0]), float(p[1])),
+                xytext=(float(d[0] * 10.0), float(d[1] * 10.0)),
+                textcoords="offset points",
+                ha="center",
+                va="center",
+                fontsize=label_size,
+                fontweight="bold",
+                color="0.15",
+                bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8},
+                zorder=6,
+            )
+    _pad(ax, geo)
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xlabel("x (m)" if not geo.automatic else "x (m, automatic layout)")
+    ax.set_ylabel("y (m)" if not geo.automatic else "y (m, automatic layout)")
+    return geo
+
+
+# ------------------------------------------------------------------------------------------------- routes
+@dataclass(frozen=True)
+class Switch:
+    """A robot changing edges at a vertex along its route.
+
+    Attributes
+    ----------
+    robot : str
+        ``"A"`` or ``"B"``.
+    vertex : int
+        Vertex index.
+    from_edge, to_edge : int
+        Edge indices before and after.
+    r : float
+        Route coordinate where it happens (metres).
+    """
+
+    robot: str
+    vertex: int
+    from_edge: int
+    to_edge: int
+    r: float
+
+    def text(self, track: GraphTrack) -> str:
+        """E.g. ``"A: switch at J: b_left → b_short"``."""
+        names = track.edge_names
+        vertex = track.graph.vertices[self.vertex]
+        return f"{self.robot}: switch at {vertex}: {names[self.from_edge]} → {names[self.to_edge]}"
+
+
+def _piece_end(route: DirectedRoute, i: int) -> float:
+    return float(route.entry[i] + route.dirs[i] * (route.breaks[i + 1] - route.breaks[i]))
+
+
+def route_switches(track: GraphTrack, route: DirectedRoute, robot: str) -> list[Switch]:
+    """The switches a route uses: where it leaves one edge for another at a vertex.
+
+    Parameters
+    ----------
+    track : GraphTrack
+    route : DirectedRoute
+    robot : str
+        ``"A"`` or ``"B"`` (copied into each :class:`Switch`).
+
+    Returns
+    -------
+    list of Switch
+        In route order. A reversal on the same edge is not a switch.
+    """
+    out: list[Switch] = []
+    for i in range(len(route.edges) - 1):
+        e, f = int(route.edges[i]), int(route.edges[i + 1])
+        if e == f:
+            continue
+        w = track.vertex_at(e, _piece_end(route, i))
+        if w is None:  # numerically not exactly at the end: take the nearer end
+            end = _piece_end(route, i)
+            w = int(track.tails[e]) if end < 0.5 * track.lengths[e] else int(track.heads[e])
+        out.append(Switch(robot, int(w), e, f, float(route.breaks[i + 1])))
+    return out
+
+
+def _route_lane_points(
+    tr: GraphTrack, geo: LayoutGeometry, route: DirectedRoute, side: float, lane: float, per_metre: float
+) -> list[FloatArray]:
+    """Polylines of a route drawn beside the track (one per piece, offset further on each revisit of an edge)."""
+    visits: dict[int, int] = {}
+    out: list[FloatArray] = []
+    for i in range(len(route.edges)):
+        r0, r1 = float(route.breaks[i]), float(route.breaks[i + 1])
+        if r1 <= r0:
+            continue
+        e = int(route.edges[i])
+        k = visits.get(e, 0)
+        visits[e] = k + 1
+        n = max(math.ceil((r1 - r0) * per_metre), 2)
+        r = np.linspace(r0, r1, n + 1)
+        off = route.entry[i] + route.dirs[i] * (r - r0)
+        p = geo.embed(np.full(r.shape, e), off, tr.lengths)
+        nrm = geo.normal(np.full(r.shape, e), off, tr.lengths)
+        out.append(p + side * lane * (1.0 + 0.9 * k) * nrm)
+    return out
+
+
+def draw_routes(
+    ax: Axes,
+    track: object,
+    route_a: DirectedRoute,
+    route_b: DirectedRoute,
+    *,
+    geometry: LayoutGeometry | None = None,
+    lane: float | None = None,
+    switches: bool = True,
+    lw: float = 2.0,
+    alpha: float = 0.9,
+) -> list[Switch]:
+    """Draw both robots' routes beside the track, with arrowheads along them and the switches they use.
+
+    Parameters
+    ----------
+    ax : Axes
+    track : GraphTrack or anything :func:`mpa.graph_track.as_graph_track` accepts
+    route_a, route_b : DirectedRoute
+        Robot A's and robot B's routes.
+    geometry : LayoutGeometry, optional
+    lane : float, optional
+        Distance of a route from the track (metres); default 1.5 % of the drawing's size. A is drawn on the left of
+        each edge's orientation, B on the right; a robot that travels an edge again is drawn further out.
+    switches : bool
+        Mark the switches (diamonds at the vertex) and add legend entries "A: switch at J: e1 → e2".
+    lw : float
+        Line width (points).
+    alpha : float
+        Opacity of the routes.
+
+    Returns
+    -------
+    list of Switch
+        The switches of A, then B.
+    """
+    tr = as_graph_track(track)
+    geo = geometry if geometry is not None else layout_geometry(tr)
+    lane = 0.015 * geo.size if lane is None else float(lane)
+    per_metre = 200.0 / max(tr.total_length, 1e-9)
+    found: list[Switch] = []
+    for name, route in (("A", route_a), ("B", route_b)):
+        st = ROUTE_STYLES[name]
+        color = ROBOT_COLORS[name]
+        pieces = _route_lane_points(tr, geo, route, float(st["side"]), lane, per_metre)  # type: ignore[arg-type]
+        if pieces:
+            pts = np.vstack(pieces)
+            ax.plot(pts[:, 0], pts[:, 1], color=color, lw=lw, ls=st["ls"], alpha=alpha, zorder=4, label=f"route {name}")
+            for p in pieces:
+                _arrowhead(ax, p, _fractions(p), 0.6, color, 15.0, zorder=4.5, alpha=alpha)
+        else:
+            ax.plot([], [], color=color, lw=lw, ls=st["ls"], label=f"route {name} (stays)")
+        if switches:
+            sw = route_switches(tr, route, name)
+            found.extend(sw)
+    if switches and found:
+        used = sorted({s.vertex for s in found})
+        vx = geo.vertices[used]
+        ax.plot(vx[:, 0], vx[:, 1], "D", ms=9, mfc="none", mec=SWITCH_COLOR, mew=2.0, zorder=5)
+        for s in found:
+            ax.plot(
+                [], [], "D", ms=7, mfc="none", mec=SWITCH_COLOR, mew=1.5, color=ROBOT_COLORS[s.robot], label=s.text(tr)
+            )
+    return found
+
+
+# --------------------------------------------------------------------------------------------------- plans
+def plan_title(plan: GraphPlan, name: str | None = None) -> str:
+    """E.g. ``"y_junction — A, B swap: left, right → right, left\\nD = 0.5 m, fastest, makespan 6.5 s at 1 m/s"``."""
+    tr = plan.track
+    a0, b0 = (tr.position_name(*p) for p in plan.start)
+    a1, b1 = (tr.position_name(*p) for p in plan.goal)
+    swap = "A, B swap: " if (a0, b0) == (b1, a1) else ""
+    speeds = (
+        f"{plan.speeds[0]:g} m/s" if plan.speeds[0] == plan.speeds[1] else f"{plan.speeds[0]:g}/{plan.speeds[1]:g} m/s"
+    )
+    head = f"{name} — " if name else ""
+    return (
+        f"{head}{swap}{a0}, {b0} → {a1}, {b1}\n"
+        f"D = {plan.clearance:g} m, {plan.objective}, makespan {plan.makespan:.3g} s at {speeds}"
+    )
+
+
+def _marker(
+    ax: Axes, geo: LayoutGeometry, tr: GraphTrack, pos: tuple[int, float], robot: str, what: str, lane: float
+) -> None:
+    side = float(ROUTE_STYLES[robot]["side"])  # type: ignore[arg-type]
+    e, o = pos
+    p = geo.embed(e, o, tr.lengths)
+    n = geo.normal(e, o, tr.lengths)
+    q = p + side * lane * n
+    color = ROBOT_COLORS[robot]
+    filled = what == "start"
+    ax.plot(
+        [q[0]], [q[1]], "^" if filled else "v", ms=10, color=color, mfc=color if filled else "white", mew=2.0, zorder=7
+    )
+    ox, oy = side * float(n[0]), side * float(n[1])
+    ha = "left" if ox > 0.35 else "right" if ox < -0.35 else "center"
+    va = "bottom" if oy > 0.35 else "top" if oy < -0.35 else "center"
+    ax.annotate(
+        f"{robot} {what}",
+        xy=(float(q[0]), float(q[1])),
+        xytext=(ox * 9.0, oy * 9.0),
+        textcoords="offset points",
+        ha=ha,
+        va=va,
+        fontsize=8,
+        color=color,
+        fontweight="bold",
+        bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": color, "lw": 0.6, "alpha": 0.9},
+        zorder=8,
+    )
+
+
+def draw_graph_plan(
+    ax: Axes,
+    plan: GraphPlan,
+    *,
+    name: str | None = None,
+    geometry: LayoutGeometry | None = None,
+    edge_labels: bool | None = None,
+    legend: bool = True,
+    title: bool = True,
+) -> list[Switch]:
+    """Draw a plan of the complete graph planner on its layout.
+
+    Parameters
+    ----------
+    ax : Axes
+    plan : GraphPlan
+    name : str, optional
+        Layout name for the title (e.g. the file's stem).
+    geometry : LayoutGeometry, optional
+    edge_labels : bool, optional
+        As for :func:`draw_layout`.
+    legend : bool
+        A legend outside the axes on the right: the routes and every switch used.
+    title : bool
+        Title with the query, clearance, objective and makespan (:func:`plan_title`).
+
+    Returns
+    -------
+    list of Switch
+    """
+    if not isinstance(plan, GraphPlan):
+        raise InvalidInputError(f"plan is a {type(plan).__name__}, expected a GraphPlan (mpa.plan on a graph track)")
+    tr = plan.track
+    geo = geometry if geometry is not None else layout_geometry(tr)
+    draw_layout(ax, tr, geometry=geo, edge_labels=edge_labels)
+    lane = 0.015 * geo.size
+    sw = draw_routes(ax, tr, plan.route_a, plan.route_b, geometry=geo, lane=lane)
+    for robot, k in (("A", 0), ("B", 1)):
+        _marker(ax, geo, tr, plan.start[k], robot, "start", lane)
+        _marker(ax, geo, tr, plan.goal[k], robot, "goal", lane)
+    if legend:
+        h = [
+            Line2D([], [], marker="^", ls="none", color="0.3", ms=8, label="start"),
+            Line2D([], [], marker="v", ls="none", color="0.3", mfc="white", ms=8, label="goal"),
+        ]
+        handles, labels = ax.get_legend_handles_labels()
+        ax.legend(
+            [*handles, *h],
+            [*labels, "start", "goal"],
+            loc="upper left",
+            bbox_to_anchor=(1.01, 1.0),
+            fontsize=8,
+            frameon=False,
+            borderaxespad=0.0,
+        )
+    if title:
+        ax.set_title(plan_title(plan, name), fontsize=10)
+    _pad(ax, geo)
+    return sw
+
+
+def _pad(ax: Axes, geo: LayoutGeometry) -> None:
+    pts = np.vstack(geo.polylines)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    m = 0.1 * geo.size
+    ax.set_xlim(lo[0] - m, hi[0] + m)
+    ax.set_ylim(lo[1] - m, hi[1] + m)
+
+
+def graph_plan_figure(
+    plan: GraphPlan, *, name: str | None = None, cells: bool = True, max_cells: int = 6, width: float = 9.0
+) -> Figure:
+    """A figure of a plan: the layout with the routes, and (``cells``) the configuration cells it crosses below.
+
+    Parameters
+    ----------
+    plan : GraphPlan
+    name : str, optional
+        Layout name for the title.
+    cells : bool
+        Add the panel of :func:`draw_configuration_cells`.
+    max_cells : int
+        At most this many cells in that panel.
+    width : float
+        Figure width (inches).
+
+    Returns
+    -------
+    Figure
+        Not attached to pyplot (save with ``fig.savefig``).
+    """
+    geo = layout_geometry(plan.track)
+    pts = np.vstack(geo.polylines)
+    span = np.maximum(pts.max(axis=0) - pts.min(axis=0), 1e-9 * geo.size)
+    aspect = float(np.clip(span[1] / span[0], 0.3, 1.6))
+    top = 0.62 * width * aspect + 1.0
+    fig = Figure(figsize=(width, top + (2.6 if cells else 0.0)), layout="constrained")
+    if cells:
+        ax_top, ax_cells = fig.subplots(2, 1, height_ratios=[top, 2.6])
+    else:
+        ax_top, ax_cells = fig.subplots(1, 1), None
+    draw_graph_plan(ax_top, plan, name=name, geometry=geo)
+    if ax_cells is not None:
+        draw_configuration_cells(ax_cells, free_space(plan.track, plan.clearance), plan, max_cells=max_cells)
+    return fig
+
+
+# --------------------------------------------------------------------------------------- configuration cells
+def draw_configuration_cells(
+    ax: Axes, space: FreeSpace, plan: GraphPlan, *, max_cells: int = 6, gap: float | None = None
+) -> list[tuple[int, int, int]]:
+    """The cells ``A's edge × B's edge`` a plan crosses, side by side in offsets, with the free polygons and the path.
+
+    Each cell is a box of size ``L_e × L_f`` (x: robot A's offset on its edge, y: robot B's, metres), the set closer
+    than the clearance shaded red, the free polygon(s) white, the plan's segments in the cell drawn in black with
+    arrowheads and numbered in the order the plan passes them. Boxes are placed left to right in the order the plan
+    first enters them.
+
+    Parameters
+    ----------
+    ax : Axes
+    space : FreeSpace
+        Free space of the plan's track and clearance (:func:`mpa.free_space`).
+    plan : GraphPlan
+    max_cells : int
+        Draw at most this many cells (the first ones entered); the rest is mentioned in the title.
+    gap : float, optional
+        Horizontal gap between boxes (metres); default a fifth of the largest edge.
+
+    Returns
+    -------
+    list of (e, f, k)
+        The cells drawn (polygon ids of :mod:`mpa.freespace`).
+    """
+    tr = plan.track
+    names = tr.edge_names
+    lengths = tr.lengths
+    order: list[tuple[int, int]] = []
+    for e, f, _ in plan.corner_cells:
+        if (e, f) not in order:
+            order.append((e, f))
+    shown = order[:max_cells]
+    gap = 0.2 * float(lengths.max()) if gap is None else float(gap)
+    x0: dict[tuple[int, int], float] = {}
+    x = 0.0
+    for e, f in shown:
+        x0[(e, f)] = x
+        x += float(lengths[e]) + gap
+    drawn: list[tuple[int, int, int]] = []
+    for e, f in shown:
+        le, lf = float(lengths[e]), float(lengths[f])
+        ox = x0[(e, f)]
+        ax.add_patch(Rectangle((ox, 0.0), le, lf, fc=COLLISION_COLOR, alpha=0.25, ec="none", zorder=1))
+        for k in (0, 1):
+            pid = (e, f, k)
+            if pid in space._index:
+                v = space.vertices(pid)
+                ax.add_patch(Polygon(v + np.array([ox, 0.0]), closed=True, fc="white", ec="0.5", lw=0.8, zorder=2))
+                drawn.append(pid)
+        ax.add_patch(Rectangle((ox, 0.0), le, lf, fc="none", ec="0.2", lw=1.0, zorder=3))
+        top = lf + 0.06 * float(lengths.max())
+        ax.text(
+            ox + le / 2, top, f"A on {names[e]}\nB on {names[f]}", ha="center", va="bottom", fontsize=7, color="0.2"
+        )
+    for j, ((e, f, _), seg) in enumerate(zip(plan.segment_cells, plan.segment_offsets)):
+        if (e, f) not in x0:
+            continue
+        p = seg + np.array([x0[(e, f)], 0.0])
+        ax.plot(p[:, 0], p[:, 1], color="black", lw=1.6, zorder=4)
+        ax.plot(p[:, 0], p[:, 1], "o", color="black", ms=2.5, zorder=4)
+        if np.hypot(*(p[1] - p[0])) > 1e-9:
+            ax.annotate(
+                "",
+                xy=(float(p[1, 0]), float(p[1, 1])),
+                xytext=(float(0.5 * (p[0, 0] + p[1, 0])), float(0.5 * (p[0, 1] + p[1, 1]))),
+                arrowprops={"arrowstyle": "-|>", "color": "black", "lw": 0.0, "mutation_scale": 9},
+                zorder=4,
+            )
+        mid = 0.5 * (p[0] + p[1])
+        ax.annotate(
+            str(j + 1), xy=(float(mid[0]), float(mid[1])), xytext=(4, 4), textcoords="offset points", fontsize=7
+        )
+    # start and goal
+    for what, corner in (("start", 0), ("goal", -1)):
+        e, f, _ = plan.corner_cells[corner]
+        if (e, f) in x0:
+            s, t = plan.corner_offsets[corner]
+            ax.plot(
+                [x0[(e, f)] + s],
+                [t],
+                "s" if what == "start" else "*",
+                color="black",
+                ms=7 if what == "start" else 10,
+                mfc="black" if what == "start" else "white",
+                zorder=5,
+                clip_on=False,
+            )
+    more = f" (first {len(shown)} of {len(order)})" if len(order) > len(shown) else ""
+    ax.set_title(
+        f"configuration cells crossed{more}: x = offset of A, y = offset of B (m); "
+        f"red: closer than D = {plan.clearance:g} m; ■ start, ☆ goal",
+        fontsize=8,
+    )
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xticks([])
+    ax.set_xlim(-0.05 * gap, x - gap + 0.05 * gap)
+    ax.set_ylim(-0.05 * float(lengths.max()), float(max(lengths[f] for _, f in shown)) + 0.4 * float(lengths.max()))
+    return drawn

@@ -1,0 +1,379 @@
+"""Animations of two robots moving on a graph track, from generic timed motions on their routes.
+
+A motion is given as times ``t`` (shape (N,)) and route coordinates ``s`` (shape (N, 2), robot A in column 0): the
+distance each robot has travelled along its route (:class:`mpa.geometry.DirectedRoute`), so plans of the complete
+graph planner (:func:`plan_motion`) and jerk-limited trajectories on graph tracks animate the same way.
+
+The figure is laid out once (the layout, both routes faintly, start and goal), then only the moving artists (each
+robot's body and label, the time readout) are updated in place and every frame is streamed to the writer: memory does
+not grow with the number of frames. GIF files are written by :class:`StreamingGifWriter` (frame by frame, one shared
+256-colour palette taken from the first frame); MP4 files by matplotlib's ``FFMpegWriter``, which needs an ffmpeg
+executable (:func:`trajopt.viz.animation.ffmpeg_executable`). Files are written under a temporary name and renamed,
+so a failed run leaves no file behind.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+import matplotlib as mpl
+import numpy as np
+from matplotlib.animation import AbstractMovieWriter, FFMpegWriter
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from numpy.typing import ArrayLike, NDArray
+from PIL import GifImagePlugin, Image
+
+from mpa.errors import InvalidInputError
+from mpa.geometry import DirectedRoute
+from mpa.graph_track import GraphTrack, as_graph_track
+from mpa.planners.graph import GraphPlan
+from trajopt.viz.animation import FORMATS, ffmpeg_executable
+from trajopt.viz.drawing import ROBOT_COLORS
+from trajopt.viz.layout import ROUTE_STYLES, LayoutGeometry, draw_layout, draw_routes, layout_geometry
+
+__all__ = ["StreamingGifWriter", "animate_graph_plan", "animate_layout", "plan_motion"]
+
+FloatArray = NDArray[np.float64]
+#: Points along a robot's body.
+BODY_POINTS = 15
+
+
+class StreamingGifWriter(AbstractMovieWriter):
+    """A GIF writer that encodes and writes each frame as it is grabbed (memory flat in the number of frames).
+
+    The palette (up to 256 colours, no dithering) is taken from the first frame and reused for every frame, so colours
+    do not flicker. Loops forever.
+    """
+
+    def __init__(self, fps: float = 20.0) -> None:
+        super().__init__(fps=round(fps) if fps >= 1 else 1)
+        self._fps = float(fps)
+        self._fp: Any = None
+        self._palette: Image.Image | None = None
+        self._last: NDArray[np.uint8] = np.zeros((0, 0), dtype=np.uint8)
+        self.frames = 0
+
+    def setup(self, fig: Figure, outfile: str | Path, dpi: float | None = None) -> None:  # type: ignore[override]
+        """Open ``outfile`` for writing."""
+        super().setup(fig, outfile, dpi=dpi)
+        self._fp = open(outfile, "wb")
+        self._palette = None
+        self.frames = 0
+
+    def grab_frame(self, **savefig_kwargs: Any) -> None:
+        """Render the figure and append it to the file (only the rectangle that changed since the last frame)."""
+        fig = self.fig
+        fig.set_dpi(self.dpi)
+        canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
+        canvas.draw()
+        rgba = np.asarray(canvas.buffer_rgba())
+        rgb = Image.fromarray(rgba[..., :3].copy(), "RGB")
+        duration = round(1000.0 / self._fps)
+        if self._palette is None:
+            self._palette = rgb.quantize(colors=256, dither=Image.Dither.NONE)
+            frame = self._palette
+            header, _ = GifImagePlugin.getheader(frame, None, {"loop": 0, "duration": duration})
+            for chunk in header:
+                self._fp.write(chunk)
+            box = (0, 0, frame.width, frame.height)
+        else:
+            frame = rgb.quantize(palette=self._palette, dither=Image.Dither.NONE)
+            changed = np.asarray(frame) != self._last
+            if changed.any():
+                rows, cols = np.nonzero(changed.any(axis=1))[0], np.nonzero(changed.any(axis=0))[0]
+                box = (int(cols[0]), int(rows[0]), int(cols[-1]) + 1, int(rows[-1]) + 1)
+            else:
+                box = (0, 0, 1, 1)
+        self._last = np.asarray(frame).copy()
+        part = frame.crop(box)
+        part.palette = frame.palette
+        for chunk in GifImagePlugin.getdata(part, (box[0], box[1]), duration=duration):
+            self._fp.write(chunk)
+        self.frames += 1
+
+    def finish(self) -> None:
+        """Write the GIF trailer and close the file."""
+        if self._fp is not None:
+            self._fp.write(b";")
+            self._fp.close()
+            self._fp = None
+
+
+def _check_number(name: str, value: object, lo: float, *, integer: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InvalidInputError(f"{name} is {value!r}, expected a number >= {lo:g}")
+    v = float(value)
+    if not (math.isfinite(v) and v >= lo) or (integer and not v.is_integer()):
+        what = "an integer" if integer else "a finite number"
+        raise InvalidInputError(f"{name} is {value!r}, expected {what} >= {lo:g}")
+    return v
+
+
+def _check_motion(t: ArrayLike, s: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    tt = np.asarray(t, dtype=float)
+    ss = np.asarray(s, dtype=float)
+    if tt.ndim != 1 or len(tt) < 1:
+        raise InvalidInputError(f"t has shape {tt.shape}, expected (N,) with N >= 1 (seconds)")
+    if ss.shape != (len(tt), 2):
+        raise InvalidInputError(f"s has shape {ss.shape}, expected ({len(tt)}, 2): route coordinates of A and B (m)")
+    if not (np.all(np.isfinite(tt)) and np.all(np.isfinite(ss))):
+        raise InvalidInputError("t or s has a value that is not finite, expected finite times (s) and coordinates (m)")
+    if np.any(np.diff(tt) < 0):
+        raise InvalidInputError("t decreases somewhere, expected non-decreasing times (s)")
+    return tt, ss
+
+
+def plan_motion(plan: GraphPlan, samples: int = 400) -> tuple[FloatArray, FloatArray]:
+    """The raw plan as a timed motion: ``(t, s)`` at the plan's speed limits (no acceleration limits).
+
+    Parameters
+    ----------
+    plan : GraphPlan
+    samples : int
+        Number of samples (>= 2).
+
+    Returns
+    -------
+    t : ndarray, shape (samples,)
+        Times (s), from 0 to ``plan.makespan``.
+    s : ndarray, shape (samples, 2)
+        Route coordinates of A and B (m).
+    """
+    _check_number("samples", samples, 2, integer=True)
+    u, s = plan.sample(int(samples))
+    return u * plan.makespan, s
+
+
+def _frame_times(t: FloatArray, fps: float, max_frames: int | None) -> tuple[FloatArray, float]:
+    duration = float(t[-1] - t[0])
+    n = math.ceil(duration * fps) + 1
+    speedup = 1.0
+    if max_frames is not None and n > max_frames:
+        speedup = (n - 1) / max(max_frames - 1, 1)
+        n = int(max_frames)
+    return np.linspace(float(t[0]), float(t[-1]), max(n, 1)), speedup
+
+
+def _body_points(tr: GraphTrack, route: DirectedRoute, r: float, half: float) -> tuple[NDArray[np.int64], FloatArray]:
+    """Positions along a robot's body: route coordinates ``r ± half`` clipped to the route; a robot that stands
+    (route of length 0) gets its body along its edge, clipped to the edge."""
+    if route.length > 0:
+        rr = np.clip(r + np.linspace(-half, half, BODY_POINTS), route.breaks[0], route.breaks[-1])
+        return route.positions(rr)
+    e, o = route.positions(np.array([r]))
+    off = np.clip(o[0] + np.linspace(-half, half, BODY_POINTS), 0.0, float(tr.lengths[int(e[0])]))
+    return np.full(BODY_POINTS, int(e[0])), off
+
+
+def _writer(fmt: str, fps: float) -> AbstractMovieWriter:
+    if fmt == "gif":
+        return StreamingGifWriter(fps=fps)
+    exe = ffmpeg_executable()
+    if exe is None:
+        raise InvalidInputError(
+            "format is 'mp4', which needs an ffmpeg executable: install one (pip install imageio-ffmpeg) or use gif"
+        )
+    mpl.rcParams["animation.ffmpeg_path"] = exe
+    return FFMpegWriter(fps=round(fps), codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
+
+
+def animate_layout(
+    track: object,
+    route_a: DirectedRoute,
+    route_b: DirectedRoute,
+    t: ArrayLike,
+    s: ArrayLike,
+    out: str | os.PathLike[str],
+    *,
+    clearance: float | None = None,
+    fps: float = 20.0,
+    dpi: float = 80.0,
+    max_frames: int | None = 300,
+    fmt: str | None = None,
+    title: str | None = None,
+    bodies: bool = True,
+    size: tuple[float, float] | None = None,
+) -> Path:
+    """Write an animation of two robots moving along their routes on a graph track.
+
+    Parameters
+    ----------
+    track : GraphTrack or anything :func:`mpa.graph_track.as_graph_track` accepts
+    route_a, route_b : DirectedRoute
+        The robots' routes; ``s`` is measured along them.
+    t : array_like, shape (N,)
+        Times (s), non-decreasing.
+    s : array_like, shape (N, 2)
+        Route coordinates of A (column 0) and B (m) at those times; linearly interpolated between samples.
+    out : path
+        Output file; its suffix (``.gif`` or ``.mp4``) chooses the format unless ``fmt`` is given.
+    clearance : float, optional
+        D (m). With ``bodies``, each robot is drawn as a thick segment along its route of length D/2 on each side of
+        its position (clipped to the route), so that touching bodies mean distance D.
+    fps : float
+        Frames per second (>= 1); the animation plays in real time unless ``max_frames`` caps the frames (then it
+        plays faster, which the title says).
+    dpi : float
+        Resolution (>= 10).
+    max_frames : int, optional
+        Upper bound on the number of frames (>= 2; None: no bound).
+    fmt : {"gif", "mp4"}, optional
+    title : str, optional
+        Figure title (a second line gives the speed-up when frames are capped).
+    bodies : bool
+        Draw bodies (needs ``clearance`` > 0); otherwise only a dot per robot.
+    size : (float, float), optional
+        Figure size in inches (default from the layout's aspect ratio).
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Raises
+    ------
+    InvalidInputError
+        Bad shapes or values of ``t``/``s``, fps, dpi, frame count or format; mp4 without an ffmpeg executable.
+    """
+    tr = as_graph_track(track)
+    tt, ss = _check_motion(t, s)
+    out = Path(out)
+    fmt = fmt if fmt is not None else out.suffix.lstrip(".").lower()
+    if fmt not in FORMATS:
+        raise InvalidInputError(f"format is {fmt!r}, expected one of {sorted(FORMATS)}")
+    fps = _check_number("fps", fps, 1.0)
+    dpi = _check_number("dpi", dpi, 10.0)
+    if max_frames is not None:
+        max_frames = int(_check_number("max_frames", max_frames, 2.0, integer=True))
+    half = 0.0
+    if clearance is not None:
+        half = 0.5 * _check_number("clearance", clearance, 0.0)
+    writer = _writer(fmt, fps)
+    times, speedup = _frame_times(tt, fps, max_frames)
+
+    geo = layout_geometry(tr)
+    fig = _static_figure(tr, geo, route_a, route_b, title, speedup, size)
+    ax = fig.axes[0]
+    moving = _moving_artists(ax)
+    fig.canvas.draw()
+    fig.set_layout_engine("none")  # freeze the layout: frames differ only in the moving artists
+
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(f".{out.stem}.tmp{FORMATS[fmt]}")
+    try:
+        with writer.saving(fig, str(tmp), dpi):
+            for now in times:
+                r = np.array([np.interp(now, tt, ss[:, 0]), np.interp(now, tt, ss[:, 1])])
+                _update(tr, geo, (route_a, route_b), moving, r, half if bodies else 0.0, now - tt[0], tt[-1] - tt[0])
+                writer.grab_frame(facecolor="white")
+        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return out
+
+
+def _static_figure(
+    tr: GraphTrack,
+    geo: LayoutGeometry,
+    route_a: DirectedRoute,
+    route_b: DirectedRoute,
+    title: str | None,
+    speedup: float,
+    size: tuple[float, float] | None,
+) -> Figure:
+    pts = np.vstack(geo.polylines)
+    span = np.maximum(pts.max(axis=0) - pts.min(axis=0), 1e-9 * geo.size)
+    aspect = float(np.clip(span[1] / span[0], 0.3, 1.5))
+    figsize = size if size is not None else (8.0, 5.2 * aspect + 1.4)
+    fig = Figure(figsize=figsize, layout="constrained", facecolor="white")
+    FigureCanvasAgg(fig)  # frames are rendered with Agg
+    ax = fig.subplots()
+    draw_layout(ax, tr, geometry=geo)
+    draw_routes(ax, tr, route_a, route_b, geometry=geo, alpha=0.35, lw=1.6)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False, borderaxespad=0.0)
+    m = 0.08 * geo.size
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    ax.set_xlim(lo[0] - m, hi[0] + m)
+    ax.set_ylim(lo[1] - m, hi[1] + m)
+    head = title or "two robots on a graph track"
+    if speedup > 1.0:
+        head += f"\n(played {speedup:.1f}× faster than real time)"
+    ax.set_title(head, fontsize=10)
+    return fig
+
+
+def _moving_artists(ax: Any) -> dict[str, Any]:
+    art: dict[str, Any] = {}
+    for name in ("A", "B"):
+        color = ROBOT_COLORS[name]
+        (body,) = ax.plot([], [], color=color, lw=7.0, alpha=0.75, solid_capstyle="butt", zorder=9)
+        (dot,) = ax.plot([], [], "o", color=color, mec="white", mew=1.5, ms=9, zorder=10)
+        label = ax.annotate(
+            name,
+            xy=(0.0, 0.0),
+            xytext=(0.0, 0.0),
+            textcoords="offset points",
+            ha="center",
+            va="center",
+            fontsize=10,
+            fontweight="bold",
+            color="white",
+            bbox={"boxstyle": "circle,pad=0.2", "fc": color, "ec": "none"},
+            zorder=11,
+        )
+        art[name] = (body, dot, label)
+    art["clock"] = ax.text(
+        0.01, 0.99, "", transform=ax.transAxes, ha="left", va="top", fontsize=10, family="monospace", zorder=12
+    )
+    return art
+
+
+def _update(
+    tr: GraphTrack,
+    geo: LayoutGeometry,
+    routes: tuple[DirectedRoute, DirectedRoute],
+    art: dict[str, Any],
+    r: FloatArray,
+    half: float,
+    now: float,
+    duration: float,
+) -> None:
+    for k, name in enumerate(("A", "B")):
+        route = routes[k]
+        body, dot, label = art[name]
+        e, o = route.positions(np.array([r[k]]))
+        p = geo.embed(e, o, tr.lengths)[0]
+        n = geo.normal(e, o, tr.lengths)[0]
+        dot.set_data([p[0]], [p[1]])
+        if half > 0:
+            be, bo = _body_points(tr, route, float(r[k]), half)
+            bp = geo.embed(be, bo, tr.lengths)
+            body.set_data(bp[:, 0], bp[:, 1])
+        side = float(ROUTE_STYLES[name]["side"])  # type: ignore[arg-type]
+        label.xy = (float(p[0]), float(p[1]))
+        label.set_position((side * float(n[0]) * 16.0, side * float(n[1]) * 16.0))
+    art["clock"].set_text(f"t = {now:6.2f} s / {duration:.2f} s")
+
+
+def animate_graph_plan(plan: GraphPlan, out: str | os.PathLike[str], *, name: str | None = None, **kw: Any) -> Path:
+    """Animate a plan of the complete graph planner at its speed limits (see :func:`animate_layout`).
+
+    Parameters
+    ----------
+    plan : GraphPlan
+    out : path
+    name : str, optional
+        Layout name for the title.
+    **kw
+        Passed to :func:`animate_layout` (``fps``, ``dpi``, ``max_frames``, ``fmt``, ``bodies``).
+    """
+    from trajopt.viz.layout import plan_title
+
+    t, s = plan_motion(plan)
+    kw.setdefault("clearance", plan.clearance)
+    kw.setdefault("title", plan_title(plan, name))
+    return animate_layout(plan.track, plan.route_a, plan.route_b, t, s, out, **kw)
