@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mpa import Circle, Interval, Lollipop, Track
+from mpa import Circle, Interval, Lollipop, MPAError, Track
 from trajopt import TrajectoryGenerator
 from trajopt.stability import perturbation_pairs, trajectory_gap
 
@@ -20,6 +20,8 @@ GAP_AT_1E7 = 1e-4
 #: ``gap/δ`` at the smallest δ may exceed the one at the largest by at most this factor (or be at most this).
 RATIO_GROWTH = 10.0
 DELTAS = (1e-3, 1e-5, 1e-7)
+#: Largest distance (m) of the hard path from the straight line just past the fast/hard switch (measured ≤ 6e-4).
+LINE_AT_SWITCH = 2e-3
 
 CASES: list[tuple[Track, int]] = [
     (Lollipop(1.0, 1.0), 1),
@@ -104,3 +106,66 @@ def test_perturbation_pairs_slow(track: Track, domain: int) -> None:
     """The issue's 1 000 seeded pairs per domain and track."""
     counts = _check_pairs(track, domain, 1000, seed=1000 + domain)
     assert counts["pairs"] == 1000
+
+
+def _switch_queries(n: int, seed: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Queries on both sides of the fast/hard switch: the straight line's clearance crosses the required one."""
+    from trajopt.fastpath import straight_line_clearance
+    from trajopt.generator import separation_margin
+    from trajopt.smoothing import RouteGeometry
+
+    gen = _gen(Lollipop(1.0, 1.0))
+    sep = gen.clearance + separation_margin(gen.limits, gen.rate)
+    rng = np.random.default_rng(seed)
+
+    def line(s: np.ndarray, g: np.ndarray) -> tuple[float, int]:
+        p = gen.plan(s, g)
+        return straight_line_clearance(p, RouteGeometry(p.track, p.routes)), p.domain
+
+    out = []
+    while len(out) < n:
+        s, g0, g1 = (rng.uniform(0.0, 1.999, 2) for _ in range(3))
+        try:
+            (c0, d0), (c1, d1) = line(s, g0), line(s, g1)
+        except MPAError:
+            continue
+        if d0 != d1 or not (c0 >= sep > c1 > 0):
+            continue
+        lo, hi = 0.0, 1.0
+        ok = True
+        for _ in range(60):
+            m = 0.5 * (lo + hi)
+            try:
+                c, d = line(s, g0 + m * (g1 - g0))
+            except MPAError:
+                ok = False
+                break
+            if d != d0:
+                ok = False
+                break
+            lo, hi = (m, hi) if c >= sep else (lo, m)
+        if ok:
+            out.append((s, g0 + lo * (g1 - g0), g0 + hi * (g1 - g0)))
+    return out
+
+
+def test_hard_path_converges_to_the_line_at_the_switch() -> None:
+    """Just past the switch the hard path's geometry is (nearly) the straight line; its timing costs a/j more.
+
+    The re-centred corridor converges to the line (the QP returns the line exactly once the corridor contains it;
+    near the contact point the balls shrink, so a finite number of re-centrings leaves up to
+    :data:`LINE_AT_SWITCH`). The motion time jumps by at most ``max(a/j)`` (the box filter of
+    :func:`trajopt.timing.filtered_scaling` against the single ruckig profile): the known jumps, reported.
+    """
+    gen = _gen(Lollipop(1.0, 1.0))
+    a_over_j = float(np.max(gen.limits.a / gen.limits.j))
+    for s, g_fast, g_hard in _switch_queries(4, seed=5):
+        fast, hard = gen.generate(s, g_fast), gen.generate(s, g_hard)
+        assert fast.solver_stats["path"] == "fast" and hard.solver_stats["path"] == "hard"
+        assert not fast.fallback and not hard.fallback
+        ends = np.asarray(hard.plan.waypoints_s)[[0, -1]]
+        q = hard.sampler(np.linspace(0.0, hard.motion_time, 501))[0]
+        u = (ends[1] - ends[0]) / np.linalg.norm(ends[1] - ends[0])
+        off = np.abs((q - ends[0]) @ np.array([-u[1], u[0]]))
+        assert float(np.max(off)) <= LINE_AT_SWITCH, (s.tolist(), g_hard.tolist(), float(np.max(off)))
+        assert 0.0 <= hard.motion_time - fast.motion_time <= a_over_j + 1e-3
