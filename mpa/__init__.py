@@ -7,6 +7,7 @@ paths as skeleton words), :mod:`mpa.topology` (topological complexity of the tra
 robots on any graph). numpy only.
 """
 
+from mpa.batch import BatchPlans, plan_many
 from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
 from mpa.graph import Edge, MetricGraph, farber_tc_of_graph
@@ -26,6 +27,7 @@ from mpa.topology import (
 from mpa.tracks import Circle, Interval, Lollipop, Track, make_track
 
 __all__ = [
+    "BatchPlans",
     "Circle",
     "CirclePlanner",
     "CircleSkeleton",
@@ -56,6 +58,7 @@ __all__ = [
     "make_track",
     "path_word",
     "plan",
+    "plan_many",
     "reduce_word",
     "retract",
     "rules_needed",
