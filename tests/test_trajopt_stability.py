@@ -22,6 +22,8 @@ RATIO_GROWTH = 10.0
 DELTAS = (1e-3, 1e-5, 1e-7)
 #: Largest distance (m) of the hard path from the straight line just past the fast/hard switch (measured ≤ 6e-4).
 LINE_AT_SWITCH = 2e-3
+#: Largest motion-time jump at the switch, in units of a/j (the plateau of a short move; measured ≤ 0.24).
+TIME_AT_SWITCH = 0.5
 
 CASES: list[tuple[Track, int]] = [
     (Lollipop(1.0, 1.0), 1),
@@ -150,13 +152,13 @@ def _switch_queries(n: int, seed: int) -> list[tuple[np.ndarray, np.ndarray, np.
 
 
 def test_hard_path_converges_to_the_line_at_the_switch() -> None:
-    """Just past the switch the hard path's geometry is (nearly) the straight line; its timing costs a/j more.
+    """Just past the switch the hard path is (nearly) the straight line and (nearly) the fast path's timing.
 
     The re-centred corridor converges to the line (the QP returns the line exactly once the corridor contains it;
     near the contact point the balls shrink, so a finite number of re-centrings leaves up to
-    :data:`LINE_AT_SWITCH`). The motion time jumps by about ``max(a/j)``, at most twice that (the box filter of
-    :func:`trajopt.timing.filtered_scaling` against the single ruckig profile, plus the small bend left): the
-    known jumps, reported.
+    :data:`LINE_AT_SWITCH`). The motion time matches the single ruckig profile on long moves (the filtered
+    trapezoid is that profile) and jumps by at most :data:`TIME_AT_SWITCH` times ``a/j`` on short ones (the peak
+    plateau of :func:`trajopt.timing.filtered_scaling`): the known jumps, reported.
     """
     gen = _gen(Lollipop(1.0, 1.0))
     a_over_j = float(np.max(gen.limits.a / gen.limits.j))
@@ -169,4 +171,4 @@ def test_hard_path_converges_to_the_line_at_the_switch() -> None:
         u = (ends[1] - ends[0]) / np.linalg.norm(ends[1] - ends[0])
         off = np.abs((q - ends[0]) @ np.array([-u[1], u[0]]))
         assert float(np.max(off)) <= LINE_AT_SWITCH, (s.tolist(), g_hard.tolist(), float(np.max(off)))
-        assert 0.0 <= hard.motion_time - fast.motion_time <= 2 * a_over_j  # measured 0.20-0.31 s
+        assert 0.0 <= hard.motion_time - fast.motion_time <= TIME_AT_SWITCH * a_over_j

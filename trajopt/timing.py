@@ -692,25 +692,72 @@ def _window_min(values: FloatArray, breaks: FloatArray, lo: FloatArray, hi: Floa
     return np.min(np.where(inside, values[None, :], np.inf), axis=1)
 
 
+def _topp_passes(cap: FloatArray, two_a_ds: FloatArray) -> FloatArray:
+    """Forward and backward passes on ``ṡ²``: the largest profile under ``cap`` with ``|Δṡ²| ≤ 2·a·Δs``."""
+    b = cap.copy()
+    b[0] = 0.0
+    for i in range(len(two_a_ds)):  # forward
+        nb = b[i] + two_a_ds[i]
+        if nb < b[i + 1]:
+            b[i + 1] = nb
+    for i in range(len(two_a_ds) - 1, -1, -1):  # backward
+        nb = b[i + 1] + two_a_ds[i]
+        if nb < b[i]:
+            b[i] = nb
+    return np.maximum(b, 0.0)
+
+
+def _window_extreme(grid: FloatArray, f: FloatArray, r: float, fn: Any) -> FloatArray:
+    """``fn`` (np.minimum or np.maximum) of the piecewise-linear ``f`` over ``[x − r, x + r]`` at every grid point."""
+    n = len(grid)
+    lo = np.searchsorted(grid, grid - r, side="left")
+    hi = np.searchsorted(grid, grid + r, side="right") - 1
+    # sparse table of range extremes over the grid values
+    table = [f]
+    k = 1
+    while 2 * k <= n:
+        prev = table[-1]
+        table.append(fn(prev[: len(prev) - k], prev[k:]))
+        k *= 2
+    length = np.maximum(hi - lo + 1, 1)
+    lev = np.floor(np.log2(length)).astype(int)
+    out = np.empty(n)
+    for level in np.unique(lev):
+        sel = lev == level
+        t = table[level]
+        span = 1 << int(level)
+        out[sel] = fn(t[lo[sel]], t[np.maximum(hi[sel] - span + 1, lo[sel])])
+    ends = np.stack([np.interp(grid - r, grid, f), np.interp(grid + r, grid, f)])
+    return np.asarray(fn(out, fn(ends[0], ends[1])))
+
+
+def _opening(grid: FloatArray, f: FloatArray, r: float) -> FloatArray:
+    """Morphological opening of ``f`` with the window ``[−r, r]``: narrow peaks become plateaus ``2r`` wide."""
+    return _window_extreme(grid, _window_extreme(grid, f, r, np.minimum), r, np.maximum)
+
+
 def filtered_scaling(
     path: BlendedPath, limits: Limits, per_interval: int = 4, safety: float = 1.0 - 1e-9
 ) -> TimeScaling:
     """A jerk-limited timing of ``path`` that depends continuously on the path: a v/a-limited profile, box-filtered.
 
     1. Per-piece 1-DoF limits ``(v_k, a_k, j_k)`` of the path parameter (:func:`piece_limits`).
-    2. Filter width ``τ = 2·max_r A_r / J_r`` (the robots' limits), ``a_k ← min(a_k, τ·j_k/2)`` and reach
+    2. Filter width ``τ = max_r A_r / J_r`` (the robots' limits), ``a_k ← min(a_k, τ·j_k)`` and reach
        ``Δ = τ·max_k v_k``; the limits are *eroded*: at ``s`` the minimum over the pieces within ``[s − Δ, s + Δ]``.
     3. The time-optimal v/a-limited profile with the eroded limits (forward and backward pass on ``ṡ²``, exact
        on a grid that subdivides, ``per_interval`` times, the intervals between the points ``breaks ± Δ`` and
-       ``breaks``; a fixed count, and the eroded limits are constant on every interval). Corners marked ``stop``
-       are passed at rest.
+       ``breaks``; a fixed count, and the eroded limits are constant on every interval); then every speed peak is
+       flattened into a plateau at least ``τ`` long (a morphological opening of ``ṡ²``, then the passes again), so
+       the acceleration never swings from ``+a`` to ``−a`` within ``τ`` (valleys are flat already: the eroded
+       limits are constant over ``2Δ``).
     4. ``s̃(t) = (1/τ)∫_{t−τ}^{t} s``: the filtered ``ṡ, s̈`` are averages of the input's over a window in which the
        input stays within ``Δ`` of ``s̃``, so they keep the limits of the piece under ``s̃``; the jerk
-       ``(s̈(t) − s̈(t−τ))/τ`` is at most ``2·a/τ ≤ j``. Rest to rest, duration ``T + τ``.
+       ``(s̈(t) − s̈(t−τ))/τ`` is at most ``a/τ ≤ j``. Rest to rest, duration ``T + τ``.
 
     Every step is a continuous function of the path's pieces (fixed structure), unlike a per-piece chain whose
-    boundaries are passed at zero acceleration. On a straight line it costs ``a/j`` more than the optimal
-    single profile.
+    boundaries are passed at zero acceleration. On a long straight line it is the optimal single profile
+    (trapezoidal acceleration); on a short one (no cruise) the plateau costs a little. The verification gate
+    re-checks every limit.
 
     Returns
     -------
@@ -724,8 +771,8 @@ def filtered_scaling(
         return TimeScaling(path, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, np.zeros(P + 1))
     pl = piece_limits(path, limits, safety)
     br = path.breaks
-    tau = 2.0 * float(np.max(limits.a / limits.j))
-    a_lim = np.minimum(pl.a, 0.5 * tau * pl.j)
+    tau = float(np.max(limits.a / limits.j))
+    a_lim = np.minimum(pl.a, tau * pl.j)
     reach = tau * float(np.max(pl.v))
     pts = np.sort(np.clip(np.concatenate([br, br - reach, br + reach]), 0.0, S))
     m = int(per_interval)
@@ -740,17 +787,12 @@ def filtered_scaling(
     cap[1:-1] = np.minimum(v_int[:-1], v_int[1:]) ** 2
     stops = br[path.stop]
     cap[np.isin(grid, stops)] = 0.0
-    b = cap.copy()
-    b[0] = 0.0
     two_a_ds = 2.0 * a_int * ds
-    for i in range(len(ds)):  # forward
-        nb = b[i] + two_a_ds[i]
-        if nb < b[i + 1]:
-            b[i + 1] = nb
-    for i in range(len(ds) - 1, -1, -1):  # backward
-        nb = b[i + 1] + two_a_ds[i]
-        if nb < b[i]:
-            b[i] = nb
+    b = _topp_passes(cap, two_a_ds)
+    # flat tops: every speed peak becomes a plateau at least τ long (an opening of ṡ² over ±r, r ≥ vmax·τ/2
+    # plus the grid step), so the input's acceleration never swings from +a to −a within τ
+    r = 0.5 * reach + float(np.max(ds, initial=0.0))
+    b = _topp_passes(np.minimum(b, _opening(grid, b, r)), two_a_ds)
     b = np.maximum(b, 0.0)
     sq = np.sqrt(b)
     den = sq[:-1] + sq[1:]
