@@ -2,8 +2,9 @@
 
 Seeded perturbation pairs (:mod:`trajopt.stability`): a query and the query moved by δ in a random direction, both
 in the same domain. The gap (sup over normalised time of the robots' graph distance, and the motion-time change)
-must be at most :data:`GAP_AT_1E7` for δ = 1e-7 and ``gap/δ`` must not grow as δ shrinks (a jump would make it
-grow like 1/δ). CI runs 30 pairs per domain; the 1 000 of the issue are in the ``slow`` test.
+must be at most :data:`GAP_AT_1E7` for δ = 1e-7 and ``gap/δ`` must not grow as δ shrinks from 1e-5 to 1e-7 (a
+jump would make it grow like 1/δ; the measured local Lipschitz constants reach about 100 in domain 2).
+CI runs 30 pairs per domain; the 1 000 of the issue are in the ``slow`` test.
 """
 
 from __future__ import annotations
@@ -17,9 +18,10 @@ from trajopt.stability import perturbation_pairs, trajectory_gap
 
 #: The issue's goal: sup gap at δ = 1e-7 (metres, and seconds for the motion time).
 GAP_AT_1E7 = 1e-4
-#: ``gap/δ`` at the smallest δ may exceed the one at the largest by at most this factor (or be at most this).
+#: ``gap/δ`` at δ = 1e-7 may exceed the one at 1e-5 by at most this factor: a jump would make it grow 100-fold
+#: over two decades; a continuous, piecewise-affine dependence keeps it flat (a kink in between may change it).
 RATIO_GROWTH = 10.0
-DELTAS = (1e-3, 1e-5, 1e-7)
+DELTAS = (1e-3, 1e-5, 1e-6, 1e-7)
 #: Largest distance (m) of the hard path from the straight line just past the fast/hard switch (measured ≤ 6e-4).
 LINE_AT_SWITCH = 2e-3
 #: Largest motion-time jump at the switch, in units of a/j (the plateau of a short move; measured ≤ 0.24).
@@ -65,7 +67,7 @@ def _check_pairs(track: Track, domain: int, n: int, seed: int, hard_only: bool =
             ratios[d] = max(gap, dt) / d
             if d == 1e-7:
                 assert gap <= GAP_AT_1E7 and dt <= GAP_AT_1E7, f"{case}: gap {gap:.3g} m, {dt:.3g} s at δ = 1e-7"
-        assert ratios[DELTAS[-1]] <= RATIO_GROWTH * max(ratios[DELTAS[0]], 1.0), f"{case}: gap/δ {ratios}"
+        assert ratios[1e-7] <= RATIO_GROWTH * max(ratios[1e-5], 1.0), f"{case}: gap/δ {ratios}"
         counts["pairs"] += 1
         counts["hard"] += base.solver_stats.get("path") == "hard"
         if counts["pairs"] >= n:
