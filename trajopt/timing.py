@@ -213,24 +213,39 @@ class BlendedPath:
 
 
 def _piece_bounds(coef: FloatArray, length: float) -> FloatArray:
-    """Rigorous bounds (shape (3, 2)) of ``|q'|, |q''|, |q'''|`` per joint on a polynomial piece."""
-    if length <= 0:
-        return np.zeros((3, 2))
-    n = 257
-    tau = np.linspace(0.0, length, n)
-    h = length / (n - 1)
+    """Rigorous bounds (shape (3, 2)) of the first three derivatives' magnitudes per joint on a polynomial piece."""
+    return _piece_bounds_many(coef[None], np.array([length]))[0]
+
+
+def _piece_bounds_many(coef: FloatArray, length: FloatArray, n: int = 257) -> FloatArray:
+    """:func:`_piece_bounds` of many pieces at once: ``coef`` shape (P, 6, 2), ``length`` (P,); shape (P, 3, 2).
+
+    Dense evaluation at ``n`` points plus the next derivative's bound times half the step (the fourth derivative
+    of a quintic is linear: its maximum is at an end, exactly).
+    """
+    P = len(coef)
+    out = np.zeros((P, 3, 2))
+    ok = length > 0
+    if not np.any(ok):
+        return out
+    c = coef[ok]
+    L = length[ok]
+    x = np.linspace(0.0, 1.0, n)[None, :] * L[:, None]  # (p, n)
+    h = L / (n - 1)
     ders = []
     for order in (1, 2, 3, 4):
-        val = np.zeros((n, 2))
+        val = np.zeros((len(c), n, 2))
         for i in range(order, 6):
             fac = float(np.prod(np.arange(i - order + 1, i + 1)))
-            val += fac * coef[i] * (tau ** (i - order))[:, None]
-        ders.append(np.max(np.abs(val), axis=0))
-    m4 = ders[3]  # q'''' is linear in τ: its maximum is at an end, exactly
-    m3 = ders[2] + m4 * h / 2
-    m2 = ders[1] + m3 * h / 2
-    m1 = ders[0] + m2 * h / 2
-    return np.stack([m1, m2, m3]) * (1 + 1e-9)
+            val += fac * c[:, None, i, :] * (x ** (i - order))[:, :, None]
+        ders.append(np.max(np.abs(val), axis=1))  # (p, 2)
+    hh = (h / 2)[:, None]
+    m4 = ders[3]
+    m3 = ders[2] + m4 * hh
+    m2 = ders[1] + m3 * hh
+    m1 = ders[0] + m2 * hh
+    out[ok] = np.stack([m1, m2, m3], axis=1) * (1 + 1e-9)
+    return out
 
 
 def _blend_ctrl(c: FloatArray, u1: FloatArray, u2: FloatArray, r: float) -> FloatArray:
@@ -396,7 +411,7 @@ def spline_path(control: ArrayLike, span: float | None = None) -> BlendedPath:
     coef[:, 2] = (p0 - 2 * p1 + p2) / 2 / span**2
     coef[:, 3] = (-p0 + 3 * p1 - 3 * p2 + p3) / 6 / span**3
     coef[0, 0], coef[-1, 0] = c[0], coef[-1, 0]
-    bounds = np.array([_piece_bounds(coef[k], span) for k in range(n)])
+    bounds = _piece_bounds_many(coef, np.full(n, span))
     stop = np.zeros(n + 1, dtype=bool)
     stop[0] = stop[-1] = True
     return BlendedPath(
@@ -423,29 +438,24 @@ class PieceLimits:
 def piece_limits(path: BlendedPath, limits: Limits, safety: float = 1.0) -> PieceLimits:
     """Limits of ``s`` on every piece that keep every joint within ``limits`` (see module docstring)."""
     V, A, J = limits.v * safety, limits.a * safety, limits.j * safety
-    n = len(path.coef)
-    vs, as_, js = np.zeros(n), np.zeros(n), np.zeros(n)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for k in range(n):
-            m1, m2, m3 = path.bounds[k]
-            if not path.is_blend[k]:
-                vs[k] = np.min(np.where(m1 > 0, V / m1, np.inf))
-                as_[k] = np.min(np.where(m1 > 0, A / m1, np.inf))
-                js[k] = np.min(np.where(m1 > 0, J / m1, np.inf))
-                continue
-            v = np.min(
-                np.minimum.reduce(
-                    [
-                        np.where(m1 > 0, V / m1, np.inf),
-                        np.where(m2 > 0, np.sqrt(0.5 * A / m2), np.inf),
-                        np.where(m3 > 0, np.cbrt(0.5 * J / m3), np.inf),
-                    ]
-                )
-            )
-            a = np.min(np.where(m1 > 0, (A - m2 * v * v) / m1, np.inf))
-            a = min(a, float(np.min(np.where(m2 > 0, 0.5 * (J - m3 * v**3) / (3 * m2 * v), np.inf))))
-            j = np.min(np.where(m1 > 0, (J - m3 * v**3 - 3 * m2 * v * a) / m1, np.inf))
-            vs[k], as_[k], js[k] = v, a, j
+    m1, m2, m3 = path.bounds[:, 0], path.bounds[:, 1], path.bounds[:, 2]  # (P, 2) each
+    inf = np.inf
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        v_lin = np.where(m1 > 0, V / m1, inf)
+        v = np.min(
+            np.minimum.reduce(
+                [v_lin, np.where(m2 > 0, np.sqrt(0.5 * A / m2), inf), np.where(m3 > 0, np.cbrt(0.5 * J / m3), inf)]
+            ),
+            axis=1,
+        )
+        vc = v[:, None]
+        a = np.min(np.where(m1 > 0, (A - m2 * vc * vc) / m1, inf), axis=1)
+        a = np.minimum(a, np.min(np.where(m2 > 0, 0.5 * (J - m3 * vc**3) / (3 * m2 * vc), inf), axis=1))
+        j = np.min(np.where(m1 > 0, (J - m3 * vc**3 - 3 * m2 * vc * a[:, None]) / m1, inf), axis=1)
+        straight = ~np.asarray(path.is_blend, dtype=bool)
+        vs = np.where(straight, np.min(v_lin, axis=1), v)
+        as_ = np.where(straight, np.min(np.where(m1 > 0, A / m1, inf), axis=1), a)
+        js = np.where(straight, np.min(np.where(m1 > 0, J / m1, inf), axis=1), j)
     if not (np.all(np.isfinite(vs)) and np.all(vs > 0) and np.all(as_ > 0) and np.all(js > 0)):
         bad = PieceLimits(vs, as_, js)
         raise PlanningError(f"no valid 1-DoF limits on some piece: {bad}")
