@@ -217,6 +217,25 @@ def _piece_bounds(coef: FloatArray, length: float) -> FloatArray:
     return _piece_bounds_many(coef[None], np.array([length]))[0]
 
 
+def _cubic_bounds(coef: FloatArray, length: float) -> FloatArray:
+    """Exact bounds (shape (P, 3, 2)) of the first three derivatives' magnitudes of cubic pieces on ``[0, length]``.
+
+    The third derivative is constant, the second linear (extremes at the ends), the first quadratic (ends or its
+    vertex); a maximum of continuous functions of the coefficients, so continuous too.
+    """
+    c1, c2, c3 = coef[:, 1], coef[:, 2], coef[:, 3]
+    L = float(length)
+    d1 = [np.abs(c1), np.abs(c1 + 2 * c2 * L + 3 * c3 * L * L)]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tv = np.where(c3 != 0, -c2 / (3 * c3), -1.0)
+    inside = (tv > 0) & (tv < L)
+    d1.append(np.where(inside, np.abs(c1 + 2 * c2 * tv + 3 * c3 * tv * tv), 0.0))
+    m1 = np.maximum.reduce(d1)
+    m2 = np.maximum(np.abs(2 * c2), np.abs(2 * c2 + 6 * c3 * L))
+    m3 = np.abs(6 * c3)
+    return np.stack([m1, m2, m3], axis=1) * (1 + 1e-9)
+
+
 def _piece_bounds_many(coef: FloatArray, length: FloatArray, n: int = 257) -> FloatArray:
     """:func:`_piece_bounds` of many pieces at once: ``coef`` shape (P, 6, 2), ``length`` (P,); shape (P, 3, 2).
 
@@ -411,7 +430,7 @@ def spline_path(control: ArrayLike, span: float | None = None) -> BlendedPath:
     coef[:, 2] = (p0 - 2 * p1 + p2) / 2 / span**2
     coef[:, 3] = (-p0 + 3 * p1 - 3 * p2 + p3) / 6 / span**3
     coef[0, 0], coef[-1, 0] = c[0], coef[-1, 0]
-    bounds = _piece_bounds_many(coef, np.full(n, span))
+    bounds = _cubic_bounds(coef, span)
     stop = np.zeros(n + 1, dtype=bool)
     stop[0] = stop[-1] = True
     return BlendedPath(
