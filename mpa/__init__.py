@@ -9,6 +9,7 @@ unwrapped coordinates), :mod:`mpa.errors` (the error family). numpy only.
 """
 
 from mpa._version import __version__
+from mpa.batch import BatchPlans, plan_many
 from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
 from mpa.freespace import FreeSpace, free_space
@@ -31,6 +32,7 @@ from mpa.topology import (
 from mpa.tracks import Circle, Interval, Lollipop, Track, make_track
 
 __all__ = [
+    "BatchPlans",
     "Circle",
     "CirclePlanner",
     "CircleSkeleton",
@@ -62,6 +64,7 @@ __all__ = [
     "make_track",
     "path_word",
     "plan",
+    "plan_many",
     "reduce_word",
     "retract",
     "rules_needed",

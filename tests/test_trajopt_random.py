@@ -122,7 +122,8 @@ def test_fallback_is_verified_plan(monkeypatch) -> None:  # type: ignore[no-unty
     def boom(*args, **kwargs):  # type: ignore[no-untyped-def]
         raise PlanningError("IPOPT failed: test")
 
-    monkeypatch.setattr(genmod, "smooth_plan", boom)
+    monkeypatch.setattr(genmod, "hard_path_scaling", boom)
+    monkeypatch.setattr(genmod, "straight_scaling", boom)
     track = Lollipop(1.0, 1.0)
     traj = TrajectoryGenerator(track).generate((0.2, 0.5), (0.5, 0.2))
     assert traj.fallback and "IPOPT failed: test" in traj.fallback_reason

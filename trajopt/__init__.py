@@ -1,20 +1,43 @@
 """trajopt: optimisation-based, jerk-limited trajectories on the plans of :mod:`mpa`, exported as setpoints.
 
-The pipeline has one module per stage: :mod:`trajopt.smoothing` (CasADi/IPOPT in the plan's homotopy class),
-:mod:`trajopt.timing` (C² path, toppra time parametrization, 1-DoF ruckig jerk limiting),
+The pipeline has one module per stage: :mod:`trajopt.fastpath` (a query whose straight route-coordinate motion
+keeps the clearance: one phase-synchronised ruckig profile), :mod:`trajopt.corridor` (the hard path: a strictly
+convex QP in a corridor fixed by the plan, continuous in the query), :mod:`trajopt.smoothing` (route geometry,
+exact clearances; the earlier IPOPT smoothing), :mod:`trajopt.timing` (C² paths and their jerk-limited timing),
 :mod:`trajopt.verify` (the independent gate), :mod:`trajopt.export` (the :class:`Trajectory` result, CSV/JSON)
-and :mod:`trajopt.generator` (the pipeline with its fallback). The drawings (:mod:`trajopt.viz`) and the command
-line (:mod:`trajopt.cli`, one module per subcommand) sit on top; the pipeline imports neither, and nothing else in
-:mod:`trajopt` imports matplotlib.
+and :mod:`trajopt.generator` (the pipeline with its fallback); :mod:`trajopt.stability` measures continuity. The
+drawings (:mod:`trajopt.viz`) and the command line (:mod:`trajopt.cli`, one module per subcommand) sit on top; the
+pipeline imports neither, and nothing else in :mod:`trajopt` imports matplotlib.
 
 Conventions: arrays are ``(N, 2)`` with robot A in column 0 and B in column 1, time is ``t``, SI units (m, s),
 limits are per robot on the route coordinate ``s`` (signed distance along the robot's own route).
+
+Names are imported on first use (PEP 562), so ``import trajopt.cli`` does not load the pipeline, CasADi, toppra
+or ruckig before a command needs them.
 """
 
-from trajopt.export import CSV_COLUMNS, Source, Trajectory
-from trajopt.generator import TrajectoryGenerator, generate_trajectory
-from trajopt.timing import Limits
-from trajopt.verify import VerificationError, VerificationReport, verify_setpoints
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # pragma: no cover
+    from trajopt.export import CSV_COLUMNS, Source, Trajectory
+    from trajopt.generator import TrajectoryGenerator, generate_trajectory
+    from trajopt.timing import Limits
+    from trajopt.verify import VerificationError, VerificationReport, verify_setpoints
+
+_WHERE = {
+    "CSV_COLUMNS": "trajopt.export",
+    "Source": "trajopt.export",
+    "Trajectory": "trajopt.export",
+    "TrajectoryGenerator": "trajopt.generator",
+    "generate_trajectory": "trajopt.generator",
+    "Limits": "trajopt.timing",
+    "VerificationError": "trajopt.verify",
+    "VerificationReport": "trajopt.verify",
+    "verify_setpoints": "trajopt.verify",
+}
 
 __all__ = [
     "CSV_COLUMNS",
@@ -27,3 +50,15 @@ __all__ = [
     "generate_trajectory",
     "verify_setpoints",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _WHERE:
+        value = getattr(importlib.import_module(_WHERE[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'trajopt' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *__all__])

@@ -21,9 +21,11 @@ from mpa.errors import InvalidInputError, MPAError, PlanningError
 from mpa.plan import Plan
 from mpa.planners import Planner, make_planner
 from mpa.tracks import Track
+from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
 from trajopt.export import Source, Trajectory, check_rate, time_grid
-from trajopt.smoothing import RouteGeometry, smooth_plan
-from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling, toppra_profile
+from trajopt.fastpath import straight_line_clearance, straight_scaling
+from trajopt.smoothing import RouteGeometry
+from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling
 from trajopt.verify import VerificationError, VerificationReport, verify_setpoints
 
 __all__ = ["RATE_LADDER", "TrajectoryGenerator", "generate_trajectory", "separation_margin"]
@@ -75,6 +77,7 @@ class TrajectoryGenerator:
     rate: float = defaults.RATE
     optimize: bool = True
     planner: Planner = field(init=False, repr=False)
+    _corridor: CorridorProblem | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.limits, Limits):
@@ -231,25 +234,16 @@ class TrajectoryGenerator:
     def _optimized(self, plan: Plan, geom: RouteGeometry, timings: dict[str, Any], stats: dict[str, Any]) -> Trajectory:
         sep = self.clearance + separation_margin(self.limits, self.rate)
         t0 = time.perf_counter()
-        sm = smooth_plan(plan, sep, self.limits.v, geom)
-        stats.update(sm.stats)
-        t1 = time.perf_counter()
-        timings["smooth"] = t1 - t0
-        d_ends = min(float(geom.distance(sm.nodes[0])), float(geom.distance(sm.nodes[-1])))
-        path = blend_polyline(sm.nodes, geom.polyline_min_distance, min(sep, d_ends))
-        t2 = time.perf_counter()
-        timings["blend"] = t2 - t1
-        caps = None
-        if path.length > 0:
-            grid, sd, dur = toppra_profile(path, self.limits)
-            caps = sd[np.searchsorted(grid, path.breaks).clip(0, len(grid) - 1)]
-            stats["toppra_duration"] = dur
-        t3 = time.perf_counter()
-        timings["retime"] = t3 - t2
-        scaling = jerk_limited_scaling(path, self.limits, caps)
-        timings["jerk"] = time.perf_counter() - t3
-        stats.update(scaling.stats)
-        stats["blend_radii"] = path.radii.tolist()
+        line = straight_line_clearance(plan, geom)
+        if line >= sep or plan.length <= 0:  # the fast path: one phase-synchronised profile along the straight line
+            scaling = straight_scaling(plan, self.limits)
+            timings["jerk"] = time.perf_counter() - t0
+            stats.update(scaling.stats, path="fast", line_clearance=line)
+        else:
+            if self._corridor is None:
+                self._corridor = CorridorProblem(CORRIDOR_SEGMENTS, self.limits.v)
+            scaling, st = hard_path_scaling(plan, geom, sep, self.limits, self._corridor, timings)
+            stats.update(st, path="hard", line_clearance=line)
         return self._finish(plan, scaling, Source.OPTIMIZED, "", stats, timings)
 
     def _finish(

@@ -188,7 +188,17 @@ class RouteGeometry:
         p = np.atleast_2d(np.asarray(pts, dtype=float))
         if len(p) == 1:
             return float(self.distance(p)[0])
-        q = self._split_at_junctions(p)
+        return float(np.min(self.segment_min_distances(p)))
+
+    def segment_min_distances(self, pts: ArrayLike) -> FloatArray:
+        """Exact minimum of the separation along every chord of the polyline ``pts`` (shape (n, 2)). Shape (n−1,).
+
+        A continuous function of the chord ends (the separation is continuous and piecewise affine).
+        """
+        p = np.atleast_2d(np.asarray(pts, dtype=float))
+        if len(p) < 2:
+            return np.zeros(0)
+        q, owner = self._split_at_junctions(p, with_owner=True)
         a, b = q[:-1], q[1:]
         mid = 0.5 * (a + b)
         ia, ib = self.interval(0, mid[:, 0]), self.interval(1, mid[:, 1])
@@ -197,34 +207,40 @@ class RouteGeometry:
         vb0, vb1 = self.intercept[1][ib] + sb * a[:, 1], self.intercept[1][ib] + sb * b[:, 1]
         tr = self.track
         if isinstance(tr, Interval):
-            return float(np.min(_abs_affine_min(va0 - vb0, va1 - vb1)))
-        c = tr.loop  # type: ignore[attr-defined]
-        st_a, st_b = self.is_stick[0][ia], self.is_stick[1][ib]
-        out = np.full(len(a), np.inf)
-        ss = st_a & st_b
-        out[ss] = _abs_affine_min((va0 - vb0)[ss], (va1 - vb1)[ss])
-        sl = st_a ^ st_b
-        if np.any(sl):
-            x0 = np.where(st_a, va0, vb0)[sl]
-            x1 = np.where(st_a, va1, vb1)[sl]
-            u0 = np.where(st_a, vb0, va0)[sl]
-            u1 = np.where(st_a, vb1, va1)[sl]
-            um = 0.5 * (u0 + u1)
-            m = np.floor(um / c)
-            th0, th1 = u0 - m * c, u1 - m * c
-            out[sl] = np.minimum.reduce([x0 + th0, x1 + th1, x0 + c - th0, x1 + c - th1])
-        ll = ~(st_a | st_b)
-        if np.any(ll):
-            w0, w1 = (va0 - vb0)[ll], (va1 - vb1)[ll]
-            m0, m1 = np.floor(w0 / c), np.floor(w1 / c)
-            m = m0
-            r0, r1 = w0 - m * c, w1 - m * c
-            dd = np.minimum.reduce([r0, c - r0, r1, c - r1])
-            out[ll] = np.where(m0 != m1, 0.0, dd)
-        return float(np.min(out))
+            out = _abs_affine_min(va0 - vb0, va1 - vb1)
+        else:
+            c = tr.loop  # type: ignore[attr-defined]
+            st_a, st_b = self.is_stick[0][ia], self.is_stick[1][ib]
+            out = np.full(len(a), np.inf)
+            ss = st_a & st_b
+            out[ss] = _abs_affine_min((va0 - vb0)[ss], (va1 - vb1)[ss])
+            sl = st_a ^ st_b
+            if np.any(sl):
+                x0 = np.where(st_a, va0, vb0)[sl]
+                x1 = np.where(st_a, va1, vb1)[sl]
+                u0 = np.where(st_a, vb0, va0)[sl]
+                u1 = np.where(st_a, vb1, va1)[sl]
+                um = 0.5 * (u0 + u1)
+                m = np.floor(um / c)
+                th0, th1 = u0 - m * c, u1 - m * c
+                out[sl] = np.minimum.reduce([x0 + th0, x1 + th1, x0 + c - th0, x1 + c - th1])
+            ll = ~(st_a | st_b)
+            if np.any(ll):
+                w0, w1 = (va0 - vb0)[ll], (va1 - vb1)[ll]
+                m0, m1 = np.floor(w0 / c), np.floor(w1 / c)
+                m = m0
+                r0, r1 = w0 - m * c, w1 - m * c
+                dd = np.minimum.reduce([r0, c - r0, r1, c - r1])
+                out[ll] = np.where(m0 != m1, 0.0, dd)
+        res = np.full(len(p) - 1, np.inf)
+        np.minimum.at(res, owner, out)
+        return res
 
-    def _split_at_junctions(self, p: FloatArray) -> FloatArray:
-        """Insert the points where a chord crosses a junction (so every chord lies in one rectangle)."""
+    def _split_at_junctions(self, p: FloatArray, with_owner: bool = False) -> Any:
+        """Insert the points where a chord crosses a junction (so every chord lies in one rectangle).
+
+        With ``with_owner`` also returns, for every piece of the result, the index of the chord it comes from.
+        """
         ts = [np.zeros(len(p) - 1)]
         idx = [np.arange(len(p) - 1)]
         for r in (0, 1):
@@ -244,6 +260,8 @@ class RouteGeometry:
         order = np.lexsort((t_all, i_all))
         t_all, i_all = t_all[order], i_all[order]
         q = p[i_all] + t_all[:, None] * (p[i_all + 1] - p[i_all])
+        if with_owner:
+            return np.vstack([q, p[-1:]]), i_all
         return np.vstack([q, p[-1:]])
 
 

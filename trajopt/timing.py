@@ -40,8 +40,10 @@ __all__ = [
     "PieceLimits",
     "TimeScaling",
     "blend_polyline",
+    "filtered_scaling",
     "jerk_limited_scaling",
     "min_time_rest_to_rest",
+    "spline_path",
     "toppra_profile",
 ]
 
@@ -212,29 +214,73 @@ class BlendedPath:
 
 
 def _piece_bounds(coef: FloatArray, length: float) -> FloatArray:
-    """Rigorous bounds (shape (3, 2)) of ``|q'|, |q''|, |q'''|`` per joint on a polynomial piece."""
-    if length <= 0:
-        return np.zeros((3, 2))
-    n = 257
-    tau = np.linspace(0.0, length, n)
-    h = length / (n - 1)
+    """Rigorous bounds (shape (3, 2)) of the first three derivatives' magnitudes per joint on a polynomial piece."""
+    return _piece_bounds_many(coef[None], np.array([length]))[0]
+
+
+def _cubic_bounds(coef: FloatArray, length: float) -> FloatArray:
+    """Exact bounds (shape (P, 3, 2)) of the first three derivatives' magnitudes of cubic pieces on ``[0, length]``.
+
+    The third derivative is constant, the second linear (extremes at the ends), the first quadratic (ends or its
+    vertex); a maximum of continuous functions of the coefficients, so continuous too.
+    """
+    c1, c2, c3 = coef[:, 1], coef[:, 2], coef[:, 3]
+    L = float(length)
+    d1 = [np.abs(c1), np.abs(c1 + 2 * c2 * L + 3 * c3 * L * L)]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tv = np.where(c3 != 0, -c2 / (3 * c3), -1.0)
+    inside = (tv > 0) & (tv < L)
+    d1.append(np.where(inside, np.abs(c1 + 2 * c2 * tv + 3 * c3 * tv * tv), 0.0))
+    m1 = np.maximum.reduce(d1)
+    m2 = np.maximum(np.abs(2 * c2), np.abs(2 * c2 + 6 * c3 * L))
+    m3 = np.abs(6 * c3)
+    return np.stack([m1, m2, m3], axis=1) * (1 + 1e-9)
+
+
+def _piece_bounds_many(coef: FloatArray, length: FloatArray, n: int = 257) -> FloatArray:
+    """:func:`_piece_bounds` of many pieces at once: ``coef`` shape (P, 6, 2), ``length`` (P,); shape (P, 3, 2).
+
+    Dense evaluation at ``n`` points plus the next derivative's bound times half the step (the fourth derivative
+    of a quintic is linear: its maximum is at an end, exactly).
+    """
+    P = len(coef)
+    out = np.zeros((P, 3, 2))
+    ok = length > 0
+    if not np.any(ok):
+        return out
+    c = coef[ok]
+    L = length[ok]
+    x = np.linspace(0.0, 1.0, n)[None, :] * L[:, None]  # (p, n)
+    h = L / (n - 1)
     ders = []
     for order in (1, 2, 3, 4):
-        val = np.zeros((n, 2))
+        val = np.zeros((len(c), n, 2))
         for i in range(order, 6):
             fac = float(np.prod(np.arange(i - order + 1, i + 1)))
-            val += fac * coef[i] * (tau ** (i - order))[:, None]
-        ders.append(np.max(np.abs(val), axis=0))
-    m4 = ders[3]  # q'''' is linear in τ: its maximum is at an end, exactly
-    m3 = ders[2] + m4 * h / 2
-    m2 = ders[1] + m3 * h / 2
-    m1 = ders[0] + m2 * h / 2
-    return np.stack([m1, m2, m3]) * (1 + 1e-9)
+            val += fac * c[:, None, i, :] * (x ** (i - order))[:, :, None]
+        ders.append(np.max(np.abs(val), axis=1))  # (p, 2)
+    hh = (h / 2)[:, None]
+    m4 = ders[3]
+    m3 = ders[2] + m4 * hh
+    m2 = ders[1] + m3 * hh
+    m1 = ders[0] + m2 * hh
+    out[ok] = np.stack([m1, m2, m3], axis=1) * (1 + 1e-9)
+    return out
 
 
 def _blend_ctrl(c: FloatArray, u1: FloatArray, u2: FloatArray, r: float) -> FloatArray:
     p1, p2 = c - r * u1, c + r * u2
     return np.array([p1, p1 + 0.5 * r * u1, c, c, p2 - 0.5 * r * u2, p2])
+
+
+def _even_blend_ctrl(c: FloatArray, u1: FloatArray, u2: FloatArray, r: float) -> FloatArray:
+    """Control points ``C − r·u1, C − 0.6r·u1, C − 0.2r·u1, C + 0.2r·u2, C + 0.6r·u2, C + r·u2``.
+
+    With the parameter length ``2r`` the blend leaves and joins the lines at unit speed with zero curvature (C²),
+    lies in the triangle ``(C − r·u1, C, C + r·u2)``, and a straight corner (``u1 = u2``) is the line itself at
+    unit speed: the blend degenerates continuously.
+    """
+    return np.array([c - r * u1, c - 0.6 * r * u1, c - 0.2 * r * u1, c + 0.2 * r * u2, c + 0.6 * r * u2, c + r * u2])
 
 
 def _bezier_points(ctrl: FloatArray, n: int) -> FloatArray:
@@ -246,7 +292,11 @@ def _bezier_points(ctrl: FloatArray, n: int) -> FloatArray:
 
 
 def blend_polyline(
-    corners: ArrayLike, min_distance: Any = None, separation: float = 0.0, radius_cap: float = np.inf
+    corners: ArrayLike,
+    min_distance: Any = None,
+    separation: float = 0.0,
+    radius_cap: float = np.inf,
+    radii: ArrayLike | None = None,
 ) -> BlendedPath:
     """Build the C² path through a polyline with collision-checked corner blends.
 
@@ -261,6 +311,11 @@ def blend_polyline(
         Separation every blend must keep (metres).
     radius_cap : float
         Largest blend radius (metres).
+    radii : array_like, shape (M,), optional
+        Given blend radii (the caller vouches that they are collision-free): no check, no halving, and every
+        interior corner with a positive radius gets a blend piece, a straight one included, so the piece
+        structure depends only on which radii are positive (the continuous hard path,
+        :mod:`trajopt.corridor`). Corners with radius 0 are passed at rest.
 
     Returns
     -------
@@ -273,9 +328,18 @@ def blend_polyline(
     if m >= 2 and np.any(ln <= 0):
         raise PlanningError("polyline has repeated corners")
     u = seg / ln[:, None] if m >= 2 else np.zeros((0, 2))
-    radii = np.zeros(m)
     blends: dict[int, tuple[FloatArray, FloatArray]] = {}
-    if min_distance is not None:
+    given = radii is not None
+    if radii is not None:
+        radii = np.asarray(radii, dtype=float).copy()
+        radii[0] = radii[-1] = 0.0
+        for i in range(1, m - 1):
+            if radii[i] > 0:
+                coef = _bezier_to_monomial(_even_blend_ctrl(p[i], u[i - 1], u[i], radii[i]), 2.0 * radii[i])
+                blends[i] = (coef, _piece_bounds(coef, 2.0 * radii[i]))
+    else:
+        radii = np.zeros(m)
+    if not given and min_distance is not None:
         for i in range(1, m - 1):
             if abs(float(u[i - 1] @ u[i])) > 1 - 1e-12 and float(u[i - 1] @ u[i]) > 0:
                 continue  # collinear: no corner
@@ -316,7 +380,7 @@ def blend_polyline(
                 coefs.append(c)
                 isb.append(True)
                 bnds.append(bd)
-                brk.append(brk[-1] + 2.5 * radii[i + 1])
+                brk.append(brk[-1] + (2.0 if given else 2.5) * radii[i + 1])
                 stop.append(False)
             else:
                 stop[-1] = True
@@ -340,6 +404,47 @@ def blend_polyline(
     )
 
 
+def spline_path(control: ArrayLike, span: float | None = None) -> BlendedPath:
+    """The uniform cubic B-spline of the control polygon ``control`` (shape (n+1, 2), n ≥ 2), ends reflected.
+
+    Ghost points ``2·c_0 − c_1`` and ``2·c_n − c_{n−1}`` make it start at ``c_0`` and end at ``c_n`` with zero
+    curvature and the speed of the adjacent leg. Span ``i`` (``i = 0 … n−1``) uses ``c_{i−1} … c_{i+2}`` and lies
+    in their convex hull (at the ends the ghost's weight is absorbed: the weights stay non-negative), so it lies in
+    the hull of at most four consecutive control points; evenly spaced collinear points give the line at constant
+    speed. The parameter length of a span is ``span`` (default: the polygon's length divided by ``n``). Every span
+    is one piece (``is_blend`` true: its limits come from the bounds of its first three derivatives); only the ends
+    are passed at rest.
+    """
+    c = np.atleast_2d(np.asarray(control, dtype=float))
+    n = len(c) - 1
+    if n < 2:
+        raise PlanningError(f"a cubic spline needs at least 3 control points, got {n + 1}")
+    if span is None:
+        span = float(np.sum(np.linalg.norm(np.diff(c, axis=0), axis=1))) / n
+    if not span > 0:
+        raise PlanningError("the control polygon has length 0")
+    g = np.vstack([2 * c[0] - c[1], c, 2 * c[-1] - c[-2]])
+    p0, p1, p2, p3 = g[:-3], g[1:-2], g[2:-1], g[3:]
+    coef = np.zeros((n, 6, 2))
+    coef[:, 0] = (p0 + 4 * p1 + p2) / 6
+    coef[:, 1] = (p2 - p0) / 2 / span
+    coef[:, 2] = (p0 - 2 * p1 + p2) / 2 / span**2
+    coef[:, 3] = (-p0 + 3 * p1 - 3 * p2 + p3) / 6 / span**3
+    coef[0, 0], coef[-1, 0] = c[0], coef[-1, 0]
+    bounds = _cubic_bounds(coef, span)
+    stop = np.zeros(n + 1, dtype=bool)
+    stop[0] = stop[-1] = True
+    return BlendedPath(
+        breaks=np.arange(n + 1) * span,
+        coef=coef,
+        is_blend=np.ones(n, dtype=bool),
+        stop=stop,
+        corners=c,
+        radii=np.zeros(n + 1),
+        bounds=bounds,
+    )
+
+
 # ---------------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class PieceLimits:
@@ -353,29 +458,24 @@ class PieceLimits:
 def piece_limits(path: BlendedPath, limits: Limits, safety: float = 1.0) -> PieceLimits:
     """Limits of ``s`` on every piece that keep every joint within ``limits`` (see module docstring)."""
     V, A, J = limits.v * safety, limits.a * safety, limits.j * safety
-    n = len(path.coef)
-    vs, as_, js = np.zeros(n), np.zeros(n), np.zeros(n)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for k in range(n):
-            m1, m2, m3 = path.bounds[k]
-            if not path.is_blend[k]:
-                vs[k] = np.min(np.where(m1 > 0, V / m1, np.inf))
-                as_[k] = np.min(np.where(m1 > 0, A / m1, np.inf))
-                js[k] = np.min(np.where(m1 > 0, J / m1, np.inf))
-                continue
-            v = np.min(
-                np.minimum.reduce(
-                    [
-                        np.where(m1 > 0, V / m1, np.inf),
-                        np.where(m2 > 0, np.sqrt(0.5 * A / m2), np.inf),
-                        np.where(m3 > 0, np.cbrt(0.5 * J / m3), np.inf),
-                    ]
-                )
-            )
-            a = np.min(np.where(m1 > 0, (A - m2 * v * v) / m1, np.inf))
-            a = min(a, float(np.min(np.where(m2 > 0, 0.5 * (J - m3 * v**3) / (3 * m2 * v), np.inf))))
-            j = np.min(np.where(m1 > 0, (J - m3 * v**3 - 3 * m2 * v * a) / m1, np.inf))
-            vs[k], as_[k], js[k] = v, a, j
+    m1, m2, m3 = path.bounds[:, 0], path.bounds[:, 1], path.bounds[:, 2]  # (P, 2) each
+    inf = np.inf
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        v_lin = np.where(m1 > 0, V / m1, inf)
+        v = np.min(
+            np.minimum.reduce(
+                [v_lin, np.where(m2 > 0, np.sqrt(0.5 * A / m2), inf), np.where(m3 > 0, np.cbrt(0.5 * J / m3), inf)]
+            ),
+            axis=1,
+        )
+        vc = v[:, None]
+        a = np.min(np.where(m1 > 0, (A - m2 * vc * vc) / m1, inf), axis=1)
+        a = np.minimum(a, np.min(np.where(m2 > 0, 0.5 * (J - m3 * vc**3) / (3 * m2 * vc), inf), axis=1))
+        j = np.min(np.where(m1 > 0, (J - m3 * vc**3 - 3 * m2 * vc * a[:, None]) / m1, inf), axis=1)
+        straight = ~np.asarray(path.is_blend, dtype=bool)
+        vs = np.where(straight, np.min(v_lin, axis=1), v)
+        as_ = np.where(straight, np.min(np.where(m1 > 0, A / m1, inf), axis=1), a)
+        js = np.where(straight, np.min(np.where(m1 > 0, J / m1, inf), axis=1), j)
     if not (np.all(np.isfinite(vs)) and np.all(vs > 0) and np.all(as_ > 0) and np.all(js > 0)):
         bad = PieceLimits(vs, as_, js)
         raise PlanningError(f"no valid 1-DoF limits on some piece: {bad}")
@@ -403,8 +503,13 @@ def _reach(v0: float, ds: float, cap: float, a: float, j: float) -> float:
     return lo
 
 
-def toppra_profile(path: BlendedPath, limits: Limits, n_grid: int = 100) -> tuple[FloatArray, FloatArray, float]:
+def toppra_profile(
+    path: BlendedPath, limits: Limits, n_grid: int = 100, per_piece: int | None = None
+) -> tuple[FloatArray, FloatArray, float]:
     """The v/a-limited time-optimal speed profile of ``path`` with toppra.
+
+    ``per_piece`` (instead of ``n_grid``) puts that many equal intervals on every piece: the grid then moves
+    continuously with the path and its size depends only on the number of pieces.
 
     Returns
     -------
@@ -424,7 +529,12 @@ def toppra_profile(path: BlendedPath, limits: Limits, n_grid: int = 100) -> tupl
     import toppra.algorithm as algo
     import toppra.constraint as constraint
 
-    grid = np.unique(np.concatenate([np.linspace(0.0, path.length, n_grid), path.breaks]))
+    if per_piece is not None:
+        frac = np.arange(int(per_piece)) / int(per_piece)
+        br = path.breaks
+        grid = np.concatenate([(br[:-1, None] + frac[None, :] * np.diff(br)[:, None]).ravel(), br[-1:]])
+    else:
+        grid = np.unique(np.concatenate([np.linspace(0.0, path.length, n_grid), path.breaks]))
     vlim = np.stack([-limits.v, limits.v], axis=1)
     alim = np.stack([-limits.a, limits.a], axis=1)
     cons = [constraint.JointVelocityConstraint(vlim), constraint.JointAccelerationConstraint(alim)]
@@ -498,7 +608,7 @@ class TimeScaling:
         tt = np.asarray(t, dtype=float)
         s, sd, sdd, sddd = self.param(tt)
         pc = None
-        if len(self.t0):
+        if len(self.t0) and len(self.piece) == len(self.t0):
             pc = np.where(tt >= self.duration, len(self.path.coef) - 1, self.piece[self._phase(tt)])
         q0, q1, q2, q3 = (self.path(s, k, pc) for k in range(4))
         sd_, sdd_, sddd_ = sd[..., None], sdd[..., None], sddd[..., None]
@@ -598,6 +708,177 @@ def jerk_limited_scaling(
         float(t_acc),
         vb,
         np.array(pcs, dtype=np.intp),
+        stats,
+    )
+
+
+def _window_min(values: FloatArray, breaks: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
+    """Minimum of the piecewise-constant ``values`` (one per piece ``[breaks[k], breaks[k+1]]``) over ``[lo, hi]``."""
+    first = np.clip(np.searchsorted(breaks[1:], lo, side="left"), 0, len(values) - 1)
+    last = np.clip(np.searchsorted(breaks[:-1], hi, side="right") - 1, 0, len(values) - 1)
+    k = np.arange(len(values))
+    inside = (k[None, :] >= first[:, None]) & (k[None, :] <= last[:, None])
+    return np.min(np.where(inside, values[None, :], np.inf), axis=1)
+
+
+def _topp_passes(cap: FloatArray, two_a_ds: FloatArray) -> FloatArray:
+    """Forward and backward passes on ``ṡ²``: the largest profile under ``cap`` with ``|Δṡ²| ≤ 2·a·Δs``."""
+    b = cap.copy()
+    b[0] = 0.0
+    for i in range(len(two_a_ds)):  # forward
+        nb = b[i] + two_a_ds[i]
+        if nb < b[i + 1]:
+            b[i + 1] = nb
+    for i in range(len(two_a_ds) - 1, -1, -1):  # backward
+        nb = b[i + 1] + two_a_ds[i]
+        if nb < b[i]:
+            b[i] = nb
+    return np.maximum(b, 0.0)
+
+
+def _window_extreme(grid: FloatArray, f: FloatArray, r: float, fn: Any) -> FloatArray:
+    """``fn`` (np.minimum or np.maximum) of the piecewise-linear ``f`` over ``[x − r, x + r]`` at every grid point."""
+    n = len(grid)
+    lo = np.searchsorted(grid, grid - r, side="left")
+    hi = np.searchsorted(grid, grid + r, side="right") - 1
+    # sparse table of range extremes over the grid values
+    table = [f]
+    k = 1
+    while 2 * k <= n:
+        prev = table[-1]
+        table.append(fn(prev[: len(prev) - k], prev[k:]))
+        k *= 2
+    length = np.maximum(hi - lo + 1, 1)
+    lev = np.floor(np.log2(length)).astype(int)
+    out = np.empty(n)
+    for level in np.unique(lev):
+        sel = lev == level
+        t = table[level]
+        span = 1 << int(level)
+        out[sel] = fn(t[lo[sel]], t[np.maximum(hi[sel] - span + 1, lo[sel])])
+    ends = np.stack([np.interp(grid - r, grid, f), np.interp(grid + r, grid, f)])
+    return np.asarray(fn(out, fn(ends[0], ends[1])))
+
+
+def _opening(grid: FloatArray, f: FloatArray, r: float) -> FloatArray:
+    """Morphological opening of ``f`` with the window ``[−r, r]``: narrow peaks become plateaus ``2r`` wide."""
+    return _window_extreme(grid, _window_extreme(grid, f, r, np.minimum), r, np.maximum)
+
+
+def filtered_scaling(
+    path: BlendedPath, limits: Limits, per_interval: int = 4, safety: float = 1.0 - 1e-9
+) -> TimeScaling:
+    """A jerk-limited timing of ``path`` that depends continuously on the path: a v/a-limited profile, box-filtered.
+
+    1. Per-piece 1-DoF limits ``(v_k, a_k, j_k)`` of the path parameter (:func:`piece_limits`).
+    2. Filter width ``τ = max_r A_r / J_r`` (the robots' limits), ``a_k ← min(a_k, τ·j_k)`` and reach
+       ``Δ = τ·max_k v_k``; the limits are *eroded*: at ``s`` the minimum over the pieces within ``[s − Δ, s + Δ]``.
+    3. The time-optimal v/a-limited profile with the eroded limits (forward and backward pass on ``ṡ²``, exact
+       on a grid that subdivides, ``per_interval`` times, the intervals between the points ``breaks ± Δ`` and
+       ``breaks``; a fixed count, and the eroded limits are constant on every interval); then every speed peak is
+       flattened into a plateau at least ``τ`` long (a morphological opening of ``ṡ²``, then the passes again), so
+       the acceleration never swings from ``+a`` to ``−a`` within ``τ`` (valleys are flat already: the eroded
+       limits are constant over ``2Δ``).
+    4. ``s̃(t) = (1/τ)∫_{t−τ}^{t} s``: the filtered ``ṡ, s̈`` are averages of the input's over a window in which the
+       input stays within ``Δ`` of ``s̃``, so they keep the limits of the piece under ``s̃``; the jerk
+       ``(s̈(t) − s̈(t−τ))/τ`` is at most ``a/τ ≤ j``. Rest to rest, duration ``T + τ``.
+
+    Every step is a continuous function of the path's pieces (fixed structure), unlike a per-piece chain whose
+    boundaries are passed at zero acceleration. On a long straight line it is the optimal single profile
+    (trapezoidal acceleration); on a short one (no cruise) the plateau costs a little. The verification gate
+    re-checks every limit.
+
+    Returns
+    -------
+    TimeScaling
+        Phases of constant jerk (``piece`` empty: the path is evaluated by ``s``).
+    """
+    t_start = time.perf_counter()
+    P = len(path.coef)
+    S = path.length
+    if S <= 0:
+        return TimeScaling(path, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, np.zeros(P + 1))
+    pl = piece_limits(path, limits, safety)
+    br = path.breaks
+    tau = float(np.max(limits.a / limits.j))
+    a_lim = np.minimum(pl.a, tau * pl.j)
+    reach = tau * float(np.max(pl.v))
+    pts = np.sort(np.clip(np.concatenate([br, br - reach, br + reach]), 0.0, S))
+    m = int(per_interval)
+    frac = np.arange(m) / m
+    grid = np.concatenate([(pts[:-1, None] + frac[None, :] * np.diff(pts)[:, None]).ravel(), pts[-1:]])
+    ds = np.diff(grid)
+    mid = 0.5 * (grid[:-1] + grid[1:])
+    v_int = _window_min(pl.v, br, mid - reach, mid + reach)
+    a_int = _window_min(a_lim, br, mid - reach, mid + reach)
+    cap = np.empty(len(grid))
+    cap[0], cap[-1] = 0.0, 0.0
+    cap[1:-1] = np.minimum(v_int[:-1], v_int[1:]) ** 2
+    stops = br[path.stop]
+    cap[np.isin(grid, stops)] = 0.0
+    two_a_ds = 2.0 * a_int * ds
+    b = _topp_passes(cap, two_a_ds)
+    # flat tops: every speed peak becomes a plateau at least τ long (an opening of ṡ² over ±r, r ≥ vmax·τ/2
+    # plus the grid step), so the input's acceleration never swings from +a to −a within τ
+    r = 0.5 * reach + float(np.max(ds, initial=0.0))
+    b = _topp_passes(np.minimum(b, _opening(grid, b, r)), two_a_ds)
+    b = np.maximum(b, 0.0)
+    sq = np.sqrt(b)
+    den = sq[:-1] + sq[1:]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dt = np.where(ds > 0, 2.0 * ds / den, 0.0)
+        acc = np.where(ds > 0, (b[1:] - b[:-1]) / (2.0 * ds), 0.0)
+    keep = dt > 0
+    ti = np.concatenate([[0.0], np.cumsum(dt[keep])])
+    s_i, v_i, a_i = grid[:-1][keep], sq[:-1][keep], acc[keep]
+    T = float(ti[-1])
+    # input s(t): phases [ti[k], ti[k+1]) with (s_i, v_i, a_i); before 0 at rest at 0, after T at rest at S
+    # integral F(t) = ∫_0^t s: exact at the phase starts
+    dtk = np.diff(ti)
+    f_i = np.concatenate([[0.0], np.cumsum(s_i * dtk + v_i * dtk**2 / 2 + a_i * dtk**3 / 6)])
+
+    def state(t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """Input (F, s, v, a) at times ``t`` (right-continuous acceleration)."""
+        k = np.clip(np.searchsorted(ti, t, side="right") - 1, 0, len(s_i) - 1)
+        x = np.clip(t - ti[k], 0.0, None)
+        s = s_i[k] + v_i[k] * x + a_i[k] * x**2 / 2
+        v = v_i[k] + a_i[k] * x
+        f = f_i[k] + s_i[k] * x + v_i[k] * x**2 / 2 + a_i[k] * x**3 / 6
+        a = a_i[k].copy()
+        before, after = t < 0.0, t >= T
+        f = np.where(before, 0.0, np.where(after, f_i[-1] + S * (t - T), f))
+        s = np.where(before, 0.0, np.where(after, S, s))
+        v = np.where(before | after, 0.0, v)
+        a = np.where(before | after, 0.0, a)
+        return f, s, v, a
+
+    t0 = np.unique(np.concatenate([ti, ti + tau]))
+    t0 = t0[t0 < T + tau]
+    f1, s1, v1, _ = state(t0)
+    f0, s0, v0, _ = state(t0 - tau)
+    p_out = np.clip((f1 - f0) / tau, 0.0, S)
+    v_out = (s1 - s0) / tau
+    a_out = (v1 - v0) / tau
+    mid = 0.5 * (t0 + np.append(t0[1:], T + tau))  # the jerk of a phase, away from rounding at its ends
+    j_out = (state(mid)[3] - state(mid - tau)[3]) / tau
+    stats = {
+        "pieces": P,
+        "blends": int(np.sum(path.is_blend)),
+        "filter_width": tau,
+        "input_duration": T,
+        "grid": len(grid),
+        "jerk_time": time.perf_counter() - t_start,
+    }
+    return TimeScaling(
+        path,
+        t0,
+        p_out,
+        v_out,
+        a_out,
+        j_out,
+        float(T + tau),
+        np.interp(br, grid, sq),
+        np.zeros(0, dtype=np.intp),
         stats,
     )
 

@@ -1,0 +1,309 @@
+"""The hard path, continuous in the query: a strictly convex QP in a corridor fixed by the plan, a spline, a filter.
+
+Why. The plan of :mod:`mpa` depends continuously on (start, goal) inside a domain: its path ``α(u)``, written in
+route coordinates and parametrized by ``u ∈ [0, 1]``, moves continuously. Every step here is a continuous function
+of ``α``, with no discrete choice that could flip on a hair (no shortcut, no de-duplication, no collision-checked
+halving, no corner passed at rest, a fixed number of nodes and pieces):
+
+1. *Corridor.* ``n + 1`` plan samples ``P_k = α(k/n)`` (a fixed count, whatever the plan's steps). The separation
+   ``d`` is 1-Lipschitz in the L1 norm of route coordinates (each robot moves along the track by ``|Δσ_r|``). For
+   every four consecutive samples, :func:`hull_clearance` is the exact minimum ``E`` of ``d`` over their convex
+   hull (continuous in the samples); a node may move within the L1 ball ``|n_k − P_k|₁ ≤ R_k``, ``R_k`` the
+   smallest ``max(E − sep, 0)`` of the windows that contain ``k``. The hull of four consecutive nodes then stays
+   within ``R`` of the hull of their samples, hence keeps ``d ≥ sep``, and the motion stays homotopic to the plan.
+2. *QP* (:class:`CorridorProblem`): an elastic band with a bending term in the time-like metric ``σ_r / vmax_r``;
+   the Hessian is fixed and positive definite, so the solution is unique and a continuous function of the query.
+   Solved exactly by the dual active-set solver DAQP through CasADi's ``conic`` (built once per generator).
+3. *Path*: the uniform cubic B-spline of the nodes (:func:`trajopt.timing.spline_path`), each span inside the hull
+   of four consecutive nodes, C² with a fixed number of pieces.
+4. *Timing*: :func:`trajopt.timing.filtered_scaling`, a v/a-limited profile with eroded per-piece limits on a grid
+   that moves with the path, then a box filter for the jerk: continuous in the path, exact limits.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mpa.errors import PlanningError
+from mpa.plan import Plan
+from trajopt.smoothing import RouteGeometry
+
+__all__ = ["CORRIDOR_SEGMENTS", "CorridorProblem", "CorridorResult", "corridor_nodes", "corridor_radii"]
+
+FloatArray = NDArray[np.float64]
+#: Number of segments of the hard path (nodes ``n + 1``), the same for every query.
+CORRIDOR_SEGMENTS = 32
+#: Corridor solves: each re-centres the balls on the previous solution (a fixed count: continuous).
+CORRIDOR_ITERATIONS = 8
+#: Share of the free ball a node may use.
+NODE_SHARE = 1.0
+#: Control points of one span of the cubic B-spline.
+SPAN_POINTS = 4
+#: Weight of the bending term relative to the elastic band.
+SMOOTH_WEIGHT = 10
+
+
+@dataclass(frozen=True)
+class CorridorResult:
+    """Output of the corridor QP.
+
+    Attributes
+    ----------
+    nodes : ndarray, shape (n+1, 2)
+        The optimised polyline in route coordinates (metres), first = start, last = goal.
+    centers : ndarray, shape (n+1, 2)
+        The plan samples ``P_k``.
+    free : ndarray, shape (n+1,)
+        ``R_k``: radius (L1, metres) of the free ball around every plan sample.
+    stats : dict
+    """
+
+    nodes: FloatArray
+    centers: FloatArray
+    free: FloatArray
+    stats: dict[str, Any]
+
+
+def hull_clearance(geom: RouteGeometry, centers: FloatArray, width: int = 4) -> FloatArray:
+    """Exact minimum separation over the convex hull of every ``width`` consecutive plan samples. Shape (n+2−width,).
+
+    It is the minimum over the chords between all pairs of the points: the separation has no local minimum
+    above 0 (one robot can always move towards the other along its route) and no obstacle fits inside such a
+    small hull, so the minimum over the hull is on its boundary, which those chords cover. Continuous in the points.
+    """
+    n1 = len(centers)
+    pairs = [(i, j) for i in range(width) for j in range(i + 1, width)]
+    starts = np.arange(n1 - width + 1)
+    a = np.concatenate([centers[starts + i] for i, _ in pairs])
+    b = np.concatenate([centers[starts + j] for _, j in pairs])
+    pts = np.empty((2 * len(a), 2))
+    pts[0::2], pts[1::2] = a, b
+    e = geom.segment_min_distances(pts)[0::2]
+    return np.asarray(np.min(e.reshape(len(pairs), len(starts)), axis=0))
+
+
+def corridor_radii(geom: RouteGeometry, centers: FloatArray, separation: float) -> FloatArray:
+    """L1 radius of every node's ball: the minimum, over the spline spans that use the node, of ``max(E − sep, 0)``.
+
+    ``E`` is :func:`hull_clearance` of the span's four plan samples. Shape (n+1,).
+    """
+    t = np.maximum(hull_clearance(geom, centers, SPAN_POINTS) - separation, 0.0)
+    r = np.full(len(centers), np.inf)
+    for off in range(SPAN_POINTS):
+        r[off : off + len(t)] = np.minimum(r[off : off + len(t)], t)
+    return r
+
+
+class CorridorProblem:
+    """The corridor QP for ``n`` segments and speed limits ``vmax``, built once and re-solved.
+
+    Parameters
+    ----------
+    n : int
+        Number of segments.
+    vmax : array_like, shape (2,)
+        Speed limits of A and B (m/s): route coordinates are divided by them (a time-like metric).
+    solver : str
+        A CasADi ``conic`` plugin that ships with CasADi (default ``"daqp"``, a dual active-set method: exact
+        and deterministic, no warm start kept between queries).
+
+    Notes
+    -----
+    Variables: the interior nodes ``x = [σ_A(1..n−1), σ_B(1..n−1)]`` (the ends are the query). Objective
+    ``Σ_k Σ_r (Δσ_r,k / vmax_r)² + w·Σ_k Σ_r (Δ²σ_r,k / vmax_r)²``: an elastic band (evenly spaced, pulled taut)
+    with a bending term; the Hessian is positive definite and fixed, so the solution is unique and a continuous
+    (piecewise affine) function of the bounds. Rows: ``σ_A,k ± σ_B,k`` of every interior node (the L1 ball is a
+    box in these rotated coordinates); the route extents are bounds of the variables.
+    """
+
+    def __init__(self, n: int = CORRIDOR_SEGMENTS, vmax: ArrayLike = (0.5, 0.5), solver: str = "daqp") -> None:
+        import casadi as ca
+
+        t0 = time.perf_counter()
+        self.n = n = int(n)
+        if n < 3:
+            raise PlanningError(f"the corridor needs at least 3 segments, got {n}")
+        v = np.asarray(vmax, dtype=float)
+        self.vmax = v
+        d1 = np.zeros((n, n + 1))
+        for k in range(n):
+            d1[k, k : k + 2] = (-1.0, 1.0)
+        d2 = np.zeros((n - 1, n + 1))
+        for k in range(n - 1):
+            d2[k, k : k + 3] = (1.0, -2.0, 1.0)
+        q = 2.0 * (d1.T @ d1 + SMOOTH_WEIGHT * d2.T @ d2)  # per robot, on all nodes
+        inner = slice(1, n)
+        m = n - 1
+        self.nx = 2 * m
+        h = np.zeros((2 * m, 2 * m))
+        self._g_ends = []  # per robot: (m, 2) coupling of the interior to the two ends
+        for r in range(2):
+            h[r * m : (r + 1) * m, r * m : (r + 1) * m] = q[inner, inner] / v[r] ** 2
+            self._g_ends.append(q[inner][:, [0, n]] / v[r] ** 2)
+        self.h = h
+        a = np.zeros((2 * m, 2 * m))
+        for k in range(m):
+            a[2 * k, k], a[2 * k, m + k] = 1.0, 1.0
+            a[2 * k + 1, k], a[2 * k + 1, m + k] = 1.0, -1.0
+        self.a = a
+        opts: dict[str, Any] = {"error_on_fail": False}
+        if solver == "qpoases":
+            opts.update({"printLevel": "none"})
+        if solver == "daqp":
+            opts.update({"daqp": {"primal_tol": 1e-12, "dual_tol": 1e-12}})
+        self.solver_name = solver
+        self.solver = ca.conic(f"corridor{n}", solver, {"h": ca.DM(h).sparsity(), "a": ca.DM(a).sparsity()}, opts)
+        self._h_dm, self._a_dm = ca.DM(h), ca.DM(a)
+        self.build_time = time.perf_counter() - t0
+
+    def solve(
+        self, centers: FloatArray, radius: FloatArray, lower: FloatArray, upper: FloatArray
+    ) -> tuple[FloatArray, dict[str, Any]]:
+        """Solve for one query.
+
+        Parameters
+        ----------
+        centers : ndarray, shape (n+1, 2)
+            Plan samples (route coordinates, metres); the first and last are the start and the goal.
+        radius : ndarray, shape (n+1,)
+            L1 radius of every node's ball (metres).
+        lower, upper : ndarray, shape (2,)
+            Extent of each robot's route (metres).
+
+        Returns
+        -------
+        nodes : ndarray, shape (n+1, 2)
+        stats : dict
+        """
+        n, m = self.n, self.n - 1
+        ends = centers[[0, -1]]
+        g = np.concatenate([self._g_ends[r] @ ends[:, r] for r in (0, 1)])
+        c = centers[1:-1]
+        rr = radius[1:-1]
+        sp, sm = c[:, 0] + c[:, 1], c[:, 0] - c[:, 1]
+        lba = np.empty(2 * m)
+        uba = np.empty(2 * m)
+        lba[0::2], uba[0::2] = sp - rr, sp + rr
+        lba[1::2], uba[1::2] = sm - rr, sm + rr
+        lbx = np.concatenate([np.full(m, lower[0]), np.full(m, lower[1])])
+        ubx = np.concatenate([np.full(m, upper[0]), np.full(m, upper[1])])
+        t0 = time.perf_counter()
+        sol = self.solver(h=self._h_dm, g=g, a=self._a_dm, lba=lba, uba=uba, lbx=lbx, ubx=ubx)
+        elapsed = time.perf_counter() - t0
+        st = self.solver.stats()
+        xs = np.asarray(sol["x"], dtype=float).ravel()
+        nodes = np.vstack([ends[:1], np.stack([xs[:m], xs[m:]], axis=1), ends[1:]])
+        v = self.vmax
+        stats = {
+            "n_segments": n,
+            "qp_solver": self.solver_name,
+            "qp_status": str(st.get("return_status", "")),
+            "qp_success": bool(st.get("success", False)),
+            "qp_time": elapsed,
+            "plan_time_bound": float(np.sum(np.max(np.abs(np.diff(centers, axis=0)) / v, axis=1))),
+            "optimized_time_bound": float(np.sum(np.max(np.abs(np.diff(nodes, axis=0)) / v, axis=1))),
+        }
+        return nodes, stats
+
+
+def corridor_nodes(plan: Plan, geom: RouteGeometry, separation: float, problem: CorridorProblem) -> CorridorResult:
+    """The hard path's polyline and blend radii for one plan (see the module docstring).
+
+    Parameters
+    ----------
+    plan : Plan
+    geom : RouteGeometry
+        Of the plan's routes.
+    separation : float
+        Separation the path keeps where the plan does (metres): the clearance plus the gate's margins.
+    problem : CorridorProblem
+
+    Returns
+    -------
+    CorridorResult
+
+    Raises
+    ------
+    PlanningError
+        The QP solver failed, or the result leaves the corridor (never expected).
+    """
+    t0 = time.perf_counter()
+    n = problem.n
+    u = np.linspace(0.0, 1.0, n + 1)
+    centers = plan.path_s(u)
+    centers[0], centers[-1] = plan.waypoints_s[0], plan.waypoints_s[-1]
+    lower = np.array([plan.routes[0].sigma_min, plan.routes[1].sigma_min])
+    upper = np.array([plan.routes[0].sigma_max, plan.routes[1].sigma_max])
+    t1 = time.perf_counter()
+    plan_centers = centers
+    stats: dict[str, Any] = {}
+    for it in range(CORRIDOR_ITERATIONS):
+        free = corridor_radii(geom, centers, separation)
+        if it == 0:
+            stats["min_free"] = float(np.min(free[1:-1]))
+        nodes, st = problem.solve(centers, NODE_SHARE * free, lower, upper)
+        if not st["qp_success"]:
+            raise PlanningError(f"corridor QP failed: {st['qp_status']}")
+        nodes[0], nodes[-1] = centers[0], centers[-1]
+        nodes = np.clip(nodes, lower, upper)
+        dev = np.sum(np.abs(nodes - centers), axis=1)
+        if np.any(dev > NODE_SHARE * free + 1e-9):
+            k = int(np.argmax(dev - NODE_SHARE * free))
+            raise PlanningError(f"corridor QP node {k} leaves its ball by {dev[k] - NODE_SHARE * free[k]:.3g} m")
+        stats.update({k: v for k, v in st.items() if k != "qp_time"})
+        stats["qp_time"] = stats.get("qp_time", 0.0) + st["qp_time"]
+        centers = nodes
+    stats["plan_time_bound"] = float(np.sum(np.max(np.abs(np.diff(plan_centers, axis=0)) / problem.vmax, axis=1)))
+    stats["corridor_time"] = t1 - t0
+    stats["corridor_iterations"] = CORRIDOR_ITERATIONS
+    return CorridorResult(nodes, plan_centers, free, stats)
+
+
+def hard_path_scaling(
+    plan: Plan,
+    geom: RouteGeometry,
+    separation: float,
+    limits: Any,
+    problem: CorridorProblem,
+    timings: dict[str, Any] | None = None,
+) -> tuple[Any, dict[str, Any]]:
+    """Corridor QP, cubic B-spline and the filtered v/a-limited profile: the hard path's timing.
+
+    Parameters
+    ----------
+    plan : Plan
+    geom : RouteGeometry
+    separation : float
+        Clearance plus the gate's margins (metres).
+    limits : trajopt.timing.Limits
+    problem : CorridorProblem
+        Built for ``limits.v``.
+    timings : dict, optional
+        Filled with the stage times ``smooth``, ``blend``, ``retime``, ``jerk`` (s).
+
+    Returns
+    -------
+    scaling : trajopt.timing.TimeScaling
+    stats : dict
+    """
+    from trajopt.timing import filtered_scaling, spline_path
+
+    timings = timings if timings is not None else {}
+    t0 = time.perf_counter()
+    res = corridor_nodes(plan, geom, separation, problem)
+    t1 = time.perf_counter()
+    timings["smooth"] = t1 - t0
+    stats = dict(res.stats)
+    path = spline_path(res.nodes)
+    t2 = time.perf_counter()
+    timings["blend"] = t2 - t1
+    scaling = filtered_scaling(path, limits)
+    timings["retime"] = 0.0
+    timings["jerk"] = time.perf_counter() - t2
+    stats.update(scaling.stats)
+    return scaling, stats
