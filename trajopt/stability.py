@@ -82,7 +82,9 @@ def perturbation_pairs(
     """
     tr = planner.track
     hi = np.nextafter(tr.total_length, 0.0)
-    s_l, g_l, d_l = [], [], []
+    s_l: list[FloatArray] = []
+    g_l: list[FloatArray] = []
+    d_l: list[FloatArray] = []
     tries = 0
     need = planner.clearance + margin + 2 * max_delta
     while len(s_l) < n:

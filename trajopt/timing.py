@@ -330,15 +330,13 @@ def blend_polyline(
     u = seg / ln[:, None] if m >= 2 else np.zeros((0, 2))
     blends: dict[int, tuple[FloatArray, FloatArray]] = {}
     given = radii is not None
-    if radii is not None:
-        radii = np.asarray(radii, dtype=float).copy()
-        radii[0] = radii[-1] = 0.0
+    rad: FloatArray = np.zeros(m) if radii is None else np.array(radii, dtype=float)
+    if given:
+        rad[0] = rad[-1] = 0.0
         for i in range(1, m - 1):
-            if radii[i] > 0:
-                coef = _bezier_to_monomial(_even_blend_ctrl(p[i], u[i - 1], u[i], radii[i]), 2.0 * radii[i])
-                blends[i] = (coef, _piece_bounds(coef, 2.0 * radii[i]))
-    else:
-        radii = np.zeros(m)
+            if rad[i] > 0:
+                coef = _bezier_to_monomial(_even_blend_ctrl(p[i], u[i - 1], u[i], rad[i]), 2.0 * rad[i])
+                blends[i] = (coef, _piece_bounds(coef, 2.0 * rad[i]))
     if not given and min_distance is not None:
         for i in range(1, m - 1):
             if abs(float(u[i - 1] @ u[i])) > 1 - 1e-12 and float(u[i - 1] @ u[i]) > 0:
@@ -353,7 +351,7 @@ def blend_polyline(
                 h = lb / (BLEND_SAMPLES - 1)  # the parameter is not arc length; h is its step
                 dev = float(np.sum(bnd[1])) * h * h / 8.0
                 if min_distance(pts) - dev >= separation:
-                    radii[i] = r
+                    rad[i] = r
                     blends[i] = (coef, bnd)
                     break
                 r *= 0.5
@@ -364,8 +362,8 @@ def blend_polyline(
     stop = [True]
     bnds: list[FloatArray] = []
     for i in range(m - 1):
-        a = p[i] + radii[i] * u[i]
-        b_len = ln[i] - radii[i] - radii[i + 1]
+        a = p[i] + rad[i] * u[i]
+        b_len = ln[i] - rad[i] - rad[i + 1]
         if b_len > 1e-12:
             c = np.zeros((6, 2))
             c[0], c[1] = a, u[i]
@@ -375,12 +373,12 @@ def blend_polyline(
             brk.append(brk[-1] + b_len)
             stop.append(False)
         if i + 1 < m - 1:
-            if radii[i + 1] > 0:
+            if rad[i + 1] > 0:
                 c, bd = blends[i + 1]
                 coefs.append(c)
                 isb.append(True)
                 bnds.append(bd)
-                brk.append(brk[-1] + (2.0 if given else 2.5) * radii[i + 1])
+                brk.append(brk[-1] + (2.0 if given else 2.5) * rad[i + 1])
                 stop.append(False)
             else:
                 stop[-1] = True
@@ -399,7 +397,7 @@ def blend_polyline(
         is_blend=np.array(isb),
         stop=np.array(stop),
         corners=p,
-        radii=radii,
+        radii=rad,
         bounds=np.array(bnds),
     )
 
@@ -435,7 +433,7 @@ def spline_path(control: ArrayLike, span: float | None = None) -> BlendedPath:
     stop = np.zeros(n + 1, dtype=bool)
     stop[0] = stop[-1] = True
     return BlendedPath(
-        breaks=np.arange(n + 1) * span,
+        breaks=np.arange(n + 1, dtype=float) * float(span),
         coef=coef,
         is_blend=np.ones(n, dtype=bool),
         stop=stop,
