@@ -71,16 +71,25 @@ EXPECTED_FALLBACK_MARGIN = 0.01
 
 
 def expected_fallback(rec: dict[str, Any], seed: int = 0) -> bool:
-    """Whether a ``fallback`` record is expected (see :data:`EXPECTED_FALLBACK_MARGIN`).
+    """Whether a ``fallback`` record is expected, i.e. the optimised path cannot keep the rate's margin:
+
+    - the separation margin of the rate reaches :data:`EXPECTED_FALLBACK_MARGIN`, or
+    - the plan itself (start and goal included) comes closer to the clearance than that margin: the optimiser
+      keeps no more room than the plan has there, and the gate's bound between rows then fails.
 
     The rate is the query's, or the second rate's when the fallback happened there (``"at R Hz: ..."``).
     """
+    from mpa import make_planner
     from trajopt.generator import separation_margin
 
     q = rec.get("query") or draw_query(seed, rec["index"])
     m = re.match(r"at ([0-9.e+]+) Hz: ", rec.get("reason", ""))
     rate = float(m.group(1)) if m else float(q["rate"])
-    return bool(separation_margin(_limits(q), rate) >= EXPECTED_FALLBACK_MARGIN)
+    margin = separation_margin(_limits(q), rate)
+    if margin >= EXPECTED_FALLBACK_MARGIN:
+        return True
+    plan = make_planner(_track(q), q["clearance"]).plan(q["start"], q["goal"])
+    return bool(plan.min_distance() < q["clearance"] + margin)
 
 
 def draw_query(seed: int, index: int) -> dict[str, Any]:

@@ -196,6 +196,12 @@ class Trajectory:
         The gate's report (:meth:`trajopt.verify.VerificationReport.to_dict`).
     plan : Plan
         The topological plan the trajectory follows.
+    sampler : callable
+        ``sampler(t) -> (s, v, a, j)``: the continuous motion at any times (for analysis; exports go through
+        :meth:`at_rate`, which verifies).
+    retimer : callable or None
+        ``retimer(rate) -> Trajectory``: the plan re-timed for another rate by the generator that made this
+        trajectory (used by :meth:`at_rate` when the resampled rows fail the gate).
     """
 
     t: FloatArray
