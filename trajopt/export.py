@@ -223,6 +223,16 @@ class Trajectory:
         text = self.csv_text(rate)
         atomic_write_text(path, text)
 
+    def margins(self) -> Any:
+        """Tracking margin and delay tolerance (:func:`trajopt.margins.margins`; computed once)."""
+        cached = self.__dict__.get("_margins")
+        if cached is None:
+            from trajopt.margins import margins
+
+            cached = margins(self)
+            object.__setattr__(self, "_margins", cached)
+        return cached
+
     def summary(self) -> dict[str, Any]:
         """JSON-ready summary (everything but the arrays)."""
         return {
@@ -251,6 +261,7 @@ class Trajectory:
             "solver": self.solver_stats,
             "timings": self.timings,
             "verification": self.verification,
+            "margins": self.margins().to_dict(),
         }
 
     def to_json(self, path: str | os.PathLike[str]) -> None:
