@@ -233,6 +233,12 @@ class Trajectory:
             object.__setattr__(self, "_margins", cached)
         return cached
 
+    def words(self) -> dict[str, str]:
+        """The motion in plain words per cart (:func:`trajopt.words.describe`)."""
+        from trajopt.words import describe
+
+        return describe(self)
+
     def summary(self) -> dict[str, Any]:
         """JSON-ready summary (everything but the arrays)."""
         return {
@@ -262,6 +268,7 @@ class Trajectory:
             "timings": self.timings,
             "verification": self.verification,
             "margins": self.margins().to_dict(),
+            "words": self.words(),
         }
 
     def to_json(self, path: str | os.PathLike[str]) -> None:
