@@ -119,3 +119,22 @@ def test_summary_reports_margins(tmp_path) -> None:  # type: ignore[no-untyped-d
     m = traj.margins()
     assert traj.margins() is m  # computed once
     assert got["tracking_margin"] == m.tracking_margin and got["delay_tolerance"] == m.delay_tolerance
+
+
+def test_figure_script_smoke(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    out = tmp_path / "m.png"
+    res = subprocess.run(
+        [sys.executable, "experiments/margins_figure.py", "--out", str(out), "--dpi", "40", "--points", "5"],
+        cwd=root,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert res.returncode == 0, res.stderr
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 5000
