@@ -79,6 +79,19 @@ def test_splice_is_continuous_and_verified(gen, swap, at) -> None:  # type: igno
     dense_check(new)
 
 
+@pytest.mark.parametrize("at", [1.6, 3.6])
+def test_a_stop_next_to_the_pole_is_moved_onto_it(gen, swap, at) -> None:  # type: ignore[no-untyped-def]
+    """The swap slows down towards corners at P: the time-optimal stop lands within 1e-9 m of P, where the planner
+    fails; the brake then ends exactly on P."""
+    new = gen.replan(swap, at, (0.52, 0.2))
+    dense_check(new)
+    tb = new.solver_stats["replan"]["brake_duration"]
+    rest = new.sampler(np.array([tb]))[0][0]
+    p = np.array([new.plan.routes[r].position(rest[r]) for r in (0, 1)])
+    near = L.distance(p, np.ones(2))
+    assert np.all((near == 0.0) | (near > 1e-6)), p
+
+
 def test_replan_at_the_end_and_at_rest(gen, swap) -> None:  # type: ignore[no-untyped-def]
     new = gen.replan(swap, swap.makespan, (0.45, 0.2))
     assert new.solver_stats["replan"]["brake_duration"] == 0.0
@@ -134,3 +147,22 @@ def test_replanning_every_tenth_with_millimetre_goal_moves_is_stable(gen, start,
         jump = max(L.distance(rem[:, 0], nw[:, 0]).max(), L.distance(rem[:, 1], nw[:, 1]).max())
         assert jump <= 10 * np.abs(move).max(), (k, jump, move)
         cur, g = new, g + move
+
+
+def test_figure_script_smoke(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    out = tmp_path / "r.png"
+    res = subprocess.run(
+        [sys.executable, "experiments/replan_figure.py", "--out", str(out), "--dpi", "40"],
+        cwd=root,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert res.returncode == 0, res.stderr
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 5000

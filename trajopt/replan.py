@@ -9,7 +9,9 @@ at rest at the new goal. Its time 0 is ``at_time`` of the old one.
    ``Synchronization.Phase``. When the two carts' velocity and acceleration are collinear in the σ-plane (always
    on a straight piece of the optimized path, and at rest) phase synchronization keeps the braking motion on that
    straight line, i.e. on the old path; otherwise ruckig falls back to time synchronization and the braking
-   curve leaves the old path slightly. The braking part is checked on its own (separation at the rows and
+   curve leaves the old path slightly. A cart whose stop would fall within 1e-6 m of the pole P is brought to
+   rest exactly on P instead (ruckig's position interface; the planner handles starts at P but not a hair
+   beside it). The braking part is checked on its own (separation at the rows and
    between them, the gate's bound); if it would bring the carts closer than D the re-plan is refused with
    :class:`~mpa.errors.NoMotionError` (re-plan at another time).
 2. **New motion** from the rest state to the goal: :meth:`TrajectoryGenerator.generate` (plan, smoothing,
@@ -97,8 +99,11 @@ class Brake:
         return self.__dict__["_last_len"]  # type: ignore[no-any-return]
 
 
-def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any) -> Brake:
+def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any, target: ArrayLike | None = None) -> Brake:
     """Jerk-limited braking of both carts from ``(σ, σ̇, σ̈)`` (each shape (2,)) to rest (ruckig, see above).
+
+    ``target`` (shape (2,), optional): stop exactly there (ruckig's position interface) instead of where the
+    time-optimal stop ends (velocity interface).
 
     Raises
     ------
@@ -115,7 +120,10 @@ def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any) -> Brak
         object.__setattr__(b, "_last_len", (0.0, 0.0))
         return b
     otg, inp, tr = Ruckig(2), InputParameter(2), RTrajectory(2)
-    inp.control_interface = ControlInterface.Velocity
+    if target is None:
+        inp.control_interface = ControlInterface.Velocity
+    else:
+        inp.target_position = np.asarray(target, dtype=float).tolist()
     collinear = abs(v0[0] * a0[1] - v0[1] * a0[0]) <= 1e-12 * max(1.0, float(np.abs(v0).max() * np.abs(a0).max()))
     inp.synchronization = Synchronization.Phase if collinear else Synchronization.Time
     inp.current_position = s0.tolist()
@@ -160,6 +168,24 @@ def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any) -> Brak
     )
     object.__setattr__(b, "_last_len", (lasts[0], lasts[1]))
     return b
+
+
+#: A stop closer than this to the pole P (m) is moved onto P (the planner treats nearer starts as P).
+SNAP = 1e-6
+
+
+def _snap_to_pole(routes: Any, stop: FloatArray) -> FloatArray | None:
+    """Stops within :data:`SNAP` of a junction of their route moved onto it (None if none is)."""
+    out = np.array(stop, dtype=float)
+    moved = False
+    for r in (0, 1):
+        junc = routes[r].junctions()
+        if len(junc):
+            k = int(np.argmin(np.abs(junc - out[r])))
+            if 0.0 < abs(junc[k] - out[r]) <= SNAP:
+                out[r] = float(junc[k])
+                moved = True
+    return out if moved else None
 
 
 def _lift(route: Route, sigma: float) -> Lift:
@@ -245,6 +271,9 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
     D = generator.clearance
     # 1. brake on the current routes
     brake = brake_profile(s0, v0, a0, limits)
+    snapped = _snap_to_pole(routes_old, brake.stop)
+    if snapped is not None:
+        brake = brake_profile(s0, v0, a0, limits, snapped)
     dt = 1.0 / generator.rate
     if brake.duration > 0:
         tb = np.append(np.arange(0.0, brake.duration, dt), brake.duration)
