@@ -166,3 +166,22 @@ def test_figure_script_smoke(tmp_path) -> None:  # type: ignore[no-untyped-def]
     )
     assert res.returncode == 0, res.stderr
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 5000
+
+
+def test_stability_script_smoke() -> None:
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    res = subprocess.run(
+        [sys.executable, "experiments/replan_stability.py", "--replans", "2"],
+        cwd=root,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert res.returncode == 0, res.stderr
+    lines = res.stdout.strip().splitlines()
+    assert len(lines) == 4 and all("2 re-plans, class changes 0" in ln for ln in lines), res.stdout
