@@ -326,6 +326,22 @@ class Trajectory:
         text = self.csv_text(rate)
         atomic_write_text(path, text)
 
+    def margins(self) -> Any:
+        """Tracking margin and delay tolerance (:func:`trajopt.margins.margins`; computed once)."""
+        cached = self.__dict__.get("_margins")
+        if cached is None:
+            from trajopt.margins import margins
+
+            cached = margins(self)
+            object.__setattr__(self, "_margins", cached)
+        return cached
+
+    def words(self) -> dict[str, str]:
+        """The motion in plain words per cart (:func:`trajopt.words.describe`)."""
+        from trajopt.words import describe
+
+        return describe(self)
+
     def summary(self) -> dict[str, Any]:
         """JSON-ready summary (everything but the arrays)."""
         return {
@@ -354,6 +370,8 @@ class Trajectory:
             "solver": self.solver_stats,
             "timings": self.timings,
             "verification": self.verification,
+            "margins": self.margins().to_dict(),
+            "words": self.words(),
         }
 
     def to_json(self, path: str | os.PathLike[str]) -> None:

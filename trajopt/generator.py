@@ -230,6 +230,13 @@ class TrajectoryGenerator:
         timings["total"] = timings.get("plan", 0.0) + time.perf_counter() - t_all
         return traj
 
+    def replan(self, trajectory: Trajectory, at_time: float, goal: ArrayLike) -> Trajectory:
+        """A verified trajectory from both robots' state at ``at_time`` of ``trajectory`` to rest at ``goal``
+        (see :func:`trajopt.replan.replan`)."""
+        from trajopt.replan import replan
+
+        return replan(self, trajectory, at_time, goal)
+
     # ---------------------------------------------------------------------------------------------
     def _optimized(self, plan: Plan, geom: RouteGeometry, timings: dict[str, Any], stats: dict[str, Any]) -> Trajectory:
         sep = self.clearance + separation_margin(self.limits, self.rate)

@@ -1,0 +1,77 @@
+"""Re-planning every 0.1 s with the goal moved by up to 1 mm each time: does the class or the path jump?
+
+For each query: generate, then repeatedly re-plan at t = 0.1 s of the current trajectory with the goal moved by a
+uniform random vector of at most 1 mm per robot; compare the new motion's path with the rest of the previous one
+(from 0.1 s): the homotopy class (``mpa.path_word``) and the largest distance between the two paths, both
+parametrized by route travel (600 points, track graph distance, worst robot), relative to the goal's move.
+
+Usage::
+
+    python experiments/replan_stability.py [--replans 80] [--seed 0]
+
+Prints one line per query. Headless, no files written.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from mpa import Lollipop
+from mpa.homotopy import path_word
+from trajopt import TrajectoryGenerator
+
+QUERIES = [((0.2, 0.5), (0.5, 0.2)), ((0.1, 0.6), (0.8, 0.3)), ((1.25, 1.75), (1.75, 1.25)), ((0.3, 1.2), (1.6, 0.4))]
+
+
+def curve(traj, t0: float, n: int = 600) -> np.ndarray:  # type: ignore[no-untyped-def]
+    """The path from ``t0`` on: ``n`` points equally spaced in route travel (track coordinates). Shape (n, 2)."""
+    t = np.append(np.arange(t0, traj.motion_time, 1 / 2000.0), traj.motion_time)
+    s = traj.sampler(t)[0]
+    c = np.concatenate([[0.0], np.cumsum(np.max(np.abs(np.diff(s, axis=0)), axis=1))])
+    u = np.linspace(0.0, c[-1], n)
+    ss = np.stack([np.interp(u, c, s[:, 0]), np.interp(u, c, s[:, 1])], axis=1)
+    r = traj.plan.routes
+    return np.stack([r[0].position(ss[:, 0]), r[1].position(ss[:, 1])], axis=1)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--replans", type=int, default=80)
+    ap.add_argument("--seed", type=int, default=0)
+    args = ap.parse_args(argv)
+    track = Lollipop(1.0, 1.0)
+    gen = TrajectoryGenerator(track, clearance=0.05)
+    rng = np.random.default_rng(args.seed)
+    for start, goal in QUERIES:
+        cur, g = gen.generate(start, goal), np.array(goal, dtype=float)
+        changes = jumps = 0
+        ratios = []
+        t0 = time.perf_counter()
+        for _ in range(args.replans):
+            if cur.motion_time <= 0.1:
+                break
+            move = rng.uniform(-1e-3, 1e-3, 2)
+            new = gen.replan(cur, 0.1, g + move)
+            rem, nw = curve(cur, 0.1), curve(new, 0.0)
+            changes += path_word(track, rem) != path_word(track, nw)
+            gap = max(track.distance(rem[:, 0], nw[:, 0]).max(), track.distance(rem[:, 1], nw[:, 1]).max())
+            ratios.append(gap / np.abs(move).max())
+            jumps += ratios[-1] > 10
+            cur, g = new, g + move
+        print(
+            f"{start} -> {goal}: {len(ratios)} re-plans, class changes {changes}, path jumps > 10x the goal move "
+            f"{jumps}, jump/move median {np.median(ratios):.2f} max {max(ratios):.2f}, "
+            f"{(time.perf_counter() - t0) / len(ratios) * 1e3:.0f} ms per re-plan (with the checks)"
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

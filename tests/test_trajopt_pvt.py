@@ -1,0 +1,189 @@
+"""PVT tables: rows on the grid, Hermite reconstruction checked independently, failing intervals named."""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import os
+
+import numpy as np
+import pytest
+
+from mpa import InvalidInputError, Lollipop
+from trajopt import generate_trajectory
+from trajopt.pvt import (
+    PVT_COLUMNS,
+    check_pvt,
+    hermite_eval,
+    largest_pvt_interval,
+    pvt_rows,
+    pvt_table,
+    smallest_pvt_stretch,
+    write_pvt,
+)
+
+LIMIT_RTOL = 1e-6
+DENSE = 20_000  # samples per second of the independent check
+L = Lollipop(1.0, 1.0)
+
+
+@pytest.fixture(scope="module")
+def canon():  # type: ignore[no-untyped-def]
+    """Default limits: the jerk-limited phases last 0.2 s, so a 0.1 s grid reproduces the motion's peaks."""
+    return generate_trajectory(L, (0.1, 0.6), (0.8, 0.3))
+
+
+@pytest.fixture(scope="module")
+def tight():  # type: ignore[no-untyped-def]
+    """vmax 0.4, amax 0.8, jmax 3: phases of 0.267 s, off any round grid."""
+    return generate_trajectory(L, (0.2, 0.5), (0.5, 0.2), vmax=0.4, amax=0.8, jmax=3.0)
+
+
+def reconstruction(traj, tab):  # type: ignore[no-untyped-def]
+    """Dense samples of the reconstruction: separation, and per-piece peaks of v, a, j (independent of pvt.py)."""
+    n = int(tab.t[-1] * DENSE) + 2
+    tg = np.linspace(0.0, tab.t[-1], n)
+    s, v, _, _ = hermite_eval(tab.t, tab.s, tab.v, tg)
+    r = traj.plan.routes
+    d = traj.plan.track.distance(r[0].position(s[:, 0]), r[1].position(s[:, 1]))
+    # a and j inside each piece by finite differences of v sampled strictly inside the piece
+    apk, jpk = np.zeros(2), np.zeros(2)
+    for k in range(len(tab.t) - 1):
+        tt = np.linspace(tab.t[k], tab.t[k + 1], 41)[1:-1]
+        _, vv, aa, jj = hermite_eval(tab.t, tab.s, tab.v, tt)
+        fd_a = np.diff(vv, axis=0) / np.diff(tt)[:, None]
+        fd_j = np.diff(aa, axis=0) / np.diff(tt)[:, None]
+        np.testing.assert_allclose(fd_j, np.broadcast_to(jj[0], fd_j.shape), rtol=1e-5, atol=1e-6, err_msg=f"{k}")
+        apk = np.maximum(apk, np.max(np.abs(aa), axis=0))
+        apk = np.maximum(apk, np.max(np.abs(fd_a), axis=0) - 1e-6)
+        jpk = np.maximum(jpk, np.abs(jj[0]))
+    return d, np.max(np.abs(v), axis=0), apk, jpk
+
+
+def test_rows_on_the_grid(canon) -> None:  # type: ignore[no-untyped-def]
+    tab = pvt_table(canon, 0.1)
+    assert tab.stretch == 1.0
+    steps = np.diff(tab.t)
+    np.testing.assert_allclose(tab.t[:-1], 0.1 * np.arange(len(tab.t) - 1), atol=1e-12)
+    assert tab.t[-1] == canon.motion_time
+    assert np.all(steps >= 0.1 / 100) and np.all(steps <= 0.1 * 1.01 + 1e-12)
+    np.testing.assert_array_equal(tab.s[0], [0.0, 0.0])
+    np.testing.assert_array_equal(tab.s[-1], canon.s[-1])
+    np.testing.assert_array_equal(tab.v[[0, -1]], np.zeros((2, 2)))
+    s, v, _, _ = canon.sampler(tab.t[1:-1])
+    np.testing.assert_allclose(tab.s[1:-1], s, atol=1e-12)
+    np.testing.assert_allclose(tab.v[1:-1], v, atol=1e-12)
+
+
+def test_reconstruction_interpolates_c1(canon) -> None:  # type: ignore[no-untyped-def]
+    tab = pvt_rows(canon, 0.1)
+    s, v, _, _ = hermite_eval(tab.t, tab.s, tab.v, tab.t)
+    np.testing.assert_allclose(s, tab.s, atol=1e-12)
+    np.testing.assert_allclose(v[:-1], tab.v[:-1], atol=1e-12)
+    eps = 1e-9
+    sl, vl, _, _ = hermite_eval(tab.t, tab.s, tab.v, tab.t[1:-1] - eps)
+    np.testing.assert_allclose(sl, tab.s[1:-1], atol=1e-8)
+    np.testing.assert_allclose(vl, tab.v[1:-1], atol=1e-7)
+    # at rest before and after
+    s0, v0, a0, _ = hermite_eval(tab.t, tab.s, tab.v, np.array([-1.0, tab.t[-1] + 1.0]))
+    np.testing.assert_array_equal(s0, tab.s[[0, -1]])
+    assert not np.any(v0) and not np.any(a0)
+
+
+@pytest.mark.parametrize("interval", [0.1, 0.05, 1.0])
+def test_accepted_tables_keep_clearance_and_limits(canon, interval) -> None:  # type: ignore[no-untyped-def]
+    tab = pvt_table(canon, interval)
+    d, vpk, apk, jpk = reconstruction(canon, tab)
+    assert d.min() >= canon.clearance - 1e-9, d.min()
+    lim = canon.limits
+    assert np.all(vpk <= lim.v * (1 + LIMIT_RTOL)), vpk
+    assert np.all(apk <= lim.a * (1 + LIMIT_RTOL)), apk
+    assert np.all(jpk <= lim.j * (1 + LIMIT_RTOL)), jpk
+
+
+def test_failing_interval_names_the_largest_that_works(canon, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    chk = check_pvt(canon, 0.5)
+    assert not chk.ok
+    # the failure is real: the reconstruction's velocity exceeds vmax somewhere
+    _, vpk, _, _ = reconstruction(canon, pvt_rows(canon, 0.5))
+    assert np.any(vpk > canon.limits.v * (1 + LIMIT_RTOL))
+    with pytest.raises(InvalidInputError, match=r"PVT interval 0\.5 s.*largest interval that works is 0\.1 s"):
+        write_pvt(canon, tmp_path / "pvt.csv", 0.5)
+    assert list(tmp_path.iterdir()) == []
+    assert largest_pvt_interval(canon, 0.5) == 0.1
+    assert check_pvt(canon, 0.1).ok and not check_pvt(canon, 0.2).ok
+
+
+def test_off_grid_motion_needs_a_stretch(tight, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    chk = check_pvt(tight, 0.1)
+    assert not chk.ok and any("|a|" in f for f in chk.failures)
+    _, _, apk, _ = reconstruction(tight, pvt_rows(tight, 0.1))
+    assert np.any(apk > tight.limits.a * (1 + LIMIT_RTOL)), apk  # the overshoot is real
+    assert largest_pvt_interval(tight, 0.1) is None
+    with pytest.raises(InvalidInputError, match=r"no interval >= 1 ms works; 0\.1 s works with the motion slowed"):
+        pvt_table(tight, 0.1)
+    k = smallest_pvt_stretch(tight, 0.1)
+    assert k is not None and 1.0 < k <= 1.1
+    tab = write_pvt(tight, tmp_path / "pvt.csv", 0.1, max_stretch=1.1)
+    assert tab.stretch == k
+    assert tab.t[-1] == pytest.approx(k * tight.motion_time, rel=1e-12)
+    d, vpk, apk, jpk = reconstruction(tight, tab)
+    lim = tight.limits
+    assert d.min() >= tight.clearance - 1e-9
+    assert np.all(vpk <= lim.v * (1 + LIMIT_RTOL)) and np.all(apk <= lim.a * (1 + LIMIT_RTOL))
+    assert np.all(jpk <= lim.j * (1 + LIMIT_RTOL))
+    # the stretched rows sample the same path
+    s, v, _, _ = tight.sampler(tab.t[1:-1] / k)
+    np.testing.assert_allclose(tab.s[1:-1], s, atol=1e-12)
+    np.testing.assert_allclose(tab.v[1:-1], v / k, atol=1e-12)
+
+
+def test_separation_cut_by_the_cubic_is_caught() -> None:
+    """Queries whose reconstruction passes closer than the motion itself (measured: by 1 mm at 1 s), D just below
+    the motion's minimum."""
+    cases = 0
+    for st, gl, dlt in (((0.38, 1.86), (1.1, 0.36), 1.0), ((0.04, 0.62), (1.88, 1.08), 0.5)):
+        traj = generate_trajectory(L, st, gl, clearance=0.1)
+        tab = pvt_rows(traj, dlt)
+        tg = np.linspace(0.0, traj.motion_time, 200_001)
+        r, track = traj.plan.routes, traj.plan.track
+        s_true = traj.sampler(tg)[0]
+        true_min = float(np.min(track.distance(r[0].position(s_true[:, 0]), r[1].position(s_true[:, 1]))))
+        d_rec, _, _, _ = reconstruction(traj, tab)
+        if d_rec.min() > true_min - 5e-7:
+            continue
+        cases += 1
+        strict = dataclasses.replace(traj, clearance=true_min - 2e-7)
+        chk = check_pvt(strict, dlt, 1.0)
+        assert any("separation" in f for f in chk.failures), chk.failures
+        if d_rec.min() < traj.clearance:  # the cubic cuts below the real D: the trajectory's own check fails too
+            assert any("separation" in f for f in check_pvt(traj, dlt).failures)
+    assert cases >= 1
+
+
+@pytest.mark.parametrize("bad", [0, -0.1, float("nan"), float("inf"), "x", 1e-4])
+def test_bad_interval(canon, tmp_path, bad) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(InvalidInputError, match="PVT interval"):
+        write_pvt(canon, tmp_path / "p.csv", bad)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("bad", [0.5, float("nan"), "y"])
+def test_bad_stretch(canon, bad) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(InvalidInputError, match="stretch"):
+        pvt_table(canon, 0.1, max_stretch=bad)
+
+
+def test_file_round_trip(canon, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    path = tmp_path / "pvt.csv"
+    tab = write_pvt(canon, path, 0.1)
+    assert sorted(os.listdir(tmp_path)) == ["pvt.csv"]
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    assert tuple(rows[0]) == PVT_COLUMNS
+    data = np.array(rows[1:], dtype=float)
+    assert data.shape == (len(tab.t), 5)
+    np.testing.assert_array_equal(data[:, 0], tab.t)
+    np.testing.assert_allclose(data[:, [1, 3]], tab.s, rtol=1e-11, atol=1e-12)
+    np.testing.assert_allclose(data[:, [2, 4]], tab.v, rtol=1e-11, atol=1e-12)
+    assert data[-1, 0] == canon.motion_time

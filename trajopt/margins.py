@@ -1,0 +1,261 @@
+"""How much tracking error and delay a verified motion survives: :func:`margins`.
+
+Both margins are computed on the continuous motion (:attr:`Trajectory.sampler`), with the exact graph metric of
+the track, on a dense time grid of :data:`DENSE_RATE` Hz plus the gate's rigorous between-rows bound
+(:func:`trajopt.verify.between_rows_separation`: chord minimum minus the deviation ``a_int·Δt²/8``).
+
+Tracking margin ``r`` (m)
+    The largest ``r`` such that both carts, each anywhere within ``r`` of its setpoint *along its own route*, at
+    every instant, keep the separation ``>= D``. Moving a point by ``x`` along a route moves it by at most ``x``
+    in the graph metric, so by the triangle inequality two points displaced by ``<= r`` each are at least
+    ``d − 2r`` apart; the bound is attained by displacing both toward each other along the shortest path
+    (each cart's route runs both ways along its edge, so it can). Hence
+
+        ``tracking_margin = (d_min − D) / 2``,   ``d_min = min over t of d(A(t), B(t))``.
+
+    ``d_min`` is the minimum of the continuous motion, by branch and bound: grid steps whose lower bound is below
+    the best value found are cut into 8 and bounded again (four levels), so ``d_min`` is exact to
+    :data:`MIN_PRECISION` (1e-9 m) wherever the bound allows it, and always an upper bound of the true minimum
+    (it is a sampled value) within the gate's slack (``Σ amax·(Δt/8⁴)²/8``) of it.
+
+Delay tolerance ``τ`` (s)
+    The largest ``τ`` such that delaying either cart's whole motion by any ``δ ∈ [0, τ]`` (the other on time,
+    each cart at rest at its start before and at its goal after its own motion) keeps the separation ``>= D``
+    (to the gate's tolerance :data:`~trajopt.verify.SEPARATION_TOL`). With ``F(δ) = min_t d(A(t − δ), B(t))``
+    (A delayed; likewise B), ``τ_A = sup{τ : F ≥ D on [0, τ]}`` is found by interval stepping on ``δ`` with a
+    rigorous bound: over ``[δ, δ + h]`` the delayed cart's position at time ``t`` changes by at most
+    ``h·V(t)``, with ``V(t)`` its peak speed over the times ``[t − δ − h, t − δ]`` of its own motion (largest
+    sampled ``|v|`` plus ``amax·Δt/2``), or 0 where it rests throughout; so
+    ``F ≥ min_k [lb_k(δ) − h·V_k]`` (``lb_k`` the between-rows bound of grid step k). An interval that passes is
+    accepted (and ``h`` doubled, up to :data:`DELAY_STEP`); one that fails is halved, down to
+    :data:`DELAY_PRECISION`, where ``τ`` is set. So ``τ`` is a lower bound of the true value, short of it by at
+    most ``DELAY_PRECISION`` plus the bound's slack (``≈ Σ amax·Δt²/8``, 2.5e-7 m at 1 kHz, divided by the
+    rate at which ``F`` falls). Delaying a cart by more than its whole motion changes nothing more (it waits at
+    its start during the other's motion, then moves while the other rests at its goal): if the stepping passes
+    the cart's own motion time, ``τ`` is infinite. ``delay_tolerance = min(τ_A, τ_B)``. Where ``F`` stays
+    within the bound's slack of ``D`` over a long range of delays (a grazing contact) the steps shrink; the
+    search stops after :data:`MAX_DELAY_STEPS` steps and reports the delay reached (a lower bound) with
+    ``delay_resolved = False``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from trajopt.export import Trajectory
+from trajopt.verify import SEPARATION_TOL, between_rows_separation
+
+__all__ = [
+    "DELAY_PRECISION",
+    "DENSE_RATE",
+    "Margins",
+    "delay_tolerance",
+    "margins",
+    "min_separation",
+    "tracking_margin",
+]
+
+FloatArray = NDArray[np.float64]
+#: Rate of the dense grid (Hz).
+DENSE_RATE = 1000.0
+#: Precision of the minimum separation (m).
+MIN_PRECISION = 1e-9
+#: Resolution of the delay tolerance (s).
+DELAY_PRECISION = 1e-6
+#: Largest δ step of the delay search (s).
+DELAY_STEP = 1.0
+#: Cap on the steps of the delay search (the value reached is returned: a lower bound).
+MAX_DELAY_STEPS = 400
+
+
+@dataclass(frozen=True)
+class Margins:
+    """Tracking and delay margins of a motion (see the module docstring).
+
+    Attributes
+    ----------
+    tracking_margin : float
+        m, ``(d_min − D)/2``.
+    min_separation : float
+        ``d_min``: the smallest separation of the continuous motion (m).
+    min_separation_time : float
+        When it occurs (s).
+    delay_tolerance : float
+        s, ``min(delay_a, delay_b)``; ``math.inf`` if neither delay can break the separation.
+    delay_a, delay_b : float
+        The largest delay of robot A (of B) alone that keeps the separation (s; may be ``math.inf``).
+    delay_resolved : bool
+        False if a delay search stopped at :data:`MAX_DELAY_STEPS` (the separation stays within the bound's
+        slack of D over a long range of delays): the values are then lower bounds.
+    """
+
+    tracking_margin: float
+    min_separation: float
+    min_separation_time: float
+    delay_tolerance: float
+    delay_a: float
+    delay_b: float
+    delay_resolved: bool = True
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: an infinite delay is written as None with ``"delay_unbounded": true``."""
+
+        def fin(x: float) -> float | None:
+            return None if math.isinf(x) else float(x)
+
+        return {
+            "tracking_margin": float(self.tracking_margin),
+            "min_separation": float(self.min_separation),
+            "min_separation_time": float(self.min_separation_time),
+            "delay_tolerance": fin(self.delay_tolerance),
+            "delay_unbounded": math.isinf(self.delay_tolerance),
+            "delay_a": fin(self.delay_a),
+            "delay_b": fin(self.delay_b),
+            "delay_resolved": self.delay_resolved,
+            "units": {"tracking_margin": "m", "min_separation": "m", "delay_tolerance": "s"},
+        }
+
+
+class _Motion:
+    """Both carts' positions with optional delays, and the separation on grids."""
+
+    def __init__(self, trajectory: Trajectory) -> None:
+        self.traj = trajectory
+        self.track = trajectory.plan.track
+        self.routes = trajectory.plan.routes
+        self.T = float(trajectory.motion_time)
+        _, v, _, _ = trajectory.sampler(np.linspace(0.0, self.T, max(2, int(self.T * DENSE_RATE) + 1)))
+        lim = trajectory.limits
+        self.vpeak = np.minimum(np.max(np.abs(v), axis=0) + lim.a / DENSE_RATE, lim.v)
+
+    def states(self, t: FloatArray, delay: FloatArray) -> tuple[FloatArray, FloatArray]:
+        s0, _, a0, _ = self.traj.sampler(t - delay[0])
+        s1, _, a1, _ = self.traj.sampler(t - delay[1])
+        return np.column_stack([s0[:, 0], s1[:, 1]]), np.column_stack([a0[:, 0], a1[:, 1]])
+
+    def dist(self, s: FloatArray) -> FloatArray:
+        r = self.routes
+        return self.track.distance(r[0].position(s[:, 0]), r[1].position(s[:, 1]))  # type: ignore[no-any-return]
+
+    def grid(self, delay: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Times, separations at the rows, between-rows lower bounds for a motion with delays (s)."""
+        end = self.T + float(np.max(delay))
+        n = int(np.ceil(end * DENSE_RATE - 1e-9)) + 1
+        t = np.arange(max(n, 2)) / DENSE_RATE
+        s, a = self.states(t, delay)
+        d = self.dist(s)
+        lb = between_rows_separation(self.track, self.routes, s, a, 1.0 / DENSE_RATE, self.traj.limits)
+        return t, d, lb
+
+    def exact_min(self, delay: FloatArray) -> tuple[float, float]:
+        """Minimum separation of the continuous motion (m) and its time (s), to :data:`MIN_PRECISION`.
+
+        Branch and bound: grid steps whose lower bound (the gate's between-rows bound) is below the best
+        separation found minus :data:`MIN_PRECISION` are cut into 8 and bounded again, down to steps of
+        ``Δt/8⁴``.
+        """
+        t, d, lb = self.grid(delay)
+        k = int(np.argmin(d))
+        best, t_best = float(d[k]), float(t[k])
+        lo = t[:-1][lb < best - MIN_PRECISION]
+        w = 1.0 / DENSE_RATE
+        u = np.arange(9) / 8.0
+        for _ in range(4):
+            if len(lo) == 0:
+                break
+            tt = lo[:, None] + w * u[None, :]
+            s, a = self.states(tt.ravel(), delay)
+            dd = self.dist(s).reshape(tt.shape)
+            m = np.unravel_index(int(np.argmin(dd)), dd.shape)
+            if dd[m] < best:
+                best, t_best = float(dd[m]), float(tt[m])
+            w /= 8.0
+            sub = between_rows_separation(self.track, self.routes, s, a, w, self.traj.limits)
+            sub = np.append(sub, np.inf).reshape(tt.shape)[:, :8]  # drop the pairs across candidates
+            lo = tt[:, :8][sub < best - MIN_PRECISION]
+        return best, t_best
+
+    def delay_limit(self, robot: int) -> tuple[float, bool]:
+        """τ of one robot (see the module docstring), and whether the search resolved it (not capped)."""
+        D = self.traj.clearance - SEPARATION_TOL
+        if self.T <= 0.0 or float(self.vpeak[robot]) <= 0.0:
+            return math.inf, True
+        dt = 1.0 / DENSE_RATE
+        amax = float(self.traj.limits.a[robot])
+        delta, h = 0.0, DELAY_STEP
+        self.steps = 0
+        while delta <= self.T:
+            self.steps += 1
+            if self.steps > MAX_DELAY_STEPS:
+                return delta, False
+            delay = np.zeros(2)
+            delay[robot] = delta
+            # rows until both motions have ended for every delay in [δ, δ + h]
+            t = np.arange(int(np.ceil((self.T + delta + h) * DENSE_RATE)) + 2) / DENSE_RATE
+            s, a = self.states(t, delay)
+            speed = np.abs(self.traj.sampler(t - delta)[1][:, robot])
+            lb = between_rows_separation(self.track, self.routes, s, a, dt, self.traj.limits)
+            # peak speed of the delayed cart over u in [t_k − δ − h, t_k+1 − δ] (samples k−m … k+1)
+            m = int(np.ceil(h * DENSE_RATE))
+            win = _window_max(np.concatenate([np.zeros(m), speed]), m + 2)
+            u0, u1 = t[:-1] - delta - h, t[1:] - delta
+            moving = (u1 > 0.0) & (u0 < self.T)
+            bound = lb - h * np.where(moving, win + amax * dt / 2.0, 0.0)
+            if float(np.min(bound)) >= D:
+                delta += h
+                h = min(2.0 * h, DELAY_STEP)
+            elif h <= DELAY_PRECISION:
+                return delta, True
+            else:
+                h /= 2.0
+        return math.inf, True
+
+
+def _window_max(x: FloatArray, w: int) -> FloatArray:
+    """``max(x[i : i + w])`` for ``i = 0 … len(x) − w`` (doubling: O(n log w))."""
+    p, m = 1, x
+    while 2 * p <= w:
+        m = np.maximum(m[:-p], m[p:])
+        p *= 2
+    n = len(x) - w + 1
+    return np.maximum(m[:n], m[w - p : w - p + n])
+
+
+def min_separation(trajectory: Trajectory) -> tuple[float, float]:
+    """The smallest separation of the continuous motion (m) and when it occurs (s)."""
+    return _Motion(trajectory).exact_min(np.zeros(2))
+
+
+def tracking_margin(trajectory: Trajectory) -> float:
+    """``(d_min − D)/2`` (m): how far each cart may be from its setpoint along its route (module docstring)."""
+    d, _ = min_separation(trajectory)
+    return (d - trajectory.clearance) / 2.0
+
+
+def delay_tolerance(trajectory: Trajectory) -> tuple[float, float, float]:
+    """``(τ, τ_A, τ_B)`` (s): how late either cart may run with its whole motion (module docstring)."""
+    m = _Motion(trajectory)
+    (ta, _), (tb, _) = m.delay_limit(0), m.delay_limit(1)
+    return min(ta, tb), ta, tb
+
+
+def margins(trajectory: Trajectory) -> Margins:
+    """Tracking margin and delay tolerance of a verified trajectory.
+
+    Examples
+    --------
+    >>> from mpa import Lollipop
+    >>> from trajopt import generate_trajectory
+    >>> m = margins(generate_trajectory(Lollipop(1.0, 1.0), (0.2, 0.5), (0.5, 0.2)))
+    >>> round(m.tracking_margin, 6), m.delay_tolerance > 0
+    (0.125, True)
+    """
+    m = _Motion(trajectory)
+    d, td = m.exact_min(np.zeros(2))
+    (ta, ra), (tb, rb) = m.delay_limit(0), m.delay_limit(1)
+    return Margins((d - trajectory.clearance) / 2.0, d, td, min(ta, tb), ta, tb, ra and rb)

@@ -1,0 +1,415 @@
+"""Position-velocity-time (PVT) tables for drives that interpolate cubically (Hermite) between rows.
+
+A PVT drive receives rows ``(t_k, s_k, v_k)`` and moves, between two rows, along the cubic Hermite polynomial
+with those end positions and velocities. :func:`pvt_table` samples a verified trajectory every ``interval``
+seconds and accepts the interval only if that *reconstruction* — not the trajectory itself — keeps the clearance
+and the limits.
+
+Rows
+    ``t_k = k·Δ`` for ``k·Δ < T − Δ/100`` (``T`` = :attr:`Trajectory.motion_time`), then ``T`` itself: the
+    last row is the end of the motion (at the goal, at rest). A remainder shorter than ``Δ/100`` is merged into
+    the previous interval (a nanosecond-long last piece would make the cubic's coefficients pure rounding
+    noise), so every interval lies in ``[Δ/100, 1.01·Δ]``. Columns ``time, a_s, a_v, b_s, b_v``
+    (route coordinates and their velocities, as in the CSV).
+
+The check (:func:`check_pvt`)
+    On the piece ``[t_k, t_k+1]`` of length ``h`` the cubic is ``s(τ) = c0 + c1τ + c2τ² + c3τ³`` with
+    ``c2 = (3Δs/h − 2v_k − v_k+1)/h``, ``c3 = (v_k + v_k+1 − 2Δs/h)/h²``. Its velocity is quadratic (checked at
+    both ends and at the vertex ``τ = −c2/(3c3)`` when inside), its acceleration linear (checked at both ends:
+    these are its extremes), its jerk the constant ``6c3``. **Acceleration and jerk are checked per piece**:
+    the acceleration of a Hermite reconstruction jumps at the rows (it is only C¹) and these jumps are inherent
+    to every PVT drive, so they are not counted as jerk; what is checked is that each piece's acceleration
+    stays within ``amax`` and its (constant) jerk within ``jmax`` (relative tolerance
+    :data:`trajopt.verify.LIMIT_RTOL`). The jump at the first and last row (the drive at rest before and after)
+    is treated the same way.
+    Then the gate :func:`trajopt.verify.verify_setpoints` runs on a dense grid of the reconstruction at
+    ``R = m/Δ`` Hz, ``m = max(8, ceil(Δ·1000))`` (so every row ``k·Δ`` is a grid point and ``R ≥ 1 kHz``):
+    positions on the routes, separation at every grid point and between points, homotopy class, endpoints.
+    As the gate bounds the motion between grid points with the accelerations at its ends, the array passed as
+    acceleration holds, at each grid point, the largest ``|a|`` of the reconstruction over the two adjacent grid
+    steps (exact: ``a`` is piecewise linear), and 0 at the first and last point; the jerk array holds the
+    largest per-piece ``|6c3|`` of the adjacent steps. This over-estimates, never under-estimates, the chord
+    deviation, so the gate's separation bound stays a bound.
+
+Largest interval
+    If the interval fails, :func:`largest_pvt_interval` scans the 1-2-5 series (…, 1, 0.5, 0.2, 0.1, 0.05, …,
+    0.001 s) downwards from the largest value not above the requested interval and returns the first that
+    passes (the series is preferred over bisection: drives take round periods, and passing is not monotone in
+    Δ in general); the error names it.
+
+Time stretch (optional)
+    A Hermite cubic through exact samples overshoots the motion's peak velocity and acceleration by O(jmax·Δ)
+    wherever a phase of the jerk-limited profile starts inside an interval (measured: +5.5 % acceleration at
+    Δ = 0.1 s, +0.55 % at 0.01 s for vmax 0.4, amax 0.8, jmax 3), so a motion that uses its limits fully
+    passes only when its phases fall on the grid. ``max_stretch > 1`` lets :func:`pvt_table` sample the same
+    path ``k`` times slower (``s(t/k)``, ``v/k``; the path, hence clearance and homotopy class, unchanged) with
+    the smallest ``k`` of :data:`STRETCHES` that passes; the table reports ``stretch``. The default (1) is
+    strict: the rows are the motion itself or an error.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from mpa.errors import InvalidInputError
+from trajopt.export import Trajectory, atomic_write_text
+from trajopt.verify import LIMIT_RTOL, VerificationReport, verify_setpoints
+
+__all__ = [
+    "PVT_COLUMNS",
+    "PVTCheck",
+    "PVTTable",
+    "check_pvt",
+    "hermite_eval",
+    "largest_pvt_interval",
+    "pvt_knots",
+    "pvt_rows",
+    "pvt_table",
+    "smallest_pvt_stretch",
+    "write_pvt",
+]
+
+FloatArray = NDArray[np.float64]
+#: Columns of the PVT file.
+PVT_COLUMNS = ("time", "a_s", "a_v", "b_s", "b_v")
+#: Default interval (s).
+DEFAULT_INTERVAL = 0.1
+#: Smallest interval tried by :func:`largest_pvt_interval` (s).
+MIN_INTERVAL = 1e-3
+#: Smallest dense-grid rate of the check (Hz).
+DENSE_RATE = 1000.0
+#: Time-stretch factors tried, in order (see :func:`pvt_table`).
+STRETCHES = (1.0, 1.001, 1.002, 1.005, 1.01, 1.02, 1.05, 1.1, 1.2, 1.5, 2.0)
+
+
+@dataclass(frozen=True)
+class PVTTable:
+    """Rows of a PVT table. ``t`` shape (M,) s; ``s``, ``v`` shape (M, 2) m, m/s (column 0 = robot A)."""
+
+    t: FloatArray
+    s: FloatArray
+    v: FloatArray
+    interval: float
+    stretch: float = 1.0
+    """Time-stretch factor k >= 1: the rows sample ``s(t/k)`` (the same path, k times slower)."""
+
+    @property
+    def motion_time(self) -> float:
+        """Time of the last row (s)."""
+        return float(self.t[-1])
+
+    def csv_text(self) -> str:
+        """The file's content: header ``time,a_s,a_v,b_s,b_v``, 12 significant digits (17 for the time)."""
+        buf = io.StringIO()
+        buf.write(",".join(PVT_COLUMNS) + "\n")
+        data = np.column_stack([self.t, self.s[:, 0], self.v[:, 0], self.s[:, 1], self.v[:, 1]])
+        np.savetxt(buf, data, delimiter=",", fmt=["%.17g", "%.12g", "%.12g", "%.12g", "%.12g"])
+        return buf.getvalue()
+
+
+@dataclass(frozen=True)
+class PVTCheck:
+    """Outcome of :func:`check_pvt`.
+
+    Attributes
+    ----------
+    ok : bool
+    failures : tuple of str
+        Limit failures of the pieces, then the gate's failures.
+    peak_ratio : dict
+        ``{"v": (A, B), "a": …, "j": …}``: largest ``|value| / limit`` of the reconstruction per robot.
+    report : VerificationReport
+        The gate's report on the dense grid.
+    dense_rate : float
+        Rate of the dense grid (Hz).
+    """
+
+    ok: bool
+    failures: tuple[str, ...]
+    peak_ratio: dict[str, tuple[float, float]]
+    report: VerificationReport
+    dense_rate: float
+
+
+def check_interval(interval: object) -> float:
+    """Validate a PVT interval: a finite number >= :data:`MIN_INTERVAL` (s).
+
+    Raises
+    ------
+    InvalidInputError
+    """
+    try:
+        d = float(interval)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise InvalidInputError(
+            f"PVT interval is {interval!r}, expected a number of seconds >= {MIN_INTERVAL:g}"
+        ) from None
+    if not math.isfinite(d) or d < MIN_INTERVAL:
+        raise InvalidInputError(f"PVT interval is {d!r} s, expected a finite number >= {MIN_INTERVAL:g} s")
+    return d
+
+
+def pvt_knots(motion_time: float, interval: float) -> FloatArray:
+    """Row times: ``k·Δ`` below ``T − Δ/100``, then ``T`` (see the module docstring). Shape (M,)."""
+    if motion_time <= 0:
+        return np.zeros(1)
+    k = np.arange(int(np.ceil(motion_time / interval)) + 1)
+    t = k * interval
+    t = t[t < motion_time - interval / 100.0]
+    return np.append(t, motion_time)
+
+
+def _coefficients(t: FloatArray, s: FloatArray, v: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    h = np.diff(t)[:, None]
+    ds = np.diff(s, axis=0)
+    c2 = (3.0 * ds / h - 2.0 * v[:-1] - v[1:]) / h
+    c3 = (v[:-1] + v[1:] - 2.0 * ds / h) / (h * h)
+    return h, c2, c3
+
+
+def hermite_eval(
+    t_rows: FloatArray, s_rows: FloatArray, v_rows: FloatArray, tq: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """The cubic Hermite reconstruction at times ``tq``: ``s, v, a, j``, each shape (len(tq), 2).
+
+    Right-continuous at the rows (``a`` and ``j`` of the piece that starts there); before the first row and
+    after the last the robots rest at the first/last row (``v = a = j = 0``).
+    """
+    tq = np.asarray(tq, dtype=float)
+    n = len(tq)
+    if len(t_rows) < 2:
+        z = np.zeros((n, 2))
+        return np.broadcast_to(s_rows[0], (n, 2)).copy(), z, z.copy(), z.copy()
+    _h, c2, c3 = _coefficients(t_rows, s_rows, v_rows)
+    k = np.clip(np.searchsorted(t_rows, tq, side="right") - 1, 0, len(t_rows) - 2)
+    tau = (tq - t_rows[k])[:, None]
+    c0, c1, q2, q3 = s_rows[k], v_rows[k], c2[k], c3[k]
+    s = c0 + tau * (c1 + tau * (q2 + tau * q3))
+    v = c1 + tau * (2.0 * q2 + 3.0 * tau * q3)
+    a = 2.0 * q2 + 6.0 * q3 * tau
+    j = np.broadcast_to(6.0 * q3, s.shape).copy()
+    after = tq >= t_rows[-1]
+    s[after] = s_rows[-1]
+    v[after], a[after], j[after] = 0.0, 0.0, 0.0
+    before = tq < t_rows[0]
+    s[before] = s_rows[0]
+    v[before], a[before], j[before] = 0.0, 0.0, 0.0
+    return s, v, a, j
+
+
+def pvt_rows(trajectory: Trajectory, interval: float, stretch: float = 1.0) -> PVTTable:
+    """The PVT rows at ``interval`` (s) of the motion stretched ``stretch`` times, *unchecked* (see
+    :func:`pvt_table`). Row times :func:`pvt_knots`; first row ``s = 0``, last the goal; both ``v = 0``."""
+    t = pvt_knots(trajectory.motion_time * stretch, interval)
+    s, v, _a, _j = trajectory.sampler(np.minimum(t / stretch, trajectory.motion_time))
+    s, v = np.array(s, dtype=float), np.array(v, dtype=float) / stretch
+    v[0] = 0.0
+    v[-1] = 0.0
+    s[0] = 0.0
+    s[-1] = trajectory.s[-1]
+    return PVTTable(t=t, s=s, v=v, interval=interval, stretch=stretch)
+
+
+def check_pvt(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, stretch: float = 1.0) -> PVTCheck:
+    """Check the Hermite reconstruction of the PVT rows at ``interval`` (see the module docstring).
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+    interval : float
+        Row interval Δ (s).
+    stretch : float
+        Time-stretch factor k >= 1 of the sampled motion.
+
+    Raises
+    ------
+    InvalidInputError
+        ``interval`` not a finite number >= 1 ms, ``stretch`` not a finite number >= 1.
+    """
+    dlt = check_interval(interval)
+    k_st = _check_stretch(stretch)
+    tab = pvt_rows(trajectory, dlt, k_st)
+    lim = trajectory.limits
+    fails: list[str] = []
+    peak: dict[str, tuple[float, float]] = {}
+    if len(tab.t) >= 2:
+        h, c2, c3 = _coefficients(tab.t, tab.s, tab.v)
+        v0, v1 = tab.v[:-1], tab.v[1:]
+        tau = np.where(c3 != 0, -c2 / np.where(c3 != 0, 3.0 * c3, 1.0), 0.0)
+        inside = (tau > 0) & (tau < h)
+        v_vertex = np.where(inside, v0 + tau * (2.0 * c2 + 3.0 * tau * c3), 0.0)
+        vmax = np.max(np.abs(np.concatenate([v0, v1, v_vertex])), axis=0)
+        amax = np.max(np.abs(np.concatenate([2.0 * c2, 2.0 * c2 + 6.0 * c3 * h])), axis=0)
+        jmax = np.max(np.abs(6.0 * c3), axis=0)
+    else:
+        vmax = amax = jmax = np.zeros(2)
+    for name, val, limit in (("v", vmax, lim.v), ("a", amax, lim.a), ("j", jmax, lim.j)):
+        ratio = val / limit
+        peak[name] = (float(ratio[0]), float(ratio[1]))
+        for r in (0, 1):
+            if ratio[r] > 1 + LIMIT_RTOL:
+                fails.append(f"|{name}| of robot {'AB'[r]}'s cubic pieces reaches {val[r]:.9g}, limit {limit[r]:g}")
+    # the gate on a dense grid of the reconstruction
+    m = max(8, math.ceil(dlt * DENSE_RATE - 1e-9))
+    rate = m / dlt
+    n = int(np.ceil(tab.motion_time * rate - 1e-9)) + 1 if tab.motion_time > 0 else 1
+    tg = np.arange(n) / rate
+    s, v, _a, _j = hermite_eval(tab.t, tab.s, tab.v, tg)
+    # largest |a| over each grid step (a is linear on each piece; the only row inside a step is the last one)
+    if n >= 2:
+        s_end = np.minimum(tg[1:], tab.t[-1])
+        k = np.clip(np.searchsorted(tab.t, tg[:-1], side="right") - 1, 0, max(len(tab.t) - 2, 0))
+        if len(tab.t) >= 2:
+            _h, c2, c3 = _coefficients(tab.t, tab.s, tab.v)
+            tau0 = (tg[:-1] - tab.t[k])[:, None]
+            tau1 = np.maximum(s_end - tab.t[k], 0.0)[:, None]
+            a0 = np.abs(2.0 * c2[k] + 6.0 * c3[k] * tau0)
+            a1 = np.abs(2.0 * c2[k] + 6.0 * c3[k] * tau1)
+            step_a = np.maximum(a0, a1)
+            step_j = np.abs(6.0 * c3[k])
+            moving = (tg[:-1] < tab.t[-1])[:, None]
+            step_a = np.where(moving, step_a, 0.0)
+            step_j = np.where(moving, step_j, 0.0)
+        else:
+            step_a = step_j = np.zeros((n - 1, 2))
+        a_rows = np.zeros((n, 2))
+        j_rows = np.zeros((n, 2))
+        a_rows[1:-1] = np.maximum(step_a[:-1], step_a[1:])
+        j_rows[1:-1] = np.maximum(step_j[:-1], step_j[1:])
+        j_rows[0], j_rows[-1] = step_j[0], step_j[-1]
+    else:
+        a_rows = np.zeros((n, 2))
+        j_rows = np.zeros((n, 2))
+    plan = trajectory.plan
+    routes = plan.routes
+    tr = np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1)
+    tr[0], tr[-1] = plan.start, plan.goal
+    rep = verify_setpoints(
+        plan.track,
+        routes,
+        tg,
+        tr,
+        s,
+        v,
+        a_rows,
+        j_rows,
+        limits=lim,
+        clearance=trajectory.clearance,
+        start=plan.start,
+        goal=plan.goal,
+        word=trajectory.word,
+        rate=rate,
+    )
+    # the gate's limit messages repeat the piece checks above in grid-row terms; keep the others
+    fails += [f for f in rep.failures if not f.startswith("row ") or "separation" in f]
+    return PVTCheck(not fails, tuple(fails), peak, rep, rate)
+
+
+def _check_stretch(stretch: object, name: str = "stretch") -> float:
+    try:
+        k = float(stretch)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise InvalidInputError(f"PVT {name} is {stretch!r}, expected a finite number >= 1") from None
+    if not math.isfinite(k) or k < 1.0:
+        raise InvalidInputError(f"PVT {name} is {k!r}, expected a finite number >= 1")
+    return k
+
+
+def _series(upto: float) -> list[float]:
+    out: list[float] = []
+    for e in range(3, -4, -1):
+        for m in (5.0, 2.0, 1.0):
+            x = m * 10.0**e
+            if MIN_INTERVAL - 1e-12 <= x <= upto + 1e-12:
+                out.append(round(x, 6))
+    return out
+
+
+def largest_pvt_interval(trajectory: Trajectory, upto: float = DEFAULT_INTERVAL, stretch: float = 1.0) -> float | None:
+    """The largest interval of the 1-2-5 series (1 ms … 1000 s) not above ``upto`` that passes
+    :func:`check_pvt` (at time-stretch ``stretch``), or None if none does."""
+    for x in _series(check_interval(upto)):
+        if check_pvt(trajectory, x, stretch).ok:
+            return x
+    return None
+
+
+def smallest_pvt_stretch(trajectory: Trajectory, interval: float, max_stretch: float = 2.0) -> float | None:
+    """The smallest factor of :data:`STRETCHES` not above ``max_stretch`` with which ``interval`` passes, or None."""
+    cap = _check_stretch(max_stretch, "max_stretch")
+    for k in STRETCHES:
+        if k <= cap * (1 + 1e-12) and check_pvt(trajectory, interval, k).ok:
+            return k
+    return None
+
+
+def pvt_table(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, *, max_stretch: float = 1.0) -> PVTTable:
+    """The PVT rows of ``trajectory`` every ``interval`` seconds, if their Hermite reconstruction passes.
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+    interval : float
+        Row interval Δ (s), >= 1 ms.
+    max_stretch : float
+        Largest time-stretch factor allowed (>= 1; 1 = the motion as it is). When the motion itself fails, the
+        smallest factor of :data:`STRETCHES` up to this one that passes is used (``PVTTable.stretch``): the same
+        path, ``k`` times slower, so velocities scale by 1/k, accelerations 1/k², jerks 1/k³.
+
+    Raises
+    ------
+    InvalidInputError
+        ``interval`` is not a number >= 1 ms, or its reconstruction breaks the clearance or a limit; the
+        message names the failed check, the largest interval of the 1-2-5 series that works and the smallest
+        stretch factor that makes ``interval`` work.
+
+    Examples
+    --------
+    >>> from mpa import Lollipop
+    >>> from trajopt import generate_trajectory
+    >>> tab = pvt_table(generate_trajectory(Lollipop(1.0, 1.0), (0.1, 0.6), (0.8, 0.3)), 0.1)
+    >>> float(tab.t[1]), bool(tab.v[-1, 0] == 0.0), tab.stretch
+    (0.1, True, 1.0)
+    """
+    dlt = check_interval(interval)
+    cap = _check_stretch(max_stretch, "max_stretch")
+    chk = check_pvt(trajectory, dlt)
+    if chk.ok:
+        return pvt_rows(trajectory, dlt)
+    k = smallest_pvt_stretch(trajectory, dlt, cap) if cap > 1.0 else None
+    if k is not None:
+        return pvt_rows(trajectory, dlt, k)
+    best = largest_pvt_interval(trajectory, dlt)
+    hint = f"the largest interval that works is {best:g} s" if best is not None else "no interval >= 1 ms works"
+    k2 = smallest_pvt_stretch(trajectory, dlt, STRETCHES[-1])
+    if k2 is not None:
+        hint += f"; {dlt:g} s works with the motion slowed by a factor {k2:g} (max_stretch / --pvt-stretch)"
+    raise InvalidInputError(
+        f"PVT interval {dlt:g} s: the cubic reconstruction fails ({chk.failures[0]}), expected an interval "
+        f"whose reconstruction keeps the clearance and limits; {hint}"
+    )
+
+
+def write_pvt(
+    trajectory: Trajectory,
+    path: str | os.PathLike[str],
+    interval: float = DEFAULT_INTERVAL,
+    *,
+    max_stretch: float = 1.0,
+) -> PVTTable:
+    """Check and write the PVT table as CSV (atomically). Returns the table.
+
+    Raises
+    ------
+    InvalidInputError
+        See :func:`pvt_table`; nothing is written.
+    """
+    tab = pvt_table(trajectory, interval, max_stretch=max_stretch)
+    atomic_write_text(path, tab.csv_text())
+    return tab

@@ -1,0 +1,425 @@
+"""Re-planning from a moving state: :func:`replan` (and :meth:`TrajectoryGenerator.replan`).
+
+Given a verified trajectory, a time ``at_time`` of it and a new goal, the result is a verified trajectory that
+starts at both carts' state at ``at_time`` — position, velocity and acceleration along their routes — and ends
+at rest at the new goal. Its time 0 is ``at_time`` of the old one.
+
+1. **Brake** on the current routes: one 2-DoF ruckig call in the velocity interface (target velocity and
+   acceleration 0) from the state ``(σ, σ̇, σ̈)`` of both carts, with the generator's limits and
+   ``Synchronization.Phase``. When the two carts' velocity and acceleration are collinear in the σ-plane (always
+   on a straight piece of the optimized path, and at rest) phase synchronization keeps the braking motion on that
+   straight line, i.e. on the old path; otherwise ruckig falls back to time synchronization and the braking
+   curve leaves the old path slightly. A cart whose stop would fall within 1e-6 m of the pole P is brought to
+   rest exactly on P instead (ruckig's position interface; the planner handles starts at P but not a hair
+   beside it). The braking part is checked on its own (separation at the rows and
+   between them, the gate's bound); if it would bring the carts closer than D the re-plan is refused with
+   :class:`~mpa.errors.NoMotionError` (re-plan at another time).
+2. **New motion** from the rest state to the goal: :meth:`TrajectoryGenerator.generate` (plan, smoothing,
+   timing, gate). The goal is validated there (off the track, too close: :class:`~mpa.errors.InvalidInputError`;
+   no motion: :class:`~mpa.errors.NoMotionError`).
+3. **Splice.** Each cart's braking segment and new route are joined into one route (a geodesic line of the
+   universal cover, :meth:`mpa.routes.Route.through` on the lifted corners, the new route moved by the deck
+   transformation that puts its start on the rest point), so the result has the usual route coordinates
+   (σ = 0 at the state at ``at_time``; σ may run opposite to the old route's, the sign is reported in
+   ``solver_stats["replan"]["orientation"]``). At the splice the braking profile starts exactly at the old state,
+   so position, velocity and acceleration are continuous (to rounding, 1e-12) and the jerk is limited; the
+   braking ends at rest, where the new motion starts at rest. If a cart would come back through P onto a third
+   branch (its path is then no single route) :class:`~mpa.errors.PlanningError` says so.
+4. **Gate** on the spliced rows, with every check of :func:`~trajopt.verify.verify_setpoints` except "first row
+   at rest" (the first row is the moving state by construction); the homotopy class checked is the reduced
+   word of the braking rows followed by the new plan's path (``mpa.path_word``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mpa.errors import InvalidInputError, NoMotionError, PlanningError
+from mpa.homotopy import path_word
+from mpa.plan import PlanStep
+from mpa.routes import Lift, Route
+from mpa.tracks import Circle, Lollipop
+from trajopt.export import Trajectory, time_grid
+from trajopt.verify import SEPARATION_TOL, VerificationError, between_rows_separation, verify_setpoints
+
+if TYPE_CHECKING:
+    from trajopt.generator import TrajectoryGenerator
+
+__all__ = ["Brake", "brake_profile", "replan"]
+
+FloatArray = NDArray[np.float64]
+_REST = 1e-12
+
+
+@dataclasses.dataclass(frozen=True)
+class Brake:
+    """Piecewise-constant-jerk braking of both carts. Phase tables per cart: ``t0, p, v, a, j`` (Q,)."""
+
+    t0: tuple[FloatArray, FloatArray]
+    p: tuple[FloatArray, FloatArray]
+    v: tuple[FloatArray, FloatArray]
+    a: tuple[FloatArray, FloatArray]
+    j: tuple[FloatArray, FloatArray]
+    duration: float
+    start: FloatArray
+    stop: FloatArray
+    phase_synchronized: bool
+
+    def sample(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """``σ, σ̇, σ̈, σ⃛`` (each shape ``t.shape + (2,)``); held at rest at ``stop`` after the end."""
+        tt = np.asarray(t, dtype=float)
+        out = [np.zeros((*tt.shape, 2)) for _ in range(4)]
+        for r in (0, 1):
+            t0 = self.t0[r]
+            if len(t0) == 0:
+                out[0][..., r] = self.stop[r]
+                continue
+            k = np.clip(np.searchsorted(t0, tt, side="right") - 1, 0, len(t0) - 1)
+            tau = np.clip(tt - t0[k], 0.0, None)
+            j = self.j[r][k]
+            a = self.a[r][k] + j * tau
+            v = self.v[r][k] + self.a[r][k] * tau + 0.5 * j * tau**2
+            s = self.p[r][k] + self.v[r][k] * tau + 0.5 * self.a[r][k] * tau**2 + j * tau**3 / 6.0
+            end = t0[-1] + self._last[r]
+            after = tt >= end
+            out[0][..., r] = np.where(after, self.stop[r], s)
+            out[1][..., r] = np.where(after, 0.0, v)
+            out[2][..., r] = np.where(after, 0.0, a)
+            out[3][..., r] = np.where(after, 0.0, j)
+        return out[0], out[1], out[2], out[3]
+
+    @property
+    def _last(self) -> tuple[float, float]:
+        return self.__dict__["_last_len"]  # type: ignore[no-any-return]
+
+
+def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any, target: ArrayLike | None = None) -> Brake:
+    """Jerk-limited braking of both carts from ``(σ, σ̇, σ̈)`` (each shape (2,)) to rest (ruckig, see above).
+
+    ``target`` (shape (2,), optional): stop exactly there (ruckig's position interface) instead of where the
+    time-optimal stop ends (velocity interface).
+
+    Raises
+    ------
+    PlanningError
+        ruckig fails or needs a pre-brake (the state violates the limits).
+    """
+    from ruckig import ControlInterface, InputParameter, Result, Ruckig, Synchronization
+    from ruckig import Trajectory as RTrajectory
+
+    s0, v0, a0 = (np.asarray(x, dtype=float) for x in (s, v, a))
+    if np.all(np.abs(v0) <= _REST) and np.all(np.abs(a0) <= _REST):
+        z = (np.zeros(0), np.zeros(0))
+        b = Brake(z, z, z, z, z, 0.0, s0.copy(), s0.copy(), True)
+        object.__setattr__(b, "_last_len", (0.0, 0.0))
+        return b
+    otg, inp, tr = Ruckig(2), InputParameter(2), RTrajectory(2)
+    if target is None:
+        inp.control_interface = ControlInterface.Velocity
+    else:
+        inp.target_position = np.asarray(target, dtype=float).tolist()
+    collinear = abs(v0[0] * a0[1] - v0[1] * a0[0]) <= 1e-12 * max(1.0, float(np.abs(v0).max() * np.abs(a0).max()))
+    inp.synchronization = Synchronization.Phase if collinear else Synchronization.Time
+    inp.current_position = s0.tolist()
+    inp.current_velocity = v0.tolist()
+    inp.current_acceleration = a0.tolist()
+    inp.target_velocity = [0.0, 0.0]
+    inp.target_acceleration = [0.0, 0.0]
+    # the limits, or the current state's own value when the verified motion sits on the limit (within the
+    # gate's tolerance): ruckig would otherwise add a pre-brake
+    safety = 1.0 - 1e-9
+    inp.max_velocity = np.maximum(limits.v * safety, np.abs(v0) * (1 + 1e-12)).tolist()
+    inp.max_acceleration = np.maximum(limits.a * safety, np.abs(a0) * (1 + 1e-12)).tolist()
+    inp.max_jerk = (limits.j * safety).tolist()
+    res = otg.calculate(inp, tr)
+    if res not in (Result.Working, Result.Finished):
+        raise PlanningError(f"ruckig failed to brake from v = {v0.tolist()}, a = {a0.tolist()}: {res}")
+    t0s, ps, vs, as_, js, lasts, stop = [], [], [], [], [], [], []
+    for r in (0, 1):
+        prof = tr.profiles[0][r]
+        if prof.brake.duration > 0 or prof.accel.duration > 0:
+            raise PlanningError(f"ruckig needed a pre-brake for robot {'AB'[r]} (state beyond the limits)")
+        tp = np.asarray(prof.t, dtype=float)
+        keep = tp > 0
+        starts = np.concatenate([[0.0], np.cumsum(tp)[:-1]])
+        t0s.append(starts[keep])
+        ps.append(np.asarray(prof.p[:7], dtype=float)[keep])
+        vs.append(np.asarray(prof.v[:7], dtype=float)[keep])
+        as_.append(np.asarray(prof.a[:7], dtype=float)[keep])
+        js.append(np.asarray(prof.j, dtype=float)[keep])
+        lasts.append(float(tp[keep][-1]) if keep.any() else 0.0)
+        stop.append(float(prof.p[7]))
+    b = Brake(
+        (t0s[0], t0s[1]),
+        (ps[0], ps[1]),
+        (vs[0], vs[1]),
+        (as_[0], as_[1]),
+        (js[0], js[1]),
+        float(tr.duration),
+        s0.copy(),
+        np.array(stop),
+        collinear,
+    )
+    object.__setattr__(b, "_last_len", (lasts[0], lasts[1]))
+    return b
+
+
+#: A stop closer than this to the pole P (m) is moved onto P (the planner treats nearer starts as P).
+SNAP = 1e-6
+
+
+def _snap_to_pole(routes: Any, stop: FloatArray) -> FloatArray | None:
+    """Stops within :data:`SNAP` of a junction of their route moved onto it (None if none is)."""
+    out = np.array(stop, dtype=float)
+    moved = False
+    for r in (0, 1):
+        junc = routes[r].junctions()
+        if len(junc):
+            k = int(np.argmin(np.abs(junc - out[r])))
+            if 0.0 < abs(junc[k] - out[r]) <= SNAP:
+                out[r] = float(junc[k])
+                moved = True
+    return out if moved else None
+
+
+def _lift(route: Route, sigma: float) -> Lift:
+    is_stick, k, v = route.lift_at(np.array([sigma]))
+    return Lift("stick" if bool(is_stick[0]) else "line", int(k[0]), float(v[0]))
+
+
+def _normal(track: Any, lf: Lift) -> Lift:
+    c = getattr(track, "loop", 0.0)
+    if lf.kind == "stick" and lf.v <= 1e-9 * max(1.0, track.total_length):
+        return Lift("line", 0, lf.k * c)
+    return lf
+
+
+def _deck(track: Any, frm: Lift, to: Lift) -> int:
+    """The deck transformation (shift by m turns) that maps ``frm`` onto ``to`` (same track point)."""
+    if not isinstance(track, (Lollipop, Circle)):
+        return 0
+    c = track.loop
+    f, g = _normal(track, frm), _normal(track, to)
+    if f.kind == "line" and g.kind == "line":
+        return round((g.v - f.v) / c)
+    if f.kind == "stick" and g.kind == "stick":
+        return g.k - f.k
+    raise PlanningError(f"cannot match the new route's start {frm} with the rest point {to}")
+
+
+def _shift(track: Any, lf: Lift, m: int) -> Lift:
+    if m == 0 or not isinstance(track, (Lollipop, Circle)):
+        return lf
+    if lf.kind == "stick":
+        return Lift("stick", lf.k + m, lf.v)
+    return Lift("line", 0, lf.v + m * track.loop)
+
+
+def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: float, goal: ArrayLike) -> Trajectory:
+    """A verified trajectory from both carts' state at ``at_time`` of ``trajectory`` to rest at ``goal``.
+
+    Parameters
+    ----------
+    generator : TrajectoryGenerator
+        Built for the trajectory's track (its clearance, limits and rate are used).
+    trajectory : Trajectory
+        The motion being executed.
+    at_time : float
+        Time of ``trajectory`` (s), in ``[0, makespan]``.
+    goal : array_like, shape (2,)
+        New goal (track coordinates of A and B).
+
+    Returns
+    -------
+    Trajectory
+        Time 0 is ``at_time``; ``solver_stats["replan"]`` records the splice (braking time and distance, the
+        orientation of the new route coordinates relative to the old ones, phase synchronization).
+
+    Raises
+    ------
+    InvalidInputError
+        ``at_time`` not in ``[0, makespan]``; bad goal; another track than the generator's.
+    NoMotionError
+        Braking from that state would break the clearance, or no motion reaches the goal.
+    PlanningError
+        A cart's path would branch at P (no single route), or the spliced rows fail the gate (never observed).
+    """
+    t_start = time.perf_counter()
+    try:
+        at = float(at_time)
+    except (TypeError, ValueError):
+        raise InvalidInputError(f"at_time is {at_time!r}, expected a number of seconds") from None
+    if not math.isfinite(at) or at < 0.0 or at > trajectory.makespan + 1e-12:
+        raise InvalidInputError(f"at_time is {at!r} s, expected a time in [0, {trajectory.makespan:g}] s")
+    old = trajectory.plan
+    track = old.track
+    if generator.track != track:
+        raise InvalidInputError(f"the generator's track {generator.track!r} is not the trajectory's {track!r}")
+    s0, v0, a0, _ = trajectory.sampler(np.array([min(at, trajectory.motion_time)]))
+    s0, v0, a0 = s0[0], v0[0], a0[0]
+    routes_old = old.routes
+    p_cur = np.array([float(routes_old[r].position(s0[r])) for r in (0, 1)])
+    if at >= trajectory.motion_time:
+        p_cur = np.asarray(old.goal, dtype=float).copy()
+    limits = generator.limits
+    D = generator.clearance
+    # 1. brake on the current routes
+    brake = brake_profile(s0, v0, a0, limits)
+    snapped = _snap_to_pole(routes_old, brake.stop)
+    if snapped is not None:
+        brake = brake_profile(s0, v0, a0, limits, snapped)
+    dt = 1.0 / generator.rate
+    if brake.duration > 0:
+        tb = np.append(np.arange(0.0, brake.duration, dt), brake.duration)
+        sb, _, ab, _ = brake.sample(tb)
+        pos = np.stack([routes_old[0].position(sb[:, 0]), routes_old[1].position(sb[:, 1])], axis=1)
+        d = track.distance(pos[:, 0], pos[:, 1])
+        between = between_rows_separation(track, routes_old, sb[:-1], ab[:-1], dt, limits) if len(tb) > 2 else d
+        worst = float(min(np.min(d), np.min(between) if len(between) else np.inf))
+        if worst < D - SEPARATION_TOL:
+            raise NoMotionError(
+                f"braking from the state at t = {at:g} s on the current routes would bring the carts to "
+                f"{worst:.6g} m < D = {D:g}; re-plan at another time"
+            )
+        brake_pos = pos
+    else:
+        brake_pos = p_cur[None, :]
+    p_rest = np.array([float(routes_old[r].position(brake.stop[r])) for r in (0, 1)])
+    if brake.duration == 0:
+        p_rest = p_cur.copy()
+    # 2. the new motion from rest
+    new = generator.generate(p_rest, goal)
+    plan = new.plan
+    # 3. one route per cart through the brake and the new motion
+    routes_c: list[Route] = []
+    orient: list[int] = []
+    brake_sign: list[int] = []
+    corners_c: list[FloatArray] = []
+    for r in (0, 1):
+        ro, rn = routes_old[r], plan.routes[r]
+        lf_cur, lf_rest = _lift(ro, float(s0[r])), _lift(ro, float(brake.stop[r]))
+        m = _deck(track, _lift(rn, 0.0), lf_rest)
+        ext = [float(np.min(new.s[:, r])), float(np.max(new.s[:, r]))]
+        new_pts = [*plan.waypoints_s[:, r].tolist(), *ext, float(new.s[-1, r])]
+        lifts = [lf_cur, lf_rest, *(_shift(track, _lift(rn, x), m) for x in new_pts)]
+        try:
+            rc, sig = Route.through(track, lifts, goal_index=-1)
+        except PlanningError as exc:
+            raise PlanningError(
+                f"robot {'AB'[r]} would brake past P and come back onto another branch: its motion is not a "
+                f"single route ({exc}); re-plan at another time"
+            ) from exc
+        # orientation of the old route coordinate and of the new one in the combined route
+        sb_sign = 1
+        if abs(brake.stop[r] - s0[r]) > 1e-12:
+            sb_sign = 1 if (sig[1] - sig[0]) * (brake.stop[r] - s0[r]) > 0 else -1
+        on = 1
+        g = float(new.s[-1, r])
+        if abs(g) > 1e-12:
+            on = 1 if (sig[-1] - sig[1]) * g > 0 else -1
+        routes_c.append(rc)
+        brake_sign.append(sb_sign)
+        orient.append(on)
+        corners_c.append(np.array([sig[0], sig[1], *(sig[1] + on * np.asarray(plan.waypoints_s[:, r]))]))
+    sig_rest = np.array([corners_c[r][1] for r in (0, 1)])
+    bsign, nsign = np.array(brake_sign, dtype=float), np.array(orient, dtype=float)
+
+    def sampler(t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        tt = np.asarray(t, dtype=float)
+        bs, bv, ba, bj = brake.sample(tt)
+        ns, nv, na, nj = new.sampler(tt - brake.duration)
+        first = (tt < brake.duration)[..., None]
+        s = np.where(first, bsign * (bs - s0), sig_rest + nsign * ns)
+        v = np.where(first, bsign * bv, nsign * nv)
+        a = np.where(first, bsign * ba, nsign * na)
+        j = np.where(first, bsign * bj, nsign * nj)
+        return s, v, a, j
+
+    motion_time = brake.duration + new.motion_time
+    t = time_grid(motion_time, generator.rate)
+    s, v, a, j = sampler(t)
+    tr = np.stack([routes_c[0].position(s[:, 0]), routes_c[1].position(s[:, 1])], axis=1)
+    goal_pos = np.asarray(plan.goal, dtype=float)
+    tr[0], tr[-1] = p_cur, goal_pos
+    # the class of the braking rows followed by the new plan's path (the new motion is in its plan's class)
+    word = path_word(track, np.vstack([brake_pos, plan.sample(max(plan.samples_needed(0.002), 2))]))
+    rep = verify_setpoints(
+        track,
+        routes_c,
+        t,
+        tr,
+        s,
+        v,
+        a,
+        j,
+        limits=limits,
+        clearance=D,
+        start=p_cur,
+        goal=goal_pos,
+        word=word,
+        rate=generator.rate,
+    )
+    fails = tuple(f for f in rep.failures if not f.startswith("first row is not at rest"))
+    if fails:
+        raise PlanningError(f"the re-planned motion fails the gate: {'; '.join(fails)}") from VerificationError(rep)
+    rep = dataclasses.replace(rep, ok=True, failures=())
+    corners = np.stack(corners_c, axis=1)
+    waypoints = np.stack([routes_c[0].position(corners[:, 0]), routes_c[1].position(corners[:, 1])], axis=1)
+    waypoints[0], waypoints[-1] = p_cur, goal_pos
+    seg = np.max(np.abs(np.diff(corners, axis=0)), axis=1)
+    length = float(np.sum(seg))
+    knots = np.concatenate([[0.0], np.cumsum(seg)]) / length if length > 0 else np.zeros(len(corners))
+    step = PlanStep("replan", "brake on the current routes, then the new plan", 0.0, 1.0, waypoints)
+    plan_c = dataclasses.replace(
+        plan,
+        start=p_cur,
+        rule="re-plan from a moving state: brake on the current routes, then " + plan.rule,
+        steps=(step,),
+        knots=knots,
+        waypoints=waypoints,
+        waypoints_s=corners,
+        routes=(routes_c[0], routes_c[1]),
+        word=word,
+        travel=np.sum(np.abs(np.diff(corners, axis=0)), axis=0),
+        length=length,
+    )
+    stats = dict(new.solver_stats)
+    stats["replan"] = {
+        "at_time": at,
+        "brake_duration": brake.duration,
+        "brake_distance": np.abs(brake.stop - s0).tolist(),
+        "phase_synchronized": brake.phase_synchronized,
+        "orientation": [int(bsign[0]), int(bsign[1])],
+        "new_plan_word": list(plan.word),
+    }
+    timings = dict(new.timings)
+    timings["replan_total"] = time.perf_counter() - t_start
+    return Trajectory(
+        t=t,
+        track=tr,
+        s=s,
+        v=v,
+        a=a,
+        j=j,
+        limits=limits,
+        clearance=D,
+        rate=generator.rate,
+        makespan=float(t[-1]),
+        motion_time=motion_time,
+        min_separation=rep.min_separation,
+        domain=plan.domain,
+        word=tuple(word),
+        source=new.source,
+        fallback_reason=new.fallback_reason,
+        solver_stats=stats,
+        timings=timings,
+        verification=rep.to_dict(),
+        plan=plan_c,
+        sampler=sampler,
+    )
