@@ -2,7 +2,7 @@
 
 Parts (each a function returning records and a markdown table; :func:`run_graph_benchmark` runs them all):
 
-- :func:`run_layouts`: seeded random queries per layout (a quarter of them swaps, clearances from three fractions
+- :func:`run_layouts`: seeded random queries per layout (a quarter of them swaps, clearances from four fractions
   of the median edge length), in one process, methods interleaved (their order rotates per query), warm (one
   unrecorded query per method, grid and free space built before timing). Per method: solved share of the feasible
   queries, compute time (median, p95), makespan at the speed limits, ratio to the grid per query, exactness (ours'
@@ -47,7 +47,7 @@ ROOT = Path(__file__).resolve().parents[2]
 #: Example layouts known by name (``examples/tracks/NAME.json``).
 LAYOUTS = ("y_junction", "passing_loop", "two_sidings", "theta", "figure_eight", "warehouse")
 #: Clearances per layout, as fractions of its median edge length.
-CLEARANCE_FRACTIONS = (0.05, 0.2, 0.5)
+CLEARANCE_FRACTIONS = (0.05, 0.2, 0.5, 1.0)
 #: Grid nodes per robot the automatic grid step aims at (step = total length / this).
 GRID_NODES = 300
 Pos = tuple[int, float]
@@ -78,7 +78,7 @@ def make_graph_queries(track: GraphTrack, n: int, seed: int, clearances: Sequenc
     g = track.geometry
     out = []
     for q in range(n):
-        D = float(clearances[q % len(clearances)])
+        D = float(clearances[(q + q // 4) % len(clearances)])  # swaps (q % 4 == 0) get every clearance too
         swap = q % 4 == 0
         need = D + 1e-9 * max(1.0, track.total_length)
         for _ in range(10_000):
@@ -217,9 +217,13 @@ def run_layouts(
                     "makespan": math.nan,
                     "ratio_to_grid": math.nan,
                     "min_distance": math.nan,
+                    "start": [list(x) for x in q["start"]],
+                    "goal": [list(x) for x in q["goal"]],
                     "word_changed": None,
                     "twin_gap": None,
                     "discontinuous": None,
+                    "threshold": threshold,
+                    "delta": delta,
                 }
                 if res[m]["solved"]:
                     if m == "ours":
@@ -267,20 +271,29 @@ def _twins(
             by["ours"].update(word_changed=changed, twin_gap=gap, discontinuous=bool(changed or gap > threshold))
     path: GraphPath | None = res["ompl"]["obj"]
     if path is not None and path.legs:
-        r2 = ompl.solve(twin["start"], twin["goal"], q["seed"])
-        if r2.solved and r2.path is not None and r2.path.legs:
-            pos1, pos2 = path.positions(u), r2.path.positions(u)
-            gap = _gap(track, pos1, pos2)
-            changed = _sampled_word(track, pos1) != _sampled_word(track, pos2)
-            by["ompl"].update(word_changed=changed, twin_gap=gap, discontinuous=bool(changed or gap > threshold))
+        pos1 = path.positions(u)
+        w1 = _sampled_word(track, pos1)
+        for suffix, seed in (("", q["seed"]), ("_reseeded", q["seed"] + 7919)):
+            r2 = ompl.solve(twin["start"], twin["goal"], seed)
+            if r2.solved and r2.path is not None and r2.path.legs:
+                pos2 = r2.path.positions(u)
+                gap = _gap(track, pos1, pos2)
+                changed = w1 != _sampled_word(track, pos2)
+                by["ompl"].update(
+                    {
+                        f"word_changed{suffix}": changed,
+                        f"twin_gap{suffix}": gap,
+                        f"discontinuous{suffix}": bool(changed or gap > threshold),
+                    }
+                )
 
 
 def layouts_markdown(records: list[dict[str, Any]]) -> str:
     """Tables of :func:`run_layouts`."""
     lines = [
         "| layout | method | queries (feasible) | solved share | compute median / p95 (ms) | makespan median (s) |"
-        " ratio to grid median / p95 / max | min distance ≥ D | discontinuous twins (word / gap > 1 cm) |",
-        "|---|---|---|---|---|---|---|---|---|",
+        " ratio to grid median / p95 / max | min distance ≥ D |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     layouts = list(dict.fromkeys(r["layout"] for r in records))
     for lay in layouts:
@@ -292,16 +305,34 @@ def layouts_markdown(records: list[dict[str, Any]]) -> str:
             ms = [r["makespan"] for r in solved]
             rt = [r["ratio_to_grid"] for r in solved if r["ratio_to_grid"] == r["ratio_to_grid"]]
             exact = sum(1 for r in solved if r["min_distance"] >= r["clearance"] - 1e-9 * max(1.0, r["clearance"]))
-            tw = [r for r in rs if r["discontinuous"] is not None]
-            disc = sum(1 for r in tw if r["discontinuous"])
-            wc = sum(1 for r in tw if r["word_changed"])
-            gp = sum(1 for r in tw if r["twin_gap"] > 0.01)
-            twin_txt = f"{disc}/{len(tw)} ({wc} / {gp})" if tw else "–"
             lines.append(
                 f"| {lay} | {m} | {len(rs)} ({len(feas)}) | {len(solved)}/{len(feas)} | {_pct(ct, 50):.2f} / "
                 f"{_pct(ct, 95):.2f} | {_pct(ms, 50):.3f} | {_pct(rt, 50):.4f} / {_pct(rt, 95):.4f} / "
-                f"{max(rt) if rt else math.nan:.4f} | {exact}/{len(solved)} | {twin_txt} |"
+                f"{max(rt) if rt else math.nan:.4f} | {exact}/{len(solved)} |"
             )
+    lines += [
+        "",
+        "Discontinuous δ-twins: the plan of the query moved by δ changes its word or moves by more than the threshold"
+        " at some normalised time; `n/N (word / gap)`; OMPL twins with the same seed and re-seeded.",
+        "",
+        "| layout | method | random queries | swaps |",
+        "|---|---|---|---|",
+    ]
+    for lay in layouts:
+        for m, suffix, label in (
+            ("ours", "", "ours"),
+            ("ompl", "", "ompl, same seed"),
+            ("ompl", "_reseeded", "ompl, re-seeded"),
+        ):
+            rs = [r for r in records if r["layout"] == lay and r["method"] == m]
+            cells = []
+            for swap in (False, True):
+                tw = [r for r in rs if r["swap"] == swap and r.get(f"discontinuous{suffix}") is not None]
+                disc = sum(1 for r in tw if r[f"discontinuous{suffix}"])
+                wc = sum(1 for r in tw if r[f"word_changed{suffix}"])
+                gp = sum(1 for r in tw if r[f"twin_gap{suffix}"] > r.get("threshold", 0.01))
+                cells.append(f"{disc}/{len(tw)} ({wc} / {gp})" if tw else "–")
+            lines.append(f"| {lay} | {label} | {cells[0]} | {cells[1]} |")
     # completeness and grid details
     lines += [
         "",
