@@ -211,6 +211,8 @@ def run_graphs(
     if "oracle" in parts:
         res["oracle"] = gr.run_y_oracle(max(1, n // 5), seed=seed)
         md += ["## Y-junction threshold (swap iff D <= shortest branch b)", "", gr.y_oracle_markdown(res["oracle"])]
+        res["completeness"] = gr.run_completeness(max(2, n // 2), seed=seed)
+        md += ["## Completeness on random small graphs", "", gr.completeness_markdown(res["completeness"])]
     if "price" in parts:
         res["price"] = gr.run_price(n, seed=seed)
         md += [

@@ -54,10 +54,11 @@ def test_cli_smoke(tmp_path: Path) -> None:
             )
             assert ours["solved"]  # completeness cross-check
     assert all(r["ours"] == r["expect"] and r["grid"] == r["expect"] for r in data["oracle"])
+    assert data["completeness"] and not any(r["grid"] and not r["ours"] for r in data["completeness"])
     assert all(r["ratio"] <= 1.01 for r in data["price"] if "ratio" in r)
     assert len(data["scaling"]) == 4 * 3
     md = (tmp_path / "graphs.md").read_text()
-    for head in ("Layouts", "Y-junction", "Paper tracks", "Scaling"):
+    for head in ("Layouts", "Y-junction", "Completeness", "Paper tracks", "Scaling"):
         assert head in md
 
 

@@ -9,6 +9,7 @@ Parts (each a function returning records and a markdown table; :func:`run_graph_
   exact minimum distance >= D), discontinuity rate of δ-twins; and the completeness check (grid solved, ours not).
 - :func:`run_y_oracle`: seeded random Y junctions; two robots at the ends of the two longer branches can swap iff
   ``D <= b`` (``b`` the shortest branch): ours and the grid at ``D = b``, ``b (1 - 1e-6)`` and ``b (1 + 1e-6)``.
+- :func:`run_completeness`: seeded random small multigraphs (loops, parallel edges): grid solved, ours not?
 - :func:`run_price`: paper lollipops; the graph planner's ``fastest`` makespan against the paper plan's executed
   at the same speed limits (random queries and swaps separately).
 - :func:`run_scaling`: free-space build and plan time on seeded grid-like building layouts of 10 to 150 edges.
@@ -37,6 +38,7 @@ __all__ = [
     "LAYOUTS",
     "grid_layout",
     "load_layout",
+    "run_completeness",
     "run_layouts",
     "run_price",
     "run_scaling",
@@ -397,6 +399,59 @@ def y_oracle_markdown(records: list[dict[str, Any]]) -> str:
             f"{sum(r['grid'] == r['expect'] for r in rs)}/{len(rs)} |"
         )
     return "\n".join(lines) + "\n"
+
+
+def random_small_graph(rng: np.random.Generator) -> GraphTrack:
+    """A seeded connected multigraph of 2–5 vertices and 2–7 edges (loops and parallel edges allowed), 0.5–3 m."""
+    nv = int(rng.integers(2, 6))
+    edges: list[list[Any]] = [
+        [f"v{i}", f"v{int(rng.integers(0, i))}", float(rng.uniform(0.5, 3.0))] for i in range(1, nv)
+    ]
+    for _ in range(int(rng.integers(1, 4))):
+        a, b = int(rng.integers(0, nv)), int(rng.integers(0, nv))
+        edges.append([f"v{a}", f"v{b}", float(rng.uniform(0.5, 3.0))])
+    return GraphTrack.from_layout({"edges": edges})
+
+
+def run_completeness(n_graphs: int, queries: int = 5, seed: int = 0, grid_nodes: int = 150) -> list[dict[str, Any]]:
+    """Seeded random small graphs: does ours find a motion whenever the exact-edge grid finds a path?"""
+    rng = np.random.default_rng(seed + 777)
+    out = []
+    for k in range(n_graphs):
+        track = random_small_graph(rng)
+        L = track.lengths
+        D = float(rng.choice([0.3, 1.0, 2.0]) * rng.uniform(0.7, 1.3) * float(np.min(L)))
+        grid = GraphGrid(track, D, track.total_length / grid_nodes)
+        for q in make_graph_queries(track, queries, seed * 100_000 + k, [D]):
+            ours = _plan(track, q, (1.0, 1.0))
+            g = grid.solve(q["start"], q["goal"])
+            out.append(
+                {
+                    "graph": k,
+                    "edges": track.n_edges,
+                    "clearance": D,
+                    "swap": q["swap"],
+                    "ours": ours is not None,
+                    "grid": g.solved,
+                    "ratio": ours.makespan / g.makespan if ours is not None and g.solved else None,
+                    "exact": ours.min_distance() >= D - 1e-9 * max(1.0, D) if ours is not None else None,
+                }
+            )
+    return out
+
+
+def completeness_markdown(records: list[dict[str, Any]]) -> str:
+    """Table of :func:`run_completeness`."""
+    both = [r for r in records if r["ours"] and r["grid"]]
+    rt = [r["ratio"] for r in both]
+    return (
+        "| graphs | queries | grid solved | ours solved | grid solved, ours not (must be 0) | ours solved, grid not |"
+        " ours min distance ≥ D | ratio ours/grid median / max |\n|---|---|---|---|---|---|---|---|\n"
+        f"| {len({r['graph'] for r in records})} | {len(records)} | {sum(r['grid'] for r in records)} | "
+        f"{sum(r['ours'] for r in records)} | {sum(r['grid'] and not r['ours'] for r in records)} | "
+        f"{sum(r['ours'] and not r['grid'] for r in records)} | {sum(bool(r['exact']) for r in records if r['ours'])}/"
+        f"{sum(r['ours'] for r in records)} | {_pct(rt, 50):.4f} / {max(rt) if rt else math.nan:.4f} |\n"
+    )
 
 
 # ----------------------------------------------------------------------------------------------- paper price
