@@ -54,6 +54,7 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from bench import graph_runner
 from bench.parallel import run_tasks
 from bench.report import plot_results, plot_scaling, results_markdown, scaling_markdown
 from bench.runner import METHODS, BenchConfig, make_queries
@@ -196,8 +197,7 @@ def run_graphs(
     command: str = "",
 ) -> dict[str, Any]:
     """The plan-level graph benchmark (:mod:`bench.graph_runner`); writes ``out/graphs.json`` and ``out/graphs.md``."""
-    from bench import graph_runner as gr
-
+    gr = graph_runner
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     say = (lambda m: print(f"\r{m:<60}", end="", file=sys.stderr, flush=True)) if progress else None
@@ -239,8 +239,7 @@ def run_graphs(
 
 def _graph_track_names(tracks: Sequence[str]) -> list[str]:
     """Expand ``graphs``; names of example layouts and existing layout files are graph tracks."""
-    from bench.graph_runner import LAYOUTS
-
+    LAYOUTS = graph_runner.LAYOUTS
     out: list[str] = []
     for t in tracks:
         if t == "graphs":
