@@ -23,10 +23,19 @@ Usage::
     python experiments/benchmark.py --queries 3 --workers 1 --grid 0.05 --ompl-time 0.05 --out DIR
     python experiments/benchmark.py --queries 200 --dask tcp://scheduler:8786 --out DIR
     python experiments/benchmark.py --scaling --queries 20 --out DIR
+    python experiments/benchmark.py --track graphs --queries 50 --out DIR          # graph layouts, plan level
+    python experiments/benchmark.py --track y_junction,my_layout.json --queries 10 --graph-parts layouts --out DIR
 
 Writes ``DIR/results.json`` (one record per method and query), ``DIR/results.md`` (tables),
 ``DIR/makespan.png``, ``DIR/compute_time.png``, ``DIR/discontinuity.png`` and ``DIR/run.json``; with
 ``--scaling`` ``DIR/scaling.json``, ``DIR/scaling.md`` and ``DIR/scaling.png`` instead.
+
+Graph layouts (``--track`` names of ``examples/tracks`` — y_junction, passing_loop, two_sidings, theta, figure_eight,
+warehouse — or layout files; ``graphs`` = all six) run the plan-level graph benchmark of
+:mod:`bench.graph_runner` in this process (ours = ``mpa.plan(..., planner="graph", objective="fastest")``, the
+exact-edge grid search and OMPL of :mod:`bench.graph_baselines`), plus with ``--graph-parts`` the Y-junction
+threshold oracle, the paper tracks' price of stability and the scaling table; writes ``DIR/graphs.json`` and
+``DIR/graphs.md`` (see docs/benchmark_graphs.md).
 """
 
 from __future__ import annotations
@@ -45,6 +54,7 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from bench import graph_runner
 from bench.parallel import run_tasks
 from bench.report import plot_results, plot_scaling, results_markdown, scaling_markdown
 from bench.runner import METHODS, BenchConfig, make_queries
@@ -171,6 +181,77 @@ def run_scaling(
     return records
 
 
+GRAPH_PARTS = ("layouts", "oracle", "price", "scaling")
+
+
+def run_graphs(
+    layouts: Sequence[str],
+    n: int,
+    out: Path,
+    *,
+    seed: int = 0,
+    parts: Sequence[str] = GRAPH_PARTS,
+    ompl_budget: float = 1.0,
+    delta: float = 1e-6,
+    threshold: float = 0.01,
+    progress: bool = True,
+    command: str = "",
+) -> dict[str, Any]:
+    """The plan-level graph benchmark (:mod:`bench.graph_runner`); writes ``out/graphs.json`` and ``out/graphs.md``."""
+    gr = graph_runner
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    say = (lambda m: print(f"\r{m:<60}", end="", file=sys.stderr, flush=True)) if progress else None
+    res: dict[str, Any] = {}
+    md = ["# Graph layouts: plan-level benchmark", ""]
+    if "layouts" in parts:
+        res["layouts"] = gr.run_layouts(
+            layouts, n, seed=seed, ompl_budget=ompl_budget, delta=delta, threshold=threshold, progress=say
+        )
+        md += ["## Layouts: ours, grid, OMPL", "", gr.layouts_markdown(res["layouts"])]
+    if "oracle" in parts:
+        res["oracle"] = gr.run_y_oracle(max(1, n // 5), seed=seed)
+        md += ["## Y-junction threshold (swap iff D <= shortest branch b)", "", gr.y_oracle_markdown(res["oracle"])]
+        res["completeness"] = gr.run_completeness(max(2, n // 2), seed=seed)
+        md += ["## Completeness on random small graphs", "", gr.completeness_markdown(res["completeness"])]
+    if "price" in parts:
+        res["price"] = gr.run_price(n, seed=seed)
+        md += [
+            "## Paper tracks: graph planner (fastest) against the paper planner",
+            "",
+            gr.price_markdown(res["price"]),
+        ]
+    if "scaling" in parts:
+        res["scaling"] = gr.run_scaling(seed=seed, queries=max(3, n // 5), progress=say)
+        md += ["## Scaling (grid-like building layouts, D = 1 m)", "", gr.scaling_markdown(res["scaling"])]
+    if progress:
+        print(file=sys.stderr)
+    meta = {
+        "command": command,
+        "machine": _machine(),
+        "versions": _versions(),
+        "wall_time_s": round(time.perf_counter() - t0, 1),
+    }
+    md += [f"Command: `{command}`; machine: {meta['machine']}; {meta['versions']}; wall {meta['wall_time_s']} s.", ""]
+    _write_json(out / "graphs.json", _clean({"meta": meta, **res}))
+    atomic_write_text(out / "graphs.md", "\n".join(md))
+    return res
+
+
+def _graph_track_names(tracks: Sequence[str]) -> list[str]:
+    """Expand ``graphs``; names of example layouts and existing layout files are graph tracks."""
+    LAYOUTS = graph_runner.LAYOUTS
+    out: list[str] = []
+    for t in tracks:
+        if t == "graphs":
+            out += list(LAYOUTS)
+        elif t in LAYOUTS or (t.endswith(".json") and Path(t).is_file()):
+            out.append(t)
+        else:
+            raise ValueError(f"track is {t!r}, expected lollipop, circle, graphs, a layout name or a layout file")
+    return out
+
+
 def _floats(text: str, name: str) -> list[float]:
     try:
         vals = [float(x) for x in text.split(",") if x.strip()]
@@ -187,7 +268,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--queries", default="50", help="queries per track, or one count per --track (comma list)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", required=True, type=Path, help="output directory")
-    ap.add_argument("--track", default="lollipop", help="lollipop, circle, or a comma list of both")
+    ap.add_argument(
+        "--track",
+        default="lollipop",
+        help="lollipop, circle, or a comma list of both; or graph layouts: graphs (all examples), names of "
+        "examples/tracks layouts (y_junction, passing_loop, two_sidings, theta, figure_eight, warehouse) "
+        "or .json files",
+    )
+    ap.add_argument(
+        "--graph-parts",
+        default=",".join(GRAPH_PARTS),
+        help="graph layouts only: comma list from layouts,oracle,price,scaling",
+    )
     ap.add_argument("--stick", type=float, default=None, help="lollipop stick length (m, default 1)")
     ap.add_argument("--loop", type=float, default=None, help="loop length (m, default 1)")
     ap.add_argument("--clearance", type=float, default=defaults.CLEARANCE, help="required separation D (m)")
@@ -198,8 +290,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--ompl-time", type=float, default=1.0, help="RRTConnect time budget per query (s)")
     ap.add_argument("--grid", type=float, default=0.01, help="grid node spacing (m)")
     ap.add_argument("--methods", default=",".join(METHODS), help=f"comma list from {','.join(METHODS)}")
-    ap.add_argument("--delta", type=float, default=1e-4, help="twin perturbation (m)")
-    ap.add_argument("--threshold", type=float, default=0.05, help="discontinuity threshold (m)")
+    ap.add_argument("--delta", type=float, default=None, help="twin perturbation (m; default 1e-4, graphs 1e-6)")
+    ap.add_argument(
+        "--threshold", type=float, default=None, help="discontinuity threshold (m; default 0.05, graphs 0.01)"
+    )
     ap.add_argument("--workers", type=int, default=None, help="worker processes (default: all cores)")
     ap.add_argument("--dask", default=None, metavar="ADDRESS", help="run on an existing Dask cluster")
     ap.add_argument("--scaling", action="store_true", help="track-size and grid-resolution sweep instead")
@@ -207,8 +301,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--grid-sweep", default="0.04,0.02,0.01,0.005", help="grid spacings of --scaling (m)")
     ap.add_argument("--no-progress", action="store_true")
     args = ap.parse_args(argv)
+    graph_layouts: list[str] = []
     try:
         tracks = [t.strip() for t in args.track.split(",") if t.strip()]
+        if tracks and all(t not in ("lollipop", "circle") for t in tracks):
+            graph_layouts = _graph_track_names(tracks)
+            tracks = ["lollipop"]  # not used: the graph benchmark runs below
+        delta_default, threshold_default = (1e-6, 0.01) if graph_layouts else (1e-4, 0.05)
+        args.delta = delta_default if args.delta is None else args.delta
+        args.threshold = threshold_default if args.threshold is None else args.threshold
         if not tracks or any(t not in ("lollipop", "circle") for t in tracks):
             raise ValueError(f"track is {args.track!r}, expected lollipop, circle or both")
         counts = [int(x) for x in args.queries.split(",")]
@@ -233,6 +334,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (ValueError, argparse.ArgumentTypeError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    if graph_layouts:
+        return _main_graphs(args, argv, graph_layouts)
     command = "python experiments/benchmark.py " + " ".join(shlex.quote(a) for a in (argv or sys.argv[1:]))
     configs = []
     for t, n in zip(tracks, counts):
@@ -260,6 +363,36 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     run_benchmark(configs, args.out, **common)
     print(f"wrote {args.out / 'results.json'} and {args.out / 'results.md'}")
+    return 0
+
+
+def _main_graphs(args: argparse.Namespace, argv: Sequence[str] | None, layouts: list[str]) -> int:
+    try:
+        n = int(args.queries)
+        if n < 1:
+            raise ValueError
+    except ValueError:
+        print(f"error: queries is {args.queries!r}, expected one positive count for graph layouts", file=sys.stderr)
+        return 2
+    parts = [p.strip() for p in args.graph_parts.split(",") if p.strip()]
+    if not parts or any(p not in GRAPH_PARTS for p in parts):
+        print(f"error: graph-parts is {args.graph_parts!r}, expected a comma list from {GRAPH_PARTS}", file=sys.stderr)
+        return 2
+    delta, threshold = args.delta, args.threshold  # validated in main
+    command = "python experiments/benchmark.py " + " ".join(shlex.quote(a) for a in (argv or sys.argv[1:]))
+    run_graphs(
+        layouts,
+        n,
+        args.out,
+        seed=args.seed,
+        parts=parts,
+        ompl_budget=args.ompl_time,
+        delta=delta,
+        threshold=threshold,
+        progress=not args.no_progress,
+        command=command,
+    )
+    print(f"wrote {args.out / 'graphs.json'} and {args.out / 'graphs.md'}")
     return 0
 
 
