@@ -19,9 +19,10 @@ def _blocks(path: Path) -> list[str]:
 def test_python_examples_run(path: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(tmp_path)
     (tmp_path / "examples").symlink_to(ROOT / "examples", target_is_directory=True)
+    namespace: dict[str, object] = {"__name__": "__doc_example__"}  # one page reads top to bottom, as a reader does
     for i, code in enumerate(_blocks(path)):
         try:
-            exec(compile(code, f"{path.name} (python block {i})", "exec"), {"__name__": "__doc_example__"})
+            exec(compile(code, f"{path.name} (python block {i})", "exec"), namespace)
         except Exception as exc:  # pragma: no cover - the message is the point
             pytest.fail(f"{path.name}, python block {i} fails: {type(exc).__name__}: {exc}\n{code}")
 
