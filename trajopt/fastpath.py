@@ -3,7 +3,8 @@
 If the segment from the start to the goal in route coordinates (both robots along their routes, proportionally)
 keeps the separation (exact check, :meth:`~trajopt.smoothing.RouteGeometry.polyline_min_distance`) and has the
 plan's homotopy class, it is timed directly by one time-synchronised jerk-limited ruckig profile for both robots
-(``Synchronization.Phase``, which keeps the straight line between two rest states), with no QP and no toppra.
+(one 1-DoF profile of the line's length under the binding robot's limits: both robots in phase, on the line),
+with no QP and no toppra.
 The line and the phase-synchronised profile move continuously with the query. On the other side of the switch,
 the hard path (:mod:`trajopt.corridor`) converges to the same line; its timing costs ``a/j`` more (its filter).
 """
@@ -40,7 +41,12 @@ def straight_line_clearance(plan: Plan, geom: RouteGeometry) -> float:
 
 
 def straight_scaling(plan: Plan, limits: Limits) -> TimeScaling:
-    """One phase-synchronised ruckig profile from start to goal (rest to rest) along the straight line.
+    """One jerk-limited ruckig profile from start to goal (rest to rest) along the straight line.
+
+    The line is parametrized by its Euclidean length ``s`` in route coordinates, unit direction ``u``; robot r
+    moves by ``u_r·s``, so its limits bound ``s`` by ``v_r/|u_r|`` (and likewise ``a``, ``j``). One 1-DoF
+    profile of ``s`` under the smallest of those bounds is the time-optimal phase-synchronised motion of both
+    robots (it is what ruckig's ``Synchronization.Phase`` gives when that exists, and exists for any limits).
 
     Returns
     -------
@@ -50,9 +56,9 @@ def straight_scaling(plan: Plan, limits: Limits) -> TimeScaling:
     Raises
     ------
     PlanningError
-        ruckig fails or does not keep the line (never expected for rest-to-rest).
+        ruckig fails (never expected for rest-to-rest).
     """
-    from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
+    from ruckig import InputParameter, Result, Ruckig, Trajectory
 
     t_start = time.perf_counter()
     ends = np.asarray(plan.waypoints_s, dtype=float)[[0, -1]]
@@ -60,32 +66,25 @@ def straight_scaling(plan: Plan, limits: Limits) -> TimeScaling:
     length = path.length
     if length <= 0:
         return TimeScaling(path, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, np.zeros(2))
-    otg, inp, traj = Ruckig(2), InputParameter(2), Trajectory(2)
-    inp.current_position = ends[0].tolist()
-    inp.target_position = ends[1].tolist()
-    inp.current_velocity = inp.target_velocity = [0.0, 0.0]
-    inp.current_acceleration = inp.target_acceleration = [0.0, 0.0]
-    inp.max_velocity = limits.v.tolist()
-    inp.max_acceleration = limits.a.tolist()
-    inp.max_jerk = limits.j.tolist()
-    inp.synchronization = Synchronization.Phase
+    u = np.abs(ends[1] - ends[0]) / length
+    moving = u > 0
+    v_s, a_s, j_s = (float(np.min(lim[moving] / u[moving])) for lim in (limits.v, limits.a, limits.j))
+    otg, inp, traj = Ruckig(1), InputParameter(1), Trajectory(1)
+    inp.current_position, inp.target_position = [0.0], [length]
+    inp.current_velocity = inp.target_velocity = [0.0]
+    inp.current_acceleration = inp.target_acceleration = [0.0]
+    inp.max_velocity, inp.max_acceleration, inp.max_jerk = [v_s], [a_s], [j_s]
     res = otg.calculate(inp, traj)
     if res not in (Result.Working, Result.Finished):
         raise PlanningError(f"ruckig failed on the straight line: {res}")
-    u = (ends[1] - ends[0]) / length
-    r = int(np.argmax(np.abs(u)))
-    prof = traj.profiles[0][r]
-    other = traj.profiles[0][1 - r]
+    prof = traj.profiles[0][0]
     tp = np.asarray(prof.t, dtype=float)
-    if abs(u[1 - r]) > 0 and not np.allclose(np.asarray(other.t), tp, rtol=1e-9, atol=1e-12):
-        raise PlanningError("ruckig's profile is not phase-synchronised")
     keep = tp > 0
     t0 = np.concatenate([[0.0], np.cumsum(tp)])[:-1][keep]
-    scale = 1.0 / u[r]
-    p = (np.asarray(prof.p[:7]) - ends[0, r]) * scale
-    v = np.asarray(prof.v[:7]) * scale
-    a = np.asarray(prof.a[:7]) * scale
-    j = np.asarray(prof.j) * scale
+    p = np.asarray(prof.p[:7], dtype=float)
+    v = np.asarray(prof.v[:7], dtype=float)
+    a = np.asarray(prof.a[:7], dtype=float)
+    j = np.asarray(prof.j, dtype=float)
     stats: dict[str, Any] = {"pieces": 1, "blends": 0, "jerk_time": time.perf_counter() - t_start}
     return TimeScaling(
         path,
