@@ -395,6 +395,57 @@ class RouteGeometry:
             return float(self.distance(p)[0])
         return self.geometry.route_min_distance(self.routes[0], self.routes[1], p)
 
+    def segment_min_distances(self, pts: ArrayLike) -> FloatArray:
+        """Exact minimum of the distance along every chord of the polyline ``pts`` (shape (n, 2)). Shape (n-1,).
+
+        Every chord is cut where either robot changes route piece; on each sub-chord both robots stay on one edge
+        with affine offsets and :meth:`GraphGeometry.segment_min` is exact. Vectorized over the chords; continuous
+        in the chord ends.
+        """
+        p = np.atleast_2d(np.asarray(pts, dtype=float))
+        n = len(p) - 1
+        if n < 1:
+            return np.zeros(0)
+        a, b = p[:-1], p[1:]
+        ks = [np.arange(n)]
+        lam = [np.zeros(n)]
+        for r, route in enumerate(self.routes):
+            br = route.breaks[1:-1]
+            if len(br) == 0:
+                continue
+            d = b[:, r] - a[:, r]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                tt = (br[None, :] - a[:, r, None]) / d[:, None]
+            ok = np.isfinite(tt) & (tt > 0.0) & (tt < 1.0)
+            kk, jj = np.nonzero(ok)
+            ks.append(kk)
+            lam.append(tt[kk, jj])
+        k_all = np.concatenate(ks)
+        l_all = np.concatenate(lam)
+        order = np.lexsort((l_all, k_all))
+        k_all, l_all = k_all[order], l_all[order]
+        l_end = np.append(l_all[1:], 1.0)
+        last = np.append(k_all[1:] != k_all[:-1], True)
+        l_end[last] = 1.0
+        d_ab = b - a
+        q0 = np.where(l_all[:, None] == 0.0, a[k_all], a[k_all] + l_all[:, None] * d_ab[k_all])
+        q1 = np.where(l_end[:, None] == 1.0, b[k_all], a[k_all] + l_end[:, None] * d_ab[k_all])
+        mid = 0.5 * (q0 + q1)
+        ra, rb = self.routes
+        ia = ra.piece_index(mid[:, 0])
+        ib = rb.piece_index(mid[:, 1])
+
+        def offs(route: DirectedRoute, i: IntArray, r: FloatArray) -> FloatArray:
+            rr = np.clip(r, route.breaks[i], route.breaks[i + 1])
+            return route.entry[i] + route.dirs[i] * (rr - route.breaks[i])
+
+        p0 = np.stack([offs(ra, ia, q0[:, 0]), offs(rb, ib, q0[:, 1])], axis=1)
+        p1 = np.stack([offs(ra, ia, q1[:, 0]), offs(rb, ib, q1[:, 1])], axis=1)
+        sub = self.geometry.segment_min(ra.edges[ia], rb.edges[ib], p0, p1)
+        out = np.full(n, np.inf)
+        np.minimum.at(out, k_all, sub)
+        return out
+
     def interval(self, robot: int, sigma: ArrayLike) -> IntArray:
         """Index of the route piece of ``robot`` that holds ``σ`` (the later one at a break)."""
         return self.routes[robot].piece_index(sigma)

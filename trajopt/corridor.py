@@ -30,10 +30,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import PlanningError
-from mpa.plan import Plan
-from trajopt.smoothing import RouteGeometry
+from mpa.geometry import RouteGeometry
+from trajopt.planview import plan_view
 
-__all__ = ["CORRIDOR_SEGMENTS", "CorridorProblem", "CorridorResult", "corridor_nodes", "corridor_radii"]
+__all__ = [
+    "CORRIDOR_SEGMENTS",
+    "CorridorProblem",
+    "CorridorResult",
+    "corner_samples",
+    "corridor_nodes",
+    "corridor_radii",
+]
 
 FloatArray = NDArray[np.float64]
 #: Number of segments of the hard path (nodes ``n + 1``), the same for every query.
@@ -211,14 +218,38 @@ class CorridorProblem:
         return nodes, stats
 
 
-def corridor_nodes(plan: Plan, geom: RouteGeometry, separation: float, problem: CorridorProblem) -> CorridorResult:
+def corner_samples(plan: Any, n: int) -> FloatArray:
+    """``n + 1`` path parameters of a graph plan that include all its corners (if it has at most ``n + 1``).
+
+    A graph plan is taut: it touches the clearance at its corners, where evenly spaced samples would cut the corner
+    (and leave the corridor no room). The other samples are spread over the plan's legs in proportion to their
+    parameter length (largest remainders). With more corners than samples: evenly spaced. Shape (n+1,).
+    """
+    times = np.asarray(getattr(plan, "_times", np.zeros(1)), dtype=float)
+    even = np.linspace(0.0, 1.0, n + 1)
+    if len(times) < 2 or times[-1] <= 0 or len(times) > n + 1:
+        return even
+    uc = times / times[-1]
+    gaps = np.diff(uc)
+    extra = n + 1 - len(uc)
+    share = gaps / gaps.sum() * extra
+    cnt = np.floor(share).astype(int)
+    rest = extra - int(cnt.sum())
+    if rest > 0:
+        cnt[np.argsort(-(share - cnt))[:rest]] += 1
+    parts = [uc[i] + gaps[i] * np.arange(cnt[i] + 1) / (cnt[i] + 1) for i in range(len(gaps))]
+    out = np.concatenate([*parts, [1.0]])
+    return out if len(out) == n + 1 else even
+
+
+def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: CorridorProblem) -> CorridorResult:
     """The hard path's polyline and blend radii for one plan (see the module docstring).
 
     Parameters
     ----------
-    plan : Plan
+    plan : Plan or GraphPlan
     geom : RouteGeometry
-        Of the plan's routes.
+        Of the plan's routes (:attr:`trajopt.planview.PlanView.geom`).
     separation : float
         Separation the path keeps where the plan does (metres): the clearance plus the gate's margins.
     problem : CorridorProblem
@@ -235,10 +266,12 @@ def corridor_nodes(plan: Plan, geom: RouteGeometry, separation: float, problem: 
     t0 = time.perf_counter()
     n = problem.n
     u = np.linspace(0.0, 1.0, n + 1)
-    centers = plan.path_s(u)
-    centers[0], centers[-1] = plan.waypoints_s[0], plan.waypoints_s[-1]
-    lower = np.array([plan.routes[0].sigma_min, plan.routes[1].sigma_min])
-    upper = np.array([plan.routes[0].sigma_max, plan.routes[1].sigma_max])
+    view = plan_view(plan)
+    if view.is_graph:
+        u = corner_samples(plan, n)
+    centers = view.path_s(u)
+    centers[0], centers[-1] = view.waypoints[0], view.waypoints[-1]
+    lower, upper = view.lower, view.upper
     t1 = time.perf_counter()
     plan_centers = centers
     stats: dict[str, Any] = {}
@@ -265,7 +298,7 @@ def corridor_nodes(plan: Plan, geom: RouteGeometry, separation: float, problem: 
 
 
 def hard_path_scaling(
-    plan: Plan,
+    plan: Any,
     geom: RouteGeometry,
     separation: float,
     limits: Any,
@@ -276,7 +309,7 @@ def hard_path_scaling(
 
     Parameters
     ----------
-    plan : Plan
+    plan : Plan or GraphPlan
     geom : RouteGeometry
     separation : float
         Clearance plus the gate's margins (metres).

@@ -1,10 +1,10 @@
 """The fast path: a query whose straight motion in route coordinates keeps the separation, timed by one profile.
 
 If the segment from the start to the goal in route coordinates (both robots along their routes, proportionally)
-keeps the separation (exact check, :meth:`~trajopt.smoothing.RouteGeometry.polyline_min_distance`) and has the
-plan's homotopy class, it is timed directly by one time-synchronised jerk-limited ruckig profile for both robots
-(one 1-DoF profile of the line's length under the binding robot's limits: both robots in phase, on the line),
-with no QP and no toppra.
+keeps the separation (exact check, :meth:`mpa.geometry.RouteGeometry.polyline_min_distance`) and has the
+plan's homotopy class (paper plans; on a graph plan any motion along the plan's routes qualifies), it is timed
+directly by one time-synchronised jerk-limited ruckig profile for both robots (one 1-DoF profile of the line's
+length under the binding robot's limits: both robots in phase, on the line), with no QP and no toppra.
 The line and the phase-synchronised profile move continuously with the query. On the other side of the switch,
 the hard path (:mod:`trajopt.corridor`) converges to the same line; its timing costs ``a/j`` more (its filter).
 """
@@ -17,30 +17,41 @@ from typing import Any
 import numpy as np
 
 from mpa.errors import MPAError, PlanningError
-from mpa.plan import Plan
-from trajopt.smoothing import RouteGeometry, polyline_word
+from mpa.geometry import RouteGeometry
+from trajopt.planview import plan_view
 from trajopt.timing import BlendedPath, Limits, TimeScaling, blend_polyline
 
 __all__ = ["straight_line_clearance", "straight_scaling"]
 
 
-def straight_line_clearance(plan: Plan, geom: RouteGeometry) -> float:
+def straight_line_clearance(plan: Any, geom: RouteGeometry | None = None) -> float:
     """Exact minimum separation along the straight route-coordinate motion from start to goal (metres).
 
-    Returns ``-inf`` if the line's homotopy class is not the plan's (it then never qualifies).
+    Parameters
+    ----------
+    plan : Plan or GraphPlan
+    geom : RouteGeometry, optional
+        The plan's route geometry (default: :func:`trajopt.planview.plan_view`'s).
+
+    Returns
+    -------
+    float
+        ``-inf`` if the line's homotopy class is not the plan's (it then never qualifies; paper plans only).
     """
-    line = np.asarray(plan.waypoints_s)[[0, -1]]
+    view = plan_view(plan)
+    geom = view.geom if geom is None else geom
+    line = view.waypoints[[0, -1]]
     d = geom.polyline_min_distance(line)
     if d <= 0.0:
         return d
     try:
-        word = polyline_word(geom, line)
+        same = view.keeps_class(line)
     except MPAError:
         return float("-inf")
-    return d if word == tuple(plan.word) else float("-inf")
+    return d if same else float("-inf")
 
 
-def straight_scaling(plan: Plan, limits: Limits) -> TimeScaling:
+def straight_scaling(plan: Any, limits: Limits) -> TimeScaling:
     """One jerk-limited ruckig profile from start to goal (rest to rest) along the straight line.
 
     The line is parametrized by its Euclidean length ``s`` in route coordinates, unit direction ``u``; robot r
@@ -61,7 +72,7 @@ def straight_scaling(plan: Plan, limits: Limits) -> TimeScaling:
     from ruckig import InputParameter, Result, Ruckig, Trajectory
 
     t_start = time.perf_counter()
-    ends = np.asarray(plan.waypoints_s, dtype=float)[[0, -1]]
+    ends = plan_view(plan).waypoints[[0, -1]]
     path: BlendedPath = blend_polyline(ends)
     length = path.length
     if length <= 0:

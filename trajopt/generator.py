@@ -1,10 +1,18 @@
-"""The pipeline: plan → smooth → time-parametrize → jerk-limit → verify → :class:`~trajopt.export.Trajectory`.
+"""The pipeline: plan → fast path or corridor → timing → verify → :class:`~trajopt.export.Trajectory`.
 
-:class:`TrajectoryGenerator` is built once per track, clearance, limits and rate (it keeps the planner; the
-NLPs are cached per size class) and answers many queries; :func:`generate_trajectory` is the one-shot call.
-If any optimisation stage fails or its setpoints fail the gate (:func:`trajopt.verify.verify_setpoints`), the
-plan itself is re-timed (every straight step rest to rest along the plan's polyline, which is collision-free by
-construction), marked as the fallback with the reason, and verified too. Nothing unverified is returned.
+:class:`TrajectoryGenerator` is built once per track, clearance, limits and rate (it keeps the planner and the
+corridor QP) and answers many queries; :func:`generate_trajectory` is the one-shot call. Tracks: the paper's
+(:class:`~mpa.tracks.Interval`, ``Circle``, ``Lollipop``; the paper's planner) and any layout
+(:class:`mpa.GraphTrack`; the complete graph planner, :func:`mpa.planners.graph.plan_graph`). Both run through
+the same geometry (:class:`mpa.geometry.RouteGeometry`, via :func:`trajopt.planview.plan_view`).
+If any optimisation stage fails or its setpoints fail the gate (:func:`trajopt.verify.verify_setpoints`, on a
+layout :func:`trajopt.verify.verify_graph_setpoints`), the plan itself is re-timed (every straight step rest to
+rest along the plan's polyline, which is collision-free by construction), marked as the fallback with the reason,
+and verified too. Nothing unverified is returned.
+
+On a layout the graph planner is asked for the clearance plus :func:`separation_margin` (so that the plan's own
+polyline, re-timed, passes the gate's between-rows bound); only if no such motion exists is the plan for the bare
+clearance used (it then passes the gate only at a higher rate, which the error names).
 """
 
 from __future__ import annotations
@@ -17,18 +25,21 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from mpa import defaults
-from mpa.errors import InvalidInputError, MPAError, PlanningError
+from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
+from mpa.geometry import RouteGeometry
+from mpa.graph_track import GraphTrack
 from mpa.plan import Plan
 from mpa.planners import Planner, make_planner
+from mpa.planners.graph import GraphPlan, plan_graph
 from mpa.tracks import Track
 from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
 from trajopt.export import Source, Trajectory, check_rate, time_grid
 from trajopt.fastpath import straight_line_clearance, straight_scaling
-from trajopt.smoothing import RouteGeometry
+from trajopt.planview import plan_view
 from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling
-from trajopt.verify import VerificationError, VerificationReport, verify_setpoints
+from trajopt.verify import VerificationError, VerificationReport
 
-__all__ = ["RATE_LADDER", "TrajectoryGenerator", "generate_trajectory", "separation_margin"]
+__all__ = ["RATE_LADDER", "GraphPlanner", "TrajectoryGenerator", "generate_trajectory", "separation_margin"]
 
 
 def separation_margin(limits: Limits, rate: float) -> float:
@@ -41,13 +52,64 @@ def separation_margin(limits: Limits, rate: float) -> float:
     return 2.0 * float(np.sum(limits.a)) * dt * dt / 8.0 + 1e-9
 
 
+@dataclass(frozen=True, eq=False)
+class GraphPlanner:
+    """The complete graph planner on one layout, in the generator's planner interface (``plan(start, goal)``).
+
+    Plans with objective ``"fastest"`` for the speed limits, for the clearance plus ``margin`` (the gate's
+    between-rows margin at the generator's rate); if no motion keeps that, for the bare clearance (or raises the
+    planner's :class:`~mpa.errors.InvalidInputError` / :class:`~mpa.errors.NoMotionError` for it).
+
+    Parameters
+    ----------
+    track : GraphTrack
+    clearance : float
+        D (m, >= 0).
+    speeds : (float, float)
+        Speed limits of A and B (m/s).
+    margin : float
+        Extra separation asked of the plan (m, >= 0).
+    """
+
+    track: GraphTrack
+    clearance: float
+    speeds: tuple[float, float]
+    margin: float = 0.0
+
+    def __post_init__(self) -> None:
+        c = self.clearance
+        number = isinstance(c, (int, float, np.integer, np.floating)) and not isinstance(c, bool)
+        if not number or not np.isfinite(c) or c < 0:
+            raise InvalidInputError(f"clearance is {c!r}, expected a finite number >= 0 (metres)")
+        object.__setattr__(self, "clearance", float(c))
+
+    def plan(self, start: Any, goal: Any) -> GraphPlan:
+        """A :class:`~mpa.planners.graph.GraphPlan` from ``start`` to ``goal`` (pairs of positions, robot A first).
+
+        Raises
+        ------
+        InvalidInputError
+            Unknown edge or vertex, offset outside the edge, robots closer than the clearance at start or goal.
+        NoMotionError
+            No collision-free motion exists (the message says why).
+        """
+        if self.margin > 0:
+            try:
+                return plan_graph(self.track, start, goal, self.clearance + self.margin, "fastest", self.speeds)
+            except (InvalidInputError, NoMotionError):
+                pass  # the bare clearance decides (and names the error)
+        return plan_graph(self.track, start, goal, self.clearance, "fastest", self.speeds)
+
+
 @dataclass
 class TrajectoryGenerator:
     """Verified jerk-limited trajectories for many queries on one track.
 
     Parameters
     ----------
-    track : Track
+    track : Track or GraphTrack
+        One of the paper's tracks (the paper's planner; queries in track coordinates) or a layout (the complete
+        graph planner; queries as pairs of positions ``(edge, offset)``, ``"EDGE:OFFSET"`` or vertex names).
     clearance : float
         Required separation D (m, graph distance).
     limits : Limits
@@ -71,28 +133,42 @@ class TrajectoryGenerator:
     (True, True)
     """
 
-    track: Track
+    track: Track | GraphTrack
     clearance: float = defaults.CLEARANCE
     limits: Limits = field(default_factory=Limits)
     rate: float = defaults.RATE
     optimize: bool = True
-    planner: Planner = field(init=False, repr=False)
+    planner: Planner | GraphPlanner = field(init=False, repr=False)
     _corridor: CorridorProblem | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.limits, Limits):
             raise InvalidInputError(f"limits is {self.limits!r}, expected a trajopt.Limits")
         self.rate = check_rate(self.rate)
-        self.planner = make_planner(self.track, self.clearance)
+        self.planner = self._make_planner()
         self.clearance = self.planner.clearance
 
+    @property
+    def is_graph(self) -> bool:
+        """Whether the track is a layout (:class:`mpa.GraphTrack`) rather than one of the paper's tracks."""
+        return isinstance(self.track, GraphTrack)
+
+    def _make_planner(self) -> Planner | GraphPlanner:
+        if isinstance(self.track, GraphTrack):
+            speeds = (float(self.limits.v[0]), float(self.limits.v[1]))
+            return GraphPlanner(self.track, self.clearance, speeds, separation_margin(self.limits, self.rate))
+        return make_planner(self.track, self.clearance)
+
     # ---------------------------------------------------------------------------------------------
-    def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
-        """The topological plan of a query (validates it; see :meth:`mpa.planners.Planner.plan`)."""
+    def plan(self, start: Any, goal: Any) -> Plan | GraphPlan:
+        """The plan of a query (validates it; see :meth:`mpa.planners.Planner.plan` and :class:`GraphPlanner`)."""
         return self.planner.plan(start, goal)
 
-    def generate(self, start: ArrayLike, goal: ArrayLike) -> Trajectory:
-        """A verified trajectory from ``start`` to ``goal`` (track coordinates of A and B).
+    def generate(self, start: Any, goal: Any) -> Trajectory:
+        """A verified trajectory from ``start`` to ``goal`` (robot A first).
+
+        On a paper track ``start`` and ``goal`` are track coordinates; on a layout pairs of positions
+        ``(edge, offset)``, ``"EDGE:OFFSET"`` or vertex names.
 
         Raises
         ------
@@ -108,7 +184,7 @@ class TrajectoryGenerator:
         timings: dict[str, Any] = {"plan": time.perf_counter() - t0}
         return self.generate_from_plan(plan, timings)
 
-    def generate_from_plan(self, plan: Plan, timings: dict[str, Any] | None = None) -> Trajectory:
+    def generate_from_plan(self, plan: Plan | GraphPlan, timings: dict[str, Any] | None = None) -> Trajectory:
         """Like :meth:`generate` for an existing plan (from this generator's planner).
 
         Raises
@@ -138,9 +214,19 @@ class TrajectoryGenerator:
             self.planner,
         )
         gen.rate = check_rate(rate)
+        gen._corridor = self._corridor
+        if isinstance(self.planner, GraphPlanner):  # the plan's margin depends on the rate
+            pl = self.planner
+            gen.planner = GraphPlanner(pl.track, pl.clearance, pl.speeds, separation_margin(self.limits, gen.rate))
         return gen
 
-    def lowest_rate(self, plan: Plan, upto: float = 20_000.0) -> float | None:
+    def _attempt(self, plan: Plan | GraphPlan) -> Trajectory:
+        """:meth:`_generate` at this generator's rate (a graph plan is made again for this rate's margin)."""
+        if isinstance(plan, GraphPlan) and isinstance(self.planner, GraphPlanner):
+            plan = self.planner.plan(plan.start, plan.goal)
+        return self._generate(plan, None)
+
+    def lowest_rate(self, plan: Plan | GraphPlan, upto: float = 20_000.0) -> float | None:
         """The lowest rate of :data:`RATE_LADDER` above :attr:`rate` at which ``plan`` gives verified setpoints.
 
         Exponential then bisection search over the ladder (passing is assumed monotone in the rate, as the
@@ -150,7 +236,7 @@ class TrajectoryGenerator:
 
         def ok(r: float) -> bool:
             try:
-                self.at_rate(r)._generate(plan, None)
+                self.at_rate(r)._attempt(plan)
             except (_RejectedError, MPAError):
                 return False
             return True
@@ -174,7 +260,7 @@ class TrajectoryGenerator:
                 lo = mid
         return ladder[hi]
 
-    def _explain_rejection(self, plan: Plan) -> str:
+    def _explain_rejection(self, plan: Plan | GraphPlan) -> str:
         """Why every candidate of ``plan`` fails the gate at this rate, if the caller can fix it ("" if not)."""
         best = self.lowest_rate(plan)
         if best is not None:
@@ -183,21 +269,28 @@ class TrajectoryGenerator:
                 f"than the clearance {self.clearance!r} m; the lowest usable rate is {best:g} Hz"
             )
         margin = separation_margin(self.limits, self.rate)
+        view = plan_view(plan)
         for name, st in (("start", plan.start), ("goal", plan.goal)):
-            d = float(plan.track.distance_scalar(float(st[0]), float(st[1])))
+            d = view.separation(name)
             if d < self.clearance + margin:
+                where = (
+                    f"({view.graph.position_name(*st[0])}, {view.graph.position_name(*st[1])})"
+                    if view.is_graph
+                    else f"({float(st[0])!r}, {float(st[1])!r})"
+                )
                 return (
-                    f"{name} ({float(st[0])!r}, {float(st[1])!r}) has the robots {d!r} apart, expected more than "
+                    f"{name} {where} has the robots {d!r} apart, expected more than "
                     f"the clearance {self.clearance!r} plus {margin:.3g} m: the gate cannot verify setpoints that "
                     f"leave robots at rest exactly at the clearance (at {self.rate:g} Hz); lower the clearance "
                     f"or move the {name} apart"
                 )
         return ""
 
-    def _generate(self, plan: Plan, timings: dict[str, Any] | None = None) -> Trajectory:
+    def _generate(self, plan: Plan | GraphPlan, timings: dict[str, Any] | None = None) -> Trajectory:
         timings = dict(timings or {})
         t_all = time.perf_counter()
-        geom = RouteGeometry(plan.track, plan.routes)
+        view = plan_view(plan)
+        geom = view.geom
         stats: dict[str, Any] = {}
         reason = ""
         if self.optimize:
@@ -217,7 +310,7 @@ class TrajectoryGenerator:
             reason = "optimisation disabled"
         t1 = time.perf_counter()
         try:
-            path = blend_polyline(_dedupe(plan.waypoints_s))
+            path = blend_polyline(_dedupe(view.waypoints))
             scaling = jerk_limited_scaling(path, self.limits)
         except (MPAError, RuntimeError, ArithmeticError, ValueError) as exc:
             raise _RejectedError(f"the re-timed plan cannot be computed ({exc}); after: {reason}") from exc
@@ -232,13 +325,24 @@ class TrajectoryGenerator:
 
     def replan(self, trajectory: Trajectory, at_time: float, goal: ArrayLike) -> Trajectory:
         """A verified trajectory from both robots' state at ``at_time`` of ``trajectory`` to rest at ``goal``
-        (see :func:`trajopt.replan.replan`)."""
+        (see :func:`trajopt.replan.replan`; paper tracks only).
+
+        Raises
+        ------
+        InvalidInputError
+            Also on a layout (re-planning in motion is implemented for the paper's tracks only).
+        """
         from trajopt.replan import replan
+
+        if self.is_graph:
+            raise InvalidInputError("replan is implemented for the paper's tracks, not for a GraphTrack layout")
 
         return replan(self, trajectory, at_time, goal)
 
     # ---------------------------------------------------------------------------------------------
-    def _optimized(self, plan: Plan, geom: RouteGeometry, timings: dict[str, Any], stats: dict[str, Any]) -> Trajectory:
+    def _optimized(
+        self, plan: Plan | GraphPlan, geom: RouteGeometry, timings: dict[str, Any], stats: dict[str, Any]
+    ) -> Trajectory:
         sep = self.clearance + separation_margin(self.limits, self.rate)
         t0 = time.perf_counter()
         line = straight_line_clearance(plan, geom)
@@ -249,13 +353,28 @@ class TrajectoryGenerator:
         else:
             if self._corridor is None:
                 self._corridor = CorridorProblem(CORRIDOR_SEGMENTS, self.limits.v)
-            scaling, st = hard_path_scaling(plan, geom, sep, self.limits, self._corridor, timings)
-            stats.update(st, path="hard", line_clearance=line)
+            if not isinstance(plan, GraphPlan):
+                scaling, st = hard_path_scaling(plan, geom, sep, self.limits, self._corridor, timings)
+                stats.update(st, path="hard", line_clearance=line)
+                return self._finish(plan, scaling, Source.OPTIMIZED, "", stats, timings)
+            try:
+                scaling, st = hard_path_scaling(plan, geom, sep, self.limits, self._corridor, timings)
+                stats.update(st, path="hard", line_clearance=line)
+                return self._finish(plan, scaling, Source.OPTIMIZED, "", stats, timings)
+            except (MPAError, RuntimeError, ArithmeticError, ValueError) as exc:
+                # a graph plan is taut (it touches the clearance at its corners): blend the corners that leave room
+                stats.clear()
+                stats["hard_failure"] = f"{type(exc).__name__}: {exc}"[:500]
+            t1 = time.perf_counter()
+            path = blend_polyline(_dedupe(view_waypoints(plan)), geom.polyline_min_distance, sep)
+            scaling = jerk_limited_scaling(path, self.limits)
+            timings["blend"] = time.perf_counter() - t1
+            stats.update(scaling.stats, path="blend", line_clearance=line, blends=int(np.sum(path.radii > 0)))
         return self._finish(plan, scaling, Source.OPTIMIZED, "", stats, timings)
 
     def _finish(
         self,
-        plan: Plan,
+        plan: Plan | GraphPlan,
         scaling: TimeScaling,
         source: Source,
         reason: str,
@@ -265,25 +384,12 @@ class TrajectoryGenerator:
         t0 = time.perf_counter()
         t = time_grid(scaling.duration, self.rate)
         s, v, a, j = scaling.sample(t)
-        routes = plan.routes
-        tr = np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1)
+        view = plan_view(plan)
+        tr = view.track_coordinates(s)
         timings["sample"] = time.perf_counter() - t0
         t1 = time.perf_counter()
-        rep: VerificationReport = verify_setpoints(
-            plan.track,
-            routes,
-            t,
-            tr,
-            s,
-            v,
-            a,
-            j,
-            limits=self.limits,
-            clearance=self.clearance,
-            start=plan.start,
-            goal=plan.goal,
-            word=plan.word,
-            rate=self.rate,
+        rep: VerificationReport = view.verify(
+            t, s, v, a, j, limits=self.limits, clearance=self.clearance, rate=self.rate
         )
         timings["verify" if source is Source.OPTIMIZED else "fallback_verify"] = time.perf_counter() - t1
         if not rep.ok:
@@ -301,7 +407,7 @@ class TrajectoryGenerator:
             makespan=float(t[-1]),
             motion_time=scaling.duration,
             min_separation=rep.min_separation,
-            domain=plan.domain,
+            domain=int(getattr(plan, "domain", 0)),
             word=tuple(plan.word),
             source=source,
             fallback_reason=reason,
@@ -310,8 +416,14 @@ class TrajectoryGenerator:
             verification=rep.to_dict(),
             plan=plan,
             sampler=scaling.sample,
-            retimer=lambda r: self.at_rate(r).generate_from_plan(plan),
+            retimer=self._retimer(plan),
         )
+
+    def _retimer(self, plan: Plan | GraphPlan) -> Any:
+        """``rate -> Trajectory``: the query again at another rate (a graph plan is made for that rate's margin)."""
+        if isinstance(plan, GraphPlan) and isinstance(self.planner, GraphPlanner):
+            return lambda r: self.at_rate(r).generate(plan.start, plan.goal)
+        return lambda r: self.at_rate(r).generate_from_plan(plan)
 
 
 class _RejectedError(PlanningError):
@@ -335,6 +447,11 @@ def _ladder(lo: float, hi: float) -> list[float]:
 RATE_LADDER = (1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0)
 
 
+def view_waypoints(plan: Plan | GraphPlan) -> np.ndarray:
+    """The plan's polyline in route coordinates (shape (K, 2))."""
+    return plan_view(plan).waypoints
+
+
 def _dedupe(pts: ArrayLike) -> np.ndarray:
     p = np.atleast_2d(np.asarray(pts, dtype=float))
     keep = np.concatenate([[True], np.linalg.norm(np.diff(p, axis=0), axis=1) > 1e-12])
@@ -344,9 +461,9 @@ def _dedupe(pts: ArrayLike) -> np.ndarray:
 
 
 def generate_trajectory(
-    track: Track,
-    start: ArrayLike,
-    goal: ArrayLike,
+    track: Track | GraphTrack,
+    start: Any,
+    goal: Any,
     *,
     clearance: float = defaults.CLEARANCE,
     vmax: Any = defaults.VMAX,
@@ -358,9 +475,10 @@ def generate_trajectory(
 
     Parameters
     ----------
-    track : Track
-    start, goal : array_like, shape (2,)
-        Track coordinates of robots A and B (m).
+    track : Track or GraphTrack
+    start, goal : pair
+        Robots A and B: track coordinates (m) on a paper track; on a layout positions ``(edge, offset)``,
+        ``"EDGE:OFFSET"`` or vertex names.
     clearance : float
         Required separation D (m, graph distance).
     vmax, amax, jmax : float or (float, float)

@@ -1,0 +1,252 @@
+"""One view of a plan for the pipeline: paper plans and graph plans in the same route geometry.
+
+The pipeline (fast path, corridor, fallback, gate, export) works in *route coordinates* ``σ = (σ_A, σ_B)`` on the
+exact geometry of :class:`mpa.geometry.RouteGeometry`, for every track: a paper track through its graph form
+(:meth:`mpa.tracks.Track.as_graph_track`, edges ``stick`` and ``loop``; routes from
+:func:`mpa.routes.directed_route`), a layout (:class:`mpa.GraphTrack`) with the routes of its
+:class:`~mpa.planners.graph.GraphPlan`. :func:`plan_view` builds the view once per plan (cached on it).
+
+What differs between the two kinds is small and lives here: the waypoints' attribute, the skeleton word (paper
+plans only: the fast path's line must keep the plan's homotopy class, the gate checks it), the gate
+(:func:`~trajopt.verify.verify_setpoints` in track coordinates, :func:`~trajopt.verify.verify_graph_setpoints`
+in positions), and the columns of the exported rows.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mpa.geometry import DirectedRoute, RouteGeometry
+from mpa.graph_track import GraphTrack
+from mpa.homotopy import path_word
+from mpa.planners.graph import GraphPlan
+from mpa.routes import directed_route
+from trajopt.timing import Limits
+from trajopt.verify import VerificationReport, verify_graph_setpoints, verify_setpoints
+
+__all__ = ["REST_SPEED", "PlanView", "densify", "plan_view"]
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+Pair = tuple[tuple[int, float], tuple[int, float]]
+#: Speeds (m/s) at or below which a robot counts as at rest (its ``*_dir`` is 0).
+REST_SPEED = 1e-9
+
+
+def densify(pts: ArrayLike, step: float) -> FloatArray:
+    """Points along a polyline (shape (n, 2)) with at most ``step`` between consecutive ones (max-norm)."""
+    p = np.atleast_2d(np.asarray(pts, dtype=float))
+    if len(p) < 2:
+        return p.copy()
+    seg = np.max(np.abs(np.diff(p, axis=0)), axis=1)
+    n = np.maximum(1, np.ceil(seg / step).astype(int))
+    out = [p[i] + np.linspace(0.0, 1.0, n[i], endpoint=False)[:, None] * (p[i + 1] - p[i]) for i in range(len(p) - 1)]
+    out.append(p[-1:])
+    return np.vstack(out)
+
+
+@dataclass(frozen=True, eq=False)
+class PlanView:
+    """A plan as the pipeline sees it (build with :func:`plan_view`).
+
+    Attributes
+    ----------
+    plan : Plan or GraphPlan
+    graph : GraphTrack
+        The track graph (a paper track's graph form).
+    routes : (DirectedRoute, DirectedRoute)
+        The robots' routes; route coordinates as in the plan (σ for paper plans, distance travelled for graph plans).
+    geom : RouteGeometry
+        Exact separation in route coordinates.
+    waypoints : ndarray, shape (K, 2)
+        The plan's polyline in route coordinates (metres).
+    is_graph : bool
+        The plan is a :class:`~mpa.planners.graph.GraphPlan`.
+    """
+
+    plan: Any
+    graph: GraphTrack
+    routes: tuple[DirectedRoute, DirectedRoute]
+    geom: RouteGeometry
+    waypoints: FloatArray
+    is_graph: bool
+
+    @property
+    def lower(self) -> FloatArray:
+        """Smallest route coordinate of each robot (metres). Shape (2,)."""
+        if not self.is_graph:
+            return np.array([self.plan.routes[0].sigma_min, self.plan.routes[1].sigma_min], dtype=float)
+        return np.array([self.routes[0].breaks[0], self.routes[1].breaks[0]])
+
+    @property
+    def upper(self) -> FloatArray:
+        """Largest route coordinate of each robot (metres). Shape (2,)."""
+        if not self.is_graph:
+            return np.array([self.plan.routes[0].sigma_max, self.plan.routes[1].sigma_max], dtype=float)
+        return np.array([self.routes[0].breaks[-1], self.routes[1].breaks[-1]])
+
+    def path_s(self, u: ArrayLike) -> FloatArray:
+        """The plan's path in route coordinates at parameter ``u ∈ [0, 1]``. Shape (..., 2)."""
+        return np.asarray(self.plan.path_s(u), dtype=float)
+
+    # ------------------------------------------------------------------------------------ positions
+    def positions(self, s: ArrayLike, v: ArrayLike | None = None) -> tuple[IntArray, FloatArray]:
+        """Edge indices and offsets of both robots at route coordinates ``s`` (shape (N, 2)).
+
+        At a route break (a robot on a vertex between two pieces) the piece the robot moves into is taken: the
+        later one when it moves forward or rests, the earlier one when its velocity ``v`` is negative.
+
+        Returns
+        -------
+        edges : ndarray of int, shape (N, 2)
+        offsets : ndarray, shape (N, 2)
+            Metres from each edge's tail, within ``[0, length]``.
+        """
+        S = np.atleast_2d(np.asarray(s, dtype=float))
+        V = np.zeros_like(S) if v is None else np.atleast_2d(np.asarray(v, dtype=float))
+        edges = np.empty(S.shape, dtype=np.int64)
+        offs = np.empty(S.shape)
+        for r, route in enumerate(self.routes):
+            br = route.breaks
+            x = np.clip(S[:, r], br[0], br[-1])
+            right = np.searchsorted(br, x, side="right") - 1
+            left = np.searchsorted(br, x, side="left") - 1
+            i = np.clip(np.where(V[:, r] < -REST_SPEED, left, right), 0, len(route.edges) - 1)
+            edges[:, r] = route.edges[i]
+            lengths = self.graph.lengths[route.edges[i]]
+            offs[:, r] = np.clip(route.entry[i] + route.dirs[i] * (x - br[i]), 0.0, lengths)
+        return edges, offs
+
+    def directions(self, s: ArrayLike, v: ArrayLike) -> IntArray:
+        """Direction of travel on the current edge: +1 along its orientation, -1 against, 0 at rest. Shape (N, 2)."""
+        S = np.atleast_2d(np.asarray(s, dtype=float))
+        V = np.atleast_2d(np.asarray(v, dtype=float))
+        out = np.zeros(S.shape, dtype=np.int64)
+        for r, route in enumerate(self.routes):
+            br = route.breaks
+            x = np.clip(S[:, r], br[0], br[-1])
+            right = np.searchsorted(br, x, side="right") - 1
+            left = np.searchsorted(br, x, side="left") - 1
+            i = np.clip(np.where(V[:, r] < -REST_SPEED, left, right), 0, len(route.edges) - 1)
+            sign = np.where(V[:, r] > REST_SPEED, 1, np.where(V[:, r] < -REST_SPEED, -1, 0))
+            out[:, r] = sign * route.dirs[i]
+        return out
+
+    def track_coordinates(self, s: ArrayLike) -> FloatArray:
+        """Track coordinates of a paper plan at route coordinates ``s`` (graph plan: the offsets). Shape (N, 2)."""
+        S = np.atleast_2d(np.asarray(s, dtype=float))
+        if self.is_graph:
+            return self.positions(S)[1]
+        routes = self.plan.routes
+        return np.stack([routes[0].position(S[:, 0]), routes[1].position(S[:, 1])], axis=1)
+
+    def endpoints(self) -> tuple[Pair, Pair]:
+        """Start and goal as positions ``((edge, offset) of A, (edge, offset) of B)``."""
+        if self.is_graph:
+            return self.plan.start, self.plan.goal
+        track = self.plan.track
+        out = []
+        for q in (self.plan.start, self.plan.goal):
+            e, o = track.to_graph_position(np.asarray(q, dtype=float))
+            out.append(((int(e[0]), float(o[0])), (int(e[1]), float(o[1]))))
+        return out[0], out[1]
+
+    def separation(self, which: str) -> float:
+        """Graph distance between the robots at the ``"start"`` or the ``"goal"`` (metres)."""
+        st, gl = self.endpoints()
+        (ea, oa), (eb, ob) = st if which == "start" else gl
+        return float(self.graph.geometry.distance_scalar(ea, oa, eb, ob))
+
+    # ------------------------------------------------------------------------------ class and gate
+    def keeps_class(self, pts: ArrayLike) -> bool:
+        """Whether the polyline ``pts`` (route coordinates) has the plan's homotopy class.
+
+        Paper plans: the reduced skeleton word of the densified polyline equals the plan's word. Graph plans:
+        always True (any motion along the plan's routes is a motion of the query; the gate checks the clearance).
+        """
+        if self.is_graph:
+            return True
+        track = self.plan.track
+        dense = densify(pts, 0.004 * track.total_length)
+        return tuple(path_word(track, self.track_coordinates(dense))) == tuple(self.plan.word)
+
+    def verify(
+        self,
+        t: ArrayLike,
+        s: FloatArray,
+        v: FloatArray,
+        a: FloatArray,
+        j: FloatArray,
+        *,
+        limits: Limits,
+        clearance: float,
+        rate: float,
+    ) -> VerificationReport:
+        """The independent gate on rows of this plan's motion (see :mod:`trajopt.verify`)."""
+        plan = self.plan
+        if not self.is_graph:
+            return verify_setpoints(
+                plan.track,
+                plan.routes,
+                t,
+                self.track_coordinates(s),
+                s,
+                v,
+                a,
+                j,
+                limits=limits,
+                clearance=clearance,
+                start=plan.start,
+                goal=plan.goal,
+                word=plan.word,
+                rate=rate,
+            )
+        edges, offs = self.positions(s, v)
+        return verify_graph_setpoints(
+            self.graph.geometry,
+            self.routes,
+            t,
+            edges,
+            offs,
+            s,
+            v,
+            a,
+            j,
+            limits=limits,
+            clearance=clearance,
+            start=plan.start,
+            goal=plan.goal,
+            rate=rate,
+        )
+
+    def route_lists(self) -> dict[str, list[dict[str, object]]]:
+        """Per robot (``"a"``, ``"b"``) its route: edges by name with the direction travelled (JSON-ready)."""
+        names = list(self.graph.edge_names)
+        return {"a": self.routes[0].to_list(names), "b": self.routes[1].to_list(names)}
+
+
+def plan_view(plan: Any) -> PlanView:
+    """The :class:`PlanView` of a paper :class:`~mpa.plan.Plan` or a :class:`~mpa.planners.graph.GraphPlan`.
+
+    Built once per plan (cached on the plan object).
+    """
+    cached = plan.__dict__.get("_trajopt_view")
+    if cached is not None:
+        return cached  # type: ignore[no-any-return]
+    if isinstance(plan, GraphPlan):
+        graph = plan.track
+        routes = (plan.route_a, plan.route_b)
+        waypoints = np.asarray(plan.waypoints, dtype=float)
+        is_graph = True
+    else:
+        graph = plan.track.as_graph_track()
+        routes = (directed_route(plan.routes[0]), directed_route(plan.routes[1]))
+        waypoints = np.asarray(plan.waypoints_s, dtype=float)
+        is_graph = False
+    view = PlanView(plan, graph, routes, RouteGeometry(graph.geometry, routes), waypoints, is_graph)
+    object.__setattr__(plan, "_trajopt_view", view)
+    return view
