@@ -219,7 +219,7 @@ def _cli(q: dict[str, Any], subproc: bool) -> dict[str, Any]:
                 res["fails"].append(f"exit {code} left {os.listdir(out)}")
             return res
         summary = json.loads(Path(out, "summary.json").read_text())
-        data = np.loadtxt(Path(out, "setpoints.csv"), delimiter=",", skiprows=1, ndmin=2)
+        data = np.loadtxt(Path(out, "setpoints.csv"), delimiter=",", skiprows=1, ndmin=2, usecols=range(11))
         lim = summary["limits"]
         res["fails"] = check_setpoints(
             _track(q),

@@ -24,7 +24,8 @@ def traj():  # type: ignore[no-untyped-def]
 def read_csv(path):  # type: ignore[no-untyped-def]
     with open(path, newline="") as fh:
         rows = list(csv.reader(fh))
-    return rows[0], np.array(rows[1:], dtype=float)
+    # the numeric columns (the paper tracks' CSV ends with the edge/offset/dir columns, whose edges are names)
+    return rows[0], np.array([r[:11] for r in rows[1:]], dtype=float)
 
 
 @pytest.mark.parametrize("rate", [None, 37.0, 250.0, 1000.0])
@@ -57,7 +58,7 @@ def test_csv_rows_keep_every_limit(traj, tmp_path, rate) -> None:  # type: ignor
 def test_csv_default_rate_matches_arrays(traj, tmp_path) -> None:  # type: ignore[no-untyped-def]
     traj.to_csv(tmp_path / "a.csv")
     _, data = read_csv(tmp_path / "a.csv")
-    assert data.shape == (len(traj.t), 11)
+    assert data.shape == (len(traj.t), 11) and len(CSV_COLUMNS) == 17
     np.testing.assert_allclose(data[:, 2], traj.s[:, 0], atol=1e-9)
     np.testing.assert_allclose(data[:, 9], traj.a[:, 1], atol=1e-9)
     assert traj.makespan == pytest.approx(traj.t[-1])

@@ -28,7 +28,7 @@ def csv_rows(traj, tmp_path, rate=None):  # type: ignore[no-untyped-def]
     traj.to_csv(path, rate=rate)
     with open(path, newline="") as fh:
         rows = list(csv.reader(fh))
-    data = np.array(rows[1:], dtype=float)
+    data = np.array([r[:11] for r in rows[1:]], dtype=float)
     h = rows[0]
     return (
         data[:, 0],

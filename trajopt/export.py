@@ -1,10 +1,17 @@
 """Stage 5, export: the :class:`Trajectory` result and its CSV / JSON files (written atomically).
 
-CSV (docs/conventions.md, "Command line and files"): header
-``time,a_track,a_s,a_v,a_a,a_j,b_track,b_s,b_v,b_a,b_j``; one row every ``1/rate``
-seconds from 0. ``*_track`` is the track coordinate, ``*_s`` the route coordinate σ (signed distance travelled
-along the robot's own route, continuous through P and round the loop), ``*_v/_a/_j`` its first three time
-derivatives. The motion lasts :attr:`Trajectory.motion_time`; the grid ends at the first multiple of
+CSV (docs/conventions.md, "Command line and files"). Paper tracks: header
+``time,a_track,a_s,a_v,a_a,a_j,b_track,b_s,b_v,b_a,b_j,a_edge,a_offset,a_dir,b_edge,b_offset,b_dir``
+(:data:`CSV_COLUMNS`); one row every ``1/rate`` seconds from 0. ``*_track`` is the track coordinate, ``*_s`` the
+route coordinate σ (signed distance travelled along the robot's own route, continuous through P and round the
+loop), ``*_v/_a/_j`` its first three time derivatives. Graph tracks (layouts): header
+``time,a_edge,a_offset,a_s,a_v,a_a,a_j,b_edge,b_offset,b_s,b_v,b_a,b_j,a_dir,b_dir`` (:data:`GRAPH_CSV_COLUMNS`)
+and ``a_x,a_y,b_x,b_y`` when the layout has vertex coordinates (:data:`XY_COLUMNS`); ``*_s`` is the distance
+travelled along the robot's route. On both, ``*_edge`` is the edge's name (the paper tracks' graph form:
+``stick``, ``loop``), ``*_offset`` metres from the edge's ``from`` vertex, ``*_dir`` the direction of travel on
+that edge (+1 along its orientation, -1 against, 0 at rest).
+
+The motion lasts :attr:`Trajectory.motion_time`; the grid ends at the first multiple of
 ``1/rate`` at or after it, the robots holding the goal at rest for the rest of that last step, so the last row is
 exactly at :attr:`Trajectory.makespan` (= ``ceil(motion_time·rate)/rate``) and at the goal, at rest.
 
@@ -29,14 +36,64 @@ from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError
 from mpa.plan import Plan
+from mpa.planners.graph import GraphPlan
+from trajopt.planview import plan_view
 from trajopt.timing import Limits
 from trajopt.verify import VerificationError, verify_setpoints
 
-__all__ = ["CSV_COLUMNS", "Source", "Trajectory", "atomic_write_bytes", "atomic_write_text", "check_rate", "time_grid"]
+__all__ = [
+    "CSV_COLUMNS",
+    "GRAPH_CSV_COLUMNS",
+    "XY_COLUMNS",
+    "Source",
+    "Trajectory",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "check_rate",
+    "time_grid",
+]
 
 FloatArray = NDArray[np.float64]
-#: The pinned CSV columns, in order.
-CSV_COLUMNS = ("time", "a_track", "a_s", "a_v", "a_a", "a_j", "b_track", "b_s", "b_v", "b_a", "b_j")
+#: The pinned CSV columns of the paper's tracks, in order.
+CSV_COLUMNS = (
+    "time",
+    "a_track",
+    "a_s",
+    "a_v",
+    "a_a",
+    "a_j",
+    "b_track",
+    "b_s",
+    "b_v",
+    "b_a",
+    "b_j",
+    "a_edge",
+    "a_offset",
+    "a_dir",
+    "b_edge",
+    "b_offset",
+    "b_dir",
+)
+#: The pinned CSV columns on a layout (:class:`mpa.GraphTrack`), in order.
+GRAPH_CSV_COLUMNS = (
+    "time",
+    "a_edge",
+    "a_offset",
+    "a_s",
+    "a_v",
+    "a_a",
+    "a_j",
+    "b_edge",
+    "b_offset",
+    "b_s",
+    "b_v",
+    "b_a",
+    "b_j",
+    "a_dir",
+    "b_dir",
+)
+#: Appended to :data:`GRAPH_CSV_COLUMNS` when the layout has vertex coordinates: points on the drawn edges (m).
+XY_COLUMNS = ("a_x", "a_y", "b_x", "b_y")
 #: Largest number of rows a grid may have.
 MAX_ROWS = 20_000_000
 
@@ -162,9 +219,10 @@ class Trajectory:
     t : ndarray, shape (N,)
         Times ``k / rate`` (s).
     track : ndarray, shape (N, 2)
-        Track coordinates (m).
+        Track coordinates (m) on a paper track; on a layout the offsets on the current edges (see :attr:`edges`).
     s : ndarray, shape (N, 2)
-        Route coordinates σ (m): signed distance along each robot's route, continuous through P.
+        Route coordinates σ (m): signed distance along each robot's route, continuous through P (on a layout the
+        distance travelled along the route).
     v, a, j : ndarray, shape (N, 2)
         First, second and third time derivatives of ``s`` (m/s, m/s², m/s³).
     limits : Limits
@@ -179,9 +237,9 @@ class Trajectory:
     min_separation : float
         Smallest graph distance between the robots over the rows (m).
     domain : int
-        The plan's domain of continuity.
+        The plan's domain of continuity (0 on a layout).
     word : tuple of str
-        Reduced skeleton word (homotopy class), equal to the plan's.
+        Reduced skeleton word (homotopy class), equal to the plan's (on a layout: the plan's cell word).
     source : Source
         ``OPTIMIZED`` or ``PLAN`` (the fallback).
     fallback : bool
@@ -194,8 +252,8 @@ class Trajectory:
         Wall time of every stage (s).
     verification : dict
         The gate's report (:meth:`trajopt.verify.VerificationReport.to_dict`).
-    plan : Plan
-        The topological plan the trajectory follows.
+    plan : Plan or GraphPlan
+        The plan the trajectory follows.
     sampler : callable
         ``sampler(t) -> (s, v, a, j)``: the continuous motion at any times (for analysis; exports go through
         :meth:`at_rate`, which verifies).
@@ -223,7 +281,7 @@ class Trajectory:
     solver_stats: dict[str, Any]
     timings: dict[str, Any]
     verification: dict[str, Any]
-    plan: Plan
+    plan: Plan | GraphPlan
     sampler: Callable[[FloatArray], tuple[FloatArray, FloatArray, FloatArray, FloatArray]] = field(
         repr=False, compare=False
     )
@@ -256,25 +314,28 @@ class Trajectory:
             return self
         t = time_grid(self.motion_time, r)
         s, v, a, j = self.sampler(t)
-        routes = self.plan.routes
-        tr = np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1)
+        view = plan_view(self.plan)
+        tr = view.track_coordinates(s)
         plan = self.plan
-        rep = verify_setpoints(
-            plan.track,
-            routes,
-            t,
-            tr,
-            s,
-            v,
-            a,
-            j,
-            limits=self.limits,
-            clearance=self.clearance,
-            start=plan.start,
-            goal=plan.goal,
-            word=plan.word,
-            rate=r,
-        )
+        if isinstance(plan, GraphPlan):
+            rep = view.verify(t, s, v, a, j, limits=self.limits, clearance=self.clearance, rate=r)
+        else:
+            rep = verify_setpoints(
+                plan.track,
+                plan.routes,
+                t,
+                tr,
+                s,
+                v,
+                a,
+                j,
+                limits=self.limits,
+                clearance=self.clearance,
+                start=plan.start,
+                goal=plan.goal,
+                word=plan.word,
+                rate=r,
+            )
         if rep.ok:
             return replace(
                 self,
@@ -308,13 +369,105 @@ class Trajectory:
         tr = self.at_rate(rate)
         return tr.t, tr.track, tr.s, tr.v, tr.a, tr.j
 
+    # ------------------------------------------------------------------------------- graph positions
+    @property
+    def is_graph(self) -> bool:
+        """Whether the trajectory is on a layout (:class:`mpa.GraphTrack`, a :class:`GraphPlan`)."""
+        return isinstance(self.plan, GraphPlan)
+
+    def _positions(self) -> tuple[NDArray[np.int64], FloatArray, NDArray[np.int64]]:
+        cached = self.__dict__.get("_pos")
+        if cached is None:
+            view = plan_view(self.plan)
+            e, o = view.positions(self.s, self.v)
+            cached = (e, o, view.directions(self.s, self.v))
+            object.__setattr__(self, "_pos", cached)
+        return cached  # type: ignore[no-any-return]
+
+    @property
+    def edges(self) -> NDArray[np.int64]:
+        """Edge index of each robot at every row (on the paper tracks: of the graph form). Shape (N, 2)."""
+        return self._positions()[0]
+
+    @property
+    def offsets(self) -> FloatArray:
+        """Offset of each robot from its edge's ``from`` vertex at every row (m). Shape (N, 2)."""
+        return self._positions()[1]
+
+    @property
+    def directions(self) -> NDArray[np.int64]:
+        """Direction of travel on the current edge (+1 along it, -1 against, 0 at rest). Shape (N, 2)."""
+        return self._positions()[2]
+
+    @property
+    def edge_names(self) -> tuple[str, ...]:
+        """Names of the track's edges (the paper tracks' graph form: ``stick``, ``loop``)."""
+        return plan_view(self.plan).graph.edge_names
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """The CSV columns of this trajectory (:data:`CSV_COLUMNS`, or on a layout :data:`GRAPH_CSV_COLUMNS` and,
+        with coordinates, :data:`XY_COLUMNS`)."""
+        if not self.is_graph:
+            return CSV_COLUMNS
+        if plan_view(self.plan).graph.has_coordinates:
+            return GRAPH_CSV_COLUMNS + XY_COLUMNS
+        return GRAPH_CSV_COLUMNS
+
+    def xy(self) -> FloatArray:
+        """Planar points of both robots on the drawn layout (m), shape (N, 2, 2): ``[:, robot, (x, y)]``.
+
+        Raises
+        ------
+        InvalidInputError
+            The layout has no vertex coordinates.
+        """
+        g = plan_view(self.plan).graph
+        e, o, _ = self._positions()
+        return np.stack([g.embed(e[:, 0], o[:, 0]), g.embed(e[:, 1], o[:, 1])], axis=1)
+
     def csv_text(self, rate: float | None = None) -> str:
         """The CSV file's content (see the module docstring), verified at ``rate`` (see :meth:`at_rate`)."""
-        t, tr, s, v, a, j = self.resample(rate)
-        cols = [t, tr[:, 0], s[:, 0], v[:, 0], a[:, 0], j[:, 0], tr[:, 1], s[:, 1], v[:, 1], a[:, 1], j[:, 1]]
+        tr = self if rate is None else self.at_rate(rate)
+        return tr._csv()
+
+    def _csv(self) -> str:
+        names = np.asarray(self.edge_names, dtype=object)
+        e, o, d = self._positions()
+        col: dict[str, Any] = {"time": self.t}
+        for r, x in enumerate("ab"):
+            col.update(
+                {
+                    f"{x}_track": self.track[:, r],
+                    f"{x}_s": self.s[:, r],
+                    f"{x}_v": self.v[:, r],
+                    f"{x}_a": self.a[:, r],
+                    f"{x}_j": self.j[:, r],
+                    f"{x}_edge": names[e[:, r]],
+                    f"{x}_offset": o[:, r],
+                    f"{x}_dir": d[:, r],
+                }
+            )
+        columns = self.columns
+        if columns[-1] == "b_y":
+            p = self.xy()
+            col.update({"a_x": p[:, 0, 0], "a_y": p[:, 0, 1], "b_x": p[:, 1, 0], "b_y": p[:, 1, 1]})
+        text = []
+        for name in columns:
+            x = col[name]
+            if x.dtype == object:
+                text.append(x.astype(str))
+            elif np.issubdtype(x.dtype, np.integer):
+                text.append(x.astype(str))
+            else:
+                text.append(np.char.mod("%.12g", x))
         buf = io.StringIO()
-        buf.write(",".join(CSV_COLUMNS) + "\n")
-        np.savetxt(buf, np.column_stack(cols), delimiter=",", fmt="%.12g")
+        buf.write(",".join(columns) + "\n")
+        if len(self.t):
+            rows = text[0].astype(object)
+            for x in text[1:]:
+                rows = rows + "," + x.astype(object)
+            buf.write("\n".join(rows.tolist()) + "\n")
         return buf.getvalue()
 
     def to_csv(self, path: str | os.PathLike[str], rate: float | None = None) -> None:
@@ -343,7 +496,26 @@ class Trajectory:
         return describe(self)
 
     def summary(self) -> dict[str, Any]:
-        """JSON-ready summary (everything but the arrays)."""
+        """JSON-ready summary (everything but the arrays).
+
+        ``routes`` gives each robot's route (``"a"``, ``"b"``): the edges in the order travelled, each with ``dir``
+        (+1 along the edge, -1 against), the ``entry`` offset and the route coordinates ``from_s``/``to_s`` where
+        the robot is on it (what a controller needs to set the switches). On a layout ``start`` and ``goal`` are
+        position names (``EDGE:OFFSET`` or a vertex) and ``track`` is the layout.
+        """
+        view = plan_view(self.plan)
+        plan = self.plan
+        if isinstance(plan, GraphPlan):
+            g = view.graph
+            track: Any = g.to_dict()
+            start: Any = [g.position_name(*p) for p in plan.start]
+            goal: Any = [g.position_name(*p) for p in plan.goal]
+            units = {"time": "s", "offset": "m", "s": "m", "v": "m/s", "a": "m/s^2", "j": "m/s^3"}
+        else:
+            track, start, goal = plan.track.to_dict(), plan.start.tolist(), plan.goal.tolist()
+            units = {"time": "s", "track": "m", "offset": "m", "s": "m", "v": "m/s", "a": "m/s^2", "j": "m/s^3"}
+        if self.columns[-1] == "b_y":
+            units["x"] = units["y"] = "m"
         return {
             "makespan": self.makespan,
             "motion_time": self.motion_time,
@@ -353,15 +525,16 @@ class Trajectory:
             "fallback_reason": self.fallback_reason,
             "source": self.source.value,
             "word": list(self.word),
-            "track": self.plan.track.to_dict(),
-            "start": self.plan.start.tolist(),
-            "goal": self.plan.goal.tolist(),
+            "track": track,
+            "start": start,
+            "goal": goal,
             "clearance": self.clearance,
             "limits": self.limits.to_dict(),
             "rate": self.rate,
             "rows": len(self.t),
-            "columns": list(CSV_COLUMNS),
-            "units": {"time": "s", "track": "m", "s": "m", "v": "m/s", "a": "m/s^2", "j": "m/s^3"},
+            "columns": list(self.columns),
+            "units": units,
+            "routes": view.route_lists(self.s),
             "peak": {
                 "v": np.max(np.abs(self.v), axis=0).tolist(),
                 "a": np.max(np.abs(self.a), axis=0).tolist(),

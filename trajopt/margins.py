@@ -48,6 +48,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from trajopt.export import Trajectory
+from trajopt.planview import plan_view
 from trajopt.verify import SEPARATION_TOL, between_rows_separation
 
 __all__ = [
@@ -126,8 +127,14 @@ class _Motion:
 
     def __init__(self, trajectory: Trajectory) -> None:
         self.traj = trajectory
-        self.track = trajectory.plan.track
-        self.routes = trajectory.plan.routes
+        view = plan_view(trajectory.plan)
+        if view.is_graph:  # the graph metric and the directed routes (the gate's bound takes both forms)
+            self.track: Any = view.graph.geometry
+            self.routes: Any = view.routes
+        else:
+            self.track = trajectory.plan.track
+            self.routes = trajectory.plan.routes
+        self.graph = view.is_graph
         self.T = float(trajectory.motion_time)
         _, v, _, _ = trajectory.sampler(np.linspace(0.0, self.T, max(2, int(self.T * DENSE_RATE) + 1)))
         lim = trajectory.limits
@@ -140,6 +147,9 @@ class _Motion:
 
     def dist(self, s: FloatArray) -> FloatArray:
         r = self.routes
+        if self.graph:
+            (ea, oa), (eb, ob) = r[0].positions(s[:, 0]), r[1].positions(s[:, 1])
+            return self.track.distance(ea, oa, eb, ob)  # type: ignore[no-any-return]
         return self.track.distance(r[0].position(s[:, 0]), r[1].position(s[:, 1]))  # type: ignore[no-any-return]
 
     def grid(self, delay: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:

@@ -223,10 +223,34 @@ class PlanView:
             rate=rate,
         )
 
-    def route_lists(self) -> dict[str, list[dict[str, object]]]:
-        """Per robot (``"a"``, ``"b"``) its route: edges by name with the direction travelled (JSON-ready)."""
+    def route_lists(self, s: ArrayLike | None = None) -> dict[str, list[dict[str, object]]]:
+        """Per robot (``"a"``, ``"b"``) its route: edges by name with the direction travelled (JSON-ready).
+
+        Each piece is ``{"edge", "dir", "entry", "from_s", "to_s"}`` (:meth:`mpa.geometry.DirectedRoute.to_list`).
+        With ``s`` (route coordinates of a motion, shape (N, 2)) only the pieces the motion travels are listed,
+        cut to the travelled range (a paper route spans its whole line in the track's cover); a robot that does not
+        move gets the one piece it stands on, of length 0.
+        """
         names = list(self.graph.edge_names)
-        return {"a": self.routes[0].to_list(names), "b": self.routes[1].to_list(names)}
+        out: dict[str, list[dict[str, object]]] = {}
+        for r, key in enumerate("ab"):
+            pieces = self.routes[r].to_list(names)
+            if s is not None:
+                col = np.asarray(s, dtype=float)[:, r]
+                lo, hi = float(np.min(col)), float(np.max(col))
+                keep = []
+                for p in pieces:
+                    a, b = max(float(p["from_s"]), lo), min(float(p["to_s"]), hi)  # type: ignore[arg-type]
+                    if b > a or (lo == hi and float(p["from_s"]) <= lo <= float(p["to_s"])):  # type: ignore[arg-type]
+                        q = dict(p)
+                        q["entry"] = float(p["entry"]) + int(p["dir"]) * (a - float(p["from_s"]))  # type: ignore[arg-type, call-overload]
+                        q["from_s"], q["to_s"] = a, max(a, b)
+                        keep.append(q)
+                        if lo == hi:
+                            break
+                pieces = keep
+            out[key] = pieces
+        return out
 
 
 def plan_view(plan: Any) -> PlanView:

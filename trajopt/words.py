@@ -19,6 +19,10 @@ project writes. For each cart:
    where it ends: ``back down to 0.20 m`` (even if it first comes back out of the loop through P). Positions
    are track coordinates. Distances are in metres with 2 decimals (3 significant digits below 1 cm), waits in
    seconds with 1. A cart that never moves ``stays at 0.20 m``.
+
+On a layout (:class:`mpa.GraphTrack`) the words follow the route's pieces (:func:`describe_graph_rows`): legs and
+waits as above, each leg cut at the route's pieces, one phrase per piece ``along e1 to J`` (with the edge's
+orientation) or ``back along e1 to e1:0.40`` (against it), positions as vertex names or ``EDGE:OFFSET``.
 """
 
 from __future__ import annotations
@@ -33,7 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 from mpa.routes import Route
 from mpa.tracks import Circle, Lollipop, Track
 
-__all__ = ["STILL", "WAIT_MIN", "describe", "describe_rows", "describe_text"]
+__all__ = ["STILL", "WAIT_MIN", "describe", "describe_graph_rows", "describe_rows", "describe_text"]
 
 FloatArray = NDArray[np.float64]
 #: A row step moving less than this is still (m).
@@ -186,7 +190,51 @@ def describe(trajectory: Any) -> dict[str, str]:
     'up the stick to 0.80 m'
     """
     plan = trajectory.plan
+    if hasattr(plan, "route_a"):  # a GraphPlan
+        return describe_graph_rows(plan.track, (plan.route_a, plan.route_b), trajectory.t, trajectory.s)
     return describe_rows(plan.track, plan.routes, trajectory.t, trajectory.s)
+
+
+def describe_graph_rows(track: Any, routes: Sequence[Any], t: ArrayLike, s: ArrayLike) -> dict[str, str]:
+    """Plain words per cart on a layout for rows ``t`` (N,) and route coordinates ``s`` (N, 2) on ``routes``.
+
+    Parameters
+    ----------
+    track : GraphTrack
+    routes : (DirectedRoute, DirectedRoute)
+
+    Returns
+    -------
+    dict
+        ``{"A": "...", "B": "..."}``.
+    """
+    tt = np.asarray(t, dtype=float)
+    ss = np.asarray(s, dtype=float)
+    out: dict[str, str] = {}
+    names = track.edge_names
+    for r, name in ((0, "A"), (1, "B")):
+        route = routes[r]
+        phrases: list[str] = []
+        for kind, x0, x1 in _legs(tt, ss[:, r]):
+            if kind == "wait":
+                phrases.append(f"waits {x0:.1f} s")
+                continue
+            lo, hi = min(x0, x1), max(x0, x1)
+            cuts = [b for b in route.breaks if lo < b < hi]
+            pts = [x0, *(cuts if x1 > x0 else cuts[::-1]), x1]
+            for a, b in itertools.pairwise(pts):
+                if abs(b - a) <= STILL:
+                    continue
+                i = int(route.piece_index(0.5 * (a + b)))
+                direction = int(route.dirs[i]) * (1 if b > a else -1)
+                e, o = route.positions(b)
+                where = track.position_name(int(e), float(o))
+                phrases.append(f"{'along' if direction > 0 else 'back along'} {names[int(route.edges[i])]} to {where}")
+        if not phrases or all(p.startswith("waits") for p in phrases):
+            e, o = route.positions(ss[0, r])
+            phrases = [f"stays at {track.position_name(int(e), float(o))}"]
+        out[name] = ", ".join(phrases)
+    return out
 
 
 def describe_text(trajectory: Any) -> str:
