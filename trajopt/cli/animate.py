@@ -37,22 +37,25 @@ def _cmd_animate(args: argparse.Namespace) -> int:
     created = not d.exists()
     target = d / f"animation{FORMATS[args.format]}"
     try:
-        path = animate_query(
-            track,
-            start,
-            goal,
-            target,
-            clearance=args.clearance,
-            vmax=args.vmax,
-            amax=args.amax,
-            jmax=args.jmax,
-            rate=args.rate,
-            trajectory=not args.raw_only,
-            fps=args.fps,
-            dpi=args.dpi,
-            max_frames=args.max_frames,
-            fmt=args.format,
-        )
+        if args.graph is not None:
+            path = _animate_graph(track, start, goal, target, args)
+        else:
+            path = animate_query(
+                track,
+                start,
+                goal,
+                target,
+                clearance=args.clearance,
+                vmax=args.vmax,
+                amax=args.amax,
+                jmax=args.jmax,
+                rate=args.rate,
+                trajectory=not args.raw_only,
+                fps=args.fps,
+                dpi=args.dpi,
+                max_frames=args.max_frames,
+                fmt=args.format,
+            )
     except BaseException as exc:
         if created and d.is_dir() and not any(d.iterdir()):
             d.rmdir()
@@ -61,6 +64,30 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         raise
     print(path)
     return 0
+
+
+def _animate_graph(track: Any, start: Any, goal: Any, target: Path, args: argparse.Namespace) -> Path:
+    """The layout animation of a ``--graph`` query: the verified trajectory (or with ``--raw-only`` the plan)."""
+    from trajopt.generator import TrajectoryGenerator
+    from trajopt.timing import Limits
+    from trajopt.viz.layout import plan_title
+    from trajopt.viz.layout_animation import animate_graph_plan, animate_layout
+
+    gen = TrajectoryGenerator(
+        track, clearance=args.clearance, limits=Limits(args.vmax, args.amax, args.jmax), rate=args.rate
+    )
+    name = Path(args.graph).stem
+    kw = {"fps": args.fps, "dpi": args.dpi, "max_frames": args.max_frames, "fmt": args.format}
+    if args.raw_only:
+        return animate_graph_plan(gen.plan(start, goal), target, name=name, **kw)
+    traj = gen.generate(start, goal)
+    plan = traj.plan
+    title = plan_title(plan, name).split("\n")[0] + (
+        f"\nD = {traj.clearance:g} m, verified jerk-limited trajectory, {traj.makespan:.3g} s"
+    )
+    return animate_layout(
+        plan.track, plan.route_a, plan.route_b, traj.t, traj.s, target, clearance=traj.clearance, title=title, **kw
+    )
 
 
 def register(subparsers: Any) -> None:

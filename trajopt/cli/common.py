@@ -85,8 +85,8 @@ TRAJECTORY_DEFAULTS = {
 
 
 def add_trajectory_arguments(p: argparse.ArgumentParser) -> None:
-    """The query plus clearance and per-robot limits (``mpa trajectory`` and ``mpa animate``)."""
-    add_query_arguments(p)
+    """Query (``--track`` or ``--graph FILE``), clearance, per-robot limits (``mpa trajectory``, ``mpa animate``)."""
+    add_query_arguments(p, graph=True)
     d = TRAJECTORY_DEFAULTS
     add_clearance_argument(p)
     p.add_argument("--vmax", type=float, default=d["vmax"], help=f"speed limit per robot, m/s (default {d['vmax']:g})")

@@ -113,8 +113,15 @@ def write_outputs(out: str | os.PathLike[str], files: Mapping[str, str | bytes])
 def _summary_text(traj: Trajectory) -> str:
     s = traj.summary()
     src = "fallback (plan re-timed): " + traj.fallback_reason if traj.fallback else "optimized"
+    if traj.is_graph:
+        first = [
+            f"route {r.upper()}     " + " → ".join(f"{p['edge']}{'+' if p['dir'] > 0 else '-'}" for p in s["routes"][r])
+            for r in "ab"
+        ]
+    else:
+        first = [f"domain      {traj.domain}, class {' '.join(traj.word) or '(trivial)'}"]
     lines = [
-        f"domain      {traj.domain}, class {' '.join(traj.word) or '(trivial)'}",
+        *first,
         f"makespan    {traj.makespan:.3f} s ({len(traj.t)} rows at {traj.rate:g} Hz)",
         f"separation  min {traj.min_separation:.4f} m (clearance {traj.clearance:g} m)",
         f"peaks       |v| {max(s['peak']['v']):.3f}, |a| {max(s['peak']['a']):.3f}, |j| {max(s['peak']['j']):.3f}",
