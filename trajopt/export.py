@@ -534,7 +534,7 @@ class Trajectory:
             "rows": len(self.t),
             "columns": list(self.columns),
             "units": units,
-            "routes": view.route_lists(self.s),
+            "routes": self.routes(),
             "peak": {
                 "v": np.max(np.abs(self.v), axis=0).tolist(),
                 "a": np.max(np.abs(self.a), axis=0).tolist(),
@@ -546,6 +546,10 @@ class Trajectory:
             "margins": self.margins().to_dict(),
             "words": self.words(),
         }
+
+    def routes(self) -> dict[str, list[dict[str, object]]]:
+        """Each robot's route over the travelled range (``{"a": [...], "b": [...]}``, see :meth:`summary`)."""
+        return plan_view(self.plan).route_lists(self.s)
 
     def to_json(self, path: str | os.PathLike[str]) -> None:
         """Write :meth:`summary` as JSON (atomically)."""

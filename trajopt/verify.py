@@ -180,7 +180,7 @@ def between_rows_separation(
     if n < 2:
         return np.zeros(0)
     # cut every chord where a robot changes edge: on the pieces, both robots stay on one edge each
-    cuts: list[list[float]] = [[] for _ in range(n - 1)]
+    cuts: dict[int, list[float]] = {}
     for r in (0, 1):
         junc = np.sort(droutes[r].breaks[1:-1])
         if len(junc) == 0:
@@ -188,18 +188,24 @@ def between_rows_separation(
         lo = np.minimum(s[:-1, r], s[1:, r])
         hi = np.maximum(s[:-1, r], s[1:, r])
         cnt = np.searchsorted(junc, hi, side="left") - np.searchsorted(junc, lo, side="right")
-        for k in np.flatnonzero(cnt > 0):
+        for k in np.flatnonzero(cnt > 0).tolist():
             inside = junc[(junc > lo[k]) & (junc < hi[k])]
-            cuts[k].extend(((inside - s[k, r]) / (s[k + 1, r] - s[k, r])).tolist())
-    ks: list[int] = []
+            cuts.setdefault(k, []).extend(((inside - s[k, r]) / (s[k + 1, r] - s[k, r])).tolist())
+    # rows without a cut are one chord [0, 1]; the few cut rows are split (vectorized: same chords as row by row)
+    ks_list: list[int] = []
     t0s: list[float] = []
     t1s: list[float] = []
-    for row, c in enumerate(cuts):
-        ts = [0.0, *sorted(c), 1.0] if c else [0.0, 1.0]
-        ks.extend([row] * (len(ts) - 1))
+    for row, c in cuts.items():
+        ts = [0.0, *sorted(c), 1.0]
+        ks_list.extend([row] * (len(ts) - 1))
         t0s.extend(ts[:-1])
         t1s.extend(ts[1:])
-    kk, t0, t1 = np.array(ks), np.array(t0s)[:, None], np.array(t1s)[:, None]
+    plain = np.ones(n - 1, dtype=bool)
+    plain[list(cuts)] = False
+    rows_plain = np.flatnonzero(plain)
+    kk = np.concatenate([rows_plain, np.asarray(ks_list, dtype=np.int64)])
+    t0 = np.concatenate([np.zeros(len(rows_plain)), np.asarray(t0s, dtype=float)])[:, None]
+    t1 = np.concatenate([np.ones(len(rows_plain)), np.asarray(t1s, dtype=float)])[:, None]
     ds = s[kk + 1] - s[kk]
     p0 = np.where(t0 == 0.0, s[kk], s[kk] + t0 * ds)
     p1 = np.where(t1 == 1.0, s[kk + 1], s[kk] + t1 * ds)
