@@ -7,7 +7,7 @@ import numpy as np
 from mpa import Circle, Lollipop
 from trajopt import TrajectoryGenerator
 from trajopt.fastpath import straight_line_clearance
-from trajopt.smoothing import RouteGeometry
+from trajopt.planview import route_geometry
 from trajopt.timing import min_time_rest_to_rest
 
 
@@ -30,7 +30,7 @@ def test_blocked_or_other_class_takes_the_hard_path() -> None:
     traj = gen.generate((0.08626294125818701, 0.6907495920087285), (1.0648068767904069, 0.564806876790407))
     assert traj.solver_stats["path"] == "hard" and not traj.fallback
     p = traj.plan
-    assert straight_line_clearance(p, RouteGeometry(p.track, p.routes)) < gen.clearance
+    assert straight_line_clearance(p, route_geometry(p.track, p.routes)) < gen.clearance
 
 
 def test_most_random_queries_take_the_fast_path() -> None:

@@ -116,7 +116,7 @@ def _switch_queries(n: int, seed: int) -> list[tuple[np.ndarray, np.ndarray, np.
     """Queries on both sides of the fast/hard switch: the straight line's clearance crosses the required one."""
     from trajopt.fastpath import straight_line_clearance
     from trajopt.generator import separation_margin
-    from trajopt.smoothing import RouteGeometry
+    from trajopt.planview import route_geometry
 
     gen = _gen(Lollipop(1.0, 1.0))
     sep = gen.clearance + separation_margin(gen.limits, gen.rate)
@@ -124,7 +124,7 @@ def _switch_queries(n: int, seed: int) -> list[tuple[np.ndarray, np.ndarray, np.
 
     def line(s: np.ndarray, g: np.ndarray) -> tuple[float, int]:
         p = gen.plan(s, g)
-        return straight_line_clearance(p, RouteGeometry(p.track, p.routes)), p.domain
+        return straight_line_clearance(p, route_geometry(p.track, p.routes)), p.domain
 
     out = []
     while len(out) < n:

@@ -1,15 +1,17 @@
-"""The stages one by one: exact separation geometry, cells, smoothing NLP reuse, C² blends, 1-DoF timing, gate."""
+"""The stages one by one: exact separation geometry, cells, C² blends, 1-DoF timing, gate."""
 
 from __future__ import annotations
 
 import dataclasses
+import itertools
+from typing import NamedTuple
 
 import numpy as np
 import pytest
 
 from mpa import Circle, Interval, Lollipop, MPAError, make_planner
 from trajopt import Limits, TrajectoryGenerator, verify_setpoints
-from trajopt.smoothing import RouteGeometry, densify, plan_cells, problem_for, smooth_plan
+from trajopt.planview import densify, route_geometry
 from trajopt.timing import blend_polyline, jerk_limited_scaling, min_time_rest_to_rest, toppra_profile
 
 TRACKS = [Lollipop(1.0, 1.0), Lollipop(0.4, 1.5), Circle(1.0), Interval(1.0)]
@@ -32,7 +34,7 @@ def _plans(track, clearance, n, seed):  # type: ignore[no-untyped-def]
 def test_polyline_min_distance_is_exact(track) -> None:  # type: ignore[no-untyped-def]
     rng = np.random.default_rng(5)
     for p in _plans(track, 0.02, 15, 1):
-        geom = RouteGeometry(track, p.routes)
+        geom = route_geometry(track, p.routes)
         lo = np.array([r.sigma_min for r in p.routes])
         hi = np.array([r.sigma_max for r in p.routes])
         for _ in range(5):
@@ -43,14 +45,43 @@ def test_polyline_min_distance_is_exact(track) -> None:  # type: ignore[no-untyp
             assert dense - exact <= 4e-4, (pts, exact, dense)
 
 
+class _Cells(NamedTuple):
+    points: np.ndarray
+    boxes: np.ndarray
+    rows: list  # type: ignore[type-arg]
+
+
+def _plan_cells(geom, waypoints):  # type: ignore[no-untyped-def]
+    """The plan's polyline cut at every route break, with the convex cell (box, half-planes) of every piece."""
+    p = np.asarray(waypoints, dtype=float)
+    pts = [p[0]]
+    for a, b in itertools.pairwise(p):
+        lam = [0.0, 1.0]
+        for r in (0, 1):
+            br = geom.routes[r].breaks
+            if b[r] != a[r]:
+                t = (br - a[r]) / (b[r] - a[r])
+                lam.extend(t[(t > 0) & (t < 1)].tolist())
+        for t in sorted(set(lam))[1:]:
+            pts.append(a + t * (b - a))
+    q = np.array(pts)
+    q = q[np.concatenate([[True], np.max(np.abs(np.diff(q, axis=0)), axis=1) > 1e-10])]
+    boxes, rows = [], []
+    for k in range(len(q) - 1):
+        (ia, ib), rr = geom.cell_rows(0.5 * (q[k] + q[k + 1]))
+        boxes.append(geom.box(ia, ib))
+        rows.append(rr)
+    return _Cells(q, np.array(boxes), rows)
+
+
 @pytest.mark.parametrize("track", TRACKS[:3], ids=repr)
 def test_cells_imply_clearance(track) -> None:  # type: ignore[no-untyped-def]
     """Random points inside a plan piece's cell (box and half-planes) keep d >= D."""
     D = 0.05
     rng = np.random.default_rng(2)
     for p in _plans(track, D, 10, 3):
-        geom = RouteGeometry(track, p.routes)
-        cells = plan_cells(geom, p.waypoints_s)
+        geom = route_geometry(track, p.routes)
+        cells = _plan_cells(geom, p.waypoints_s)
         for k in range(len(cells.points) - 1):
             box, rows = cells.boxes[k], cells.rows[k]
             lo, hi = box[:, 0], box[:, 1]
@@ -66,31 +97,10 @@ def test_cells_imply_clearance(track) -> None:  # type: ignore[no-untyped-def]
             assert all(ga * mid[0] + gb * mid[1] + h >= D - 1e-9 for ga, gb, h in rows if np.isfinite(h))
 
 
-def test_nlp_is_built_once_per_size_class() -> None:
-    a = problem_for(3)
-    b = problem_for(4)
-    assert a is b and a.n >= 8
-    track = Lollipop(1.0, 1.0)
-    p = make_planner(track, 0.05).plan((0.2, 0.5), (0.5, 0.2))
-    r1 = smooth_plan(p, 0.05, [0.5, 0.5])
-    r2 = smooth_plan(p, 0.05, [0.5, 0.5])
-    np.testing.assert_allclose(r1.nodes, r2.nodes)
-    assert r1.stats["ipopt_success"] and r1.stats["ipopt_iterations"] < 100
-
-
-def test_smoothing_removes_topological_detours() -> None:
-    """The plan's move apart to half a loop and back is gone: travel shrinks a lot where the class allows."""
-    track = Circle(1.0)
-    p = make_planner(track, 0.05).plan((0.3, 0.6), (0.25, 0.1))
-    r = smooth_plan(p, 0.05, [0.5, 0.5])
-    travel = lambda w: np.abs(np.diff(w, axis=0)).sum(axis=0)  # noqa: E731
-    assert travel(r.nodes).max() < 0.8 * travel(p.waypoints_s).max()
-
-
 def test_blend_is_c2_and_collision_checked() -> None:
     track = Lollipop(1.0, 1.0)
     p = make_planner(track, 0.05).plan((1.25, 1.75), (1.4, 1.9))
-    geom = RouteGeometry(track, p.routes)
+    geom = route_geometry(track, p.routes)
     corners = np.array([[0.0, 0.0], [0.3, 0.1], [0.35, 0.5]])
     path = blend_polyline(corners, geom.polyline_min_distance, 0.05)
     assert path.radii[1] > 0 and path.is_blend.sum() == 1

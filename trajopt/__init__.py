@@ -2,8 +2,9 @@
 
 The pipeline has one module per stage: :mod:`trajopt.fastpath` (a query whose straight route-coordinate motion
 keeps the clearance: one phase-synchronised ruckig profile), :mod:`trajopt.corridor` (the hard path: a strictly
-convex QP in a corridor fixed by the plan, continuous in the query), :mod:`trajopt.smoothing` (route geometry,
-exact clearances; the earlier IPOPT smoothing), :mod:`trajopt.timing` (C² paths and their jerk-limited timing),
+convex QP in a corridor fixed by the plan, continuous in the query), :mod:`trajopt.planview` (paper and graph
+plans in one route geometry, :class:`mpa.geometry.RouteGeometry`), :mod:`trajopt.timing` (C² paths and their
+jerk-limited timing),
 :mod:`trajopt.verify` (the independent gate), :mod:`trajopt.export` (the :class:`Trajectory` result, CSV/JSON)
 and :mod:`trajopt.generator` (the pipeline with its fallback); :mod:`trajopt.stability` measures continuity. The
 drawings (:mod:`trajopt.viz`) and the command line (:mod:`trajopt.cli`, one module per subcommand) sit on top; the

@@ -28,7 +28,7 @@ from mpa.routes import directed_route
 from trajopt.timing import Limits
 from trajopt.verify import VerificationReport, verify_graph_setpoints, verify_setpoints
 
-__all__ = ["REST_SPEED", "PlanView", "densify", "plan_view"]
+__all__ = ["REST_SPEED", "PlanView", "densify", "plan_view", "route_geometry"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -251,6 +251,14 @@ class PlanView:
                 pieces = keep
             out[key] = pieces
         return out
+
+
+def route_geometry(track: Any, routes: Any) -> RouteGeometry:
+    """The :class:`mpa.geometry.RouteGeometry` of two paper-track routes (:class:`mpa.routes.Route`) on ``track``.
+
+    Route coordinates stay the routes' σ; the metric is the track's graph form (:meth:`Track.as_graph_track`).
+    """
+    return RouteGeometry(track.as_graph_track().geometry, (directed_route(routes[0]), directed_route(routes[1])))
 
 
 def plan_view(plan: Any) -> PlanView:

@@ -306,7 +306,7 @@ def blend_polyline(
         Polyline in route coordinates (first = start, last = goal); consecutive points distinct.
     min_distance : callable, optional
         ``min_distance(points)`` -> exact minimum separation along the polyline through ``points``
-        (:meth:`trajopt.smoothing.RouteGeometry.polyline_min_distance`). Without it no corner is blended.
+        (:meth:`mpa.geometry.RouteGeometry.polyline_min_distance`). Without it no corner is blended.
     separation : float
         Separation every blend must keep (metres).
     radius_cap : float

@@ -48,7 +48,7 @@ from bench.geometry import (
 )
 from mpa.routes import RobotMove
 from mpa.tracks import Circle, Lollipop, Track
-from trajopt.smoothing import RouteGeometry
+from trajopt.planview import route_geometry
 
 __all__ = ["GridPlanner", "GridResult", "OmplPlanner", "OmplResult", "shortcut_segment"]
 
@@ -503,11 +503,11 @@ def shortcut_segment(track: Track, seg: RouteSegment, separation: float, exhaust
 
     The grid's staircase is first reduced to its corners (collinear runs merged); then, greedily from the
     start, the farthest later corner reachable by a chord that keeps ``separation`` (checked exactly with
-    :meth:`trajopt.smoothing.RouteGeometry.polyline_min_distance`). Above ``exhaustive_limit`` corners the
+    :meth:`mpa.geometry.RouteGeometry.polyline_min_distance`). Above ``exhaustive_limit`` corners the
     farthest corner is searched by doubling and bisection instead (a heuristic: reachability is not monotone
     in the end index). Collinear results are merged again.
     """
-    geom = RouteGeometry(track, seg.routes)
+    geom = route_geometry(track, seg.routes)
     base = _collinear(seg.nodes)
     p = seg.nodes[base]
     states0 = seg.states[base]

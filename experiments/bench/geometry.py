@@ -5,10 +5,10 @@ waypoints, a *leg* in which each robot runs through a short list of :class:`~mpa
 move per edge of the track, the robots progressing proportionally: both route coordinates are affine in the
 leg's parameter). Two facts make every check here exact:
 
-- On one leg piece where each robot stays on one edge, the graph distance between the robots is piecewise affine
-  in the parameter, with breakpoints where the robots meet on the stick, where the loop coordinate difference of
-  two loop robots is a multiple of ``c/2``, or where a loop robot's angle from P is a multiple of ``c/2``
-  (:func:`single_edge_min_distance`). Its minimum over the piece is at one of those points or at an end.
+- On one leg piece where each robot stays on one edge, the graph distance between the robots is the minimum of
+  affine functions of the parameter (and of ``|s - t|`` on one edge), so its minimum is at an end or 0 where the
+  robots meet. The legs are written as routes on the track's graph form (:func:`move_route`) and measured by
+  :mod:`mpa.geometry`, the project's one module of graph distance (:func:`joint_move_min_distance`).
 - A robot whose moves stay on one geodesic line of the track's universal cover (it may turn back along it) has
   one :class:`~mpa.routes.Route`. A joint path is cut where a robot would branch off its line (it steps into a
   side branch and comes back: it must stop there), and every piece becomes a polyline in route coordinates σ
@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa.errors import PlanningError
+from mpa.geometry import DirectedRoute, GraphGeometry, RouteGeometry
 from mpa.routes import Lift, RobotMove, Route, lift_moves
 from mpa.tracks import Circle, Lollipop, Track
 
@@ -37,6 +38,7 @@ __all__ = [
     "leg_moves_circle",
     "leg_moves_geodesic",
     "leg_moves_track_coordinates",
+    "move_route",
     "single_edge_min_distance",
     "single_edge_min_distance_vec",
     "split_routes",
@@ -68,14 +70,51 @@ def edge_position(track: Track, edge: str, x: float) -> float:
     return ell + th
 
 
-def _multiples_in(lo: float, hi: float, step: float) -> range:
-    return range(math.ceil(lo / step - 1e-12), math.floor(hi / step + 1e-12) + 1)
+def _edges(track: Track) -> tuple[GraphGeometry, int, int]:
+    """The graph form's metric and the indices of its ``stick`` and ``loop`` edges (-1 where there is none)."""
+    g = track.as_graph_track()
+    names = g.edge_names
+    return g.geometry, names.index("stick") if "stick" in names else -1, names.index("loop") if "loop" in names else -1
+
+
+def move_route(track: Track, moves: Sequence[RobotMove]) -> DirectedRoute:
+    """The moves of one robot as a :class:`~mpa.geometry.DirectedRoute` on ``track.as_graph_track()``.
+
+    Route coordinate = travel along the moves; a loop move is cut where its unwrapped angle passes a multiple of
+    ``c`` (the robot passes P), so that every piece lies on one edge with an affine offset.
+    """
+    _geo, stick, loop = _edges(track)
+    c = _loop_data(track)[1] if loop >= 0 else 0.0
+    edges: list[int] = []
+    dirs: list[int] = []
+    entry: list[float] = []
+    lengths: list[float] = []
+    for m in moves:
+        sign = 1 if m.delta >= 0 else -1
+        if m.edge == "stick":
+            edges.append(stick)
+            dirs.append(sign)
+            entry.append(float(m.start))
+            lengths.append(abs(float(m.delta)))
+            continue
+        u0, u1 = float(m.start), float(m.start + m.delta)
+        lo, hi = min(u0, u1), max(u0, u1)
+        cuts = [k * c for k in range(math.floor(lo / c) + 1, math.ceil(hi / c))]
+        pts = [u0, *(cuts if sign > 0 else cuts[::-1]), u1]
+        for a, b in itertools.pairwise(pts):
+            k = math.floor(0.5 * (a + b) / c)
+            edges.append(loop)
+            dirs.append(sign)
+            entry.append(a - k * c)
+            lengths.append(abs(b - a))
+    return DirectedRoute.from_pieces(edges, dirs, entry, lengths)
 
 
 def single_edge_min_distance(track: Track, a: RobotMove, b: RobotMove) -> float:
     """Exact minimum of the graph distance while A and B each run one straight move on one edge.
 
-    Both robots progress proportionally (parameter ``t ∈ [0, 1]``: ``x = start + t·delta``).
+    Both robots progress proportionally (parameter ``t ∈ [0, 1]``: ``x = start + t·delta``). Computed by
+    :mod:`mpa.geometry` on the track's graph form (:func:`joint_move_min_distance`).
 
     Parameters
     ----------
@@ -89,32 +128,7 @@ def single_edge_min_distance(track: Track, a: RobotMove, b: RobotMove) -> float:
     float
         The minimum distance (metres).
     """
-    ts = [0.0, 1.0]
-    if a.edge == "stick" and b.edge == "stick":
-        w0, dw = a.start - b.start, a.delta - b.delta
-        if dw != 0.0:
-            t = -w0 / dw
-            if 0.0 < t < 1.0:
-                ts.append(t)
-    else:
-        half = 0.5 * _loop_data(track)[1]
-        if a.edge == "loop" and b.edge == "loop":
-            w0, dw = a.start - b.start, a.delta - b.delta
-        elif a.edge == "loop":
-            w0, dw = a.start, a.delta
-        else:
-            w0, dw = b.start, b.delta
-        if dw != 0.0:
-            for k in _multiples_in(min(w0, w0 + dw), max(w0, w0 + dw), half):
-                t = (k * half - w0) / dw
-                if 0.0 < t < 1.0:
-                    ts.append(t)
-    best = math.inf
-    for t in ts:
-        pa = edge_position(track, a.edge, a.start + t * a.delta)
-        pb = edge_position(track, b.edge, b.start + t * b.delta)
-        best = min(best, track.distance_scalar(pa, pb))
-    return best
+    return joint_move_min_distance(track, (a,), (b,))
 
 
 def single_edge_min_distance_vec(
@@ -128,6 +142,9 @@ def single_edge_min_distance_vec(
 ) -> FloatArray:
     """Vectorized :func:`single_edge_min_distance` for many short moves (each ``|delta| < c/4``).
 
+    Each move passes P at most once; the moves are cut there and :meth:`mpa.geometry.GraphGeometry.segment_min`
+    (exact) is applied to the pieces.
+
     Parameters
     ----------
     track : Track
@@ -140,68 +157,46 @@ def single_edge_min_distance_vec(
     -------
     ndarray, shape (E,)
     """
-    ell, c = _loop_data(track)
-    half = 0.5 * c
-
-    def pos(is_loop: NDArray[np.bool_], x: FloatArray) -> FloatArray:
-        th = np.mod(x, c)
-        th = np.where(th >= c - 1e-12, 0.0, th)
-        return np.where(is_loop, ell + th, x)
-
-    def dist(t: FloatArray) -> FloatArray:
-        return track.distance(pos(a_loop, a0 + t * da), pos(b_loop, b0 + t * db))
-
-    best = np.minimum(dist(np.zeros_like(a0)), dist(np.ones_like(a0)))
-    ss = ~a_loop & ~b_loop
-    both = ss | (a_loop & b_loop)
-    w0 = np.where(both, a0 - b0, np.where(a_loop, a0, b0))
-    dw = np.where(both, da - db, np.where(a_loop, da, db))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k0 = np.ceil(np.minimum(w0, w0 + dw) / half - 1e-12)
-        cands = [np.where(ss, -w0 / dw, np.nan)]  # stick-stick: where the robots meet
-        cands += [np.where(ss, np.nan, ((k0 + e) * half - w0) / dw) for e in (0.0, 1.0)]
-    for t in cands:
-        ok = np.isfinite(t) & (t > 0.0) & (t < 1.0)
-        if np.any(ok):
-            best = np.where(ok, np.minimum(best, dist(np.where(ok, t, 0.0))), best)
+    geo, stick, loop = _edges(track)
+    c = _loop_data(track)[1]
+    n = len(a0)
+    moves = [(np.asarray(a_loop, bool), np.asarray(a0, float), np.asarray(da, float))]
+    moves.append((np.asarray(b_loop, bool), np.asarray(b0, float), np.asarray(db, float)))
+    cuts = [np.zeros(n), np.ones(n)]
+    for is_loop, x0, dx in moves:
+        lo = np.minimum(x0, x0 + dx)
+        k = np.floor(lo / c) + 1.0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (k * c - x0) / dx
+        cuts.append(np.where(is_loop & np.isfinite(t) & (t > 0.0) & (t < 1.0), t, 1.0))
+    ts = np.sort(np.stack(cuts, axis=1), axis=1)  # (n, 4)
+    t0, t1 = ts[:, :-1].ravel(), ts[:, 1:].ravel()
+    row = np.repeat(np.arange(n), 3)
+    keep = t1 > t0  # the cuts hold 0 and 1: every row keeps at least one piece
+    t0, t1, row = t0[keep], t1[keep], row[keep]
+    ends = []
+    for is_loop, x0, dx in moves:
+        lp, x, d = is_loop[row], x0[row], dx[row]
+        m = np.floor((x + 0.5 * (t0 + t1) * d) / c)
+        shift = np.where(lp, m * c, 0.0)
+        ends.append((np.where(lp, loop, stick), x + t0 * d - shift, x + t1 * d - shift))
+    (ea, a_s, a_e), (eb, b_s, b_e) = ends
+    sub = geo.segment_min(ea, eb, np.stack([a_s, b_s], axis=-1), np.stack([a_e, b_e], axis=-1))
+    best = np.full(n, np.inf)
+    np.minimum.at(best, row, sub)
     return best
 
 
 def joint_move_min_distance(track: Track, moves_a: Sequence[RobotMove], moves_b: Sequence[RobotMove]) -> float:
     """Exact minimum distance along a leg in which each robot runs through consecutive single-edge moves.
 
-    The robots progress proportionally to their own travel. The leg is cut where either robot changes edge and
-    :func:`single_edge_min_distance` is applied to every piece.
+    The robots progress proportionally to their own travel: the leg is the straight line from ``(0, 0)`` to the
+    two travels in route coordinates of :func:`move_route`, whose exact minimum is
+    :meth:`mpa.geometry.RouteGeometry.polyline_min_distance`.
     """
-    pieces = []
-    for mv in (moves_a, moves_b):
-        total = sum(abs(m.delta) for m in mv)
-        cuts = [0.0]
-        acc = 0.0
-        for m in mv:
-            acc += abs(m.delta)
-            cuts.append(acc / total if total > 0 else 1.0)
-        pieces.append((mv, cuts))
-    ts = sorted({0.0, 1.0, *pieces[0][1][1:-1], *pieces[1][1][1:-1]})
-    best = math.inf
-    for t0, t1 in itertools.pairwise(ts):
-        if t1 - t0 <= 0.0:
-            continue
-        sub = []
-        for mv, cuts in pieces:
-            tm = 0.5 * (t0 + t1)
-            k = 0
-            while k < len(mv) - 1 and cuts[k + 1] <= tm:
-                k += 1
-            m = mv[k]
-            span = cuts[k + 1] - cuts[k]
-            if span <= 0.0:
-                sub.append(RobotMove(m.edge, m.start + m.delta, 0.0))
-                continue
-            f0, f1 = (t0 - cuts[k]) / span, (t1 - cuts[k]) / span
-            sub.append(RobotMove(m.edge, m.start + f0 * m.delta, (f1 - f0) * m.delta))
-        best = min(best, single_edge_min_distance(track, sub[0], sub[1]))
-    return best
+    geo = _edges(track)[0]
+    ra, rb = move_route(track, moves_a), move_route(track, moves_b)
+    return RouteGeometry(geo, (ra, rb)).polyline_min_distance(np.array([[0.0, 0.0], [ra.length, rb.length]]))
 
 
 # ---------------------------------------------------------------------------------------------------

@@ -6,7 +6,7 @@ coordinates, so it goes through exactly the stages ``trajopt.TrajectoryGenerator
 - ``"rest"``: :func:`trajopt.timing.blend_polyline` without blends (every corner at rest) and
   :func:`trajopt.timing.jerk_limited_scaling`: each straight piece timed by one 1-DoF ruckig profile, i.e. the
   exact path, stopping at every waypoint (this is also how the raw plan is timed);
-- ``"smooth"``: collision-checked quintic corner blends (:class:`trajopt.smoothing.RouteGeometry` gives the
+- ``"smooth"``: collision-checked quintic corner blends (:class:`mpa.geometry.RouteGeometry` gives the
   exact minimum separation), toppra's profile as speed caps, then ruckig, exactly as ``trajopt`` times its
   smoothed path.
 
@@ -31,7 +31,7 @@ from mpa.routes import Route
 from mpa.tracks import Track
 from trajopt import Limits, Trajectory, verify_setpoints
 from trajopt.export import time_grid
-from trajopt.smoothing import RouteGeometry, densify
+from trajopt.planview import densify, route_geometry
 from trajopt.timing import blend_polyline, jerk_limited_scaling, toppra_profile
 
 __all__ = ["Motion", "TimedSegment", "time_segments"]
@@ -204,7 +204,7 @@ def time_segments(
     step = 0.004 * track.total_length
     stats: dict[str, Any] = {"segments": len(segments), "pieces": 0, "blends": 0}
     for i, seg in enumerate(segments):
-        geom = RouteGeometry(track, seg.routes)
+        geom = route_geometry(track, seg.routes)
         d_ends = min(float(geom.distance(seg.nodes[0])), float(geom.distance(seg.nodes[-1])))
         keep = merge_collinear(seg.nodes)
         if len(keep) < len(seg.nodes) and geom.polyline_min_distance(seg.nodes[keep]) >= min(separation, d_ends):

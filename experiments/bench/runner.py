@@ -253,10 +253,6 @@ def _build_context(config: BenchConfig) -> Context:
     warm = _warm_query(track, config.clearance + config.query_margin)
     for m in methods:
         _run_method(ctx, m, warm[0], warm[1], seed=1)
-    for pieces in (1, 4, 8, 16, 32, 64):
-        from trajopt.smoothing import problem_for
-
-        problem_for(pieces)
     ctx.build_times["warmup"] = time.perf_counter() - t1
     return ctx
 
