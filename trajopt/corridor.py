@@ -37,7 +37,6 @@ __all__ = [
     "CORRIDOR_SEGMENTS",
     "CorridorProblem",
     "CorridorResult",
-    "corner_samples",
     "corridor_nodes",
     "corridor_radii",
 ]
@@ -218,30 +217,6 @@ class CorridorProblem:
         return nodes, stats
 
 
-def corner_samples(plan: Any, n: int) -> FloatArray:
-    """``n + 1`` path parameters of a graph plan that include all its corners (if it has at most ``n + 1``).
-
-    A graph plan is taut: it touches the clearance at its corners, where evenly spaced samples would cut the corner
-    (and leave the corridor no room). The other samples are spread over the plan's legs in proportion to their
-    parameter length (largest remainders). With more corners than samples: evenly spaced. Shape (n+1,).
-    """
-    times = np.asarray(getattr(plan, "_times", np.zeros(1)), dtype=float)
-    even = np.linspace(0.0, 1.0, n + 1)
-    if len(times) < 2 or times[-1] <= 0 or len(times) > n + 1:
-        return even
-    uc = times / times[-1]
-    gaps = np.diff(uc)
-    extra = n + 1 - len(uc)
-    share = gaps / gaps.sum() * extra
-    cnt = np.floor(share).astype(int)
-    rest = extra - int(cnt.sum())
-    if rest > 0:
-        cnt[np.argsort(-(share - cnt))[:rest]] += 1
-    parts = [uc[i] + gaps[i] * np.arange(cnt[i] + 1) / (cnt[i] + 1) for i in range(len(gaps))]
-    out = np.concatenate([*parts, [1.0]])
-    return out if len(out) == n + 1 else even
-
-
 def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: CorridorProblem) -> CorridorResult:
     """The hard path's polyline and blend radii for one plan (see the module docstring).
 
@@ -267,8 +242,6 @@ def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: C
     n = problem.n
     u = np.linspace(0.0, 1.0, n + 1)
     view = plan_view(plan)
-    if view.is_graph:
-        u = corner_samples(plan, n)
     centers = view.path_s(u)
     centers[0], centers[-1] = view.waypoints[0], view.waypoints[-1]
     lower, upper = view.lower, view.upper
