@@ -23,13 +23,17 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
-    from trajopt.export import CSV_COLUMNS, Source, Trajectory
-    from trajopt.generator import TrajectoryGenerator, generate_trajectory
+    from trajopt.export import CSV_COLUMNS, GRAPH_CSV_COLUMNS, XY_COLUMNS, Source, Trajectory
+    from trajopt.generator import GraphPlanner, TrajectoryGenerator, generate_trajectory
     from trajopt.timing import Limits
-    from trajopt.verify import VerificationError, VerificationReport, verify_setpoints
+    from trajopt.verify import VerificationError, VerificationReport, verify_graph_setpoints, verify_setpoints
 
 _WHERE = {
     "CSV_COLUMNS": "trajopt.export",
+    "GRAPH_CSV_COLUMNS": "trajopt.export",
+    "XY_COLUMNS": "trajopt.export",
+    "GraphPlanner": "trajopt.generator",
+    "verify_graph_setpoints": "trajopt.verify",
     "Source": "trajopt.export",
     "Trajectory": "trajopt.export",
     "TrajectoryGenerator": "trajopt.generator",
@@ -42,6 +46,9 @@ _WHERE = {
 
 __all__ = [
     "CSV_COLUMNS",
+    "GRAPH_CSV_COLUMNS",
+    "XY_COLUMNS",
+    "GraphPlanner",
     "Limits",
     "Source",
     "Trajectory",
@@ -49,6 +56,7 @@ __all__ = [
     "VerificationError",
     "VerificationReport",
     "generate_trajectory",
+    "verify_graph_setpoints",
     "verify_setpoints",
 ]
 
