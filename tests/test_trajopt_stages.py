@@ -192,3 +192,17 @@ def test_gate_rejects_collisions_and_other_classes() -> None:
 def test_trajectory_is_frozen(good) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(dataclasses.FrozenInstanceError):
         good.makespan = 0.0  # type: ignore[misc]
+
+
+def test_toppra_bounds_the_hard_path_timing_from_below() -> None:
+    """toppra (v/a limits, no jerk) is the time-optimal reference of the hard path's filtered timing on the same path."""
+    from trajopt.timing import filtered_scaling, spline_path
+
+    rng = np.random.default_rng(5)
+    limits = Limits(0.5, 1.0, 5.0)
+    for _ in range(20):
+        nodes = np.cumsum(rng.uniform(-0.3, 0.3, (33, 2)), axis=0)
+        path = spline_path(nodes)
+        _, _, dur = toppra_profile(path, limits)
+        filtered = filtered_scaling(path, limits)
+        assert filtered.duration >= dur * (1 - 1e-3), (filtered.duration, dur)
