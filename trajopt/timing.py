@@ -826,6 +826,9 @@ def filtered_scaling(
     with np.errstate(divide="ignore", invalid="ignore"):
         dt = np.where(ds > 0, 2.0 * ds / den, 0.0)
         acc = np.where(ds > 0, (b[1:] - b[:-1]) / (2.0 * ds), 0.0)
+    if not np.all(np.isfinite(dt)):
+        k = int(np.argmin(np.isfinite(dt)))
+        raise PlanningError(f"the timing is stuck: zero speed over [{grid[k]:.6g}, {grid[k + 1]:.6g}] m of the path")
     keep = dt > 0
     ti = np.concatenate([[0.0], np.cumsum(dt[keep])])
     s_i, v_i, a_i = grid[:-1][keep], sq[:-1][keep], acc[keep]
