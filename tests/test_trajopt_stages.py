@@ -195,7 +195,7 @@ def test_trajectory_is_frozen(good) -> None:  # type: ignore[no-untyped-def]
 
 
 def test_toppra_bounds_the_hard_path_timing_from_below() -> None:
-    """toppra (v/a limits, no jerk) is the time-optimal reference of the hard path's filtered timing on the same path."""
+    """toppra (v/a limits, no jerk) is the time-optimal reference of the hard path's filtered timing."""
     from trajopt.timing import filtered_scaling, spline_path
 
     rng = np.random.default_rng(5)
