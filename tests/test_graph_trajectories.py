@@ -262,6 +262,27 @@ def test_margins_use_the_graph_distance() -> None:
     assert m.tracking_margin == pytest.approx((m.min_separation - traj.clearance) / 2)
 
 
+def test_ros_and_pvt_exports_use_the_route_coordinates() -> None:
+    import yaml
+
+    from trajopt.pvt import check_pvt, pvt_table
+    from trajopt.replan import replan
+    from trajopt.ros import ros2_yaml_text
+
+    track = GraphTrack.from_json(Y)
+    gen = TrajectoryGenerator(track, clearance=0.3)
+    traj = gen.generate(("b_left:1.5", "right"), ("b_right:2", "left"))
+    msg = yaml.safe_load(ros2_yaml_text(traj))
+    pos = np.array([p["positions"] for p in msg["points"]])
+    np.testing.assert_allclose(pos, traj.s, rtol=0, atol=1e-12)
+    tab = pvt_table(traj, 0.1, max_stretch=2.0)
+    chk = check_pvt(traj, 0.1, tab.stretch)
+    assert chk.ok and chk.report.ok  # the gate in positions on the layout, on the PVT check's dense grid
+    np.testing.assert_allclose(tab.s[[0, -1]], traj.s[[0, -1]], atol=1e-9)
+    with pytest.raises(InvalidInputError, match="paper"):
+        replan(gen, traj, 0.5, ("left", "right"))
+
+
 # ------------------------------------------------------------------------------------- paper tracks
 @pytest.mark.parametrize(
     "query", [((0.2, 0.5), (0.5, 0.2)), ((0.1, 0.6), (1.5, 0.3)), ((0.9, 1.7), (0.3, 1.2)), ((1.2, 1.9), (1.9, 1.2))]

@@ -287,6 +287,12 @@ def check_pvt(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, stretc
         a_rows = np.zeros((n, 2))
         j_rows = np.zeros((n, 2))
     plan = trajectory.plan
+    if not hasattr(plan, "routes"):  # a graph plan: the gate in positions on the layout (exact graph distance)
+        from trajopt.planview import plan_view
+
+        rep = plan_view(plan).verify(tg, s, v, a_rows, j_rows, limits=lim, clearance=trajectory.clearance, rate=rate)
+        fails += [f for f in rep.failures if not f.startswith("row ") or "separation" in f]
+        return PVTCheck(not fails, tuple(fails), peak, rep, rate)
     routes = plan.routes
     tr = np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1)
     tr[0], tr[-1] = plan.start, plan.goal

@@ -258,6 +258,8 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
     if not math.isfinite(at) or at < 0.0 or at > trajectory.makespan + 1e-12:
         raise InvalidInputError(f"at_time is {at!r} s, expected a time in [0, {trajectory.makespan:g}] s")
     old = trajectory.plan
+    if not hasattr(old, "routes"):  # a GraphPlan
+        raise InvalidInputError("replan is implemented for the paper's tracks, not for a GraphTrack layout")
     track = old.track
     if generator.track != track:
         raise InvalidInputError(f"the generator's track {generator.track!r} is not the trajectory's {track!r}")
