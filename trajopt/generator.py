@@ -270,7 +270,8 @@ class TrajectoryGenerator:
             )
         margin = separation_margin(self.limits, self.rate)
         view = plan_view(plan)
-        for name, st in (("start", plan.start), ("goal", plan.goal)):
+        ends: tuple[Any, Any] = (plan.start, plan.goal)
+        for name, st in zip(("start", "goal"), ends):
             d = view.separation(name)
             if d < self.clearance + margin:
                 where = (

@@ -127,13 +127,14 @@ class _Motion:
 
     def __init__(self, trajectory: Trajectory) -> None:
         self.traj = trajectory
-        view = plan_view(trajectory.plan)
+        plan: Any = trajectory.plan
+        view = plan_view(plan)
         if view.is_graph:  # the graph metric and the directed routes (the gate's bound takes both forms)
             self.track: Any = view.graph.geometry
             self.routes: Any = view.routes
         else:
-            self.track = trajectory.plan.track
-            self.routes = trajectory.plan.routes
+            self.track = plan.track
+            self.routes = plan.routes
         self.graph = view.is_graph
         self.T = float(trajectory.motion_time)
         _, v, _, _ = trajectory.sampler(np.linspace(0.0, self.T, max(2, int(self.T * DENSE_RATE) + 1)))

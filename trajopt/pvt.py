@@ -53,6 +53,7 @@ import io
 import math
 import os
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -286,7 +287,7 @@ def check_pvt(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, stretc
     else:
         a_rows = np.zeros((n, 2))
         j_rows = np.zeros((n, 2))
-    plan = trajectory.plan
+    plan: Any = trajectory.plan
     if not hasattr(plan, "routes"):  # a graph plan: the gate in positions on the layout (exact graph distance)
         from trajopt.planview import plan_view
 

@@ -42,7 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import InvalidInputError, NoMotionError, PlanningError
 from mpa.homotopy import path_word
-from mpa.plan import PlanStep
+from mpa.plan import Plan, PlanStep
 from mpa.routes import Lift, Route
 from mpa.tracks import Circle, Lollipop
 from trajopt.export import Trajectory, time_grid
@@ -258,7 +258,7 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
     if not math.isfinite(at) or at < 0.0 or at > trajectory.makespan + 1e-12:
         raise InvalidInputError(f"at_time is {at!r} s, expected a time in [0, {trajectory.makespan:g}] s")
     old = trajectory.plan
-    if not hasattr(old, "routes"):  # a GraphPlan
+    if not isinstance(old, Plan):  # a GraphPlan
         raise InvalidInputError("replan is implemented for the paper's tracks, not for a GraphTrack layout")
     track = old.track
     if generator.track != track:
@@ -298,6 +298,7 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
     # 2. the new motion from rest
     new = generator.generate(p_rest, goal)
     plan = new.plan
+    assert isinstance(plan, Plan)  # the generator's track is the trajectory's paper track
     # 3. one route per cart through the brake and the new motion
     routes_c: list[Route] = []
     orient: list[int] = []

@@ -10,6 +10,7 @@ is continuous in the query has gaps that shrink with ``δ`` (``gap/δ`` bounded)
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -117,8 +118,8 @@ def trajectory_gap(a: Trajectory, b: Trajectory, samples: int = 1001) -> tuple[f
     pos = []
     for tr in (a, b):
         s = tr.sampler(tau * tr.motion_time)[0] if tr.motion_time > 0 else np.tile(tr.s[0], (samples, 1))
-        routes = tr.plan.routes
+        routes = tr.plan.routes  # type: ignore[union-attr]  # paper plans (the stability measure)
         pos.append(np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1))
-    track = a.plan.track
+    track: Any = a.plan.track
     gap = max(float(np.max(track.distance(pos[0][:, r], pos[1][:, r]))) for r in (0, 1))
     return gap, abs(a.motion_time - b.motion_time)

@@ -41,7 +41,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
             path = _animate_graph(track, start, goal, target, args)
         else:
             path = animate_query(
-                track,
+                track,  # type: ignore[arg-type]
                 start,
                 goal,
                 target,
@@ -79,9 +79,10 @@ def _animate_graph(track: Any, start: Any, goal: Any, target: Path, args: argpar
     name = Path(args.graph).stem
     kw = {"fps": args.fps, "dpi": args.dpi, "max_frames": args.max_frames, "fmt": args.format}
     if args.raw_only:
-        return animate_graph_plan(gen.plan(start, goal), target, name=name, **kw)
+        raw: Any = gen.plan(start, goal)
+        return animate_graph_plan(raw, target, name=name, **kw)
     traj = gen.generate(start, goal)
-    plan = traj.plan
+    plan: Any = traj.plan
     title = plan_title(plan, name).split("\n")[0] + (
         f"\nD = {traj.clearance:g} m, verified jerk-limited trajectory, {traj.makespan:.3g} s"
     )

@@ -162,7 +162,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     )
     traj = gen.generate(job["start"], job["goal"])
     png = figure_png(plot_trajectory(traj))
-    plan = traj.plan
+    plan: Any = traj.plan  # a paper Plan (the demo's lollipop)
     files: dict[str, str | bytes] = {
         "setpoints.csv": traj.csv_text(),
         "summary.json": _json(traj.summary()),

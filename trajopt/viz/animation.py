@@ -410,6 +410,7 @@ def animate_query(
 
         traj = generate_trajectory(track, start, goal, clearance=clearance, vmax=vmax, amax=amax, jmax=jmax, rate=rate)
         p = traj.plan
+        assert isinstance(p, Plan)  # a paper track's query
         motions = [plan_motion(p, vmax), trajectory_motion(traj)]
     else:
         p = make_planner(track, clearance).plan(start, goal)

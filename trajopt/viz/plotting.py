@@ -101,7 +101,7 @@ def plot_trajectory(traj: Trajectory) -> Figure:
     ax_track = fig.add_subplot(gs[0:2, 0])
     ax_cs = fig.add_subplot(gs[2:4, 0])
     prof = [fig.add_subplot(gs[i, 1]) for i in range(4)]
-    plan = traj.plan
+    plan: Any = traj.plan  # a paper plan (graph trajectories are drawn by trajopt.viz.layout_animation)
     draw_track(ax_track, plan.track, traj.track)
     plan_pts = plan.sample(max(400, plan.samples_needed(0.005)))
     draw_cspace(ax_cs, plan.track, traj.clearance, {"plan": plan_pts, "trajectory": traj.track})
