@@ -13,7 +13,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mpa import Circle, Lollipop, MPAError, path_word
+from mpa.errors import InvalidInputError
 from trajopt import Limits, Trajectory, TrajectoryGenerator
+from trajopt.generator import separation_margin
 
 #: Relative tolerance of the limit checks (the issue's 1e-6).
 LIMIT_RTOL = 1e-6
@@ -106,7 +108,15 @@ def test_hypothesis_lollipop(coords, clearance) -> None:  # type: ignore[no-unty
     s, g = np.array(coords[:2]), np.array(coords[2:])
     if track.distance(*s) < clearance or track.distance(*g) < clearance:
         return
-    traj = _GEN.setdefault(clearance, TrajectoryGenerator(track, clearance=clearance)).generate(s, g)
+    gen = _GEN.setdefault(clearance, TrajectoryGenerator(track, clearance=clearance))
+    try:
+        traj = gen.generate(s, g)
+    except InvalidInputError as exc:
+        # robots at rest within the gate's between-rows margin of D (e.g. exactly D apart, a value Hypothesis draws
+        # from the constants it finds in the code) cannot be verified at this rate: the documented error, only there
+        near = min(track.distance(*s), track.distance(*g)) < clearance + separation_margin(gen.limits, gen.rate)
+        assert near and ("lowest usable rate" in str(exc) or "apart" in str(exc)), (s, g, clearance, str(exc))
+        return
     fails = recheck(traj, s, g)
     assert not fails, f"{s.tolist()} -> {g.tolist()}, D = {clearance}: {fails}"
 
