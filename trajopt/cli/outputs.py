@@ -24,6 +24,7 @@ rows) and ``recipe``: the query that rebuilds the motion deterministically (``st
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import math
 import shutil
@@ -123,12 +124,11 @@ def parse_formats(text: str) -> tuple[str, ...]:
 
 
 def _rosbags_available() -> bool:
+    """Whether the optional dependency ``rosbags`` (extra ``[ros]``) can be imported (without importing it)."""
     try:
-        import rosbags.rosbag2
-        import rosbags.typesys  # noqa: F401
-    except ImportError:
+        return all(importlib.util.find_spec(m) is not None for m in ("rosbags", "rosbags.rosbag2", "rosbags.typesys"))
+    except (ImportError, ValueError):
         return False
-    return True
 
 
 def check_output_options(args: argparse.Namespace) -> OutputOptions:
