@@ -25,7 +25,7 @@ Mechanism
     the value reached, the effective clearance, the slowdown and every candidate tried. If none reaches ``T``,
     :class:`~mpa.errors.NoMotionError` states the best value found.
 
-Cost: one margins computation per candidate (0.4–2 s each), so up to about 6 of them.
+Cost: one margins computation per candidate (0.4–2 s each), at most 5 candidates.
 """
 
 from __future__ import annotations
