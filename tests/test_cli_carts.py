@@ -216,6 +216,13 @@ def test_delay_tolerance_option(tmp_path, capsys) -> None:  # type: ignore[no-un
     assert js["solver"]["delay_tolerance"]["effective_clearance"] > js["clearance"] == 0.05
     assert js["recipe"]["delay_tolerance"] == 0.05
     assert "tolerance   asked 0.05 s" in stdout
+    # the recipe rebuilds the tolerant motion (checked against setpoints.csv), so it can be re-planned
+    code, _, err = run(
+        ["replan", "--from", out, "--at", "1.0", "--goal", "1.5", "0.4", "--out", tmp_path / "r"], capsys
+    )
+    assert code == 0, err
+    js2 = json.loads((tmp_path / "r" / "summary.json").read_text())
+    assert js2["recipe"]["delay_tolerance"] == 0.05 and js2["recipe"]["replans"] == [{"at": 1.0, "goal": [1.5, 0.4]}]
 
 
 def test_delay_tolerance_none_found_exit_3(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
