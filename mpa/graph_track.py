@@ -29,7 +29,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeGuard
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -45,7 +45,7 @@ Position = tuple[int, float]
 _EDGE_KEYS = {"name", "from", "to", "length", "points"}
 
 
-def _is_number(x: object) -> bool:
+def _is_number(x: object) -> TypeGuard[int | float]:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
@@ -53,10 +53,10 @@ def _point(value: object, what: str) -> tuple[float, float]:
     if (
         not isinstance(value, (list, tuple))
         or len(value) != 2
-        or not all(_is_number(c) and math.isfinite(c) for c in value)  # type: ignore[arg-type]
+        or not all(_is_number(c) and math.isfinite(c) for c in value)
     ):
         raise InvalidInputError(f"{what} is {value!r}, expected [x, y] with two finite numbers (metres)")
-    return float(value[0]), float(value[1])  # type: ignore[arg-type]
+    return float(value[0]), float(value[1])
 
 
 def _vertex_name(value: object, what: str) -> str:
@@ -217,9 +217,9 @@ class GraphTrack:
                         "expected a finite number > 0: give a length"
                     )
             else:
-                if not _is_number(length) or not math.isfinite(length) or float(length) <= 0:  # type: ignore[arg-type]
+                if not _is_number(length) or not math.isfinite(length) or float(length) <= 0:
                     raise InvalidInputError(f"length of edge {name!r} is {length!r}, expected a finite number > 0")
-                length_f = float(length)  # type: ignore[arg-type]
+                length_f = float(length)
             out_edges.append(Edge(name, u, v, length_f))
             out_points.append(poly)
         graph = MetricGraph(tuple(order), tuple(out_edges))
@@ -310,7 +310,7 @@ class GraphTrack:
         """Sum of the edge lengths (metres)."""
         return float(self.lengths.sum())
 
-    def edge_index(self, edge: str | int) -> int:
+    def edge_index(self, edge: str | int | np.integer) -> int:
         """Index of an edge given by name or index."""
         if isinstance(edge, (int, np.integer)) and not isinstance(edge, bool):
             if 0 <= int(edge) < self.n_edges:
@@ -390,7 +390,7 @@ class GraphTrack:
         if not isinstance(edge, (str, int, np.integer)) or isinstance(edge, bool):
             raise InvalidInputError(f"edge of {name} is {edge!r}, expected an edge name")
         try:
-            i = self.edge_index(edge)  # type: ignore[arg-type]
+            i = self.edge_index(edge)
         except InvalidInputError:
             raise InvalidInputError(
                 f"edge of {name} is {edge!r}, expected one of {list(self.edge_names)[:20]}"

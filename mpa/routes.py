@@ -13,6 +13,7 @@ and round the loop; the goal has ``σ ≥ 0``. Trajectory optimisation works in 
 
 from __future__ import annotations
 
+import functools
 import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -30,6 +31,18 @@ __all__ = ["Lift", "RobotMove", "Route", "directed_route", "lift_moves", "lift_p
 FloatArray = NDArray[np.float64]
 #: Tolerance (metres) for deciding that a lifted point sits on a junction.
 LIFT_TOL = 1e-9
+
+
+class _PieceArrays(NamedTuple):
+    """A route's pieces as arrays (one entry per piece; ``ends``: the ``r`` where each piece but the last ends)."""
+
+    ends: FloatArray
+    is_stick: NDArray[np.bool_]
+    k: NDArray[np.int64]
+    v0: FloatArray
+    v1: FloatArray
+    r0: FloatArray
+    span: FloatArray
 
 
 class Lift(NamedTuple):
@@ -270,10 +283,17 @@ class Route:
         return cls._oriented(track, tuple(parts), np.array(r_list), goal_index)
 
     @classmethod
-    def _oriented(cls, track, pieces, r, goal_index):  # type: ignore[no-untyped-def]
-        r = [float(v) for v in r]
-        r_start = r[0]
-        diffs = [v - r_start for v in r]
+    def _oriented(
+        cls,
+        track: Track,
+        pieces: tuple[tuple[str, int, float, float, float, float], ...],
+        r: FloatArray,
+        goal_index: int,
+    ) -> tuple[Route, FloatArray]:
+        """The route through corner points at line arc lengths ``r``, oriented so that the goal has ``σ >= 0``."""
+        rs = [float(v) for v in r]
+        r_start = rs[0]
+        diffs = [v - r_start for v in rs]
         goal = diffs[goal_index]
         if abs(goal) > 1e-12:
             direction = 1 if goal > 0 else -1
@@ -286,47 +306,45 @@ class Route:
         route = cls(track, tuple(pieces), r_start, direction, min(s_a, s_b), max(s_a, s_b), abs(goal))
         return route, sigma
 
-    def _arrays(self) -> None:
-        """Per-piece arrays for :meth:`lift_at` (built on first use)."""
+    @functools.cached_property
+    def _piece_arrays(self) -> _PieceArrays:
+        """Per-piece arrays for :meth:`lift_at` (built on first use, cached on the instance)."""
         pcs = self.pieces
-        object.__setattr__(self, "_ends", np.array([pc[5] for pc in pcs[:-1]]))
-        object.__setattr__(self, "_kinds", np.array([pc[0] == "stick" for pc in pcs]))
-        object.__setattr__(self, "_ks", np.array([pc[1] for pc in pcs]))
-        object.__setattr__(self, "_v0", np.array([pc[2] for pc in pcs]))
-        object.__setattr__(self, "_v1", np.array([pc[3] for pc in pcs]))
-        object.__setattr__(self, "_ra", np.array([pc[4] for pc in pcs]))
+        ra = np.array([pc[4] for pc in pcs])
         rb = np.array([pc[5] for pc in pcs])
-        object.__setattr__(self, "_span", np.where(rb > self._ra, rb - self._ra, 1.0))  # type: ignore[attr-defined]
-
-    # -------------------------------------------------------------------------------------------
-    def _pieces_at(self, r: FloatArray) -> NDArray[np.intp]:
-        if "_ends" not in self.__dict__:
-            self._arrays()
-        ends: FloatArray = self.__dict__["_ends"]
-        return np.searchsorted(ends, r, side="left")
+        return _PieceArrays(
+            ends=np.array([pc[5] for pc in pcs[:-1]]),
+            is_stick=np.array([pc[0] == "stick" for pc in pcs]),
+            k=np.array([pc[1] for pc in pcs], dtype=np.int64),
+            v0=np.array([pc[2] for pc in pcs]),
+            v1=np.array([pc[3] for pc in pcs]),
+            r0=ra,
+            span=np.where(rb > ra, rb - ra, 1.0),
+        )
 
     def lift_at(self, sigma: ArrayLike) -> tuple[NDArray[np.bool_], NDArray[np.int64], FloatArray]:
         """Lifted points at route coordinates ``σ``: (is_stick, copy index k, v). Same shape as ``σ``."""
         s = np.asarray(sigma, dtype=float)
         r = self.r_start + self.direction * s
-        idx = self._pieces_at(r)
-        kinds, ks, v0, v1 = self._kinds, self._ks, self._v0, self._v1  # type: ignore[attr-defined]
-        ra, span = self._ra, self._span  # type: ignore[attr-defined]
-        frac = (r - ra[idx]) / span[idx]
-        v = v0[idx] + frac * (v1[idx] - v0[idx])
-        is_stick = kinds[idx]
+        pa = self._piece_arrays
+        idx = np.searchsorted(pa.ends, r, side="left")
+        frac = (r - pa.r0[idx]) / pa.span[idx]
+        v = pa.v0[idx] + frac * (pa.v1[idx] - pa.v0[idx])
+        is_stick = pa.is_stick[idx]
         if isinstance(self.track, (Lollipop, Interval)):
             lim = self.track.stick
             v = np.where(is_stick, np.clip(v, 0.0, lim), v)
             if isinstance(self.track, Interval):
                 v = np.clip(v, 0.0, lim)
-        return is_stick, ks[idx], v
+        return is_stick, pa.k[idx], v
 
     def _affine(self) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:
         """Per piece, in order of increasing σ: breakpoints, and ``A + B·σ`` = depth-or-track value."""
-        cached = self.__dict__.get("_affine_cache")
-        if cached is not None:
-            return cached  # type: ignore[no-any-return]
+        return self._affine_form
+
+    @functools.cached_property
+    def _affine_form(self) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:
+        """:meth:`_affine`, computed on first use and cached on the instance."""
         tr = self.track
         ell = tr.stick if isinstance(tr, Lollipop) else 0.0
         rows = []
@@ -346,7 +364,6 @@ class Route:
             np.array([r[2] for r in rows]),
             np.array([r[3] for r in rows]),
         )
-        object.__setattr__(self, "_affine_cache", out)
         return out
 
     def position(self, sigma: ArrayLike) -> FloatArray:
@@ -357,12 +374,12 @@ class Route:
         if len(A) == 1:
             val = A[0] + B[0] * s
             line = bool(is_line[0])
-            if isinstance(tr, Interval):
+            if isinstance(tr, Interval) or (isinstance(tr, Lollipop) and not line):
                 return np.clip(val, 0.0, tr.stick)
-            if not line:
-                return np.clip(val, 0.0, tr.stick)  # type: ignore[attr-defined]
-            th = np.mod(val, tr.loop)  # type: ignore[attr-defined]
-            th = np.where(th >= tr.loop - 1e-12, 0.0, th)  # type: ignore[attr-defined]
+            if not isinstance(tr, (Circle, Lollipop)):
+                raise InvalidInputError(f"track is {tr!r}, expected an Interval, Circle or Lollipop")
+            th = np.mod(val, tr.loop)
+            th = np.where(th >= tr.loop - 1e-12, 0.0, th)
             return tr.stick + th if isinstance(tr, Lollipop) else th
         idx = np.searchsorted(breaks, s, side="left")
         val = A[idx] + B[idx] * s

@@ -101,7 +101,9 @@ class CircleSkeleton(Skeleton):
     @property
     def circumference(self) -> float:
         """Length of the antipodal circle measured by either robot's travel."""
-        return self.track.loop  # type: ignore[attr-defined,no-any-return]
+        track = self.track
+        assert isinstance(track, Circle), "checked in __post_init__"
+        return track.loop
 
     def point_of_phi(self, phi: float) -> SkeletonPoint:
         """Skeleton point with circle parameter ``φ`` (B's position)."""

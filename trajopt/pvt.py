@@ -53,6 +53,7 @@ import io
 import math
 import os
 from dataclasses import dataclass
+from typing import SupportsFloat, SupportsIndex
 
 import numpy as np
 from numpy.typing import NDArray
@@ -137,6 +138,13 @@ class PVTCheck:
     dense_rate: float
 
 
+def _to_float(x: object) -> float:
+    """``float(x)`` for any object: TypeError or ValueError if it is no number."""
+    if not isinstance(x, (SupportsFloat, SupportsIndex, str)):
+        raise TypeError(f"{type(x).__name__} is not a number")
+    return float(x)
+
+
 def check_interval(interval: object) -> float:
     """Validate a PVT interval: a finite number >= :data:`MIN_INTERVAL` (s).
 
@@ -145,7 +153,7 @@ def check_interval(interval: object) -> float:
     InvalidInputError
     """
     try:
-        d = float(interval)  # type: ignore[arg-type]
+        d = _to_float(interval)
     except (TypeError, ValueError):
         raise InvalidInputError(
             f"PVT interval is {interval!r}, expected a number of seconds >= {MIN_INTERVAL:g}"
@@ -313,7 +321,7 @@ def check_pvt(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, stretc
 
 def _check_stretch(stretch: object, name: str = "stretch") -> float:
     try:
-        k = float(stretch)  # type: ignore[arg-type]
+        k = _to_float(stretch)
     except (TypeError, ValueError):
         raise InvalidInputError(f"PVT {name} is {stretch!r}, expected a finite number >= 1") from None
     if not math.isfinite(k) or k < 1.0:

@@ -59,7 +59,8 @@ _REST = 1e-12
 
 @dataclasses.dataclass(frozen=True)
 class Brake:
-    """Piecewise-constant-jerk braking of both carts. Phase tables per cart: ``t0, p, v, a, j`` (Q,)."""
+    """Piecewise-constant-jerk braking of both carts. Phase tables per cart: ``t0, p, v, a, j`` (Q,);
+    ``last``: the duration of each cart's last phase (s), after which the cart rests at ``stop``."""
 
     t0: tuple[FloatArray, FloatArray]
     p: tuple[FloatArray, FloatArray]
@@ -70,6 +71,7 @@ class Brake:
     start: FloatArray
     stop: FloatArray
     phase_synchronized: bool
+    last: tuple[float, float] = (0.0, 0.0)
 
     def sample(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         """``σ, σ̇, σ̈, σ⃛`` (each shape ``t.shape + (2,)``); held at rest at ``stop`` after the end."""
@@ -86,17 +88,13 @@ class Brake:
             a = self.a[r][k] + j * tau
             v = self.v[r][k] + self.a[r][k] * tau + 0.5 * j * tau**2
             s = self.p[r][k] + self.v[r][k] * tau + 0.5 * self.a[r][k] * tau**2 + j * tau**3 / 6.0
-            end = t0[-1] + self._last[r]
+            end = t0[-1] + self.last[r]
             after = tt >= end
             out[0][..., r] = np.where(after, self.stop[r], s)
             out[1][..., r] = np.where(after, 0.0, v)
             out[2][..., r] = np.where(after, 0.0, a)
             out[3][..., r] = np.where(after, 0.0, j)
         return out[0], out[1], out[2], out[3]
-
-    @property
-    def _last(self) -> tuple[float, float]:
-        return self.__dict__["_last_len"]  # type: ignore[no-any-return]
 
 
 def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any, target: ArrayLike | None = None) -> Brake:
@@ -116,9 +114,7 @@ def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any, target:
     s0, v0, a0 = (np.asarray(x, dtype=float) for x in (s, v, a))
     if np.all(np.abs(v0) <= _REST) and np.all(np.abs(a0) <= _REST):
         z = (np.zeros(0), np.zeros(0))
-        b = Brake(z, z, z, z, z, 0.0, s0.copy(), s0.copy(), True)
-        object.__setattr__(b, "_last_len", (0.0, 0.0))
-        return b
+        return Brake(z, z, z, z, z, 0.0, s0.copy(), s0.copy(), True, last=(0.0, 0.0))
     otg, inp, tr = Ruckig(2), InputParameter(2), RTrajectory(2)
     if target is None:
         inp.control_interface = ControlInterface.Velocity
@@ -155,7 +151,7 @@ def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any, target:
         js.append(np.asarray(prof.j, dtype=float)[keep])
         lasts.append(float(tp[keep][-1]) if keep.any() else 0.0)
         stop.append(float(prof.p[7]))
-    b = Brake(
+    return Brake(
         (t0s[0], t0s[1]),
         (ps[0], ps[1]),
         (vs[0], vs[1]),
@@ -165,9 +161,8 @@ def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any, target:
         s0.copy(),
         np.array(stop),
         collinear,
+        last=(lasts[0], lasts[1]),
     )
-    object.__setattr__(b, "_last_len", (lasts[0], lasts[1]))
-    return b
 
 
 #: A stop closer than this to the pole P (m) is moved onto P (the planner treats nearer starts as P).

@@ -114,7 +114,7 @@ def check_joint_names(joint_names: Any) -> tuple[str, str]:
             )
     if names[0] == names[1]:
         raise InvalidInputError(f"joint names are both {names[0]!r}, expected two distinct names")
-    return names  # type: ignore[return-value]
+    return names[0], names[1]
 
 
 def check_topic(topic: Any, name: str = "topic") -> str:

@@ -93,9 +93,8 @@ def _pieces(track: Track, route: Route, s0: float, s1: float) -> list[tuple[str,
     for a, b in itertools.pairwise(cuts):
         mid = 0.5 * (a + b)
         pa, pb, pm = (float(route.position(x)) for x in (a, b, mid))
-        on_loop = isinstance(track, Circle) or (isinstance(track, Lollipop) and pm > track.stick)
-        if on_loop:
-            c = track.loop  # type: ignore[attr-defined]
+        if isinstance(track, Circle) or (isinstance(track, Lollipop) and pm > track.stick):
+            c = track.loop
             eps = min(1e-4, abs(b - a) / 4)
             step = float(route.position(mid + eps * np.sign(b - a))) - pm
             step = (step + c / 2) % c - c / 2

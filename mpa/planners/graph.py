@@ -709,12 +709,12 @@ def _assemble(
         clearance_used=fs.clearance_used,
         objective=objective,
         speeds=speeds,
-        segment_cells=tuple(cells),  # type: ignore[arg-type]
+        segment_cells=tuple(cells),
         segment_offsets=offs,
         waypoints=waypoints,
         route_a=route_a,
         route_b=route_b,
-        word=_word(tr, cells),  # type: ignore[arg-type]
+        word=_word(tr, cells),
         makespan=float(times[-1]),
         length=float(np.hypot(d[:, 0], d[:, 1]).sum()),
         _times=times,

@@ -339,6 +339,12 @@ def _components(cx: CubeComplex) -> list[tuple[CubeComplex, np.ndarray]]:
 # ==================================================================================================
 # Configuration spaces of graphs
 # ==================================================================================================
+def _summed_betti(per_component: list[tuple[int, int, int]]) -> tuple[int, int, int]:
+    """Betti numbers b0, b1, b2 of a disjoint union: the sums over its components."""
+    b0, b1, b2 = (int(sum(b[k] for b in per_component)) for k in range(3))
+    return b0, b1, b2
+
+
 def euler_characteristic_formula(graph: MetricGraph) -> int:
     """``χ(F(Γ, 2)) = χ(Γ)² + χ(Γ) - Σ_v (d_v - 1)(d_v - 2)`` (a loop adds 2 to the degree).
 
@@ -440,8 +446,8 @@ def configuration_space_topology(graph: MetricGraph) -> ConfigurationSpaceTopolo
                 graph_components=(ci, cj),
             )
         )
-    betti = tuple(int(sum(c.betti[k] for c in comps)) for k in range(3))
-    betti_f2 = tuple(int(sum(c.betti_f2[k] for c in comps)) for k in range(3))
+    betti = _summed_betti([c.betti for c in comps])
+    betti_f2 = _summed_betti([c.betti_f2 for c in comps])
     euler = betti[0] - betti[1] + betti[2]
     if euler != euler_formula:
         raise PlanningError(f"Euler characteristic from the Betti numbers {betti} is {euler}, formula {euler_formula}")
@@ -455,8 +461,8 @@ def configuration_space_topology(graph: MetricGraph) -> ConfigurationSpaceTopolo
         all(c.homotopy_dimension.collapsed_to_graph for c in comps),
     )
     return ConfigurationSpaceTopology(
-        betti=betti,  # type: ignore[arg-type]
-        betti_f2=betti_f2,  # type: ignore[arg-type]
+        betti=betti,
+        betti_f2=betti_f2,
         euler=euler,
         euler_formula=euler_formula,
         connected=betti[0] == 1,

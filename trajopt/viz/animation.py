@@ -141,6 +141,8 @@ def ffmpeg_executable() -> str | None:
 
 
 def _writer(fmt: str, fps: float) -> Any:
+    """The matplotlib writer of ``fmt`` at ``fps`` frames per second (the writers take any positive frame rate,
+    matplotlib's stubs say int: hence the two ignores)."""
     if fmt == "gif":
         return PillowWriter(fps=fps)  # type: ignore[arg-type]
     exe = ffmpeg_executable()

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -57,8 +57,16 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
+
+class RouteStyle(TypedDict):
+    """How one robot's route is drawn: matplotlib line style, and the side of the edge (+1 left, -1 right)."""
+
+    ls: str | tuple[float, tuple[float, float]]
+    side: float
+
+
 #: Line styles of the robots' routes (A solid on the left of each edge, B dashed on the right).
-ROUTE_STYLES = {"A": {"ls": "-", "side": 1.0}, "B": {"ls": (0, (4.0, 2.0)), "side": -1.0}}
+ROUTE_STYLES: dict[str, RouteStyle] = {"A": {"ls": "-", "side": 1.0}, "B": {"ls": (0, (4.0, 2.0)), "side": -1.0}}
 EDGE_COLOR = "0.35"
 SWITCH_COLOR = "#2ca02c"
 #: Points per circle drawn for a loop without ``points``.
@@ -523,7 +531,7 @@ def draw_routes(
     for name, route in (("A", route_a), ("B", route_b)):
         st = ROUTE_STYLES[name]
         color = ROBOT_COLORS[name]
-        pieces = _route_lane_points(tr, geo, route, float(st["side"]), lane, per_metre)  # type: ignore[arg-type]
+        pieces = _route_lane_points(tr, geo, route, st["side"], lane, per_metre)
         if pieces:
             pts = np.vstack(pieces)
             ax.plot(pts[:, 0], pts[:, 1], color=color, lw=lw, ls=st["ls"], alpha=alpha, zorder=4, label=f"route {name}")
@@ -565,7 +573,7 @@ def plan_title(plan: GraphPlan, name: str | None = None) -> str:
 def _marker(
     ax: Axes, geo: LayoutGeometry, tr: GraphTrack, pos: tuple[int, float], robot: str, what: str, lane: float
 ) -> None:
-    side = float(ROUTE_STYLES[robot]["side"])  # type: ignore[arg-type]
+    side = ROUTE_STYLES[robot]["side"]
     e, o = pos
     p = geo.embed(e, o, tr.lengths)
     n = geo.normal(e, o, tr.lengths)
