@@ -181,8 +181,8 @@ def describe(trajectory: Any) -> dict[str, str]:
     --------
     >>> from mpa import Lollipop
     >>> from trajopt import generate_trajectory
-    >>> describe(generate_trajectory(Lollipop(1.0, 1.0), (0.1, 0.6), (0.8, 0.3)))["A"]
-    'up the stick to 0.80 m'
+    >>> describe(generate_trajectory(Lollipop(1.0, 1.0), (0.1, 0.6), (0.3, 0.8)))
+    {'A': 'up the stick to 0.30 m', 'B': 'up the stick to 0.80 m'}
     """
     plan = trajectory.plan
     return describe_rows(plan.track, plan.routes, trajectory.t, trajectory.s)
