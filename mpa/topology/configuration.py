@@ -25,9 +25,10 @@ The generic part works on any :class:`~mpa.topology.discretized.CubeComplex` of 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
+from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError, PlanningError
 from mpa.graph import MetricGraph, farber_tc_of_graph
@@ -36,6 +37,8 @@ from mpa.topology.cohomology import field_cohomology, rational_rank_of_boundary,
 from mpa.topology.discretized import (
     CellCounts,
     CubeComplex,
+    DiscretizedConfigurationSpace,
+    SimpleSubdivision,
     collapse_free_faces,
     cubical_subdivision,
     discretized_configuration_space,
@@ -393,8 +396,42 @@ def configuration_space_topology(graph: MetricGraph) -> ConfigurationSpaceTopolo
     >>> top.betti, top.tc
     ((1, 3, 0), 3)
     """
-    if not isinstance(graph, MetricGraph) and callable(getattr(graph, "as_graph", None)):
-        graph = graph.as_graph()
+    graph = _as_metric_graph(graph)
+    d2, euler_formula = _checked_discretization(graph)
+    per_graph_component = _graph_components(graph, d2.subdivision)
+    comps = _component_topologies(d2, per_graph_component)
+    betti = _summed_betti([c.betti for c in comps])
+    euler = betti[0] - betti[1] + betti[2]
+    if euler != euler_formula:
+        raise PlanningError(f"Euler characteristic from the Betti numbers {betti} is {euler}, formula {euler_formula}")
+    lo = max(c.tc_bounds[0] for c in comps)
+    hi = max(c.tc_bounds[1] for c in comps)
+    return ConfigurationSpaceTopology(
+        betti=betti,
+        betti_f2=_summed_betti([c.betti_f2 for c in comps]),
+        euler=euler,
+        euler_formula=euler_formula,
+        connected=betti[0] == 1,
+        cell_counts=d2.complex.cell_counts,
+        subdivided_graph=(d2.subdivision.n_vertices, d2.subdivision.n_edges),
+        essential_vertices=int(per_graph_component.essential.sum()),
+        homotopy_dimension=HomotopyDimension(
+            max(c.homotopy_dimension.lower for c in comps),
+            max(c.homotopy_dimension.upper for c in comps),
+            all(c.homotopy_dimension.collapsed_to_graph for c in comps),
+        ),
+        tc=lo if lo == hi else None,
+        tc_bounds=(lo, hi),
+        h1_torsion_free=_all_torsion_free([c.h1_torsion_free for c in comps]),
+        components=tuple(comps),
+    )
+
+
+def _as_metric_graph(graph: object) -> MetricGraph:
+    """The graph itself, or a track's graph (``as_graph()``); InvalidInputError if ``F(Γ, 2)`` would be empty."""
+    as_graph = getattr(graph, "as_graph", None)
+    if not isinstance(graph, MetricGraph) and callable(as_graph):
+        graph = as_graph()
     if not isinstance(graph, MetricGraph):
         raise InvalidInputError(f"graph is a {type(graph).__name__}, expected a MetricGraph or a track")
     if graph.n_vertices == 0 or (graph.n_vertices == 1 and graph.n_edges == 0):
@@ -402,41 +439,63 @@ def configuration_space_topology(graph: MetricGraph) -> ConfigurationSpaceTopolo
             f"graph has {graph.n_vertices} vertices and no edges: two robots do not fit, expected at least one edge "
             "or two vertices"
         )
+    return graph
+
+
+def _checked_discretization(graph: MetricGraph) -> tuple[DiscretizedConfigurationSpace, int]:
+    """Abrams' ``D₂(Γ)`` and the Euler characteristic of the formula, after checking its cells against both."""
     d2 = discretized_configuration_space(graph)
-    sub = d2.subdivision
     counts = d2.complex.cell_counts
-    expected = expected_cell_counts(sub)
+    expected = expected_cell_counts(d2.subdivision)
     if counts != expected:
         raise PlanningError(f"D2 has cell counts {counts}, expected {expected} from the formulas")
     euler_formula = euler_characteristic_formula(graph)
     if counts.euler_characteristic != euler_formula:
         raise PlanningError(f"D2 has Euler characteristic {counts.euler_characteristic}, formula gives {euler_formula}")
+    return d2, euler_formula
 
-    # per component of Γ: essential vertices, whether it is a circle, b1 and TC of the graph itself
+
+class _GraphComponents(NamedTuple):
+    """Per component of Γ (arrays indexed by component): essential vertices, first Betti number, circle or not;
+    and the component of every vertex of the subdivision."""
+
+    essential: NDArray[np.int64]
+    b1: NDArray[np.int64]
+    is_circle: NDArray[np.bool_]
+    of_vertex: NDArray[np.int64]
+
+
+def _graph_components(graph: MetricGraph, sub: SimpleSubdivision) -> _GraphComponents:
+    """Essential vertices (degree >= 3), b1 and circle-ness of each component of Γ (from its subdivision)."""
     n_orig = sub.original_vertex_count
     deg = np.array([graph.degree(v) for v in graph.vertices], dtype=np.int64)
     comp_of = sub.component
     n_gc = int(comp_of.max()) + 1
-    essential = np.bincount(comp_of[:n_orig], weights=(deg >= 3), minlength=n_gc).astype(int)
+    essential = np.bincount(comp_of[:n_orig], weights=(deg >= 3), minlength=n_gc).astype(np.int64)
     gverts = np.bincount(comp_of, minlength=n_gc)
     gedges = np.bincount(comp_of[sub.edges[:, 0]], minlength=n_gc) if sub.n_edges else np.zeros(n_gc, dtype=int)
-    gb1 = gedges - gverts + 1
+    gb1 = (gedges - gverts + 1).astype(np.int64)
     has_high_or_leaf = np.bincount(comp_of, weights=(sub.degrees() != 2), minlength=n_gc)
     is_circle = (gb1 == 1) & (has_high_or_leaf == 0)
+    return _GraphComponents(essential, gb1, is_circle, comp_of)
 
+
+def _component_topologies(d2: DiscretizedConfigurationSpace, gc: _GraphComponents) -> list[ComponentTopology]:
+    """Collapse ``D₂(Γ)`` and compute the topology of each of its components, with the bounds on homotopy
+    dimension and TC that the components of Γ holding the two robots give."""
     col = collapse_free_faces(d2.complex)
     comps: list[ComponentTopology] = []
     for cx, verts in _components(col.complex):
         v1, v2 = d2.vertex_cells[col.vertices[verts[0]]]
-        ci, cj = int(comp_of[v1]), int(comp_of[v2])
+        ci, cj = int(gc.of_vertex[v1]), int(gc.of_vertex[v2])
         tc_upper: int | None = None
         if ci != cj:  # the product Γ_i × Γ_j of two components of Γ
-            hdim = int(gb1[ci] > 0) + int(gb1[cj] > 0)
-            tc_upper = farber_tc_of_graph(int(gb1[ci])) + farber_tc_of_graph(int(gb1[cj])) - 1
-        elif is_circle[ci]:
+            hdim = int(gc.b1[ci] > 0) + int(gc.b1[cj] > 0)
+            tc_upper = farber_tc_of_graph(int(gc.b1[ci])) + farber_tc_of_graph(int(gc.b1[cj])) - 1
+        elif gc.is_circle[ci]:
             hdim = 1
         else:
-            hdim = min(2, int(essential[ci]))
+            hdim = min(2, int(gc.essential[ci]))
         comps.append(
             _connected_topology(
                 cx,
@@ -446,32 +505,9 @@ def configuration_space_topology(graph: MetricGraph) -> ConfigurationSpaceTopolo
                 graph_components=(ci, cj),
             )
         )
-    betti = _summed_betti([c.betti for c in comps])
-    betti_f2 = _summed_betti([c.betti_f2 for c in comps])
-    euler = betti[0] - betti[1] + betti[2]
-    if euler != euler_formula:
-        raise PlanningError(f"Euler characteristic from the Betti numbers {betti} is {euler}, formula {euler_formula}")
-    lo = max(c.tc_bounds[0] for c in comps)
-    hi = max(c.tc_bounds[1] for c in comps)
-    flags = [c.h1_torsion_free for c in comps]
-    torsion_free = False if False in flags else (True if all(flags) else None)
-    hd = HomotopyDimension(
-        max(c.homotopy_dimension.lower for c in comps),
-        max(c.homotopy_dimension.upper for c in comps),
-        all(c.homotopy_dimension.collapsed_to_graph for c in comps),
-    )
-    return ConfigurationSpaceTopology(
-        betti=betti,
-        betti_f2=betti_f2,
-        euler=euler,
-        euler_formula=euler_formula,
-        connected=betti[0] == 1,
-        cell_counts=counts,
-        subdivided_graph=(sub.n_vertices, sub.n_edges),
-        essential_vertices=int(essential.sum()),
-        homotopy_dimension=hd,
-        tc=lo if lo == hi else None,
-        tc_bounds=(lo, hi),
-        h1_torsion_free=torsion_free,
-        components=tuple(comps),
-    )
+    return comps
+
+
+def _all_torsion_free(flags: list[bool | None]) -> bool | None:
+    """H1 torsion-free for all components: False if one is not, None if one is unknown, else True."""
+    return False if False in flags else (True if all(flags) else None)

@@ -183,7 +183,8 @@ def animate_motions(
     out : path
         Output file; its suffix (``.gif`` or ``.mp4``) chooses the format unless ``fmt`` is given.
     plan : Plan, optional
-        Drawn faintly in the configuration space (the whole path), with the start and goal.
+        Its skeleton is drawn in the configuration space (default: the track's skeleton); each motion's own path
+        is drawn there faintly, with its start and goal.
     fps : float
         Frames per second of the file; the animation plays in real time unless ``max_frames`` caps the frames
         (then it plays faster, which the title says).
