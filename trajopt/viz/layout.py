@@ -736,7 +736,6 @@ def draw_configuration_cells(
         The cells drawn (polygon ids of :mod:`mpa.freespace`).
     """
     tr = plan.track
-    names = tr.edge_names
     lengths = tr.lengths
     order: list[tuple[int, int]] = []
     for e, f, _ in plan.corner_cells:
@@ -749,8 +748,31 @@ def draw_configuration_cells(
     for e, f in shown:
         x0[(e, f)] = x
         x += float(lengths[e]) + gap
+    drawn = _draw_cell_boxes(ax, space, tr, x0)
+    _draw_path_in_cells(ax, plan, x0)
+    _draw_ends_in_cells(ax, plan, x0)
+    more = f" (first {len(shown)} of {len(order)})" if len(order) > len(shown) else ""
+    ax.set_title(
+        f"configuration cells crossed{more}: x = offset of A, y = offset of B (m); "
+        f"red: closer than D = {plan.clearance:g} m; ■ start, ☆ goal",
+        fontsize=8,
+    )
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xticks([])
+    ax.set_xlim(-0.05 * gap, x - gap + 0.05 * gap)
+    ax.set_ylim(-0.05 * float(lengths.max()), float(max(lengths[f] for _, f in shown)) + 0.4 * float(lengths.max()))
+    return drawn
+
+
+def _draw_cell_boxes(
+    ax: Axes, space: FreeSpace, tr: GraphTrack, x0: dict[tuple[int, int], float]
+) -> list[tuple[int, int, int]]:
+    """Each product of edges ``(e, f)`` as a box at ``x0[(e, f)]``: shaded where the robots are too close, its free
+    polygons white, labelled with the edges; returns the polygons drawn."""
+    names = tr.edge_names
+    lengths = tr.lengths
     drawn: list[tuple[int, int, int]] = []
-    for e, f in shown:
+    for e, f in x0:
         le, lf = float(lengths[e]), float(lengths[f])
         ox = x0[(e, f)]
         ax.add_patch(Rectangle((ox, 0.0), le, lf, fc=COLLISION_COLOR, alpha=0.25, ec="none", zorder=1))
@@ -765,6 +787,11 @@ def draw_configuration_cells(
         ax.text(
             ox + le / 2, top, f"A on {names[e]}\nB on {names[f]}", ha="center", va="bottom", fontsize=7, color="0.2"
         )
+    return drawn
+
+
+def _draw_path_in_cells(ax: Axes, plan: GraphPlan, x0: dict[tuple[int, int], float]) -> None:
+    """The plan's straight segments inside the boxes drawn at ``x0``, arrowed and numbered in order."""
     for j, ((e, f, _), seg) in enumerate(zip(plan.segment_cells, plan.segment_offsets)):
         if (e, f) not in x0:
             continue
@@ -783,7 +810,10 @@ def draw_configuration_cells(
         ax.annotate(
             str(j + 1), xy=(float(mid[0]), float(mid[1])), xytext=(4, 4), textcoords="offset points", fontsize=7
         )
-    # start and goal
+
+
+def _draw_ends_in_cells(ax: Axes, plan: GraphPlan, x0: dict[tuple[int, int], float]) -> None:
+    """The start (filled square) and the goal (empty star), where their cells are drawn."""
     for what, corner in (("start", 0), ("goal", -1)):
         e, f, _ = plan.corner_cells[corner]
         if (e, f) in x0:
@@ -798,14 +828,3 @@ def draw_configuration_cells(
                 zorder=5,
                 clip_on=False,
             )
-    more = f" (first {len(shown)} of {len(order)})" if len(order) > len(shown) else ""
-    ax.set_title(
-        f"configuration cells crossed{more}: x = offset of A, y = offset of B (m); "
-        f"red: closer than D = {plan.clearance:g} m; ■ start, ☆ goal",
-        fontsize=8,
-    )
-    ax.set_aspect("equal", adjustable="box")
-    ax.set_xticks([])
-    ax.set_xlim(-0.05 * gap, x - gap + 0.05 * gap)
-    ax.set_ylim(-0.05 * float(lengths.max()), float(max(lengths[f] for _, f in shown)) + 0.4 * float(lengths.max()))
-    return drawn
