@@ -26,7 +26,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 from math import comb
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -799,10 +799,43 @@ def filtered_scaling(
     pl = piece_limits(path, limits, safety)
     br = path.breaks
     tau = float(np.max(limits.a / limits.j))
-    a_lim = np.minimum(pl.a, tau * pl.j)
     reach = tau * float(np.max(pl.v))
+    grid, b = _eroded_flat_top_profile(path, pl, tau, reach, int(per_interval))
+    phases = _constant_acceleration_phases(grid, b)
+    T = phases.duration
+    t0, p_out, v_out, a_out, j_out = _box_filtered(phases, tau, S)
+    stats = {
+        "pieces": P,
+        "blends": int(np.sum(path.is_blend)),
+        "filter_width": tau,
+        "input_duration": T,
+        "grid": len(grid),
+        "jerk_time": time.perf_counter() - t_start,
+    }
+    return TimeScaling(
+        path,
+        t0,
+        p_out,
+        v_out,
+        a_out,
+        j_out,
+        float(T + tau),
+        np.interp(br, grid, np.sqrt(b)),
+        np.zeros(0, dtype=np.intp),
+        stats,
+    )
+
+
+def _eroded_flat_top_profile(
+    path: BlendedPath, pl: PieceLimits, tau: float, reach: float, per_interval: int
+) -> tuple[FloatArray, FloatArray]:
+    """Steps 2 and 3 of :func:`filtered_scaling`: the grid of path lengths (shape (G,)) and ``ṡ²`` on it (shape
+    (G,), >= 0) of the time-optimal v/a-limited profile under the eroded limits, with flattened speed peaks."""
+    S = path.length
+    br = path.breaks
+    a_lim = np.minimum(pl.a, tau * pl.j)
     pts = np.sort(np.clip(np.concatenate([br, br - reach, br + reach]), 0.0, S))
-    m = int(per_interval)
+    m = per_interval
     frac = np.arange(m) / m
     grid = np.concatenate([(pts[:-1, None] + frac[None, :] * np.diff(pts)[:, None]).ravel(), pts[-1:]])
     ds = np.diff(grid)
@@ -820,7 +853,28 @@ def filtered_scaling(
     # plus the grid step), so the input's acceleration never swings from +a to −a within τ
     r = 0.5 * reach + float(np.max(ds, initial=0.0))
     b = _topp_passes(np.minimum(b, _opening(grid, b, r)), two_a_ds)
-    b = np.maximum(b, 0.0)
+    return grid, np.maximum(b, 0.0)
+
+
+class _Phases(NamedTuple):
+    """A rest-to-rest motion ``s(t)`` of constant acceleration per phase: phase ``k`` starts at ``t[k]`` with
+    position ``s[k]``, speed ``v[k]``, acceleration ``a[k]``; ``f[k] = ∫_0^{t[k]} s``. ``t`` and ``f`` have one
+    entry more than the phases (the end: ``t[-1]`` is the duration)."""
+
+    t: FloatArray
+    s: FloatArray
+    v: FloatArray
+    a: FloatArray
+    f: FloatArray
+
+    @property
+    def duration(self) -> float:
+        return float(self.t[-1])
+
+
+def _constant_acceleration_phases(grid: FloatArray, b: FloatArray) -> _Phases:
+    """The motion through the grid points ``grid`` with ``ṡ² = b`` there (constant acceleration between them)."""
+    ds = np.diff(grid)
     sq = np.sqrt(b)
     den = sq[:-1] + sq[1:]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -829,56 +883,47 @@ def filtered_scaling(
     keep = dt > 0
     ti = np.concatenate([[0.0], np.cumsum(dt[keep])])
     s_i, v_i, a_i = grid[:-1][keep], sq[:-1][keep], acc[keep]
-    T = float(ti[-1])
-    # input s(t): phases [ti[k], ti[k+1]) with (s_i, v_i, a_i); before 0 at rest at 0, after T at rest at S
     # integral F(t) = ∫_0^t s: exact at the phase starts
     dtk = np.diff(ti)
     f_i = np.concatenate([[0.0], np.cumsum(s_i * dtk + v_i * dtk**2 / 2 + a_i * dtk**3 / 6)])
+    return _Phases(ti, s_i, v_i, a_i, f_i)
 
-    def state(t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        """Input (F, s, v, a) at times ``t`` (right-continuous acceleration)."""
-        k = np.clip(np.searchsorted(ti, t, side="right") - 1, 0, len(s_i) - 1)
-        x = np.clip(t - ti[k], 0.0, None)
-        s = s_i[k] + v_i[k] * x + a_i[k] * x**2 / 2
-        v = v_i[k] + a_i[k] * x
-        f = f_i[k] + s_i[k] * x + v_i[k] * x**2 / 2 + a_i[k] * x**3 / 6
-        a = a_i[k].copy()
-        before, after = t < 0.0, t >= T
-        f = np.where(before, 0.0, np.where(after, f_i[-1] + S * (t - T), f))
-        s = np.where(before, 0.0, np.where(after, S, s))
-        v = np.where(before | after, 0.0, v)
-        a = np.where(before | after, 0.0, a)
-        return f, s, v, a
 
+def _phase_state(ph: _Phases, S: float, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """``(F, s, v, a)`` of the motion at times ``t`` (right-continuous acceleration); before 0 at rest at 0, after
+    the end at rest at ``S``."""
+    ti, s_i, v_i, a_i, f_i = ph
+    T = ph.duration
+    k = np.clip(np.searchsorted(ti, t, side="right") - 1, 0, len(s_i) - 1)
+    x = np.clip(t - ti[k], 0.0, None)
+    s = s_i[k] + v_i[k] * x + a_i[k] * x**2 / 2
+    v = v_i[k] + a_i[k] * x
+    f = f_i[k] + s_i[k] * x + v_i[k] * x**2 / 2 + a_i[k] * x**3 / 6
+    a = a_i[k].copy()
+    before, after = t < 0.0, t >= T
+    f = np.where(before, 0.0, np.where(after, f_i[-1] + S * (t - T), f))
+    s = np.where(before, 0.0, np.where(after, S, s))
+    v = np.where(before | after, 0.0, v)
+    a = np.where(before | after, 0.0, a)
+    return f, s, v, a
+
+
+def _box_filtered(
+    ph: _Phases, tau: float, S: float
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Step 4 of :func:`filtered_scaling`: ``s̃(t) = (1/τ)∫_{t−τ}^{t} s`` as phases of constant jerk: their start
+    times and ``s̃, ṡ̃, s̈̃`` there, and their jerks (each shape (K,))."""
+    ti, T = ph.t, ph.duration
     t0 = np.unique(np.concatenate([ti, ti + tau]))
     t0 = t0[t0 < T + tau]
-    f1, s1, v1, _ = state(t0)
-    f0, s0, v0, _ = state(t0 - tau)
+    f1, s1, v1, _ = _phase_state(ph, S, t0)
+    f0, s0, v0, _ = _phase_state(ph, S, t0 - tau)
     p_out = np.clip((f1 - f0) / tau, 0.0, S)
     v_out = (s1 - s0) / tau
     a_out = (v1 - v0) / tau
     mid = 0.5 * (t0 + np.append(t0[1:], T + tau))  # the jerk of a phase, away from rounding at its ends
-    j_out = (state(mid)[3] - state(mid - tau)[3]) / tau
-    stats = {
-        "pieces": P,
-        "blends": int(np.sum(path.is_blend)),
-        "filter_width": tau,
-        "input_duration": T,
-        "grid": len(grid),
-        "jerk_time": time.perf_counter() - t_start,
-    }
-    return TimeScaling(
-        path,
-        t0,
-        p_out,
-        v_out,
-        a_out,
-        j_out,
-        float(T + tau),
-        np.interp(br, grid, sq),
-        np.zeros(0, dtype=np.intp),
-        stats,
-    )
+    j_out = (_phase_state(ph, S, mid)[3] - _phase_state(ph, S, mid - tau)[3]) / tau
+    return t0, p_out, v_out, a_out, j_out
 
 
 def min_time_rest_to_rest(distance: float, v: float, a: float, j: float) -> float:
