@@ -328,34 +328,68 @@ def blend_polyline(
     if m >= 2 and np.any(ln <= 0):
         raise PlanningError("polyline has repeated corners")
     u = seg / ln[:, None] if m >= 2 else np.zeros((0, 2))
-    blends: dict[int, tuple[FloatArray, FloatArray]] = {}
-    given = radii is not None
-    rad: FloatArray = np.zeros(m) if radii is None else np.array(radii, dtype=float)
-    if given:
-        rad[0] = rad[-1] = 0.0
-        for i in range(1, m - 1):
-            if rad[i] > 0:
-                coef = _bezier_to_monomial(_even_blend_ctrl(p[i], u[i - 1], u[i], rad[i]), 2.0 * rad[i])
-                blends[i] = (coef, _piece_bounds(coef, 2.0 * rad[i]))
-    if not given and min_distance is not None:
-        for i in range(1, m - 1):
-            if abs(float(u[i - 1] @ u[i])) > 1 - 1e-12 and float(u[i - 1] @ u[i]) > 0:
-                continue  # collinear: no corner
-            r = min(0.5 * ln[i - 1], 0.5 * ln[i], radius_cap)
-            for _ in range(BLEND_TRIES):
-                ctrl = _blend_ctrl(p[i], u[i - 1], u[i], r)
-                lb = 2.5 * r
-                coef = _bezier_to_monomial(ctrl, lb)
-                bnd = _piece_bounds(coef, lb)
-                pts = _bezier_points(ctrl, BLEND_SAMPLES)
-                h = lb / (BLEND_SAMPLES - 1)  # the parameter is not arc length; h is its step
-                dev = float(np.sum(bnd[1])) * h * h / 8.0
-                if min_distance(pts) - dev >= separation:
-                    rad[i] = r
-                    blends[i] = (coef, bnd)
-                    break
-                r *= 0.5
-    # assemble pieces
+    if radii is not None:
+        rad = np.array(radii, dtype=float)
+        blends = _blends_of_given_radii(p, u, rad)
+    else:
+        rad = np.zeros(m)
+        blends = {} if min_distance is None else _checked_blends(p, u, ln, rad, min_distance, separation, radius_cap)
+    return _assemble_blended_path(p, u, ln, rad, blends, radii is not None)
+
+
+_Blends = dict[int, tuple[FloatArray, FloatArray]]  # corner index -> (monomial coefficients, derivative bounds)
+
+
+def _blends_of_given_radii(p: FloatArray, u: FloatArray, rad: FloatArray) -> _Blends:
+    """Even blends of the interior corners ``p[i]`` with radius ``rad[i] > 0`` (unchecked; ``rad``'s end entries
+    are set to 0 in place)."""
+    blends: _Blends = {}
+    rad[0] = rad[-1] = 0.0
+    for i in range(1, len(p) - 1):
+        if rad[i] > 0:
+            coef = _bezier_to_monomial(_even_blend_ctrl(p[i], u[i - 1], u[i], rad[i]), 2.0 * rad[i])
+            blends[i] = (coef, _piece_bounds(coef, 2.0 * rad[i]))
+    return blends
+
+
+def _checked_blends(
+    p: FloatArray,
+    u: FloatArray,
+    ln: FloatArray,
+    rad: FloatArray,
+    min_distance: Any,
+    separation: float,
+    radius_cap: float,
+) -> _Blends:
+    """Blends of the interior corners that keep ``separation`` (``min_distance`` minus the blend's deviation),
+    the radius halved up to :data:`BLEND_TRIES` times; the radii found are written into ``rad``."""
+    blends: _Blends = {}
+    for i in range(1, len(p) - 1):
+        if abs(float(u[i - 1] @ u[i])) > 1 - 1e-12 and float(u[i - 1] @ u[i]) > 0:
+            continue  # collinear: no corner
+        r = min(0.5 * ln[i - 1], 0.5 * ln[i], radius_cap)
+        for _ in range(BLEND_TRIES):
+            ctrl = _blend_ctrl(p[i], u[i - 1], u[i], r)
+            lb = 2.5 * r
+            coef = _bezier_to_monomial(ctrl, lb)
+            bnd = _piece_bounds(coef, lb)
+            pts = _bezier_points(ctrl, BLEND_SAMPLES)
+            h = lb / (BLEND_SAMPLES - 1)  # the parameter is not arc length; h is its step
+            dev = float(np.sum(bnd[1])) * h * h / 8.0
+            if min_distance(pts) - dev >= separation:
+                rad[i] = r
+                blends[i] = (coef, bnd)
+                break
+            r *= 0.5
+    return blends
+
+
+def _assemble_blended_path(
+    p: FloatArray, u: FloatArray, ln: FloatArray, rad: FloatArray, blends: _Blends, given: bool
+) -> BlendedPath:
+    """The pieces in order: each segment's straight part (if any is left) and the blend of its end corner; a
+    corner without a blend is passed at rest."""
+    m = len(p)
     brk = [0.0]
     coefs: list[FloatArray] = []
     isb: list[bool] = []
