@@ -676,14 +676,33 @@ def jerk_limited_scaling(
     PlanningError
         If ruckig reports an error.
     """
-    from ruckig import InputParameter, Result, Ruckig, Trajectory
-
     t_start = time.perf_counter()
     P = len(path.coef)
     lens = np.diff(path.breaks)
     if path.length <= 0:
         return TimeScaling(path, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, np.zeros(P + 1))
     pl = piece_limits(path, limits, safety)
+    vb = _boundary_speeds(path, pl, lens, speed_caps)
+    t0s, ps, vs, as_, js, pcs, t_acc = _ruckig_phases(path, pl, lens, vb)
+    stats = {"pieces": P, "blends": int(np.sum(path.is_blend)), "jerk_time": time.perf_counter() - t_start}
+    return TimeScaling(
+        path,
+        np.array(t0s),
+        np.array(ps),
+        np.array(vs),
+        np.array(as_),
+        np.array(js),
+        float(t_acc),
+        vb,
+        np.array(pcs, dtype=np.intp),
+        stats,
+    )
+
+
+def _boundary_speeds(path: BlendedPath, pl: PieceLimits, lens: FloatArray, speed_caps: ArrayLike | None) -> FloatArray:
+    """Speeds at the piece boundaries (shape (P + 1,)): the pieces' speed limits and the caps, 0 at stops, then
+    lowered by a forward and a backward pass to what a jerk-limited piece can reach."""
+    P = len(lens)
     vb = np.full(P + 1, np.inf)
     vb[1:] = np.minimum(vb[1:], pl.v)
     vb[:-1] = np.minimum(vb[:-1], pl.v)
@@ -695,12 +714,33 @@ def jerk_limited_scaling(
         vb[k + 1] = min(vb[k + 1], _reach(vb[k], lens[k] * (1 - 1e-9), vb[k + 1], pl.a[k], pl.j[k]))
     for k in range(P - 1, -1, -1):  # backward
         vb[k] = min(vb[k], _reach(vb[k + 1], lens[k] * (1 - 1e-9), vb[k], pl.a[k], pl.j[k]))
+    return vb
+
+
+def _ruckig_phases(
+    path: BlendedPath, pl: PieceLimits, lens: FloatArray, vb: FloatArray
+) -> tuple[list[float], list[float], list[float], list[float], list[float], list[int], float]:
+    """One 1-DoF ruckig profile per piece between the boundary speeds ``vb``: the phases of constant jerk (start
+    times, ``s, ṡ, s̈``, jerks, piece index) and the total duration.
+
+    Raises
+    ------
+    PlanningError
+        ruckig fails or needs a brake profile on a piece.
+    """
+    from ruckig import InputParameter, Result, Ruckig, Trajectory
+
     otg = Ruckig(1)
     inp = InputParameter(1)
     traj = Trajectory(1)
-    t0s, ps, vs, as_, js, pcs = [], [], [], [], [], []
+    t0s: list[float] = []
+    ps: list[float] = []
+    vs: list[float] = []
+    as_: list[float] = []
+    js: list[float] = []
+    pcs: list[int] = []
     t_acc = 0.0
-    for k in range(P):
+    for k in range(len(lens)):
         if lens[k] <= 0:
             continue
         inp.current_position = [float(path.breaks[k])]
@@ -729,19 +769,7 @@ def jerk_limited_scaling(
             js.append(prof.j[i])
             pcs.append(k)
             t_acc += tp[i]
-    stats = {"pieces": P, "blends": int(np.sum(path.is_blend)), "jerk_time": time.perf_counter() - t_start}
-    return TimeScaling(
-        path,
-        np.array(t0s),
-        np.array(ps),
-        np.array(vs),
-        np.array(as_),
-        np.array(js),
-        float(t_acc),
-        vb,
-        np.array(pcs, dtype=np.intp),
-        stats,
-    )
+    return t0s, ps, vs, as_, js, pcs, t_acc
 
 
 def _window_min(values: FloatArray, breaks: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
