@@ -214,73 +214,14 @@ class Route:
         PlanningError
             If the points do not lie on one geodesic line of the cover (never happens for the paper's plans).
         """
-        c = getattr(track, "loop", 0.0)
-        ell = track.stick if isinstance(track, (Lollipop, Interval)) else 0.0
         tol = 1e-7 * max(1.0, track.total_length)
-        # normalise: a stick point at depth 0 is the junction on the line
-        # (the start and the goal only when exactly at P: a robot a hair below P must keep its own position)
         ends = {0, goal_index % len(lifts)}
-        pts = []
-        for i, lf in enumerate(lifts):
-            if lf.kind == "stick" and (lf.v <= 0.0 if i in ends else lf.v <= tol):
-                pts.append(Lift("line", 0, lf.k * c))
-            else:
-                pts.append(lf)
-        sticks = sorted({p.k for p in pts if p.kind == "stick"})
-        line_vals = [p.v for p in pts if p.kind == "line"] + [k * c for k in sticks]
-        if not isinstance(track, Lollipop):
-            lo, hi = min(line_vals), max(line_vals)
-            if isinstance(track, Interval):
-                ext_lo, ext_hi = 0.0, ell
-            else:
-                ext_lo, ext_hi = lo - c, hi + c
-            pieces = (("line", 0, ext_lo, ext_hi, 0.0, ext_hi - ext_lo),)
-            r = np.array([p.v - ext_lo for p in pts])
-            return cls._oriented(track, pieces, r, goal_index)
-        lo, hi = min(line_vals), max(line_vals)
-        if len(sticks) > 2:
-            raise PlanningError(f"robot visits {len(sticks)} copies of the stick: not a geodesic route")
-        only_stick = (
-            all(p.kind == "stick" or abs(p.v - sticks[0] * c) <= (0.0 if i in ends else tol) for i, p in enumerate(pts))
-            if sticks
-            else False
-        )
-        if only_stick and len(sticks) == 1:
-            k = sticks[0]
-            pieces = (("stick", k, ell, 0.0, 0.0, ell),)  # from the free end up to P_k: r = ℓ − x
-            r = np.array([ell - (p.v if p.kind == "stick" else 0.0) for p in pts])
-            return cls._oriented(track, pieces, r, goal_index)
-        # a stick hangs at the low (high) end of the line if no point of the line lies below (above) its P_k; the
-        # start and the goal count exactly, other corners within ``tol``
-        line_pts = [(p.v, 0.0 if i in ends else tol) for i, p in enumerate(pts) if p.kind == "line"]
-        low_stick = [k for k in sticks if abs(k * c - lo) <= tol and all(v >= k * c - t for v, t in line_pts)]
-        high_stick = [
-            k
-            for k in sticks
-            if abs(k * c - hi) <= tol and k not in low_stick and all(v <= k * c + t for v, t in line_pts)
-        ]
-        if len(low_stick) + len(high_stick) != len(sticks):
-            raise PlanningError("robot's path branches off its route at a lift of P: not a geodesic route")
-        parts: list[tuple[str, int, float, float, float, float]] = []
-        r0 = 0.0
-        if low_stick:
-            parts.append(("stick", low_stick[0], ell, 0.0, 0.0, ell))
-            r0 = ell
-            line_lo = lo
+        pts = _at_junctions_on_the_line(track, lifts, ends, tol)
+        if isinstance(track, Lollipop):
+            pieces, r = _lollipop_line(track, pts, ends, tol)
         else:
-            line_lo = lo - c
-        line_hi = hi if high_stick else hi + c
-        parts.append(("line", 0, line_lo, line_hi, r0, r0 + line_hi - line_lo))
-        r1 = r0 + line_hi - line_lo
-        if high_stick:
-            parts.append(("stick", high_stick[0], 0.0, ell, r1, r1 + ell))
-        r_list = []
-        for p in pts:
-            if p.kind == "stick":
-                r_list.append(ell - p.v if p.k in low_stick else r1 + p.v)
-            else:
-                r_list.append(r0 + p.v - line_lo)
-        return cls._oriented(track, tuple(parts), np.array(r_list), goal_index)
+            pieces, r = _unrolled_line(track, pts)
+        return cls._oriented(track, pieces, r, goal_index)
 
     @classmethod
     def _oriented(
@@ -403,6 +344,92 @@ class Route:
                 rs.extend(ra + (m * c - v0) * np.sign(v1 - v0 if v1 != v0 else 1.0))
         s = self.direction * (np.array(sorted(set(np.round(rs, 12)))) - self.r_start)
         return np.sort(s[(s >= self.sigma_min - 1e-12) & (s <= self.sigma_max + 1e-12)])
+
+
+_Piece = tuple[str, int, float, float, float, float]  # (kind, k, v_from, v_to, r_from, r_to), see Route
+
+
+def _at_junctions_on_the_line(track: Track, lifts: Sequence[Lift], ends: set[int], tol: float) -> list[Lift]:
+    """The lifts with every stick point at depth 0 (within ``tol``) moved onto the line (the junction ``P_k``); the
+    start and the goal (indices ``ends``) only when exactly at P: a robot a hair below P keeps its own position."""
+    c = getattr(track, "loop", 0.0)
+    pts = []
+    for i, lf in enumerate(lifts):
+        if lf.kind == "stick" and (lf.v <= 0.0 if i in ends else lf.v <= tol):
+            pts.append(Lift("line", 0, lf.k * c))
+        else:
+            pts.append(lf)
+    return pts
+
+
+def _unrolled_line(track: Track, pts: Sequence[Lift]) -> tuple[tuple[_Piece, ...], FloatArray]:
+    """The circle's line (the points' span and one turn each way) or the interval; ``r`` of every point."""
+    c = getattr(track, "loop", 0.0)
+    line_vals = [p.v for p in pts if p.kind == "line"] + [p.k * c for p in pts if p.kind == "stick"]
+    lo, hi = min(line_vals), max(line_vals)
+    if isinstance(track, Interval):
+        ext_lo, ext_hi = 0.0, track.stick
+    else:
+        ext_lo, ext_hi = lo - c, hi + c
+    pieces = (("line", 0, ext_lo, ext_hi, 0.0, ext_hi - ext_lo),)
+    return pieces, np.array([p.v - ext_lo for p in pts])
+
+
+def _lollipop_line(
+    track: Lollipop, pts: Sequence[Lift], ends: set[int], tol: float
+) -> tuple[tuple[_Piece, ...], FloatArray]:
+    """The geodesic line of the lollipop's cover through the points: one copy of the stick alone, or the unrolled
+    loop with at most one stick copy hanging at each end; ``r`` of every point.
+
+    Raises
+    ------
+    PlanningError
+        The points visit more than two stick copies, or branch off the line at a lift of P.
+    """
+    c, ell = track.loop, track.stick
+    sticks = sorted({p.k for p in pts if p.kind == "stick"})
+    line_vals = [p.v for p in pts if p.kind == "line"] + [k * c for k in sticks]
+    lo, hi = min(line_vals), max(line_vals)
+    if len(sticks) > 2:
+        raise PlanningError(f"robot visits {len(sticks)} copies of the stick: not a geodesic route")
+    only_stick = (
+        all(p.kind == "stick" or abs(p.v - sticks[0] * c) <= (0.0 if i in ends else tol) for i, p in enumerate(pts))
+        if sticks
+        else False
+    )
+    if only_stick and len(sticks) == 1:
+        k = sticks[0]
+        stick_piece: tuple[_Piece, ...] = (("stick", k, ell, 0.0, 0.0, ell),)  # free end up to P_k: r = ℓ − x
+        return stick_piece, np.array([ell - (p.v if p.kind == "stick" else 0.0) for p in pts])
+    # a stick hangs at the low (high) end of the line if no point of the line lies below (above) its P_k; the
+    # start and the goal count exactly, other corners within ``tol``
+    line_pts = [(p.v, 0.0 if i in ends else tol) for i, p in enumerate(pts) if p.kind == "line"]
+    low_stick = [k for k in sticks if abs(k * c - lo) <= tol and all(v >= k * c - t for v, t in line_pts)]
+    high_stick = [
+        k for k in sticks if abs(k * c - hi) <= tol and k not in low_stick and all(v <= k * c + t for v, t in line_pts)
+    ]
+    if len(low_stick) + len(high_stick) != len(sticks):
+        raise PlanningError("robot's path branches off its route at a lift of P: not a geodesic route")
+    parts: list[_Piece] = []
+    r0 = 0.0
+    if low_stick:
+        parts.append(("stick", low_stick[0], ell, 0.0, 0.0, ell))
+        r0 = ell
+        line_lo = lo
+    else:
+        line_lo = lo - c
+    line_hi = hi if high_stick else hi + c
+    parts.append(("line", 0, line_lo, line_hi, r0, r0 + line_hi - line_lo))
+    r1 = r0 + line_hi - line_lo
+    if high_stick:
+        parts.append(("stick", high_stick[0], 0.0, ell, r1, r1 + ell))
+    r_list = []
+    for p in pts:
+        if p.kind == "stick":
+            r_list.append(ell - p.v if p.k in low_stick else r1 + p.v)
+        else:
+            r_list.append(r0 + p.v - line_lo)
+    return tuple(parts), np.array(r_list)
 
 
 def directed_route(route: Route) -> DirectedRoute:
