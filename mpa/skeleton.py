@@ -226,18 +226,6 @@ class LollipopSkeleton(Skeleton):
             phi = 0.0
         return SkeletonPoint(f"S{j}a", phi) if phi < self.half else SkeletonPoint(f"S{j}b", phi - self.half)
 
-    def vertex_point(self, v: str) -> SkeletonPoint:
-        """A canonical skeleton point for vertex ``v``."""
-        ell_h = self.model.stick - self.half
-        return {
-            "e1": SkeletonPoint("I1", 0.0),
-            "v1": SkeletonPoint("I1", ell_h),
-            "v2": SkeletonPoint("S2a", 0.0),
-            "v3": SkeletonPoint("S2a", self.half),
-            "v4": SkeletonPoint("I2", ell_h),
-            "e2": SkeletonPoint("I2", 0.0),
-        }[v]
-
     def model_state(self, pt: SkeletonPoint) -> FloatArray:
         """Model configuration (a, b) of a skeleton point."""
         st = self._model_state_raw(pt)
