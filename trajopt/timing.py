@@ -19,6 +19,11 @@ leave the path. Each piece gets its own 1-DoF limits: on a straight piece with u
 ``a = q''ṡ² + q's̈``, ``j = q'''ṡ³ + 3q''ṡs̈ + q's⃛``). Boundary states are ``(s_b, ṡ_b, 0)``; a forward-backward
 pass lowers the ``ṡ_b`` until every piece is long enough to change speed within its limits, then one ruckig
 call per piece (state to state in one DoF, no waypoints needed) times it.
+
+The continuous hard path (:mod:`trajopt.corridor`) uses the other two: :func:`spline_path` (a cubic B-spline of
+the corridor's nodes, every span one piece) and :func:`filtered_scaling` (a v/a-limited profile under eroded
+limits, box-filtered so that the jerk is bounded and the timing depends continuously on the path).
+:func:`min_time_rest_to_rest` is the 1-DoF jerk-limited minimum time (a lower bound, for tests and benchmarks).
 """
 
 from __future__ import annotations
