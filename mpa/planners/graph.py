@@ -1,6 +1,6 @@
 """A complete planner for two robots on any graph track: shortest or fastest paths in the exact free space.
 
-One self-contained module (it is meant to move to ``mpa/planners/graph.py``); entry point :func:`plan_graph`.
+Entry point :func:`plan_graph` (also :func:`mpa.plan` with ``planner="graph"`` or on a graph track).
 
 **Search.** The free space ``{d >= D}`` is a union of convex polygons glued along faces (:mod:`mpa.freespace`).
 The planner runs A* on a visibility graph whose nodes are the polygons' corners, the two ends of every shared face
