@@ -33,7 +33,12 @@ from numpy.typing import NDArray
 from mpa.errors import InvalidInputError, PlanningError
 from mpa.graph import MetricGraph, farber_tc_of_graph
 from mpa.topology.algebra import FIELD_PRIME
-from mpa.topology.cohomology import field_cohomology, rational_rank_of_boundary, zero_divisor_cup_length_of
+from mpa.topology.cohomology import (
+    FieldCohomology,
+    field_cohomology,
+    rational_rank_of_boundary,
+    zero_divisor_cup_length_of,
+)
 from mpa.topology.discretized import (
     CellCounts,
     CubeComplex,
@@ -225,14 +230,7 @@ def _connected_topology(
     """Topology of a connected (already collapsed) cube complex of homotopy dimension known to be <= hdim_upper."""
     counts = cx.cell_counts
     if cx.n_squares == 0:
-        b1 = cx.n_edges - cx.n_vertices + 1
-        betti = (1, b1, 0)
-        tc = farber_tc_of_graph(b1)
-        hdim = 0 if cx.n_edges == 0 else 1  # a collapsed graph with an edge but no free vertex has a cycle
-        if hdim > hdim_upper:
-            raise PlanningError(f"a component collapsed to a graph with b1 = {b1} > 0, expected hdim <= {hdim_upper}")
-        hd = HomotopyDimension(hdim, hdim, collapsed_to_graph)
-        return ComponentTopology(betti, betti, 1 - b1, True, hd, None, None, tc, (tc, tc), counts, graph_components)
+        return _graph_topology(cx, hdim_upper, collapsed_to_graph, graph_components)
     rank_q, unit_only = rational_rank_of_boundary(cx)
     n_cycles = cx.n_edges - cx.n_vertices + 1
     betti = (1, n_cycles - rank_q, cx.n_squares - rank_q)
@@ -256,17 +254,7 @@ def _connected_topology(
         return ComponentTopology(
             betti, betti_f2, euler, torsion_free, hd, None, None, tc, (tc, tc), counts, graph_components
         )
-    # the Serre diagonal needs edge directions that agree with the coordinates of every square (all signs +1)
-    if cx.signs is None:
-        raise PlanningError("internal: cx.signs is not set")
-    if np.any(cx.signs != 1):
-        cx = cubical_subdivision(cx)
-        coh2 = field_cohomology(cx, 2)
-    zcl2 = zero_divisor_cup_length_of(cx, coh2)
-    cohp = field_cohomology(cx, FIELD_PRIME)
-    if (cohp.b1, cohp.b2) != betti[1:] and torsion_free:
-        raise PlanningError(f"Betti numbers over F_p {(cohp.b1, cohp.b2)} differ from those over Q {betti[1:]}")
-    zclp = zero_divisor_cup_length_of(cx, cohp)
+    zcl2, zclp = _zero_divisor_cup_lengths(cx, coh2, betti, torsion_free)
     lo = max(zcl2, zclp) + 1
     hi = 2 * hdim_upper + 1 if tc_upper is None else min(2 * hdim_upper + 1, tc_upper)
     if lo > hi:
@@ -284,6 +272,37 @@ def _connected_topology(
         counts,
         graph_components,
     )
+
+
+def _graph_topology(
+    cx: CubeComplex, hdim_upper: int, collapsed_to_graph: bool, graph_components: tuple[int, int] | None
+) -> ComponentTopology:
+    """Topology of a connected complex without squares (a graph): Betti numbers from the counts, Farber's TC."""
+    b1 = cx.n_edges - cx.n_vertices + 1
+    betti = (1, b1, 0)
+    tc = farber_tc_of_graph(b1)
+    hdim = 0 if cx.n_edges == 0 else 1  # a collapsed graph with an edge but no free vertex has a cycle
+    if hdim > hdim_upper:
+        raise PlanningError(f"a component collapsed to a graph with b1 = {b1} > 0, expected hdim <= {hdim_upper}")
+    hd = HomotopyDimension(hdim, hdim, collapsed_to_graph)
+    return ComponentTopology(betti, betti, 1 - b1, True, hd, None, None, tc, (tc, tc), cx.cell_counts, graph_components)
+
+
+def _zero_divisor_cup_lengths(
+    cx: CubeComplex, coh2: FieldCohomology, betti: tuple[int, int, int], torsion_free: bool | None
+) -> tuple[int, int]:
+    """Zero-divisor cup-lengths over F_2 (from ``coh2``) and over F_p, on a subdivision if the complex's edge
+    directions disagree with a square's coordinates (the Serre diagonal needs all signs +1)."""
+    if cx.signs is None:
+        raise PlanningError("internal: cx.signs is not set")
+    if np.any(cx.signs != 1):
+        cx = cubical_subdivision(cx)
+        coh2 = field_cohomology(cx, 2)
+    zcl2 = zero_divisor_cup_length_of(cx, coh2)
+    cohp = field_cohomology(cx, FIELD_PRIME)
+    if (cohp.b1, cohp.b2) != betti[1:] and torsion_free:
+        raise PlanningError(f"Betti numbers over F_p {(cohp.b1, cohp.b2)} differ from those over Q {betti[1:]}")
+    return zcl2, zero_divisor_cup_length_of(cx, cohp)
 
 
 def cube_complex_topology(cx: CubeComplex, max_homotopy_dimension: int = 2) -> tuple[ComponentTopology, ...]:
