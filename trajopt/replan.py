@@ -47,7 +47,13 @@ from mpa.plan import Plan, PlanStep
 from mpa.routes import Lift, Route
 from mpa.tracks import Circle, Lollipop, Track
 from trajopt.export import Trajectory, time_grid
-from trajopt.verify import SEPARATION_TOL, VerificationError, between_rows_separation, verify_setpoints
+from trajopt.verify import (
+    SEPARATION_TOL,
+    VerificationError,
+    VerificationReport,
+    between_rows_separation,
+    verify_setpoints,
+)
 
 if TYPE_CHECKING:
     from trajopt.generator import TrajectoryGenerator
@@ -277,26 +283,7 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
     # 4. the gate: the class of the braking rows followed by the new plan's path (the new motion is in its plan's
     # class); the first row is the moving state by construction, not at rest
     word = path_word(track, np.vstack([brake_pos, plan.sample(max(plan.samples_needed(0.002), 2))]))
-    rep = verify_setpoints(
-        track,
-        routes_c,
-        t,
-        tr,
-        s,
-        v,
-        a,
-        j,
-        limits=limits,
-        clearance=D,
-        start=p_cur,
-        goal=goal_pos,
-        word=word,
-        rate=generator.rate,
-    )
-    fails = tuple(f for f in rep.failures if not f.startswith("first row is not at rest"))
-    if fails:
-        raise PlanningError(f"the re-planned motion fails the gate: {'; '.join(fails)}") from VerificationError(rep)
-    rep = dataclasses.replace(rep, ok=True, failures=())
+    rep = _gate_from_moving_state(generator, routes_c, t, tr, (s, v, a, j), word)
     stats = dict(new.solver_stats)
     stats["replan"] = {
         "at_time": at,
@@ -331,6 +318,45 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
         plan=_spliced_plan(plan, p_cur, goal_pos, splice, word),
         sampler=sampler,
     )
+
+
+def _gate_from_moving_state(
+    generator: TrajectoryGenerator,
+    routes: Sequence[Route],
+    t: FloatArray,
+    tr: FloatArray,
+    svaj: tuple[FloatArray, FloatArray, FloatArray, FloatArray],
+    word: tuple[str, ...],
+) -> VerificationReport:
+    """The gate on the spliced rows (times ``t``, track positions ``tr``, route coordinates and derivatives
+    ``svaj``); the first row is the moving state by construction, so only "not at rest" is excused there.
+
+    Raises
+    ------
+    PlanningError
+        Any other failure of the gate.
+    """
+    s, v, a, j = svaj
+    rep = verify_setpoints(
+        generator.track,
+        routes,
+        t,
+        tr,
+        s,
+        v,
+        a,
+        j,
+        limits=generator.limits,
+        clearance=generator.clearance,
+        start=tr[0],
+        goal=tr[-1],
+        word=word,
+        rate=generator.rate,
+    )
+    fails = tuple(f for f in rep.failures if not f.startswith("first row is not at rest"))
+    if fails:
+        raise PlanningError(f"the re-planned motion fails the gate: {'; '.join(fails)}") from VerificationError(rep)
+    return dataclasses.replace(rep, ok=True, failures=())
 
 
 def _check_at_time(at_time: float, trajectory: Trajectory) -> float:
