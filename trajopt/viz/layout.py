@@ -347,12 +347,33 @@ def draw_layout(
     geo = geometry if geometry is not None else layout_geometry(tr)
     if edge_labels is None:
         edge_labels = tr.n_edges <= 30
+    _draw_edges(ax, tr, geo, color=color, lw=lw, arrows=arrows, labels=edge_labels, label_size=label_size)
+    _draw_vertices(ax, tr, geo, color=color, labels=vertex_labels, label_size=label_size)
+    _pad(ax, geo)
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xlabel("x (m)" if not geo.automatic else "x (m, automatic layout)")
+    ax.set_ylabel("y (m)" if not geo.automatic else "y (m, automatic layout)")
+    return geo
+
+
+def _draw_edges(
+    ax: Axes,
+    tr: GraphTrack,
+    geo: LayoutGeometry,
+    *,
+    color: str,
+    lw: float,
+    arrows: bool,
+    labels: bool,
+    label_size: float,
+) -> None:
+    """The edges as polylines, with an arrowhead at mid-length (their direction) and their names if asked."""
     lengths = tr.lengths
     for i, pts in enumerate(geo.polylines):
         ax.plot(pts[:, 0], pts[:, 1], color=color, lw=lw, solid_capstyle="round", zorder=1)
         if arrows:
             _arrowhead(ax, pts, geo.fractions[i], 0.5, "0.6", 15.0, zorder=1.5)
-        if edge_labels:
+        if labels:
             at = 0.5 * lengths[i]
             p = geo.embed(i, at, lengths)
             n = geo.normal(i, at, lengths)
@@ -368,13 +389,20 @@ def draw_layout(
                 color="0.4",
                 zorder=2,
             )
+
+
+def _draw_vertices(
+    ax: Axes, tr: GraphTrack, geo: LayoutGeometry, *, color: str, labels: bool | None, label_size: float
+) -> None:
+    """The vertices that edges use as small circles, named (``labels`` None: all if at most 20, else the ends and
+    the vertices of degree 2)."""
     used = sorted(set(tr.tails.tolist()) | set(tr.heads.tolist()))
     vx = geo.vertices[used]
     ax.plot(vx[:, 0], vx[:, 1], "o", color="white", mec=color, mew=1.4, ms=5.5, zorder=3)
     named = used
-    if vertex_labels is None:
+    if labels is None:
         named = used if len(used) <= 20 else [w for w in used if tr.degree(w) <= 2]
-    elif not vertex_labels:
+    elif not labels:
         named = []
     if named:
         centre = np.nanmean(vx, axis=0)
@@ -396,11 +424,6 @@ def draw_layout(
                 bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8},
                 zorder=6,
             )
-    _pad(ax, geo)
-    ax.set_aspect("equal", adjustable="box")
-    ax.set_xlabel("x (m)" if not geo.automatic else "x (m, automatic layout)")
-    ax.set_ylabel("y (m)" if not geo.automatic else "y (m, automatic layout)")
-    return geo
 
 
 # ------------------------------------------------------------------------------------------------- routes
