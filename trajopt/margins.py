@@ -140,7 +140,7 @@ class _Motion:
 
     def dist(self, s: FloatArray) -> FloatArray:
         r = self.routes
-        return self.track.distance(r[0].position(s[:, 0]), r[1].position(s[:, 1]))  # type: ignore[no-any-return]
+        return self.track.distance(r[0].position(s[:, 0]), r[1].position(s[:, 1]))
 
     def grid(self, delay: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Times, separations at the rows, between-rows lower bounds for a motion with delays (s)."""

@@ -93,9 +93,8 @@ def _pieces(track: Track, route: Route, s0: float, s1: float) -> list[tuple[str,
     for a, b in itertools.pairwise(cuts):
         mid = 0.5 * (a + b)
         pa, pb, pm = (float(route.position(x)) for x in (a, b, mid))
-        on_loop = isinstance(track, Circle) or (isinstance(track, Lollipop) and pm > track.stick)
-        if on_loop:
-            c = track.loop  # type: ignore[attr-defined]
+        if isinstance(track, Circle) or (isinstance(track, Lollipop) and pm > track.stick):
+            c = track.loop
             eps = min(1e-4, abs(b - a) / 4)
             step = float(route.position(mid + eps * np.sign(b - a))) - pm
             step = (step + c / 2) % c - c / 2
@@ -182,8 +181,8 @@ def describe(trajectory: Any) -> dict[str, str]:
     --------
     >>> from mpa import Lollipop
     >>> from trajopt import generate_trajectory
-    >>> describe(generate_trajectory(Lollipop(1.0, 1.0), (0.1, 0.6), (0.8, 0.3)))["A"]
-    'up the stick to 0.80 m'
+    >>> describe(generate_trajectory(Lollipop(1.0, 1.0), (0.1, 0.6), (0.3, 0.8)))
+    {'A': 'up the stick to 0.30 m', 'B': 'up the stick to 0.80 m'}
     """
     plan = trajectory.plan
     return describe_rows(plan.track, plan.routes, trajectory.t, trajectory.s)
