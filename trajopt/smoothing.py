@@ -388,7 +388,7 @@ class SmoothingProblem:
         g = ca.vertcat(*g_cells, *g_vel)
         smooth = ca.sumsqr(ca.diff(da)) + ca.sumsqr(ca.diff(db)) if n > 1 else ca.SX(0)
         f = ca.sum1(dt) + w * smooth
-        opts = {
+        opts: dict[str, Any] = {
             "ipopt.print_level": 0,
             "ipopt.sb": "yes",
             "print_time": False,

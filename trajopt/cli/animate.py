@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from mpa.errors import InvalidInputError
+from mpa.tracks import Track
 from trajopt.cli.common import (
     TRAJECTORY_DEFAULTS,
     add_trajectory_arguments,
@@ -29,6 +30,8 @@ DEFAULTS = TRAJECTORY_DEFAULTS
 def _cmd_animate(args: argparse.Namespace) -> int:
     check_output_dir(args.out)
     track, start, goal = query_from_args(args)
+    if not isinstance(track, Track):
+        raise InvalidInputError("mpa animate takes --track interval|circle|lollipop")
     if args.max_frames is not None and args.max_frames < 2:
         raise InvalidInputError(f"--max-frames is {args.max_frames}, expected an integer >= 2")
     from trajopt.viz.animation import FORMATS, animate_query

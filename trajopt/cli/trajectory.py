@@ -18,7 +18,7 @@ from typing import Any
 
 from mpa import defaults
 from mpa.errors import InvalidInputError
-from mpa.tracks import Lollipop
+from mpa.tracks import Lollipop, Track
 from trajopt.cli.common import (
     TRAJECTORY_DEFAULTS,
     add_trajectory_arguments,
@@ -127,6 +127,8 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
     tolerance = None if args.delay_tolerance is None else check_delay_tolerance(args.delay_tolerance)
     check_output_dir(args.out)
     track, start, goal = query_from_args(args)
+    if not isinstance(track, Track):
+        raise InvalidInputError("mpa trajectory takes --track interval|circle|lollipop")
     gen = TrajectoryGenerator(
         track, clearance=args.clearance, limits=Limits(args.vmax, args.amax, args.jmax), rate=args.rate
     )
