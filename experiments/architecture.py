@@ -42,7 +42,7 @@ class Layer:
 #: The layers, bottom first.
 LAYERS = (
     Layer("mpa — the paper (numpy only)", ("mpa", "mpa/planners", "mpa/topology"), "numpy", "#dbe9f6"),
-    Layer("trajopt — the pipeline", ("trajopt",), "casadi, toppra, ruckig (rosbags for MCAP, optional)", "#e2f0d9"),
+    Layer("trajopt — the pipeline", ("trajopt",), "casadi, toppra, ruckig (rosbags: ROS 2 bags only)", "#e2f0d9"),
     Layer("trajopt.cli and trajopt.viz", ("trajopt/cli", "trajopt/viz"), "matplotlib (viz only)", "#fde9d9"),
     Layer("experiments — figures, animations, benchmarks", ("experiments", "experiments/bench"), "ompl, dask", "#eee"),
 )
@@ -51,7 +51,19 @@ LAYERS = (
 _ALLOWED = (
     {"numpy", "mpa"},
     {"numpy", "mpa", "trajopt", "casadi", "toppra", "ruckig", "rosbags"},
-    {"numpy", "mpa", "trajopt", "casadi", "toppra", "ruckig", "matplotlib", "mpl_toolkits", "PIL", "imageio_ffmpeg"},
+    {
+        "numpy",
+        "mpa",
+        "trajopt",
+        "casadi",
+        "toppra",
+        "ruckig",
+        "rosbags",
+        "matplotlib",
+        "mpl_toolkits",
+        "PIL",
+        "imageio_ffmpeg",
+    },
     None,  # experiments: anything
 )
 
@@ -99,13 +111,17 @@ def check_layers() -> list[str]:
     return problems
 
 
+#: At most this many module boxes in one row of the picture (a folder with more takes several rows).
+MODULES_PER_ROW = 7
+
+
 def _folder_rows(layer: Layer) -> list[tuple[str, list[str]]]:
-    """The modules of a layer, one row per folder: ``(folder label, module names)``."""
+    """The modules of a layer, row by row: ``(folder label, module names)``; a folder's later rows have no label."""
     rows = []
     for folder in layer.folders:
         names = [p.stem for p in sorted((ROOT / folder).glob("*.py")) if p.stem not in ("__init__", "__main__")]
-        if names:
-            rows.append((folder.replace("/", ".") + ".", names))
+        for k in range(0, len(names), MODULES_PER_ROW):
+            rows.append((folder.replace("/", ".") + "." if k == 0 else "", names[k : k + MODULES_PER_ROW]))
     return rows
 
 
@@ -163,7 +179,7 @@ def _module_row(ax: object, label: str, names: Sequence[str], y: float) -> None:
     """One folder's modules as small boxes in a row at height ``y``, after the folder's name."""
     ax.text(0.4, y, label, ha="left", va="center", fontsize=9, color="0.3", family="monospace")  # type: ignore[attr-defined]
     x0, width = 2.3, 9.4
-    w = width / max(len(names), 1)
+    w = width / MODULES_PER_ROW  # a fixed grid: the boxes of consecutive rows line up
     for k, name in enumerate(names):
         ax.text(  # type: ignore[attr-defined]
             x0 + (k + 0.5) * w,

@@ -225,11 +225,6 @@ class GraphGeometry:
             d = min(d, abs(sa - sb))
         return d
 
-    def vertex_position_distance(self, w: int, e: int, s: float) -> float:
-        """Distance from vertex ``w`` to position ``(e, s)`` (metres)."""
-        dv = self._dv
-        return min(s + dv[w][self._t[e]], self._L[e] - s + dv[w][self._h[e]])
-
     # ------------------------------------------------------------------------------------------ cells
     def cell_terms(self, e: int, f: int) -> list[tuple[float, float, float]]:
         """The affine terms of the cell ``e × f``.

@@ -6,6 +6,7 @@ Loops (an edge from a vertex to itself) and multiple edges are allowed.
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Hashable, Iterable, Sequence
 from dataclasses import dataclass, field
 
@@ -85,7 +86,10 @@ class MetricGraph:
                 if w not in seen:
                     seen.add(w)
                     vertices.append(w)
-            length = float(item[2]) if len(item) == 3 else 1.0  # type: ignore[arg-type]
+            raw = item[2] if len(item) == 3 else 1.0
+            if isinstance(raw, bool) or not isinstance(raw, numbers.Real):
+                raise InvalidInputError(f"length of edge {i} is {raw!r}, expected a number (metres)")
+            length = float(raw)
             out.append(Edge(f"e{i}", u, v, length))
         return cls(tuple(vertices), tuple(out))
 

@@ -29,7 +29,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeGuard
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -45,7 +45,7 @@ Position = tuple[int, float]
 _EDGE_KEYS = {"name", "from", "to", "length", "points"}
 
 
-def _is_number(x: object) -> bool:
+def _is_number(x: object) -> TypeGuard[int | float]:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
@@ -53,10 +53,10 @@ def _point(value: object, what: str) -> tuple[float, float]:
     if (
         not isinstance(value, (list, tuple))
         or len(value) != 2
-        or not all(_is_number(c) and math.isfinite(c) for c in value)  # type: ignore[arg-type]
+        or not all(_is_number(c) and math.isfinite(c) for c in value)
     ):
         raise InvalidInputError(f"{what} is {value!r}, expected [x, y] with two finite numbers (metres)")
-    return float(value[0]), float(value[1])  # type: ignore[arg-type]
+    return float(value[0]), float(value[1])
 
 
 def _vertex_name(value: object, what: str) -> str:
@@ -66,6 +66,94 @@ def _vertex_name(value: object, what: str) -> str:
     if not name:
         raise InvalidInputError(f"{what} is an empty string, expected a vertex name")
     return name
+
+
+def _layout_parts(data: object) -> tuple[list[object], object]:
+    """The layout's non-empty edge list and its ``vertices`` entry (None if absent), after checking the keys."""
+    if not isinstance(data, Mapping):
+        raise InvalidInputError(f'layout is a {type(data).__name__}, expected an object with the key "edges"')
+    unknown = sorted(set(map(str, data)) - {"vertices", "edges"})
+    if unknown:
+        raise InvalidInputError(f'layout has unknown keys {unknown}, expected "vertices" and "edges"')
+    if "edges" not in data:
+        raise InvalidInputError('layout has no key "edges", expected a list of edges')
+    edges = data["edges"]
+    if not isinstance(edges, list):
+        raise InvalidInputError(f'layout "edges" is a {type(edges).__name__}, expected a list')
+    if not edges:
+        raise InvalidInputError('layout "edges" is empty, expected at least one edge')
+    return edges, data.get("vertices")
+
+
+def _layout_vertices(raw_vertices: object) -> dict[str, tuple[float, float] | None]:
+    """The layout's listed vertices: name to coordinates (None where the layout gives none)."""
+    if not isinstance(raw_vertices, Mapping):
+        raise InvalidInputError(
+            f'layout "vertices" is a {type(raw_vertices).__name__}, expected an object {{"name": [x, y]}}'
+        )
+    vertex_xy: dict[str, tuple[float, float] | None] = {}
+    for raw_name, xy in raw_vertices.items():
+        vname = _vertex_name(raw_name, "vertex name")
+        vertex_xy[vname] = None if xy is None else _point(xy, f"coordinates of vertex {vname!r}")
+    return vertex_xy
+
+
+def _edge_fields(i: int, item: object) -> tuple[object, object, object, object, object]:
+    """The raw name, end vertices, length and points of edge ``i`` (a list ``[u, v(, length)]`` or an object);
+    absent ones are None, the name defaults to ``e{i}``."""
+    name: object = f"e{i}"
+    length: object = None
+    pts: object = None
+    if isinstance(item, list):
+        if len(item) not in (2, 3):
+            raise InvalidInputError(f"edge {i} is {item!r}, expected [u, v], [u, v, length] or an object")
+        if len(item) == 3:
+            length = item[2]
+        return name, item[0], item[1], length, pts
+    if isinstance(item, Mapping):
+        bad = sorted(set(map(str, item)) - _EDGE_KEYS)
+        if bad:
+            raise InvalidInputError(f"edge {i} has unknown keys {bad}, expected keys among {sorted(_EDGE_KEYS)}")
+        for key in ("from", "to"):
+            if key not in item:
+                raise InvalidInputError(f'edge {i} has no "{key}", expected "from" and "to" vertex names')
+        return item.get("name", name), item["from"], item["to"], item.get("length"), item.get("points")
+    raise InvalidInputError(f"edge {i} is {item!r}, expected [u, v], [u, v, length] or an object")
+
+
+def _edge_name(i: int, name: object, used: set[str]) -> str:
+    """Edge ``i``'s name, checked: a non-empty string without ':' not in ``used``."""
+    if not isinstance(name, str) or not name:
+        raise InvalidInputError(f"name of edge {i} is {name!r}, expected a non-empty string")
+    if name in used:
+        raise InvalidInputError(f"edge name {name!r} is used twice, expected distinct edge names")
+    if ":" in name:
+        raise InvalidInputError(f"edge name {name!r} contains ':', expected a name without ':'")
+    return name
+
+
+def _edge_points(pts: object, name: str) -> tuple[tuple[float, float], ...]:
+    """An edge's drawn polyline (interior points; empty if the layout gives none)."""
+    if pts is None:
+        return ()
+    if not isinstance(pts, list):
+        raise InvalidInputError(f"points of edge {name!r} is {pts!r}, expected a list of [x, y]")
+    return tuple(_point(p, f"point {j} of edge {name!r}") for j, p in enumerate(pts))
+
+
+def _edge_length(length: object, name: str, a: tuple[float, float] | None, b: tuple[float, float] | None) -> float:
+    """An edge's length (m): as given, else the straight distance of its ends' coordinates ``a, b``, else 1."""
+    if length is None:
+        length_f = math.hypot(b[0] - a[0], b[1] - a[1]) if a is not None and b is not None else 1.0
+        if length_f <= 0:
+            raise InvalidInputError(
+                f"length of edge {name!r} is {length_f!r} (the straight distance of its end coordinates), "
+                "expected a finite number > 0: give a length"
+            )
+        return length_f
+    if not _is_number(length) or not math.isfinite(length) or float(length) <= 0:
+        raise InvalidInputError(f"length of edge {name!r} is {length!r}, expected a finite number > 0")
+    return float(length)
 
 
 @dataclass(frozen=True)
@@ -133,64 +221,16 @@ class GraphTrack:
         >>> [e.name for e in t.graph.edges], t.graph.edges[1].length
         (['e0', 'e1'], 2.0)
         """
-        if not isinstance(data, Mapping):
-            raise InvalidInputError(f'layout is a {type(data).__name__}, expected an object with the key "edges"')
-        unknown = sorted(set(map(str, data)) - {"vertices", "edges"})
-        if unknown:
-            raise InvalidInputError(f'layout has unknown keys {unknown}, expected "vertices" and "edges"')
-        if "edges" not in data:
-            raise InvalidInputError('layout has no key "edges", expected a list of edges')
-        edges = data["edges"]
-        if not isinstance(edges, list):
-            raise InvalidInputError(f'layout "edges" is a {type(edges).__name__}, expected a list')
-        if not edges:
-            raise InvalidInputError('layout "edges" is empty, expected at least one edge')
-        raw_vertices = data.get("vertices")
-        vertex_xy: dict[str, tuple[float, float] | None] = {}
+        edges, raw_vertices = _layout_parts(data)
         listed = raw_vertices is not None
-        if listed:
-            if not isinstance(raw_vertices, Mapping):
-                raise InvalidInputError(
-                    f'layout "vertices" is a {type(raw_vertices).__name__}, expected an object {{"name": [x, y]}}'
-                )
-            for raw_name, xy in raw_vertices.items():
-                vname = _vertex_name(raw_name, "vertex name")
-                vertex_xy[vname] = None if xy is None else _point(xy, f"coordinates of vertex {vname!r}")
+        vertex_xy = _layout_vertices(raw_vertices) if raw_vertices is not None else {}
         order: list[str] = list(vertex_xy)
         out_edges: list[Edge] = []
         out_points: list[tuple[tuple[float, float], ...]] = []
         names: set[str] = set()
         for i, item in enumerate(edges):
-            name: object = f"e{i}"
-            length: object = None
-            pts: object = None
-            if isinstance(item, list):
-                if len(item) not in (2, 3):
-                    raise InvalidInputError(f"edge {i} is {item!r}, expected [u, v], [u, v, length] or an object")
-                u_raw, v_raw = item[0], item[1]
-                if len(item) == 3:
-                    length = item[2]
-            elif isinstance(item, Mapping):
-                bad = sorted(set(map(str, item)) - _EDGE_KEYS)
-                if bad:
-                    raise InvalidInputError(
-                        f"edge {i} has unknown keys {bad}, expected keys among {sorted(_EDGE_KEYS)}"
-                    )
-                for key in ("from", "to"):
-                    if key not in item:
-                        raise InvalidInputError(f'edge {i} has no "{key}", expected "from" and "to" vertex names')
-                u_raw, v_raw = item["from"], item["to"]
-                name = item.get("name", name)
-                length = item.get("length")
-                pts = item.get("points")
-            else:
-                raise InvalidInputError(f"edge {i} is {item!r}, expected [u, v], [u, v, length] or an object")
-            if not isinstance(name, str) or not name:
-                raise InvalidInputError(f"name of edge {i} is {name!r}, expected a non-empty string")
-            if name in names:
-                raise InvalidInputError(f"edge name {name!r} is used twice, expected distinct edge names")
-            if ":" in name:
-                raise InvalidInputError(f"edge name {name!r} contains ':', expected a name without ':'")
+            raw_name, u_raw, v_raw, length, pts = _edge_fields(i, item)
+            name = _edge_name(i, raw_name, names)
             names.add(name)
             u = _vertex_name(u_raw, f"vertex 'from' of edge {name!r}")
             v = _vertex_name(v_raw, f"vertex 'to' of edge {name!r}")
@@ -203,24 +243,8 @@ class GraphTrack:
                         )
                     vertex_xy[w] = None
                     order.append(w)
-            poly: tuple[tuple[float, float], ...] = ()
-            if pts is not None:
-                if not isinstance(pts, list):
-                    raise InvalidInputError(f"points of edge {name!r} is {pts!r}, expected a list of [x, y]")
-                poly = tuple(_point(p, f"point {j} of edge {name!r}") for j, p in enumerate(pts))
-            if length is None:
-                a, b = vertex_xy[u], vertex_xy[v]
-                length_f = math.hypot(b[0] - a[0], b[1] - a[1]) if a is not None and b is not None else 1.0
-                if length_f <= 0:
-                    raise InvalidInputError(
-                        f"length of edge {name!r} is {length_f!r} (the straight distance of its end coordinates), "
-                        "expected a finite number > 0: give a length"
-                    )
-            else:
-                if not _is_number(length) or not math.isfinite(length) or float(length) <= 0:  # type: ignore[arg-type]
-                    raise InvalidInputError(f"length of edge {name!r} is {length!r}, expected a finite number > 0")
-                length_f = float(length)  # type: ignore[arg-type]
-            out_edges.append(Edge(name, u, v, length_f))
+            poly = _edge_points(pts, name)
+            out_edges.append(Edge(name, u, v, _edge_length(length, name, vertex_xy[u], vertex_xy[v])))
             out_points.append(poly)
         graph = MetricGraph(tuple(order), tuple(out_edges))
         return cls(graph, tuple(vertex_xy[w] for w in order), tuple(out_points))
@@ -310,7 +334,7 @@ class GraphTrack:
         """Sum of the edge lengths (metres)."""
         return float(self.lengths.sum())
 
-    def edge_index(self, edge: str | int) -> int:
+    def edge_index(self, edge: str | int | np.integer) -> int:
         """Index of an edge given by name or index."""
         if isinstance(edge, (int, np.integer)) and not isinstance(edge, bool):
             if 0 <= int(edge) < self.n_edges:
@@ -390,7 +414,7 @@ class GraphTrack:
         if not isinstance(edge, (str, int, np.integer)) or isinstance(edge, bool):
             raise InvalidInputError(f"edge of {name} is {edge!r}, expected an edge name")
         try:
-            i = self.edge_index(edge)  # type: ignore[arg-type]
+            i = self.edge_index(edge)
         except InvalidInputError:
             raise InvalidInputError(
                 f"edge of {name} is {edge!r}, expected one of {list(self.edge_names)[:20]}"

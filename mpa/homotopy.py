@@ -89,7 +89,7 @@ def word_from_samples(graph: MetricGraph, edges: list[int], ts: list[float]) -> 
     n = len(edges)
     if n == 0:
         return ()
-    steps: list[list[object]] = []  # [edge index, t_from, t_to]
+    steps: list[tuple[int, float, float]] = []  # (edge index, t_from, t_to)
 
     def push(e: int, t0: float, t1: float) -> None:
         while True:
@@ -97,9 +97,9 @@ def word_from_samples(graph: MetricGraph, edges: list[int], ts: list[float]) -> 
                 return
             if steps and steps[-1][0] == e:
                 top = steps.pop()
-                t0 = top[1]  # type: ignore[assignment]
+                t0 = top[1]
                 continue
-            steps.append([e, t0, t1])
+            steps.append((e, t0, t1))
             return
 
     cur = edges[0]
@@ -119,7 +119,7 @@ def word_from_samples(graph: MetricGraph, edges: list[int], ts: list[float]) -> 
         cur = nxt
         t_from = 0.0 if v == str(E[nxt].tail) else E[nxt].length
     push(cur, t_from, ts[-1])
-    return tuple(("+" if st[2] > st[1] else "-") + E[st[0]].name for st in steps)  # type: ignore[operator,index,call-overload]
+    return tuple(("+" if st[2] > st[1] else "-") + E[st[0]].name for st in steps)
 
 
 def skeleton_points(skeleton: Skeleton, states: ArrayLike) -> tuple[np.ndarray, np.ndarray]:

@@ -192,31 +192,13 @@ def build_plan(
     regime: str = "paper",
 ) -> Plan:
     """Assemble a :class:`Plan` from the three steps given as joint moves (real track coordinates)."""
-    moves_a: list[RobotMove] = []
-    moves_b: list[RobotMove] = []
-    step_ranges: list[tuple[int, int]] = []
-    for _desc, jm in steps:
-        first = len(moves_a)
-        for ma, mb in jm:
-            if abs(ma.delta) <= 1e-15 and abs(mb.delta) <= 1e-15:
-                continue
-            moves_a.append(ma)
-            moves_b.append(mb)
-        step_ranges.append((first, len(moves_a)))
+    moves_a, moves_b, step_ranges = _moving_moves(steps)
     lifts_a = lift_moves(track, moves_a, float(start[0]))
     lifts_b = lift_moves(track, moves_b, float(start[1]))
     route_a, sig_a = Route.through(track, lifts_a)
     route_b, sig_b = Route.through(track, lifts_b)
     sa, sb = sig_a.tolist(), sig_b.tolist()
-    cum_l = [0.0]
-    trav_a = trav_b = 0.0
-    for i in range(1, len(sa)):
-        da, db = abs(sa[i] - sa[i - 1]), abs(sb[i] - sb[i - 1])
-        trav_a += da
-        trav_b += db
-        cum_l.append(cum_l[-1] + (da if da > db else db))
-    total = cum_l[-1]
-    knots_l = [c / total for c in cum_l] if total > 0 else [0.0] * len(cum_l)
+    knots_l, (trav_a, trav_b), total = _knots_and_travel(sa, sb)
     pos_l = [[lift_position(track, la), lift_position(track, lb)] for la, lb in zip(lifts_a, lifts_b)]
     pos_l[0], pos_l[-1] = [float(start[0]), float(start[1])], [float(goal[0]), float(goal[1])]
     pos = np.array(pos_l)
@@ -252,3 +234,37 @@ def build_plan(
         n = max(2001, result.samples_needed(0.0005))
         return replace(result, word=path_word(track, result.sample(n)))
     return result
+
+
+def _moving_moves(
+    steps: Sequence[tuple[str, Sequence[JointMove]]],
+) -> tuple[list[RobotMove], list[RobotMove], list[tuple[int, int]]]:
+    """Each robot's moves of all steps in order, joint moves where neither robot moves dropped, and the range of
+    move indices ``[first, end)`` of every step."""
+    moves_a: list[RobotMove] = []
+    moves_b: list[RobotMove] = []
+    step_ranges: list[tuple[int, int]] = []
+    for _desc, jm in steps:
+        first = len(moves_a)
+        for ma, mb in jm:
+            if abs(ma.delta) <= 1e-15 and abs(mb.delta) <= 1e-15:
+                continue
+            moves_a.append(ma)
+            moves_b.append(mb)
+        step_ranges.append((first, len(moves_a)))
+    return moves_a, moves_b, step_ranges
+
+
+def _knots_and_travel(sa: list[float], sb: list[float]) -> tuple[list[float], tuple[float, float], float]:
+    """From the corners' route coordinates of A and B: the knots ``u`` of the corners (path length by the larger
+    of the two moves, normalised to [0, 1]), each robot's travel and the total length (metres)."""
+    cum_l = [0.0]
+    trav_a = trav_b = 0.0
+    for i in range(1, len(sa)):
+        da, db = abs(sa[i] - sa[i - 1]), abs(sb[i] - sb[i - 1])
+        trav_a += da
+        trav_b += db
+        cum_l.append(cum_l[-1] + (da if da > db else db))
+    total = cum_l[-1]
+    knots_l = [c / total for c in cum_l] if total > 0 else [0.0] * len(cum_l)
+    return knots_l, (trav_a, trav_b), total

@@ -13,6 +13,7 @@ and round the loop; the goal has ``σ ≥ 0``. Trajectory optimisation works in 
 
 from __future__ import annotations
 
+import functools
 import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -30,6 +31,18 @@ __all__ = ["Lift", "RobotMove", "Route", "directed_route", "lift_moves", "lift_p
 FloatArray = NDArray[np.float64]
 #: Tolerance (metres) for deciding that a lifted point sits on a junction.
 LIFT_TOL = 1e-9
+
+
+class _PieceArrays(NamedTuple):
+    """A route's pieces as arrays (one entry per piece; ``ends``: the ``r`` where each piece but the last ends)."""
+
+    ends: FloatArray
+    is_stick: NDArray[np.bool_]
+    k: NDArray[np.int64]
+    v0: FloatArray
+    v1: FloatArray
+    r0: FloatArray
+    span: FloatArray
 
 
 class Lift(NamedTuple):
@@ -201,79 +214,27 @@ class Route:
         PlanningError
             If the points do not lie on one geodesic line of the cover (never happens for the paper's plans).
         """
-        c = getattr(track, "loop", 0.0)
-        ell = track.stick if isinstance(track, (Lollipop, Interval)) else 0.0
         tol = 1e-7 * max(1.0, track.total_length)
-        # normalise: a stick point at depth 0 is the junction on the line
-        # (the start and the goal only when exactly at P: a robot a hair below P must keep its own position)
         ends = {0, goal_index % len(lifts)}
-        pts = []
-        for i, lf in enumerate(lifts):
-            if lf.kind == "stick" and (lf.v <= 0.0 if i in ends else lf.v <= tol):
-                pts.append(Lift("line", 0, lf.k * c))
-            else:
-                pts.append(lf)
-        sticks = sorted({p.k for p in pts if p.kind == "stick"})
-        line_vals = [p.v for p in pts if p.kind == "line"] + [k * c for k in sticks]
-        if not isinstance(track, Lollipop):
-            lo, hi = min(line_vals), max(line_vals)
-            if isinstance(track, Interval):
-                ext_lo, ext_hi = 0.0, ell
-            else:
-                ext_lo, ext_hi = lo - c, hi + c
-            pieces = (("line", 0, ext_lo, ext_hi, 0.0, ext_hi - ext_lo),)
-            r = np.array([p.v - ext_lo for p in pts])
-            return cls._oriented(track, pieces, r, goal_index)
-        lo, hi = min(line_vals), max(line_vals)
-        if len(sticks) > 2:
-            raise PlanningError(f"robot visits {len(sticks)} copies of the stick: not a geodesic route")
-        only_stick = (
-            all(p.kind == "stick" or abs(p.v - sticks[0] * c) <= (0.0 if i in ends else tol) for i, p in enumerate(pts))
-            if sticks
-            else False
-        )
-        if only_stick and len(sticks) == 1:
-            k = sticks[0]
-            pieces = (("stick", k, ell, 0.0, 0.0, ell),)  # from the free end up to P_k: r = ℓ − x
-            r = np.array([ell - (p.v if p.kind == "stick" else 0.0) for p in pts])
-            return cls._oriented(track, pieces, r, goal_index)
-        # a stick hangs at the low (high) end of the line if no point of the line lies below (above) its P_k; the
-        # start and the goal count exactly, other corners within ``tol``
-        line_pts = [(p.v, 0.0 if i in ends else tol) for i, p in enumerate(pts) if p.kind == "line"]
-        low_stick = [k for k in sticks if abs(k * c - lo) <= tol and all(v >= k * c - t for v, t in line_pts)]
-        high_stick = [
-            k
-            for k in sticks
-            if abs(k * c - hi) <= tol and k not in low_stick and all(v <= k * c + t for v, t in line_pts)
-        ]
-        if len(low_stick) + len(high_stick) != len(sticks):
-            raise PlanningError("robot's path branches off its route at a lift of P: not a geodesic route")
-        parts: list[tuple[str, int, float, float, float, float]] = []
-        r0 = 0.0
-        if low_stick:
-            parts.append(("stick", low_stick[0], ell, 0.0, 0.0, ell))
-            r0 = ell
-            line_lo = lo
+        pts = _at_junctions_on_the_line(track, lifts, ends, tol)
+        if isinstance(track, Lollipop):
+            pieces, r = _lollipop_line(track, pts, ends, tol)
         else:
-            line_lo = lo - c
-        line_hi = hi if high_stick else hi + c
-        parts.append(("line", 0, line_lo, line_hi, r0, r0 + line_hi - line_lo))
-        r1 = r0 + line_hi - line_lo
-        if high_stick:
-            parts.append(("stick", high_stick[0], 0.0, ell, r1, r1 + ell))
-        r_list = []
-        for p in pts:
-            if p.kind == "stick":
-                r_list.append(ell - p.v if p.k in low_stick else r1 + p.v)
-            else:
-                r_list.append(r0 + p.v - line_lo)
-        return cls._oriented(track, tuple(parts), np.array(r_list), goal_index)
+            pieces, r = _unrolled_line(track, pts)
+        return cls._oriented(track, pieces, r, goal_index)
 
     @classmethod
-    def _oriented(cls, track, pieces, r, goal_index):  # type: ignore[no-untyped-def]
-        r = [float(v) for v in r]
-        r_start = r[0]
-        diffs = [v - r_start for v in r]
+    def _oriented(
+        cls,
+        track: Track,
+        pieces: tuple[tuple[str, int, float, float, float, float], ...],
+        r: FloatArray,
+        goal_index: int,
+    ) -> tuple[Route, FloatArray]:
+        """The route through corner points at line arc lengths ``r``, oriented so that the goal has ``σ >= 0``."""
+        rs = [float(v) for v in r]
+        r_start = rs[0]
+        diffs = [v - r_start for v in rs]
         goal = diffs[goal_index]
         if abs(goal) > 1e-12:
             direction = 1 if goal > 0 else -1
@@ -286,47 +247,45 @@ class Route:
         route = cls(track, tuple(pieces), r_start, direction, min(s_a, s_b), max(s_a, s_b), abs(goal))
         return route, sigma
 
-    def _arrays(self) -> None:
-        """Per-piece arrays for :meth:`lift_at` (built on first use)."""
+    @functools.cached_property
+    def _piece_arrays(self) -> _PieceArrays:
+        """Per-piece arrays for :meth:`lift_at` (built on first use, cached on the instance)."""
         pcs = self.pieces
-        object.__setattr__(self, "_ends", np.array([pc[5] for pc in pcs[:-1]]))
-        object.__setattr__(self, "_kinds", np.array([pc[0] == "stick" for pc in pcs]))
-        object.__setattr__(self, "_ks", np.array([pc[1] for pc in pcs]))
-        object.__setattr__(self, "_v0", np.array([pc[2] for pc in pcs]))
-        object.__setattr__(self, "_v1", np.array([pc[3] for pc in pcs]))
-        object.__setattr__(self, "_ra", np.array([pc[4] for pc in pcs]))
+        ra = np.array([pc[4] for pc in pcs])
         rb = np.array([pc[5] for pc in pcs])
-        object.__setattr__(self, "_span", np.where(rb > self._ra, rb - self._ra, 1.0))  # type: ignore[attr-defined]
-
-    # -------------------------------------------------------------------------------------------
-    def _pieces_at(self, r: FloatArray) -> NDArray[np.intp]:
-        if "_ends" not in self.__dict__:
-            self._arrays()
-        ends: FloatArray = self.__dict__["_ends"]
-        return np.searchsorted(ends, r, side="left")
+        return _PieceArrays(
+            ends=np.array([pc[5] for pc in pcs[:-1]]),
+            is_stick=np.array([pc[0] == "stick" for pc in pcs]),
+            k=np.array([pc[1] for pc in pcs], dtype=np.int64),
+            v0=np.array([pc[2] for pc in pcs]),
+            v1=np.array([pc[3] for pc in pcs]),
+            r0=ra,
+            span=np.where(rb > ra, rb - ra, 1.0),
+        )
 
     def lift_at(self, sigma: ArrayLike) -> tuple[NDArray[np.bool_], NDArray[np.int64], FloatArray]:
         """Lifted points at route coordinates ``σ``: (is_stick, copy index k, v). Same shape as ``σ``."""
         s = np.asarray(sigma, dtype=float)
         r = self.r_start + self.direction * s
-        idx = self._pieces_at(r)
-        kinds, ks, v0, v1 = self._kinds, self._ks, self._v0, self._v1  # type: ignore[attr-defined]
-        ra, span = self._ra, self._span  # type: ignore[attr-defined]
-        frac = (r - ra[idx]) / span[idx]
-        v = v0[idx] + frac * (v1[idx] - v0[idx])
-        is_stick = kinds[idx]
+        pa = self._piece_arrays
+        idx = np.searchsorted(pa.ends, r, side="left")
+        frac = (r - pa.r0[idx]) / pa.span[idx]
+        v = pa.v0[idx] + frac * (pa.v1[idx] - pa.v0[idx])
+        is_stick = pa.is_stick[idx]
         if isinstance(self.track, (Lollipop, Interval)):
             lim = self.track.stick
             v = np.where(is_stick, np.clip(v, 0.0, lim), v)
             if isinstance(self.track, Interval):
                 v = np.clip(v, 0.0, lim)
-        return is_stick, ks[idx], v
+        return is_stick, pa.k[idx], v
 
     def _affine(self) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:
         """Per piece, in order of increasing σ: breakpoints, and ``A + B·σ`` = depth-or-track value."""
-        cached = self.__dict__.get("_affine_cache")
-        if cached is not None:
-            return cached  # type: ignore[no-any-return]
+        return self._affine_form
+
+    @functools.cached_property
+    def _affine_form(self) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:
+        """:meth:`_affine`, computed on first use and cached on the instance."""
         tr = self.track
         ell = tr.stick if isinstance(tr, Lollipop) else 0.0
         rows = []
@@ -346,7 +305,6 @@ class Route:
             np.array([r[2] for r in rows]),
             np.array([r[3] for r in rows]),
         )
-        object.__setattr__(self, "_affine_cache", out)
         return out
 
     def position(self, sigma: ArrayLike) -> FloatArray:
@@ -357,12 +315,12 @@ class Route:
         if len(A) == 1:
             val = A[0] + B[0] * s
             line = bool(is_line[0])
-            if isinstance(tr, Interval):
+            if isinstance(tr, Interval) or (isinstance(tr, Lollipop) and not line):
                 return np.clip(val, 0.0, tr.stick)
-            if not line:
-                return np.clip(val, 0.0, tr.stick)  # type: ignore[attr-defined]
-            th = np.mod(val, tr.loop)  # type: ignore[attr-defined]
-            th = np.where(th >= tr.loop - 1e-12, 0.0, th)  # type: ignore[attr-defined]
+            if not isinstance(tr, (Circle, Lollipop)):
+                raise InvalidInputError(f"track is {tr!r}, expected an Interval, Circle or Lollipop")
+            th = np.mod(val, tr.loop)
+            th = np.where(th >= tr.loop - 1e-12, 0.0, th)
             return tr.stick + th if isinstance(tr, Lollipop) else th
         idx = np.searchsorted(breaks, s, side="left")
         val = A[idx] + B[idx] * s
@@ -386,6 +344,92 @@ class Route:
                 rs.extend(ra + (m * c - v0) * np.sign(v1 - v0 if v1 != v0 else 1.0))
         s = self.direction * (np.array(sorted(set(np.round(rs, 12)))) - self.r_start)
         return np.sort(s[(s >= self.sigma_min - 1e-12) & (s <= self.sigma_max + 1e-12)])
+
+
+_Piece = tuple[str, int, float, float, float, float]  # (kind, k, v_from, v_to, r_from, r_to), see Route
+
+
+def _at_junctions_on_the_line(track: Track, lifts: Sequence[Lift], ends: set[int], tol: float) -> list[Lift]:
+    """The lifts with every stick point at depth 0 (within ``tol``) moved onto the line (the junction ``P_k``); the
+    start and the goal (indices ``ends``) only when exactly at P: a robot a hair below P keeps its own position."""
+    c = getattr(track, "loop", 0.0)
+    pts = []
+    for i, lf in enumerate(lifts):
+        if lf.kind == "stick" and (lf.v <= 0.0 if i in ends else lf.v <= tol):
+            pts.append(Lift("line", 0, lf.k * c))
+        else:
+            pts.append(lf)
+    return pts
+
+
+def _unrolled_line(track: Track, pts: Sequence[Lift]) -> tuple[tuple[_Piece, ...], FloatArray]:
+    """The circle's line (the points' span and one turn each way) or the interval; ``r`` of every point."""
+    c = getattr(track, "loop", 0.0)
+    line_vals = [p.v for p in pts if p.kind == "line"] + [p.k * c for p in pts if p.kind == "stick"]
+    lo, hi = min(line_vals), max(line_vals)
+    if isinstance(track, Interval):
+        ext_lo, ext_hi = 0.0, track.stick
+    else:
+        ext_lo, ext_hi = lo - c, hi + c
+    pieces = (("line", 0, ext_lo, ext_hi, 0.0, ext_hi - ext_lo),)
+    return pieces, np.array([p.v - ext_lo for p in pts])
+
+
+def _lollipop_line(
+    track: Lollipop, pts: Sequence[Lift], ends: set[int], tol: float
+) -> tuple[tuple[_Piece, ...], FloatArray]:
+    """The geodesic line of the lollipop's cover through the points: one copy of the stick alone, or the unrolled
+    loop with at most one stick copy hanging at each end; ``r`` of every point.
+
+    Raises
+    ------
+    PlanningError
+        The points visit more than two stick copies, or branch off the line at a lift of P.
+    """
+    c, ell = track.loop, track.stick
+    sticks = sorted({p.k for p in pts if p.kind == "stick"})
+    line_vals = [p.v for p in pts if p.kind == "line"] + [k * c for k in sticks]
+    lo, hi = min(line_vals), max(line_vals)
+    if len(sticks) > 2:
+        raise PlanningError(f"robot visits {len(sticks)} copies of the stick: not a geodesic route")
+    only_stick = (
+        all(p.kind == "stick" or abs(p.v - sticks[0] * c) <= (0.0 if i in ends else tol) for i, p in enumerate(pts))
+        if sticks
+        else False
+    )
+    if only_stick and len(sticks) == 1:
+        k = sticks[0]
+        stick_piece: tuple[_Piece, ...] = (("stick", k, ell, 0.0, 0.0, ell),)  # free end up to P_k: r = ℓ − x
+        return stick_piece, np.array([ell - (p.v if p.kind == "stick" else 0.0) for p in pts])
+    # a stick hangs at the low (high) end of the line if no point of the line lies below (above) its P_k; the
+    # start and the goal count exactly, other corners within ``tol``
+    line_pts = [(p.v, 0.0 if i in ends else tol) for i, p in enumerate(pts) if p.kind == "line"]
+    low_stick = [k for k in sticks if abs(k * c - lo) <= tol and all(v >= k * c - t for v, t in line_pts)]
+    high_stick = [
+        k for k in sticks if abs(k * c - hi) <= tol and k not in low_stick and all(v <= k * c + t for v, t in line_pts)
+    ]
+    if len(low_stick) + len(high_stick) != len(sticks):
+        raise PlanningError("robot's path branches off its route at a lift of P: not a geodesic route")
+    parts: list[_Piece] = []
+    r0 = 0.0
+    if low_stick:
+        parts.append(("stick", low_stick[0], ell, 0.0, 0.0, ell))
+        r0 = ell
+        line_lo = lo
+    else:
+        line_lo = lo - c
+    line_hi = hi if high_stick else hi + c
+    parts.append(("line", 0, line_lo, line_hi, r0, r0 + line_hi - line_lo))
+    r1 = r0 + line_hi - line_lo
+    if high_stick:
+        parts.append(("stick", high_stick[0], 0.0, ell, r1, r1 + ell))
+    r_list = []
+    for p in pts:
+        if p.kind == "stick":
+            r_list.append(ell - p.v if p.k in low_stick else r1 + p.v)
+        else:
+            r_list.append(r0 + p.v - line_lo)
+    return tuple(parts), np.array(r_list)
 
 
 def directed_route(route: Route) -> DirectedRoute:

@@ -101,7 +101,9 @@ class CircleSkeleton(Skeleton):
     @property
     def circumference(self) -> float:
         """Length of the antipodal circle measured by either robot's travel."""
-        return self.track.loop  # type: ignore[attr-defined,no-any-return]
+        track = self.track
+        assert isinstance(track, Circle), "checked in __post_init__"
+        return track.loop
 
     def point_of_phi(self, phi: float) -> SkeletonPoint:
         """Skeleton point with circle parameter ``φ`` (B's position)."""
@@ -223,18 +225,6 @@ class LollipopSkeleton(Skeleton):
         if phi >= c - VERTEX_TOL:
             phi = 0.0
         return SkeletonPoint(f"S{j}a", phi) if phi < self.half else SkeletonPoint(f"S{j}b", phi - self.half)
-
-    def vertex_point(self, v: str) -> SkeletonPoint:
-        """A canonical skeleton point for vertex ``v``."""
-        ell_h = self.model.stick - self.half
-        return {
-            "e1": SkeletonPoint("I1", 0.0),
-            "v1": SkeletonPoint("I1", ell_h),
-            "v2": SkeletonPoint("S2a", 0.0),
-            "v3": SkeletonPoint("S2a", self.half),
-            "v4": SkeletonPoint("I2", ell_h),
-            "e2": SkeletonPoint("I2", 0.0),
-        }[v]
 
     def model_state(self, pt: SkeletonPoint) -> FloatArray:
         """Model configuration (a, b) of a skeleton point."""

@@ -401,6 +401,25 @@ def test_cli_graph_exit_codes(tmp_path, capsys, extra, code, prefix) -> None:  #
     assert not out.exists()
 
 
+def test_cli_graph_formats_and_paper_only_options(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    base = ["trajectory", "--graph", str(Y), "--start", "left", "right", "--goal", "right", "left"]
+    base += ["--clearance", "0.5"]
+    out = tmp_path / "o"
+    code, stdout, err = _run([*base, "--format", "csv,ros2-yaml,pvt", "--pvt-stretch", "2", "--out", str(out)], capsys)
+    assert code == 0, err
+    assert sorted(p.name for p in out.iterdir()) == ["pvt.csv", "setpoints.csv", "summary.json", "trajectory.yaml"]
+    js = json.loads((out / "summary.json").read_text())
+    assert js["recipe"]["start"] == ["left", "right"] and js["routes"]["b"][1]["edge"] == "b_short"
+    assert "A           back along b_left to J, along b_right to right" in stdout
+    for extra in (["--plot"], ["--delay-tolerance", "0.1"]):
+        bad = tmp_path / "bad"
+        code, _, err = _run([*base, *extra, "--out", str(bad)], capsys)
+        assert code == 2 and err.startswith("error:") and len(err.strip().splitlines()) == 1, err
+        assert not bad.exists()
+    code, _, err = _run(["replan", "--from", str(out), "--at", "1", "--goal", "0.1", "0.5", "--out", str(bad)], capsys)
+    assert code == 2 and "paper" in err and not bad.exists()
+
+
 def test_cli_bad_layout_file(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     bad = tmp_path / "bad.json"
     bad.write_text('{"edges": []}')

@@ -25,3 +25,13 @@ def test_quick_start_lines_and_ci_agree() -> None:
     assert lines == ["pip install -e . && mpa demo", 'pip install -e ".[test]" && python -m pytest -q']
     ci = (README.parent / ".ci" / "run").read_text()
     assert 'pip install --quiet -e ".[test]"' in ci and "python -m pytest -q" in ci
+
+
+def test_ci_runs_the_quality_gates_before_the_tests() -> None:
+    lines = [ln.strip() for ln in (README.parent / ".ci" / "run").read_text().splitlines()]
+    gates = ["ruff check .", "ruff format --check .", "mypy mpa trajopt"]
+    for gate in gates:
+        assert gate in lines, f".ci/run does not run {gate!r}"
+    assert max(lines.index(g) for g in gates) < lines.index("python -m pytest -q")
+    text = README.read_text()
+    assert all(f"`{g}`" in text for g in gates), "the README does not name every gate of .ci/run"

@@ -382,7 +382,7 @@ class Trajectory:
             e, o = view.positions(self.s, self.v)
             cached = (e, o, view.directions(self.s, self.v))
             object.__setattr__(self, "_pos", cached)
-        return cached  # type: ignore[no-any-return]
+        return cached
 
     @property
     def edges(self) -> NDArray[np.int64]:

@@ -150,8 +150,8 @@ class _Motion:
         r = self.routes
         if self.graph:
             (ea, oa), (eb, ob) = r[0].positions(s[:, 0]), r[1].positions(s[:, 1])
-            return self.track.distance(ea, oa, eb, ob)  # type: ignore[no-any-return]
-        return self.track.distance(r[0].position(s[:, 0]), r[1].position(s[:, 1]))  # type: ignore[no-any-return]
+            return self.track.distance(ea, oa, eb, ob)
+        return self.track.distance(r[0].position(s[:, 0]), r[1].position(s[:, 1]))
 
     def grid(self, delay: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Times, separations at the rows, between-rows lower bounds for a motion with delays (s)."""

@@ -268,7 +268,7 @@ def plan_view(plan: Any) -> PlanView:
     """
     cached = plan.__dict__.get("_trajopt_view")
     if cached is not None:
-        return cached  # type: ignore[no-any-return]
+        return cached
     if isinstance(plan, GraphPlan):
         graph = plan.track
         routes = (plan.route_a, plan.route_b)

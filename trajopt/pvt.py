@@ -53,7 +53,7 @@ import io
 import math
 import os
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, SupportsFloat, SupportsIndex
 
 import numpy as np
 from numpy.typing import NDArray
@@ -138,6 +138,13 @@ class PVTCheck:
     dense_rate: float
 
 
+def _to_float(x: object) -> float:
+    """``float(x)`` for any object: TypeError or ValueError if it is no number."""
+    if not isinstance(x, (SupportsFloat, SupportsIndex, str)):
+        raise TypeError(f"{type(x).__name__} is not a number")
+    return float(x)
+
+
 def check_interval(interval: object) -> float:
     """Validate a PVT interval: a finite number >= :data:`MIN_INTERVAL` (s).
 
@@ -146,7 +153,7 @@ def check_interval(interval: object) -> float:
     InvalidInputError
     """
     try:
-        d = float(interval)  # type: ignore[arg-type]
+        d = _to_float(interval)
     except (TypeError, ValueError):
         raise InvalidInputError(
             f"PVT interval is {interval!r}, expected a number of seconds >= {MIN_INTERVAL:g}"
@@ -206,11 +213,13 @@ def hermite_eval(
 
 def pvt_rows(trajectory: Trajectory, interval: float, stretch: float = 1.0) -> PVTTable:
     """The PVT rows at ``interval`` (s) of the motion stretched ``stretch`` times, *unchecked* (see
-    :func:`pvt_table`). Row times :func:`pvt_knots`; first row ``s = 0``, last the goal; both ``v = 0``."""
+    :func:`pvt_table`). Row times :func:`pvt_knots`; first row ``s = 0``, last the goal; both ``v = 0``
+    (the first row keeps its velocity if the trajectory starts moving: a re-plan, :mod:`trajopt.replan`)."""
     t = pvt_knots(trajectory.motion_time * stretch, interval)
     s, v, _a, _j = trajectory.sampler(np.minimum(t / stretch, trajectory.motion_time))
     s, v = np.array(s, dtype=float), np.array(v, dtype=float) / stretch
-    v[0] = 0.0
+    if not _starts_moving(trajectory):
+        v[0] = 0.0
     v[-1] = 0.0
     s[0] = 0.0
     s[-1] = trajectory.s[-1]
@@ -237,19 +246,9 @@ def check_pvt(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, stretc
     k_st = _check_stretch(stretch)
     tab = pvt_rows(trajectory, dlt, k_st)
     lim = trajectory.limits
+    vmax, amax, jmax = _piece_peaks(tab)
     fails: list[str] = []
     peak: dict[str, tuple[float, float]] = {}
-    if len(tab.t) >= 2:
-        h, c2, c3 = _coefficients(tab.t, tab.s, tab.v)
-        v0, v1 = tab.v[:-1], tab.v[1:]
-        tau = np.where(c3 != 0, -c2 / np.where(c3 != 0, 3.0 * c3, 1.0), 0.0)
-        inside = (tau > 0) & (tau < h)
-        v_vertex = np.where(inside, v0 + tau * (2.0 * c2 + 3.0 * tau * c3), 0.0)
-        vmax = np.max(np.abs(np.concatenate([v0, v1, v_vertex])), axis=0)
-        amax = np.max(np.abs(np.concatenate([2.0 * c2, 2.0 * c2 + 6.0 * c3 * h])), axis=0)
-        jmax = np.max(np.abs(6.0 * c3), axis=0)
-    else:
-        vmax = amax = jmax = np.zeros(2)
     for name, val, limit in (("v", vmax, lim.v), ("a", amax, lim.a), ("j", jmax, lim.j)):
         ratio = val / limit
         peak[name] = (float(ratio[0]), float(ratio[1]))
@@ -262,31 +261,7 @@ def check_pvt(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, stretc
     n = int(np.ceil(tab.motion_time * rate - 1e-9)) + 1 if tab.motion_time > 0 else 1
     tg = np.arange(n) / rate
     s, v, _a, _j = hermite_eval(tab.t, tab.s, tab.v, tg)
-    # largest |a| over each grid step (a is linear on each piece; the only row inside a step is the last one)
-    if n >= 2:
-        s_end = np.minimum(tg[1:], tab.t[-1])
-        k = np.clip(np.searchsorted(tab.t, tg[:-1], side="right") - 1, 0, max(len(tab.t) - 2, 0))
-        if len(tab.t) >= 2:
-            _h, c2, c3 = _coefficients(tab.t, tab.s, tab.v)
-            tau0 = (tg[:-1] - tab.t[k])[:, None]
-            tau1 = np.maximum(s_end - tab.t[k], 0.0)[:, None]
-            a0 = np.abs(2.0 * c2[k] + 6.0 * c3[k] * tau0)
-            a1 = np.abs(2.0 * c2[k] + 6.0 * c3[k] * tau1)
-            step_a = np.maximum(a0, a1)
-            step_j = np.abs(6.0 * c3[k])
-            moving = (tg[:-1] < tab.t[-1])[:, None]
-            step_a = np.where(moving, step_a, 0.0)
-            step_j = np.where(moving, step_j, 0.0)
-        else:
-            step_a = step_j = np.zeros((n - 1, 2))
-        a_rows = np.zeros((n, 2))
-        j_rows = np.zeros((n, 2))
-        a_rows[1:-1] = np.maximum(step_a[:-1], step_a[1:])
-        j_rows[1:-1] = np.maximum(step_j[:-1], step_j[1:])
-        j_rows[0], j_rows[-1] = step_j[0], step_j[-1]
-    else:
-        a_rows = np.zeros((n, 2))
-        j_rows = np.zeros((n, 2))
+    a_rows, j_rows = _grid_row_peaks(tab, tg)
     plan: Any = trajectory.plan
     if not hasattr(plan, "routes"):  # a graph plan: the gate in positions on the layout (exact graph distance)
         from trajopt.planview import plan_view
@@ -313,14 +288,70 @@ def check_pvt(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, stretc
         word=trajectory.word,
         rate=rate,
     )
-    # the gate's limit messages repeat the piece checks above in grid-row terms; keep the others
-    fails += [f for f in rep.failures if not f.startswith("row ") or "separation" in f]
+    # the gate's limit messages repeat the piece checks above in grid-row terms; keep the others (and a re-plan
+    # starts moving by design)
+    moving = _starts_moving(trajectory)
+    fails += [
+        f
+        for f in rep.failures
+        if (not f.startswith("row ") or "separation" in f) and not (moving and f.startswith("first row is not at rest"))
+    ]
     return PVTCheck(not fails, tuple(fails), peak, rep, rate)
+
+
+def _starts_moving(trajectory: Trajectory) -> bool:
+    """Whether the trajectory's first row is in motion (a re-plan from a moving state)."""
+    return bool(np.any(trajectory.v[0] != 0.0) or np.any(trajectory.a[0] != 0.0))
+
+
+def _piece_peaks(tab: PVTTable) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Largest |v|, |a|, |j| per cart (each shape (2,)) over the cubic pieces between the rows, exactly."""
+    if len(tab.t) < 2:
+        return np.zeros(2), np.zeros(2), np.zeros(2)
+    h, c2, c3 = _coefficients(tab.t, tab.s, tab.v)
+    v0, v1 = tab.v[:-1], tab.v[1:]
+    tau = np.where(c3 != 0, -c2 / np.where(c3 != 0, 3.0 * c3, 1.0), 0.0)
+    inside = (tau > 0) & (tau < h)
+    v_vertex = np.where(inside, v0 + tau * (2.0 * c2 + 3.0 * tau * c3), 0.0)
+    vmax = np.max(np.abs(np.concatenate([v0, v1, v_vertex])), axis=0)
+    amax = np.max(np.abs(np.concatenate([2.0 * c2, 2.0 * c2 + 6.0 * c3 * h])), axis=0)
+    jmax = np.max(np.abs(6.0 * c3), axis=0)
+    return vmax, amax, jmax
+
+
+def _grid_row_peaks(tab: PVTTable, tg: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Per row of the dense grid ``tg`` (shape (n,)): the largest |a| and |j| of the reconstruction over the grid
+    steps next to the row (a is linear on each piece; the only PVT row inside a step is the last one).
+    Each shape (n, 2)."""
+    n = len(tg)
+    a_rows = np.zeros((n, 2))
+    j_rows = np.zeros((n, 2))
+    if n < 2:
+        return a_rows, j_rows
+    s_end = np.minimum(tg[1:], tab.t[-1])
+    k = np.clip(np.searchsorted(tab.t, tg[:-1], side="right") - 1, 0, max(len(tab.t) - 2, 0))
+    if len(tab.t) >= 2:
+        _h, c2, c3 = _coefficients(tab.t, tab.s, tab.v)
+        tau0 = (tg[:-1] - tab.t[k])[:, None]
+        tau1 = np.maximum(s_end - tab.t[k], 0.0)[:, None]
+        a0 = np.abs(2.0 * c2[k] + 6.0 * c3[k] * tau0)
+        a1 = np.abs(2.0 * c2[k] + 6.0 * c3[k] * tau1)
+        step_a = np.maximum(a0, a1)
+        step_j = np.abs(6.0 * c3[k])
+        moving = (tg[:-1] < tab.t[-1])[:, None]
+        step_a = np.where(moving, step_a, 0.0)
+        step_j = np.where(moving, step_j, 0.0)
+    else:
+        step_a = step_j = np.zeros((n - 1, 2))
+    a_rows[1:-1] = np.maximum(step_a[:-1], step_a[1:])
+    j_rows[1:-1] = np.maximum(step_j[:-1], step_j[1:])
+    j_rows[0], j_rows[-1] = step_j[0], step_j[-1]
+    return a_rows, j_rows
 
 
 def _check_stretch(stretch: object, name: str = "stretch") -> float:
     try:
-        k = float(stretch)  # type: ignore[arg-type]
+        k = _to_float(stretch)
     except (TypeError, ValueError):
         raise InvalidInputError(f"PVT {name} is {stretch!r}, expected a finite number >= 1") from None
     if not math.isfinite(k) or k < 1.0:

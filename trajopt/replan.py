@@ -24,7 +24,8 @@ at rest at the new goal. Its time 0 is ``at_time`` of the old one.
    ``solver_stats["replan"]["orientation"]``). At the splice the braking profile starts exactly at the old state,
    so position, velocity and acceleration are continuous (to rounding, 1e-12) and the jerk is limited; the
    braking ends at rest, where the new motion starts at rest. If a cart would come back through P onto a third
-   branch (its path is then no single route) :class:`~mpa.errors.PlanningError` says so.
+   branch (its path is then no single route) :class:`~mpa.errors.NoMotionError` says so (a limit of the
+   one-route-coordinate setpoint format, not a failure: the command line answers exit 3, re-plan at another time).
 4. **Gate** on the spliced rows, with every check of :func:`~trajopt.verify.verify_setpoints` except "first row
    at rest" (the first row is the moving state by construction); the homotopy class checked is the reduced
    word of the braking rows followed by the new plan's path (``mpa.path_word``).
@@ -35,7 +36,8 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -44,9 +46,15 @@ from mpa.errors import InvalidInputError, NoMotionError, PlanningError
 from mpa.homotopy import path_word
 from mpa.plan import Plan, PlanStep
 from mpa.routes import Lift, Route
-from mpa.tracks import Circle, Lollipop
+from mpa.tracks import Circle, Lollipop, Track
 from trajopt.export import Trajectory, time_grid
-from trajopt.verify import SEPARATION_TOL, VerificationError, between_rows_separation, verify_setpoints
+from trajopt.verify import (
+    SEPARATION_TOL,
+    VerificationError,
+    VerificationReport,
+    between_rows_separation,
+    verify_setpoints,
+)
 
 if TYPE_CHECKING:
     from trajopt.generator import TrajectoryGenerator
@@ -59,7 +67,8 @@ _REST = 1e-12
 
 @dataclasses.dataclass(frozen=True)
 class Brake:
-    """Piecewise-constant-jerk braking of both carts. Phase tables per cart: ``t0, p, v, a, j`` (Q,)."""
+    """Piecewise-constant-jerk braking of both carts. Phase tables per cart: ``t0, p, v, a, j`` (Q,);
+    ``last``: the duration of each cart's last phase (s), after which the cart rests at ``stop``."""
 
     t0: tuple[FloatArray, FloatArray]
     p: tuple[FloatArray, FloatArray]
@@ -70,6 +79,7 @@ class Brake:
     start: FloatArray
     stop: FloatArray
     phase_synchronized: bool
+    last: tuple[float, float] = (0.0, 0.0)
 
     def sample(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         """``σ, σ̇, σ̈, σ⃛`` (each shape ``t.shape + (2,)``); held at rest at ``stop`` after the end."""
@@ -86,17 +96,13 @@ class Brake:
             a = self.a[r][k] + j * tau
             v = self.v[r][k] + self.a[r][k] * tau + 0.5 * j * tau**2
             s = self.p[r][k] + self.v[r][k] * tau + 0.5 * self.a[r][k] * tau**2 + j * tau**3 / 6.0
-            end = t0[-1] + self._last[r]
+            end = t0[-1] + self.last[r]
             after = tt >= end
             out[0][..., r] = np.where(after, self.stop[r], s)
             out[1][..., r] = np.where(after, 0.0, v)
             out[2][..., r] = np.where(after, 0.0, a)
             out[3][..., r] = np.where(after, 0.0, j)
         return out[0], out[1], out[2], out[3]
-
-    @property
-    def _last(self) -> tuple[float, float]:
-        return self.__dict__["_last_len"]  # type: ignore[no-any-return]
 
 
 def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any, target: ArrayLike | None = None) -> Brake:
@@ -116,9 +122,7 @@ def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any, target:
     s0, v0, a0 = (np.asarray(x, dtype=float) for x in (s, v, a))
     if np.all(np.abs(v0) <= _REST) and np.all(np.abs(a0) <= _REST):
         z = (np.zeros(0), np.zeros(0))
-        b = Brake(z, z, z, z, z, 0.0, s0.copy(), s0.copy(), True)
-        object.__setattr__(b, "_last_len", (0.0, 0.0))
-        return b
+        return Brake(z, z, z, z, z, 0.0, s0.copy(), s0.copy(), True, last=(0.0, 0.0))
     otg, inp, tr = Ruckig(2), InputParameter(2), RTrajectory(2)
     if target is None:
         inp.control_interface = ControlInterface.Velocity
@@ -155,7 +159,7 @@ def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any, target:
         js.append(np.asarray(prof.j, dtype=float)[keep])
         lasts.append(float(tp[keep][-1]) if keep.any() else 0.0)
         stop.append(float(prof.p[7]))
-    b = Brake(
+    return Brake(
         (t0s[0], t0s[1]),
         (ps[0], ps[1]),
         (vs[0], vs[1]),
@@ -165,9 +169,8 @@ def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any, target:
         s0.copy(),
         np.array(stop),
         collinear,
+        last=(lasts[0], lasts[1]),
     )
-    object.__setattr__(b, "_last_len", (lasts[0], lasts[1]))
-    return b
 
 
 #: A stop closer than this to the pole P (m) is moved onto P (the planner treats nearer starts as P).
@@ -251,12 +254,7 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
         A cart's path would branch at P (no single route), or the spliced rows fail the gate (never observed).
     """
     t_start = time.perf_counter()
-    try:
-        at = float(at_time)
-    except (TypeError, ValueError):
-        raise InvalidInputError(f"at_time is {at_time!r}, expected a number of seconds") from None
-    if not math.isfinite(at) or at < 0.0 or at > trajectory.makespan + 1e-12:
-        raise InvalidInputError(f"at_time is {at!r} s, expected a time in [0, {trajectory.makespan:g}] s")
+    at = _check_at_time(at_time, trajectory)
     old = trajectory.plan
     if not isinstance(old, Plan):  # a GraphPlan
         raise InvalidInputError("replan is implemented for the paper's tracks, not for a GraphTrack layout")
@@ -265,140 +263,38 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
         raise InvalidInputError(f"the generator's track {generator.track!r} is not the trajectory's {track!r}")
     s0, v0, a0, _ = trajectory.sampler(np.array([min(at, trajectory.motion_time)]))
     s0, v0, a0 = s0[0], v0[0], a0[0]
-    routes_old = old.routes
-    p_cur = np.array([float(routes_old[r].position(s0[r])) for r in (0, 1)])
+    p_cur = np.array([float(old.routes[r].position(s0[r])) for r in (0, 1)])
     if at >= trajectory.motion_time:
         p_cur = np.asarray(old.goal, dtype=float).copy()
     limits = generator.limits
     D = generator.clearance
     # 1. brake on the current routes
-    brake = brake_profile(s0, v0, a0, limits)
-    snapped = _snap_to_pole(routes_old, brake.stop)
-    if snapped is not None:
-        brake = brake_profile(s0, v0, a0, limits, snapped)
-    dt = 1.0 / generator.rate
-    if brake.duration > 0:
-        tb = np.append(np.arange(0.0, brake.duration, dt), brake.duration)
-        sb, _, ab, _ = brake.sample(tb)
-        pos = np.stack([routes_old[0].position(sb[:, 0]), routes_old[1].position(sb[:, 1])], axis=1)
-        d = track.distance(pos[:, 0], pos[:, 1])
-        between = between_rows_separation(track, routes_old, sb[:-1], ab[:-1], dt, limits) if len(tb) > 2 else d
-        worst = float(min(np.min(d), np.min(between) if len(between) else np.inf))
-        if worst < D - SEPARATION_TOL:
-            raise NoMotionError(
-                f"braking from the state at t = {at:g} s on the current routes would bring the carts to "
-                f"{worst:.6g} m < D = {D:g}; re-plan at another time"
-            )
-        brake_pos = pos
-    else:
-        brake_pos = p_cur[None, :]
-    p_rest = np.array([float(routes_old[r].position(brake.stop[r])) for r in (0, 1)])
-    if brake.duration == 0:
-        p_rest = p_cur.copy()
+    brake, brake_pos, p_rest = _brake_on_current_routes(generator, old.routes, s0, v0, a0, at, p_cur)
     # 2. the new motion from rest
     new = generator.generate(p_rest, goal)
     plan = new.plan
     assert isinstance(plan, Plan)  # the generator's track is the trajectory's paper track
     # 3. one route per cart through the brake and the new motion
-    routes_c: list[Route] = []
-    orient: list[int] = []
-    brake_sign: list[int] = []
-    corners_c: list[FloatArray] = []
-    for r in (0, 1):
-        ro, rn = routes_old[r], plan.routes[r]
-        lf_cur, lf_rest = _lift(ro, float(s0[r])), _lift(ro, float(brake.stop[r]))
-        m = _deck(track, _lift(rn, 0.0), lf_rest)
-        ext = [float(np.min(new.s[:, r])), float(np.max(new.s[:, r]))]
-        new_pts = [*plan.waypoints_s[:, r].tolist(), *ext, float(new.s[-1, r])]
-        lifts = [lf_cur, lf_rest, *(_shift(track, _lift(rn, x), m) for x in new_pts)]
-        try:
-            rc, sig = Route.through(track, lifts, goal_index=-1)
-        except PlanningError as exc:
-            raise PlanningError(
-                f"robot {'AB'[r]} would brake past P and come back onto another branch: its motion is not a "
-                f"single route ({exc}); re-plan at another time"
-            ) from exc
-        # orientation of the old route coordinate and of the new one in the combined route
-        sb_sign = 1
-        if abs(brake.stop[r] - s0[r]) > 1e-12:
-            sb_sign = 1 if (sig[1] - sig[0]) * (brake.stop[r] - s0[r]) > 0 else -1
-        on = 1
-        g = float(new.s[-1, r])
-        if abs(g) > 1e-12:
-            on = 1 if (sig[-1] - sig[1]) * g > 0 else -1
-        routes_c.append(rc)
-        brake_sign.append(sb_sign)
-        orient.append(on)
-        corners_c.append(np.array([sig[0], sig[1], *(sig[1] + on * np.asarray(plan.waypoints_s[:, r]))]))
-    sig_rest = np.array([corners_c[r][1] for r in (0, 1)])
-    bsign, nsign = np.array(brake_sign, dtype=float), np.array(orient, dtype=float)
-
-    def sampler(t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        tt = np.asarray(t, dtype=float)
-        bs, bv, ba, bj = brake.sample(tt)
-        ns, nv, na, nj = new.sampler(tt - brake.duration)
-        first = (tt < brake.duration)[..., None]
-        s = np.where(first, bsign * (bs - s0), sig_rest + nsign * ns)
-        v = np.where(first, bsign * bv, nsign * nv)
-        a = np.where(first, bsign * ba, nsign * na)
-        j = np.where(first, bsign * bj, nsign * nj)
-        return s, v, a, j
-
+    splice = _splice_routes(track, old.routes, s0, brake, new)
+    sampler = _spliced_sampler(brake, new, s0, splice)
     motion_time = brake.duration + new.motion_time
     t = time_grid(motion_time, generator.rate)
     s, v, a, j = sampler(t)
+    routes_c = splice.routes
     tr = np.stack([routes_c[0].position(s[:, 0]), routes_c[1].position(s[:, 1])], axis=1)
     goal_pos = np.asarray(plan.goal, dtype=float)
     tr[0], tr[-1] = p_cur, goal_pos
-    # the class of the braking rows followed by the new plan's path (the new motion is in its plan's class)
+    # 4. the gate: the class of the braking rows followed by the new plan's path (the new motion is in its plan's
+    # class); the first row is the moving state by construction, not at rest
     word = path_word(track, np.vstack([brake_pos, plan.sample(max(plan.samples_needed(0.002), 2))]))
-    rep = verify_setpoints(
-        track,
-        routes_c,
-        t,
-        tr,
-        s,
-        v,
-        a,
-        j,
-        limits=limits,
-        clearance=D,
-        start=p_cur,
-        goal=goal_pos,
-        word=word,
-        rate=generator.rate,
-    )
-    fails = tuple(f for f in rep.failures if not f.startswith("first row is not at rest"))
-    if fails:
-        raise PlanningError(f"the re-planned motion fails the gate: {'; '.join(fails)}") from VerificationError(rep)
-    rep = dataclasses.replace(rep, ok=True, failures=())
-    corners = np.stack(corners_c, axis=1)
-    waypoints = np.stack([routes_c[0].position(corners[:, 0]), routes_c[1].position(corners[:, 1])], axis=1)
-    waypoints[0], waypoints[-1] = p_cur, goal_pos
-    seg = np.max(np.abs(np.diff(corners, axis=0)), axis=1)
-    length = float(np.sum(seg))
-    knots = np.concatenate([[0.0], np.cumsum(seg)]) / length if length > 0 else np.zeros(len(corners))
-    step = PlanStep("replan", "brake on the current routes, then the new plan", 0.0, 1.0, waypoints)
-    plan_c = dataclasses.replace(
-        plan,
-        start=p_cur,
-        rule="re-plan from a moving state: brake on the current routes, then " + plan.rule,
-        steps=(step,),
-        knots=knots,
-        waypoints=waypoints,
-        waypoints_s=corners,
-        routes=(routes_c[0], routes_c[1]),
-        word=word,
-        travel=np.sum(np.abs(np.diff(corners, axis=0)), axis=0),
-        length=length,
-    )
+    rep = _gate_from_moving_state(generator, routes_c, t, tr, (s, v, a, j), word)
     stats = dict(new.solver_stats)
     stats["replan"] = {
         "at_time": at,
         "brake_duration": brake.duration,
         "brake_distance": np.abs(brake.stop - s0).tolist(),
         "phase_synchronized": brake.phase_synchronized,
-        "orientation": [int(bsign[0]), int(bsign[1])],
+        "orientation": [int(splice.brake_sign[0]), int(splice.brake_sign[1])],
         "new_plan_word": list(plan.word),
     }
     timings = dict(new.timings)
@@ -423,6 +319,203 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
         solver_stats=stats,
         timings=timings,
         verification=rep.to_dict(),
-        plan=plan_c,
+        plan=_spliced_plan(plan, p_cur, goal_pos, splice, word),
         sampler=sampler,
+    )
+
+
+def _gate_from_moving_state(
+    generator: TrajectoryGenerator,
+    routes: Sequence[Route],
+    t: FloatArray,
+    tr: FloatArray,
+    svaj: tuple[FloatArray, FloatArray, FloatArray, FloatArray],
+    word: tuple[str, ...],
+) -> VerificationReport:
+    """The gate on the spliced rows (times ``t``, track positions ``tr``, route coordinates and derivatives
+    ``svaj``); the first row is the moving state by construction, so only "not at rest" is excused there.
+
+    Raises
+    ------
+    PlanningError
+        Any other failure of the gate.
+    """
+    s, v, a, j = svaj
+    rep = verify_setpoints(
+        cast(Track, generator.track),  # replan runs on the paper's tracks only
+        routes,
+        t,
+        tr,
+        s,
+        v,
+        a,
+        j,
+        limits=generator.limits,
+        clearance=generator.clearance,
+        start=tr[0],
+        goal=tr[-1],
+        word=word,
+        rate=generator.rate,
+    )
+    fails = tuple(f for f in rep.failures if not f.startswith("first row is not at rest"))
+    if fails:
+        raise PlanningError(f"the re-planned motion fails the gate: {'; '.join(fails)}") from VerificationError(rep)
+    return dataclasses.replace(rep, ok=True, failures=())
+
+
+def _check_at_time(at_time: float, trajectory: Trajectory) -> float:
+    """``at_time`` as seconds in ``[0, makespan]`` (InvalidInputError otherwise)."""
+    try:
+        at = float(at_time)
+    except (TypeError, ValueError):
+        raise InvalidInputError(f"at_time is {at_time!r}, expected a number of seconds") from None
+    if not math.isfinite(at) or at < 0.0 or at > trajectory.makespan + 1e-12:
+        raise InvalidInputError(f"at_time is {at!r} s, expected a time in [0, {trajectory.makespan:g}] s")
+    return at
+
+
+def _brake_on_current_routes(
+    generator: TrajectoryGenerator,
+    routes: Sequence[Route],
+    s0: FloatArray,
+    v0: FloatArray,
+    a0: FloatArray,
+    at: float,
+    p_cur: FloatArray,
+) -> tuple[Brake, FloatArray, FloatArray]:
+    """Brake both carts on their current routes (onto P if they would stop just short of it), checking the
+    clearance on the rows and between them.
+
+    Returns the brake, the braking rows' track positions (shape (K, 2)) and the rest point (track coordinates).
+
+    Raises
+    ------
+    NoMotionError
+        Braking would bring the carts closer than the clearance.
+    """
+    track, limits, D = cast(Track, generator.track), generator.limits, generator.clearance
+    brake = brake_profile(s0, v0, a0, limits)
+    snapped = _snap_to_pole(routes, brake.stop)
+    if snapped is not None:
+        brake = brake_profile(s0, v0, a0, limits, snapped)
+    if brake.duration == 0:
+        return brake, p_cur[None, :], p_cur.copy()
+    dt = 1.0 / generator.rate
+    tb = np.append(np.arange(0.0, brake.duration, dt), brake.duration)
+    sb, _, ab, _ = brake.sample(tb)
+    pos = np.stack([routes[0].position(sb[:, 0]), routes[1].position(sb[:, 1])], axis=1)
+    d = track.distance(pos[:, 0], pos[:, 1])
+    between = between_rows_separation(track, routes, sb[:-1], ab[:-1], dt, limits) if len(tb) > 2 else d
+    worst = float(min(np.min(d), np.min(between) if len(between) else np.inf))
+    if worst < D - SEPARATION_TOL:
+        raise NoMotionError(
+            f"braking from the state at t = {at:g} s on the current routes would bring the carts to "
+            f"{worst:.6g} m < D = {D:g}; re-plan at another time"
+        )
+    p_rest = np.array([float(routes[r].position(brake.stop[r])) for r in (0, 1)])
+    return brake, pos, p_rest
+
+
+class _Splice(NamedTuple):
+    """Per cart: the combined route through the brake and the new motion, the orientation (+1 or -1) of the old
+    route coordinate and of the new plan's within it, and the corners' combined route coordinates."""
+
+    routes: tuple[Route, Route]
+    brake_sign: FloatArray
+    new_sign: FloatArray
+    corners: tuple[FloatArray, FloatArray]
+
+
+def _splice_routes(track: Track, routes_old: Sequence[Route], s0: FloatArray, brake: Brake, new: Trajectory) -> _Splice:
+    """One route per cart through its current state, its rest point and the new motion (shifted onto the same
+    sheet of the universal cover as the rest point).
+
+    Raises
+    ------
+    PlanningError
+        A cart would brake past P and come back onto another branch (no single route).
+    """
+    plan = cast(Plan, new.plan)
+    routes_c: list[Route] = []
+    orient: list[int] = []
+    brake_sign: list[int] = []
+    corners_c: list[FloatArray] = []
+    for r in (0, 1):
+        ro, rn = routes_old[r], plan.routes[r]
+        lf_cur, lf_rest = _lift(ro, float(s0[r])), _lift(ro, float(brake.stop[r]))
+        m = _deck(track, _lift(rn, 0.0), lf_rest)
+        ext = [float(np.min(new.s[:, r])), float(np.max(new.s[:, r]))]
+        new_pts = [*plan.waypoints_s[:, r].tolist(), *ext, float(new.s[-1, r])]
+        lifts = [lf_cur, lf_rest, *(_shift(track, _lift(rn, x), m) for x in new_pts)]
+        try:
+            rc, sig = Route.through(track, lifts, goal_index=-1)
+        except PlanningError as exc:
+            raise NoMotionError(
+                f"robot {'AB'[r]} would brake past P and come back onto another branch: its motion is not a "
+                f"single route, which setpoints along one route coordinate cannot express ({exc}); re-plan at "
+                "another time"
+            ) from exc
+        # orientation of the old route coordinate and of the new one in the combined route
+        sb_sign = 1
+        if abs(brake.stop[r] - s0[r]) > 1e-12:
+            sb_sign = 1 if (sig[1] - sig[0]) * (brake.stop[r] - s0[r]) > 0 else -1
+        on = 1
+        g = float(new.s[-1, r])
+        if abs(g) > 1e-12:
+            on = 1 if (sig[-1] - sig[1]) * g > 0 else -1
+        routes_c.append(rc)
+        brake_sign.append(sb_sign)
+        orient.append(on)
+        corners_c.append(np.array([sig[0], sig[1], *(sig[1] + on * np.asarray(plan.waypoints_s[:, r]))]))
+    return _Splice(
+        (routes_c[0], routes_c[1]),
+        np.array(brake_sign, dtype=float),
+        np.array(orient, dtype=float),
+        (corners_c[0], corners_c[1]),
+    )
+
+
+def _spliced_sampler(
+    brake: Brake, new: Trajectory, s0: FloatArray, splice: _Splice
+) -> Callable[[ArrayLike], tuple[FloatArray, FloatArray, FloatArray, FloatArray]]:
+    """``σ, σ̇, σ̈, σ⃛`` of the spliced motion in the combined route coordinates: the brake, then the new motion."""
+    sig_rest = np.array([splice.corners[r][1] for r in (0, 1)])
+    bsign, nsign = splice.brake_sign, splice.new_sign
+
+    def sampler(t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        tt = np.asarray(t, dtype=float)
+        bs, bv, ba, bj = brake.sample(tt)
+        ns, nv, na, nj = new.sampler(tt - brake.duration)
+        first = (tt < brake.duration)[..., None]
+        s = np.where(first, bsign * (bs - s0), sig_rest + nsign * ns)
+        v = np.where(first, bsign * bv, nsign * nv)
+        a = np.where(first, bsign * ba, nsign * na)
+        j = np.where(first, bsign * bj, nsign * nj)
+        return s, v, a, j
+
+    return sampler
+
+
+def _spliced_plan(plan: Plan, p_cur: FloatArray, goal_pos: FloatArray, splice: _Splice, word: tuple[str, ...]) -> Plan:
+    """The new plan re-stated for the spliced motion: one step from the moving state, the combined routes."""
+    routes_c = splice.routes
+    corners = np.stack(splice.corners, axis=1)
+    waypoints = np.stack([routes_c[0].position(corners[:, 0]), routes_c[1].position(corners[:, 1])], axis=1)
+    waypoints[0], waypoints[-1] = p_cur, goal_pos
+    seg = np.max(np.abs(np.diff(corners, axis=0)), axis=1)
+    length = float(np.sum(seg))
+    knots = np.concatenate([[0.0], np.cumsum(seg)]) / length if length > 0 else np.zeros(len(corners))
+    step = PlanStep("replan", "brake on the current routes, then the new plan", 0.0, 1.0, waypoints)
+    return dataclasses.replace(
+        plan,
+        start=p_cur,
+        rule="re-plan from a moving state: brake on the current routes, then " + plan.rule,
+        steps=(step,),
+        knots=knots,
+        waypoints=waypoints,
+        waypoints_s=corners,
+        routes=routes_c,
+        word=word,
+        travel=np.sum(np.abs(np.diff(corners, axis=0)), axis=0),
+        length=length,
     )

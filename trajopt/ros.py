@@ -28,7 +28,7 @@ import os
 import re
 import shutil
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -114,7 +114,7 @@ def check_joint_names(joint_names: Any) -> tuple[str, str]:
             )
     if names[0] == names[1]:
         raise InvalidInputError(f"joint names are both {names[0]!r}, expected two distinct names")
-    return names  # type: ignore[return-value]
+    return names[0], names[1]
 
 
 def check_topic(topic: Any, name: str = "topic") -> str:
@@ -281,14 +281,47 @@ def write_mcap(
             raise InvalidInputError(f"point topic is {point_topic!r}, expected a topic other than {topic!r}")
     stamp = _check_stamp(stamp_ns)
     pts = joint_points(trajectory, rate)
+    target = _check_bag_path(path)
+    ts = _typestore()
+    msg, points = _joint_trajectory_messages(ts, pts, names, stamp, frame_id)
+
+    def write(bag: Path) -> None:
+        from rosbags.rosbag2 import StoragePlugin, Writer
+
+        T = ts.types
+        jt = T["trajectory_msgs/msg/JointTrajectory"].__msgtype__
+        jtp = T["trajectory_msgs/msg/JointTrajectoryPoint"].__msgtype__
+        writer = Writer(bag, version=9, storage_plugin=StoragePlugin.MCAP)
+        writer.open()
+        try:
+            conn = writer.add_connection(topic, jt, typestore=ts)
+            writer.write(conn, stamp, ts.serialize_cdr(msg, jt))
+            if point_topic is not None:
+                pconn = writer.add_connection(point_topic, jtp, typestore=ts)
+                for k, p in enumerate(points):
+                    writer.write(pconn, stamp + int(pts.ns[k]), ts.serialize_cdr(p, jtp))
+        finally:
+            writer.close()
+
+    _write_directory_atomically(target, write)
+    return target / f"{target.name}.mcap"
+
+
+def _check_bag_path(path: str | os.PathLike[str]) -> Path:
+    """The bag directory: a new path or an existing rosbag2 bag (to be replaced)."""
     target = Path(path)
     if target.exists() and not (target.is_dir() and (target / "metadata.yaml").is_file()):
         raise InvalidInputError(f"bag path {str(target)!r} exists and is not a rosbag2 bag, expected a new path")
     if not target.name or target.name in (".", ".."):
         raise InvalidInputError(f"bag path is {str(target)!r}, expected a directory name")
-    ts = _typestore()
-    from rosbags.rosbag2 import StoragePlugin, Writer
+    return target
 
+
+def _joint_trajectory_messages(
+    ts: Any, pts: JointPoints, names: tuple[str, str], stamp: int, frame_id: str
+) -> tuple[Any, list[Any]]:
+    """The ``JointTrajectory`` message stamped ``stamp`` (ns) and its ``JointTrajectoryPoint`` messages (rosbags
+    types of the typestore ``ts``)."""
     T = ts.types
     Time, Duration, Header = (
         T["builtin_interfaces/msg/Time"],
@@ -308,22 +341,17 @@ def write_mcap(
         for k in range(len(pts.t))
     ]
     msg = JT(header=Header(stamp=Time(*split_ns(stamp)), frame_id=frame_id), joint_names=list(names), points=points)
+    return msg, points
 
+
+def _write_directory_atomically(target: Path, write: Callable[[Path], None]) -> None:
+    """``write(d)`` fills a new directory ``d`` in a temporary directory beside ``target``, which then replaces
+    ``target`` (restored if the replacement fails); nothing is left behind on failure."""
     parent = target.parent if str(target.parent) else Path(".")
     tmp = Path(tempfile.mkdtemp(dir=parent, prefix=f".{target.name}.", suffix=".tmp"))
     try:
         bag = tmp / target.name
-        writer = Writer(bag, version=9, storage_plugin=StoragePlugin.MCAP)
-        writer.open()
-        try:
-            conn = writer.add_connection(topic, JT.__msgtype__, typestore=ts)
-            writer.write(conn, stamp, ts.serialize_cdr(msg, JT.__msgtype__))
-            if point_topic is not None:
-                pconn = writer.add_connection(point_topic, JTP.__msgtype__, typestore=ts)
-                for k, p in enumerate(points):
-                    writer.write(pconn, stamp + int(pts.ns[k]), ts.serialize_cdr(p, JTP.__msgtype__))
-        finally:
-            writer.close()
+        write(bag)
         os.chmod(bag, 0o777 & ~_umask())
         if target.exists():
             old = tmp / ".old"
@@ -337,7 +365,6 @@ def write_mcap(
             os.replace(bag, target)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    return target / f"{target.name}.mcap"
 
 
 def _umask() -> int:

@@ -19,6 +19,11 @@ leave the path. Each piece gets its own 1-DoF limits: on a straight piece with u
 ``a = q''ṡ² + q's̈``, ``j = q'''ṡ³ + 3q''ṡs̈ + q's⃛``). Boundary states are ``(s_b, ṡ_b, 0)``; a forward-backward
 pass lowers the ``ṡ_b`` until every piece is long enough to change speed within its limits, then one ruckig
 call per piece (state to state in one DoF, no waypoints needed) times it.
+
+The continuous hard path (:mod:`trajopt.corridor`) uses the other two: :func:`spline_path` (a cubic B-spline of
+the corridor's nodes, every span one piece) and :func:`filtered_scaling` (a v/a-limited profile under eroded
+limits, box-filtered so that the jerk is bounded and the timing depends continuously on the path).
+:func:`min_time_rest_to_rest` is the 1-DoF jerk-limited minimum time (a lower bound, for tests and benchmarks).
 """
 
 from __future__ import annotations
@@ -26,7 +31,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 from math import comb
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -328,34 +333,68 @@ def blend_polyline(
     if m >= 2 and np.any(ln <= 0):
         raise PlanningError("polyline has repeated corners")
     u = seg / ln[:, None] if m >= 2 else np.zeros((0, 2))
-    blends: dict[int, tuple[FloatArray, FloatArray]] = {}
-    given = radii is not None
-    rad: FloatArray = np.zeros(m) if radii is None else np.array(radii, dtype=float)
-    if given:
-        rad[0] = rad[-1] = 0.0
-        for i in range(1, m - 1):
-            if rad[i] > 0:
-                coef = _bezier_to_monomial(_even_blend_ctrl(p[i], u[i - 1], u[i], rad[i]), 2.0 * rad[i])
-                blends[i] = (coef, _piece_bounds(coef, 2.0 * rad[i]))
-    if not given and min_distance is not None:
-        for i in range(1, m - 1):
-            if abs(float(u[i - 1] @ u[i])) > 1 - 1e-12 and float(u[i - 1] @ u[i]) > 0:
-                continue  # collinear: no corner
-            r = min(0.5 * ln[i - 1], 0.5 * ln[i], radius_cap)
-            for _ in range(BLEND_TRIES):
-                ctrl = _blend_ctrl(p[i], u[i - 1], u[i], r)
-                lb = 2.5 * r
-                coef = _bezier_to_monomial(ctrl, lb)
-                bnd = _piece_bounds(coef, lb)
-                pts = _bezier_points(ctrl, BLEND_SAMPLES)
-                h = lb / (BLEND_SAMPLES - 1)  # the parameter is not arc length; h is its step
-                dev = float(np.sum(bnd[1])) * h * h / 8.0
-                if min_distance(pts) - dev >= separation:
-                    rad[i] = r
-                    blends[i] = (coef, bnd)
-                    break
-                r *= 0.5
-    # assemble pieces
+    if radii is not None:
+        rad = np.array(radii, dtype=float)
+        blends = _blends_of_given_radii(p, u, rad)
+    else:
+        rad = np.zeros(m)
+        blends = {} if min_distance is None else _checked_blends(p, u, ln, rad, min_distance, separation, radius_cap)
+    return _assemble_blended_path(p, u, ln, rad, blends, radii is not None)
+
+
+_Blends = dict[int, tuple[FloatArray, FloatArray]]  # corner index -> (monomial coefficients, derivative bounds)
+
+
+def _blends_of_given_radii(p: FloatArray, u: FloatArray, rad: FloatArray) -> _Blends:
+    """Even blends of the interior corners ``p[i]`` with radius ``rad[i] > 0`` (unchecked; ``rad``'s end entries
+    are set to 0 in place)."""
+    blends: _Blends = {}
+    rad[0] = rad[-1] = 0.0
+    for i in range(1, len(p) - 1):
+        if rad[i] > 0:
+            coef = _bezier_to_monomial(_even_blend_ctrl(p[i], u[i - 1], u[i], rad[i]), 2.0 * rad[i])
+            blends[i] = (coef, _piece_bounds(coef, 2.0 * rad[i]))
+    return blends
+
+
+def _checked_blends(
+    p: FloatArray,
+    u: FloatArray,
+    ln: FloatArray,
+    rad: FloatArray,
+    min_distance: Any,
+    separation: float,
+    radius_cap: float,
+) -> _Blends:
+    """Blends of the interior corners that keep ``separation`` (``min_distance`` minus the blend's deviation),
+    the radius halved up to :data:`BLEND_TRIES` times; the radii found are written into ``rad``."""
+    blends: _Blends = {}
+    for i in range(1, len(p) - 1):
+        if abs(float(u[i - 1] @ u[i])) > 1 - 1e-12 and float(u[i - 1] @ u[i]) > 0:
+            continue  # collinear: no corner
+        r = min(0.5 * ln[i - 1], 0.5 * ln[i], radius_cap)
+        for _ in range(BLEND_TRIES):
+            ctrl = _blend_ctrl(p[i], u[i - 1], u[i], r)
+            lb = 2.5 * r
+            coef = _bezier_to_monomial(ctrl, lb)
+            bnd = _piece_bounds(coef, lb)
+            pts = _bezier_points(ctrl, BLEND_SAMPLES)
+            h = lb / (BLEND_SAMPLES - 1)  # the parameter is not arc length; h is its step
+            dev = float(np.sum(bnd[1])) * h * h / 8.0
+            if min_distance(pts) - dev >= separation:
+                rad[i] = r
+                blends[i] = (coef, bnd)
+                break
+            r *= 0.5
+    return blends
+
+
+def _assemble_blended_path(
+    p: FloatArray, u: FloatArray, ln: FloatArray, rad: FloatArray, blends: _Blends, given: bool
+) -> BlendedPath:
+    """The pieces in order: each segment's straight part (if any is left) and the blend of its end corner; a
+    corner without a blend is passed at rest."""
+    m = len(p)
     brk = [0.0]
     coefs: list[FloatArray] = []
     isb: list[bool] = []
@@ -642,14 +681,33 @@ def jerk_limited_scaling(
     PlanningError
         If ruckig reports an error.
     """
-    from ruckig import InputParameter, Result, Ruckig, Trajectory
-
     t_start = time.perf_counter()
     P = len(path.coef)
     lens = np.diff(path.breaks)
     if path.length <= 0:
         return TimeScaling(path, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, np.zeros(P + 1))
     pl = piece_limits(path, limits, safety)
+    vb = _boundary_speeds(path, pl, lens, speed_caps)
+    t0s, ps, vs, as_, js, pcs, t_acc = _ruckig_phases(path, pl, lens, vb)
+    stats = {"pieces": P, "blends": int(np.sum(path.is_blend)), "jerk_time": time.perf_counter() - t_start}
+    return TimeScaling(
+        path,
+        np.array(t0s),
+        np.array(ps),
+        np.array(vs),
+        np.array(as_),
+        np.array(js),
+        float(t_acc),
+        vb,
+        np.array(pcs, dtype=np.intp),
+        stats,
+    )
+
+
+def _boundary_speeds(path: BlendedPath, pl: PieceLimits, lens: FloatArray, speed_caps: ArrayLike | None) -> FloatArray:
+    """Speeds at the piece boundaries (shape (P + 1,)): the pieces' speed limits and the caps, 0 at stops, then
+    lowered by a forward and a backward pass to what a jerk-limited piece can reach."""
+    P = len(lens)
     vb = np.full(P + 1, np.inf)
     vb[1:] = np.minimum(vb[1:], pl.v)
     vb[:-1] = np.minimum(vb[:-1], pl.v)
@@ -661,12 +719,33 @@ def jerk_limited_scaling(
         vb[k + 1] = min(vb[k + 1], _reach(vb[k], lens[k] * (1 - 1e-9), vb[k + 1], pl.a[k], pl.j[k]))
     for k in range(P - 1, -1, -1):  # backward
         vb[k] = min(vb[k], _reach(vb[k + 1], lens[k] * (1 - 1e-9), vb[k], pl.a[k], pl.j[k]))
+    return vb
+
+
+def _ruckig_phases(
+    path: BlendedPath, pl: PieceLimits, lens: FloatArray, vb: FloatArray
+) -> tuple[list[float], list[float], list[float], list[float], list[float], list[int], float]:
+    """One 1-DoF ruckig profile per piece between the boundary speeds ``vb``: the phases of constant jerk (start
+    times, ``s, ṡ, s̈``, jerks, piece index) and the total duration.
+
+    Raises
+    ------
+    PlanningError
+        ruckig fails or needs a brake profile on a piece.
+    """
+    from ruckig import InputParameter, Result, Ruckig, Trajectory
+
     otg = Ruckig(1)
     inp = InputParameter(1)
     traj = Trajectory(1)
-    t0s, ps, vs, as_, js, pcs = [], [], [], [], [], []
+    t0s: list[float] = []
+    ps: list[float] = []
+    vs: list[float] = []
+    as_: list[float] = []
+    js: list[float] = []
+    pcs: list[int] = []
     t_acc = 0.0
-    for k in range(P):
+    for k in range(len(lens)):
         if lens[k] <= 0:
             continue
         inp.current_position = [float(path.breaks[k])]
@@ -695,19 +774,7 @@ def jerk_limited_scaling(
             js.append(prof.j[i])
             pcs.append(k)
             t_acc += tp[i]
-    stats = {"pieces": P, "blends": int(np.sum(path.is_blend)), "jerk_time": time.perf_counter() - t_start}
-    return TimeScaling(
-        path,
-        np.array(t0s),
-        np.array(ps),
-        np.array(vs),
-        np.array(as_),
-        np.array(js),
-        float(t_acc),
-        vb,
-        np.array(pcs, dtype=np.intp),
-        stats,
-    )
+    return t0s, ps, vs, as_, js, pcs, t_acc
 
 
 def _window_min(values: FloatArray, breaks: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
@@ -799,96 +866,11 @@ def filtered_scaling(
     pl = piece_limits(path, limits, safety)
     br = path.breaks
     tau = float(np.max(limits.a / limits.j))
-    a_lim = np.minimum(pl.a, tau * pl.j)
     reach = tau * float(np.max(pl.v))
-    pts = np.sort(np.clip(np.concatenate([br, br - reach, br + reach]), 0.0, S))
-    m = int(per_interval)
-    frac = np.arange(m) / m
-    grid = np.concatenate([(pts[:-1, None] + frac[None, :] * np.diff(pts)[:, None]).ravel(), pts[-1:]])
-    ds = np.diff(grid)
-    mid = 0.5 * (grid[:-1] + grid[1:])
-    v_int = _window_min(pl.v, br, mid - reach, mid + reach)
-    a_int = _window_min(a_lim, br, mid - reach, mid + reach)
-    cap = np.empty(len(grid))
-    cap[0], cap[-1] = 0.0, 0.0
-    cap[1:-1] = np.minimum(v_int[:-1], v_int[1:]) ** 2
-    stops = br[path.stop]
-    cap[np.isin(grid, stops)] = 0.0
-    two_a_ds = 2.0 * a_int * ds
-    b0 = _topp_passes(cap, two_a_ds)
-    ds_max = float(np.max(ds, initial=0.0))
-
-    def flat_tops(c: float) -> tuple[FloatArray, FloatArray]:
-        """Speeds capped at ``c`` with every peak a plateau at least τ long (an opening of ``ṡ²`` over ±r,
-        ``r = c·τ/2`` plus the grid step), so the input's acceleration never swings from +a to −a within τ;
-        returns ``ṡ²`` at the grid points and the time of every grid interval (inf where the profile is stuck)."""
-        capped = np.minimum(b0, c * c)
-        bb = np.maximum(_topp_passes(np.minimum(capped, _opening(grid, capped, 0.5 * tau * c + ds_max)), two_a_ds), 0.0)
-        sq_ = np.sqrt(bb)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            dt_ = np.where(ds > 0, 2.0 * ds / (sq_[:-1] + sq_[1:]), 0.0)
-        return bb, dt_
-
-    b, dt = flat_tops(float(np.max(pl.v)))
-    if not np.all(np.isfinite(dt)):
-        # a path too short for plateaus at full speed (τ·vmax beyond its length): the plateau speed c that
-        # minimises the duration (golden section on a fixed bracket: continuous in the path)
-        def duration(c: float) -> float:
-            return float(np.sum(flat_tops(c)[1]))
-
-        lo, hi = 0.0, float(np.max(pl.v))
-        g = (np.sqrt(5.0) - 1.0) / 2.0
-        x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
-        f1, f2 = duration(x1), duration(x2)
-        for _ in range(60):
-            if f1 <= f2:
-                hi, x2, f2 = x2, x1, f1
-                x1 = hi - g * (hi - lo)
-                f1 = duration(x1)
-            else:
-                lo, x1, f1 = x1, x2, f2
-                x2 = lo + g * (hi - lo)
-                f2 = duration(x2)
-        b, dt = flat_tops(0.5 * (lo + hi))
-    if not np.all(np.isfinite(dt)):
-        k = int(np.argmin(np.isfinite(dt)))
-        raise PlanningError(f"the timing is stuck: zero speed over [{grid[k]:.6g}, {grid[k + 1]:.6g}] m of the path")
-    sq = np.sqrt(b)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        acc = np.where(ds > 0, (b[1:] - b[:-1]) / (2.0 * ds), 0.0)
-    keep = dt > 0
-    ti = np.concatenate([[0.0], np.cumsum(dt[keep])])
-    s_i, v_i, a_i = grid[:-1][keep], sq[:-1][keep], acc[keep]
-    T = float(ti[-1])
-    # input s(t): phases [ti[k], ti[k+1]) with (s_i, v_i, a_i); before 0 at rest at 0, after T at rest at S
-    # integral F(t) = ∫_0^t s: exact at the phase starts
-    dtk = np.diff(ti)
-    f_i = np.concatenate([[0.0], np.cumsum(s_i * dtk + v_i * dtk**2 / 2 + a_i * dtk**3 / 6)])
-
-    def state(t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        """Input (F, s, v, a) at times ``t`` (right-continuous acceleration)."""
-        k = np.clip(np.searchsorted(ti, t, side="right") - 1, 0, len(s_i) - 1)
-        x = np.clip(t - ti[k], 0.0, None)
-        s = s_i[k] + v_i[k] * x + a_i[k] * x**2 / 2
-        v = v_i[k] + a_i[k] * x
-        f = f_i[k] + s_i[k] * x + v_i[k] * x**2 / 2 + a_i[k] * x**3 / 6
-        a = a_i[k].copy()
-        before, after = t < 0.0, t >= T
-        f = np.where(before, 0.0, np.where(after, f_i[-1] + S * (t - T), f))
-        s = np.where(before, 0.0, np.where(after, S, s))
-        v = np.where(before | after, 0.0, v)
-        a = np.where(before | after, 0.0, a)
-        return f, s, v, a
-
-    t0 = np.unique(np.concatenate([ti, ti + tau]))
-    t0 = t0[t0 < T + tau]
-    f1, s1, v1, _ = state(t0)
-    f0, s0, v0, _ = state(t0 - tau)
-    p_out = np.clip((f1 - f0) / tau, 0.0, S)
-    v_out = (s1 - s0) / tau
-    a_out = (v1 - v0) / tau
-    mid = 0.5 * (t0 + np.append(t0[1:], T + tau))  # the jerk of a phase, away from rounding at its ends
-    j_out = (state(mid)[3] - state(mid - tau)[3]) / tau
+    grid, b = _eroded_flat_top_profile(path, pl, tau, reach, int(per_interval))
+    phases = _constant_acceleration_phases(grid, b)
+    T = phases.duration
+    t0, p_out, v_out, a_out, j_out = _box_filtered(phases, tau, S)
     stats = {
         "pieces": P,
         "blends": int(np.sum(path.is_blend)),
@@ -905,10 +887,141 @@ def filtered_scaling(
         a_out,
         j_out,
         float(T + tau),
-        np.interp(br, grid, sq),
+        np.interp(br, grid, np.sqrt(b)),
         np.zeros(0, dtype=np.intp),
         stats,
     )
+
+
+def _eroded_flat_top_profile(
+    path: BlendedPath, pl: PieceLimits, tau: float, reach: float, per_interval: int
+) -> tuple[FloatArray, FloatArray]:
+    """Steps 2 and 3 of :func:`filtered_scaling`: the grid of path lengths (shape (G,)) and ``ṡ²`` on it (shape
+    (G,), >= 0) of the time-optimal v/a-limited profile under the eroded limits, with flattened speed peaks."""
+    S = path.length
+    br = path.breaks
+    a_lim = np.minimum(pl.a, tau * pl.j)
+    pts = np.sort(np.clip(np.concatenate([br, br - reach, br + reach]), 0.0, S))
+    m = per_interval
+    frac = np.arange(m) / m
+    grid = np.concatenate([(pts[:-1, None] + frac[None, :] * np.diff(pts)[:, None]).ravel(), pts[-1:]])
+    ds = np.diff(grid)
+    mid = 0.5 * (grid[:-1] + grid[1:])
+    v_int = _window_min(pl.v, br, mid - reach, mid + reach)
+    a_int = _window_min(a_lim, br, mid - reach, mid + reach)
+    cap = np.empty(len(grid))
+    cap[0], cap[-1] = 0.0, 0.0
+    cap[1:-1] = np.minimum(v_int[:-1], v_int[1:]) ** 2
+    stops = br[path.stop]
+    cap[np.isin(grid, stops)] = 0.0
+    two_a_ds = 2.0 * a_int * ds
+    b0 = _topp_passes(cap, two_a_ds)
+    ds_max = float(np.max(ds, initial=0.0))
+
+    def flat_tops(c: float) -> tuple[FloatArray, float]:
+        """Speeds capped at ``c`` with every speed peak a plateau at least τ long (an opening of ``ṡ²`` over ±r,
+        ``r = c·τ/2`` plus the grid step), so the input's acceleration never swings from +a to −a within τ;
+        ``ṡ²`` on the grid and the duration (inf where the profile is stuck at zero speed)."""
+        capped = np.minimum(b0, c * c)
+        bb = np.maximum(_topp_passes(np.minimum(capped, _opening(grid, capped, 0.5 * tau * c + ds_max)), two_a_ds), 0)
+        sq = np.sqrt(bb)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dt = np.where(ds > 0, 2.0 * ds / (sq[:-1] + sq[1:]), 0.0)
+        return bb, float(np.sum(dt))
+
+    vpeak = reach / tau if tau > 0 else float(np.max(pl.v))
+    b, total = flat_tops(vpeak)
+    if not np.isfinite(total):
+        # a path too short for plateaus at full speed (τ·vmax beyond its length): the plateau speed that
+        # minimises the duration (golden section on a fixed bracket and count: continuous in the path)
+        lo, hi = 0.0, vpeak
+        g = (np.sqrt(5.0) - 1.0) / 2.0
+        x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
+        f1, f2 = flat_tops(x1)[1], flat_tops(x2)[1]
+        for _ in range(60):
+            if f1 <= f2:
+                hi, x2, f2 = x2, x1, f1
+                x1 = hi - g * (hi - lo)
+                f1 = flat_tops(x1)[1]
+            else:
+                lo, x1, f1 = x1, x2, f2
+                x2 = lo + g * (hi - lo)
+                f2 = flat_tops(x2)[1]
+        b, total = flat_tops(0.5 * (lo + hi))
+    return grid, b
+
+
+class _Phases(NamedTuple):
+    """A rest-to-rest motion ``s(t)`` of constant acceleration per phase: phase ``k`` starts at ``t[k]`` with
+    position ``s[k]``, speed ``v[k]``, acceleration ``a[k]``; ``f[k] = ∫_0^{t[k]} s``. ``t`` and ``f`` have one
+    entry more than the phases (the end: ``t[-1]`` is the duration)."""
+
+    t: FloatArray
+    s: FloatArray
+    v: FloatArray
+    a: FloatArray
+    f: FloatArray
+
+    @property
+    def duration(self) -> float:
+        return float(self.t[-1])
+
+
+def _constant_acceleration_phases(grid: FloatArray, b: FloatArray) -> _Phases:
+    """The motion through the grid points ``grid`` with ``ṡ² = b`` there (constant acceleration between them)."""
+    ds = np.diff(grid)
+    sq = np.sqrt(b)
+    den = sq[:-1] + sq[1:]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dt = np.where(ds > 0, 2.0 * ds / den, 0.0)
+        acc = np.where(ds > 0, (b[1:] - b[:-1]) / (2.0 * ds), 0.0)
+    if not np.all(np.isfinite(dt)):
+        k = int(np.argmin(np.isfinite(dt)))
+        raise PlanningError(f"the timing is stuck: zero speed over [{grid[k]:.6g}, {grid[k + 1]:.6g}] m of the path")
+    keep = dt > 0
+    ti = np.concatenate([[0.0], np.cumsum(dt[keep])])
+    s_i, v_i, a_i = grid[:-1][keep], sq[:-1][keep], acc[keep]
+    # integral F(t) = ∫_0^t s: exact at the phase starts
+    dtk = np.diff(ti)
+    f_i = np.concatenate([[0.0], np.cumsum(s_i * dtk + v_i * dtk**2 / 2 + a_i * dtk**3 / 6)])
+    return _Phases(ti, s_i, v_i, a_i, f_i)
+
+
+def _phase_state(ph: _Phases, S: float, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """``(F, s, v, a)`` of the motion at times ``t`` (right-continuous acceleration); before 0 at rest at 0, after
+    the end at rest at ``S``."""
+    ti, s_i, v_i, a_i, f_i = ph
+    T = ph.duration
+    k = np.clip(np.searchsorted(ti, t, side="right") - 1, 0, len(s_i) - 1)
+    x = np.clip(t - ti[k], 0.0, None)
+    s = s_i[k] + v_i[k] * x + a_i[k] * x**2 / 2
+    v = v_i[k] + a_i[k] * x
+    f = f_i[k] + s_i[k] * x + v_i[k] * x**2 / 2 + a_i[k] * x**3 / 6
+    a = a_i[k].copy()
+    before, after = t < 0.0, t >= T
+    f = np.where(before, 0.0, np.where(after, f_i[-1] + S * (t - T), f))
+    s = np.where(before, 0.0, np.where(after, S, s))
+    v = np.where(before | after, 0.0, v)
+    a = np.where(before | after, 0.0, a)
+    return f, s, v, a
+
+
+def _box_filtered(
+    ph: _Phases, tau: float, S: float
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Step 4 of :func:`filtered_scaling`: ``s̃(t) = (1/τ)∫_{t−τ}^{t} s`` as phases of constant jerk: their start
+    times and ``s̃, ṡ̃, s̈̃`` there, and their jerks (each shape (K,))."""
+    ti, T = ph.t, ph.duration
+    t0 = np.unique(np.concatenate([ti, ti + tau]))
+    t0 = t0[t0 < T + tau]
+    f1, s1, v1, _ = _phase_state(ph, S, t0)
+    f0, s0, v0, _ = _phase_state(ph, S, t0 - tau)
+    p_out = np.clip((f1 - f0) / tau, 0.0, S)
+    v_out = (s1 - s0) / tau
+    a_out = (v1 - v0) / tau
+    mid = 0.5 * (t0 + np.append(t0[1:], T + tau))  # the jerk of a phase, away from rounding at its ends
+    j_out = (_phase_state(ph, S, mid)[3] - _phase_state(ph, S, mid - tau)[3]) / tau
+    return t0, p_out, v_out, a_out, j_out
 
 
 def min_time_rest_to_rest(distance: float, v: float, a: float, j: float) -> float:

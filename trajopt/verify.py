@@ -403,9 +403,9 @@ def verify_graph_setpoints(
     # endpoints
     for name, row, target in (("first", 0, start), ("last", n - 1, goal)):
         gaps = [geometry.distance_scalar(int(E[row, r]), float(OFF[row, r]), *target[r]) for r in (0, 1)]
-        err = max(float(g) for g in gaps)
-        if err > POSITION_TOL:
-            fails.append(f"{name} row is {err:.3g} m from {'the start' if row == 0 else 'the goal'}")
+        end_err = max(float(g) for g in gaps)
+        if end_err > POSITION_TOL:
+            fails.append(f"{name} row is {end_err:.3g} m from {'the start' if row == 0 else 'the goal'}")
         if np.any(np.abs(V[row]) > POSITION_TOL) or np.any(np.abs(A[row]) > POSITION_TOL):
             fails.append(f"{name} row is not at rest (v = {V[row].tolist()}, a = {A[row].tolist()})")
     # limits

@@ -97,9 +97,8 @@ def _pieces(track: Track, route: Route, s0: float, s1: float) -> list[tuple[str,
     for a, b in itertools.pairwise(cuts):
         mid = 0.5 * (a + b)
         pa, pb, pm = (float(route.position(x)) for x in (a, b, mid))
-        on_loop = isinstance(track, Circle) or (isinstance(track, Lollipop) and pm > track.stick)
-        if on_loop:
-            c = track.loop  # type: ignore[attr-defined]
+        if isinstance(track, Circle) or (isinstance(track, Lollipop) and pm > track.stick):
+            c = track.loop
             eps = min(1e-4, abs(b - a) / 4)
             step = float(route.position(mid + eps * np.sign(b - a))) - pm
             step = (step + c / 2) % c - c / 2
@@ -186,13 +185,25 @@ def describe(trajectory: Any) -> dict[str, str]:
     --------
     >>> from mpa import Lollipop
     >>> from trajopt import generate_trajectory
-    >>> describe(generate_trajectory(Lollipop(1.0, 1.0), (0.1, 0.6), (0.8, 0.3)))["A"]
-    'up the stick to 0.80 m'
+    >>> describe(generate_trajectory(Lollipop(1.0, 1.0), (0.1, 0.6), (0.3, 0.8)))
+    {'A': 'up the stick to 0.30 m', 'B': 'up the stick to 0.80 m'}
     """
     plan = trajectory.plan
     if hasattr(plan, "route_a"):  # a GraphPlan
         return describe_graph_rows(plan.track, (plan.route_a, plan.route_b), trajectory.t, trajectory.s)
     return describe_rows(plan.track, plan.routes, trajectory.t, trajectory.s)
+
+
+def _graph_where(track: Any, route: Any, r: float) -> str:
+    """The position at route coordinate ``r`` by name (a vertex within :data:`_TOL` of an edge end)."""
+    e, o = route.positions(r)
+    e, o = int(e), float(o)
+    length = float(track.lengths[e])
+    if abs(o - length) <= _TOL:
+        o = length
+    elif abs(o) <= _TOL:
+        o = 0.0
+    return str(track.position_name(e, o))
 
 
 def describe_graph_rows(track: Any, routes: Sequence[Any], t: ArrayLike, s: ArrayLike) -> dict[str, str]:
@@ -227,12 +238,10 @@ def describe_graph_rows(track: Any, routes: Sequence[Any], t: ArrayLike, s: Arra
                     continue
                 i = int(route.piece_index(0.5 * (a + b)))
                 direction = int(route.dirs[i]) * (1 if b > a else -1)
-                e, o = route.positions(b)
-                where = track.position_name(int(e), float(o))
+                where = _graph_where(track, route, b)
                 phrases.append(f"{'along' if direction > 0 else 'back along'} {names[int(route.edges[i])]} to {where}")
         if not phrases or all(p.startswith("waits") for p in phrases):
-            e, o = route.positions(ss[0, r])
-            phrases = [f"stays at {track.position_name(int(e), float(o))}"]
+            phrases = [f"stays at {_graph_where(track, route, ss[0, r])}"]
         out[name] = ", ".join(phrases)
     return out
 

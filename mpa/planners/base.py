@@ -7,7 +7,7 @@ skeleton, the *main step* moves inside the skeleton by the rule of the query's d
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike
 
 from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, PlanningError
+from mpa.graph import MetricGraph
 from mpa.homotopy import word_from_samples
 from mpa.plan import JointMove, Plan
 from mpa.routes import RobotMove
@@ -65,8 +66,10 @@ FINAL = {
 DEFAULT_NEIGHBOURHOOD = 0.1
 
 
-def reverse_moves(moves: tuple[RobotMove, RobotMove]) -> JointMove:
-    return tuple(RobotMove(m.edge, m.start + m.delta, -m.delta) for m in moves)  # type: ignore[return-value]
+def reverse_moves(moves: JointMove) -> JointMove:
+    """The joint move run backwards: each robot from its end back to its start."""
+    a, b = moves
+    return RobotMove(a.edge, a.start + a.delta, -a.delta), RobotMove(b.edge, b.start + b.delta, -b.delta)
 
 
 def circle_distance(a: float, b: float, c: float) -> float:
@@ -111,8 +114,14 @@ class Planner:
         return self.plan(start, goal).domain
 
 
-def circle_pieces(phi0: float, delta: float, h: float, edge_name) -> list[tuple[str, float, float]]:  # type: ignore[no-untyped-def]
-    """Split the run of a circle parameter from ``φ0`` by ``delta`` into pieces on the arcs [0, h] and [h, 2h]."""
+def circle_pieces(
+    phi0: float, delta: float, h: float, edge_name: Callable[[int], str]
+) -> list[tuple[str, float, float]]:
+    """Split the run of a circle parameter from ``φ0`` by ``delta`` into pieces on the arcs [0, h] and [h, 2h].
+
+    ``edge_name(arc)`` names the skeleton edge of arc 0 ([0, h]) and arc 1 ([h, 2h]); each piece is
+    ``(edge, t_from, t_to)`` with arc lengths along that edge.
+    """
     c = 2.0 * h
     out: list[tuple[str, float, float]] = []
     phi = (phi0) % c
@@ -143,7 +152,8 @@ def circle_pieces(phi0: float, delta: float, h: float, edge_name) -> list[tuple[
     return out
 
 
-def pieces_word(graph, pieces: Sequence[tuple[str, float, float]]) -> tuple[str, ...]:  # type: ignore[no-untyped-def]
+def pieces_word(graph: MetricGraph, pieces: Sequence[tuple[str, float, float]]) -> tuple[str, ...]:
+    """The reduced skeleton word (:func:`~mpa.homotopy.word_from_samples`) of a run given as edge pieces."""
     index = {e.name: i for i, e in enumerate(graph.edges)}
     edges, ts = [], []
     for e, t0, t1 in pieces:

@@ -104,20 +104,19 @@ def plan(
         raise InvalidInputError(f"planner is {planner!r}, expected one of {', '.join(PLANNERS)}")
     if objective not in OBJECTIVES:
         raise InvalidInputError(f"objective is {objective!r}, expected one of {', '.join(OBJECTIVES)}")
-    paper_track = isinstance(track, (Interval, Circle, Lollipop))
-    if paper_track and planner != "graph":
-        return make_planner(track, clearance, neighbourhood).plan(start, goal)  # type: ignore[arg-type]
-    if planner == "paper":
-        raise InvalidInputError(f"planner is 'paper' for {track!r}, expected an Interval, Circle or Lollipop track")
-    if paper_track:
+    if isinstance(track, (Interval, Circle, Lollipop)):
+        if planner != "graph":
+            return make_planner(track, clearance, neighbourhood).plan(start, goal)
         return plan_graph(
-            track.as_graph_track(),  # type: ignore[union-attr]
-            _paper_positions(track, start, "start"),  # type: ignore[arg-type]
-            _paper_positions(track, goal, "goal"),  # type: ignore[arg-type]
+            track.as_graph_track(),
+            _paper_positions(track, start, "start"),
+            _paper_positions(track, goal, "goal"),
             clearance,
             objective,
             speeds,
         )
+    if planner == "paper":
+        raise InvalidInputError(f"planner is 'paper' for {track!r}, expected an Interval, Circle or Lollipop track")
     return plan_graph(track, start, goal, clearance, objective, speeds)
 
 

@@ -1,6 +1,6 @@
 """A complete planner for two robots on any graph track: shortest or fastest paths in the exact free space.
 
-One self-contained module (it is meant to move to ``mpa/planners/graph.py``); entry point :func:`plan_graph`.
+Entry point :func:`plan_graph` (also :func:`mpa.plan` with ``planner="graph"`` or on a graph track).
 
 **Search.** The free space ``{d >= D}`` is a union of convex polygons glued along faces (:mod:`mpa.freespace`).
 The planner runs A* on a visibility graph whose nodes are the polygons' corners, the two ends of every shared face
@@ -709,12 +709,12 @@ def _assemble(
         clearance_used=fs.clearance_used,
         objective=objective,
         speeds=speeds,
-        segment_cells=tuple(cells),  # type: ignore[arg-type]
+        segment_cells=tuple(cells),
         segment_offsets=offs,
         waypoints=waypoints,
         route_a=route_a,
         route_b=route_b,
-        word=_word(tr, cells),  # type: ignore[arg-type]
+        word=_word(tr, cells),
         makespan=float(times[-1]),
         length=float(np.hypot(d[:, 0], d[:, 1]).sum()),
         _times=times,

@@ -379,24 +379,27 @@ class LollipopPlanner(Planner):
             return self._plan_loop(s, g)
         sk = self.skeleton
         ell, c_model, kappa = sk.model.stick, sk.model.loop, sk.kappa
-        ends, traces = [], []
+
+        def real_move(p: float, dp: float) -> RobotMove:  # a move of the model lollipop on the real one
+            return RobotMove("stick", p, dp) if p <= ell else RobotMove("loop", (p - ell) / kappa, dp / kappa)
+
+        ends = []
+        traces: list[JointMove] = []
         for st in (s, g):
             ma = st[0] if st[0] <= ell else ell + (st[0] - ell) * kappa
             mb = st[1] if st[1] <= ell else ell + (st[1] - ell) * kappa
             da, db = lollipop_trace_scalar(ell, c_model, ma, mb)
             ends.append(_wrap_model(ell, c_model, ma, ma + da, mb, mb + db))
-            traces.append(
-                tuple(
-                    RobotMove("stick", p, dp) if p <= ell else RobotMove("loop", (p - ell) / kappa, dp / kappa)
-                    for p, dp in ((ma, da), (mb, db))
-                )
-            )
+            traces.append((real_move(ma, da), real_move(mb, db)))
         (mxa, mxb), (mya, myb) = ends
         xi = np.array([v if v <= ell else ell + (v - ell) / kappa for v in (mxa, mxb)])
         xf = np.array([v if v <= ell else ell + (v - ell) / kappa for v in (mya, myb)])
         px, py = sk.point_of_model_state(mxa, mxb), sk.point_of_model_state(mya, myb)
         domain, pieces = self.route_in_skeleton(px, py)
-        main = [tuple(sk.move_from_model(m) for m in sk.edge_moves(e, t0, t1)) for e, t0, t1 in pieces]
+        main: list[JointMove] = []
+        for e, t0, t1 in pieces:
+            ma_, mb_ = sk.edge_moves(e, t0, t1)
+            main.append((sk.move_from_model(ma_), sk.move_from_model(mb_)))
         word = pieces_word(sk.graph, _drop_zero_edges(sk, pieces))
         return build_plan(
             tr,
@@ -406,9 +409,9 @@ class LollipopPlanner(Planner):
             domain,
             RULES[("lollipop", domain)],
             [
-                (PRELIM["lollipop"], [traces[0]]),  # type: ignore[list-item]
-                (RULES[("lollipop", domain)], main),  # type: ignore[list-item]
-                (FINAL["lollipop"], [reverse_moves(traces[1])]),  # type: ignore[arg-type]
+                (PRELIM["lollipop"], [traces[0]]),
+                (RULES[("lollipop", domain)], main),
+                (FINAL["lollipop"], [reverse_moves(traces[1])]),
             ],
             sk,
             xi,

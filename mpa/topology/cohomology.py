@@ -311,6 +311,8 @@ def zero_divisor_cup_length(m: np.ndarray, b2: int, p: int, seed: int = 0) -> in
     --------
     The torus: ``H¹ = <a, b>``, ``ab = -ba = ω``.
 
+    >>> import numpy as np
+    >>> from mpa.topology.algebra import FIELD_PRIME
     >>> m = np.zeros((2, 2, 1), dtype=np.int64); m[0, 1, 0] = 1; m[1, 0, 0] = FIELD_PRIME - 1
     >>> zero_divisor_cup_length(m, 1, FIELD_PRIME)
     2

@@ -25,17 +25,25 @@ The generic part works on any :class:`~mpa.topology.discretized.CubeComplex` of 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
+from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError, PlanningError
 from mpa.graph import MetricGraph, farber_tc_of_graph
 from mpa.topology.algebra import FIELD_PRIME
-from mpa.topology.cohomology import field_cohomology, rational_rank_of_boundary, zero_divisor_cup_length_of
+from mpa.topology.cohomology import (
+    FieldCohomology,
+    field_cohomology,
+    rational_rank_of_boundary,
+    zero_divisor_cup_length_of,
+)
 from mpa.topology.discretized import (
     CellCounts,
     CubeComplex,
+    DiscretizedConfigurationSpace,
+    SimpleSubdivision,
     collapse_free_faces,
     cubical_subdivision,
     discretized_configuration_space,
@@ -222,14 +230,7 @@ def _connected_topology(
     """Topology of a connected (already collapsed) cube complex of homotopy dimension known to be <= hdim_upper."""
     counts = cx.cell_counts
     if cx.n_squares == 0:
-        b1 = cx.n_edges - cx.n_vertices + 1
-        betti = (1, b1, 0)
-        tc = farber_tc_of_graph(b1)
-        hdim = 0 if cx.n_edges == 0 else 1  # a collapsed graph with an edge but no free vertex has a cycle
-        if hdim > hdim_upper:
-            raise PlanningError(f"a component collapsed to a graph with b1 = {b1} > 0, expected hdim <= {hdim_upper}")
-        hd = HomotopyDimension(hdim, hdim, collapsed_to_graph)
-        return ComponentTopology(betti, betti, 1 - b1, True, hd, None, None, tc, (tc, tc), counts, graph_components)
+        return _graph_topology(cx, hdim_upper, collapsed_to_graph, graph_components)
     rank_q, unit_only = rational_rank_of_boundary(cx)
     n_cycles = cx.n_edges - cx.n_vertices + 1
     betti = (1, n_cycles - rank_q, cx.n_squares - rank_q)
@@ -253,17 +254,7 @@ def _connected_topology(
         return ComponentTopology(
             betti, betti_f2, euler, torsion_free, hd, None, None, tc, (tc, tc), counts, graph_components
         )
-    # the Serre diagonal needs edge directions that agree with the coordinates of every square (all signs +1)
-    if cx.signs is None:
-        raise PlanningError("internal: cx.signs is not set")
-    if np.any(cx.signs != 1):
-        cx = cubical_subdivision(cx)
-        coh2 = field_cohomology(cx, 2)
-    zcl2 = zero_divisor_cup_length_of(cx, coh2)
-    cohp = field_cohomology(cx, FIELD_PRIME)
-    if (cohp.b1, cohp.b2) != betti[1:] and torsion_free:
-        raise PlanningError(f"Betti numbers over F_p {(cohp.b1, cohp.b2)} differ from those over Q {betti[1:]}")
-    zclp = zero_divisor_cup_length_of(cx, cohp)
+    zcl2, zclp = _zero_divisor_cup_lengths(cx, coh2, betti, torsion_free)
     lo = max(zcl2, zclp) + 1
     hi = 2 * hdim_upper + 1 if tc_upper is None else min(2 * hdim_upper + 1, tc_upper)
     if lo > hi:
@@ -281,6 +272,37 @@ def _connected_topology(
         counts,
         graph_components,
     )
+
+
+def _graph_topology(
+    cx: CubeComplex, hdim_upper: int, collapsed_to_graph: bool, graph_components: tuple[int, int] | None
+) -> ComponentTopology:
+    """Topology of a connected complex without squares (a graph): Betti numbers from the counts, Farber's TC."""
+    b1 = cx.n_edges - cx.n_vertices + 1
+    betti = (1, b1, 0)
+    tc = farber_tc_of_graph(b1)
+    hdim = 0 if cx.n_edges == 0 else 1  # a collapsed graph with an edge but no free vertex has a cycle
+    if hdim > hdim_upper:
+        raise PlanningError(f"a component collapsed to a graph with b1 = {b1} > 0, expected hdim <= {hdim_upper}")
+    hd = HomotopyDimension(hdim, hdim, collapsed_to_graph)
+    return ComponentTopology(betti, betti, 1 - b1, True, hd, None, None, tc, (tc, tc), cx.cell_counts, graph_components)
+
+
+def _zero_divisor_cup_lengths(
+    cx: CubeComplex, coh2: FieldCohomology, betti: tuple[int, int, int], torsion_free: bool | None
+) -> tuple[int, int]:
+    """Zero-divisor cup-lengths over F_2 (from ``coh2``) and over F_p, on a subdivision if the complex's edge
+    directions disagree with a square's coordinates (the Serre diagonal needs all signs +1)."""
+    if cx.signs is None:
+        raise PlanningError("internal: cx.signs is not set")
+    if np.any(cx.signs != 1):
+        cx = cubical_subdivision(cx)
+        coh2 = field_cohomology(cx, 2)
+    zcl2 = zero_divisor_cup_length_of(cx, coh2)
+    cohp = field_cohomology(cx, FIELD_PRIME)
+    if (cohp.b1, cohp.b2) != betti[1:] and torsion_free:
+        raise PlanningError(f"Betti numbers over F_p {(cohp.b1, cohp.b2)} differ from those over Q {betti[1:]}")
+    return zcl2, zero_divisor_cup_length_of(cx, cohp)
 
 
 def cube_complex_topology(cx: CubeComplex, max_homotopy_dimension: int = 2) -> tuple[ComponentTopology, ...]:
@@ -339,6 +361,12 @@ def _components(cx: CubeComplex) -> list[tuple[CubeComplex, np.ndarray]]:
 # ==================================================================================================
 # Configuration spaces of graphs
 # ==================================================================================================
+def _summed_betti(per_component: list[tuple[int, int, int]]) -> tuple[int, int, int]:
+    """Betti numbers b0, b1, b2 of a disjoint union: the sums over its components."""
+    b0, b1, b2 = (int(sum(b[k] for b in per_component)) for k in range(3))
+    return b0, b1, b2
+
+
 def euler_characteristic_formula(graph: MetricGraph) -> int:
     """``χ(F(Γ, 2)) = χ(Γ)² + χ(Γ) - Σ_v (d_v - 1)(d_v - 2)`` (a loop adds 2 to the degree).
 
@@ -387,8 +415,42 @@ def configuration_space_topology(graph: MetricGraph) -> ConfigurationSpaceTopolo
     >>> top.betti, top.tc
     ((1, 3, 0), 3)
     """
-    if not isinstance(graph, MetricGraph) and callable(getattr(graph, "as_graph", None)):
-        graph = graph.as_graph()
+    graph = _as_metric_graph(graph)
+    d2, euler_formula = _checked_discretization(graph)
+    per_graph_component = _graph_components(graph, d2.subdivision)
+    comps = _component_topologies(d2, per_graph_component)
+    betti = _summed_betti([c.betti for c in comps])
+    euler = betti[0] - betti[1] + betti[2]
+    if euler != euler_formula:
+        raise PlanningError(f"Euler characteristic from the Betti numbers {betti} is {euler}, formula {euler_formula}")
+    lo = max(c.tc_bounds[0] for c in comps)
+    hi = max(c.tc_bounds[1] for c in comps)
+    return ConfigurationSpaceTopology(
+        betti=betti,
+        betti_f2=_summed_betti([c.betti_f2 for c in comps]),
+        euler=euler,
+        euler_formula=euler_formula,
+        connected=betti[0] == 1,
+        cell_counts=d2.complex.cell_counts,
+        subdivided_graph=(d2.subdivision.n_vertices, d2.subdivision.n_edges),
+        essential_vertices=int(per_graph_component.essential.sum()),
+        homotopy_dimension=HomotopyDimension(
+            max(c.homotopy_dimension.lower for c in comps),
+            max(c.homotopy_dimension.upper for c in comps),
+            all(c.homotopy_dimension.collapsed_to_graph for c in comps),
+        ),
+        tc=lo if lo == hi else None,
+        tc_bounds=(lo, hi),
+        h1_torsion_free=_all_torsion_free([c.h1_torsion_free for c in comps]),
+        components=tuple(comps),
+    )
+
+
+def _as_metric_graph(graph: object) -> MetricGraph:
+    """The graph itself, or a track's graph (``as_graph()``); InvalidInputError if ``F(Γ, 2)`` would be empty."""
+    as_graph = getattr(graph, "as_graph", None)
+    if not isinstance(graph, MetricGraph) and callable(as_graph):
+        graph = as_graph()
     if not isinstance(graph, MetricGraph):
         raise InvalidInputError(f"graph is a {type(graph).__name__}, expected a MetricGraph or a track")
     if graph.n_vertices == 0 or (graph.n_vertices == 1 and graph.n_edges == 0):
@@ -396,41 +458,63 @@ def configuration_space_topology(graph: MetricGraph) -> ConfigurationSpaceTopolo
             f"graph has {graph.n_vertices} vertices and no edges: two robots do not fit, expected at least one edge "
             "or two vertices"
         )
+    return graph
+
+
+def _checked_discretization(graph: MetricGraph) -> tuple[DiscretizedConfigurationSpace, int]:
+    """Abrams' ``D₂(Γ)`` and the Euler characteristic of the formula, after checking its cells against both."""
     d2 = discretized_configuration_space(graph)
-    sub = d2.subdivision
     counts = d2.complex.cell_counts
-    expected = expected_cell_counts(sub)
+    expected = expected_cell_counts(d2.subdivision)
     if counts != expected:
         raise PlanningError(f"D2 has cell counts {counts}, expected {expected} from the formulas")
     euler_formula = euler_characteristic_formula(graph)
     if counts.euler_characteristic != euler_formula:
         raise PlanningError(f"D2 has Euler characteristic {counts.euler_characteristic}, formula gives {euler_formula}")
+    return d2, euler_formula
 
-    # per component of Γ: essential vertices, whether it is a circle, b1 and TC of the graph itself
+
+class _GraphComponents(NamedTuple):
+    """Per component of Γ (arrays indexed by component): essential vertices, first Betti number, circle or not;
+    and the component of every vertex of the subdivision."""
+
+    essential: NDArray[np.int64]
+    b1: NDArray[np.int64]
+    is_circle: NDArray[np.bool_]
+    of_vertex: NDArray[np.int64]
+
+
+def _graph_components(graph: MetricGraph, sub: SimpleSubdivision) -> _GraphComponents:
+    """Essential vertices (degree >= 3), b1 and circle-ness of each component of Γ (from its subdivision)."""
     n_orig = sub.original_vertex_count
     deg = np.array([graph.degree(v) for v in graph.vertices], dtype=np.int64)
     comp_of = sub.component
     n_gc = int(comp_of.max()) + 1
-    essential = np.bincount(comp_of[:n_orig], weights=(deg >= 3), minlength=n_gc).astype(int)
+    essential = np.bincount(comp_of[:n_orig], weights=(deg >= 3), minlength=n_gc).astype(np.int64)
     gverts = np.bincount(comp_of, minlength=n_gc)
     gedges = np.bincount(comp_of[sub.edges[:, 0]], minlength=n_gc) if sub.n_edges else np.zeros(n_gc, dtype=int)
-    gb1 = gedges - gverts + 1
+    gb1 = (gedges - gverts + 1).astype(np.int64)
     has_high_or_leaf = np.bincount(comp_of, weights=(sub.degrees() != 2), minlength=n_gc)
     is_circle = (gb1 == 1) & (has_high_or_leaf == 0)
+    return _GraphComponents(essential, gb1, is_circle, comp_of)
 
+
+def _component_topologies(d2: DiscretizedConfigurationSpace, gc: _GraphComponents) -> list[ComponentTopology]:
+    """Collapse ``D₂(Γ)`` and compute the topology of each of its components, with the bounds on homotopy
+    dimension and TC that the components of Γ holding the two robots give."""
     col = collapse_free_faces(d2.complex)
     comps: list[ComponentTopology] = []
     for cx, verts in _components(col.complex):
         v1, v2 = d2.vertex_cells[col.vertices[verts[0]]]
-        ci, cj = int(comp_of[v1]), int(comp_of[v2])
+        ci, cj = int(gc.of_vertex[v1]), int(gc.of_vertex[v2])
         tc_upper: int | None = None
         if ci != cj:  # the product Γ_i × Γ_j of two components of Γ
-            hdim = int(gb1[ci] > 0) + int(gb1[cj] > 0)
-            tc_upper = farber_tc_of_graph(int(gb1[ci])) + farber_tc_of_graph(int(gb1[cj])) - 1
-        elif is_circle[ci]:
+            hdim = int(gc.b1[ci] > 0) + int(gc.b1[cj] > 0)
+            tc_upper = farber_tc_of_graph(int(gc.b1[ci])) + farber_tc_of_graph(int(gc.b1[cj])) - 1
+        elif gc.is_circle[ci]:
             hdim = 1
         else:
-            hdim = min(2, int(essential[ci]))
+            hdim = min(2, int(gc.essential[ci]))
         comps.append(
             _connected_topology(
                 cx,
@@ -440,32 +524,9 @@ def configuration_space_topology(graph: MetricGraph) -> ConfigurationSpaceTopolo
                 graph_components=(ci, cj),
             )
         )
-    betti = tuple(int(sum(c.betti[k] for c in comps)) for k in range(3))
-    betti_f2 = tuple(int(sum(c.betti_f2[k] for c in comps)) for k in range(3))
-    euler = betti[0] - betti[1] + betti[2]
-    if euler != euler_formula:
-        raise PlanningError(f"Euler characteristic from the Betti numbers {betti} is {euler}, formula {euler_formula}")
-    lo = max(c.tc_bounds[0] for c in comps)
-    hi = max(c.tc_bounds[1] for c in comps)
-    flags = [c.h1_torsion_free for c in comps]
-    torsion_free = False if False in flags else (True if all(flags) else None)
-    hd = HomotopyDimension(
-        max(c.homotopy_dimension.lower for c in comps),
-        max(c.homotopy_dimension.upper for c in comps),
-        all(c.homotopy_dimension.collapsed_to_graph for c in comps),
-    )
-    return ConfigurationSpaceTopology(
-        betti=betti,  # type: ignore[arg-type]
-        betti_f2=betti_f2,  # type: ignore[arg-type]
-        euler=euler,
-        euler_formula=euler_formula,
-        connected=betti[0] == 1,
-        cell_counts=counts,
-        subdivided_graph=(sub.n_vertices, sub.n_edges),
-        essential_vertices=int(essential.sum()),
-        homotopy_dimension=hd,
-        tc=lo if lo == hi else None,
-        tc_bounds=(lo, hi),
-        h1_torsion_free=torsion_free,
-        components=tuple(comps),
-    )
+    return comps
+
+
+def _all_torsion_free(flags: list[bool | None]) -> bool | None:
+    """H1 torsion-free for all components: False if one is not, None if one is unknown, else True."""
+    return False if False in flags else (True if all(flags) else None)

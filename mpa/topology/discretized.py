@@ -532,11 +532,6 @@ class Collapse:
     squares_removed: int
     edges_removed: int
 
-    @property
-    def is_graph(self) -> bool:
-        """True when every square was collapsed away: the complex is homotopy equivalent to a graph."""
-        return self.complex.n_squares == 0
-
 
 def collapse_free_faces(cx: CubeComplex) -> Collapse:
     """Greedy elementary collapses: squares through free edges, then edges through free vertices.

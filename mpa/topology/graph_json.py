@@ -43,7 +43,11 @@ def graph_from_json_data(data: object) -> MetricGraph:
     2
     """
     edges = data.get("edges") if isinstance(data, dict) else None
-    if isinstance(edges, list) and ("vertices" in data or any(isinstance(e, dict) for e in edges)):  # type: ignore[operator]
+    if (
+        isinstance(data, dict)
+        and isinstance(edges, list)
+        and ("vertices" in data or any(isinstance(e, dict) for e in edges))
+    ):
         from mpa.graph_track import GraphTrack  # the full layout format (named edges, coordinates)
 
         return GraphTrack.from_layout(data).as_graph()

@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from mpa.errors import InvalidInputError
+from mpa.tracks import Track
 from trajopt.cli.common import (
     TRAJECTORY_DEFAULTS,
     add_trajectory_arguments,
@@ -39,9 +40,11 @@ def _cmd_animate(args: argparse.Namespace) -> int:
     try:
         if args.graph is not None:
             path = _animate_graph(track, start, goal, target, args)
+        elif not isinstance(track, Track):
+            raise InvalidInputError("mpa animate takes --track interval|circle|lollipop or --graph FILE")
         else:
             path = animate_query(
-                track,  # type: ignore[arg-type]
+                track,
                 start,
                 goal,
                 target,

@@ -1,7 +1,8 @@
 """The ``mpa`` command line (console script entry point).
 
 Subcommands: ``plan`` (the paper's planner), ``trajectory`` and ``demo`` (jerk-limited setpoints), ``animate``
-(animations), ``topology`` (topology of two robots on any graph); ``mpa --version``.
+(animations), ``topology`` (topology of two robots on any graph), ``replan`` (re-plan a written trajectory from
+its moving state), ``plot`` (a PNG of written setpoints); ``mpa --version``.
 
 Exit statuses (one line on stderr in every failing case, never a traceback, no output file left behind):
 
@@ -29,7 +30,14 @@ from mpa.errors import MPAError, NoMotionError, PlanningError
 __all__ = ["EXIT_INTERNAL", "EXIT_INTERRUPTED", "EXIT_NO_MOTION", "EXIT_USAGE", "build_parser", "main"]
 
 #: Modules that add subcommands through a ``register(subparsers)`` function.
-SUBCOMMAND_MODULES = ("trajopt.cli.plan", "trajopt.cli.trajectory", "trajopt.cli.animate", "trajopt.cli.topology")
+SUBCOMMAND_MODULES = (
+    "trajopt.cli.plan",
+    "trajopt.cli.trajectory",
+    "trajopt.cli.animate",
+    "trajopt.cli.topology",
+    "trajopt.cli.replan",
+    "trajopt.cli.plot",
+)
 #: Exit status of bad input (``error:``).
 EXIT_USAGE = 2
 #: Exit status of a valid query without a collision-free motion (``no motion:``).

@@ -149,7 +149,7 @@ def _print_graph_plan(p: GraphPlan, args: argparse.Namespace) -> int:
     return 0
 
 
-def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(sub: argparse._SubParsersAction) -> None:
     """Add ``plan`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
     p = sub.add_parser("plan", help="plan a motion (the paper's algorithm, or the complete graph planner) and print it")
     add_query_arguments(p, graph=True)

@@ -22,14 +22,15 @@ from typing import Any
 
 import matplotlib as mpl
 import numpy as np
-from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
+from matplotlib.animation import AbstractMovieWriter, FFMpegWriter, FuncAnimation, PillowWriter
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
 from mpa import defaults
 from mpa.errors import InvalidInputError
 from mpa.plan import Plan
-from mpa.skeleton import skeleton_of
+from mpa.skeleton import Skeleton, skeleton_of
 from mpa.tracks import Track
 from trajopt.viz import drawing as dr
 
@@ -140,7 +141,9 @@ def ffmpeg_executable() -> str | None:
         return None
 
 
-def _writer(fmt: str, fps: float) -> Any:
+def _writer(fmt: str, fps: float) -> AbstractMovieWriter:
+    """The matplotlib writer of ``fmt`` at ``fps`` frames per second (the writers take any positive frame rate,
+    matplotlib's stubs say int: hence the two ignores)."""
     if fmt == "gif":
         return PillowWriter(fps=fps)  # type: ignore[arg-type]
     exe = ffmpeg_executable()
@@ -181,7 +184,8 @@ def animate_motions(
     out : path
         Output file; its suffix (``.gif`` or ``.mp4``) chooses the format unless ``fmt`` is given.
     plan : Plan, optional
-        Drawn faintly in the configuration space (the whole path), with the start and goal.
+        Its skeleton is drawn in the configuration space (default: the track's skeleton); each motion's own path
+        is drawn there faintly, with its start and goal.
     fps : float
         Frames per second of the file; the animation plays in real time unless ``max_frames`` caps the frames
         (then it plays faster, which the title says).
@@ -257,7 +261,7 @@ def _frame_times(motions: Sequence[Motion], fps: float, max_frames: int | None) 
 
 
 def _draw_motion_row(
-    row_axes: Sequence[Any], track: Track, sk: Any, m: Motion, *, duration: float, vlim: float, last: bool
+    row_axes: Sequence[Axes], track: Track, sk: Skeleton, m: Motion, *, duration: float, vlim: float, last: bool
 ) -> dict[str, Any]:
     """Draw the static part of one motion's row (track, flat space, speeds); returns the artists that move."""
     ax_p, ax_f, ax_v = row_axes
@@ -290,7 +294,7 @@ def _draw_motion_row(
     return _moving_artists(ax_p, ax_f, ax_v)
 
 
-def _moving_artists(ax_p: Any, ax_f: Any, ax_v: Any) -> dict[str, Any]:
+def _moving_artists(ax_p: Axes, ax_f: Axes, ax_v: Axes) -> dict[str, Any]:
     """The artists of one row that each frame moves: the trail and dot in the flat space, the robots (triangles
     with their names) on the track, the time cursor and the clock."""
     (trail,) = ax_f.plot([], [], color="k", lw=2.2, zorder=6)
@@ -337,7 +341,7 @@ def _update_frame(track: Track, motions: Sequence[Motion], artists: Sequence[dic
     return changed
 
 
-def _save_atomically(anim: FuncAnimation, out: Path, fmt: str, writer: Any, dpi: float) -> None:
+def _save_atomically(anim: FuncAnimation, out: Path, fmt: str, writer: AbstractMovieWriter, dpi: float) -> None:
     """Render the animation to a temporary file beside ``out`` and rename it; nothing is left on a failure."""
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = out.with_name(f".{out.stem}.tmp{FORMATS[fmt]}")

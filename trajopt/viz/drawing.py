@@ -88,7 +88,7 @@ TRACK_COLOR = "0.35"
 
 
 def new_figure(
-    ncols: int = 1, nrows: int = 1, *, width: float = 4.2, height: float = 4.0, **kw: object
+    ncols: int = 1, nrows: int = 1, *, width: float = 4.2, height: float = 4.0
 ) -> tuple[Figure, NDArray[np.object_]]:
     """A figure with ``nrows × ncols`` axes (always returned as a 2-D array), without pyplot's global state.
 
@@ -98,8 +98,6 @@ def new_figure(
         Grid of axes.
     width, height : float
         Size of one panel in inches.
-    **kw
-        Passed to :meth:`Figure.subplots`.
 
     Returns
     -------
@@ -107,7 +105,7 @@ def new_figure(
     axes : ndarray of Axes, shape (nrows, ncols)
     """
     fig = Figure(figsize=(width * ncols, height * nrows), layout="constrained")
-    axes = fig.subplots(nrows, ncols, squeeze=False, **kw)  # type: ignore[call-overload]
+    axes = fig.subplots(nrows, ncols, squeeze=False)
     return fig, axes
 
 
@@ -567,8 +565,8 @@ def draw_flat_cspace(
     if clearance > 0:
         _shade_clearance_band(ax, d, clearance, ext)
     ax.plot([0, ext], [0, ext], color=COLLISION_COLOR, lw=2.0, alpha=0.85, zorder=2)
-    if level_h and track.has_loop:
-        h = 0.5 * float(track.loop)  # type: ignore[attr-defined]
+    if level_h and isinstance(track, (Circle, Lollipop)):
+        h = 0.5 * float(track.loop)
         ax.contour(g, g, d, levels=[h], colors="0.5", linewidths=0.8, linestyles=":", zorder=2)
     ax.set_xlim(0, ext)
     ax.set_ylim(0, ext)
@@ -655,10 +653,11 @@ def sample_skeleton(skeleton: Skeleton, n: int = 200) -> dict[str, FloatArray]:
         Edge name to an array of states (track coordinates), shape (n, 2), tail first.
     """
     out: dict[str, FloatArray] = {}
+    if not isinstance(skeleton, (CircleSkeleton, LollipopSkeleton)):  # the interval's skeleton has no edges
+        return out
     for e in skeleton.graph.edges:
         ts = np.linspace(0.0, e.length, n)
-        state = skeleton.state  # type: ignore[attr-defined]
-        out[e.name] = np.array([state(SkeletonPoint(e.name, float(t))) for t in ts])
+        out[e.name] = np.array([skeleton.state(SkeletonPoint(e.name, float(t))) for t in ts])
     return out
 
 
@@ -692,8 +691,8 @@ def draw_skeleton(
         The sampled edges (see :func:`sample_skeleton`).
     """
     track = skeleton.track
-    if isinstance(skeleton, IntervalSkeleton):
-        ell = track.stick  # type: ignore[attr-defined]
+    if isinstance(skeleton, IntervalSkeleton) and isinstance(track, Interval):
+        ell = track.stick
         for (x, y), name in (((0.0, ell), "A<B"), ((ell, 0.0), "B<A")):
             ax.plot(x, y, "o", color=BLOCK_COLORS[name], ms=9, zorder=6, clip_on=False)
         return {}

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -57,8 +57,16 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
+
+class RouteStyle(TypedDict):
+    """How one robot's route is drawn: matplotlib line style, and the side of the edge (+1 left, -1 right)."""
+
+    ls: str | tuple[float, tuple[float, float]]
+    side: float
+
+
 #: Line styles of the robots' routes (A solid on the left of each edge, B dashed on the right).
-ROUTE_STYLES = {"A": {"ls": "-", "side": 1.0}, "B": {"ls": (0, (4.0, 2.0)), "side": -1.0}}
+ROUTE_STYLES: dict[str, RouteStyle] = {"A": {"ls": "-", "side": 1.0}, "B": {"ls": (0, (4.0, 2.0)), "side": -1.0}}
 EDGE_COLOR = "0.35"
 SWITCH_COLOR = "#2ca02c"
 #: Points per circle drawn for a loop without ``points``.
@@ -339,12 +347,33 @@ def draw_layout(
     geo = geometry if geometry is not None else layout_geometry(tr)
     if edge_labels is None:
         edge_labels = tr.n_edges <= 30
+    _draw_edges(ax, tr, geo, color=color, lw=lw, arrows=arrows, labels=edge_labels, label_size=label_size)
+    _draw_vertices(ax, tr, geo, color=color, labels=vertex_labels, label_size=label_size)
+    _pad(ax, geo)
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xlabel("x (m)" if not geo.automatic else "x (m, automatic layout)")
+    ax.set_ylabel("y (m)" if not geo.automatic else "y (m, automatic layout)")
+    return geo
+
+
+def _draw_edges(
+    ax: Axes,
+    tr: GraphTrack,
+    geo: LayoutGeometry,
+    *,
+    color: str,
+    lw: float,
+    arrows: bool,
+    labels: bool,
+    label_size: float,
+) -> None:
+    """The edges as polylines, with an arrowhead at mid-length (their direction) and their names if asked."""
     lengths = tr.lengths
     for i, pts in enumerate(geo.polylines):
         ax.plot(pts[:, 0], pts[:, 1], color=color, lw=lw, solid_capstyle="round", zorder=1)
         if arrows:
             _arrowhead(ax, pts, geo.fractions[i], 0.5, "0.6", 15.0, zorder=1.5)
-        if edge_labels:
+        if labels:
             at = 0.5 * lengths[i]
             p = geo.embed(i, at, lengths)
             n = geo.normal(i, at, lengths)
@@ -360,13 +389,20 @@ def draw_layout(
                 color="0.4",
                 zorder=2,
             )
+
+
+def _draw_vertices(
+    ax: Axes, tr: GraphTrack, geo: LayoutGeometry, *, color: str, labels: bool | None, label_size: float
+) -> None:
+    """The vertices that edges use as small circles, named (``labels`` None: all if at most 20, else the ends and
+    the vertices of degree 2)."""
     used = sorted(set(tr.tails.tolist()) | set(tr.heads.tolist()))
     vx = geo.vertices[used]
     ax.plot(vx[:, 0], vx[:, 1], "o", color="white", mec=color, mew=1.4, ms=5.5, zorder=3)
     named = used
-    if vertex_labels is None:
+    if labels is None:
         named = used if len(used) <= 20 else [w for w in used if tr.degree(w) <= 2]
-    elif not vertex_labels:
+    elif not labels:
         named = []
     if named:
         centre = np.nanmean(vx, axis=0)
@@ -388,11 +424,6 @@ def draw_layout(
                 bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8},
                 zorder=6,
             )
-    _pad(ax, geo)
-    ax.set_aspect("equal", adjustable="box")
-    ax.set_xlabel("x (m)" if not geo.automatic else "x (m, automatic layout)")
-    ax.set_ylabel("y (m)" if not geo.automatic else "y (m, automatic layout)")
-    return geo
 
 
 # ------------------------------------------------------------------------------------------------- routes
@@ -523,7 +554,7 @@ def draw_routes(
     for name, route in (("A", route_a), ("B", route_b)):
         st = ROUTE_STYLES[name]
         color = ROBOT_COLORS[name]
-        pieces = _route_lane_points(tr, geo, route, float(st["side"]), lane, per_metre)  # type: ignore[arg-type]
+        pieces = _route_lane_points(tr, geo, route, st["side"], lane, per_metre)
         if pieces:
             pts = np.vstack(pieces)
             ax.plot(pts[:, 0], pts[:, 1], color=color, lw=lw, ls=st["ls"], alpha=alpha, zorder=4, label=f"route {name}")
@@ -565,7 +596,7 @@ def plan_title(plan: GraphPlan, name: str | None = None) -> str:
 def _marker(
     ax: Axes, geo: LayoutGeometry, tr: GraphTrack, pos: tuple[int, float], robot: str, what: str, lane: float
 ) -> None:
-    side = float(ROUTE_STYLES[robot]["side"])  # type: ignore[arg-type]
+    side = ROUTE_STYLES[robot]["side"]
     e, o = pos
     p = geo.embed(e, o, tr.lengths)
     n = geo.normal(e, o, tr.lengths)
@@ -728,7 +759,6 @@ def draw_configuration_cells(
         The cells drawn (polygon ids of :mod:`mpa.freespace`).
     """
     tr = plan.track
-    names = tr.edge_names
     lengths = tr.lengths
     order: list[tuple[int, int]] = []
     for e, f, _ in plan.corner_cells:
@@ -741,8 +771,31 @@ def draw_configuration_cells(
     for e, f in shown:
         x0[(e, f)] = x
         x += float(lengths[e]) + gap
+    drawn = _draw_cell_boxes(ax, space, tr, x0)
+    _draw_path_in_cells(ax, plan, x0)
+    _draw_ends_in_cells(ax, plan, x0)
+    more = f" (first {len(shown)} of {len(order)})" if len(order) > len(shown) else ""
+    ax.set_title(
+        f"configuration cells crossed{more}: x = offset of A, y = offset of B (m); "
+        f"red: closer than D = {plan.clearance:g} m; ■ start, ☆ goal",
+        fontsize=8,
+    )
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xticks([])
+    ax.set_xlim(-0.05 * gap, x - gap + 0.05 * gap)
+    ax.set_ylim(-0.05 * float(lengths.max()), float(max(lengths[f] for _, f in shown)) + 0.4 * float(lengths.max()))
+    return drawn
+
+
+def _draw_cell_boxes(
+    ax: Axes, space: FreeSpace, tr: GraphTrack, x0: dict[tuple[int, int], float]
+) -> list[tuple[int, int, int]]:
+    """Each product of edges ``(e, f)`` as a box at ``x0[(e, f)]``: shaded where the robots are too close, its free
+    polygons white, labelled with the edges; returns the polygons drawn."""
+    names = tr.edge_names
+    lengths = tr.lengths
     drawn: list[tuple[int, int, int]] = []
-    for e, f in shown:
+    for e, f in x0:
         le, lf = float(lengths[e]), float(lengths[f])
         ox = x0[(e, f)]
         ax.add_patch(Rectangle((ox, 0.0), le, lf, fc=COLLISION_COLOR, alpha=0.25, ec="none", zorder=1))
@@ -757,6 +810,11 @@ def draw_configuration_cells(
         ax.text(
             ox + le / 2, top, f"A on {names[e]}\nB on {names[f]}", ha="center", va="bottom", fontsize=7, color="0.2"
         )
+    return drawn
+
+
+def _draw_path_in_cells(ax: Axes, plan: GraphPlan, x0: dict[tuple[int, int], float]) -> None:
+    """The plan's straight segments inside the boxes drawn at ``x0``, arrowed and numbered in order."""
     for j, ((e, f, _), seg) in enumerate(zip(plan.segment_cells, plan.segment_offsets)):
         if (e, f) not in x0:
             continue
@@ -775,7 +833,10 @@ def draw_configuration_cells(
         ax.annotate(
             str(j + 1), xy=(float(mid[0]), float(mid[1])), xytext=(4, 4), textcoords="offset points", fontsize=7
         )
-    # start and goal
+
+
+def _draw_ends_in_cells(ax: Axes, plan: GraphPlan, x0: dict[tuple[int, int], float]) -> None:
+    """The start (filled square) and the goal (empty star), where their cells are drawn."""
     for what, corner in (("start", 0), ("goal", -1)):
         e, f, _ = plan.corner_cells[corner]
         if (e, f) in x0:
@@ -790,14 +851,3 @@ def draw_configuration_cells(
                 zorder=5,
                 clip_on=False,
             )
-    more = f" (first {len(shown)} of {len(order)})" if len(order) > len(shown) else ""
-    ax.set_title(
-        f"configuration cells crossed{more}: x = offset of A, y = offset of B (m); "
-        f"red: closer than D = {plan.clearance:g} m; ■ start, ☆ goal",
-        fontsize=8,
-    )
-    ax.set_aspect("equal", adjustable="box")
-    ax.set_xticks([])
-    ax.set_xlim(-0.05 * gap, x - gap + 0.05 * gap)
-    ax.set_ylim(-0.05 * float(lengths.max()), float(max(lengths[f] for _, f in shown)) + 0.4 * float(lengths.max()))
-    return drawn

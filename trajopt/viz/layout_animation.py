@@ -57,7 +57,7 @@ class StreamingGifWriter(AbstractMovieWriter):
         self._last: NDArray[np.uint8] = np.zeros((0, 0), dtype=np.uint8)
         self.frames = 0
 
-    def setup(self, fig: Figure, outfile: str | Path, dpi: float | None = None) -> None:  # type: ignore[override]
+    def setup(self, fig: Figure, outfile: str | Path, dpi: float | None = None) -> None:
         """Open ``outfile`` for writing."""
         super().setup(fig, outfile, dpi=dpi)
         self._fp = open(outfile, "wb")
@@ -353,7 +353,7 @@ def _update(
             be, bo = _body_points(tr, route, float(r[k]), half)
             bp = geo.embed(be, bo, tr.lengths)
             body.set_data(bp[:, 0], bp[:, 1])
-        side = float(ROUTE_STYLES[name]["side"])  # type: ignore[arg-type]
+        side = ROUTE_STYLES[name]["side"]
         label.xy = (float(p[0]), float(p[1]))
         label.set_position((side * float(n[0]) * 16.0, side * float(n[1]) * 16.0))
     art["clock"].set_text(f"t = {now:6.2f} s / {duration:.2f} s")
