@@ -210,7 +210,9 @@ _COMP0 = np.array([0, 0, 1, 3])
 _COMPH = np.array([0, 1, 2, 2])
 
 
-def _skeleton_points(planner: LollipopPlanner, st: NDArray[np.float64]) -> tuple[NDArray[np.int64], ...]:
+def _skeleton_points(
+    planner: LollipopPlanner, st: NDArray[np.float64]
+) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.bool_]]:
     """The preliminary step on whole arrays: edge index, arc length, and a flag for points near a vertex."""
     sk = planner.skeleton
     ell, c_model, kappa = sk.model.stick, sk.model.loop, sk.kappa
@@ -222,7 +224,7 @@ def _skeleton_points(planner: LollipopPlanner, st: NDArray[np.float64]) -> tuple
     edge, t = sk.points_of_model_states(end)
     length = np.where((edge == 0) | (edge == 7), ell - sk.half, sk.half)
     near = np.any(np.abs(end - ell) < _MARGIN, axis=1) | (t < _MARGIN) | (t > length - _MARGIN)
-    return edge, t, near  # type: ignore[return-value]
+    return edge, t, near
 
 
 def _lollipop(planner: LollipopPlanner, s: NDArray[np.float64], g: NDArray[np.float64]) -> BatchPlans:

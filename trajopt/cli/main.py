@@ -30,6 +30,15 @@ __all__ = ["EXIT_INTERNAL", "EXIT_INTERRUPTED", "EXIT_NO_MOTION", "EXIT_USAGE", 
 
 #: Modules that add subcommands through a ``register(subparsers)`` function.
 SUBCOMMAND_MODULES = ("trajopt.cli.plan", "trajopt.cli.trajectory", "trajopt.cli.animate", "trajopt.cli.topology")
+#: Every subcommand in help order: its module and its one-line help (equal to what the module registers; tested).
+#: ``mpa --help`` lists them without importing the modules (and so numpy, the planners, CasADi, matplotlib).
+SUBCOMMANDS = {
+    "plan": ("trajopt.cli.plan", "plan a motion (the paper's algorithm, or the complete graph planner) and print it"),
+    "trajectory": ("trajopt.cli.trajectory", "verified jerk-limited setpoints for a query (CSV + JSON)"),
+    "demo": ("trajopt.cli.trajectory", "the embedded default job: a lollipop swap, files and a PNG"),
+    "animate": ("trajopt.cli.animate", "animate a query: raw plan and jerk-limited trajectory side by side"),
+    "topology": ("trajopt.cli.topology", "Betti numbers, Euler characteristic and TC of two robots on a graph"),
+}
 #: Exit status of bad input (``error:``).
 EXIT_USAGE = 2
 #: Exit status of a valid query without a collision-free motion (``no motion:``).
@@ -45,16 +54,41 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"error: {message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of the ``mpa`` command."""
+def build_parser(command: str | None = None, *, full: bool = True) -> argparse.ArgumentParser:
+    """The argument parser of the ``mpa`` command.
+
+    Parameters
+    ----------
+    command : str, optional
+        With ``full=False``: the subcommand about to run; only its module is imported and registered, every
+        other subcommand is listed by name and help only.
+    full : bool
+        Register every subcommand (imports every subcommand module).
+    """
     parser = _Parser(
         prog="mpa", description="Topological motion planning for two robots on a track (Boughrira & Colman)."
     )
     parser.add_argument("--version", action="version", version=f"mpa (lollipop-mpa) {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    for name in SUBCOMMAND_MODULES:
-        importlib.import_module(name).register(sub)
+    if full:
+        for name in SUBCOMMAND_MODULES:
+            importlib.import_module(name).register(sub)
+        return parser
+    wanted = SUBCOMMANDS[command][0] if command in SUBCOMMANDS else None
+    done: set[str] = set()
+    for name, (module, text) in SUBCOMMANDS.items():
+        if module == wanted:
+            if module not in done:
+                importlib.import_module(module).register(sub)
+                done.add(module)
+        else:
+            sub.add_parser(name, help=text)
     return parser
+
+
+def _command_of(args: Sequence[str]) -> str | None:
+    """The subcommand named on the command line (the first argument that is not an option), if any."""
+    return next((a for a in args if not a.startswith("-")), None)
 
 
 def _line(prefix: str, exc: object) -> None:
@@ -65,8 +99,8 @@ def _line(prefix: str, exc: object) -> None:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``mpa`` command; returns the exit status (see the module docstring)."""
     try:
-        parser = build_parser()
         args_list = list(sys.argv[1:] if argv is None else argv)
+        parser = build_parser(_command_of(args_list), full=False)
         if not args_list:
             parser.print_usage(sys.stderr)
             return EXIT_USAGE
