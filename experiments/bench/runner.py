@@ -388,7 +388,11 @@ def _run_method(ctx: Context, method: str, start: FloatArray, goal: FloatArray, 
         if res.path is None:
             fail = MethodOutcome(False, False, time.perf_counter() - t0, error="no grid path", stats=res.stats)
             return {method: fail}
-        timed = _time_path(ctx, res.path, "smooth", start, goal, shortcut=True)
+        try:
+            timed = _time_path(ctx, res.path, "smooth", start, goal, shortcut=True)
+        except MPAError as exc:  # e.g. a grid path that leaves its route at P in a way split_routes cannot cut
+            err = f"grid path not timed: {type(exc).__name__}: {exc}"
+            return {method: MethodOutcome(False, False, time.perf_counter() - t0, error=err, stats=res.stats)}
         return {method: _timed_outcome(timed, time.perf_counter() - t0, {"grid": res.stats, "grid_cost": res.cost})}
     raise ValueError(f"method is {method!r}, expected one of {METHODS}")
 
