@@ -3,7 +3,8 @@
 Every method turns the same seeded queries into jerk-limited setpoints through the same time parametrization
 (``trajopt.timing``) and the same verification gate (``trajopt.verify.verify_setpoints``):
 
-- ``ours``: plan → IPOPT smoothing in the plan's homotopy class → toppra → ruckig (``trajopt.TrajectoryGenerator``);
+- ``ours``: plan → fast path (one ruckig profile on the straight route-coordinate line) or hard path (corridor QP in
+  the plan's homotopy class, B-spline, filtered jerk-limited timing) → the gate (``trajopt.TrajectoryGenerator``);
 - ``raw_plan``: the paper's plan as is, step by step, rest to rest;
 - ``ompl_rest`` / ``ompl_bspline``: OMPL 2.x RRTConnect with an exact motion validator, shortcut, executed rest
   to rest at its waypoints / B-spline-smoothed, re-verified and timed like ours;
@@ -56,6 +57,8 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench import graph_runner
+from bench.compute import TRACKS as COMPUTE_TRACKS
+from bench.compute import compare_compute, compute_markdown
 from bench.parallel import run_tasks
 from bench.report import plot_results, plot_scaling, results_markdown, scaling_markdown
 from bench.runner import METHODS, BenchConfig, make_queries
@@ -244,12 +247,10 @@ def run_compute(config: BenchConfig, n: int, out: Path, *, command: str = "") ->
 
     Writes ``out/compute.json`` and ``out/compute.md``; returns the per-track results.
     """
-    from bench.compute import TRACKS, compare_compute, compute_markdown
-
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     results = []
-    for label, kind, stick, loop in TRACKS:
+    for label, kind, stick, loop in COMPUTE_TRACKS:
         res = compare_compute(replace(config, track=kind, stick=stick, loop=loop), n)
         res["label"] = label
         results.append(res)

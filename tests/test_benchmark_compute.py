@@ -13,8 +13,10 @@ from mpa import Circle, Lollipop, Track
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "experiments"))
 
+from bench.compute import compare_compute  # noqa: E402  (at import: a Dask test re-imports `bench` from a zip)
 from bench.geometry import leg_moves_geodesic  # noqa: E402
 from bench.lean import LeanOmpl, _positions  # noqa: E402
+from bench.runner import BenchConfig  # noqa: E402
 
 from trajopt import Limits  # noqa: E402
 
@@ -56,9 +58,6 @@ def test_positions_follow_the_geodesic_through_p_and_the_seam() -> None:
 
 
 def test_compute_mode_smoke(tmp_path: Path) -> None:
-    from bench.compute import compare_compute
-    from bench.runner import BenchConfig
-
     res = compare_compute(BenchConfig(track="lollipop"), 4, warmup=1)
     s = res["summary"]
     assert s["n"] == 4 and s["ours_verified"] == 1.0 and s["lean_verified"] == 1.0

@@ -9,7 +9,8 @@ and the homotopy class of the result are computed outside the timed region.
 
 Methods (:data:`METHODS`):
 
-- ``ours``: ``trajopt.TrajectoryGenerator`` (plan → IPOPT smoothing in the plan's class → toppra → ruckig).
+- ``ours``: ``trajopt.TrajectoryGenerator`` (plan → fast path: one ruckig profile on the straight route-coordinate
+  line, or hard path: corridor QP in the plan's class, B-spline, filtered jerk-limited timing → the gate).
 - ``raw_plan``: the paper's plan as is, every straight step rest to rest (``optimize=False``; the fallback).
 - ``ompl_rest``: OMPL RRTConnect + shortcuts in track coordinates (SO(2)² on the circle), executed rest to rest
   at its waypoints. ``ompl_bspline``: the same path after ``smoothBSpline``, re-verified and timed like ours.
@@ -290,6 +291,7 @@ def _trajopt_outcome(gen: TrajectoryGenerator, start: FloatArray, goal: FloatArr
         "ipopt_solve": float(st.get("solve_time", 0.0)),
         "timings": {k: float(v) for k, v in traj.timings.items()},
         "domain": traj.domain,
+        "path": str(st.get("path", "")),
     }
     return MethodOutcome(
         True,
