@@ -83,6 +83,10 @@ def build_parser(command: str | None = None, *, full: bool = True) -> argparse.A
                 done.add(module)
         else:
             sub.add_parser(name, help=text)
+    tabled = {m for m, _ in SUBCOMMANDS.values()}
+    for module in SUBCOMMAND_MODULES:  # a module missing from the table still works (imported, so not lazily)
+        if module not in tabled:
+            importlib.import_module(module).register(sub)
     return parser
 
 
@@ -100,7 +104,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``mpa`` command; returns the exit status (see the module docstring)."""
     try:
         args_list = list(sys.argv[1:] if argv is None else argv)
-        parser = build_parser(_command_of(args_list), full=False)
+        command = _command_of(args_list)
+        parser = build_parser(command, full=command is not None and command not in SUBCOMMANDS)
         if not args_list:
             parser.print_usage(sys.stderr)
             return EXIT_USAGE
