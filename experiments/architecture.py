@@ -42,7 +42,7 @@ class Layer:
 #: The layers, bottom first.
 LAYERS = (
     Layer("mpa — the paper (numpy only)", ("mpa", "mpa/planners", "mpa/topology"), "numpy", "#dbe9f6"),
-    Layer("trajopt — the pipeline", ("trajopt",), "casadi, toppra, ruckig", "#e2f0d9"),
+    Layer("trajopt — the pipeline", ("trajopt",), "casadi, toppra, ruckig (rosbags for MCAP, optional)", "#e2f0d9"),
     Layer("trajopt.cli and trajopt.viz", ("trajopt/cli", "trajopt/viz"), "matplotlib (viz only)", "#fde9d9"),
     Layer("experiments — figures, animations, benchmarks", ("experiments", "experiments/bench"), "ompl, dask", "#eee"),
 )
@@ -50,7 +50,7 @@ LAYERS = (
 #: Top-level imports each layer may use besides the standard library and the layers below.
 _ALLOWED = (
     {"numpy", "mpa"},
-    {"numpy", "mpa", "trajopt", "casadi", "toppra", "ruckig"},
+    {"numpy", "mpa", "trajopt", "casadi", "toppra", "ruckig", "rosbags"},
     {"numpy", "mpa", "trajopt", "casadi", "toppra", "ruckig", "matplotlib", "mpl_toolkits", "PIL", "imageio_ffmpeg"},
     None,  # experiments: anything
 )

@@ -5,9 +5,14 @@ uniform random vector of at most 1 mm per robot; compare the new motion's path w
 (from 0.1 s): the homotopy class (``mpa.path_word``) and the largest distance between the two paths, both
 parametrized by route travel (600 points, track graph distance, worst robot), relative to the goal's move.
 
+The OMPL pipeline of the benchmark (RRTConnect, geodesic motions, simplified; ``bench.baselines.OmplPlanner``)
+is run on the same sequence, re-seeded at every step as a long-running re-planner would be: at re-plan k it
+solves (x_k, g_{k-1}) with seed k and (x_k, g_k) with seed k + 1, x_k the carts' rest point of our re-plan k, and
+the two paths are compared the same way (class and largest distance, parametrized by route travel).
+
 Usage::
 
-    python experiments/replan_stability.py [--replans 80] [--seed 0]
+    python experiments/replan_stability.py [--replans 80] [--seed 0] [--no-ompl]
 
 Prints one line per query. Headless, no files written.
 """
@@ -15,6 +20,7 @@ Prints one line per query. Headless, no files written.
 from __future__ import annotations
 
 import argparse
+import itertools
 import sys
 import time
 from pathlib import Path
@@ -41,10 +47,71 @@ def curve(traj, t0: float, n: int = 600) -> np.ndarray:  # type: ignore[no-untyp
     return np.stack([r[0].position(ss[:, 0]), r[1].position(ss[:, 1])], axis=1)
 
 
+def _by_travel(pts: np.ndarray, s: np.ndarray, n: int) -> np.ndarray:
+    """Track positions ``pts`` (K, 2) with route coordinates ``s`` (K, 2) resampled at ``n`` equal steps of travel."""
+    c = np.concatenate([[0.0], np.cumsum(np.max(np.abs(np.diff(s, axis=0)), axis=1))])
+    u = np.linspace(0.0, c[-1], n)
+    idx = np.clip(np.searchsorted(c, u, side="right") - 1, 0, len(c) - 1)
+    return pts[idx]
+
+
+def _densify(nodes: np.ndarray, step: float) -> np.ndarray:
+    """The polyline ``nodes`` (M, 2) with points at most ``step`` apart (max norm) on every leg."""
+    out = [nodes[:1]]
+    for p, q in itertools.pairwise(nodes):
+        k = max(1, int(np.ceil(np.max(np.abs(q - p)) / step)))
+        out.append(p + (q - p) * (np.arange(1, k + 1) / k)[:, None])
+    return np.vstack(out)
+
+
+def ompl_curve(track, result, n: int = 600) -> np.ndarray | None:  # type: ignore[no-untyped-def]
+    """The OMPL path as ``n`` track positions equally spaced in route travel (None if unsolved)."""
+    from bench.geometry import split_routes
+
+    if not result.solved or result.simplified is None:
+        return None
+    pts, ss, offset = [], [], np.zeros(2)
+    for seg in split_routes(result.simplified):
+        dense = _densify(seg.nodes, 1e-3)
+        pts.append(np.stack([seg.routes[0].position(dense[:, 0]), seg.routes[1].position(dense[:, 1])], axis=1))
+        ss.append(np.cumsum(np.vstack([offset[None, :], np.abs(np.diff(dense, axis=0))]), axis=0))
+        offset = ss[-1][-1]
+    if not pts:
+        return None
+    return _by_travel(np.vstack(pts), np.vstack(ss), n)
+
+
+def compare_ompl(track, pairs, seed: int) -> str:  # type: ignore[no-untyped-def]
+    """Class changes and path jumps of the OMPL pipeline re-seeded on the sequence ``pairs`` of (x_k, g_{k-1}, g_k)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from bench.baselines import OmplPlanner
+
+    planner = OmplPlanner(track, 0.05, budget=1.0, geodesic=True)
+    changes = jumps = unsolved = 0
+    ratios = []
+    for k, (x, g0, g1) in enumerate(pairs):
+        c0 = ompl_curve(track, planner.solve(x, g0, seed + 2 * k + 1))
+        c1 = ompl_curve(track, planner.solve(x, g1, seed + 2 * k + 2))
+        if c0 is None or c1 is None:
+            unsolved += 1
+            continue
+        changes += path_word(track, c0) != path_word(track, c1)
+        gap = max(track.distance(c0[:, 0], c1[:, 0]).max(), track.distance(c0[:, 1], c1[:, 1]).max())
+        ratios.append(gap / max(np.abs(np.asarray(g1) - np.asarray(g0)).max(), 1e-12))
+        jumps += ratios[-1] > 10
+    if not ratios:
+        return f"OMPL re-seeded: {len(pairs)} re-plans, none solved"
+    return (
+        f"OMPL re-seeded: {len(ratios)} re-plans ({unsolved} unsolved), class changes {changes}, path jumps > 10x "
+        f"the goal move {jumps}, jump/move median {np.median(ratios):.2f} max {max(ratios):.2f}"
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--replans", type=int, default=80)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--no-ompl", action="store_true", help="skip the OMPL pipeline re-seeded on the same sequence")
     args = ap.parse_args(argv)
     track = Lollipop(1.0, 1.0)
     gen = TrajectoryGenerator(track, clearance=0.05)
@@ -53,12 +120,14 @@ def main(argv: list[str] | None = None) -> int:
         cur, g = gen.generate(start, goal), np.array(goal, dtype=float)
         changes = jumps = 0
         ratios = []
+        pairs = []
         t0 = time.perf_counter()
         for _ in range(args.replans):
             if cur.motion_time <= 0.1:
                 break
             move = rng.uniform(-1e-3, 1e-3, 2)
             new = gen.replan(cur, 0.1, g + move)
+            pairs.append((tuple(new.plan.start), tuple(g), tuple(g + move)))
             rem, nw = curve(cur, 0.1), curve(new, 0.0)
             changes += path_word(track, rem) != path_word(track, nw)
             gap = max(track.distance(rem[:, 0], nw[:, 0]).max(), track.distance(rem[:, 1], nw[:, 1]).max())
@@ -70,6 +139,8 @@ def main(argv: list[str] | None = None) -> int:
             f"{jumps}, jump/move median {np.median(ratios):.2f} max {max(ratios):.2f}, "
             f"{(time.perf_counter() - t0) / len(ratios) * 1e3:.0f} ms per re-plan (with the checks)"
         )
+        if not args.no_ompl:
+            print("    " + compare_ompl(track, pairs, args.seed))
     return 0
 
 

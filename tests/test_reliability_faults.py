@@ -3,6 +3,7 @@ a killed writer never leaves a partial file; two writers never interleave their 
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import signal
@@ -15,20 +16,33 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import trajopt.corridor as corridor
 import trajopt.generator as genmod
-import trajopt.smoothing as smoothing
+import trajopt.timing as timing
 from mpa import Lollipop, PlanningError
 from trajopt import TrajectoryGenerator
 from trajopt.testing import check_trajectory
 
 ROOT = Path(__file__).resolve().parents[1]
 TRACK = Lollipop(1.0, 1.0)
-QUERIES = [((0.2, 0.5), (0.5, 0.2)), ((0.1, 0.6), (1.5, 0.3)), ((0.9, 1.7), (0.3, 1.2))]
+#: Queries whose straight route-coordinate motion is blocked: they take the hard path (corridor QP, timing filter).
+HARD = [((0.1, 0.6), (1.5, 0.3)), ((0.17, 0.47), (1.6, 1.16)), ((0.06, 1.41), (0.75, 0.18))]
+#: Queries taken by the fast path (one ruckig profile along the straight line).
+FAST = [((0.2, 0.5), (0.5, 0.2)), ((0.9, 1.7), (0.3, 1.2)), ((0.1, 0.3), (0.6, 0.9))]
+QUERIES = HARD
 
 
-def _all_fall_back(match: str) -> None:
+def test_the_queries_take_the_paths_they_are_meant_to() -> None:
     gen = TrajectoryGenerator(TRACK, clearance=0.05)
-    for s, g in QUERIES:
+    for queries, path in ((HARD, "hard"), (FAST, "fast")):
+        for s, g in queries:
+            traj = gen.generate(s, g)
+            assert traj.solver_stats.get("path") == path and not traj.fallback, (s, g, traj.solver_stats)
+
+
+def _all_fall_back(match: str, queries: list = HARD) -> None:  # type: ignore[type-arg]
+    gen = TrajectoryGenerator(TRACK, clearance=0.05)
+    for s, g in queries:
         traj = gen.generate(s, g)
         assert traj.fallback, (s, g)
         assert match in traj.fallback_reason, traj.fallback_reason
@@ -36,29 +50,29 @@ def _all_fall_back(match: str) -> None:
         assert not check_trajectory(traj, s, g), check_trajectory(traj, s, g)
 
 
-def test_ipopt_raises(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+def test_qp_solver_raises(monkeypatch) -> None:  # type: ignore[no-untyped-def]
     def boom(self, *a, **k):  # type: ignore[no-untyped-def]
-        raise RuntimeError("Error in Function::call for 'solver' [IpoptInterface] at .../casadi: Invalid_Number")
+        raise RuntimeError("Error in Function::call for 'corridor32' [DaqpInterface] at .../casadi: Invalid_Number")
 
-    monkeypatch.setattr(smoothing.SmoothingProblem, "solve", boom)
+    monkeypatch.setattr(corridor.CorridorProblem, "solve", boom)
     _all_fall_back("solver error: Error in Function::call")
 
 
-def test_ipopt_reports_failure(monkeypatch) -> None:  # type: ignore[no-untyped-def]
-    real = smoothing.SmoothingProblem.solve
+def test_qp_solver_reports_failure(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    real = corridor.CorridorProblem.solve
 
     def failed(self, *a, **k):  # type: ignore[no-untyped-def]
         nodes, stats = real(self, *a, **k)
-        stats.update(ipopt_success=False, ipopt_status="Restoration_Failed")
+        stats.update(qp_success=False, qp_status="INFEASIBLE")
         return nodes, stats
 
-    monkeypatch.setattr(smoothing.SmoothingProblem, "solve", failed)
-    _all_fall_back("IPOPT failed: Restoration_Failed")
+    monkeypatch.setattr(corridor.CorridorProblem, "solve", failed)
+    _all_fall_back("corridor QP failed: INFEASIBLE")
 
 
 @pytest.mark.parametrize("garbage", ["nan", "random", "huge", "reversed"])
-def test_ipopt_returns_garbage(monkeypatch, garbage) -> None:  # type: ignore[no-untyped-def]
-    real = smoothing.SmoothingProblem.solve
+def test_qp_solver_returns_garbage(monkeypatch, garbage) -> None:  # type: ignore[no-untyped-def]
+    real = corridor.CorridorProblem.solve
     rng = np.random.default_rng(0)
 
     def bad(self, *a, **k):  # type: ignore[no-untyped-def]
@@ -73,7 +87,7 @@ def test_ipopt_returns_garbage(monkeypatch, garbage) -> None:  # type: ignore[no
             nodes[1:-1] = nodes[-2:0:-1]
         return nodes, stats
 
-    monkeypatch.setattr(smoothing.SmoothingProblem, "solve", bad)
+    monkeypatch.setattr(corridor.CorridorProblem, "solve", bad)
     gen = TrajectoryGenerator(TRACK, clearance=0.05)
     for s, g in QUERIES:
         traj = gen.generate(s, g)
@@ -84,26 +98,36 @@ def test_ipopt_returns_garbage(monkeypatch, garbage) -> None:  # type: ignore[no
             assert traj.fallback_reason
 
 
-def test_toppra_returns_none(monkeypatch) -> None:  # type: ignore[no-untyped-def]
-    import toppra.algorithm as algo
-
-    monkeypatch.setattr(algo.TOPPRA, "compute_parameterization", lambda self, *a, **k: None)
-    _all_fall_back("toppra")
+def test_timing_returns_none(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    monkeypatch.setattr(timing, "filtered_scaling", lambda *a, **k: None)
+    _all_fall_back("optimisation failed (AttributeError")
 
 
-def test_toppra_profile_returns_none(monkeypatch) -> None:  # type: ignore[no-untyped-def]
-    monkeypatch.setattr(genmod, "toppra_profile", lambda *a, **k: None)
-    _all_fall_back("optimisation failed (TypeError")
+def test_timing_raises(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    def boom(*a, **k):  # type: ignore[no-untyped-def]
+        raise ValueError("timing: infeasible instance")
+
+    monkeypatch.setattr(timing, "filtered_scaling", boom)
+    _all_fall_back("timing: infeasible instance")
 
 
-def test_toppra_raises(monkeypatch) -> None:  # type: ignore[no-untyped-def]
-    import toppra.algorithm as algo
+def test_timing_returns_a_motion_off_the_path(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    real = timing.filtered_scaling
 
-    def boom(self, *a, **k):  # type: ignore[no-untyped-def]
-        raise ValueError("toppra: infeasible instance")
+    def stretched(*a, **k):  # type: ignore[no-untyped-def]
+        sc = real(*a, **k)
+        return dataclasses.replace(sc, j=sc.j * 3.0)  # jerk over the limit and positions off the profile
 
-    monkeypatch.setattr(algo.TOPPRA, "compute_parameterization", boom)
-    _all_fall_back("toppra: infeasible instance")
+    monkeypatch.setattr(timing, "filtered_scaling", stretched)
+    _all_fall_back("")
+
+
+def test_fast_path_raises(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    def boom(*a, **k):  # type: ignore[no-untyped-def]
+        raise RuntimeError("[ruckig] error in step 2 in dof 0")
+
+    monkeypatch.setattr(genmod, "straight_scaling", boom)
+    _all_fall_back("solver error: [ruckig] error in step 2", FAST)
 
 
 class _FlakyRuckig:
@@ -129,7 +153,7 @@ _REAL_RUCKIG = _ruckig.Ruckig
 
 def test_ruckig_raises_in_the_optimised_stage(monkeypatch) -> None:  # type: ignore[no-untyped-def]
     gen = TrajectoryGenerator(TRACK, clearance=0.05)
-    for s, g in QUERIES:
+    for s, g in FAST:  # the fast path's profile is the first ruckig call; the fallback's the second
         _FlakyRuckig.made = 0
         monkeypatch.setattr(_ruckig, "Ruckig", _FlakyRuckig)
         traj = gen.generate(s, g)

@@ -187,3 +187,19 @@ def test_file_round_trip(canon, tmp_path) -> None:  # type: ignore[no-untyped-de
     np.testing.assert_allclose(data[:, [1, 3]], tab.s, rtol=1e-11, atol=1e-12)
     np.testing.assert_allclose(data[:, [2, 4]], tab.v, rtol=1e-11, atol=1e-12)
     assert data[-1, 0] == canon.motion_time
+
+
+def test_pvt_of_a_replan_starts_moving() -> None:
+    """A re-planned motion starts moving: its first PVT row keeps the velocity, and the check accepts it."""
+    from trajopt import TrajectoryGenerator
+    from trajopt.pvt import hermite_eval
+
+    gen = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05)
+    new = gen.replan(gen.generate((0.2, 0.5), (0.5, 0.2)), 1.3, (0.7, 0.35))
+    assert np.all(np.abs(new.v[0]) > 0.1)
+    tab = pvt_table(new, 0.1)
+    np.testing.assert_array_equal(tab.v[0], new.v[0])
+    assert tab.s[0].tolist() == [0.0, 0.0] and tab.v[-1].tolist() == [0.0, 0.0]
+    tq = np.linspace(0.0, tab.t[-1], 20_001)
+    _s, v, _a, _j = hermite_eval(tab.t, tab.s, tab.v, tq)
+    assert float(np.max(np.abs(v))) <= 0.5 * (1 + 1e-6)

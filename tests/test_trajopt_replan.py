@@ -184,4 +184,15 @@ def test_stability_script_smoke() -> None:
     )
     assert res.returncode == 0, res.stderr
     lines = res.stdout.strip().splitlines()
-    assert len(lines) == 4 and all("2 re-plans, class changes 0" in ln for ln in lines), res.stdout
+    ours = [ln for ln in lines if not ln.startswith("    OMPL")]
+    ompl = [ln for ln in lines if ln.startswith("    OMPL re-seeded: ")]
+    assert len(ours) == 4 and all("2 re-plans, class changes 0" in ln for ln in ours), res.stdout
+    assert len(ompl) == 4 and all("re-plans" in ln for ln in ompl), res.stdout
+
+
+def test_brake_past_p_onto_another_branch_is_no_motion_with_its_reason() -> None:
+    """A cart that would brake past P and come back onto a third branch: no single-route motion (exit 3, not 4)."""
+    gen = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05)
+    traj = gen.generate((0.36588664935143744, 1.9260382802485345), (1.601834073217218, 0.9625209931505372))
+    with pytest.raises(NoMotionError, match="brake past P and come back onto another branch"):
+        gen.replan(traj, 2.0832849834925895, (1.627068128359271, 1.2056978104822327))

@@ -192,3 +192,42 @@ def test_gate_rejects_collisions_and_other_classes() -> None:
 def test_trajectory_is_frozen(good) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(dataclasses.FrozenInstanceError):
         good.makespan = 0.0  # type: ignore[misc]
+
+
+def test_toppra_bounds_the_hard_path_timing_from_below() -> None:
+    """toppra (v/a limits, no jerk) is the time-optimal reference of the hard path's filtered timing."""
+    from trajopt.timing import filtered_scaling, spline_path
+
+    rng = np.random.default_rng(5)
+    limits = Limits(0.5, 1.0, 5.0)
+    for _ in range(20):
+        nodes = np.cumsum(rng.uniform(-0.3, 0.3, (33, 2)), axis=0)
+        path = spline_path(nodes)
+        _, _, dur = toppra_profile(path, limits)
+        filtered = filtered_scaling(path, limits)
+        assert filtered.duration >= dur * (1 - 1e-3), (filtered.duration, dur)
+
+
+def test_filtered_timing_of_a_path_shorter_than_its_plateaus() -> None:
+    """τ·vmax beyond the path's length: the plateau speed is lowered (no stuck profile, no fallback).
+
+    Soak query 10758 of seed 0 (lollipop 1.255/0.574, a/j = 2.27 s) used to fall back with "the timing is stuck".
+    """
+    from trajopt.timing import filtered_scaling, spline_path
+
+    limits = Limits([1.9482514061192715], [4.886817299458834], [2.154572312142627])
+    rng = np.random.default_rng(7)
+    for _ in range(10):
+        nodes = np.cumsum(rng.uniform(-0.05, 0.1, (33, 2)), axis=0)
+        path = spline_path(nodes)
+        sc = filtered_scaling(path, limits)
+        t = np.linspace(0.0, sc.duration, 2001)
+        q, v, a, j = sc.sample(t)
+        assert np.isfinite(sc.duration) and sc.duration > 0
+        assert np.allclose(q[-1], nodes[-1], atol=1e-9) and np.allclose(v[[0, -1]], 0.0, atol=1e-9)
+        assert np.all(np.abs(v) <= limits.v + 1e-9) and np.all(np.abs(a) <= limits.a + 1e-9)
+        assert np.all(np.abs(j) <= limits.j + 1e-6)
+    track = Lollipop(1.2550156546350668, 0.5737858793370452)
+    gen = TrajectoryGenerator(track, clearance=0.05940032929886244, limits=limits, rate=100.0)
+    traj = gen.generate((0.36575297279437663, 0.49313140033489167), (1.7683246736261726, 0.5878900529500634))
+    assert not traj.fallback, traj.fallback_reason

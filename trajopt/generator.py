@@ -91,18 +91,26 @@ class TrajectoryGenerator:
         """The topological plan of a query (validates it; see :meth:`mpa.planners.Planner.plan`)."""
         return self.planner.plan(start, goal)
 
-    def generate(self, start: ArrayLike, goal: ArrayLike) -> Trajectory:
+    def generate(self, start: ArrayLike, goal: ArrayLike, *, delay_tolerance: float | None = None) -> Trajectory:
         """A verified trajectory from ``start`` to ``goal`` (track coordinates of A and B).
+
+        With ``delay_tolerance`` (s), one whose delay tolerance (:meth:`Trajectory.margins`) is at least that
+        (:func:`trajopt.delay.generate_with_delay_tolerance`: a larger effective clearance, then slower).
 
         Raises
         ------
         InvalidInputError
-            Bad start or goal (off the track, closer than the clearance).
+            Bad start or goal (off the track, closer than the clearance), bad ``delay_tolerance``.
         NoMotionError
-            No collision-free motion exists (e.g. the order must change and ``D ≥ loop/2``).
+            No collision-free motion exists (e.g. the order must change and ``D ≥ loop/2``), or none found
+            with the requested delay tolerance (the message states the best value found).
         PlanningError
             Even the re-timed plan fails verification (never expected).
         """
+        if delay_tolerance is not None:
+            from trajopt.delay import generate_with_delay_tolerance
+
+            return generate_with_delay_tolerance(self, start, goal, delay_tolerance)
         t0 = time.perf_counter()
         plan = self.plan(start, goal)
         timings: dict[str, Any] = {"plan": time.perf_counter() - t0}
@@ -353,6 +361,7 @@ def generate_trajectory(
     amax: Any = defaults.AMAX,
     jmax: Any = defaults.JMAX,
     rate: float = defaults.RATE,
+    delay_tolerance: float | None = None,
 ) -> Trajectory:
     """One call from a query to a verified jerk-limited :class:`~trajopt.export.Trajectory`.
 
@@ -367,6 +376,8 @@ def generate_trajectory(
         Per-robot limits (m/s, m/s², m/s³).
     rate : float
         Setpoint rate (Hz).
+    delay_tolerance : float, optional
+        Ask for a delay tolerance of at least this (s; see :mod:`trajopt.delay`).
 
     Returns
     -------
@@ -375,9 +386,9 @@ def generate_trajectory(
     Raises
     ------
     InvalidInputError
-        Bad limits, rate, clearance, start or goal.
+        Bad limits, rate, clearance, start, goal or delay tolerance.
     NoMotionError
-        No collision-free motion exists.
+        No collision-free motion exists (or none with the requested delay tolerance).
     PlanningError
         Not even the re-timed plan passes verification.
 
@@ -389,4 +400,4 @@ def generate_trajectory(
     (True, False)
     """
     gen = TrajectoryGenerator(track, clearance=clearance, limits=Limits(vmax, amax, jmax), rate=rate)
-    return gen.generate(start, goal)
+    return gen.generate(start, goal, delay_tolerance=delay_tolerance)

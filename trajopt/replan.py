@@ -24,7 +24,8 @@ at rest at the new goal. Its time 0 is ``at_time`` of the old one.
    ``solver_stats["replan"]["orientation"]``). At the splice the braking profile starts exactly at the old state,
    so position, velocity and acceleration are continuous (to rounding, 1e-12) and the jerk is limited; the
    braking ends at rest, where the new motion starts at rest. If a cart would come back through P onto a third
-   branch (its path is then no single route) :class:`~mpa.errors.PlanningError` says so.
+   branch (its path is then no single route) :class:`~mpa.errors.NoMotionError` says so (a limit of the
+   one-route-coordinate setpoint format, not a failure: the command line answers exit 3, re-plan at another time).
 4. **Gate** on the spliced rows, with every check of :func:`~trajopt.verify.verify_setpoints` except "first row
    at rest" (the first row is the moving state by construction); the homotopy class checked is the reduced
    word of the braking rows followed by the new plan's path (``mpa.path_word``).
@@ -311,9 +312,10 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
         try:
             rc, sig = Route.through(track, lifts, goal_index=-1)
         except PlanningError as exc:
-            raise PlanningError(
+            raise NoMotionError(
                 f"robot {'AB'[r]} would brake past P and come back onto another branch: its motion is not a "
-                f"single route ({exc}); re-plan at another time"
+                f"single route, which setpoints along one route coordinate cannot express ({exc}); re-plan at "
+                "another time"
             ) from exc
         # orientation of the old route coordinate and of the new one in the combined route
         sb_sign = 1

@@ -815,16 +815,46 @@ def filtered_scaling(
     stops = br[path.stop]
     cap[np.isin(grid, stops)] = 0.0
     two_a_ds = 2.0 * a_int * ds
-    b = _topp_passes(cap, two_a_ds)
-    # flat tops: every speed peak becomes a plateau at least τ long (an opening of ṡ² over ±r, r ≥ vmax·τ/2
-    # plus the grid step), so the input's acceleration never swings from +a to −a within τ
-    r = 0.5 * reach + float(np.max(ds, initial=0.0))
-    b = _topp_passes(np.minimum(b, _opening(grid, b, r)), two_a_ds)
-    b = np.maximum(b, 0.0)
+    b0 = _topp_passes(cap, two_a_ds)
+    ds_max = float(np.max(ds, initial=0.0))
+
+    def flat_tops(c: float) -> tuple[FloatArray, FloatArray]:
+        """Speeds capped at ``c`` with every peak a plateau at least τ long (an opening of ``ṡ²`` over ±r,
+        ``r = c·τ/2`` plus the grid step), so the input's acceleration never swings from +a to −a within τ;
+        returns ``ṡ²`` at the grid points and the time of every grid interval (inf where the profile is stuck)."""
+        capped = np.minimum(b0, c * c)
+        bb = np.maximum(_topp_passes(np.minimum(capped, _opening(grid, capped, 0.5 * tau * c + ds_max)), two_a_ds), 0.0)
+        sq_ = np.sqrt(bb)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dt_ = np.where(ds > 0, 2.0 * ds / (sq_[:-1] + sq_[1:]), 0.0)
+        return bb, dt_
+
+    b, dt = flat_tops(float(np.max(pl.v)))
+    if not np.all(np.isfinite(dt)):
+        # a path too short for plateaus at full speed (τ·vmax beyond its length): the plateau speed c that
+        # minimises the duration (golden section on a fixed bracket: continuous in the path)
+        def duration(c: float) -> float:
+            return float(np.sum(flat_tops(c)[1]))
+
+        lo, hi = 0.0, float(np.max(pl.v))
+        g = (np.sqrt(5.0) - 1.0) / 2.0
+        x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
+        f1, f2 = duration(x1), duration(x2)
+        for _ in range(60):
+            if f1 <= f2:
+                hi, x2, f2 = x2, x1, f1
+                x1 = hi - g * (hi - lo)
+                f1 = duration(x1)
+            else:
+                lo, x1, f1 = x1, x2, f2
+                x2 = lo + g * (hi - lo)
+                f2 = duration(x2)
+        b, dt = flat_tops(0.5 * (lo + hi))
+    if not np.all(np.isfinite(dt)):
+        k = int(np.argmin(np.isfinite(dt)))
+        raise PlanningError(f"the timing is stuck: zero speed over [{grid[k]:.6g}, {grid[k + 1]:.6g}] m of the path")
     sq = np.sqrt(b)
-    den = sq[:-1] + sq[1:]
     with np.errstate(divide="ignore", invalid="ignore"):
-        dt = np.where(ds > 0, 2.0 * ds / den, 0.0)
         acc = np.where(ds > 0, (b[1:] - b[:-1]) / (2.0 * ds), 0.0)
     keep = dt > 0
     ti = np.concatenate([[0.0], np.cumsum(dt[keep])])

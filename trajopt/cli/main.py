@@ -1,7 +1,8 @@
 """The ``mpa`` command line (console script entry point).
 
 Subcommands: ``plan`` (the paper's planner), ``trajectory`` and ``demo`` (jerk-limited setpoints), ``animate``
-(animations), ``topology`` (topology of two robots on any graph); ``mpa --version``.
+(animations), ``topology`` (topology of two robots on any graph), ``replan`` (re-plan a written trajectory from
+its moving state), ``plot`` (a PNG of written setpoints); ``mpa --version``.
 
 Exit statuses (one line on stderr in every failing case, never a traceback, no output file left behind):
 
@@ -29,15 +30,27 @@ from mpa.errors import MPAError, NoMotionError, PlanningError
 __all__ = ["EXIT_INTERNAL", "EXIT_INTERRUPTED", "EXIT_NO_MOTION", "EXIT_USAGE", "build_parser", "main"]
 
 #: Modules that add subcommands through a ``register(subparsers)`` function.
-SUBCOMMAND_MODULES = ("trajopt.cli.plan", "trajopt.cli.trajectory", "trajopt.cli.animate", "trajopt.cli.topology")
+SUBCOMMAND_MODULES = (
+    "trajopt.cli.plan",
+    "trajopt.cli.trajectory",
+    "trajopt.cli.animate",
+    "trajopt.cli.topology",
+    "trajopt.cli.replan",
+    "trajopt.cli.plot",
+)
 #: Every subcommand in help order: its module and its one-line help (equal to what the module registers; tested).
 #: ``mpa --help`` lists them without importing the modules (and so numpy, the planners, CasADi, matplotlib).
 SUBCOMMANDS = {
     "plan": ("trajopt.cli.plan", "plan a motion (the paper's algorithm, or the complete graph planner) and print it"),
-    "trajectory": ("trajopt.cli.trajectory", "verified jerk-limited setpoints for a query (CSV + JSON)"),
+    "trajectory": ("trajopt.cli.trajectory", "verified jerk-limited setpoints for a query (CSV, ROS 2, PVT, JSON)"),
     "demo": ("trajopt.cli.trajectory", "the embedded default job: a lollipop swap, files and a PNG"),
     "animate": ("trajopt.cli.animate", "animate a query: raw plan and jerk-limited trajectory side by side"),
     "topology": ("trajopt.cli.topology", "Betti numbers, Euler characteristic and TC of two robots on a graph"),
+    "replan": (
+        "trajopt.cli.replan",
+        "re-plan a written trajectory from the carts' moving state at a time to a new goal",
+    ),
+    "plot": ("trajopt.cli.plot", "draw a setpoints file or an output directory of mpa into a PNG"),
 }
 #: Exit status of bad input (``error:``).
 EXIT_USAGE = 2

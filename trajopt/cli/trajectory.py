@@ -26,6 +26,8 @@ from trajopt.cli.common import (
     output_error,
     query_from_args,
 )
+from trajopt.cli.outputs import add_output_arguments, check_output_options, output_files, summary_text
+from trajopt.delay import check_delay_tolerance
 from trajopt.export import Trajectory, atomic_write_bytes, atomic_write_text
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
@@ -111,17 +113,7 @@ def write_outputs(out: str | os.PathLike[str], files: Mapping[str, str | bytes])
 
 
 def _summary_text(traj: Trajectory) -> str:
-    s = traj.summary()
-    src = "fallback (plan re-timed): " + traj.fallback_reason if traj.fallback else "optimized"
-    lines = [
-        f"domain      {traj.domain}, class {' '.join(traj.word) or '(trivial)'}",
-        f"makespan    {traj.makespan:.3f} s ({len(traj.t)} rows at {traj.rate:g} Hz)",
-        f"separation  min {traj.min_separation:.4f} m (clearance {traj.clearance:g} m)",
-        f"peaks       |v| {max(s['peak']['v']):.3f}, |a| {max(s['peak']['a']):.3f}, |j| {max(s['peak']['j']):.3f}",
-        f"source      {src}",
-        f"time        {1e3 * traj.timings.get('total', 0.0):.1f} ms",
-    ]
-    return "\n".join(lines)
+    return summary_text(traj)
 
 
 def _json(obj: Any) -> str:
@@ -131,15 +123,18 @@ def _json(obj: Any) -> str:
 
 
 def _cmd_trajectory(args: argparse.Namespace) -> int:
+    opts = check_output_options(args)
+    tolerance = None if args.delay_tolerance is None else check_delay_tolerance(args.delay_tolerance)
     check_output_dir(args.out)
     track, start, goal = query_from_args(args)
     gen = TrajectoryGenerator(
         track, clearance=args.clearance, limits=Limits(args.vmax, args.amax, args.jmax), rate=args.rate
     )
-    traj = gen.generate(start, goal)
-    files = {"setpoints.csv": traj.csv_text(), "summary.json": _json(traj.summary())}
+    traj = gen.generate(start, goal, delay_tolerance=tolerance)
+    recipe = {"start": list(start), "goal": list(goal), "delay_tolerance": tolerance, "replans": []}
+    files = output_files(traj, opts, recipe)
     write_outputs(args.out, files)
-    print(_summary_text(traj))
+    print(summary_text(traj))
     print(f"wrote       {', '.join(str(Path(args.out) / n) for n in files)}")
     return 0
 
@@ -171,11 +166,27 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def add_delay_tolerance_argument(p: argparse.ArgumentParser) -> None:
+    """``--delay-tolerance T`` (see :mod:`trajopt.delay`)."""
+    p.add_argument(
+        "--delay-tolerance",
+        type=float,
+        default=None,
+        metavar="T",
+        help="ask for a motion that tolerates at least T s of delay of either cart (larger effective clearance, "
+        "then slower); exit 3 with the best value found if none does",
+    )
+
+
 def register(subparsers: Any) -> None:
     """Add ``trajectory`` and ``demo`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
-    p = subparsers.add_parser("trajectory", help="verified jerk-limited setpoints for a query (CSV + JSON)")
+    p = subparsers.add_parser("trajectory", help="verified jerk-limited setpoints for a query (CSV, ROS 2, PVT, JSON)")
     add_trajectory_arguments(p)
-    p.add_argument("--out", required=True, help="output directory (setpoints.csv, summary.json)")
+    p.add_argument(
+        "--out", required=True, help="output directory (setpoints.csv and the other --format files, summary.json)"
+    )
+    add_output_arguments(p)
+    add_delay_tolerance_argument(p)
     p.set_defaults(func=_cmd_trajectory)
     d = subparsers.add_parser("demo", help="the embedded default job: a lollipop swap, files and a PNG")
     d.add_argument("--out", default="mpa-demo", help="output directory (default ./mpa-demo)")

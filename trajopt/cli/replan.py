@@ -1,0 +1,187 @@
+"""``mpa replan --from DIR --at T --goal A B --out DIR``: re-plan a written trajectory from its moving state.
+
+The trajectory is rebuilt from ``DIR/summary.json`` (track, clearance, limits, rate and the ``recipe``: the
+query, the requested delay tolerance and the chain of earlier re-plans; a summary without a recipe, e.g. of
+``mpa demo``, is rebuilt from its ``start`` and ``goal``). The pipeline is deterministic, so the rebuilt motion is
+checked against ``DIR/setpoints.csv`` row by row (every column, to 1e-9 m + 1e-9 relative: the file holds 12
+significant digits); a mismatch is an error. Then :meth:`TrajectoryGenerator.replan` and the files of
+``mpa trajectory`` (same ``--format``/``--plot`` options), with the recipe extended by ``{at, goal}`` so that the
+result can be re-planned again.
+
+Errors (exit 2, one ``error:`` line, nothing written): ``--from`` without ``summary.json`` or ``setpoints.csv``
+(or with files that do not describe the same motion), ``--at`` outside ``[0, makespan]``, a goal off the track or
+closer than the clearance; a goal without motion: exit 3.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from mpa.errors import InvalidInputError, MPAError
+from mpa.tracks import make_track
+from trajopt.cli.common import check_output_dir
+from trajopt.cli.outputs import add_output_arguments, check_output_options, output_files, summary_text
+from trajopt.export import CSV_COLUMNS, Trajectory
+from trajopt.generator import TrajectoryGenerator
+from trajopt.timing import Limits
+
+__all__ = ["load_trajectory", "register"]
+
+#: Tolerance of the check of the rebuilt motion against ``setpoints.csv`` (absolute + relative).
+MATCH_TOL = 1e-9
+
+
+def _read_summary(d: Path, option: str) -> dict[str, Any]:
+    p = d / "summary.json"
+    if not p.is_file():
+        raise InvalidInputError(
+            f"{option} {str(d)!r} holds no trajectory (no summary.json), expected an output directory of "
+            "mpa trajectory (summary.json and setpoints.csv)"
+        )
+    try:
+        data = json.loads(p.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InvalidInputError(f"{option}: {str(p)!r} cannot be read as JSON ({exc})") from None
+    if not isinstance(data, dict):
+        raise InvalidInputError(f"{option}: {str(p)!r} is not a summary of mpa trajectory (not a JSON object)")
+    return data
+
+
+def _read_setpoints(d: Path, option: str) -> np.ndarray:
+    p = d / "setpoints.csv"
+    if not p.is_file():
+        raise InvalidInputError(
+            f"{option} {str(d)!r} holds no setpoints.csv, expected an output directory of mpa trajectory "
+            "written with the csv format"
+        )
+    try:
+        with p.open(encoding="utf-8") as fh:
+            header = fh.readline().strip()
+            data = np.loadtxt(fh, delimiter=",", ndmin=2)
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise InvalidInputError(f"{option}: {str(p)!r} cannot be read as setpoints ({exc})") from None
+    if header != ",".join(CSV_COLUMNS) or data.shape[1] != len(CSV_COLUMNS):
+        raise InvalidInputError(f"{option}: {str(p)!r} has header {header!r}, expected {','.join(CSV_COLUMNS)}")
+    return data
+
+
+def _csv_array(traj: Trajectory) -> np.ndarray:
+    cols = [traj.t, traj.track[:, 0], traj.s[:, 0], traj.v[:, 0], traj.a[:, 0], traj.j[:, 0]]
+    cols += [traj.track[:, 1], traj.s[:, 1], traj.v[:, 1], traj.a[:, 1], traj.j[:, 1]]
+    return np.column_stack(cols)
+
+
+def load_trajectory(directory: str | Path, option: str = "--from") -> tuple[TrajectoryGenerator, Trajectory, dict]:
+    """The generator, the trajectory and the recipe of an output directory of ``mpa trajectory``/``replan``.
+
+    Raises
+    ------
+    InvalidInputError
+        No such directory, no ``summary.json`` or ``setpoints.csv``, unreadable files, or a motion that cannot
+        be rebuilt or does not match ``setpoints.csv``.
+    """
+    d = Path(directory)
+    if not d.is_dir():
+        raise InvalidInputError(f"{option} is {str(d)!r}, expected a directory written by mpa trajectory")
+    summary = _read_summary(d, option)
+    rows = _read_setpoints(d, option)
+    try:
+        tr = dict(summary["track"])
+        kind = tr.pop("track")
+        if kind not in ("interval", "circle", "lollipop"):
+            raise InvalidInputError(f"{option}: track {kind!r}, expected interval, circle or lollipop")
+        track = make_track(kind, tr.get("stick"), tr.get("loop"))
+        lim = summary["limits"]
+        limits = Limits(lim["vmax"], lim["amax"], lim["jmax"])
+        gen = TrajectoryGenerator(track, clearance=float(summary["clearance"]), limits=limits, rate=summary["rate"])
+        recipe = summary.get("recipe") or {
+            "start": summary["start"],
+            "goal": summary["goal"],
+            "delay_tolerance": None,
+            "replans": [],
+        }
+        recipe = {
+            "start": [float(x) for x in recipe["start"]],
+            "goal": [float(x) for x in recipe["goal"]],
+            "delay_tolerance": None if recipe.get("delay_tolerance") is None else float(recipe["delay_tolerance"]),
+            "replans": [{"at": float(r["at"]), "goal": [float(x) for x in r["goal"]]} for r in recipe["replans"]],
+        }
+    except InvalidInputError:
+        raise
+    except (KeyError, TypeError, ValueError, AttributeError) as exc:
+        raise InvalidInputError(
+            f"{option}: summary.json lacks the query ({type(exc).__name__}: {exc}), expected one written by "
+            "mpa trajectory"
+        ) from None
+    try:
+        traj = gen.generate(recipe["start"], recipe["goal"], delay_tolerance=recipe["delay_tolerance"])
+        for r in recipe["replans"]:
+            traj = gen.replan(traj, r["at"], r["goal"])
+    except MPAError as exc:
+        raise InvalidInputError(f"{option}: the motion of summary.json cannot be rebuilt ({exc})") from None
+    ours = _csv_array(traj)
+    if ours.shape != rows.shape:
+        raise InvalidInputError(
+            f"{option}: setpoints.csv has {rows.shape[0]} rows, the motion rebuilt from summary.json "
+            f"{ours.shape[0]}: the files do not belong together (edited, or written by another version)"
+        )
+    err = np.abs(ours - rows) - MATCH_TOL * (1.0 + np.abs(rows))
+    if float(np.max(err)) > 0.0:
+        k, c = np.unravel_index(int(np.argmax(err)), err.shape)
+        raise InvalidInputError(
+            f"{option}: setpoints.csv differs from the motion rebuilt from summary.json (row {k}, column "
+            f"{CSV_COLUMNS[c]}: {rows[k, c]!r} vs {ours[k, c]!r}): the files do not belong together"
+        )
+    return gen, traj, recipe
+
+
+def _goal(values: list[str]) -> tuple[float, float]:
+    out = []
+    for v in values:
+        try:
+            out.append(float(v))
+        except ValueError:
+            raise InvalidInputError(f"--goal has {v!r}, expected a track coordinate (a number, metres)") from None
+    return out[0], out[1]
+
+
+def _cmd_replan(args: argparse.Namespace) -> int:
+    opts = check_output_options(args)
+    goal = _goal(args.goal)
+    at = float(args.at)
+    if not math.isfinite(at):
+        raise InvalidInputError(f"--at is {args.at!r}, expected a time in seconds")
+    check_output_dir(args.out)
+    gen, traj, recipe = load_trajectory(args.from_dir)
+    if not 0.0 <= at <= traj.makespan:
+        raise InvalidInputError(f"--at is {at!r} s, expected a time in [0, {traj.makespan:g}] s (the motion of --from)")
+    new = gen.replan(traj, at, goal)
+    recipe = dict(recipe, replans=[*recipe["replans"], {"at": at, "goal": list(goal)}])
+    files = output_files(new, opts, recipe)
+    from trajopt.cli.trajectory import write_outputs
+
+    write_outputs(args.out, files)
+    rp = new.solver_stats["replan"]
+    print(f"replan      at {at:g} s of {args.from_dir}: brake {rp['brake_duration']:.3f} s, then to the new goal")
+    print(summary_text(new))
+    print(f"wrote       {', '.join(str(Path(args.out) / n) for n in files)}")
+    return 0
+
+
+def register(subparsers: Any) -> None:
+    """Add ``replan`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
+    p = subparsers.add_parser(
+        "replan", help="re-plan a written trajectory from the carts' moving state at a time to a new goal"
+    )
+    p.add_argument("--from", dest="from_dir", required=True, metavar="DIR", help="output directory of mpa trajectory")
+    p.add_argument("--at", type=float, required=True, metavar="T", help="time of that motion (s) to re-plan from")
+    p.add_argument("--goal", nargs=2, required=True, metavar=("A", "B"), help="new goal: track coordinates")
+    p.add_argument("--out", required=True, help="output directory (the files of mpa trajectory)")
+    add_output_arguments(p)
+    p.set_defaults(func=_cmd_replan)

@@ -1,0 +1,209 @@
+"""Trajectories that tolerate a given delay of either cart: :func:`generate_with_delay_tolerance`.
+
+:meth:`TrajectoryGenerator.generate(start, goal, delay_tolerance=T) <trajopt.generator.TrajectoryGenerator.generate>`
+(and ``mpa trajectory --delay-tolerance T``) asks for a verified trajectory whose delay tolerance
+(:func:`trajopt.margins.margins`: how late either cart may run, its whole motion shifted in time, with the
+separation still ``>= D``) is at least ``T`` seconds.
+
+Mechanism
+    1. **The ordinary trajectory** (clearance ``D``); if its delay tolerance is ``>= T``, it is returned.
+    2. **A larger effective clearance** ``D' > D`` for the planner and the optimiser: the motion then keeps
+       ``D'`` at every instant, and delaying a cart by ``δ`` moves it by at most ``vmax·δ`` along its route, so
+       its separation stays ``>= D' − vmax·δ`` (triangle inequality): the delay tolerance is at least
+       ``(D' − D)/max(vmax)``. ``D'`` is tried at ``D + max(vmax)·T·f`` for ``f`` in :data:`CLEARANCE_STEPS`
+       (``f = 1`` guarantees ``T`` by this bound whenever the query is feasible with ``D'``), capped below the
+       start's and goal's own separations (the carts rest there; the planner rejects a start closer than its
+       clearance). A smaller ``D'`` often suffices (the bound is loose), and it costs less time.
+    3. **Slowing down**: the best candidate so far (largest tolerance ``τ_b > 0``) re-generated with the limits
+       scaled to ``vmax/k, amax/k², jmax/k³`` (the same path ``k`` times slower, so its delay tolerance scales by
+       about ``k``), ``k = 1.05·T/τ_b`` if ``k <=`` :data:`MAX_SLOWDOWN`.
+
+    Every candidate is an ordinary verified trajectory (gate at ``D'``, which implies ``D``; limits at most the
+    caller's). It is reported with the caller's clearance ``D`` and limits, re-verified at ``D``, and its
+    margins are measured exactly (:func:`trajopt.margins.margins`) on that final object; the first candidate
+    with ``delay_tolerance >= T`` is returned, with ``solver_stats["delay_tolerance"]`` recording the request,
+    the value reached, the effective clearance, the slowdown and every candidate tried. If none reaches ``T``,
+    :class:`~mpa.errors.NoMotionError` states the best value found.
+
+Cost: one margins computation per candidate (0.4–2 s each), at most 5 candidates.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from mpa.errors import InvalidInputError, MPAError, NoMotionError
+from trajopt.export import Trajectory
+from trajopt.timing import Limits
+from trajopt.verify import verify_setpoints
+
+if TYPE_CHECKING:
+    from trajopt.generator import TrajectoryGenerator
+
+__all__ = ["CLEARANCE_STEPS", "MAX_SLOWDOWN", "check_delay_tolerance", "generate_with_delay_tolerance"]
+
+#: Fractions f of ``max(vmax)·T`` added to the clearance, in order (f = 1 guarantees T when feasible).
+CLEARANCE_STEPS = (0.25, 0.5, 1.0)
+#: Largest slowdown factor tried (stage 3).
+MAX_SLOWDOWN = 4.0
+
+
+def check_delay_tolerance(value: Any) -> float:
+    """A requested delay tolerance: a finite number of seconds >= 0.
+
+    Raises
+    ------
+    InvalidInputError
+    """
+    try:
+        t = float(value)
+    except (TypeError, ValueError):
+        raise InvalidInputError(f"delay tolerance is {value!r}, expected a number of seconds >= 0") from None
+    if not math.isfinite(t) or t < 0.0:
+        raise InvalidInputError(f"delay tolerance is {value!r}, expected a finite number of seconds >= 0")
+    return t
+
+
+def _as_caller(traj: Trajectory, gen: TrajectoryGenerator) -> Trajectory:
+    """``traj`` (made with a larger clearance or lower limits) reported with ``gen``'s clearance and limits,
+    re-verified at them (a gate pass at D' and lower limits implies one at D and the caller's limits)."""
+    plan = traj.plan
+    rep = verify_setpoints(
+        plan.track,
+        plan.routes,
+        traj.t,
+        traj.track,
+        traj.s,
+        traj.v,
+        traj.a,
+        traj.j,
+        limits=gen.limits,
+        clearance=gen.clearance,
+        start=plan.start,
+        goal=plan.goal,
+        word=plan.word,
+        rate=traj.rate,
+    )
+    if not rep.ok:  # pragma: no cover - implied by the gate at D' and lower limits
+        raise MPAError(f"a delay-tolerance candidate fails the gate at D = {gen.clearance:g}: {rep.failures}")
+    inner = traj.retimer
+
+    def retimer(rate: float) -> Trajectory:
+        assert inner is not None
+        return _as_caller(inner(rate), gen.at_rate(rate))
+
+    return dataclasses.replace(
+        traj,
+        clearance=gen.clearance,
+        limits=gen.limits,
+        verification=rep.to_dict(),
+        solver_stats=dict(traj.solver_stats),
+        retimer=retimer if inner is not None else None,
+    )
+
+
+def _feasible_cap(gen: TrajectoryGenerator, start: ArrayLike, goal: ArrayLike) -> float:
+    """The largest effective clearance the carts' rest states allow (a little below their separations)."""
+    from trajopt.generator import separation_margin
+
+    track = gen.track
+    st, gl = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
+    d = min(track.distance_scalar(float(st[0]), float(st[1])), track.distance_scalar(float(gl[0]), float(gl[1])))
+    return d - 2.0 * separation_margin(gen.limits, gen.rate) - 1e-6
+
+
+def generate_with_delay_tolerance(
+    gen: TrajectoryGenerator, start: ArrayLike, goal: ArrayLike, tolerance: float
+) -> Trajectory:
+    """A verified trajectory from ``start`` to ``goal`` whose delay tolerance is at least ``tolerance`` (s).
+
+    See the module docstring for the mechanism.
+
+    Raises
+    ------
+    InvalidInputError
+        Bad tolerance, start or goal.
+    NoMotionError
+        No motion exists, or no candidate reaches ``tolerance`` (the message states the best value found).
+    """
+    from trajopt.generator import TrajectoryGenerator
+
+    T = check_delay_tolerance(tolerance)
+    D = gen.clearance
+    tried: list[dict[str, Any]] = []
+    best: tuple[float, Trajectory | None, float, float] = (-1.0, None, D, 1.0)
+
+    def attempt(clearance: float, slowdown: float) -> Trajectory | None:
+        nonlocal best
+        limits = gen.limits
+        if slowdown != 1.0:
+            k = slowdown
+            limits = Limits(gen.limits.v / k, gen.limits.a / k**2, gen.limits.j / k**3)
+        rec: dict[str, Any] = {"clearance": clearance, "slowdown": slowdown}
+        tried.append(rec)
+        try:
+            if clearance == D and slowdown == 1.0:
+                raw = gen.generate(start, goal)
+            else:
+                g2 = TrajectoryGenerator(gen.track, clearance=clearance, limits=limits, rate=gen.rate)
+                raw = g2.generate(start, goal)
+        except (NoMotionError, InvalidInputError) as exc:
+            if clearance == D and slowdown == 1.0:
+                raise
+            rec["failed"] = " ".join(str(exc).split())
+            return None
+        traj = _as_caller(raw, gen) if (clearance != D or slowdown != 1.0) else raw
+        tau = float(traj.margins().delay_tolerance)
+        rec["delay_tolerance"] = None if math.isinf(tau) else tau
+        rec["makespan"] = traj.makespan
+        if tau > best[0]:
+            best = (tau, traj, clearance, slowdown)
+        if tau >= T:
+            traj.solver_stats["delay_tolerance"] = {
+                "requested": T,
+                "achieved": None if math.isinf(tau) else tau,
+                "effective_clearance": clearance,
+                "slowdown": slowdown,
+                "tried": tried,
+            }
+            return traj
+        return None
+
+    out = attempt(D, 1.0)
+    if out is not None:
+        return out
+    cap = _feasible_cap(gen, start, goal)
+    vmax = float(np.max(gen.limits.v))
+    for f in CLEARANCE_STEPS:
+        c = D + vmax * T * f
+        if c > cap:
+            if cap > D and all(r["clearance"] != cap for r in tried):
+                out = attempt(cap, 1.0)
+                if out is not None:
+                    return out
+            break
+        out = attempt(c, 1.0)
+        if out is not None:
+            return out
+    tau_b, _, c_b, _ = best
+    if 0.0 < tau_b < T:
+        k = 1.05 * T / tau_b
+        if k <= MAX_SLOWDOWN:
+            out = attempt(c_b, float(f"{k:.3g}"))
+            if out is not None:
+                return out
+    tau_b, _, c_b, k_b = best
+    how = [f"clearance up to {max(r['clearance'] for r in tried):.4g} m"]
+    if any(r["slowdown"] != 1.0 for r in tried):
+        how.append(f"slowed down by up to {max(r['slowdown'] for r in tried):g}x")
+    raise NoMotionError(
+        f"no trajectory found that tolerates a delay of {T:g} s of either cart: the best found tolerates "
+        f"{max(tau_b, 0.0):.4g} s (effective clearance {c_b:.4g} m, slowdown {k_b:g}); tried "
+        f"{len(tried)} candidates ({', '.join(how)}; the start and goal separations cap the clearance at "
+        f"{max(cap, D):.4g} m)"
+    )
