@@ -3,6 +3,10 @@
 Usage::
 
     python experiments/bench_planner.py [--queries 5000] [--seed 0] [--out results.json]
+    python experiments/bench_planner.py --batch [--queries 100000] [--seed 0]
+
+``--batch`` times :func:`mpa.plan_many` (domain + word of every query, median of 5 runs) against
+``plan(...).domain`` / ``.word`` one by one (on the first 5 000 queries), and checks the answers agree.
 
 Medians and 95th percentiles over seeded random queries, per track, all in one process. Also reports where the
 time goes (validation, preliminary traces, skeleton routing, assembling routes, sampling).
@@ -98,15 +102,58 @@ def profile_stages(track, n: int, seed: int) -> dict[str, float]:  # type: ignor
     return out
 
 
+def bench_batch(track, n: int, seed: int, repeats: int = 5) -> dict[str, float]:  # type: ignore[no-untyped-def]
+    """Queries per second of ``plan_many`` (domain + word) and of ``plan`` one by one; the answers must agree."""
+    from mpa import plan_many
+
+    rng = np.random.default_rng(seed)
+    planner = make_planner(track, clearance=0.0)
+    s, g = _states(track, n, rng, 1e-3), _states(track, n, rng, 1e-3)
+    if isinstance(track, Interval):
+        flip = np.sign(s[:, 1] - s[:, 0]) != np.sign(g[:, 1] - g[:, 0])
+        g[flip] = g[flip][:, ::-1]
+    plan_many(track, s[:1000], g[:1000])  # warm-up
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        b = plan_many(track, s, g)
+        times.append(time.perf_counter() - t0)
+    m = min(n, 5000)
+    t0 = time.perf_counter()
+    ref = [planner.plan(s[i], g[i]) for i in range(m)]
+    one = time.perf_counter() - t0
+    same = all((int(b.domain[i]), b.word[i]) == (p.domain, p.word) for i, p in enumerate(ref))
+    return {
+        "track": repr(track),
+        "queries": n,
+        "batch_queries_per_s": n / float(np.median(times)),
+        "one_by_one_queries_per_s": m / one,
+        "agree_on_first": m if same else -1,
+    }
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--queries", type=int, default=5000)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default=None, help="write the results as JSON here")
+    ap.add_argument("--batch", action="store_true", help="time mpa.plan_many instead (default 100 000 queries)")
     args = ap.parse_args()
-    rows = [
-        bench(t, args.queries, args.seed) for t in (Lollipop(1.0, 1.0), Lollipop(0.3, 1.0), Circle(1.0), Interval(1.0))
-    ]
+    tracks = (Lollipop(1.0, 1.0), Lollipop(0.3, 1.0), Circle(1.0), Interval(1.0))
+    if args.batch:
+        n = args.queries if args.queries != 5000 else 100_000
+        brows = [bench_batch(t, n, args.seed) for t in tracks]
+        print(f"{'track':<32}{'plan_many q/s':>15}{'one by one q/s':>16}{'agree':>8}")
+        for r in brows:
+            print(
+                f"{r['track']:<32}{r['batch_queries_per_s']:>15.0f}{r['one_by_one_queries_per_s']:>16.0f}"
+                f"{r['agree_on_first']:>8}"
+            )
+        if args.out:
+            with open(args.out, "w") as f:
+                json.dump({"batch": brows}, f, indent=2)
+        return
+    rows = [bench(t, args.queries, args.seed) for t in tracks]
     print(f"{'track':<32}{'plan med':>10}{'p95':>9}{'+400 smp med':>14}{'p95':>9}{'batch q/s':>11}")
     for r in rows:
         print(

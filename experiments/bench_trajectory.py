@@ -18,6 +18,7 @@ sup gap of the trajectories (normalised time) and of the motion times for δ = 1
 Usage::
 
     python experiments/bench_trajectory.py [--n 200] [--seed 0] [--track lollipop] [--pairs 0] [--json out.json]
+    python experiments/bench_trajectory.py --leaks 1000      # memory and log handlers over 1 000 trajectories
 """
 
 from __future__ import annotations
@@ -231,6 +232,35 @@ def format_table(res: dict[str, object]) -> str:
     return "\n".join(lines)
 
 
+def leaks(n: int, seed: int, kind: str, clearance: float) -> dict[str, float]:
+    """Resident memory, log handlers and warnings filters over ``n`` trajectories in this process (issue 12, 6)."""
+    import logging
+    import resource
+    import warnings
+
+    def rss_mb() -> float:
+        try:
+            with open("/proc/self/statm", encoding="ascii") as fh:
+                return int(fh.read().split()[1]) * resource.getpagesize() / 2**20
+        except OSError:  # not Linux: the peak instead
+            return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+    def handlers() -> int:
+        loggers = [logging.getLogger(), *(logging.getLogger(k) for k in logging.root.manager.loggerDict)]
+        return sum(len(lg.handlers) for lg in loggers)
+
+    track = make_track(kind)
+    gen = TrajectoryGenerator(track, clearance=clearance)
+    qs = random_queries(track, clearance, n, seed)
+    out: dict[str, float] = {}
+    for i, (s, g) in enumerate(qs):
+        gen.generate(s, g)
+        if i + 1 == 50:
+            out.update(rss_after_50=rss_mb(), handlers_after_50=handlers(), filters_after_50=len(warnings.filters))
+    out.update(rss_end=rss_mb(), handlers_end=handlers(), filters_end=len(warnings.filters), n=n)
+    return out
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Command line entry point."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -241,7 +271,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--pairs", type=int, default=0, help="perturbation pairs per domain (continuity; default 0)")
     ap.add_argument("--compare", default=None, help="JSON of another version's run: per-query makespan ratios")
     ap.add_argument("--json", default=None, help="write the raw numbers to this file")
+    ap.add_argument("--leaks", type=int, default=0, help="instead: memory and handlers over this many trajectories")
     args = ap.parse_args(argv)
+    if args.leaks:
+        lk = leaks(args.leaks, args.seed, args.track, args.clearance)
+        print(
+            f"{lk['n']:.0f} trajectories: resident memory {lk['rss_after_50']:.1f} MB after 50, {lk['rss_end']:.1f} MB "
+            f"at the end ({lk['rss_end'] - lk['rss_after_50']:+.1f} MB); log handlers {lk['handlers_after_50']:.0f} -> "
+            f"{lk['handlers_end']:.0f}; warnings filters {lk['filters_after_50']:.0f} -> {lk['filters_end']:.0f}"
+        )
+        return 0
     res = run(args.n, args.seed, args.track, args.clearance, args.pairs)
     if args.compare:
         with open(args.compare, encoding="utf-8") as fh:

@@ -3,7 +3,8 @@
 Every method turns the same seeded queries into jerk-limited setpoints through the same time parametrization
 (``trajopt.timing``) and the same verification gate (``trajopt.verify.verify_setpoints``):
 
-- ``ours``: plan → IPOPT smoothing in the plan's homotopy class → toppra → ruckig (``trajopt.TrajectoryGenerator``);
+- ``ours``: plan → fast path (one ruckig profile on the straight route-coordinate line) or hard path (corridor QP in
+  the plan's homotopy class, B-spline, filtered jerk-limited timing) → the gate (``trajopt.TrajectoryGenerator``);
 - ``raw_plan``: the paper's plan as is, step by step, rest to rest;
 - ``ompl_rest`` / ``ompl_bspline``: OMPL 2.x RRTConnect with an exact motion validator, shortcut, executed rest
   to rest at its waypoints / B-spline-smoothed, re-verified and timed like ours;
@@ -23,6 +24,7 @@ Usage::
     python experiments/benchmark.py --queries 3 --workers 1 --grid 0.05 --ompl-time 0.05 --out DIR
     python experiments/benchmark.py --queries 200 --dask tcp://scheduler:8786 --out DIR
     python experiments/benchmark.py --scaling --queries 20 --out DIR
+    python experiments/benchmark.py --compute --queries 200 --out DIR      # ours vs the lean OMPL pipeline
     python experiments/benchmark.py --track graphs --queries 50 --out DIR          # graph layouts, plan level
     python experiments/benchmark.py --track y_junction,my_layout.json --queries 10 --graph-parts layouts --out DIR
 
@@ -55,6 +57,8 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench import graph_runner
+from bench.compute import TRACKS as COMPUTE_TRACKS
+from bench.compute import compare_compute, compute_markdown
 from bench.parallel import run_tasks
 from bench.report import plot_results, plot_scaling, results_markdown, scaling_markdown
 from bench.runner import METHODS, BenchConfig, make_queries
@@ -62,7 +66,7 @@ from bench.runner import METHODS, BenchConfig, make_queries
 from mpa import defaults
 from trajopt.export import atomic_write_text
 
-__all__ = ["main", "run_benchmark", "run_scaling"]
+__all__ = ["main", "run_benchmark", "run_compute", "run_scaling"]
 
 
 def _versions() -> str:
@@ -238,6 +242,26 @@ def run_graphs(
     return res
 
 
+def run_compute(config: BenchConfig, n: int, out: Path, *, command: str = "") -> list[dict[str, Any]]:
+    """Ours against the lean OMPL pipeline (:mod:`bench.compute`) on the five tracks of issue 12, in this process.
+
+    Writes ``out/compute.json`` and ``out/compute.md``; returns the per-track results.
+    """
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    results = []
+    for label, kind, stick, loop in COMPUTE_TRACKS:
+        res = compare_compute(replace(config, track=kind, stick=stick, loop=loop), n)
+        res["label"] = label
+        results.append(res)
+        print(compute_markdown([res]).splitlines()[-1], flush=True)
+    meta = {"command": command, "versions": _versions(), "machine": _machine(), "seconds": time.perf_counter() - t0}
+    _write_json(out / "compute.json", _clean({"meta": meta, "results": results}))
+    md = f"Command: `{command}` ({meta['seconds']:.0f} s; {meta['versions']}; {meta['machine']})\n\n"
+    atomic_write_text(out / "compute.md", md + compute_markdown(results))
+    return results
+
+
 def _graph_track_names(tracks: Sequence[str]) -> list[str]:
     """Expand ``graphs``; names of example layouts and existing layout files are graph tracks."""
     LAYOUTS = graph_runner.LAYOUTS
@@ -297,6 +321,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--workers", type=int, default=None, help="worker processes (default: all cores)")
     ap.add_argument("--dask", default=None, metavar="ADDRESS", help="run on an existing Dask cluster")
     ap.add_argument("--scaling", action="store_true", help="track-size and grid-resolution sweep instead")
+    ap.add_argument(
+        "--compute",
+        action="store_true",
+        help="compute time of ours against the lean OMPL pipeline, one process, interleaved, on the five tracks "
+        "of issue 12 (--queries per track)",
+    )
     ap.add_argument("--scales", default="0.5,1,2,4", help="track scales of --scaling")
     ap.add_argument("--grid-sweep", default="0.04,0.02,0.01,0.005", help="grid spacings of --scaling (m)")
     ap.add_argument("--no-progress", action="store_true")
@@ -357,6 +387,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         )
         configs.append((cfg, n))
     common = {"workers": args.workers, "dask_address": args.dask, "progress": not args.no_progress, "command": command}
+    if args.compute:
+        run_compute(configs[0][0], counts[0], args.out, command=command)
+        print(f"wrote {args.out / 'compute.md'}")
+        return 0
     if args.scaling:
         run_scaling(configs[0][0], counts[0], args.out, scales=scales, grid_sweep=sweep, **common)
         print(f"wrote {args.out / 'scaling.md'}")

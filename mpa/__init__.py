@@ -8,28 +8,115 @@ robots on any graph); shared pieces: :mod:`mpa.graph` (metric graphs), :mod:`mpa
 unwrapped coordinates), :mod:`mpa.errors` (the error family). numpy only.
 """
 
+import importlib
+import importlib.util
+import sys
+import types
+from typing import TYPE_CHECKING, Any
+
 from mpa._version import __version__
-from mpa.batch import BatchPlans, plan_many
-from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
-from mpa.freespace import FreeSpace, free_space
-from mpa.graph import Edge, MetricGraph, farber_tc_of_graph
-from mpa.graph_track import GraphTrack
-from mpa.homotopy import path_word, reduce_word
-from mpa.plan import Plan, PlanStep
-from mpa.planners import CirclePlanner, IntervalPlanner, LollipopPlanner, Planner, make_planner, plan
-from mpa.planners.graph import GraphPlan, plan_graph
-from mpa.retraction import retract
-from mpa.routes import Route
-from mpa.skeleton import CircleSkeleton, IntervalSkeleton, LollipopSkeleton, Skeleton, skeleton_of
-from mpa.topology import (
-    ConfigurationSpaceTopology,
-    configuration_space_topology,
-    load_graph_json,
-    rules_needed,
-    topological_complexity,
-)
-from mpa.tracks import Circle, Interval, Lollipop, Track, make_track
+
+if TYPE_CHECKING:  # the names as type checkers see them
+    from mpa.batch import BatchPlans, plan_many
+    from mpa.cspace import ConfigurationSpace
+    from mpa.freespace import FreeSpace, free_space
+    from mpa.graph import Edge, MetricGraph, farber_tc_of_graph
+    from mpa.graph_track import GraphTrack
+    from mpa.homotopy import path_word, reduce_word
+    from mpa.plan import Plan, PlanStep
+    from mpa.planners import CirclePlanner, IntervalPlanner, LollipopPlanner, Planner, make_planner, plan
+    from mpa.planners.graph import GraphPlan, plan_graph
+    from mpa.retraction import retract
+    from mpa.routes import Route
+    from mpa.skeleton import CircleSkeleton, IntervalSkeleton, LollipopSkeleton, Skeleton, skeleton_of
+    from mpa.topology import (
+        ConfigurationSpaceTopology,
+        configuration_space_topology,
+        load_graph_json,
+        rules_needed,
+        topological_complexity,
+    )
+    from mpa.tracks import Circle, Interval, Lollipop, Track, make_track
+
+# The rest of the public names are imported on first use (PEP 562): ``import mpa`` (and so every ``mpa``
+# command's start-up, and ``mpa --help``) does not import numpy and the planners until they are needed.
+_LAZY = {
+    "BatchPlans": "mpa.batch",
+    "plan_many": "mpa.batch",
+    "ConfigurationSpace": "mpa.cspace",
+    "FreeSpace": "mpa.freespace",
+    "free_space": "mpa.freespace",
+    "Edge": "mpa.graph",
+    "MetricGraph": "mpa.graph",
+    "farber_tc_of_graph": "mpa.graph",
+    "GraphTrack": "mpa.graph_track",
+    "path_word": "mpa.homotopy",
+    "reduce_word": "mpa.homotopy",
+    "Plan": "mpa.plan",
+    "PlanStep": "mpa.plan",
+    "CirclePlanner": "mpa.planners",
+    "IntervalPlanner": "mpa.planners",
+    "LollipopPlanner": "mpa.planners",
+    "Planner": "mpa.planners",
+    "make_planner": "mpa.planners",
+    "plan": "mpa.planners",
+    "GraphPlan": "mpa.planners.graph",
+    "plan_graph": "mpa.planners.graph",
+    "retract": "mpa.retraction",
+    "Route": "mpa.routes",
+    "CircleSkeleton": "mpa.skeleton",
+    "IntervalSkeleton": "mpa.skeleton",
+    "LollipopSkeleton": "mpa.skeleton",
+    "Skeleton": "mpa.skeleton",
+    "skeleton_of": "mpa.skeleton",
+    "ConfigurationSpaceTopology": "mpa.topology",
+    "configuration_space_topology": "mpa.topology",
+    "load_graph_json": "mpa.topology",
+    "rules_needed": "mpa.topology",
+    "topological_complexity": "mpa.topology",
+    "Circle": "mpa.tracks",
+    "Interval": "mpa.tracks",
+    "Lollipop": "mpa.tracks",
+    "Track": "mpa.tracks",
+    "make_track": "mpa.tracks",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Import a public name (or a submodule, as ``import mpa; mpa.tracks``) on first use."""
+    mod = _LAZY.get(name)
+    if mod is None:
+        if name.startswith("_") or importlib.util.find_spec(f"{__name__}.{name}") is None:
+            raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+        return importlib.import_module(f"{__name__}.{name}")
+    value = getattr(importlib.import_module(mod), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
+
+class _Package(types.ModuleType):
+    """``mpa.plan`` is the function :func:`mpa.planners.plan`, also after the submodule ``mpa.plan`` is imported
+    (the import system then sets the package's attribute to the submodule; this keeps the function)."""
+
+    @property
+    def plan(self) -> Any:
+        override = self.__dict__.get("_plan_override")
+        if override is not None:
+            return override
+        return importlib.import_module("mpa.planners").plan
+
+    @plan.setter
+    def plan(self, value: Any) -> None:
+        if not isinstance(value, types.ModuleType):  # e.g. a test's monkeypatch; a submodule is ignored
+            self.__dict__["_plan_override"] = value
+
+
+sys.modules[__name__].__class__ = _Package
 
 __all__ = [
     "BatchPlans",

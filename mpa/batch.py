@@ -1,14 +1,18 @@
 """Many queries at once: :func:`plan_many` gives the domain and the homotopy word of every query.
 
-The answers are the ones :func:`mpa.plan` gives query by query (the same arithmetic): input checks, the
-preliminary step's end points and the domain tests run on whole arrays with numpy; the skeleton word of a
-lollipop query runs the planner's own main-step code per query, without assembling the routes of a full
-:class:`~mpa.plan.Plan` (which :meth:`BatchPlans.plan` builds on demand).
+The answers are the ones :func:`mpa.plan` gives query by query: input checks, the preliminary step's end
+points and the domain tests run on whole arrays with numpy. On a lollipop, the main step's discrete choices
+(which branch, which comparisons hold) are evaluated on whole arrays and packed into one key per query; one
+query per distinct key (a few hundred at most) runs the planner's own main-step code, and its domain and word
+are shared by every query with that key. Queries within ``_MARGIN`` of a decision border (a vertex, an
+ε-neighbourhood's edge, an antipode) are answered one by one by the same code. Full :class:`~mpa.plan.Plan`
+objects are built on demand by :meth:`BatchPlans.plan`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -20,7 +24,7 @@ from mpa.planners.base import DEFAULT_NEIGHBOURHOOD, Planner, circle_pieces, pie
 from mpa.planners.circle import CirclePlanner
 from mpa.planners.interval import IntervalPlanner
 from mpa.planners.lollipop import LollipopPlanner, _drop_zero_edges, _wrap_model
-from mpa.retraction import lollipop_trace_scalar
+from mpa.retraction import lollipop_trace, lollipop_trace_scalar
 from mpa.skeleton import CircleSkeleton, skeleton_of
 from mpa.tracks import Circle, Lollipop, Track
 
@@ -185,20 +189,128 @@ def _circle(planner: CirclePlanner, s: NDArray[np.float64], g: NDArray[np.float6
     return BatchPlans(planner, s, g, np.where(one, 1, 2).astype(np.int64), words)
 
 
-def _lollipop(planner: LollipopPlanner, s: NDArray[np.float64], g: NDArray[np.float64]) -> BatchPlans:
+def _lollipop_one(planner: LollipopPlanner, sa: float, sb: float, ga: float, gb: float) -> tuple[int, tuple[str, ...]]:
+    """Domain and word of one query by the planner's own code (preliminary step, main step, word)."""
     sk = planner.skeleton
     ell, c_model, kappa = sk.model.stick, sk.model.loop, sk.kappa
-    dom = np.empty(len(s), dtype=np.int64)
-    words: list[tuple[str, ...]] = []
-    route, point, graph = planner.route_in_skeleton, sk.point_of_model_state, sk.graph
-    for i, (sa, sb, ga, gb) in enumerate(np.hstack([s, g]).tolist()):
-        pts = []
-        for a, b in ((sa, sb), (ga, gb)):
-            ma = a if a <= ell else ell + (a - ell) * kappa
-            mb = b if b <= ell else ell + (b - ell) * kappa
-            da, db = lollipop_trace_scalar(ell, c_model, ma, mb)
-            pts.append(point(*_wrap_model(ell, c_model, ma, ma + da, mb, mb + db)))
-        d, pieces = route(pts[0], pts[1])
-        dom[i] = d
-        words.append(pieces_word(graph, _drop_zero_edges(sk, pieces)))
-    return BatchPlans(planner, s, g, dom, tuple(words))
+    pts = []
+    for a, b in ((sa, sb), (ga, gb)):
+        ma = a if a <= ell else ell + (a - ell) * kappa
+        mb = b if b <= ell else ell + (b - ell) * kappa
+        da, db = lollipop_trace_scalar(ell, c_model, ma, mb)
+        pts.append(sk.point_of_model_state(*_wrap_model(ell, c_model, ma, ma + da, mb, mb + db)))
+    d, pieces = planner.route_in_skeleton(pts[0], pts[1])
+    return d, pieces_word(sk.graph, _drop_zero_edges(sk, pieces))
+
+
+#: Margin (metres, model units) within which a query counts as near a decision of the main step (a vertex, an
+#: ε-neighbourhood's border, an antipode, the half-loop): such queries are answered one by one.
+_MARGIN = 1e-7
+#: Extended-vertex component (I1 = 0, v2 = 1, v3 = 2, I2 = 3) at φ = 0 and φ = h of circle j = 1, 2, 3.
+_COMP0 = np.array([0, 0, 1, 3])
+_COMPH = np.array([0, 1, 2, 2])
+
+
+def _skeleton_points(
+    planner: LollipopPlanner, st: NDArray[np.float64]
+) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.bool_]]:
+    """The preliminary step on whole arrays: edge index, arc length, and a flag for points near a vertex."""
+    sk = planner.skeleton
+    ell, c_model, kappa = sk.model.stick, sk.model.loop, sk.kappa
+    m = np.where(st <= ell, st, ell + (st - ell) * kappa)
+    end = m + lollipop_trace(sk.model, m)
+    on_loop = m > ell
+    wrapped = ell + np.mod(end - ell, c_model)
+    end = np.where(on_loop, np.where(wrapped >= ell + c_model - 1e-12, ell, wrapped), end)
+    edge, t = sk.points_of_model_states(end)
+    length = np.where((edge == 0) | (edge == 7), ell - sk.half, sk.half)
+    near = np.any(np.abs(end - ell) < _MARGIN, axis=1) | (t < _MARGIN) | (t > length - _MARGIN)
+    return edge, t, near
+
+
+def _lollipop(planner: LollipopPlanner, s: NDArray[np.float64], g: NDArray[np.float64]) -> BatchPlans:
+    """Vectorised main step: every query gets a key of the discrete choices the planner makes for it.
+
+    Away from the decision borders (by more than ``_MARGIN``), the planner's domain and its sequence of skeleton
+    pieces (edges and directions, hence the word) are functions of: the edges of the two skeleton points, and the
+    branch and the comparisons that ``route_in_skeleton`` evaluates (nearest extended vertex and whether it is
+    within ε; for a common circle, ``|Δccw − h| < ε`` and ``Δccw ≤ h``; across blocks, each own-circle run's
+    ambiguity and direction). One query per key is answered by the planner's own code and its answer shared;
+    queries within ``_MARGIN`` of any border are answered one by one.
+    """
+    sk = planner.skeleton
+    h = sk.half
+    c, eps, mg = 2.0 * h, planner.neighbourhood * h, _MARGIN
+    n = len(s)
+    ex, tx, bad_x = _skeleton_points(planner, s)
+    ey, ty, bad_y = _skeleton_points(planner, g)
+    bad = bad_x | bad_y
+    if sk.graph.edge("I1").length <= mg:  # zero-length sticks in the model: I1/I2 points are vertices
+        bad |= (ex == 0) | (ex == 7) | (ey == 0) | (ey == 7)
+    # circle parameter, circle index (0 on I1/I2) and chain block of each point
+    circ_x = np.where((ex == 0) | (ex == 7), 0, (ex + 1) // 2)
+    circ_y = np.where((ey == 0) | (ey == 7), 0, (ey + 1) // 2)
+    blk_x = np.where(ex == 7, 4, circ_x)
+    blk_y = np.where(ey == 7, 4, circ_y)
+    phi_x = tx + np.where(ex % 2 == 0, h, 0.0)
+    phi_y = ty + np.where(ey % 2 == 0, h, 0.0)
+
+    def nearest(e: NDArray[np.int64], circ: NDArray[np.int64], phi: NDArray[np.float64]) -> tuple[Any, Any, Any]:
+        d0 = np.minimum(phi, c - phi)
+        dh = np.abs(phi - h)
+        on_i = (e == 0) | (e == 7)
+        comp = np.where(on_i, np.where(e == 0, 0, 3), np.where(d0 <= dh, _COMP0[circ], _COMPH[circ]))
+        dist = np.where(on_i, 0.0, np.minimum(d0, dh))
+        close = ~on_i & ((np.abs(d0 - dh) < mg) | (np.abs(dist - eps) < mg))
+        return comp, dist < eps, close
+
+    cx, nx, close_x = nearest(ex, circ_x, phi_x)
+    cy, ny, close_y = nearest(ey, circ_y, phi_y)
+    bad |= close_x | close_y
+    key = np.zeros(n, dtype=np.int64)
+    # branch 1: both near an extended vertex
+    b1 = nx & ny
+    same = ex == ey
+    bad |= b1 & same & (np.abs(ty - tx) < mg)
+    key = np.where(b1, cx * 8 + cy * 2 + (same & (ty > tx)), key)
+    # branch 2: a common circle
+    b2 = ~b1 & (blk_x == blk_y) & (circ_x > 0)
+    dccw = np.mod(phi_y - phi_x, c)
+    off = np.abs(dccw - h)
+    bad |= b2 & ((np.abs(off - eps) < mg) | (off < mg) | (dccw < mg) | (dccw > c - mg))
+    key = np.where(b2, 256 + (off < eps) * 2 + (dccw <= h), key)
+    # branch 3: different blocks; own-circle runs to the exit vertex and from the entry vertex
+    b3 = ~b1 & ~b2
+    right = blk_x < blk_y
+    flags = np.zeros(n, dtype=np.int64)
+    for k, (circ, phi, exit_) in enumerate(((circ_x, phi_x, True), (circ_y, phi_y, False))):
+        # vertex φ: CIRCLE_ENDS gives (left, right) = (0, h) for S1 and S2, (h, 0) for S3
+        use_right = right if exit_ else ~right
+        left_phi = np.where(circ == 3, h, 0.0)
+        vphi = np.where(use_right, h - left_phi, left_phi)
+        dist = np.mod(phi - (vphi + h), c)
+        dist = np.minimum(dist, c - dist)
+        amb = dist < eps
+        run = np.mod(vphi - phi, c) if exit_ else np.mod(phi - vphi, c)
+        ccw = amb | (run <= h)
+        on_c = b3 & (circ > 0)
+        bad |= on_c & ((np.abs(dist - eps) < mg) | (np.abs(run - h) < mg) | (run < mg) | (run > c - mg))
+        flags |= np.where(on_c, (amb * 2 + ccw) << (2 * k), 0)
+    bad |= b3 & (blk_x == blk_y)  # not reached: both on one stick are both near an extended vertex
+    key = np.where(b3, 512 + flags * 2 + right, key)
+    key = ((key * 3 + np.where(b1, 0, np.where(b2, 1, 2))) * 8 + ex) * 8 + ey
+    dom = np.empty(n, dtype=np.int64)
+    words = np.empty(n, dtype=object)
+    ok = np.flatnonzero(~bad)
+    q = np.hstack([s, g])
+    if len(ok):
+        uniq, first, inv = np.unique(key[ok], return_index=True, return_inverse=True)
+        table_d = np.empty(len(uniq), dtype=np.int64)
+        table_w = np.empty(len(uniq), dtype=object)
+        for k, i in enumerate(ok[first].tolist()):
+            table_d[k], table_w[k] = _lollipop_one(planner, *q[i].tolist())
+        dom[ok] = table_d[inv]
+        words[ok] = table_w[inv]
+    for i in np.flatnonzero(bad).tolist():
+        dom[i], words[i] = _lollipop_one(planner, *q[i].tolist())
+    return BatchPlans(planner, s, g, dom, tuple(words.tolist()))

@@ -77,3 +77,28 @@ def test_plan_many_rejects_bad_input() -> None:
         plan_many(track, [(0.1, 0.6)], [(0.8, 0.81)], clearance=0.05)
     with pytest.raises(NoMotionError, match="query 0"):
         plan_many(Interval(1.0), [(0.1, 0.6)], [(0.6, 0.1)])
+
+
+@pytest.mark.parametrize(
+    ("track", "clearance"), [(Lollipop(1.0, 1.0), 0.0), (Lollipop(0.3, 1.2), 0.0), (Lollipop(1.3, 0.9), 0.05)]
+)
+def test_plan_many_near_decision_borders(track: Lollipop, clearance: float) -> None:
+    """Queries on and within hairs of the main step's borders (P, the free end, antipodes, ε-edges) agree."""
+    rng = np.random.default_rng(3)
+    ell, c = track.stick, track.loop
+    h, e = c / 2, 0.1 * c / 2
+    special = np.array([0, ell, ell + h, ell + c / 4, ell + e, ell + h - e, ell + h + e, ell + c - e, ell - h, h, e])
+    special = special[(special >= 0) & (special < track.total_length)]
+    n = 1500
+    noise = rng.choice([0.0, 1e-12, -1e-12, 1e-8, -1e-8, 1e-6, 1e-3], size=(2, n, 2))
+    s, g = (np.clip(special[rng.integers(len(special), size=(n, 2))] + z, 0, track.total_length - 1e-9) for z in noise)
+    keep = (track.distance(s[:, 0], s[:, 1]) >= max(clearance, 1e-9)) & (
+        track.distance(g[:, 0], g[:, 1]) >= max(clearance, 1e-9)
+    )
+    s, g = s[keep], g[keep]
+    assert len(s) > 1000
+    b = plan_many(track, s, g, clearance=clearance)
+    pl = make_planner(track, clearance)
+    for i in range(len(s)):
+        p = pl.plan(s[i], g[i])
+        assert (int(b.domain[i]), b.word[i]) == (p.domain, p.word), (i, s[i].tolist(), g[i].tolist())

@@ -20,7 +20,7 @@ __all__ = [
 
 Record = dict[str, Any]
 METHOD_LABELS = {
-    "ours": "ours (plan → IPOPT → toppra → ruckig)",
+    "ours": "ours (plan → fast path or corridor QP → filtered timing / ruckig)",
     "raw_plan": "raw plan (rest to rest)",
     "ompl_rest": "OMPL RRTConnect, rest to rest",
     "ompl_bspline": "OMPL + B-spline, timed like ours",
@@ -218,23 +218,28 @@ def _ratio_table(recs: Sequence[Record]) -> list[str]:
 
 
 def _stage_table(recs: Sequence[Record]) -> list[str]:
-    """Where our compute time goes (the generator's own stage timings)."""
+    """Where our compute time goes (the generator's own stage timings), on the fast and the hard path."""
     ours = [r for r in recs if r["method"] == "ours" and r["success"]]
     if not ours:
         return []
-    stages = ("plan", "smooth", "blend", "retime", "jerk", "sample", "verify")
+
+    stages = ("plan", "smooth", "blend", "jerk", "sample", "verify", "total")
+    n_fast = sum(_path_kind(r) == "fast" for r in ours)
     out = [
-        "Where our time goes (stage timings of `TrajectoryGenerator`, ms; smooth = cells + IPOPT + exact "
-        "checks + shortcut, retime = toppra, jerk = ruckig, verify = the gate):",
+        "Where our time goes (stage timings of `TrajectoryGenerator`, ms; smooth = the corridor QPs, blend = the "
+        "B-spline, jerk = one ruckig profile on the fast path or the filtered timing on the hard path, verify = "
+        f"the gate); fast path {n_fast} of {len(ours)} queries:",
         "",
-        "| " + " | ".join(("", *stages, "IPOPT solve", "IPOPT iterations")) + " |",
-        "|---" * (len(stages) + 3) + "|",
+        "| " + " | ".join(("", *stages)) + " |",
+        "|---" * (len(stages) + 1) + "|",
     ]
-    for name, q in (("median", 50), ("p95", 95)):
-        vals = [_q(np.array([1e3 * r["stats"].get("timings", {}).get(s, 0.0) for r in ours]), q) for s in stages]
-        solve = _q(np.array([1e3 * r["stats"].get("ipopt_solve", 0.0) for r in ours]), q)
-        it = _q(np.array([r["stats"].get("ipopt_iterations", 0) for r in ours], dtype=float), q)
-        out.append("| " + " | ".join((name, *(f"{v:.2f}" for v in vals), f"{solve:.2f}", f"{it:.0f}")) + " |")
+    for kind in ("fast", "hard"):
+        sel = [r for r in ours if _path_kind(r) == kind]
+        if not sel:
+            continue
+        for name, q in (("median", 50), ("p95", 95)):
+            vals = [_q(np.array([1e3 * r["stats"].get("timings", {}).get(s, 0.0) for r in sel]), q) for s in stages]
+            out.append("| " + " | ".join((f"{kind} path {name}", *(f"{v:.2f}" for v in vals))) + " |")
     return [*out, ""]
 
 
@@ -389,7 +394,7 @@ def _common_verified(recs: Sequence[Record]) -> set[Any]:
 
 
 def scaling_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
-    """Compute time and makespan against the track scale, the grid resolution and our IPOPT size class."""
+    """Compute time and makespan against the track scale, the grid resolution, and ours by path (fast / hard)."""
     lines = ["# Scaling: compute time and makespan against track size and solver grid size", ""]
     if meta.get("command"):
         lines += ["Command:", "", "```", meta["command"], "```", ""]
@@ -442,20 +447,22 @@ def scaling_markdown(records: Sequence[Record], meta: dict[str, Any]) -> str:
         )
     lines += [
         "",
-        "## Our IPOPT size class (segments of the NLP, chosen per plan; track-scale sweep)",
+        "## Ours by path (fast: one ruckig profile on the straight line; hard: corridor QP; track-scale sweep)",
         "",
-        "| NLP segments | n | compute median ms | p95 ms | IPOPT iterations median |",
+        "| scale | path | n | compute median ms | p95 ms |",
         "|---|---|---|---|---|",
     ]
     ours = [r for r in sweep if r["method"] == "ours" and r["success"]]
-    for (nseg,), orecs in sorted(
-        _by([{**r, "nseg": r["stats"].get("ipopt_segments")} for r in ours], "nseg").items(),
-        key=lambda kv: kv[0][0] or 0,
-    ):
+    for (scale, kind), orecs in sorted(_by([{**r, "path": _path_kind(r)} for r in ours], "scale", "path").items()):
         ct = _vals(orecs, "compute_time")
-        it = np.array([r["stats"].get("ipopt_iterations", 0) for r in orecs], dtype=float)
-        lines.append(f"| {nseg} | {len(orecs)} | {1e3 * _q(ct, 50):.1f} | {1e3 * _q(ct, 95):.1f} | {_q(it, 50):.0f} |")
+        lines.append(f"| {scale:g} | {kind} | {len(orecs)} | {1e3 * _q(ct, 50):.1f} | {1e3 * _q(ct, 95):.1f} |")
     return "\n".join(lines) + "\n"
+
+
+def _path_kind(r: Record) -> str:
+    """Which path ours took on a record: "fast" or "hard" (older records: inferred from the stage timings)."""
+    st = r["stats"]
+    return str(st.get("path") or ("hard" if "smooth" in st.get("timings", {}) else "fast"))
 
 
 def plot_scaling(records: Sequence[Record], path: Path, dpi: int = 90) -> Path:
@@ -504,15 +511,15 @@ def plot_scaling(records: Sequence[Record], path: Path, dpi: int = 90) -> Path:
     axes[1, 0].set_ylabel("grid compute median (ms)")
     axes[1, 0].grid(alpha=0.3, which="both")
     ours = [r for r in sweep if r["method"] == "ours" and r["success"]]
-    seg = np.array([r["stats"].get("ipopt_segments", 0) for r in ours], dtype=float)
-    ours_ct = np.array([1e3 * r["compute_time"] for r in ours])
-    jit = 1 + 0.05 * np.random.default_rng(0).standard_normal(len(seg))
-    axes[1, 1].scatter(np.maximum(seg, 1) * jit, ours_ct, s=6, alpha=0.5)
+    jit = 1 + 0.04 * np.random.default_rng(0).standard_normal(len(ours))
+    for kind, color in (("fast", "C0"), ("hard", "C3")):
+        sel = [k for k, r in enumerate(ours) if _path_kind(r) == kind]
+        xs = np.array([float(ours[k]["scale"]) for k in sel]) * jit[sel]
+        axes[1, 1].scatter(xs, [1e3 * ours[k]["compute_time"] for k in sel], s=6, alpha=0.5, color=color, label=kind)
     axes[1, 1].set_xscale("log", base=2)
     axes[1, 1].set_yscale("log")
-    ticks = sorted({int(x) for x in seg if x > 0})
-    axes[1, 1].set_xticks(ticks, [str(t) for t in ticks])
-    axes[1, 1].set_xlabel("ours: IPOPT segments (size class, jittered)")
+    axes[1, 1].legend(fontsize=7)
+    axes[1, 1].set_xlabel("ours: track scale (jittered), by path")
     axes[1, 1].set_ylabel("ours compute time (ms)")
     axes[1, 1].grid(alpha=0.3, which="both")
     for ax in axes.flat:

@@ -9,7 +9,8 @@ and the homotopy class of the result are computed outside the timed region.
 
 Methods (:data:`METHODS`):
 
-- ``ours``: ``trajopt.TrajectoryGenerator`` (plan → IPOPT smoothing in the plan's class → toppra → ruckig).
+- ``ours``: ``trajopt.TrajectoryGenerator`` (plan → fast path: one ruckig profile on the straight route-coordinate
+  line, or hard path: corridor QP in the plan's class, B-spline, filtered jerk-limited timing → the gate).
 - ``raw_plan``: the paper's plan as is, every straight step rest to rest (``optimize=False``; the fallback).
 - ``ompl_rest``: OMPL RRTConnect + shortcuts in track coordinates (SO(2)² on the circle), executed rest to rest
   at its waypoints. ``ompl_bspline``: the same path after ``smoothBSpline``, re-verified and timed like ours.
@@ -286,6 +287,7 @@ def _trajopt_outcome(gen: TrajectoryGenerator, start: FloatArray, goal: FloatArr
         "ipopt_solve": float(st.get("solve_time", 0.0)),
         "timings": {k: float(v) for k, v in traj.timings.items()},
         "domain": traj.domain,
+        "path": str(st.get("path", "")),
     }
     return MethodOutcome(
         True,
@@ -384,7 +386,11 @@ def _run_method(ctx: Context, method: str, start: FloatArray, goal: FloatArray, 
         if res.path is None:
             fail = MethodOutcome(False, False, time.perf_counter() - t0, error="no grid path", stats=res.stats)
             return {method: fail}
-        timed = _time_path(ctx, res.path, "smooth", start, goal, shortcut=True)
+        try:
+            timed = _time_path(ctx, res.path, "smooth", start, goal, shortcut=True)
+        except MPAError as exc:  # e.g. a grid path that leaves its route at P in a way split_routes cannot cut
+            err = f"grid path not timed: {type(exc).__name__}: {exc}"
+            return {method: MethodOutcome(False, False, time.perf_counter() - t0, error=err, stats=res.stats)}
         return {method: _timed_outcome(timed, time.perf_counter() - t0, {"grid": res.stats, "grid_cost": res.cost})}
     raise ValueError(f"method is {method!r}, expected one of {METHODS}")
 

@@ -38,6 +38,20 @@ SUBCOMMAND_MODULES = (
     "trajopt.cli.replan",
     "trajopt.cli.plot",
 )
+#: Every subcommand in help order: its module and its one-line help (equal to what the module registers; tested).
+#: ``mpa --help`` lists them without importing the modules (and so numpy, the planners, CasADi, matplotlib).
+SUBCOMMANDS = {
+    "plan": ("trajopt.cli.plan", "plan a motion (the paper's algorithm, or the complete graph planner) and print it"),
+    "trajectory": ("trajopt.cli.trajectory", "verified jerk-limited setpoints for a query (CSV, ROS 2, PVT, JSON)"),
+    "demo": ("trajopt.cli.trajectory", "the embedded default job: a lollipop swap, files and a PNG"),
+    "animate": ("trajopt.cli.animate", "animate a query: raw plan and jerk-limited trajectory side by side"),
+    "topology": ("trajopt.cli.topology", "Betti numbers, Euler characteristic and TC of two robots on a graph"),
+    "replan": (
+        "trajopt.cli.replan",
+        "re-plan a written trajectory from the carts' moving state at a time to a new goal",
+    ),
+    "plot": ("trajopt.cli.plot", "draw a setpoints file or an output directory of mpa into a PNG"),
+}
 #: Exit status of bad input (``error:``).
 EXIT_USAGE = 2
 #: Exit status of a valid query without a collision-free motion (``no motion:``).
@@ -53,16 +67,45 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"error: {message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of the ``mpa`` command."""
+def build_parser(command: str | None = None, *, full: bool = True) -> argparse.ArgumentParser:
+    """The argument parser of the ``mpa`` command.
+
+    Parameters
+    ----------
+    command : str, optional
+        With ``full=False``: the subcommand about to run; only its module is imported and registered, every
+        other subcommand is listed by name and help only.
+    full : bool
+        Register every subcommand (imports every subcommand module).
+    """
     parser = _Parser(
         prog="mpa", description="Topological motion planning for two robots on a track (Boughrira & Colman)."
     )
     parser.add_argument("--version", action="version", version=f"mpa (lollipop-mpa) {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    for name in SUBCOMMAND_MODULES:
-        importlib.import_module(name).register(sub)
+    if full:
+        for name in SUBCOMMAND_MODULES:
+            importlib.import_module(name).register(sub)
+        return parser
+    wanted = SUBCOMMANDS[command][0] if command in SUBCOMMANDS else None
+    done: set[str] = set()
+    for name, (module, text) in SUBCOMMANDS.items():
+        if module == wanted:
+            if module not in done:
+                importlib.import_module(module).register(sub)
+                done.add(module)
+        else:
+            sub.add_parser(name, help=text)
+    tabled = {m for m, _ in SUBCOMMANDS.values()}
+    for module in SUBCOMMAND_MODULES:  # a module missing from the table still works (imported, so not lazily)
+        if module not in tabled:
+            importlib.import_module(module).register(sub)
     return parser
+
+
+def _command_of(args: Sequence[str]) -> str | None:
+    """The subcommand named on the command line (the first argument that is not an option), if any."""
+    return next((a for a in args if not a.startswith("-")), None)
 
 
 def _line(prefix: str, exc: object) -> None:
@@ -73,8 +116,9 @@ def _line(prefix: str, exc: object) -> None:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``mpa`` command; returns the exit status (see the module docstring)."""
     try:
-        parser = build_parser()
         args_list = list(sys.argv[1:] if argv is None else argv)
+        command = _command_of(args_list)
+        parser = build_parser(command, full=command is not None and command not in SUBCOMMANDS)
         if not args_list:
             parser.print_usage(sys.stderr)
             return EXIT_USAGE

@@ -5,16 +5,21 @@ with the skeleton, and both robots' speeds over time with a cursor. Rows share o
 the raw plan (corners, piecewise-constant speed, infinite acceleration) and the optimised trajectory (smooth, within
 v/a/j limits) is visible side by side.
 
-GIF files are written with matplotlib's ``PillowWriter``; MP4 files with ``FFMpegWriter``, which needs an ffmpeg
-executable: one on the ``PATH``, or the one shipped inside the ``imageio-ffmpeg`` wheel (``pip install
-imageio-ffmpeg``), found automatically. Files are written to a temporary name and renamed, so a failed run leaves no
-file behind.
+The figure is laid out once (the static panels drawn once and kept as a background); each frame restores that
+background and draws only the moving artists, and is handed to the writer at once, so memory does not grow with
+the number of frames. GIF files are written by :class:`~trajopt.viz.layout_animation.StreamingGifWriter` (frame by
+frame); MP4 files by matplotlib's ``FFMpegWriter``, which needs an ffmpeg executable: one on the ``PATH``, or the
+one shipped inside the ``imageio-ffmpeg`` wheel (``pip install imageio-ffmpeg``), found automatically. A progress
+bar goes to stderr when it is a terminal. Files are written to a temporary name and renamed, so a failed run
+leaves no file behind.
 """
 
 from __future__ import annotations
 
 import os
 import shutil
+import sys
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,15 +27,15 @@ from typing import Any
 
 import matplotlib as mpl
 import numpy as np
-from matplotlib.animation import AbstractMovieWriter, FFMpegWriter, FuncAnimation, PillowWriter
-from matplotlib.axes import Axes
+from matplotlib.animation import FFMpegWriter
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
 from mpa import defaults
 from mpa.errors import InvalidInputError
 from mpa.plan import Plan
-from mpa.skeleton import Skeleton, skeleton_of
+from mpa.skeleton import skeleton_of
 from mpa.tracks import Track
 from trajopt.viz import drawing as dr
 
@@ -141,11 +146,11 @@ def ffmpeg_executable() -> str | None:
         return None
 
 
-def _writer(fmt: str, fps: float) -> AbstractMovieWriter:
-    """The matplotlib writer of ``fmt`` at ``fps`` frames per second (the writers take any positive frame rate,
-    matplotlib's stubs say int: hence the two ignores)."""
+def _writer(fmt: str, fps: float) -> Any:
     if fmt == "gif":
-        return PillowWriter(fps=fps)  # type: ignore[arg-type]
+        from trajopt.viz.layout_animation import StreamingGifWriter
+
+        return StreamingGifWriter(fps=fps)
     exe = ffmpeg_executable()
     if exe is None:
         raise InvalidInputError(
@@ -173,6 +178,7 @@ def animate_motions(
     max_frames: int | None = None,
     fmt: str | None = None,
     title: str | None = None,
+    progress: bool | None = None,
 ) -> Path:
     """Write an animation of one or more motions of the same query, one row each, on a shared clock.
 
@@ -184,8 +190,7 @@ def animate_motions(
     out : path
         Output file; its suffix (``.gif`` or ``.mp4``) chooses the format unless ``fmt`` is given.
     plan : Plan, optional
-        Its skeleton is drawn in the configuration space (default: the track's skeleton); each motion's own path
-        is drawn there faintly, with its start and goal.
+        Drawn faintly in the configuration space (the whole path), with the start and goal.
     fps : float
         Frames per second of the file; the animation plays in real time unless ``max_frames`` caps the frames
         (then it plays faster, which the title says).
@@ -196,6 +201,8 @@ def animate_motions(
     fmt : {"gif", "mp4"}, optional
     title : str, optional
         Figure title (default: the track and its size, e.g. "lollipop ℓ = 1 m, c = 1 m").
+    progress : bool, optional
+        Show a progress bar on stderr (default: when stderr is a terminal).
 
     Returns
     -------
@@ -225,12 +232,77 @@ def animate_motions(
         head += f"  (played {speedup:.1f}× faster than real time)"
     fig.suptitle(head, fontsize=12)
 
-    def update(k: int) -> list[Any]:
-        return _update_frame(track, motions, artists, float(times[k]))
+    fig.set_dpi(dpi)
+    w, h = (np.asarray(fig.get_size_inches()) * dpi).astype(int) // 2 * 2  # even pixel sizes (what h264 needs)
+    fig.set_size_inches(w / dpi, h / dpi)
+    canvas = FigureCanvasAgg(fig)
+    moving = [a for art in artists for a in _artist_list(art)]
+    for a in moving:
+        a.set_animated(True)  # left out of the background
+    canvas.draw()
+    fig.set_layout_engine("none")  # freeze the layout: frames differ only in the moving artists
+    background = canvas.copy_from_bbox(fig.bbox)
+    bar = _Progress(len(times), "animate", progress)
 
-    anim = FuncAnimation(fig, update, frames=len(times), blit=False)
-    _save_atomically(anim, out, fmt, writer, dpi)
+    def frames() -> Any:
+        for k, now in enumerate(times):
+            canvas.restore_region(background)
+            for a in _update_frame(track, motions, artists, float(now)):
+                fig.draw_artist(a)
+            yield k
+
+    try:
+        _save_streaming(fig, frames(), out, fmt, writer, dpi, bar)
+    finally:
+        bar.close()
     return out
+
+
+def _artist_list(art: dict[str, Any]) -> list[Any]:
+    return [art["trail"], art["dot"], *art["marks"].values(), *art["names"].values(), art["cursor"], art["clock"]]
+
+
+class _Progress:
+    """A one-line progress bar on stderr (``\\r``-updated at most 10 times a second); silent unless enabled.
+
+    Parameters
+    ----------
+    total : int
+        Number of steps.
+    label : str
+    enabled : bool, optional
+        Default: when stderr is a terminal.
+    """
+
+    def __init__(self, total: int, label: str, enabled: bool | None = None) -> None:
+        self.total, self.label = max(int(total), 1), label
+        stream = sys.stderr
+        self.enabled = bool(enabled) if enabled is not None else bool(getattr(stream, "isatty", lambda: False)())
+        self.t0 = time.perf_counter()
+        self._last = -1.0
+        self.shown = 0
+
+    def update(self, done: int) -> None:
+        """``done`` steps finished."""
+        if not self.enabled:
+            return
+        now = time.perf_counter()
+        if done < self.total and now - self._last < 0.1:
+            return
+        self._last = now
+        frac = min(done / self.total, 1.0)
+        el = now - self.t0
+        eta = el / frac - el if frac > 0 else 0.0
+        bar = "#" * int(30 * frac) + "-" * (30 - int(30 * frac))
+        sys.stderr.write(f"\r{self.label}: [{bar}] {done}/{self.total} frames, {el:5.1f} s, {eta:5.1f} s left")
+        sys.stderr.flush()
+        self.shown += 1
+
+    def close(self) -> None:
+        """End the line."""
+        if self.enabled and self.shown:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
 
 
 def _check_animation_options(
@@ -261,7 +333,7 @@ def _frame_times(motions: Sequence[Motion], fps: float, max_frames: int | None) 
 
 
 def _draw_motion_row(
-    row_axes: Sequence[Axes], track: Track, sk: Skeleton, m: Motion, *, duration: float, vlim: float, last: bool
+    row_axes: Sequence[Any], track: Track, sk: Any, m: Motion, *, duration: float, vlim: float, last: bool
 ) -> dict[str, Any]:
     """Draw the static part of one motion's row (track, flat space, speeds); returns the artists that move."""
     ax_p, ax_f, ax_v = row_axes
@@ -294,7 +366,7 @@ def _draw_motion_row(
     return _moving_artists(ax_p, ax_f, ax_v)
 
 
-def _moving_artists(ax_p: Axes, ax_f: Axes, ax_v: Axes) -> dict[str, Any]:
+def _moving_artists(ax_p: Any, ax_f: Any, ax_v: Any) -> dict[str, Any]:
     """The artists of one row that each frame moves: the trail and dot in the flat space, the robots (triangles
     with their names) on the track, the time cursor and the clock."""
     (trail,) = ax_f.plot([], [], color="k", lw=2.2, zorder=6)
@@ -341,16 +413,30 @@ def _update_frame(track: Track, motions: Sequence[Motion], artists: Sequence[dic
     return changed
 
 
-def _save_atomically(anim: FuncAnimation, out: Path, fmt: str, writer: AbstractMovieWriter, dpi: float) -> None:
-    """Render the animation to a temporary file beside ``out`` and rename it; nothing is left on a failure."""
+def _save_streaming(fig: Figure, frames: Any, out: Path, fmt: str, writer: Any, dpi: float, bar: _Progress) -> None:
+    """Hand every frame to the writer as it is drawn, into a temporary file beside ``out``, then rename it; nothing
+    is left on a failure. ``frames`` yields after each frame has been drawn onto the figure's canvas."""
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = out.with_name(f".{out.stem}.tmp{FORMATS[fmt]}")
     try:
-        anim.save(str(tmp), writer=writer, dpi=dpi, savefig_kwargs={"facecolor": "white"})
+        with writer.saving(fig, str(tmp), dpi):
+            for k in frames:
+                _grab(writer, fig)
+                bar.update(k + 1)
         os.replace(tmp, out)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+def _grab(writer: Any, fig: Figure) -> None:
+    """Give the writer the canvas as drawn (no redraw: the frame was blitted onto the background)."""
+    canvas = fig.canvas
+    rgba = np.asarray(canvas.buffer_rgba())  # type: ignore[attr-defined]
+    if hasattr(writer, "write_rgba"):
+        writer.write_rgba(rgba)
+    else:  # FFMpegWriter: raw RGBA into the pipe
+        writer._proc.stdin.write(rgba.tobytes())
 
 
 def query_title(track: Track, plan: Plan) -> str:

@@ -70,7 +70,10 @@ class StreamingGifWriter(AbstractMovieWriter):
         fig.set_dpi(self.dpi)
         canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
         canvas.draw()
-        rgba = np.asarray(canvas.buffer_rgba())
+        self.write_rgba(np.asarray(canvas.buffer_rgba()))
+
+    def write_rgba(self, rgba: NDArray[np.uint8]) -> None:
+        """Append one frame given as pixels (shape (H, W, 4)), e.g. a canvas drawn by blitting."""
         rgb = Image.fromarray(rgba[..., :3].copy(), "RGB")
         duration = round(1000.0 / self._fps)
         if self._palette is None:
