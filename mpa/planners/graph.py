@@ -295,6 +295,37 @@ def _mesh(fs: FreeSpace) -> _Mesh:
     return cast("_Mesh", m)
 
 
+def _uncovered(
+    seen: dict[Key, list[tuple[float, float]]], key: Key, y0: float, y1: float, eps: float
+) -> list[tuple[float, float]]:
+    """The parts of ``[y0, y1]`` not yet covered by the intervals recorded under ``key``; records the union."""
+    have = seen.get(key)
+    if have is None:
+        seen[key] = [(y0, y1)]
+        return [(y0, y1)]
+    out = []
+    cur = y0
+    for z0, z1 in have:
+        if z1 < cur:
+            continue
+        if z0 > y1:
+            break
+        if z0 > cur + eps:
+            out.append((cur, z0))
+        cur = max(cur, z1)
+    if cur < y1 - eps:
+        out.append((cur, y1))
+    if out:
+        merged: list[tuple[float, float]] = []
+        for z0, z1 in sorted([*have, (y0, y1)]):
+            if merged and z0 <= merged[-1][1]:
+                merged[-1] = (merged[-1][0], max(merged[-1][1], z1))
+            else:
+                merged.append((z0, z1))
+        seen[key] = merged
+    return out
+
+
 def _goal_terms(g: Any, goal: Position) -> tuple[list[float], list[float], list[float]]:
     """Per edge ``(cp, cm)`` with ``d((e, x), goal) = min(x + cp[e], cm[e] - x)`` off the goal's edge; per vertex its
     distance to the goal."""
@@ -366,6 +397,10 @@ def _search(
     #   interval: [1, root id, root key, g_root, r, sig, ax, a, y0, y1, pid, prev pid, prev a, lo, hi, parent, origin]
     #   goal:     [2, None, g, seg]
     nodes: list[list[Any]] = []
+    # interval nodes by (root, page, side, root position in the page's frame): routes of equal lengths (a lattice's
+    # Manhattan ties) unfold to the same node; keep one
+    seen: dict[Key, list[tuple[float, float]]] = {}
+    quantum = 1.0 / (1e-9 * mesh.scale)
     best: dict[Key, float] = {}
     heap: list[tuple[float, int]] = []
 
@@ -411,14 +446,21 @@ def _search(
                 r2 = (b + sg * (r[0] - a), r[1])
                 sig2 = (sg * sig[0], sig[1])
                 xa = abs(b - r2[0]) + vda[w]
-                xb = min_along(pid2[1], y0, y1, r2[1], 1)
             else:
                 r2 = (r[0], b + sg * (r[1] - a))
                 sig2 = (sig[0], sg * sig[1])
                 xb = abs(b - r2[1]) + vdb[w]
-                xa = min_along(pid2[0], y0, y1, r2[0], 0)
-            nodes.append([1, rid, rkey, groot, r2, sig2, ax, b, y0, y1, pid2, pid, a, lo, hi, parent, origin])
-            heapq.heappush(heap, (groot + comb(xa, xb), len(nodes) - 1))
+            sk = (rkey, pid2, ax, b, round(r2[0] * quantum), round(r2[1] * quantum))
+            pieces = _uncovered(seen, sk, y0, y1, eps)
+            if not pieces:
+                continue  # the same root seen the same way through known intervals: nothing new
+            for z0, z1 in pieces:
+                if ax == 0:
+                    xb = min_along(pid2[1], z0, z1, r2[1], 1)
+                else:
+                    xa = min_along(pid2[0], z0, z1, r2[0], 0)
+                nodes.append([1, rid, rkey, groot, r2, sig2, ax, b, z0, z1, pid2, pid, a, lo, hi, parent, origin])
+                heapq.heappush(heap, (groot + comb(xa, xb), len(nodes) - 1))
 
     def expand_point(nid: int, key: Key, gval: float, members: list[tuple[PolygonId, Coords]]) -> None:
         for q, rc in members:
