@@ -53,6 +53,7 @@ __all__ = ["OBJECTIVES", "GraphPlan", "plan_graph"]
 FloatArray = NDArray[np.float64]
 OBJECTIVES = ("fastest", "shortest")
 TIE_BREAK = 1e-6
+F_GRID = 1e-9  # relative resolution of the search's order (see _search)
 FACE_POINTS = 3  # interior nodes per face (besides its two ends), so that the search sees crossings inside faces
 Key = tuple[Any, ...]
 Coords = tuple[float, float]
@@ -340,11 +341,17 @@ def _goal_terms(g: Any, goal: Position) -> tuple[list[float], list[float], list[
 
 
 def _search(
-    mesh: _Mesh, start: tuple[Position, Position], goal: tuple[Position, Position], objective: str, va: float, vb: float
-) -> list[list[Any]]:
+    mesh: _Mesh,
+    start: tuple[Position, Position],
+    goal: tuple[Position, Position],
+    objective: str,
+    va: float,
+    vb: float,
+    budget: int | None = None,
+) -> list[list[Any]] | None:
     """Exact shortest path (for the objective's cost) in the free space: an any-angle A* over *roots* (start, face
     ends and corners, where a taut path can bend) and *intervals* (the part of a face seen straight from a root
-    through the faces crossed so far, unfolded across faces)."""
+    through the faces crossed so far, unfolded across faces). With ``budget``: None after that many expansions."""
     g = mesh.g
     eps = mesh.eps
     ctol = 1e-12 * mesh.scale * mesh.scale
@@ -357,13 +364,14 @@ def _search(
             return math.hypot(xa, xb)
 
     else:
-        tb = TIE_BREAK / max(va, vb)
 
         def cost(ds: float, dt: float) -> float:
-            return max(abs(ds) / va, abs(dt) / vb) + tb * math.hypot(ds, dt)
+            ta, tb_ = abs(ds) / va, abs(dt) / vb
+            return max(ta, tb_) + TIE_BREAK * (ta + tb_)
 
         def comb(xa: float, xb: float) -> float:
-            return max(xa / va, xb / vb) + tb * math.hypot(xa, xb)
+            ta, tb_ = xa / va, xb / vb
+            return max(ta, tb_) + TIE_BREAK * (ta + tb_)
 
     (gea, gsa), (geb, gsb) = goal
     cpa, cma, vda = _goal_terms(g, goal[0])
@@ -402,20 +410,20 @@ def _search(
     seen: dict[Key, list[tuple[float, float]]] = {}
     quantum = 1.0 / (1e-9 * mesh.scale)
     best: dict[Key, float] = {}
-    heap: list[tuple[float, int]] = []
+    heap: list[tuple[int, float, int]] = []
 
     def push_point(key: Key, gval: float, pid: PolygonId, pt: Coords, seg: tuple[Any, ...]) -> None:
         if gval < best.get(key, math.inf):
             best[key] = gval
             nodes.append([0, key, gval, seg])
             f = gval + comb(dist_a(pid[0], pt[0]), dist_b(pid[1], pt[1]))
-            heapq.heappush(heap, (f, len(nodes) - 1))
+            heapq.heappush(heap, (math.floor(f * fq), -gval, len(nodes) - 1))
 
     def push_goal(gval: float, seg: tuple[Any, ...]) -> None:
         if gval < best.get(("G",), math.inf):
             best[("G",)] = gval
             nodes.append([2, ("G",), gval, seg])
-            heapq.heappush(heap, (gval, len(nodes) - 1))
+            heapq.heappush(heap, (math.floor(gval * fq), -gval, len(nodes) - 1))
 
     def push_intervals(
         rid: int,
@@ -459,8 +467,9 @@ def _search(
                     xb = min_along(pid2[1], z0, z1, r2[1], 1)
                 else:
                     xa = min_along(pid2[0], z0, z1, r2[0], 0)
+                f = groot + comb(xa, xb)
                 nodes.append([1, rid, rkey, groot, r2, sig2, ax, b, z0, z1, pid2, pid, a, lo, hi, parent, origin])
-                heapq.heappush(heap, (groot + comb(xa, xb), len(nodes) - 1))
+                heapq.heappush(heap, (math.floor(f * fq), -groot, len(nodes) - 1))
 
     def expand_point(nid: int, key: Key, gval: float, members: list[tuple[PolygonId, Coords]]) -> None:
         for q, rc in members:
@@ -536,14 +545,23 @@ def _search(
                 continue
             push_intervals(rid, rkey, groot, r, sig, pid, ax2, a2, face2, yl, yh, lo2, hi2, nid, origin)
 
+    # the queue's order: f on a grid of 1e-9 of the start's bound (so that near-equal bounds count as ties), then
+    # deeper first (larger g): on the plateaus of equally fast motions (a robot with slack may take any of many
+    # routes) the search dives to the goal instead of widening; the plan is optimal up to that grid
+    (sa_e, sa_s), (sb_e, sb_s) = start
+    fq = 1.0 / (F_GRID * max(1e-3, comb(dist_a(sa_e, sa_s), dist_b(sb_e, sb_s))))
     start_members = mesh.placements(*start)
     best[("S",)] = 0.0
     nodes.append([0, ("S",), 0.0, None])
     expand_point(0, ("S",), 0.0, start_members)
     closed: set[Key] = {("S",)}
     found = -1
+    expanded = 0
     while heap:
-        _, nid = heapq.heappop(heap)
+        _, _, nid = heapq.heappop(heap)
+        expanded += 1
+        if budget is not None and expanded > budget:
+            return None
         nd = nodes[nid]
         kind = nd[0]
         if kind == 2:
@@ -797,7 +815,10 @@ def plan_graph(
     ca, cb = fs.component_of(*s), fs.component_of(*gl)
     if ca is None or ca != cb:
         raise NoMotionError(_why_no_motion(tr, fs, s, gl))
-    segs = _search(_mesh(fs), s, gl, objective, va, vb)
+    mesh = _mesh(fs)
+    segs = _search(mesh, s, gl, objective, va, vb)
+    if segs is None:  # pragma: no cover - no budget given
+        raise PlanningError("search gave up")
     segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])
     return _assemble(tr, fs, s, gl, objective, (va, vb), segs)
 
