@@ -1,32 +1,47 @@
 """A complete planner for two robots on any graph track: shortest or fastest paths in the exact free space.
 
-One self-contained module (it is meant to move to ``mpa/planners/graph.py``); entry point :func:`plan_graph`.
+Entry point :func:`plan_graph`.
 
-**Search.** The free space ``{d >= D}`` is a union of convex polygons glued along faces (:mod:`mpa.freespace`).
-The planner runs A* on a visibility graph whose nodes are the polygons' corners, the two ends of every shared face
-and :data:`FACE_POINTS` evenly spaced points inside it, plus start and goal. Inside one convex polygon every pair of
-its points is visible, so each polygon contributes all pairs of its nodes, and each straight segment inside one
-polygon is free. Polygons sharing a face share its nodes, so the graph is connected exactly where the free space is:
-the search finds a path whenever one exists (**complete**), and :func:`plan_graph` raises
-:class:`~mpa.errors.NoMotionError` otherwise, naming the reason.
+**Search.** The free space ``{d >= D}`` is a union of convex polygons glued along faces (:mod:`mpa.freespace`). In a
+convex polygon every straight segment is free and no move between two points is cheaper than the straight one (both
+costs below are norms), so a shortest path is a polyline whose corners lie on faces; pulled taut, it bends only at
+*face ends* (where a face's interval ends: a clearance constraint or an edge's end meets the robot's vertex) and at
+*corners* (both robots on vertices, where up to ``deg(w)·deg(w')`` cells meet). The planner is an any-angle A* in
+the manner of Polyanya (Cui, Harabor, Grastien 2017) on this non-manifold complex of polygons:
+
+- a *root* is the start, a face end or a corner, with its cost from the start; expanding it opens, for every polygon
+  holding it and every face of that polygon, the whole face as an *interval* into each other polygon glued there
+  (a face of deg(w) pages has deg(w) - 1 others);
+- an *interval* is the part of a face that its root sees straight through the faces crossed so far; the root is
+  carried in the polygon's own offsets by unfolding across each face (an isometry per axis: the robot at the vertex
+  keeps moving away from it on the next edge). Expanding it projects the cone (root, interval) onto the polygon's
+  other faces: the parts seen become new intervals with the same root, and every face end reached becomes a root
+  (where a taut path may turn). The goal is reached straight when it lies in the cone.
+
+Roots of the same name are kept once (the cheapest), and intervals of one root that unfold to the same place on the
+same face are merged (a lattice's equally long routes). Every face end and corner is a root and every face is opened
+from them, so the search reaches every polygon of the start's component: it finds a path whenever one exists
+(**complete**), and :func:`plan_graph` raises :class:`~mpa.errors.NoMotionError` otherwise, naming the reason.
 
 **Costs.** A straight move ``(Δs, Δt)`` costs ``hypot(Δs, Δt)`` (metres) for ``"shortest"`` and
-``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the Euclidean
-shortest (``+ 1e-6 · hypot / max(v)``). A*'s heuristic ``hypot(dA, dB)`` resp. ``max(dA/vA, dB/vB)`` (graph
-distances of each robot to its goal) is consistent.
+``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the least travel
+(``+ 1e-6 · (|Δs|/vA + |Δt|/vB)``). The A* bound is ``max(dA/vA, dB/vB)`` resp. ``hypot(dA, dB)`` of each robot's
+graph distance to its goal (for an interval: minimised exactly over it, with the unfolded distance from the root);
+it is admissible. The queue orders by that bound on a grid of ``1e-9`` of the start's bound, then deeper roots first.
 
-**Straightening.** The search's path bends at face nodes; the polygon sequence it found is then pulled taut: each
-face crossing slides along its face to the closed-form optimum given its neighbours (Gauss–Seidel, on the length
-``hypot(Δs/vA, Δt/vB)`` — speeds scaled for ``"fastest"``, so that the taut path is also of least weighted-L∞
-time in its corridor — smoothed with ``ε → 0`` so that it does not stall on zero-length pieces). Where the path
-passes a corner (both robots on vertices, both changing edges) the robots may instead pass their vertices one after
-the other (both orders tried). Consecutive segments in one polygon are merged.
+**Why this is optimal.** For a fixed sequence of polygons the taut (Euclidean shortest) path through them is also of
+least weighted-L∞ time and of least travel: in a simply connected chain of polygons the taut path minimises the
+total variation of every linear function of ``(s, t)``, and ``max(|a|, |b|) = (|a + b| + |a - b|) / 2``. Every
+taut path is a chain of roots joined by straight pieces through intervals, which the search enumerates (up to
+merging equal ones and dropping roots reached more expensively), and the bound never overestimates: the first goal
+taken from the queue is optimal up to the queue's grid. Checked in the tests: never above the 8-neighbour grid's
+best time (an upper bound of the optimum), and equal to the linear programme of the plan's own cell sequence.
 
-**What is and is not guaranteed.** Completeness and the clearance (exact, up to the membership tolerance
-``1e-12 · max(1, total length)`` of :mod:`mpa.freespace`) are guaranteed. Optimality is not proven: the corridor is
-chosen by the discretized search and then straightened. Checked: on seeded random layouts the ``"fastest"`` time is
-never above the best 8-neighbour grid path's (0.05 m grid) and ``"shortest"`` never longer; on lollipops it is never
-slower than the paper planner's plan.
+**What is guaranteed.** Completeness, the clearance (exact, up to the membership tolerance
+``1e-12 · max(1, total length)`` of :mod:`mpa.freespace`: crossing points are clamped into their face intervals)
+and optimality for the objective (up to ``1e-9`` relative from the queue's grid and the ``1e-6`` tie-break weight).
+Search time is not bounded polynomially: on a 77-edge warehouse a few swaps with clearances that force the robots to
+negotiate take about a second.
 
 **Routes.** Each robot's route is a sequence of directed edges (a new piece at every edge change and every
 reversal); its route coordinate is the distance travelled, and the plan is a polyline in route coordinates
@@ -54,7 +69,6 @@ FloatArray = NDArray[np.float64]
 OBJECTIVES = ("fastest", "shortest")
 TIE_BREAK = 1e-6
 F_GRID = 1e-9  # relative resolution of the search's order (see _search)
-FACE_POINTS = 3  # interior nodes per face (besides its two ends), so that the search sees crossings inside faces
 Key = tuple[Any, ...]
 Coords = tuple[float, float]
 
