@@ -400,15 +400,17 @@ def _search(
         return min(d, abs(y - gsb)) if e == geb else d
 
     def min_along(e: int, y0: float, y1: float, r: float, robot: int) -> float:
-        """``min over y in [y0, y1] of |y - r| + d_robot((e, y), goal)`` (piecewise linear: check its breakpoints)."""
+        """``min over y in [y0, y1] of |y - r| + d_robot((e, y), goal)``: ``d = min(y + cp, cm - y)`` off the goal's
+        edge, and ``min |y - r| + y = r + 2 max(0, y0 - r)``, ``min |y - r| - y = -r + 2 max(0, r - y1)``."""
         if robot == 0:
-            cp, cm, ge, gs, dist = cpa[e], cma[e], gea, gsa, dist_a
+            cp, cm, ge, gs = cpa[e], cma[e], gea, gsa
         else:
-            cp, cm, ge, gs, dist = cpb[e], cmb[e], geb, gsb, dist_b
-        cands = [y0, y1, min(max(r, y0), y1), min(max(0.5 * (cm - cp), y0), y1)]
-        if e == ge:
-            cands.append(min(max(gs, y0), y1))
-        return min(abs(y - r) + dist(e, y) for y in cands)
+            cp, cm, ge, gs = cpb[e], cmb[e], geb, gsb
+        v = min(cp + r + 2.0 * max(0.0, y0 - r), cm - r + 2.0 * max(0.0, r - y1))
+        if e == ge:  # |y - r| + |y - gs| is convex, least between r and gs: the clamp of r is a minimiser
+            y = min(max(r, y0), y1)
+            v = min(v, abs(y - r) + abs(y - gs))
+        return v
 
     goal_at: dict[PolygonId, list[Coords]] = {}
     for pid, c in mesh.placements(*goal):
@@ -462,6 +464,8 @@ def _search(
         for pid2, b in mesh.pages(face):
             if pid2 == pid and b == a:
                 continue
+            if len(mesh.sides(pid2)) == 1 and pid2 not in goal_at:
+                continue  # a dead end: a straight line entering it cannot leave
             sg = n1 if b == 0.0 else -n1  # -n1 * n2
             sg = -sg
             if ax == 0:
