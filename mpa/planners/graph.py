@@ -68,7 +68,8 @@ __all__ = ["OBJECTIVES", "GraphPlan", "plan_graph"]
 FloatArray = NDArray[np.float64]
 OBJECTIVES = ("fastest", "shortest")
 TIE_BREAK = 1e-6
-F_GRID = 1e-9  # relative resolution of the search's order (see _search)
+TIE_BREAK_2 = 1e-9  # then towards the straightest (Euclidean in time units): one timing among equally fast ones
+F_GRID = 1e-12  # relative resolution of the search's order (see _search)
 Key = tuple[Any, ...]
 Coords = tuple[float, float]
 
@@ -381,11 +382,11 @@ def _search(
 
         def cost(ds: float, dt: float) -> float:
             ta, tb_ = abs(ds) / va, abs(dt) / vb
-            return max(ta, tb_) + TIE_BREAK * (ta + tb_)
+            return max(ta, tb_) + TIE_BREAK * (ta + tb_) + TIE_BREAK_2 * math.hypot(ta, tb_)
 
         def comb(xa: float, xb: float) -> float:
             ta, tb_ = xa / va, xb / vb
-            return max(ta, tb_) + TIE_BREAK * (ta + tb_)
+            return max(ta, tb_) + TIE_BREAK * (ta + tb_) + TIE_BREAK_2 * math.hypot(ta, tb_)
 
     (gea, gsa), (geb, gsb) = goal
     cpa, cma, vda = _goal_terms(g, goal[0])
