@@ -25,9 +25,12 @@ from them, so the search reaches every polygon of the start's component: it find
 
 **Costs.** A straight move ``(Δs, Δt)`` costs ``hypot(Δs, Δt)`` (metres) for ``"shortest"`` and
 ``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the least travel
-(``+ 1e-6 · (|Δs|/vA + |Δt|/vB)``). The A* bound is ``max(dA/vA, dB/vB)`` resp. ``hypot(dA, dB)`` of each robot's
-graph distance to its goal (for an interval: minimised exactly over it, with the unfolded distance from the root);
-it is admissible. The queue orders by that bound on a grid of ``1e-9`` of the start's bound, then deeper roots first.
+(``+ 1e-6 · (|Δs|/vA + |Δt|/vB)``: exact for the bound below, so the search does not widen over the many equally
+fast routes of a robot with time to spare) and then towards the straightest (``+ 1e-9 · hypot(Δs/vA, Δt/vB)``: one
+timing among equally fast ones, e.g. both robots moving all the time rather than one after the other). The A* bound
+is ``max(dA/vA, dB/vB)`` (plus the same tie-break terms) resp. ``hypot(dA, dB)`` of each robot's graph distance to
+its goal (for an interval: minimised exactly over it, with the unfolded distance from the root); it is admissible.
+The queue orders by that bound on a grid of ``1e-12`` of the start's bound, then deeper roots first.
 
 **Why this is optimal.** For a fixed sequence of polygons the taut (Euclidean shortest) path through them is also of
 least weighted-L∞ time and of least travel: in a simply connected chain of polygons the taut path minimises the
@@ -39,7 +42,7 @@ best time (an upper bound of the optimum), and equal to the linear programme of 
 
 **What is guaranteed.** Completeness, the clearance (exact, up to the membership tolerance
 ``1e-12 · max(1, total length)`` of :mod:`mpa.freespace`: crossing points are clamped into their face intervals)
-and optimality for the objective (up to ``1e-9`` relative from the queue's grid and the ``1e-6`` tie-break weight).
+and optimality for the objective (up to ``1e-12`` relative from the queue's grid and the tie-break weights).
 Search time is not bounded polynomially: on a 77-edge warehouse a few swaps with clearances that force the robots to
 negotiate take about a second.
 
@@ -477,7 +480,7 @@ def _search(
                 r2 = (r[0], b + sg * (r[1] - a))
                 sig2 = (sig[0], sg * sig[1])
                 xb = abs(b - r2[1]) + vdb[w]
-            sk = (rkey, pid2, ax, b, round(r2[0] * quantum), round(r2[1] * quantum))
+            sk = (rid, pid2, ax, b, round(r2[0] * quantum), round(r2[1] * quantum))
             pieces = _uncovered(seen, sk, y0, y1, eps)
             if not pieces:
                 continue  # the same root seen the same way through known intervals: nothing new
@@ -564,7 +567,7 @@ def _search(
                 continue
             push_intervals(rid, rkey, groot, r, sig, pid, ax2, a2, face2, yl, yh, lo2, hi2, nid, origin)
 
-    # the queue's order: f on a grid of 1e-9 of the start's bound (so that near-equal bounds count as ties), then
+    # the queue's order: f on a grid of F_GRID of the start's bound (so that near-equal bounds count as ties), then
     # deeper first (larger g): on the plateaus of equally fast motions (a robot with slack may take any of many
     # routes) the search dives to the goal instead of widening; the plan is optimal up to that grid
     (sa_e, sa_s), (sb_e, sb_s) = start
@@ -573,7 +576,6 @@ def _search(
     best[("S",)] = 0.0
     nodes.append([0, ("S",), 0.0, None])
     expand_point(0, ("S",), 0.0, start_members)
-    closed: set[Key] = {("S",)}
     found = -1
     expanded = 0
     while heap:
@@ -588,9 +590,8 @@ def _search(
             break
         if kind == 0:
             key = nd[1]
-            if key in closed or nd[2] > best[key]:
-                continue
-            closed.add(key)
+            if nd[2] > best[key]:
+                continue  # reached more cheaply since (a root reached again more cheaply is expanded again)
             expand_point(nid, key, nd[2], mesh.members(key))
         else:
             if nd[3] > best[nd[2]]:
