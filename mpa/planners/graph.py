@@ -423,6 +423,8 @@ def _search(
     # node records
     #   point:    [0, key, g, seg]             seg = (kind, ...) the straight run that ends here
     #   interval: [1, root id, root key, g_root, r, sig, ax, a, y0, y1, pid, prev pid, prev a, lo, hi, parent, origin]
+    #   face entry (queued, opens the intervals into its pages):
+    #             [3, root id, root key, g_root, r, sig, ax, a, y0, y1, prev pid, face, lo, hi, parent, origin]
     #   goal:     [2, None, g, seg]
     nodes: list[list[Any]] = []
     # interval nodes by (root, page, side, root position in the page's frame): routes of equal lengths (a lattice's
@@ -462,9 +464,23 @@ def _search(
         parent: int,
         origin: tuple[PolygonId, Coords],
     ) -> None:
-        """Interval nodes for the part [y0, y1] of face ``face`` (side ``ax = a`` of ``pid``) into its other pages."""
-        n1 = 1.0 if a == 0.0 else -1.0
+        """Queue the part [y0, y1] of face ``face`` (side ``ax = a`` of ``pid``) seen from the root, once for all the
+        face's other pages: the bound is the same for each (the robot on the vertex is as far from its goal, and the
+        other robot's edge is the face's), so the pages are opened only when the entry is taken from the queue."""
         w = face[1]
+        if ax == 0:
+            xa = abs(r[0] - a) + vda[w]
+            xb = min_along(face[2], y0, y1, r[1], 1)
+        else:
+            xb = abs(r[1] - a) + vdb[w]
+            xa = min_along(face[2], y0, y1, r[0], 0)
+        nodes.append([3, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin])
+        heapq.heappush(heap, (math.floor((groot + comb(xa, xb)) * fq), -groot, len(nodes) - 1))
+
+    def open_face(nd: list[Any]) -> None:
+        """Interval nodes of a queued face entry into each other page (unfolding the root), expanded at once."""
+        _, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin = nd
+        n1 = 1.0 if a == 0.0 else -1.0
         for pid2, b in mesh.pages(face):
             if pid2 == pid and b == a:
                 continue
@@ -475,23 +491,13 @@ def _search(
             if ax == 0:
                 r2 = (b + sg * (r[0] - a), r[1])
                 sig2 = (sg * sig[0], sig[1])
-                xa = abs(b - r2[0]) + vda[w]
             else:
                 r2 = (r[0], b + sg * (r[1] - a))
                 sig2 = (sig[0], sg * sig[1])
-                xb = abs(b - r2[1]) + vdb[w]
             sk = (rid, pid2, ax, b, round(r2[0] * quantum), round(r2[1] * quantum))
-            pieces = _uncovered(seen, sk, y0, y1, eps)
-            if not pieces:
-                continue  # the same root seen the same way through known intervals: nothing new
-            for z0, z1 in pieces:
-                if ax == 0:
-                    xb = min_along(pid2[1], z0, z1, r2[1], 1)
-                else:
-                    xa = min_along(pid2[0], z0, z1, r2[0], 0)
-                f = groot + comb(xa, xb)
+            for z0, z1 in _uncovered(seen, sk, y0, y1, eps):  # parts not seen the same way from this root before
                 nodes.append([1, rid, rkey, groot, r2, sig2, ax, b, z0, z1, pid2, pid, a, lo, hi, parent, origin])
-                heapq.heappush(heap, (math.floor(f * fq), -groot, len(nodes) - 1))
+                expand_interval(len(nodes) - 1, nodes[-1])
 
     def expand_point(nid: int, key: Key, gval: float, members: list[tuple[PolygonId, Coords]]) -> None:
         for q, rc in members:
@@ -595,8 +601,8 @@ def _search(
             expand_point(nid, key, nd[2], mesh.members(key))
         else:
             if nd[3] > best[nd[2]]:
-                continue
-            expand_interval(nid, nd)
+                continue  # its root was reached more cheaply since
+            open_face(nd)
     if found < 0:
         raise PlanningError("search ended without reaching the goal although it is in the start's component (a bug)")
     return _unwind(mesh, nodes, found, start_members)
