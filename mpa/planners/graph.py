@@ -21,9 +21,10 @@ the manner of Polyanya (Cui, Harabor, Grastien 2017) on this non-manifold comple
 Roots of the same name are kept once (the cheapest; one reached again more cheaply is expanded again), intervals of
 one root that unfold to the same place on the same face are merged (a lattice's equally long routes), a face seen
 from a root is queued once for all the polygons glued along it (its bound is the same for each) and opened when
-taken, and no interval enters a dead-end polygon (one whose only face is the entry) unless the goal is there. Every face end and corner is a root and every face is opened
-from them, so the search reaches every polygon of the start's component: it finds a path whenever one exists
-(**complete**), and :func:`plan_graph` raises :class:`~mpa.errors.NoMotionError` otherwise, naming the reason.
+taken, and no interval enters a dead-end polygon (one whose only face is the entry) unless the goal is there.
+Every face end and corner is a root and every face is opened from them, so the search reaches every polygon of the
+start's component: it finds a path whenever one exists (**complete**), and :func:`plan_graph` raises
+:class:`~mpa.errors.NoMotionError` otherwise, naming the reason.
 
 **Costs.** A straight move ``(Δs, Δt)`` costs ``hypot(Δs, Δt)`` (metres) for ``"shortest"`` and
 ``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the least travel
