@@ -256,6 +256,12 @@ class FreeSpace:
         """All free polygons ``{(e, f, k): corners (n, 2)}`` (builds the boxes of entirely free cells)."""
         return {pid: self.vertices(pid) for pid in self.polygon_ids}
 
+    def face_interval(self, vertex: int, edge: int) -> tuple[float, float] | None:
+        """Free offsets ``[lo, hi]`` of a robot on ``edge`` while the other stands on ``vertex`` (None if empty)."""
+        if not self.faces.ok[vertex, edge]:
+            return None
+        return float(self.faces.lo[vertex, edge]), float(self.faces.hi[vertex, edge])
+
     def is_free(self, pos_a: Position, pos_b: Position) -> bool:
         """Whether the robots at these positions are at least the clearance apart (within :attr:`tol`)."""
         return self.geometry.distance_scalar(pos_a[0], pos_a[1], pos_b[0], pos_b[1]) >= self._dmin

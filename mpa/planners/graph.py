@@ -2,31 +2,52 @@
 
 Entry point :func:`plan_graph` (also :func:`mpa.plan` with ``planner="graph"`` or on a graph track).
 
-**Search.** The free space ``{d >= D}`` is a union of convex polygons glued along faces (:mod:`mpa.freespace`).
-The planner runs A* on a visibility graph whose nodes are the polygons' corners, the two ends of every shared face
-and :data:`FACE_POINTS` evenly spaced points inside it, plus start and goal. Inside one convex polygon every pair of
-its points is visible, so each polygon contributes all pairs of its nodes, and each straight segment inside one
-polygon is free. Polygons sharing a face share its nodes, so the graph is connected exactly where the free space is:
-the search finds a path whenever one exists (**complete**), and :func:`plan_graph` raises
+**Search.** The free space ``{d >= D}`` is a union of convex polygons glued along faces (:mod:`mpa.freespace`). In a
+convex polygon every straight segment is free and no move between two points is cheaper than the straight one (both
+costs below are norms), so a shortest path is a polyline whose corners lie on faces; pulled taut, it bends only at
+*face ends* (where a face's interval ends: a clearance constraint or an edge's end meets the robot's vertex) and at
+*corners* (both robots on vertices, where up to ``deg(w)·deg(w')`` cells meet). The planner is an any-angle A* in
+the manner of Polyanya (Cui, Harabor, Grastien 2017) on this non-manifold complex of polygons:
+
+- a *root* is the start, a face end or a corner, with its cost from the start; expanding it opens, for every polygon
+  holding it and every face of that polygon, the whole face as an *interval* into each other polygon glued there
+  (a face of deg(w) pages has deg(w) - 1 others);
+- an *interval* is the part of a face that its root sees straight through the faces crossed so far; the root is
+  carried in the polygon's own offsets by unfolding across each face (an isometry per axis: the robot at the vertex
+  keeps moving away from it on the next edge). Expanding it projects the cone (root, interval) onto the polygon's
+  other faces: the parts seen become new intervals with the same root, and every face end reached becomes a root
+  (where a taut path may turn). The goal is reached straight when it lies in the cone.
+
+Roots of the same name are kept once (the cheapest; one reached again more cheaply is expanded again), intervals of
+one root that unfold to the same place on the same face are merged (a lattice's equally long routes), a face seen
+from a root is queued once for all the polygons glued along it (its bound is the same for each) and opened when
+taken, and no interval enters a dead-end polygon (one whose only face is the entry) unless the goal is there.
+Every face end and corner is a root and every face is opened from them, so the search reaches every polygon of the
+start's component: it finds a path whenever one exists (**complete**), and :func:`plan_graph` raises
 :class:`~mpa.errors.NoMotionError` otherwise, naming the reason.
 
 **Costs.** A straight move ``(Δs, Δt)`` costs ``hypot(Δs, Δt)`` (metres) for ``"shortest"`` and
-``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the Euclidean
-shortest (``+ 1e-6 · hypot / max(v)``). A*'s heuristic ``hypot(dA, dB)`` resp. ``max(dA/vA, dB/vB)`` (graph
-distances of each robot to its goal) is consistent.
+``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the least travel
+(``+ 1e-6 · (|Δs|/vA + |Δt|/vB)``: exact for the bound below, so the search does not widen over the many equally
+fast routes of a robot with time to spare) and then towards the straightest (``+ 1e-9 · hypot(Δs/vA, Δt/vB)``: one
+timing among equally fast ones, e.g. both robots moving all the time rather than one after the other). The A* bound
+is ``max(dA/vA, dB/vB)`` (plus the same tie-break terms) resp. ``hypot(dA, dB)`` of each robot's graph distance to
+its goal (for an interval: minimised exactly over it, with the unfolded distance from the root); it is admissible.
+The queue orders by that bound on a grid of ``1e-12`` of the start's bound, then deeper roots first.
 
-**Straightening.** The search's path bends at face nodes; the polygon sequence it found is then pulled taut: each
-face crossing slides along its face to the closed-form optimum given its neighbours (Gauss–Seidel, on the length
-``hypot(Δs/vA, Δt/vB)`` — speeds scaled for ``"fastest"``, so that the taut path is also of least weighted-L∞
-time in its corridor — smoothed with ``ε → 0`` so that it does not stall on zero-length pieces). Where the path
-passes a corner (both robots on vertices, both changing edges) the robots may instead pass their vertices one after
-the other (both orders tried). Consecutive segments in one polygon are merged.
+**Why this is optimal.** For a fixed sequence of polygons the taut (Euclidean shortest) path through them is also of
+least weighted-L∞ time and of least travel: in a simply connected chain of polygons the taut path minimises the
+total variation of every linear function of ``(s, t)``, and ``max(|a|, |b|) = (|a + b| + |a - b|) / 2``. Every
+taut path is a chain of roots joined by straight pieces through intervals, which the search enumerates (up to
+merging equal ones and dropping roots reached more expensively), and the bound never overestimates: the first goal
+taken from the queue is optimal up to the queue's grid. Checked in the tests: never above the 8-neighbour grid's
+best time (an upper bound of the optimum), and equal to the linear programme of the plan's own cell sequence.
 
-**What is and is not guaranteed.** Completeness and the clearance (exact, up to the membership tolerance
-``1e-12 · max(1, total length)`` of :mod:`mpa.freespace`) are guaranteed. Optimality is not proven: the corridor is
-chosen by the discretized search and then straightened. Checked: on seeded random layouts the ``"fastest"`` time is
-never above the best 8-neighbour grid path's (0.05 m grid) and ``"shortest"`` never longer; on lollipops it is never
-slower than the paper planner's plan.
+**What is guaranteed.** Completeness, the clearance (exact, up to the membership tolerance
+``1e-12 · max(1, total length)`` of :mod:`mpa.freespace`: crossing points are clamped into their face intervals)
+and optimality for the objective (up to ``1e-12`` relative from the queue's grid and the tie-break weights).
+Search time is not bounded polynomially: on a 77-edge warehouse a few swaps with clearances that force the robots to
+negotiate take about a second.
 
 **Routes.** Each robot's route is a sequence of directed edges (a new piece at every edge change and every
 reversal); its route coordinate is the distance travelled, and the plan is a polyline in route coordinates
@@ -53,7 +74,8 @@ __all__ = ["OBJECTIVES", "GraphPlan", "plan_graph"]
 FloatArray = NDArray[np.float64]
 OBJECTIVES = ("fastest", "shortest")
 TIE_BREAK = 1e-6
-FACE_POINTS = 3  # interior nodes per face (besides its two ends), so that the search sees crossings inside faces
+TIE_BREAK_2 = 1e-9  # then towards the straightest (Euclidean in time units): one timing among equally fast ones
+F_GRID = 1e-12  # relative resolution of the search's order (see _search)
 Key = tuple[Any, ...]
 Coords = tuple[float, float]
 
@@ -177,12 +199,17 @@ class GraphPlan:
 
 
 # ------------------------------------------------------------------------------------------------ search
-class _Search:
-    """The visibility graph of one free space, built lazily per polygon."""
+FaceKey = tuple[int, int, int]  # (axis fixed: 0 = robot A on a vertex, 1 = robot B on a vertex), vertex, other edge
+Side = tuple[int, float, FaceKey, float, float]  # (axis, side value, face, lo, hi)
 
-    def __init__(self, fs: FreeSpace, face_points: int = FACE_POINTS) -> None:
+
+class _Mesh:
+    """What the search needs of one free space, built lazily and kept with it: per polygon its sides that are faces,
+    per face its *pages* (the polygons glued along it, each with its side value), per face end the polygons holding it.
+    """
+
+    def __init__(self, fs: FreeSpace) -> None:
         self.fs = fs
-        self.face_points = face_points
         g = fs.geometry
         self.g = g
         self.inc: list[list[tuple[int, float]]] = [[] for _ in range(g.n_vertices)]
@@ -192,84 +219,67 @@ class _Search:
         self.lo = fs.faces.lo.tolist()
         self.hi = fs.faces.hi.tolist()
         self.ok = fs.faces.ok.tolist()
-        self.side_eps = 1e-12 * max(1.0, float(g.lengths.max()))
-        self._nodes: dict[PolygonId, list[tuple[Key, Coords]]] = {}
+        self.scale = max(1.0, float(g.lengths.max()))
+        self.eps = 1e-12 * self.scale
+        self._sides: dict[PolygonId, list[Side]] = {}
+        self._pages: dict[FaceKey, list[tuple[PolygonId, float]]] = {}
         self._members: dict[Key, list[tuple[PolygonId, Coords]]] = {}
 
-    def face_value(self, w: int, f: int, j: int) -> float:
-        """Offset of face node ``j`` of face (vertex w, edge f): 0 the low end, 1 the high end, 2.. interior."""
-        lo, hi = self.lo[w][f], self.hi[w][f]
-        if j == 0:
-            return lo
-        if j == 1:
-            return hi
-        return lo + (hi - lo) * (j - 1) / (self.face_points + 1)
-
-    def endpoints(self, w: int, f: int) -> list[tuple[int, float]]:
-        lo, hi = self.lo[w][f], self.hi[w][f]
-        if lo >= hi:
-            return [(0, lo)]
-        return [(j, self.face_value(w, f, j)) for j in range(self.face_points + 2)]
-
-    def face_key(self, role: str, w: int, other: int, j: int, x: float) -> Key:
-        g = self.g
-        if x == 0.0:
-            w2 = g._t[other]
-        elif x == g._L[other]:
-            w2 = g._h[other]
-        else:
-            return (role, w, other, j)
-        return ("C", w, w2) if role == "A" else ("C", w2, w)
-
-    def nodes(self, pid: PolygonId) -> list[tuple[Key, Coords]]:
-        out = self._nodes.get(pid)
-        if out is not None:
-            return out
-        fs, eps = self.fs, self.side_eps
-        e, f, k = pid
-        found: dict[tuple[Key, Coords], None] = {}
-        a_sides = [(s, w) for s, w in fs._sides_a(e, f, k) if self.ok[w][f]]
-        b_sides = [(t, w) for t, w in fs._sides_b(e, f, k) if self.ok[w][e]]
-        for s, w in a_sides:
-            for j, t in self.endpoints(w, f):
-                found[(self.face_key("A", w, f, j, t), (s, t))] = None
-        for t, w in b_sides:
-            for j, s in self.endpoints(w, e):
-                found[(self.face_key("B", w, e, j, s), (s, t))] = None
-        for idx, (s, t) in enumerate(fs.vertices(pid).tolist()):
-            if any(abs(s - s0) <= eps for s0, _ in a_sides) or any(abs(t - t0) <= eps for t0, _ in b_sides):
-                continue
-            found[(("P", pid, idx), (s, t))] = None
-        out = list(found)
-        self._nodes[pid] = out
+    def sides(self, pid: PolygonId) -> list[Side]:
+        out = self._sides.get(pid)
+        if out is None:
+            e, f, k = pid
+            out = []
+            for s, w in self.fs._sides_a(e, f, k):
+                if self.ok[w][f]:
+                    out.append((0, s, (0, w, f), self.lo[w][f], self.hi[w][f]))
+            for t, w in self.fs._sides_b(e, f, k):
+                if self.ok[w][e]:
+                    out.append((1, t, (1, w, e), self.lo[w][e], self.hi[w][e]))
+            self._sides[pid] = out
         return out
 
+    def pages(self, face: FaceKey) -> list[tuple[PolygonId, float]]:
+        out = self._pages.get(face)
+        if out is None:
+            ax, w, other = face
+            index = self.fs._index
+            out = []
+            for e2, x in self.inc[w]:
+                if ax == 0:
+                    pid = (e2, other, 0 if e2 != other else (1 if x == 0.0 else 0))
+                else:
+                    pid = (other, e2, 0 if e2 != other else (0 if x == 0.0 else 1))
+                if pid in index:
+                    out.append((pid, x))
+            self._pages[face] = out
+        return out
+
+    def point_key(self, face: FaceKey, y: float) -> Key:
+        """Canonical name of the point at coordinate ``y`` along a face (a corner when ``y`` is an end of the edge)."""
+        ax, w, other = face
+        g = self.g
+        if y == 0.0:
+            w2 = g._t[other]
+        elif y == g._L[other]:
+            w2 = g._h[other]
+        else:
+            return ("F", ax, w, other, y)
+        return ("C", w, w2) if ax == 0 else ("C", w2, w)
+
     def members(self, key: Key) -> list[tuple[PolygonId, Coords]]:
+        """The polygons holding a face end or corner, with its coordinates in each."""
         out = self._members.get(key)
         if out is not None:
             return out
-        index = self.fs._index
         out = []
-        kind = key[0]
-        if kind == "P":
-            pid = key[1]
-            out = [(pid, tuple(self.fs.vertices(pid)[key[2]].tolist()))]
-        elif kind == "A":
-            _, w, f, j = key
-            t = self.face_value(w, f, j)
-            for e, s in self.inc[w]:
-                pid = (e, f, 0 if e != f else (1 if s == 0.0 else 0))
-                if pid in index:
-                    out.append((pid, (s, t)))
-        elif kind == "B":
-            _, w, e, j = key
-            s = self.face_value(w, e, j)
-            for f, t in self.inc[w]:
-                pid = (e, f, 0 if e != f else (0 if t == 0.0 else 1))
-                if pid in index:
-                    out.append((pid, (s, t)))
-        elif kind == "C":
+        if key[0] == "F":
+            _, ax, w, other, y = key
+            for pid, x in self.pages((ax, w, other)):
+                out.append((pid, (x, y) if ax == 0 else (y, x)))
+        else:
             _, w, w2 = key
+            index = self.fs._index
             for e, s in self.inc[w]:
                 for f, t in self.inc[w2]:
                     if e == f and s == t:
@@ -299,179 +309,353 @@ class _Search:
         return out
 
 
-def _cost_fn(objective: str, va: float, vb: float) -> Any:
+def _mesh(fs: FreeSpace) -> _Mesh:
+    m = getattr(fs, "_plan_mesh", None)
+    if m is None:
+        m = _Mesh(fs)
+        fs._plan_mesh = m  # type: ignore[attr-defined]
+    return cast("_Mesh", m)
+
+
+def _uncovered(
+    seen: dict[Key, list[tuple[float, float]]], key: Key, y0: float, y1: float, eps: float
+) -> list[tuple[float, float]]:
+    """The parts of ``[y0, y1]`` not yet covered by the intervals recorded under ``key``; records the union."""
+    have = seen.get(key)
+    if have is None:
+        seen[key] = [(y0, y1)]
+        return [(y0, y1)]
+    out = []
+    cur = y0
+    for z0, z1 in have:
+        if z1 < cur:
+            continue
+        if z0 > y1:
+            break
+        if z0 > cur + eps:
+            out.append((cur, z0))
+        cur = max(cur, z1)
+    if cur < y1 - eps:
+        out.append((cur, y1))
+    if out:
+        merged: list[tuple[float, float]] = []
+        for z0, z1 in sorted([*have, (y0, y1)]):
+            if merged and z0 <= merged[-1][1]:
+                merged[-1] = (merged[-1][0], max(merged[-1][1], z1))
+            else:
+                merged.append((z0, z1))
+        seen[key] = merged
+    return out
+
+
+def _goal_terms(g: Any, goal: Position) -> tuple[list[float], list[float], list[float]]:
+    """Per edge ``(cp, cm)`` with ``d((e, x), goal) = min(x + cp[e], cm[e] - x)`` off the goal's edge; per vertex its
+    distance to the goal."""
+    ge, gs = goal
+    lg = g._L[ge]
+    dv = g.dv
+    tg, hg = g._t[ge], g._h[ge]
+    cp = np.minimum(dv[g.tails, tg] + gs, dv[g.tails, hg] + lg - gs)
+    cm = g.lengths + np.minimum(dv[g.heads, tg] + gs, dv[g.heads, hg] + lg - gs)
+    vd = np.minimum(dv[:, tg] + gs, dv[:, hg] + lg - gs)
+    return cp.tolist(), cm.tolist(), vd.tolist()
+
+
+def _search(
+    mesh: _Mesh,
+    start: tuple[Position, Position],
+    goal: tuple[Position, Position],
+    objective: str,
+    va: float,
+    vb: float,
+    budget: int | None = None,
+) -> list[list[Any]] | None:
+    """Exact shortest path (for the objective's cost) in the free space: an any-angle A* over *roots* (start, face
+    ends and corners, where a taut path can bend) and *intervals* (the part of a face seen straight from a root
+    through the faces crossed so far, unfolded across faces). With ``budget``: None after that many expansions."""
+    g = mesh.g
+    eps = mesh.eps
+    ctol = 1e-12 * mesh.scale * mesh.scale
     if objective == "shortest":
-        return lambda ds, dt: math.hypot(ds, dt)
-    tb = TIE_BREAK / max(va, vb)
-    return lambda ds, dt: max(abs(ds) / va, abs(dt) / vb) + tb * math.hypot(ds, dt)
 
+        def cost(ds: float, dt: float) -> float:
+            return math.hypot(ds, dt)
 
-def _astar(
-    srch: _Search, start: tuple[Position, Position], goal: tuple[Position, Position], cost: Any, heur: Any
-) -> list[tuple[PolygonId, Coords, Coords]]:
-    s_members = srch.placements(*start)
-    g_members = srch.placements(*goal)
-    goal_at: dict[PolygonId, list[Coords]] = {}
-    for pid, c in g_members:
-        goal_at.setdefault(pid, []).append(c)
-    srch._members[("S",)] = s_members
-    geo = srch.g
+        def comb(xa: float, xb: float) -> float:
+            return math.hypot(xa, xb)
+
+    else:
+
+        def cost(ds: float, dt: float) -> float:
+            ta, tb_ = abs(ds) / va, abs(dt) / vb
+            return max(ta, tb_) + TIE_BREAK * (ta + tb_) + TIE_BREAK_2 * math.hypot(ta, tb_)
+
+        def comb(xa: float, xb: float) -> float:
+            ta, tb_ = xa / va, xb / vb
+            return max(ta, tb_) + TIE_BREAK * (ta + tb_) + TIE_BREAK_2 * math.hypot(ta, tb_)
+
     (gea, gsa), (geb, gsb) = goal
+    cpa, cma, vda = _goal_terms(g, goal[0])
+    cpb, cmb, vdb = _goal_terms(g, goal[1])
 
-    hcache: dict[Key, float] = {}
+    def dist_a(e: int, y: float) -> float:
+        d = min(y + cpa[e], cma[e] - y)
+        return min(d, abs(y - gsa)) if e == gea else d
 
-    def h(key: Key, pid: PolygonId, c: Coords) -> float:
-        v = hcache.get(key)
-        if v is None:
-            da = geo.distance_scalar(pid[0], c[0], gea, gsa)
-            db = geo.distance_scalar(pid[1], c[1], geb, gsb)
-            v = hcache[key] = heur(da, db)
+    def dist_b(e: int, y: float) -> float:
+        d = min(y + cpb[e], cmb[e] - y)
+        return min(d, abs(y - gsb)) if e == geb else d
+
+    def min_along(e: int, y0: float, y1: float, r: float, robot: int) -> float:
+        """``min over y in [y0, y1] of |y - r| + d_robot((e, y), goal)``: ``d = min(y + cp, cm - y)`` off the goal's
+        edge, and ``min |y - r| + y = r + 2 max(0, y0 - r)``, ``min |y - r| - y = -r + 2 max(0, r - y1)``."""
+        if robot == 0:
+            cp, cm, ge, gs = cpa[e], cma[e], gea, gsa
+        else:
+            cp, cm, ge, gs = cpb[e], cmb[e], geb, gsb
+        v = min(cp + r + 2.0 * max(0.0, y0 - r), cm - r + 2.0 * max(0.0, r - y1))
+        if e == ge:  # |y - r| + |y - gs| is convex, least between r and gs: the clamp of r is a minimiser
+            y = min(max(r, y0), y1)
+            v = min(v, abs(y - r) + abs(y - gs))
         return v
 
-    best: dict[Key, float] = {("S",): 0.0}
-    parent: dict[Key, tuple[Key, PolygonId, Coords, Coords]] = {}
-    heap: list[tuple[float, float, int, Key]] = [(0.0, 0.0, 0, ("S",))]
-    closed: set[Key] = set()
-    counter = 1
-    goal_key: Key = ("G",)
-    while heap:
-        _, gk, _, key = heapq.heappop(heap)
-        if key in closed:
-            continue
-        closed.add(key)
-        if key == goal_key:
-            break
-        for pid, c in srch.members(key):
-            targets = list(srch.nodes(pid))
-            targets.extend((goal_key, cg) for cg in goal_at.get(pid, ()))
-            for k2, c2 in targets:
-                if k2 in closed:
-                    continue
-                ng = gk + cost(c2[0] - c[0], c2[1] - c[1])
-                if ng < best.get(k2, math.inf):
-                    best[k2] = ng
-                    parent[k2] = (key, pid, c, c2)
-                    hk = 0.0 if k2 == goal_key else h(k2, pid, c2)
-                    heapq.heappush(heap, (ng + hk, ng, counter, k2))
-                    counter += 1
-    if goal_key not in parent:
-        raise PlanningError("search ended without reaching the goal although it is in the start's component (a bug)")
-    segs = []
-    key = goal_key
-    while key != ("S",):
-        prev, pid, c, c2 = parent[key]
-        segs.append((pid, c, c2))
-        key = prev
-    return segs[::-1]
+    goal_at: dict[PolygonId, list[Coords]] = {}
+    for pid, c in mesh.placements(*goal):
+        goal_at.setdefault(pid, []).append(c)
 
+    # node records
+    #   point:    [0, key, g, seg]             seg = (kind, ...) the straight run that ends here
+    #   interval: [1, root id, root key, g_root, r, sig, ax, a, y0, y1, pid, prev pid, prev a, lo, hi, parent, origin]
+    #   face entry (queued, opens the intervals into its pages):
+    #             [3, root id, root key, g_root, r, sig, ax, a, y0, y1, prev pid, face, lo, hi, parent, origin]
+    #   goal:     [2, None, g, seg]
+    nodes: list[list[Any]] = []
+    # interval nodes by (root, page, side, root position in the page's frame): routes of equal lengths (a lattice's
+    # Manhattan ties) unfold to the same node; keep one
+    seen: dict[Key, list[tuple[float, float]]] = {}
+    quantum = 1.0 / (1e-9 * mesh.scale)
+    best: dict[Key, float] = {}
+    heap: list[tuple[int, float, int]] = []
 
-def _face_of_crossing(
-    srch: _Search, a1: Coords, b0: Coords, p1: PolygonId, p2: PolygonId
-) -> tuple[str, int, int] | None:
-    """The face a path crosses between polygons ``p1`` and ``p2`` at ``a1`` (in p1) = ``b0`` (in p2), if any."""
-    g = srch.g
-    w1 = g._t[p1[0]] if a1[0] == 0.0 else g._h[p1[0]] if a1[0] == g._L[p1[0]] else None
-    w2 = g._t[p2[0]] if b0[0] == 0.0 else g._h[p2[0]] if b0[0] == g._L[p2[0]] else None
-    if w1 is not None and w1 == w2 and p1[1] == p2[1] and a1[1] == b0[1] and srch.ok[w1][p1[1]]:
-        return ("A", w1, p1[1])
-    v1 = g._t[p1[1]] if a1[1] == 0.0 else g._h[p1[1]] if a1[1] == g._L[p1[1]] else None
-    v2 = g._t[p2[1]] if b0[1] == 0.0 else g._h[p2[1]] if b0[1] == g._L[p2[1]] else None
-    if v1 is not None and v1 == v2 and p1[0] == p2[0] and a1[0] == b0[0] and srch.ok[v1][p1[0]]:
-        return ("B", v1, p1[0])
-    return None
+    def push_point(key: Key, gval: float, pid: PolygonId, pt: Coords, seg: tuple[Any, ...]) -> None:
+        if gval < best.get(key, math.inf):
+            best[key] = gval
+            nodes.append([0, key, gval, seg])
+            f = gval + comb(dist_a(pid[0], pt[0]), dist_b(pid[1], pt[1]))
+            heapq.heappush(heap, (math.floor(f * fq), -gval, len(nodes) - 1))
 
+    def push_goal(gval: float, seg: tuple[Any, ...]) -> None:
+        if gval < best.get(("G",), math.inf):
+            best[("G",)] = gval
+            nodes.append([2, ("G",), gval, seg])
+            heapq.heappush(heap, (math.floor(gval * fq), -gval, len(nodes) - 1))
 
-def _straighten(
-    srch: _Search, segs: list[list[Any]], wa: float, wb: float, eps: float, tol: float, sweeps: int = 400
-) -> None:
-    """Slide face crossings along their faces (in place) to shorten ``sum sqrt((wa Δs)² + (wb Δt)² + eps²)``.
+    def push_intervals(
+        rid: int,
+        rkey: Key,
+        groot: float,
+        r: Coords,
+        sig: Coords,
+        pid: PolygonId,
+        ax: int,
+        a: float,
+        face: FaceKey,
+        y0: float,
+        y1: float,
+        lo: float,
+        hi: float,
+        parent: int,
+        origin: tuple[PolygonId, Coords],
+    ) -> None:
+        """Queue the part [y0, y1] of face ``face`` (side ``ax = a`` of ``pid``) seen from the root, once for all the
+        face's other pages: the bound is the same for each (the robot on the vertex is as far from its goal, and the
+        other robot's edge is the face's), so the pages are opened only when the entry is taken from the queue."""
+        w = face[1]
+        if ax == 0:
+            xa = abs(r[0] - a) + vda[w]
+            xb = min_along(face[2], y0, y1, r[1], 1)
+        else:
+            xb = abs(r[1] - a) + vdb[w]
+            xa = min_along(face[2], y0, y1, r[0], 0)
+        nodes.append([3, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin])
+        heapq.heappush(heap, (math.floor((groot + comb(xa, xb)) * fq), -groot, len(nodes) - 1))
 
-    Each crossing's optimum given its neighbours is closed-form (the straight line through the face, unfolded),
-    clamped to the face's interval; Gauss–Seidel sweeps until no crossing moves more than ``tol``.
-    """
-    faces = [None] + [
-        _face_of_crossing(srch, segs[j - 1][2], segs[j][1], segs[j - 1][0], segs[j][0]) for j in range(1, len(segs))
-    ]
-    e2 = eps * eps
-    for _ in range(sweeps):
-        moved = 0.0
-        for j in range(1, len(segs)):
-            face = faces[j]
-            if face is None:
+    def open_face(nd: list[Any]) -> None:
+        """Interval nodes of a queued face entry into each other page (unfolding the root), expanded at once."""
+        _, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin = nd
+        n1 = 1.0 if a == 0.0 else -1.0
+        for pid2, b in mesh.pages(face):
+            if pid2 == pid and b == a:
                 continue
-            role, w, other = face
-            lo, hi = srch.lo[w][other], srch.hi[w][other]
-            a0, a1 = segs[j - 1][1], segs[j - 1][2]
-            b0, b1 = segs[j][1], segs[j][2]
-            if role == "A":  # A on the vertex: t varies
-                u = math.sqrt((wa * (a1[0] - a0[0])) ** 2 + e2)
-                v = math.sqrt((wa * (b1[0] - b0[0])) ** 2 + e2)
-                y0, y1, old = a0[1], b1[1], a1[1]
-            else:  # B on the vertex: s varies
-                u = math.sqrt((wb * (a1[1] - a0[1])) ** 2 + e2)
-                v = math.sqrt((wb * (b1[1] - b0[1])) ** 2 + e2)
-                y0, y1, old = a0[0], b1[0], a1[0]
-            if u + v <= 0.0:
-                continue
-            x = min(max(y0 + (y1 - y0) * u / (u + v), lo), hi)
-            if x == old:
-                continue
-            moved = max(moved, abs(x - old))
-            if role == "A":
-                segs[j - 1][2] = (a1[0], x)
-                segs[j][1] = (b0[0], x)
+            if len(mesh.sides(pid2)) == 1 and pid2 not in goal_at:
+                continue  # a dead end: a straight line entering it cannot leave
+            sg = n1 if b == 0.0 else -n1  # -n1 * n2
+            sg = -sg
+            if ax == 0:
+                r2 = (b + sg * (r[0] - a), r[1])
+                sig2 = (sg * sig[0], sig[1])
             else:
-                segs[j - 1][2] = (x, a1[1])
-                segs[j][1] = (x, b0[1])
-        if moved <= tol:
-            break
+                r2 = (r[0], b + sg * (r[1] - a))
+                sig2 = (sig[0], sg * sig[1])
+            sk = (rid, pid2, ax, b, round(r2[0] * quantum), round(r2[1] * quantum))
+            for z0, z1 in _uncovered(seen, sk, y0, y1, eps):  # parts not seen the same way from this root before
+                nodes.append([1, rid, rkey, groot, r2, sig2, ax, b, z0, z1, pid2, pid, a, lo, hi, parent, origin])
+                expand_interval(len(nodes) - 1, nodes[-1])
 
+    def expand_point(nid: int, key: Key, gval: float, members: list[tuple[PolygonId, Coords]]) -> None:
+        for q, rc in members:
+            for pt in goal_at.get(q, ()):
+                push_goal(gval + cost(pt[0] - rc[0], pt[1] - rc[1]), ("direct", nid, q, rc, pt))
+            for ax2, a2, face2, lo2, hi2 in mesh.sides(q):
+                on_line = rc[ax2] == a2
+                for y in (lo2, hi2) if hi2 > lo2 else (lo2,):
+                    pt = (a2, y) if ax2 == 0 else (y, a2)
+                    if pt == rc:
+                        continue
+                    k2 = mesh.point_key(face2, y)
+                    push_point(k2, gval + cost(pt[0] - rc[0], pt[1] - rc[1]), q, pt, ("direct", nid, q, rc, pt))
+                if on_line or hi2 - lo2 <= eps:
+                    continue
+                push_intervals(nid, key, gval, rc, (1.0, 1.0), q, ax2, a2, face2, lo2, hi2, lo2, hi2, nid, (q, rc))
 
-def _total(segs: list[list[Any]], cost: Any) -> float:
-    return sum(cost(b[0] - a[0], b[1] - a[1]) for _, a, b in segs)
+    def expand_interval(nid: int, nd: list[Any]) -> None:
+        _, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, _, _, _, _, _, origin = nd
+        rs, rt = r
+        if ax == 0:
+            u0 = (a - rs, y0 - rt)
+            u1 = (a - rs, y1 - rt)
+        else:
+            u0 = (y0 - rs, a - rt)
+            u1 = (y1 - rs, a - rt)
+        cr = u0[0] * u1[1] - u0[1] * u1[0]
+        if abs(cr) <= ctol:
+            return
+        sgn = 1.0 if cr > 0 else -1.0
 
+        def inside(q: Coords) -> bool:
+            dx, dy = q[0] - rs, q[1] - rt
+            c0 = sgn * (u0[0] * dy - u0[1] * dx)
+            c1 = -sgn * (u1[0] * dy - u1[1] * dx)
+            return c0 >= -ctol and c1 >= -ctol
 
-def _taut(srch: _Search, segs: list[list[Any]], wa: float, wb: float, scale: float) -> None:
-    """Straighten (in place) for the length ``hypot(wa Δs, wb Δt)``, smoothed as ``sqrt(... + ε²)`` with ε -> 0
-    so that coordinate descent does not stall where a segment has zero length."""
-    for eps in (1e-2 * scale, 1e-4 * scale, 1e-6 * scale, 0.0):
-        _straighten(srch, segs, wa, wb, eps, 1e-3 * eps if eps > 0 else 1e-12 * scale)
-
-
-def _split_corners(srch: _Search, segs: list[list[Any]], wa: float, wb: float, scale: float) -> list[list[Any]]:
-    """Where the path passes a corner (both robots on vertices) changing both edges, let the robots pass their
-    vertices at different times: insert the middle cell (A's new edge × B's old edge, or the other order) and keep
-    the order whose straightened path is cheaper."""
-    g, fs = srch.g, srch.fs
-    _taut(srch, segs, wa, wb, scale)
-
-    def cost(ds: float, dt: float) -> float:
-        return math.hypot(ds * wa, dt * wb)
-
-    j = 1
-    while j < len(segs):
-        p1, _, a1 = segs[j - 1]
-        p2, b0, _ = segs[j]
-        at_a = a1[0] in (0.0, g._L[p1[0]]) and b0[0] in (0.0, g._L[p2[0]])
-        at_b = a1[1] in (0.0, g._L[p1[1]]) and b0[1] in (0.0, g._L[p2[1]])
-        if not (at_a and at_b and p1[0] != p2[0] and p1[1] != p2[1]):
-            j += 1
-            continue
-        best, best_cost = segs, _total(segs, cost)
-        inserted = False
-        for mid in (((p2[0], b0[0]), (p1[1], a1[1])), ((p1[0], a1[0]), (p2[1], b0[1]))):
-            pid = fs.polygon_of(*mid)
-            if pid is None:
+        for pt in goal_at.get(pid, ()):
+            if inside(pt):
+                push_goal(groot + cost(pt[0] - rs, pt[1] - rt), ("chain", rid, nid, pid, pt))
+        for ax2, a2, face2, lo2, hi2 in mesh.sides(pid):
+            if ax2 == ax and a2 == a:
                 continue
-            c = (mid[0][1], mid[1][1])
-            trial = [list(x) for x in segs[:j]] + [[pid, c, c]] + [list(x) for x in segs[j:]]
-            _taut(srch, trial, wa, wb, scale)
-            tc = _total(trial, cost)
-            if tc < best_cost - 1e-12 * max(1.0, best_cost):
-                best, best_cost, inserted = trial, tc, True
-        segs = best
-        j += 2 if inserted else 1
-    return segs
+            if (r[ax2] - a2 if a2 == 0.0 else a2 - r[ax2]) <= eps:
+                continue  # a straight line leaves through this side only if its root lies on the side's inner side
+            yl, yh = lo2, hi2
+            # conditions c(y) = A*y + B >= -ctol for both cone edges
+            for u, sg in ((u0, sgn), (u1, -sgn)):
+                if ax2 == 0:  # q = (a2, y): cross(u, q - r) = u_s (y - rt) - u_t (a2 - rs)
+                    ca, cb = u[0], -u[0] * rt - u[1] * (a2 - rs)
+                else:  # q = (y, a2): u_s (a2 - rt) - u_t (y - rs)
+                    ca, cb = -u[1], u[0] * (a2 - rt) + u[1] * rs
+                ca, cb = sg * ca, sg * cb
+                if ca > 0.0:
+                    yl = max(yl, (-ctol - cb) / ca)
+                elif ca < 0.0:
+                    yh = min(yh, (-ctol - cb) / ca)
+                elif cb < -ctol:
+                    yl, yh = 1.0, 0.0
+            if yl > yh + eps:
+                continue
+            if yl <= lo2 + eps:
+                yl = lo2
+                pt = (a2, lo2) if ax2 == 0 else (lo2, a2)
+                k2 = mesh.point_key(face2, lo2)
+                push_point(k2, groot + cost(pt[0] - rs, pt[1] - rt), pid, pt, ("chain", rid, nid, pid, pt))
+            if yh >= hi2 - eps:
+                yh = hi2
+                pt = (a2, hi2) if ax2 == 0 else (hi2, a2)
+                k2 = mesh.point_key(face2, hi2)
+                push_point(k2, groot + cost(pt[0] - rs, pt[1] - rt), pid, pt, ("chain", rid, nid, pid, pt))
+            if yh - yl <= eps:
+                continue
+            push_intervals(rid, rkey, groot, r, sig, pid, ax2, a2, face2, yl, yh, lo2, hi2, nid, origin)
+
+    # the queue's order: f on a grid of F_GRID of the start's bound (so that near-equal bounds count as ties), then
+    # deeper first (larger g): on the plateaus of equally fast motions (a robot with slack may take any of many
+    # routes) the search dives to the goal instead of widening; the plan is optimal up to that grid
+    (sa_e, sa_s), (sb_e, sb_s) = start
+    fq = 1.0 / (F_GRID * max(1e-3, comb(dist_a(sa_e, sa_s), dist_b(sb_e, sb_s))))
+    start_members = mesh.placements(*start)
+    best[("S",)] = 0.0
+    nodes.append([0, ("S",), 0.0, None])
+    expand_point(0, ("S",), 0.0, start_members)
+    found = -1
+    expanded = 0
+    while heap:
+        _, _, nid = heapq.heappop(heap)
+        expanded += 1
+        if budget is not None and expanded > budget:
+            return None
+        nd = nodes[nid]
+        kind = nd[0]
+        if kind == 2:
+            found = nid
+            break
+        if kind == 0:
+            key = nd[1]
+            if nd[2] > best[key]:
+                continue  # reached more cheaply since (a root reached again more cheaply is expanded again)
+            expand_point(nid, key, nd[2], mesh.members(key))
+        else:
+            if nd[3] > best[nd[2]]:
+                continue  # its root was reached more cheaply since
+            open_face(nd)
+    if found < 0:
+        raise PlanningError("search ended without reaching the goal although it is in the start's component (a bug)")
+    return _unwind(mesh, nodes, found, start_members)
+
+
+def _unwind(mesh: _Mesh, nodes: list[list[Any]], nid: int, start_members: Any) -> list[list[Any]]:
+    """The path's straight segments ``[polygon, from, to]`` (offsets in the polygon's cell), start to goal."""
+    runs: list[list[list[Any]]] = []
+    while nid != 0:
+        seg = nodes[nid][3]
+        if seg[0] == "direct":
+            _, rid, q, rc, pt = seg
+            runs.append([[q, rc, pt]])
+            nid = rid
+            continue
+        _, rid, last, pid, q = seg
+        chain = []
+        i = last
+        while i != rid:
+            chain.append(nodes[i])
+            i = nodes[i][15]
+        chain.reverse()
+        q0, r0 = chain[0][16]
+        rk, sk = chain[-1][4], chain[-1][5]
+        d0 = (sk[0] * (q[0] - rk[0]), sk[1] * (q[1] - rk[1]))
+        segs: list[list[Any]] = []
+        prev_pid, prev_pt = q0, r0
+        for nd in chain:
+            r, sig, ax, a, pid_i, prev_a, lo, hi = nd[4], nd[5], nd[6], nd[7], nd[10], nd[12], nd[13], nd[14]
+            di = (sig[0] * d0[0], sig[1] * d0[1])
+            if di[ax] != 0.0:
+                lam = (a - r[ax]) / di[ax]
+                y = r[1 - ax] + lam * di[1 - ax]
+            else:  # pragma: no cover - a crossing line is never parallel to its face
+                y = r[1 - ax]
+            y = min(max(y, lo), hi)
+            exit_pt = (prev_a, y) if ax == 0 else (y, prev_a)
+            entry = (a, y) if ax == 0 else (y, a)
+            segs.append([prev_pid, prev_pt, exit_pt])
+            prev_pid, prev_pt = pid_i, entry
+        segs.append([prev_pid, prev_pt, q])
+        runs.append(segs)
+        nid = rid
+    out: list[list[Any]] = []
+    for run in reversed(runs):
+        out.extend(run)
+    if not out:
+        pid, c = start_members[0]
+        out.append([pid, c, c])
+    return out
 
 
 def _merge_same_polygon(segs: list[list[Any]]) -> list[list[Any]]:
@@ -660,25 +844,10 @@ def plan_graph(
     ca, cb = fs.component_of(*s), fs.component_of(*gl)
     if ca is None or ca != cb:
         raise NoMotionError(_why_no_motion(tr, fs, s, gl))
-    cost = _cost_fn(objective, va, vb)
-    if objective == "shortest":
-
-        def heur(da: float, db: float) -> float:
-            return math.hypot(da, db)
-
-    else:
-        tb = TIE_BREAK / max(va, vb)
-
-        def heur(da: float, db: float) -> float:
-            return max(da / va, db / vb) + tb * math.hypot(da, db)
-
-    srch = _Search(fs)
-    segs = [list(x) for x in _astar(srch, s, gl, cost, heur)]
-    # Straighten with the Euclidean length in coordinates scaled by the speeds (s/vA, t/vB): strictly convex, so
-    # coordinate descent does not stall, and in a corridor its taut path is also shortest for the weighted L∞ time.
-    wa, wb = (1.0, 1.0) if objective == "shortest" else (1.0 / va, 1.0 / vb)
-    scale = max(1.0, float(tr.lengths.max())) * max(wa, wb)
-    segs = _split_corners(srch, segs, wa, wb, scale)
+    mesh = _mesh(fs)
+    segs = _search(mesh, s, gl, objective, va, vb)
+    if segs is None:  # pragma: no cover - no budget given
+        raise PlanningError("search gave up")
     segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])
     return _assemble(tr, fs, s, gl, objective, (va, vb), segs)
 
