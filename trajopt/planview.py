@@ -185,15 +185,20 @@ class PlanView:
         limits: Limits,
         clearance: float,
         rate: float,
+        track_pos: ArrayLike | None = None,
     ) -> VerificationReport:
-        """The independent gate on rows of this plan's motion (see :mod:`trajopt.verify`)."""
+        """The independent gate on rows of this plan's motion (see :mod:`trajopt.verify`).
+
+        ``track_pos`` (shape (N, 2), paper tracks only): the rows' track coordinates, if they are not
+        :meth:`track_coordinates` of ``s`` (default: they are).
+        """
         plan = self.plan
         if not self.is_graph:
             return verify_setpoints(
                 plan.track,
                 plan.routes,
                 t,
-                self.track_coordinates(s),
+                self.track_coordinates(s) if track_pos is None else track_pos,
                 s,
                 v,
                 a,
