@@ -213,6 +213,7 @@ def run_graphs(
             layouts, n, seed=seed, ompl_budget=ompl_budget, delta=delta, threshold=threshold, progress=say
         )
         md += ["## Layouts: ours, grid, OMPL", "", gr.layouts_markdown(res["layouts"])]
+        md += ["", "## Layouts: our verified trajectories", "", gr.trajectories_markdown(res["layouts"])]
     if "oracle" in parts:
         res["oracle"] = gr.run_y_oracle(max(1, n // 5), seed=seed)
         md += ["## Y-junction threshold (swap iff D <= shortest branch b)", "", gr.y_oracle_markdown(res["oracle"])]

@@ -130,5 +130,10 @@ def test_scaling_layouts_have_the_asked_edge_count() -> None:
         assert t.graph.betti()[0] == 1  # connected
 
 
-def test_trajectory_hook_is_a_stub() -> None:
-    assert ours_trajectory(Y, {"start": ((1, 2.0), (2, 3.0)), "goal": ((2, 3.0), (1, 2.0)), "clearance": 0.5}) is None
+def test_trajectory_hook_gives_verified_setpoints() -> None:
+    res = ours_trajectory(Y, {"start": ((1, 2.0), (2, 3.0)), "goal": ((2, 3.0), (1, 2.0)), "clearance": 0.5})
+    assert res["verified"] and not res["fallback"] and res["makespan"] > 0 and res["rows"] > 2, res
+    no = ours_trajectory(Y, {"start": ((1, 2.0), (2, 3.0)), "goal": ((2, 3.0), (1, 2.0)), "clearance": 1.5})
+    assert not no["verified"] and no["error"].startswith("NoMotionError"), no
+    md = gr.trajectories_markdown([{"layout": "Y", "method": "ours", "makespan": 5.0, "trajectory": res}])
+    assert "| Y | 1 | 1/1 | 0 |" in md, md

@@ -14,7 +14,7 @@ Parts (each a function returning records and a markdown table; :func:`run_graph_
   at the same speed limits (random queries and swaps separately).
 - :func:`run_scaling`: free-space build and plan time on seeded grid-like building layouts of 10 to 150 edges.
 
-Trajectories are not timed yet: :func:`bench.graph_baselines.ours_trajectory` is the hook.
+Ours is also run through ``trajopt`` (:func:`bench.graph_baselines.ours_trajectory`): verified setpoints, timed.
 """
 
 from __future__ import annotations
@@ -231,7 +231,7 @@ def run_layouts(
                     if m == "ours":
                         rec["makespan"] = obj.makespan
                         rec["min_distance"] = obj.min_distance()
-                        rec["trajectory"] = ours_trajectory(track, q)  # None until trajopt handles graph plans
+                        rec["trajectory"] = ours_trajectory(track, q)  # verified setpoints, timed
                     else:
                         rec["makespan"] = obj.makespan
                         rec["min_distance"] = min(
@@ -629,3 +629,30 @@ def scaling_markdown(records: list[dict[str, Any]]) -> str:
             f"{sum(r['solved'] for r in rs)}/{sum(r['queries'] for r in rs)} |"
         )
     return "\n".join(lines) + "\n"
+
+
+def trajectories_markdown(records: list[dict[str, Any]]) -> str:
+    """Table of ours' verified trajectories per layout (``rec["trajectory"]`` of the ``ours`` records)."""
+    rows = [
+        "| layout | plans | verified | fallbacks | fast path | compute median / p95 (ms) | makespan median (s) | "
+        "makespan / plan makespan median |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for label in dict.fromkeys(r["layout"] for r in records):
+        recs = [r for r in records if r["layout"] == label and r["method"] == "ours" and r.get("trajectory")]
+        if not recs:
+            continue
+        tr = [r["trajectory"] for r in recs]
+        ok = [x for x in tr if x.get("verified")]
+        ratio = [
+            x["makespan"] / r["makespan"]
+            for r, x in zip(recs, tr, strict=True)
+            if x.get("verified") and r["makespan"] > 0
+        ]
+        rows.append(
+            f"| {label} | {len(tr)} | {len(ok)}/{len(tr)} | {sum(bool(x.get('fallback')) for x in ok)} | "
+            f"{sum(x.get('path') == 'fast' for x in ok)} | {_pct([x['compute_time'] * 1e3 for x in tr], 50):.2f} / "
+            f"{_pct([x['compute_time'] * 1e3 for x in tr], 95):.2f} | {_pct([x['makespan'] for x in ok], 50):.3f} | "
+            f"{_pct(ratio, 50):.3f} |"
+        )
+    return "\n".join(rows)
