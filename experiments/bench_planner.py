@@ -32,14 +32,21 @@ def _states(track, n: int, rng: np.random.Generator, gap: float) -> np.ndarray: 
     return out[:n]
 
 
-def bench(track, n: int, seed: int, samples: int = 400) -> dict[str, float]:  # type: ignore[no-untyped-def]
-    """Time ``n`` single queries (plan, then ``samples`` samples of the path) on ``track``."""
-    rng = np.random.default_rng(seed)
-    planner = make_planner(track, clearance=0.0)
+def _feasible_queries(track, n: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:  # type: ignore[no-untyped-def]
+    """``n`` random starts and goals (robots at least 1 mm apart); on the interval the goal keeps the start's
+    order (the robots cannot pass each other there)."""
     s, g = _states(track, n, rng, 1e-3), _states(track, n, rng, 1e-3)
     if isinstance(track, Interval):
         flip = np.sign(s[:, 1] - s[:, 0]) != np.sign(g[:, 1] - g[:, 0])
         g[flip] = g[flip][:, ::-1]
+    return s, g
+
+
+def bench(track, n: int, seed: int, samples: int = 400) -> dict[str, float]:  # type: ignore[no-untyped-def]
+    """Time ``n`` single queries (plan, then ``samples`` samples of the path) on ``track``."""
+    rng = np.random.default_rng(seed)
+    planner = make_planner(track, clearance=0.0)
+    s, g = _feasible_queries(track, n, rng)
     for i in range(min(200, n)):  # warm-up
         planner.plan(s[i], g[i]).sample(samples)
     t_plan, t_total = np.empty(n), np.empty(n)
@@ -108,10 +115,7 @@ def bench_batch(track, n: int, seed: int, repeats: int = 5) -> dict[str, float]:
 
     rng = np.random.default_rng(seed)
     planner = make_planner(track, clearance=0.0)
-    s, g = _states(track, n, rng, 1e-3), _states(track, n, rng, 1e-3)
-    if isinstance(track, Interval):
-        flip = np.sign(s[:, 1] - s[:, 0]) != np.sign(g[:, 1] - g[:, 0])
-        g[flip] = g[flip][:, ::-1]
+    s, g = _feasible_queries(track, n, rng)
     plan_many(track, s[:1000], g[:1000])  # warm-up
     times = []
     for _ in range(repeats):

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
 from pathlib import Path
 
@@ -29,6 +28,7 @@ from mpa.graph_track import GraphTrack
 from mpa.planners.factory import plan
 from trajopt.viz.layout import draw_layout, graph_plan_figure, layout_geometry
 from trajopt.viz.layout_animation import animate_graph_plan
+from trajopt.viz.plotting import save_figure
 
 ROOT = Path(__file__).resolve().parents[1]
 TRACKS = ROOT / "examples" / "tracks"
@@ -46,13 +46,7 @@ QUERIES: list[tuple[str, str, tuple[str, str], tuple[str, str], float, str]] = [
 
 
 def _save(fig: Figure, path: Path, dpi: float) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.tmp.png")
-    try:
-        fig.savefig(tmp, dpi=dpi, facecolor="white")
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
+    save_figure(fig, path, dpi, facecolor="white")
 
 
 def layouts() -> dict[str, GraphTrack]:

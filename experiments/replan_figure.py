@@ -29,6 +29,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from mpa import Lollipop
 from trajopt import TrajectoryGenerator
+from trajopt.viz.plotting import save_figure
 
 START, GOAL, AT, NEW_GOAL = (0.2, 0.5), (0.5, 0.2), 1.3, (0.7, 0.35)
 
@@ -79,9 +80,7 @@ def main(argv: list[str] | None = None) -> int:
         fontsize=10,
     )
     fig.tight_layout()
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=args.dpi)
+    out = save_figure(fig, args.out, args.dpi)
     plt.close(fig)
     print(f"wrote {out}")
     return 0

@@ -238,6 +238,16 @@ def _lollipop(planner: LollipopPlanner, s: NDArray[np.float64], g: NDArray[np.fl
     ambiguity and direction). One query per key is answered by the planner's own code and its answer shared;
     queries within ``_MARGIN`` of any border are answered one by one.
     """
+    key, bad = _decision_keys(planner, s, g)
+    dom, words = _answer_per_key(planner, np.hstack([s, g]), key, bad)
+    return BatchPlans(planner, s, g, dom, tuple(words.tolist()))
+
+
+def _decision_keys(
+    planner: LollipopPlanner, s: NDArray[np.float64], g: NDArray[np.float64]
+) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
+    """Per query (starts ``s``, goals ``g``, shape (N, 2)) the key of the planner's discrete choices, and whether
+    the query lies within ``_MARGIN`` of a decision border (its key is then not trusted)."""
     sk = planner.skeleton
     h = sk.half
     c, eps, mg = 2.0 * h, planner.neighbourhood * h, _MARGIN
@@ -247,25 +257,10 @@ def _lollipop(planner: LollipopPlanner, s: NDArray[np.float64], g: NDArray[np.fl
     bad = bad_x | bad_y
     if sk.graph.edge("I1").length <= mg:  # zero-length sticks in the model: I1/I2 points are vertices
         bad |= (ex == 0) | (ex == 7) | (ey == 0) | (ey == 7)
-    # circle parameter, circle index (0 on I1/I2) and chain block of each point
-    circ_x = np.where((ex == 0) | (ex == 7), 0, (ex + 1) // 2)
-    circ_y = np.where((ey == 0) | (ey == 7), 0, (ey + 1) // 2)
-    blk_x = np.where(ex == 7, 4, circ_x)
-    blk_y = np.where(ey == 7, 4, circ_y)
-    phi_x = tx + np.where(ex % 2 == 0, h, 0.0)
-    phi_y = ty + np.where(ey % 2 == 0, h, 0.0)
-
-    def nearest(e: NDArray[np.int64], circ: NDArray[np.int64], phi: NDArray[np.float64]) -> tuple[Any, Any, Any]:
-        d0 = np.minimum(phi, c - phi)
-        dh = np.abs(phi - h)
-        on_i = (e == 0) | (e == 7)
-        comp = np.where(on_i, np.where(e == 0, 0, 3), np.where(d0 <= dh, _COMP0[circ], _COMPH[circ]))
-        dist = np.where(on_i, 0.0, np.minimum(d0, dh))
-        close = ~on_i & ((np.abs(d0 - dh) < mg) | (np.abs(dist - eps) < mg))
-        return comp, dist < eps, close
-
-    cx, nx, close_x = nearest(ex, circ_x, phi_x)
-    cy, ny, close_y = nearest(ey, circ_y, phi_y)
+    circ_x, blk_x, phi_x = _circle_block_phi(ex, tx, h)
+    circ_y, blk_y, phi_y = _circle_block_phi(ey, ty, h)
+    cx, nx, close_x = _nearest_extended_vertex(ex, circ_x, phi_x, h, eps)
+    cy, ny, close_y = _nearest_extended_vertex(ey, circ_y, phi_y, h, eps)
     bad |= close_x | close_y
     key = np.zeros(n, dtype=np.int64)
     # branch 1: both near an extended vertex
@@ -282,8 +277,54 @@ def _lollipop(planner: LollipopPlanner, s: NDArray[np.float64], g: NDArray[np.fl
     # branch 3: different blocks; own-circle runs to the exit vertex and from the entry vertex
     b3 = ~b1 & ~b2
     right = blk_x < blk_y
+    flags, bad_runs = _own_circle_runs(b3, right, ((circ_x, phi_x), (circ_y, phi_y)), h, eps)
+    bad |= bad_runs
+    bad |= b3 & (blk_x == blk_y)  # not reached: both on one stick are both near an extended vertex
+    key = np.where(b3, 512 + flags * 2 + right, key)
+    key = ((key * 3 + np.where(b1, 0, np.where(b2, 1, 2))) * 8 + ex) * 8 + ey
+    return key, bad
+
+
+def _circle_block_phi(
+    e: NDArray[np.int64], t: NDArray[np.float64], h: float
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
+    """Of skeleton points (edge ``e``, arc length ``t``): circle index (0 on I1/I2), chain block, circle
+    parameter φ."""
+    circ = np.where((e == 0) | (e == 7), 0, (e + 1) // 2)
+    blk = np.where(e == 7, 4, circ)
+    phi = t + np.where(e % 2 == 0, h, 0.0)
+    return circ, blk, phi
+
+
+def _nearest_extended_vertex(
+    e: NDArray[np.int64], circ: NDArray[np.int64], phi: NDArray[np.float64], h: float, eps: float
+) -> tuple[Any, Any, Any]:
+    """The nearest extended-vertex component of each point, whether it is within ε, and whether the point is
+    within ``_MARGIN`` of either decision."""
+    c, mg = 2.0 * h, _MARGIN
+    d0 = np.minimum(phi, c - phi)
+    dh = np.abs(phi - h)
+    on_i = (e == 0) | (e == 7)
+    comp = np.where(on_i, np.where(e == 0, 0, 3), np.where(d0 <= dh, _COMP0[circ], _COMPH[circ]))
+    dist = np.where(on_i, 0.0, np.minimum(d0, dh))
+    close = ~on_i & ((np.abs(d0 - dh) < mg) | (np.abs(dist - eps) < mg))
+    return comp, dist < eps, close
+
+
+def _own_circle_runs(
+    b3: NDArray[np.bool_],
+    right: NDArray[np.bool_],
+    points: tuple[tuple[NDArray[np.int64], NDArray[np.float64]], tuple[NDArray[np.int64], NDArray[np.float64]]],
+    h: float,
+    eps: float,
+) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
+    """Branch 3 (different blocks): for the start's run to its exit vertex and the goal's from its entry vertex
+    (``points``: circle index and φ of each), the ambiguity and direction flags, and the queries near a border."""
+    c, mg = 2.0 * h, _MARGIN
+    n = len(b3)
     flags = np.zeros(n, dtype=np.int64)
-    for k, (circ, phi, exit_) in enumerate(((circ_x, phi_x, True), (circ_y, phi_y, False))):
+    bad = np.zeros(n, dtype=bool)
+    for k, ((circ, phi), exit_) in enumerate(zip(points, (True, False))):
         # vertex φ: CIRCLE_ENDS gives (left, right) = (0, h) for S1 and S2, (h, 0) for S3
         use_right = right if exit_ else ~right
         left_phi = np.where(circ == 3, h, 0.0)
@@ -296,13 +337,18 @@ def _lollipop(planner: LollipopPlanner, s: NDArray[np.float64], g: NDArray[np.fl
         on_c = b3 & (circ > 0)
         bad |= on_c & ((np.abs(dist - eps) < mg) | (np.abs(run - h) < mg) | (run < mg) | (run > c - mg))
         flags |= np.where(on_c, (amb * 2 + ccw) << (2 * k), 0)
-    bad |= b3 & (blk_x == blk_y)  # not reached: both on one stick are both near an extended vertex
-    key = np.where(b3, 512 + flags * 2 + right, key)
-    key = ((key * 3 + np.where(b1, 0, np.where(b2, 1, 2))) * 8 + ex) * 8 + ey
+    return flags, bad
+
+
+def _answer_per_key(
+    planner: LollipopPlanner, q: NDArray[np.float64], key: NDArray[np.int64], bad: NDArray[np.bool_]
+) -> tuple[NDArray[np.int64], NDArray[Any]]:
+    """Domain and word per query (``q``: start and goal, shape (N, 4)): the planner answers one query per key and
+    its answer is shared; the ``bad`` queries are answered one by one."""
+    n = len(q)
     dom = np.empty(n, dtype=np.int64)
     words = np.empty(n, dtype=object)
     ok = np.flatnonzero(~bad)
-    q = np.hstack([s, g])
     if len(ok):
         uniq, first, inv = np.unique(key[ok], return_index=True, return_inverse=True)
         table_d = np.empty(len(uniq), dtype=np.int64)
@@ -313,4 +359,4 @@ def _lollipop(planner: LollipopPlanner, s: NDArray[np.float64], g: NDArray[np.fl
         words[ok] = table_w[inv]
     for i in np.flatnonzero(bad).tolist():
         dom[i], words[i] = _lollipop_one(planner, *q[i].tolist())
-    return BatchPlans(planner, s, g, dom, tuple(words.tolist()))
+    return dom, words

@@ -6,17 +6,42 @@ Loops (an edge from a vertex to itself) and multiple edges are allowed.
 
 from __future__ import annotations
 
+import json
 import numbers
 from collections.abc import Hashable, Iterable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from mpa.errors import InvalidInputError
 
-__all__ = ["Edge", "MetricGraph", "farber_tc_of_graph"]
+__all__ = ["Edge", "MetricGraph", "farber_tc_of_graph", "read_json_file"]
 
 Vertex = Hashable
+
+
+def read_json_file(path: str | Path, what: str) -> object:
+    """The decoded content of a UTF-8 JSON file describing a graph or a layout (``what``: "graph", "layout").
+
+    Raises
+    ------
+    InvalidInputError
+        If the file is missing or unreadable, or is not JSON (the message names the file as ``what`` file).
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InvalidInputError(f"{what} file {str(p)!r} does not exist, expected a JSON file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InvalidInputError(f"{what} file {str(p)!r} cannot be read ({exc}), expected a UTF-8 JSON file") from None
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InvalidInputError(
+            f"{what} file {str(p)!r} is not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})"
+        ) from None
 
 
 @dataclass(frozen=True)

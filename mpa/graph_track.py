@@ -23,7 +23,6 @@ vertex is on the lowest-indexed edge incident to it (offset 0 if it is that edge
 from __future__ import annotations
 
 import functools
-import json
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -36,7 +35,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import InvalidInputError
 from mpa.geometry import GraphGeometry
-from mpa.graph import Edge, MetricGraph
+from mpa.graph import Edge, MetricGraph, read_json_file
 
 __all__ = ["GraphTrack", "Position", "paper_from_graph_position", "paper_to_graph_position", "paper_track_as_graph"]
 
@@ -252,21 +251,7 @@ class GraphTrack:
     @classmethod
     def from_json(cls, path: str | Path) -> GraphTrack:
         """Read a layout file (UTF-8 JSON); errors as :meth:`from_layout`, plus missing or unreadable files."""
-        p = Path(path)
-        try:
-            text = p.read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise InvalidInputError(f"layout file {str(p)!r} does not exist, expected a JSON file") from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InvalidInputError(
-                f"layout file {str(p)!r} cannot be read ({exc}), expected a UTF-8 JSON file"
-            ) from None
-        try:
-            data = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise InvalidInputError(
-                f"layout file {str(p)!r} is not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})"
-            ) from None
+        data = read_json_file(path, "layout")
         return cls.from_layout(data)
 
     def to_dict(self) -> dict[str, Any]:

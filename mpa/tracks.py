@@ -179,6 +179,22 @@ class Track:
         return paper_from_graph_position(self, edge, offset)
 
 
+def _shortest_loop_step(p: FloatArray, q: FloatArray, c: float) -> FloatArray:
+    """Signed shortest displacement (m) from loop coordinate ``p`` to ``q`` on a loop of circumference ``c``,
+    in ``(−c/2, c/2]`` (positive: counter-clockwise)."""
+    d = np.mod(q - p, c)
+    return np.where(d > 0.5 * c, d - c, d)
+
+
+def _snap_near_end(p: ArrayLike, end: float, to: float) -> FloatArray:
+    """A copy of coordinates ``p`` with those just below ``end`` (within :data:`WRAP_TOL`, relative) set to ``to``,
+    the same point of the loop."""
+    out = np.asarray(p, dtype=float).copy()
+    near_end = (out >= end - WRAP_TOL * max(1.0, end)) & (out < end)
+    out[near_end] = to
+    return out
+
+
 @dataclass(frozen=True)
 class Interval(Track):
     """The interval track ``[0, stick]``.
@@ -277,16 +293,10 @@ class Circle(Track):
     def interpolate(self, p: ArrayLike, q: ArrayLike, f: ArrayLike) -> FloatArray:
         p, q, f = (np.asarray(v, dtype=float) for v in (p, q, f))
         c = self.loop
-        d = np.mod(q - p, c)
-        d = np.where(d > 0.5 * c, d - c, d)
-        return np.mod(p + f * d, c)
+        return np.mod(p + f * _shortest_loop_step(p, q, c), c)
 
     def normalize(self, p: ArrayLike) -> FloatArray:
-        p = np.asarray(p, dtype=float)
-        out = p.copy()
-        near_end = (out >= self.loop - WRAP_TOL * max(1.0, self.loop)) & (out < self.loop)
-        out[near_end] = 0.0
-        return out
+        return _snap_near_end(p, self.loop, 0.0)
 
     def _valid_mask(self, p: FloatArray) -> NDArray[np.bool_]:
         return (p >= 0.0) & (p < self.loop)
@@ -386,9 +396,7 @@ class Lollipop(Track):
         m = ps & qs
         out[m] = p[m] + f[m] * (q[m] - p[m])
         m = ~ps & ~qs
-        d = np.mod(q[m] - p[m], c)
-        d = np.where(d > 0.5 * c, d - c, d)
-        th = np.mod(p[m] - ell + f[m] * d, c)
+        th = np.mod(p[m] - ell + f[m] * _shortest_loop_step(p[m], q[m], c), c)
         out[m] = ell + th
         m = ps != qs  # through P: stick part, then loop part
         if np.any(m):
@@ -406,12 +414,7 @@ class Lollipop(Track):
         return out
 
     def normalize(self, p: ArrayLike) -> FloatArray:
-        p = np.asarray(p, dtype=float)
-        out = p.copy()
-        end = self.stick + self.loop
-        near_end = (out >= end - WRAP_TOL * max(1.0, end)) & (out < end)
-        out[near_end] = self.stick
-        return out
+        return _snap_near_end(p, self.stick + self.loop, self.stick)
 
     def _valid_mask(self, p: FloatArray) -> NDArray[np.bool_]:
         return (p >= 0.0) & (p < self.stick + self.loop)

@@ -41,8 +41,8 @@ from mpa.errors import InvalidInputError, MPAError, NoMotionError
 from mpa.plan import Plan
 from mpa.tracks import Track
 from trajopt.export import Trajectory
+from trajopt.planview import plan_view
 from trajopt.timing import Limits
-from trajopt.verify import verify_setpoints
 
 if TYPE_CHECKING:
     from trajopt.generator import TrajectoryGenerator
@@ -75,21 +75,16 @@ def _as_caller(traj: Trajectory, gen: TrajectoryGenerator) -> Trajectory:
     """``traj`` (made with a larger clearance or lower limits) reported with ``gen``'s clearance and limits,
     re-verified at them (a gate pass at D' and lower limits implies one at D and the caller's limits)."""
     plan = cast(Plan, traj.plan)  # delay tolerance runs on the paper's tracks only
-    rep = verify_setpoints(
-        plan.track,
-        plan.routes,
+    rep = plan_view(plan).verify(
         traj.t,
-        traj.track,
         traj.s,
         traj.v,
         traj.a,
         traj.j,
         limits=gen.limits,
         clearance=gen.clearance,
-        start=plan.start,
-        goal=plan.goal,
-        word=plan.word,
         rate=traj.rate,
+        track_pos=traj.track,
     )
     if not rep.ok:  # pragma: no cover - implied by the gate at D' and lower limits
         raise MPAError(f"a delay-tolerance candidate fails the gate at D = {gen.clearance:g}: {rep.failures}")
@@ -133,27 +128,52 @@ def generate_with_delay_tolerance(
     NoMotionError
         No motion exists, or no candidate reaches ``tolerance`` (the message states the best value found).
     """
-    from trajopt.generator import TrajectoryGenerator
-
     T = check_delay_tolerance(tolerance)
-    D = gen.clearance
-    tried: list[dict[str, Any]] = []
-    best: tuple[float, Trajectory | None, float, float] = (-1.0, None, D, 1.0)
+    search = _CandidateSearch(gen, start, goal, T)
+    out = search.attempt(gen.clearance, 1.0)
+    if out is not None:
+        return out
+    cap = _feasible_cap(gen, start, goal)
+    out = _try_larger_clearances(search, cap)
+    if out is None:
+        out = _try_slowing_down(search)
+    if out is not None:
+        return out
+    raise _no_candidate_error(search, cap)
 
-    def attempt(clearance: float, slowdown: float) -> Trajectory | None:
-        nonlocal best
+
+class _CandidateSearch:
+    """The candidates tried for one request (``tried``, JSON-ready records) and the best one so far.
+
+    ``best`` is ``(delay tolerance, trajectory, effective clearance, slowdown)``.
+    """
+
+    def __init__(self, gen: TrajectoryGenerator, start: ArrayLike, goal: ArrayLike, tolerance: float) -> None:
+        self.gen, self.start, self.goal, self.T = gen, start, goal, tolerance
+        self.tried: list[dict[str, Any]] = []
+        self.best: tuple[float, Trajectory | None, float, float] = (-1.0, None, gen.clearance, 1.0)
+
+    def attempt(self, clearance: float, slowdown: float) -> Trajectory | None:
+        """The candidate at this effective clearance and slowdown if it reaches the tolerance, else None.
+
+        The ordinary query (caller's clearance, no slowdown) raises when it has no motion; other candidates
+        record the failure and return None.
+        """
+        from trajopt.generator import TrajectoryGenerator
+
+        gen, D, T = self.gen, self.gen.clearance, self.T
         limits = gen.limits
         if slowdown != 1.0:
             k = slowdown
             limits = Limits(gen.limits.v / k, gen.limits.a / k**2, gen.limits.j / k**3)
         rec: dict[str, Any] = {"clearance": clearance, "slowdown": slowdown}
-        tried.append(rec)
+        self.tried.append(rec)
         try:
             if clearance == D and slowdown == 1.0:
-                raw = gen.generate(start, goal)
+                raw = gen.generate(self.start, self.goal)
             else:
                 g2 = TrajectoryGenerator(gen.track, clearance=clearance, limits=limits, rate=gen.rate)
-                raw = g2.generate(start, goal)
+                raw = g2.generate(self.start, self.goal)
         except (NoMotionError, InvalidInputError) as exc:
             if clearance == D and slowdown == 1.0:
                 raise
@@ -163,48 +183,56 @@ def generate_with_delay_tolerance(
         tau = float(traj.margins().delay_tolerance)
         rec["delay_tolerance"] = None if math.isinf(tau) else tau
         rec["makespan"] = traj.makespan
-        if tau > best[0]:
-            best = (tau, traj, clearance, slowdown)
+        if tau > self.best[0]:
+            self.best = (tau, traj, clearance, slowdown)
         if tau >= T:
             traj.solver_stats["delay_tolerance"] = {
                 "requested": T,
                 "achieved": None if math.isinf(tau) else tau,
                 "effective_clearance": clearance,
                 "slowdown": slowdown,
-                "tried": tried,
+                "tried": self.tried,
             }
             return traj
         return None
 
-    out = attempt(D, 1.0)
-    if out is not None:
-        return out
-    cap = _feasible_cap(gen, start, goal)
-    vmax = float(np.max(gen.limits.v))
+
+def _try_larger_clearances(search: _CandidateSearch, cap: float) -> Trajectory | None:
+    """Stage 2: effective clearances ``D + max(vmax)·T·f`` for ``f`` in :data:`CLEARANCE_STEPS`, up to ``cap``."""
+    D = search.gen.clearance
+    vmax = float(np.max(search.gen.limits.v))
     for f in CLEARANCE_STEPS:
-        c = D + vmax * T * f
+        c = D + vmax * search.T * f
         if c > cap:
-            if cap > D and all(r["clearance"] != cap for r in tried):
-                out = attempt(cap, 1.0)
-                if out is not None:
-                    return out
-            break
-        out = attempt(c, 1.0)
+            if cap > D and all(r["clearance"] != cap for r in search.tried):
+                return search.attempt(cap, 1.0)
+            return None
+        out = search.attempt(c, 1.0)
         if out is not None:
             return out
-    tau_b, _, c_b, _ = best
-    if 0.0 < tau_b < T:
-        k = 1.05 * T / tau_b
+    return None
+
+
+def _try_slowing_down(search: _CandidateSearch) -> Trajectory | None:
+    """Stage 3: the best candidate's clearance with the limits scaled down by ``k = 1.05·T/τ_b`` (if ``k <=``
+    :data:`MAX_SLOWDOWN`)."""
+    tau_b, _, c_b, _ = search.best
+    if 0.0 < tau_b < search.T:
+        k = 1.05 * search.T / tau_b
         if k <= MAX_SLOWDOWN:
-            out = attempt(c_b, float(f"{k:.3g}"))
-            if out is not None:
-                return out
-    tau_b, _, c_b, k_b = best
+            return search.attempt(c_b, float(f"{k:.3g}"))
+    return None
+
+
+def _no_candidate_error(search: _CandidateSearch, cap: float) -> NoMotionError:
+    """The error stating the best delay tolerance found and what was tried."""
+    tried, D = search.tried, search.gen.clearance
+    tau_b, _, c_b, k_b = search.best
     how = [f"clearance up to {max(r['clearance'] for r in tried):.4g} m"]
     if any(r["slowdown"] != 1.0 for r in tried):
         how.append(f"slowed down by up to {max(r['slowdown'] for r in tried):g}x")
-    raise NoMotionError(
-        f"no trajectory found that tolerates a delay of {T:g} s of either cart: the best found tolerates "
+    return NoMotionError(
+        f"no trajectory found that tolerates a delay of {search.T:g} s of either cart: the best found tolerates "
         f"{max(tau_b, 0.0):.4g} s (effective clearance {c_b:.4g} m, slowdown {k_b:g}); tried "
         f"{len(tried)} candidates ({', '.join(how)}; the start and goal separations cap the clearance at "
         f"{max(cap, D):.4g} m)"

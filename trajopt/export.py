@@ -39,7 +39,7 @@ from mpa.plan import Plan
 from mpa.planners.graph import GraphPlan
 from trajopt.planview import plan_view
 from trajopt.timing import Limits
-from trajopt.verify import VerificationError, verify_setpoints
+from trajopt.verify import VerificationError, VerificationReport
 
 __all__ = [
     "CSV_COLUMNS",
@@ -51,6 +51,7 @@ __all__ = [
     "atomic_write_text",
     "check_rate",
     "time_grid",
+    "verified_rows",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -198,6 +199,44 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
         raise
 
 
+def verified_rows(
+    t: FloatArray,
+    track: FloatArray,
+    rows: tuple[FloatArray, FloatArray, FloatArray, FloatArray],
+    report: VerificationReport,
+) -> dict[str, Any]:
+    """The :class:`Trajectory` fields that rows which passed the gate set.
+
+    Parameters
+    ----------
+    t : ndarray, shape (N,)
+        Times (s).
+    track : ndarray, shape (N, 2)
+        Track coordinates (m).
+    rows : tuple of ndarray, each shape (N, 2)
+        ``s, v, a, j`` (m, m/s, m/s², m/s³).
+    report : VerificationReport
+        The gate's report on these rows.
+
+    Returns
+    -------
+    dict
+        ``t, track, s, v, a, j``, ``makespan`` (the last row's time), ``min_separation`` and ``verification``.
+    """
+    s, v, a, j = rows
+    return {
+        "t": t,
+        "track": track,
+        "s": s,
+        "v": v,
+        "a": a,
+        "j": j,
+        "makespan": float(t[-1]),
+        "min_separation": report.min_separation,
+        "verification": report.to_dict(),
+    }
+
+
 def _json_default(obj: Any) -> Any:
     if isinstance(obj, np.generic):
         return obj.item()
@@ -316,40 +355,9 @@ class Trajectory:
         s, v, a, j = self.sampler(t)
         view = plan_view(self.plan)
         tr = view.track_coordinates(s)
-        plan = self.plan
-        if isinstance(plan, GraphPlan):
-            rep = view.verify(t, s, v, a, j, limits=self.limits, clearance=self.clearance, rate=r)
-        else:
-            rep = verify_setpoints(
-                plan.track,
-                plan.routes,
-                t,
-                tr,
-                s,
-                v,
-                a,
-                j,
-                limits=self.limits,
-                clearance=self.clearance,
-                start=plan.start,
-                goal=plan.goal,
-                word=plan.word,
-                rate=r,
-            )
+        rep = view.verify(t, s, v, a, j, limits=self.limits, clearance=self.clearance, rate=r, track_pos=tr)
         if rep.ok:
-            return replace(
-                self,
-                t=t,
-                track=tr,
-                s=s,
-                v=v,
-                a=a,
-                j=j,
-                rate=r,
-                makespan=float(t[-1]),
-                min_separation=rep.min_separation,
-                verification=rep.to_dict(),
-            )
+            return replace(self, rate=r, **verified_rows(t, tr, (s, v, a, j), rep))
         if self.retimer is None:
             raise VerificationError(rep)
         new = self.retimer(r)

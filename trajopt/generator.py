@@ -33,7 +33,7 @@ from mpa.planners import Planner, make_planner
 from mpa.planners.graph import GraphPlan, plan_graph
 from mpa.tracks import Track
 from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
-from trajopt.export import Source, Trajectory, check_rate, time_grid
+from trajopt.export import Source, Trajectory, check_rate, time_grid, verified_rows
 from trajopt.fastpath import straight_line_clearance, straight_scaling
 from trajopt.planview import plan_view
 from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling
@@ -406,25 +406,17 @@ class TrajectoryGenerator:
         if not rep.ok:
             raise VerificationError(rep)
         return Trajectory(
-            t=t,
-            track=tr,
-            s=s,
-            v=v,
-            a=a,
-            j=j,
+            **verified_rows(t, tr, (s, v, a, j), rep),
             limits=self.limits,
             clearance=self.clearance,
             rate=self.rate,
-            makespan=float(t[-1]),
             motion_time=scaling.duration,
-            min_separation=rep.min_separation,
             domain=int(getattr(plan, "domain", 0)),
             word=tuple(plan.word),
             source=source,
             fallback_reason=reason,
             solver_stats=dict(stats),
             timings=timings,
-            verification=rep.to_dict(),
             plan=plan,
             sampler=scaling.sample,
             retimer=self._retimer(plan),

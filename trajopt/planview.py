@@ -111,11 +111,8 @@ class PlanView:
         edges = np.empty(S.shape, dtype=np.int64)
         offs = np.empty(S.shape)
         for r, route in enumerate(self.routes):
+            x, i = _route_piece(route, S[:, r], V[:, r])
             br = route.breaks
-            x = np.clip(S[:, r], br[0], br[-1])
-            right = np.searchsorted(br, x, side="right") - 1
-            left = np.searchsorted(br, x, side="left") - 1
-            i = np.clip(np.where(V[:, r] < -REST_SPEED, left, right), 0, len(route.edges) - 1)
             edges[:, r] = route.edges[i]
             lengths = self.graph.lengths[route.edges[i]]
             offs[:, r] = np.clip(route.entry[i] + route.dirs[i] * (x - br[i]), 0.0, lengths)
@@ -127,11 +124,7 @@ class PlanView:
         V = np.atleast_2d(np.asarray(v, dtype=float))
         out = np.zeros(S.shape, dtype=np.int64)
         for r, route in enumerate(self.routes):
-            br = route.breaks
-            x = np.clip(S[:, r], br[0], br[-1])
-            right = np.searchsorted(br, x, side="right") - 1
-            left = np.searchsorted(br, x, side="left") - 1
-            i = np.clip(np.where(V[:, r] < -REST_SPEED, left, right), 0, len(route.edges) - 1)
+            _x, i = _route_piece(route, S[:, r], V[:, r])
             sign = np.where(V[:, r] > REST_SPEED, 1, np.where(V[:, r] < -REST_SPEED, -1, 0))
             out[:, r] = sign * route.dirs[i]
         return out
@@ -185,15 +178,20 @@ class PlanView:
         limits: Limits,
         clearance: float,
         rate: float,
+        track_pos: ArrayLike | None = None,
     ) -> VerificationReport:
-        """The independent gate on rows of this plan's motion (see :mod:`trajopt.verify`)."""
+        """The independent gate on rows of this plan's motion (see :mod:`trajopt.verify`).
+
+        ``track_pos`` (shape (N, 2), paper tracks only): the rows' track coordinates, if they are not
+        :meth:`track_coordinates` of ``s`` (default: they are).
+        """
         plan = self.plan
         if not self.is_graph:
             return verify_setpoints(
                 plan.track,
                 plan.routes,
                 t,
-                self.track_coordinates(s),
+                self.track_coordinates(s) if track_pos is None else track_pos,
                 s,
                 v,
                 a,
@@ -259,6 +257,16 @@ def route_geometry(track: Any, routes: Any) -> RouteGeometry:
     Route coordinates stay the routes' σ; the metric is the track's graph form (:meth:`Track.as_graph_track`).
     """
     return RouteGeometry(track.as_graph_track().geometry, (directed_route(routes[0]), directed_route(routes[1])))
+
+
+def _route_piece(route: DirectedRoute, s: FloatArray, v: FloatArray) -> tuple[FloatArray, IntArray]:
+    """Route coordinates ``s`` (shape (N,)) clipped to the route, and the index of the route's piece (edge) each
+    is on: at a junction the piece being entered (the one before when moving backwards, ``v < -REST_SPEED``)."""
+    br = route.breaks
+    x = np.clip(s, br[0], br[-1])
+    right = np.searchsorted(br, x, side="right") - 1
+    left = np.searchsorted(br, x, side="left") - 1
+    return x, np.clip(np.where(v < -REST_SPEED, left, right), 0, len(route.edges) - 1)
 
 
 def plan_view(plan: Any) -> PlanView:

@@ -60,6 +60,7 @@ from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError
 from trajopt.export import Trajectory, atomic_write_text
+from trajopt.timing import Limits
 from trajopt.verify import LIMIT_RTOL, VerificationReport, verify_setpoints
 
 __all__ = [
@@ -245,7 +246,18 @@ def check_pvt(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, stretc
     dlt = check_interval(interval)
     k_st = _check_stretch(stretch)
     tab = pvt_rows(trajectory, dlt, k_st)
-    lim = trajectory.limits
+    peak, fails = _piece_limit_check(tab, trajectory.limits)
+    # the gate on a dense grid of the reconstruction
+    tg, rate = _dense_grid(tab, dlt)
+    s, v, _a, _j = hermite_eval(tab.t, tab.s, tab.v, tg)
+    a_rows, j_rows = _grid_row_peaks(tab, tg)
+    rep, gate_fails = _gate_on_reconstruction(trajectory, tg, (s, v, a_rows, j_rows), rate)
+    fails += gate_fails
+    return PVTCheck(not fails, tuple(fails), peak, rep, rate)
+
+
+def _piece_limit_check(tab: PVTTable, lim: Limits) -> tuple[dict[str, tuple[float, float]], list[str]]:
+    """Peak ``|v|, |a|, |j|`` of the cubic pieces over the limits per robot, and the failures above them."""
     vmax, amax, jmax = _piece_peaks(tab)
     fails: list[str] = []
     peak: dict[str, tuple[float, float]] = {}
@@ -255,20 +267,34 @@ def check_pvt(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, stretc
         for r in (0, 1):
             if ratio[r] > 1 + LIMIT_RTOL:
                 fails.append(f"|{name}| of robot {'AB'[r]}'s cubic pieces reaches {val[r]:.9g}, limit {limit[r]:g}")
-    # the gate on a dense grid of the reconstruction
+    return peak, fails
+
+
+def _dense_grid(tab: PVTTable, dlt: float) -> tuple[FloatArray, float]:
+    """The dense grid the gate checks the reconstruction on: times (s, shape (n,)) at ``m/Δ`` Hz, ``m >= 8`` rows
+    per PVT interval and at least :data:`DENSE_RATE`, and that rate (Hz)."""
     m = max(8, math.ceil(dlt * DENSE_RATE - 1e-9))
     rate = m / dlt
     n = int(np.ceil(tab.motion_time * rate - 1e-9)) + 1 if tab.motion_time > 0 else 1
-    tg = np.arange(n) / rate
-    s, v, _a, _j = hermite_eval(tab.t, tab.s, tab.v, tg)
-    a_rows, j_rows = _grid_row_peaks(tab, tg)
+    return np.arange(n) / rate, rate
+
+
+def _gate_on_reconstruction(
+    trajectory: Trajectory,
+    tg: FloatArray,
+    svaj: tuple[FloatArray, FloatArray, FloatArray, FloatArray],
+    rate: float,
+) -> tuple[VerificationReport, list[str]]:
+    """The gate on the reconstruction's dense rows ``svaj`` (``a, j``: the grid rows' piece peaks) and the failures
+    it adds to the piece checks (its per-row limit messages repeat them; a re-plan starts moving by design)."""
+    s, v, a_rows, j_rows = svaj
+    lim = trajectory.limits
     plan: Any = trajectory.plan
     if not hasattr(plan, "routes"):  # a graph plan: the gate in positions on the layout (exact graph distance)
         from trajopt.planview import plan_view
 
         rep = plan_view(plan).verify(tg, s, v, a_rows, j_rows, limits=lim, clearance=trajectory.clearance, rate=rate)
-        fails += [f for f in rep.failures if not f.startswith("row ") or "separation" in f]
-        return PVTCheck(not fails, tuple(fails), peak, rep, rate)
+        return rep, [f for f in rep.failures if not f.startswith("row ") or "separation" in f]
     routes = plan.routes
     tr = np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1)
     tr[0], tr[-1] = plan.start, plan.goal
@@ -288,15 +314,12 @@ def check_pvt(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, stretc
         word=trajectory.word,
         rate=rate,
     )
-    # the gate's limit messages repeat the piece checks above in grid-row terms; keep the others (and a re-plan
-    # starts moving by design)
     moving = _starts_moving(trajectory)
-    fails += [
+    return rep, [
         f
         for f in rep.failures
         if (not f.startswith("row ") or "separation" in f) and not (moving and f.startswith("first row is not at rest"))
     ]
-    return PVTCheck(not fails, tuple(fails), peak, rep, rate)
 
 
 def _starts_moving(trajectory: Trajectory) -> bool:

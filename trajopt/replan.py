@@ -47,7 +47,7 @@ from mpa.homotopy import path_word
 from mpa.plan import Plan, PlanStep
 from mpa.routes import Lift, Route
 from mpa.tracks import Circle, Lollipop, Track
-from trajopt.export import Trajectory, time_grid
+from trajopt.export import Trajectory, time_grid, verified_rows
 from trajopt.verify import (
     SEPARATION_TOL,
     VerificationError,
@@ -255,19 +255,9 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
     """
     t_start = time.perf_counter()
     at = _check_at_time(at_time, trajectory)
-    old = trajectory.plan
-    if not isinstance(old, Plan):  # a GraphPlan
-        raise InvalidInputError("replan is implemented for the paper's tracks, not for a GraphTrack layout")
+    old = _paper_plan_for(generator, trajectory)
     track = old.track
-    if generator.track != track:
-        raise InvalidInputError(f"the generator's track {generator.track!r} is not the trajectory's {track!r}")
-    s0, v0, a0, _ = trajectory.sampler(np.array([min(at, trajectory.motion_time)]))
-    s0, v0, a0 = s0[0], v0[0], a0[0]
-    p_cur = np.array([float(old.routes[r].position(s0[r])) for r in (0, 1)])
-    if at >= trajectory.motion_time:
-        p_cur = np.asarray(old.goal, dtype=float).copy()
-    limits = generator.limits
-    D = generator.clearance
+    s0, v0, a0, p_cur = _state_at(trajectory, old, at)
     # 1. brake on the current routes
     brake, brake_pos, p_rest = _brake_on_current_routes(generator, old.routes, s0, v0, a0, at, p_cur)
     # 2. the new motion from rest
@@ -289,7 +279,53 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
     word = path_word(track, np.vstack([brake_pos, plan.sample(max(plan.samples_needed(0.002), 2))]))
     rep = _gate_from_moving_state(generator, routes_c, t, tr, (s, v, a, j), word)
     stats = dict(new.solver_stats)
-    stats["replan"] = {
+    stats["replan"] = _splice_record(at, brake, s0, splice, plan)
+    timings = dict(new.timings)
+    timings["replan_total"] = time.perf_counter() - t_start
+    return Trajectory(
+        **verified_rows(t, tr, (s, v, a, j), rep),
+        limits=generator.limits,
+        clearance=generator.clearance,
+        rate=generator.rate,
+        motion_time=motion_time,
+        domain=plan.domain,
+        word=tuple(word),
+        source=new.source,
+        fallback_reason=new.fallback_reason,
+        solver_stats=stats,
+        timings=timings,
+        plan=_spliced_plan(plan, p_cur, goal_pos, splice, word),
+        sampler=sampler,
+    )
+
+
+def _paper_plan_for(generator: TrajectoryGenerator, trajectory: Trajectory) -> Plan:
+    """The trajectory's plan, checked to be on a paper track and on the generator's (InvalidInputError otherwise)."""
+    old = trajectory.plan
+    if not isinstance(old, Plan):  # a GraphPlan
+        raise InvalidInputError("replan is implemented for the paper's tracks, not for a GraphTrack layout")
+    if generator.track != old.track:
+        raise InvalidInputError(f"the generator's track {generator.track!r} is not the trajectory's {old.track!r}")
+    return old
+
+
+def _state_at(trajectory: Trajectory, old: Plan, at: float) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Both carts' route coordinates, velocities, accelerations (shape (2,) each) and track coordinates at ``at``.
+
+    After the motion's end the carts rest at the goal.
+    """
+    s0, v0, a0, _ = trajectory.sampler(np.array([min(at, trajectory.motion_time)]))
+    s0, v0, a0 = s0[0], v0[0], a0[0]
+    p_cur = np.array([float(old.routes[r].position(s0[r])) for r in (0, 1)])
+    if at >= trajectory.motion_time:
+        p_cur = np.asarray(old.goal, dtype=float).copy()
+    return s0, v0, a0, p_cur
+
+
+def _splice_record(at: float, brake: Brake, s0: FloatArray, splice: _Splice, plan: Plan) -> dict[str, Any]:
+    """``solver_stats["replan"]``: braking time and distance, orientation of the new route coordinates, the new
+    plan's word (JSON-ready)."""
+    return {
         "at_time": at,
         "brake_duration": brake.duration,
         "brake_distance": np.abs(brake.stop - s0).tolist(),
@@ -297,31 +333,6 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
         "orientation": [int(splice.brake_sign[0]), int(splice.brake_sign[1])],
         "new_plan_word": list(plan.word),
     }
-    timings = dict(new.timings)
-    timings["replan_total"] = time.perf_counter() - t_start
-    return Trajectory(
-        t=t,
-        track=tr,
-        s=s,
-        v=v,
-        a=a,
-        j=j,
-        limits=limits,
-        clearance=D,
-        rate=generator.rate,
-        makespan=float(t[-1]),
-        motion_time=motion_time,
-        min_separation=rep.min_separation,
-        domain=plan.domain,
-        word=tuple(word),
-        source=new.source,
-        fallback_reason=new.fallback_reason,
-        solver_stats=stats,
-        timings=timings,
-        verification=rep.to_dict(),
-        plan=_spliced_plan(plan, p_cur, goal_pos, splice, word),
-        sampler=sampler,
-    )
 
 
 def _gate_from_moving_state(

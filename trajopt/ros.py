@@ -274,37 +274,56 @@ def write_mcap(
         Bad names, stamp or rate; ``rosbags`` not installed; ``path`` exists and is not a rosbag2 bag.
     """
     names = check_joint_names(joint_names)
-    topic = check_topic(topic)
-    if point_topic is not None:
-        point_topic = check_topic(point_topic, "point topic")
-        if point_topic == topic:
-            raise InvalidInputError(f"point topic is {point_topic!r}, expected a topic other than {topic!r}")
+    topic, point_topic = _check_topics(topic, point_topic)
     stamp = _check_stamp(stamp_ns)
     pts = joint_points(trajectory, rate)
     target = _check_bag_path(path)
     ts = _typestore()
     msg, points = _joint_trajectory_messages(ts, pts, names, stamp, frame_id)
-
-    def write(bag: Path) -> None:
-        from rosbags.rosbag2 import StoragePlugin, Writer
-
-        T = ts.types
-        jt = T["trajectory_msgs/msg/JointTrajectory"].__msgtype__
-        jtp = T["trajectory_msgs/msg/JointTrajectoryPoint"].__msgtype__
-        writer = Writer(bag, version=9, storage_plugin=StoragePlugin.MCAP)
-        writer.open()
-        try:
-            conn = writer.add_connection(topic, jt, typestore=ts)
-            writer.write(conn, stamp, ts.serialize_cdr(msg, jt))
-            if point_topic is not None:
-                pconn = writer.add_connection(point_topic, jtp, typestore=ts)
-                for k, p in enumerate(points):
-                    writer.write(pconn, stamp + int(pts.ns[k]), ts.serialize_cdr(p, jtp))
-        finally:
-            writer.close()
-
-    _write_directory_atomically(target, write)
+    point_stamps = [stamp + int(pts.ns[k]) for k in range(len(points))]
+    _write_directory_atomically(
+        target, lambda bag: _write_bag(bag, ts, (topic, stamp, msg), point_topic, point_stamps, points)
+    )
     return target / f"{target.name}.mcap"
+
+
+def _check_topics(topic: str, point_topic: str | None) -> tuple[str, str | None]:
+    """The trajectory's topic and the points' topic (or None), checked, and distinct."""
+    topic = check_topic(topic)
+    if point_topic is not None:
+        point_topic = check_topic(point_topic, "point topic")
+        if point_topic == topic:
+            raise InvalidInputError(f"point topic is {point_topic!r}, expected a topic other than {topic!r}")
+    return topic, point_topic
+
+
+def _write_bag(
+    bag: Path,
+    ts: Any,
+    trajectory_message: tuple[str, int, Any],
+    point_topic: str | None,
+    point_stamps: Sequence[int],
+    points: Sequence[Any],
+) -> None:
+    """Write a rosbag2 bag (MCAP storage) at ``bag``: the ``JointTrajectory`` message ``(topic, stamp, message)`` and,
+    unless ``point_topic`` is None, each ``JointTrajectoryPoint`` at its stamp (ns)."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+
+    topic, stamp, msg = trajectory_message
+    T = ts.types
+    jt = T["trajectory_msgs/msg/JointTrajectory"].__msgtype__
+    jtp = T["trajectory_msgs/msg/JointTrajectoryPoint"].__msgtype__
+    writer = Writer(bag, version=9, storage_plugin=StoragePlugin.MCAP)
+    writer.open()
+    try:
+        conn = writer.add_connection(topic, jt, typestore=ts)
+        writer.write(conn, stamp, ts.serialize_cdr(msg, jt))
+        if point_topic is not None:
+            pconn = writer.add_connection(point_topic, jtp, typestore=ts)
+            for k, p in enumerate(points):
+                writer.write(pconn, point_stamps[k], ts.serialize_cdr(p, jtp))
+    finally:
+        writer.close()
 
 
 def _check_bag_path(path: str | os.PathLike[str]) -> Path:

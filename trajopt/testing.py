@@ -90,53 +90,130 @@ def check_setpoints(
     start, goal : array_like, shape (2,)
         Track coordinates of the query.
     """
-    fails: list[str] = []
-    tt = np.asarray(t, dtype=float)
-    arrs = [np.asarray(x, dtype=float) for x in (pos, s, v, a, j)]
+    arrs = _rows_or_failure(t, (pos, s, v, a, j), shapes_of=())
+    if isinstance(arrs, list):
+        return arrs
+    tt, (P, S, V, A, J) = arrs
     n = len(tt)
-    if n < 1 or any(x.shape != (n, 2) for x in arrs):
-        return [f"shapes {tt.shape} and {[x.shape for x in arrs]} are not (N,) and (N, 2)"]
-    if not (np.all(np.isfinite(tt)) and all(np.all(np.isfinite(x)) for x in arrs)):
-        return ["non-finite values"]
-    P, S, V, A, J = arrs
     dt = 1.0 / float(rate)
-    V_, A_, J_ = (np.broadcast_to(np.asarray(x, dtype=float), (2,)) for x in (vmax, amax, jmax))
-    k = np.arange(n)
-    if np.max(np.abs(tt - k * dt)) > 1e-9 * max(1.0, tt[-1]):
-        fails.append("time grid is not k / rate")
+    V_, A_, J_ = _per_robot_limits(vmax, amax, jmax)
+    fails = _time_grid_failures(tt, dt)
     for name, row, target in (("first", 0, start), ("last", n - 1, goal)):
         err = track.distance(P[row], np.asarray(target, dtype=float))
         if np.any(err > POS_TOL):
             fails.append(f"{name} row at {P[row].tolist()} is {err.tolist()} from {np.asarray(target).tolist()}")
-        if np.any(np.abs(V[row]) > POS_TOL) or np.any(np.abs(A[row]) > POS_TOL):
-            fails.append(f"{name} row not at rest: v {V[row].tolist()}, a {A[row].tolist()}")
-    for name, x, lim in (("v", V, V_), ("a", A, A_), ("j", J, J_)):
-        peak = np.max(np.abs(x), axis=0)
-        if np.any(peak > lim * (1 + LIMIT_RTOL)):
-            fails.append(f"|{name}| peaks {peak.tolist()} above {lim.tolist()}")
+        fails += _rest_failures(name, V[row], A[row])
+    fails += _limit_failures((V, A, J), (V_, A_, J_))
     if n > 1:
-        # s(t+dt) - s(t) = dt (v0 + v1)/2 + dt² (a0 - a1)/12 + O(J dt³) ; v(t+dt) - v(t) = dt (a0 + a1)/2 + O(J dt²)
-        ds_pred = dt * 0.5 * (V[:-1] + V[1:]) + dt * dt * (A[:-1] - A[1:]) / 12.0
-        e_s = np.abs(np.diff(S, axis=0) - ds_pred)
-        if np.any(e_s > J_ * dt**3 / 6.0 + 1e-9):
-            r = int(np.argmax(np.max(e_s - J_ * dt**3 / 6.0, axis=1)))
-            fails.append(f"rows {r}-{r + 1}: s is not the integral of v and a (error {e_s[r].tolist()})")
-        e_v = np.abs(np.diff(V, axis=0) - dt * 0.5 * (A[:-1] + A[1:]))
-        if np.any(e_v > J_ * dt * dt / 4.0 + 1e-9):
-            r = int(np.argmax(np.max(e_v - J_ * dt * dt / 4.0, axis=1)))
-            fails.append(f"rows {r}-{r + 1}: v is not the integral of a (error {e_v[r].tolist()})")
-        e_a = np.abs(np.diff(A, axis=0))
-        if np.any(e_a > J_ * dt * (1 + LIMIT_RTOL) + 1e-9):
-            fails.append("a changes faster than jmax between rows")
+        fails += _integration_failures(S, V, A, J_, dt)
         for r in (0, 1):
             step = track.distance(P[:-1, r], P[1:, r])
             if np.any(step > V_[r] * dt * (1 + LIMIT_RTOL) + POS_TOL):
                 fails.append(f"robot {'AB'[r]} jumps {float(np.max(step))!r} m between rows")
-    d = track.distance(P[:, 0], P[:, 1])
+    fails += _row_separation_failures(track.distance(P[:, 0], P[:, 1]), clearance)
+    return fails
+
+
+def _rows_or_failure(
+    t: ArrayLike, columns: Sequence[ArrayLike], shapes_of: Sequence[Any]
+) -> list[str] | tuple[FloatArray, list[FloatArray]]:
+    """The times and the (N, 2) columns as float arrays, or the one failure when shapes or values are off.
+
+    ``shapes_of`` are further arrays whose shapes the shape message names first (the edge indices on a layout).
+    """
+    tt = np.asarray(t, dtype=float)
+    arrs = [np.asarray(x, dtype=float) for x in columns]
+    n = len(tt)
+    if n < 1 or any(x.shape != (n, 2) for x in (*shapes_of, *arrs)):
+        named = "".join(f", {x.shape}" for x in shapes_of)
+        return [f"shapes {tt.shape}{named} and {[x.shape for x in arrs]} are not (N,) and (N, 2)"]
+    if not (np.all(np.isfinite(tt)) and all(np.all(np.isfinite(x)) for x in arrs)):
+        return ["non-finite values"]
+    return tt, arrs
+
+
+def _per_robot_limits(vmax: ArrayLike, amax: ArrayLike, jmax: ArrayLike) -> tuple[FloatArray, ...]:
+    """``vmax, amax, jmax`` as arrays of shape (2,) (a scalar applies to both robots)."""
+    return tuple(np.broadcast_to(np.asarray(x, dtype=float), (2,)) for x in (vmax, amax, jmax))
+
+
+def _time_grid_failures(tt: FloatArray, dt: float) -> list[str]:
+    """The time grid is ``k·dt`` from 0."""
+    if np.max(np.abs(tt - np.arange(len(tt)) * dt)) > 1e-9 * max(1.0, tt[-1]):
+        return ["time grid is not k / rate"]
+    return []
+
+
+def _rest_failures(name: str, v_row: FloatArray, a_row: FloatArray) -> list[str]:
+    """The ``name`` row (first or last) is at rest: ``v = a = 0``."""
+    if np.any(np.abs(v_row) > POS_TOL) or np.any(np.abs(a_row) > POS_TOL):
+        return [f"{name} row not at rest: v {v_row.tolist()}, a {a_row.tolist()}"]
+    return []
+
+
+def _limit_failures(values: Sequence[FloatArray], limits: Sequence[FloatArray]) -> list[str]:
+    """``|v|, |a|, |j|`` (in that order) within their per-robot limits."""
+    fails = []
+    for name, x, lim in zip(("v", "a", "j"), values, limits):
+        peak = np.max(np.abs(x), axis=0)
+        if np.any(peak > lim * (1 + LIMIT_RTOL)):
+            fails.append(f"|{name}| peaks {peak.tolist()} above {lim.tolist()}")
+    return fails
+
+
+def _integration_errors(S: FloatArray, V: FloatArray, A: FloatArray, dt: float) -> tuple[FloatArray, FloatArray]:
+    """Per row step, the errors of ``s`` as the integral of ``v`` and ``a`` and of ``v`` as that of ``a``.
+
+    ``s(t+dt) − s(t) = dt (v0 + v1)/2 + dt² (a0 − a1)/12 + O(J dt³)``; ``v(t+dt) − v(t) = dt (a0 + a1)/2 + O(J dt²)``.
+    """
+    ds_pred = dt * 0.5 * (V[:-1] + V[1:]) + dt * dt * (A[:-1] - A[1:]) / 12.0
+    e_s = np.abs(np.diff(S, axis=0) - ds_pred)
+    e_v = np.abs(np.diff(V, axis=0) - dt * 0.5 * (A[:-1] + A[1:]))
+    return e_s, e_v
+
+
+def _integration_failures(S: FloatArray, V: FloatArray, A: FloatArray, J_: FloatArray, dt: float) -> list[str]:
+    """Kinematic consistency of the rows (the jerk bound ``J_`` bounds the trapezoid errors), with the rows named."""
+    fails = []
+    e_s, e_v = _integration_errors(S, V, A, dt)
+    if np.any(e_s > J_ * dt**3 / 6.0 + 1e-9):
+        r = int(np.argmax(np.max(e_s - J_ * dt**3 / 6.0, axis=1)))
+        fails.append(f"rows {r}-{r + 1}: s is not the integral of v and a (error {e_s[r].tolist()})")
+    if np.any(e_v > J_ * dt * dt / 4.0 + 1e-9):
+        r = int(np.argmax(np.max(e_v - J_ * dt * dt / 4.0, axis=1)))
+        fails.append(f"rows {r}-{r + 1}: v is not the integral of a (error {e_v[r].tolist()})")
+    e_a = np.abs(np.diff(A, axis=0))
+    if np.any(e_a > J_ * dt * (1 + LIMIT_RTOL) + 1e-9):
+        fails.append("a changes faster than jmax between rows")
+    return fails
+
+
+def _row_separation_failures(d: FloatArray, clearance: float) -> list[str]:
+    """The separation ``d`` (shape (N,)) at every row is at least the clearance."""
     if np.min(d) < clearance - SEP_TOL:
         r = int(np.argmin(d))
-        fails.append(f"row {r}: separation {float(d[r])!r} < clearance {float(clearance)!r}")
-    return fails
+        return [f"row {r}: separation {float(d[r])!r} < clearance {float(clearance)!r}"]
+    return []
+
+
+def _makespan_failures(traj: Any) -> list[str]:
+    """The makespan is the motion time rounded up to the row grid."""
+    if traj.makespan < traj.motion_time - 1e-12 or traj.makespan - traj.motion_time > 1.0 / traj.rate + 1e-12:
+        return ["makespan is not the motion time rounded up to the grid"]
+    return []
+
+
+def _dense_separation_failures(tf: FloatArray, d: FloatArray, clearance: float) -> list[str]:
+    """The separation ``d`` at the dense times ``tf`` is at least the clearance."""
+    if np.min(d) < clearance - SEP_TOL:
+        r = int(np.argmin(d))
+        return [f"t = {tf[r]:.6f}: separation {float(d[r])!r} < clearance {float(clearance)!r}"]
+    return []
+
+
+def _dense_times(traj: Any, fine: int) -> FloatArray:
+    """A grid ``fine`` times denser than the rows over the whole motion."""
+    return np.linspace(0.0, traj.makespan, max(2, fine * (len(traj.t) - 1) + 1))
 
 
 def check_trajectory(
@@ -180,17 +257,13 @@ def check_trajectory(
         start=st,
         goal=gl,
     )
-    if traj.makespan < traj.motion_time - 1e-12 or traj.makespan - traj.motion_time > 1.0 / traj.rate + 1e-12:
-        fails.append("makespan is not the motion time rounded up to the grid")
+    fails += _makespan_failures(traj)
     if fine > 0:
-        tf = np.linspace(0.0, traj.makespan, max(2, fine * (len(traj.t) - 1) + 1))
+        tf = _dense_times(traj, fine)
         s, _v, _a, _j = traj.sampler(tf)
         routes: Sequence[Any] = plan.routes
         pos = np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1)
-        d = track.distance(pos[:, 0], pos[:, 1])
-        if np.min(d) < traj.clearance - SEP_TOL:
-            r = int(np.argmin(d))
-            fails.append(f"t = {tf[r]:.6f}: separation {float(d[r])!r} < clearance {float(traj.clearance)!r}")
+        fails += _dense_separation_failures(tf, track.distance(pos[:, 0], pos[:, 1]), traj.clearance)
         if np.max(np.abs(s[[0, -1]] - traj.s[[0, -1]])) > POS_TOL:
             fails.append("the continuous motion does not start and end at the rows")
         w = path_word(track, pos)
@@ -298,82 +371,82 @@ def check_graph_setpoints(
     metric : GraphMetric, optional
         Re-used if given.
     """
-    fails: list[str] = []
-    tt = np.asarray(t, dtype=float)
     E = np.asarray(edges, dtype=np.int64)
-    arrs = [np.asarray(x, dtype=float) for x in (offsets, s, v, a, j)]
+    arrs = _rows_or_failure(t, (offsets, s, v, a, j), shapes_of=(E,))
+    if isinstance(arrs, list):
+        return arrs
+    tt, (OF, S, V, A, J) = arrs
     n = len(tt)
-    if n < 1 or E.shape != (n, 2) or any(x.shape != (n, 2) for x in arrs):
-        return [f"shapes {tt.shape}, {E.shape} and {[x.shape for x in arrs]} are not (N,) and (N, 2)"]
-    if not (np.all(np.isfinite(tt)) and all(np.all(np.isfinite(x)) for x in arrs)):
-        return ["non-finite values"]
-    OF, S, V, A, J = arrs
     m = metric or GraphMetric(track)
     L = m.lengths
     if np.any(E < 0) or np.any(E >= len(L)):
         return ["edge index out of range"]
     dt = 1.0 / float(rate)
-    V_, A_, J_ = (np.broadcast_to(np.asarray(x, dtype=float), (2,)) for x in (vmax, amax, jmax))
-    if np.max(np.abs(tt - np.arange(n) * dt)) > 1e-9 * max(1.0, tt[-1]):
-        fails.append("time grid is not k / rate")
+    V_, A_, J_ = _per_robot_limits(vmax, amax, jmax)
+    fails = _time_grid_failures(tt, dt)
     if np.any(OF < -POS_TOL) or np.any(OF > L[E] + POS_TOL):
         fails.append("offset outside [0, length] of its edge")
     for name, row, target in (("first", 0, start), ("last", n - 1, goal)):
         err = [float(m(E[row, r], OF[row, r], target[r][0], target[r][1])) for r in (0, 1)]
         if max(err) > POS_TOL:
             fails.append(f"{name} row is {err} from {list(target)}")
-        if np.any(np.abs(V[row]) > POS_TOL) or np.any(np.abs(A[row]) > POS_TOL):
-            fails.append(f"{name} row not at rest: v {V[row].tolist()}, a {A[row].tolist()}")
-    for name, x, lim in (("v", V, V_), ("a", A, A_), ("j", J, J_)):
-        peak = np.max(np.abs(x), axis=0)
-        if np.any(peak > lim * (1 + LIMIT_RTOL)):
-            fails.append(f"|{name}| peaks {peak.tolist()} above {lim.tolist()}")
+        fails += _rest_failures(name, V[row], A[row])
+    fails += _limit_failures((V, A, J), (V_, A_, J_))
     if n > 1:
-        ds_pred = dt * 0.5 * (V[:-1] + V[1:]) + dt * dt * (A[:-1] - A[1:]) / 12.0
-        if np.any(np.abs(np.diff(S, axis=0) - ds_pred) > J_ * dt**3 / 6.0 + 1e-9):
+        e_s, e_v = _integration_errors(S, V, A, dt)
+        if np.any(e_s > J_ * dt**3 / 6.0 + 1e-9):
             fails.append("s is not the integral of v and a")
-        if np.any(np.abs(np.diff(V, axis=0) - dt * 0.5 * (A[:-1] + A[1:])) > J_ * dt * dt / 4.0 + 1e-9):
+        if np.any(e_v > J_ * dt * dt / 4.0 + 1e-9):
             fails.append("v is not the integral of a")
-        tails, heads = m.tails, m.heads
         for r in (0, 1):
-            step = m(E[:-1, r], OF[:-1, r], E[1:, r], OF[1:, r])
-            bound = np.minimum(np.abs(np.diff(S[:, r])), V_[r] * dt * (1 + LIMIT_RTOL))
-            if np.any(step > bound + POS_TOL):
-                k = int(np.argmax(step - bound))
-                fails.append(
-                    f"robot {'AB'[r]} moves {float(step[k])!r} m between rows {k}-{k + 1}, more than {bound[k]!r}"
-                )
-            ch = np.flatnonzero(E[:-1, r] != E[1:, r])
-            e0, e1 = E[ch, r], E[ch + 1, r]
-            shared = (
-                (tails[e0] == tails[e1])
-                | (tails[e0] == heads[e1])
-                | (heads[e0] == tails[e1])
-                | (heads[e0] == heads[e1])
-            )
-            if not np.all(shared):
-                k = int(ch[np.argmin(shared)])
-                fails.append(f"robot {'AB'[r]} changes from edge {E[k, r]} to {E[k + 1, r]} (no shared vertex)")
+            fails += _graph_step_failures(m, r, E[:, r], OF[:, r], S[:, r], V_[r] * dt)
     if dirs is not None:
-        Dr = np.asarray(dirs, dtype=np.int64)
-        moving = np.abs(V) > 1e-9
-        if Dr.shape != (n, 2) or np.any((Dr != 0) != moving) or np.any(np.abs(Dr) > 1):
-            fails.append("dir is not 0 exactly at rest and ±1 in motion")
-        elif n > 1:
-            same = (E[:-1] == E[1:]) & (Dr[:-1] == Dr[1:]) & (Dr[:-1] != 0)
-            dO = np.diff(OF, axis=0)
-            ln = L[E[:-1]]
-            loop = m.tails[E[:-1]] == m.heads[E[:-1]]  # a loop edge: the offset wraps at its vertex
-            dO = np.where(loop, (dO + 0.5 * ln) % ln - 0.5 * ln, dO)
-            bad = same & (np.abs(dO) > 1e-12) & (np.sign(dO) != Dr[:-1])
-            if np.any(bad):
-                k, r = (int(x[0]) for x in np.nonzero(bad))
-                fails.append(f"row {k}: robot {'AB'[r]} dir {Dr[k, r]} but its offset changes by {dO[k, r]!r}")
-    d = m(E[:, 0], OF[:, 0], E[:, 1], OF[:, 1])
-    if np.min(d) < clearance - SEP_TOL:
-        r = int(np.argmin(d))
-        fails.append(f"row {r}: separation {float(d[r])!r} < clearance {float(clearance)!r}")
+        fails += _direction_failures(m, np.asarray(dirs, dtype=np.int64), E, OF, V)
+    fails += _row_separation_failures(m(E[:, 0], OF[:, 0], E[:, 1], OF[:, 1]), clearance)
     return fails
+
+
+def _graph_step_failures(
+    m: GraphMetric, r: int, E: NDArray[np.int64], OF: FloatArray, S: FloatArray, vstep: float
+) -> list[str]:
+    """Robot ``r`` follows its route: per row step at most ``min(|Δs|, vstep)`` of graph distance, and a change of
+    edge only between edges sharing a vertex. ``E, OF, S`` shape (N,); ``vstep = vmax·Δt`` (m)."""
+    fails = []
+    step = m(E[:-1], OF[:-1], E[1:], OF[1:])
+    bound = np.minimum(np.abs(np.diff(S)), vstep * (1 + LIMIT_RTOL))
+    if np.any(step > bound + POS_TOL):
+        k = int(np.argmax(step - bound))
+        fails.append(f"robot {'AB'[r]} moves {float(step[k])!r} m between rows {k}-{k + 1}, more than {bound[k]!r}")
+    tails, heads = m.tails, m.heads
+    ch = np.flatnonzero(E[:-1] != E[1:])
+    e0, e1 = E[ch], E[ch + 1]
+    shared = (tails[e0] == tails[e1]) | (tails[e0] == heads[e1]) | (heads[e0] == tails[e1]) | (heads[e0] == heads[e1])
+    if not np.all(shared):
+        k = int(ch[np.argmin(shared)])
+        fails.append(f"robot {'AB'[r]} changes from edge {E[k]} to {E[k + 1]} (no shared vertex)")
+    return fails
+
+
+def _direction_failures(
+    m: GraphMetric, Dr: NDArray[np.int64], E: NDArray[np.int64], OF: FloatArray, V: FloatArray
+) -> list[str]:
+    """The ``*_dir`` column: 0 exactly at rest, ±1 in motion, and between two rows on one edge moving the same way
+    the sign of the offset change (modulo a loop edge's length). All arrays shape (N, 2)."""
+    n = len(E)
+    moving = np.abs(V) > 1e-9
+    if Dr.shape != (n, 2) or np.any((Dr != 0) != moving) or np.any(np.abs(Dr) > 1):
+        return ["dir is not 0 exactly at rest and ±1 in motion"]
+    if n > 1:
+        same = (E[:-1] == E[1:]) & (Dr[:-1] == Dr[1:]) & (Dr[:-1] != 0)
+        dO = np.diff(OF, axis=0)
+        ln = m.lengths[E[:-1]]
+        loop = m.tails[E[:-1]] == m.heads[E[:-1]]  # a loop edge: the offset wraps at its vertex
+        dO = np.where(loop, (dO + 0.5 * ln) % ln - 0.5 * ln, dO)
+        bad = same & (np.abs(dO) > 1e-12) & (np.sign(dO) != Dr[:-1])
+        if np.any(bad):
+            k, r = (int(x[0]) for x in np.nonzero(bad))
+            return [f"row {k}: robot {'AB'[r]} dir {Dr[k, r]} but its offset changes by {dO[k, r]!r}"]
+    return []
 
 
 def check_graph_trajectory(traj: Any, *, fine: int = 8) -> list[str]:
@@ -404,14 +477,10 @@ def check_graph_trajectory(traj: Any, *, fine: int = 8) -> list[str]:
         dirs=traj.directions,
         metric=m,
     )
-    if traj.makespan < traj.motion_time - 1e-12 or traj.makespan - traj.motion_time > 1.0 / traj.rate + 1e-12:
-        fails.append("makespan is not the motion time rounded up to the grid")
+    fails += _makespan_failures(traj)
     if fine > 0 and len(traj.t) > 1:
-        tf = np.linspace(0.0, traj.makespan, max(2, fine * (len(traj.t) - 1) + 1))
+        tf = _dense_times(traj, fine)
         s, _v, _a, _j = traj.sampler(tf)
         (ea, oa), (eb, ob) = plan.route_a.positions(s[:, 0]), plan.route_b.positions(s[:, 1])
-        d = m(ea, oa, eb, ob)
-        if np.min(d) < traj.clearance - SEP_TOL:
-            r = int(np.argmin(d))
-            fails.append(f"t = {tf[r]:.6f}: separation {float(d[r])!r} < clearance {float(traj.clearance)!r}")
+        fails += _dense_separation_failures(tf, m(ea, oa, eb, ob), traj.clearance)
     return fails

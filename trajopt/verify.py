@@ -23,6 +23,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -179,7 +180,27 @@ def between_rows_separation(
     n = len(s)
     if n < 2:
         return np.zeros(0)
-    # cut every chord where a robot changes edge: on the pieces, both robots stay on one edge each
+    kk, p0, p1 = _chords_cut_at_junctions(droutes, s)
+
+    def dist(q: FloatArray) -> FloatArray:
+        (ea, oa), (eb, ob) = droutes[0].positions(q[:, 0]), droutes[1].positions(q[:, 1])
+        return geometry.distance(ea, oa, eb, ob)
+
+    sub = _chord_min(dist, p0, p1, dist(p0), dist(p1))
+    chord = np.full(n - 1, np.inf)
+    np.minimum.at(chord, kk, sub)
+    return chord - _deviation_from_chords(a, dt, limits)
+
+
+def _chords_cut_at_junctions(
+    droutes: Sequence[DirectedRoute], s: FloatArray
+) -> tuple[NDArray[np.int64], FloatArray, FloatArray]:
+    """The chords between consecutive rows ``s`` (shape (N, 2)), cut where a robot changes edge.
+
+    Returns ``(kk, p0, p1)``: the row step ``k`` of each piece (shape (M,)) and the piece's ends (shape (M, 2)); on
+    a piece both robots stay on one edge each. Rows without a cut are one chord (ends exactly the rows).
+    """
+    n = len(s)
     cuts: dict[int, list[float]] = {}
     for r in (0, 1):
         junc = np.sort(droutes[r].breaks[1:-1])
@@ -209,18 +230,17 @@ def between_rows_separation(
     ds = s[kk + 1] - s[kk]
     p0 = np.where(t0 == 0.0, s[kk], s[kk] + t0 * ds)
     p1 = np.where(t1 == 1.0, s[kk + 1], s[kk] + t1 * ds)
+    return kk, p0, p1
 
-    def dist(q: FloatArray) -> FloatArray:
-        (ea, oa), (eb, ob) = droutes[0].positions(q[:, 0]), droutes[1].positions(q[:, 1])
-        return geometry.distance(ea, oa, eb, ob)
 
-    sub = _chord_min(dist, p0, p1, dist(p0), dist(p1))
-    chord = np.full(n - 1, np.inf)
-    np.minimum.at(chord, kk, sub)
+def _deviation_from_chords(a: FloatArray, dt: float, limits: Limits) -> FloatArray:
+    """Bound (m) of how far both robots together leave the chord between consecutive rows. Shape (N−1,).
+
+    Per robot ``a_int·Δt²/8`` with ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)``.
+    """
     amax, jmax = limits.a, limits.j
     a_int = np.minimum(amax[None, :], np.maximum(np.abs(a[:-1]), np.abs(a[1:])) + jmax[None, :] * dt / 2)
-    dev = np.sum(a_int, axis=1) * dt * dt / 8.0
-    return chord - dev
+    return np.sum(a_int, axis=1) * dt * dt / 8.0
 
 
 def _refine(s: FloatArray, step: float) -> FloatArray:
@@ -286,14 +306,7 @@ def verify_setpoints(
     if P.ndim != 2 or P.shape[1:] != (2,):
         nan = float("nan")
         return VerificationReport(False, ("arrays have inconsistent shapes",), nan, nan, {}, ())
-    finite = np.all(np.isfinite(P))
-    pos = [track.to_graph_position(np.where(finite, P[:, r], 0.0)) for r in (0, 1)]
-    edges = np.stack([pos[0][0], pos[1][0]], axis=1)
-    offsets = np.where(finite, np.stack([pos[0][1], pos[1][1]], axis=1), np.nan)
-    ends = []
-    for q in (start, goal):
-        e, o = track.to_graph_position(np.asarray(q, dtype=float))
-        ends.append(((int(e[0]), float(o[0])), (int(e[1]), float(o[1]))))
+    edges, offsets = _graph_positions(track, P)
     rep = verify_graph_setpoints(
         geometry,
         droutes,
@@ -306,28 +319,50 @@ def verify_setpoints(
         j,
         limits=limits,
         clearance=clearance,
-        start=ends[0],
-        goal=ends[1],
+        start=_graph_query_point(track, start),
+        goal=_graph_query_point(track, goal),
         rate=rate,
     )
     if not np.isfinite(rep.min_separation):
         return rep
-    # homotopy class: the reduced skeleton word of the motion
-    fails = list(rep.failures)
-    S = np.asarray(s, dtype=float)
+    w, word_fails = _word_check(track, routes, np.asarray(s, dtype=float), word)
+    fails = [*rep.failures, *word_fails]
+    return VerificationReport(
+        not fails, tuple(fails), rep.min_separation, rep.min_separation_between, rep.peak_ratio, tuple(w)
+    )
+
+
+def _graph_positions(track: Track, P: FloatArray) -> tuple[NDArray[np.int64], FloatArray]:
+    """Track coordinates ``P`` (shape (N, 2)) as graph positions: edges and offsets, each shape (N, 2).
+
+    If any coordinate is not finite every offset is NaN (the graph check then reports non-finite values).
+    """
+    finite = np.all(np.isfinite(P))
+    pos = [track.to_graph_position(np.where(finite, P[:, r], 0.0)) for r in (0, 1)]
+    edges = np.stack([pos[0][0], pos[1][0]], axis=1)
+    offsets = np.where(finite, np.stack([pos[0][1], pos[1][1]], axis=1), np.nan)
+    return edges, offsets
+
+
+def _graph_query_point(track: Track, q: ArrayLike) -> tuple[tuple[int, float], tuple[int, float]]:
+    """Track coordinates of A and B (shape (2,)) as positions ``(edge, offset)`` of the track's graph form."""
+    e, o = track.to_graph_position(np.asarray(q, dtype=float))
+    return (int(e[0]), float(o[0])), (int(e[1]), float(o[1]))
+
+
+def _word_check(
+    track: Track, routes: Sequence[Route], S: FloatArray, word: Sequence[str]
+) -> tuple[tuple[str, ...], list[str]]:
+    """The motion's reduced skeleton word (rows ``S`` refined along the chords), and the failure if not ``word``."""
     try:
         dense = _refine(S, 0.004 * track.total_length)
         w = path_word(track, np.stack([routes[0].position(dense[:, 0]), routes[1].position(dense[:, 1])], axis=1))
     except MPAError as exc:
-        w = ()
-        fails.append(f"cannot compute the homotopy class: {exc}")
-    else:
-        if tuple(w) != tuple(word):
-            got, want = " ".join(w) or "(trivial)", " ".join(word) or "(trivial)"
-            fails.append(f"homotopy class {got} differs from the plan's {want}")
-    return VerificationReport(
-        not fails, tuple(fails), rep.min_separation, rep.min_separation_between, rep.peak_ratio, tuple(w)
-    )
+        return (), [f"cannot compute the homotopy class: {exc}"]
+    if tuple(w) != tuple(word):
+        got, want = " ".join(w) or "(trivial)", " ".join(word) or "(trivial)"
+        return tuple(w), [f"homotopy class {got} differs from the plan's {want}"]
+    return tuple(w), []
 
 
 def verify_graph_setpoints(
@@ -374,23 +409,47 @@ def verify_graph_setpoints(
     VerificationReport
         Never raises for a failed check; ``ok`` is False and ``failures`` lists them; ``word`` is empty.
     """
-    fails: list[str] = []
     tt = np.asarray(t, dtype=float)
     E = np.asarray(edges)
     arrs = {k: np.asarray(x, dtype=float) for k, x in (("offset", offsets), ("s", s), ("v", v), ("a", a), ("j", j))}
+    bad_input = _input_failure(tt, E, arrs, len(geometry.lengths))
+    if bad_input:
+        nan = float("nan")
+        return VerificationReport(False, (bad_input,), nan, nan, {}, ())
     n = len(tt)
-    nan = float("nan")
-    if n == 0 or tt.ndim != 1 or E.shape != (n, 2) or any(x.shape != (n, 2) for x in arrs.values()):
-        return VerificationReport(False, ("arrays have inconsistent shapes",), nan, nan, {}, ())
-    if not (np.all(np.isfinite(tt)) and all(np.all(np.isfinite(x)) for x in arrs.values())):
-        return VerificationReport(False, ("non-finite values in the setpoints",), nan, nan, {}, ())
-    if not np.issubdtype(E.dtype, np.integer) or np.any(E < 0) or np.any(E >= len(geometry.lengths)):
-        return VerificationReport(False, ("edge indices out of range",), nan, nan, {}, ())
     dt = 1.0 / float(rate)
+    fails: list[str] = []
     if abs(tt[0]) > TIME_TOL or np.any(np.abs(tt - dt * np.arange(n)) > TIME_TOL * max(1.0, n * dt)):
         fails.append(f"time grid is not 0, 1/{rate:g}, 2/{rate:g}, …")
     OFF, S, V, A, J = arrs["offset"], arrs["s"], arrs["v"], arrs["a"], arrs["j"]
-    # consistency with the routes
+    fails += _route_consistency_failures(geometry, routes, E, OFF, S)
+    fails += _endpoint_failures(geometry, E, OFF, V, A, start, goal)
+    peak, limit_fails = _limit_check(V, A, J, limits)
+    fails += limit_fails
+    d = geometry.distance(E[:, 0], OFF[:, 0], E[:, 1], OFF[:, 1])
+    between = between_rows_separation(geometry, routes, S, A, dt, limits)
+    dmin, bmin, sep_fails = _separation_check(d, between, clearance)
+    fails += sep_fails
+    return VerificationReport(not fails, tuple(fails), dmin, bmin, peak, ())
+
+
+def _input_failure(tt: FloatArray, E: NDArray[Any], arrs: dict[str, FloatArray], n_edges: int) -> str:
+    """Why the arrays cannot be checked at all (shapes, non-finite values, edge indices), or ``""``."""
+    n = len(tt)
+    if n == 0 or tt.ndim != 1 or E.shape != (n, 2) or any(x.shape != (n, 2) for x in arrs.values()):
+        return "arrays have inconsistent shapes"
+    if not (np.all(np.isfinite(tt)) and all(np.all(np.isfinite(x)) for x in arrs.values())):
+        return "non-finite values in the setpoints"
+    if not np.issubdtype(E.dtype, np.integer) or np.any(E < 0) or np.any(E >= n_edges):
+        return "edge indices out of range"
+    return ""
+
+
+def _route_consistency_failures(
+    geometry: GraphGeometry, routes: Sequence[DirectedRoute], E: NDArray[Any], OFF: FloatArray, S: FloatArray
+) -> list[str]:
+    """Each row's position ``(E, OFF)`` is ``route.position(s)`` (graph distance ≤ :data:`POSITION_TOL`)."""
+    fails = []
     for r in (0, 1):
         re_, ro = routes[r].positions(S[:, r])
         err = geometry.distance(re_, ro, E[:, r], OFF[:, r])
@@ -400,7 +459,21 @@ def verify_graph_setpoints(
                 f"row {k}: robot {'AB'[r]} position (edge {int(E[k, r])}, {OFF[k, r]!r}) is not route.position(s) = "
                 f"(edge {int(re_[k])}, {float(ro[k])!r}) at s = {S[k, r]!r}"
             )
-    # endpoints
+    return fails
+
+
+def _endpoint_failures(
+    geometry: GraphGeometry,
+    E: NDArray[Any],
+    OFF: FloatArray,
+    V: FloatArray,
+    A: FloatArray,
+    start: tuple[tuple[int, float], tuple[int, float]],
+    goal: tuple[tuple[int, float], tuple[int, float]],
+) -> list[str]:
+    """The first row at the start and the last at the goal, both at rest."""
+    fails = []
+    n = len(E)
     for name, row, target in (("first", 0, start), ("last", n - 1, goal)):
         gaps = [geometry.distance_scalar(int(E[row, r]), float(OFF[row, r]), *target[r]) for r in (0, 1)]
         end_err = max(float(g) for g in gaps)
@@ -408,7 +481,14 @@ def verify_graph_setpoints(
             fails.append(f"{name} row is {end_err:.3g} m from {'the start' if row == 0 else 'the goal'}")
         if np.any(np.abs(V[row]) > POSITION_TOL) or np.any(np.abs(A[row]) > POSITION_TOL):
             fails.append(f"{name} row is not at rest (v = {V[row].tolist()}, a = {A[row].tolist()})")
-    # limits
+    return fails
+
+
+def _limit_check(
+    V: FloatArray, A: FloatArray, J: FloatArray, limits: Limits
+) -> tuple[dict[str, tuple[float, float]], list[str]]:
+    """The peak ``|value| / limit`` of v, a, j per robot, and the failures where one exceeds ``1 + LIMIT_RTOL``."""
+    fails = []
     peak: dict[str, tuple[float, float]] = {}
     for name, x, lim in (("v", V, limits.v), ("a", A, limits.a), ("j", J, limits.j)):
         ratio = np.max(np.abs(x), axis=0) / lim
@@ -417,8 +497,13 @@ def verify_graph_setpoints(
             if ratio[r] > 1 + LIMIT_RTOL:
                 k = int(np.argmax(np.abs(x[:, r])))
                 fails.append(f"row {k}: |{name}| of robot {'AB'[r]} is {abs(x[k, r]):.9g}, limit {lim[r]:g}")
-    # separation
-    d = geometry.distance(E[:, 0], OFF[:, 0], E[:, 1], OFF[:, 1])
+    return peak, fails
+
+
+def _separation_check(d: FloatArray, between: FloatArray, clearance: float) -> tuple[float, float, list[str]]:
+    """Minimum separation at the rows ``d`` (shape (N,)) and between them (``between``, shape (N−1,)), with the
+    failures where either is below the clearance."""
+    fails = []
     dmin = float(np.min(d))
     if dmin < clearance - SEPARATION_TOL:
         k = int(np.argmin(d))
@@ -426,7 +511,6 @@ def verify_graph_setpoints(
             f"row {k}: separation {float(d[k])!r} below the clearance {float(clearance)!r} "
             f"(tolerance {SEPARATION_TOL:g} m)"
         )
-    between = between_rows_separation(geometry, routes, S, A, dt, limits)
     bmin = float(np.min(between)) if len(between) else dmin
     if bmin < clearance - SEPARATION_TOL:
         k = int(np.argmin(between))
@@ -434,4 +518,4 @@ def verify_graph_setpoints(
             f"rows {k}-{k + 1}: separation between rows may drop to {float(between[k])!r} < {float(clearance)!r} "
             f"(tolerance {SEPARATION_TOL:g} m)"
         )
-    return VerificationReport(not fails, tuple(fails), dmin, bmin, peak, ())
+    return dmin, bmin, fails

@@ -46,6 +46,7 @@ from bench.geometry import (
     leg_moves_track_coordinates,
     single_edge_min_distance_vec,
 )
+from bench.ompl_tools import joint_state_space, simplify_vertices
 from mpa.routes import RobotMove
 from mpa.tracks import Circle, Lollipop, Track
 from trajopt.planview import route_geometry
@@ -160,16 +161,7 @@ class OmplPlanner:
         track, sep = self.track, self.separation
         dist = track.distance_scalar
         counts = {"states": 0, "motions": 0}
-        if self.circle:
-            space = ob.CompoundStateSpace()
-            space.addSubspace(ob.SO2StateSpace(), 1.0)
-            space.addSubspace(ob.SO2StateSpace(), 1.0)
-        else:
-            space = ob.RealVectorStateSpace(2)
-            bounds = ob.RealVectorBounds(2)
-            bounds.setLow(0.0)
-            bounds.setHigh(track.total_length)
-            space.setBounds(bounds)
+        space = joint_state_space(ob, track.total_length, circle=self.circle)
         ss = og.SimpleSetup(space)
         to_track = self._to_track
 
@@ -213,12 +205,7 @@ class OmplPlanner:
         path = og.PathGeometric(ss.getSolutionPath())
         stats["rrt_states"] = path.getStateCount()
         simp = og.PathSimplifier(si)
-        more = simp.reduceVertices(path)
-        simp.collapseCloseVertices(path)
-        k = 0
-        while more and k < 5:
-            more = simp.reduceVertices(path)
-            k += 1
+        simplify_vertices(simp, path)
         k = 0
         while not self.geodesic and simp.partialShortcutPath(path) and k < 5:
             k += 1

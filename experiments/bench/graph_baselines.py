@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from bench.ompl_tools import joint_state_space, simplify_vertices
 from mpa.graph_track import GraphTrack
 
 __all__ = ["Geodesics", "GraphGrid", "GraphOmpl", "GraphPath", "GridGraphResult", "OmplGraphResult"]
@@ -527,11 +528,7 @@ class GraphOmpl:
         dist = track.geometry.distance_scalar
         to_pos, leg = self.to_pos, self.leg
         counts = {"states": 0, "motions": 0}
-        space = ob.RealVectorStateSpace(2)
-        bounds = ob.RealVectorBounds(2)
-        bounds.setLow(0.0)
-        bounds.setHigh(self.total)
-        space.setBounds(bounds)
+        space = joint_state_space(ob, self.total)
         ss = og.SimpleSetup(space)
 
         def valid(state: Any) -> bool:
@@ -566,12 +563,7 @@ class GraphOmpl:
         path = og.PathGeometric(ss.getSolutionPath())
         stats["rrt_states"] = path.getStateCount()
         simp = og.PathSimplifier(si)
-        more = simp.reduceVertices(path)
-        simp.collapseCloseVertices(path)
-        k = 0
-        while more and k < 5:
-            more = simp.reduceVertices(path)
-            k += 1
+        simplify_vertices(simp, path)
         xs = [(s[0], s[1]) for s in path.getStates()]
         compute = time.perf_counter() - t0
         stats.update(counts)

@@ -36,6 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from bench.geometry import joint_move_min_distance, leg_moves_circle, leg_moves_geodesic
+from bench.ompl_tools import joint_state_space
 from mpa.routes import RobotMove
 from mpa.tracks import Circle, Lollipop, Track
 from trajopt import Limits
@@ -151,16 +152,7 @@ class LeanOmpl:
         self.circle = isinstance(track, Circle)
         self._scale = track.loop / (2.0 * math.pi) if self.circle else 1.0  # type: ignore[attr-defined]
         dist, sep = track.distance_scalar, self.separation
-        if self.circle:
-            space = ob.CompoundStateSpace()
-            space.addSubspace(ob.SO2StateSpace(), 1.0)
-            space.addSubspace(ob.SO2StateSpace(), 1.0)
-        else:
-            space = ob.RealVectorStateSpace(2)
-            bounds = ob.RealVectorBounds(2)
-            bounds.setLow(0.0)
-            bounds.setHigh(track.total_length)
-            space.setBounds(bounds)
+        space = joint_state_space(ob, track.total_length, circle=self.circle)
         to_track, legs = self._to_track, self._legs
 
         def valid(state: Any) -> bool:

@@ -164,37 +164,59 @@ class LollipopPlanner(Planner):
 
     def route_in_skeleton(self, x: SkeletonPoint, y: SkeletonPoint) -> tuple[int, list[tuple[str, float, float]]]:
         """The main step: domain and the path in S from ``x`` to ``y`` as pieces ``(edge, t_from, t_to)``."""
-        sk, h, eps = self.skeleton, self._h, self._eps
-        c = 2 * h
+        sk, eps = self.skeleton, self._eps
         cx, dx = self._near(x)
         cy, dy = self._near(y)
-        ell_h = sk.graph.edge("I1").length
         # ---- domain 1: both in the ε-neighbourhood of the extended vertices ----------------------
         if dx < eps and dy < eps:
-            if cx == cy:
-                if x.edge == y.edge:
-                    return 1, self._slide(x.edge, x.t, y.t)
-                return 1, self._same_comp(x, y, cx)
-            tx = x.t if x.edge in ("I1", "I2") else ell_h
-            ty = y.t if y.edge in ("I1", "I2") else ell_h
-            return 1, (
-                self._to_comp_vertex(x, cx)
-                + self._chain(cx, tx, cy, ty)
-                + self._reverse_pieces(self._to_comp_vertex(y, cy))
-            )
+            return 1, self._between_extended_vertices(x, y, cx, cy)
         # ---- same circle -------------------------------------------------------------------------
         bx, by = sk.blocks_of(x), sk.blocks_of(y)
         common = [j for j in bx if j in by and j in (1, 2, 3)]
         if common:
-            j = common[0]
-            px, py = self._phi_in(j, x), self._phi_in(j, y)
-            dccw = (py - px) % c
-            if dccw >= c - 1e-15:
-                dccw = 0.0
-            if abs(dccw - h) < eps:
-                return 2, self._circle_run(j, px, dccw)
-            return 3, self._circle_run(j, px, dccw if dccw <= h else dccw - c)
+            return self._on_common_circle(common[0], x, y)
         # ---- different blocks ------------------------------------------------------------------
+        return self._across_blocks(x, y, bx, by)
+
+    def _between_extended_vertices(
+        self, x: SkeletonPoint, y: SkeletonPoint, cx: str, cy: str
+    ) -> list[tuple[str, float, float]]:
+        """Domain 1: both points near extended vertices (components ``cx`` and ``cy``): along the chain."""
+        ell_h = self.skeleton.graph.edge("I1").length
+        if cx == cy:
+            if x.edge == y.edge:
+                return self._slide(x.edge, x.t, y.t)
+            return self._same_comp(x, y, cx)
+        tx = x.t if x.edge in ("I1", "I2") else ell_h
+        ty = y.t if y.edge in ("I1", "I2") else ell_h
+        return (
+            self._to_comp_vertex(x, cx)
+            + self._chain(cx, tx, cy, ty)
+            + self._reverse_pieces(self._to_comp_vertex(y, cy))
+        )
+
+    def _on_common_circle(
+        self, j: int, x: SkeletonPoint, y: SkeletonPoint
+    ) -> tuple[int, list[tuple[str, float, float]]]:
+        """Both points on circle ``j``: counterclockwise when antipodal within ε (domain 2), else the shorter way
+        (domain 3)."""
+        h, eps = self._h, self._eps
+        c = 2 * h
+        px, py = self._phi_in(j, x), self._phi_in(j, y)
+        dccw = (py - px) % c
+        if dccw >= c - 1e-15:
+            dccw = 0.0
+        if abs(dccw - h) < eps:
+            return 2, self._circle_run(j, px, dccw)
+        return 3, self._circle_run(j, px, dccw if dccw <= h else dccw - c)
+
+    def _across_blocks(
+        self, x: SkeletonPoint, y: SkeletonPoint, bx: tuple[int, ...], by: tuple[int, ...]
+    ) -> tuple[int, list[tuple[str, float, float]]]:
+        """Points in different blocks (``bx``, ``by``): the start's own run to its exit vertex, the circles between
+        counterclockwise, the goal's own run from its entry vertex; domain 2 if an own run is ambiguous, else 3."""
+        h = self._h
+        ell_h = self.skeleton.graph.edge("I1").length
         right = max(bx) < min(by)
         if not right and not (min(bx) > max(by)):  # pragma: no cover - blocks always ordered here
             raise PlanningError(f"cannot order skeleton blocks {bx} and {by}")
@@ -256,7 +278,7 @@ class LollipopPlanner(Planner):
         tr = self.track
         if not isinstance(tr, Lollipop):
             raise InvalidInputError(f"track is {tr!r}, expected a Lollipop")
-        ell, c, h, D = tr.stick, tr.loop, tr.half, self.clearance
+        D = self.clearance
         r = 0 if self.cspace.order(s) > 0 else 1  # the rear robot (nearer the free end)
         f = 1 - r
 
@@ -266,29 +288,9 @@ class LollipopPlanner(Planner):
         rear_s, rear_g, fs, fg = s[r], g[r], s[f], g[f]
         prelim = [joint(RobotMove("stick", rear_s, -rear_s), RobotMove.stay(tr, fs))]
         final = [joint(RobotMove("stick", 0.0, rear_g), RobotMove.stay(tr, fg))]
-        main: list[JointMove] = []
+        domain, rule, front = self._front_robot_moves(tr, fs, fg)
         rest = RobotMove("stick", 0.0, 0.0)
-        th_s = fs - ell if fs > ell else 0.0
-        th_g = fg - ell if fg > ell else 0.0
-        if fs < ell:
-            main.append(joint(rest, RobotMove("stick", fs, ell - fs)))
-        if ell >= D:
-            domain, delta = _loop_rule(c, self._eps / self._h * h, th_s, th_g)
-            rule = (
-                "clearance above half the loop, order kept: the rear robot waits at the free end; the front robot's "
-                + (
-                    "start and goal are antipodal on the loop: it goes counterclockwise"
-                    if domain == 1
-                    else "shortest route"
-                )
-            )
-        else:  # the front robot can only use an arc of the loop around the antipode of P
-            domain, delta = 1, th_g - th_s
-            rule = "clearance above the stick and half the loop: the front robot moves within its arc of the loop"
-        if abs(delta) > 0:
-            main.append(joint(rest, RobotMove("loop", th_s, delta)))
-        if fg < ell:
-            main.append(joint(rest, RobotMove("stick", ell, fg - ell)))
+        main: list[JointMove] = [joint(rest, m) for m in front]
         xi = s.copy()
         xi[r] = 0.0
         xf = g.copy()
@@ -311,6 +313,34 @@ class LollipopPlanner(Planner):
             None,
             regime="retreat",
         )
+
+    def _front_robot_moves(self, tr: Lollipop, fs: float, fg: float) -> tuple[int, str, list[RobotMove]]:
+        """D > h, the rear robot at the free end: the front robot's moves from ``fs`` to ``fg`` (track coordinates),
+        with the domain and the rule that chose them."""
+        ell, c, h, D = tr.stick, tr.loop, tr.half, self.clearance
+        moves: list[RobotMove] = []
+        th_s = fs - ell if fs > ell else 0.0
+        th_g = fg - ell if fg > ell else 0.0
+        if fs < ell:
+            moves.append(RobotMove("stick", fs, ell - fs))
+        if ell >= D:
+            domain, delta = _loop_rule(c, self._eps / self._h * h, th_s, th_g)
+            rule = (
+                "clearance above half the loop, order kept: the rear robot waits at the free end; the front robot's "
+                + (
+                    "start and goal are antipodal on the loop: it goes counterclockwise"
+                    if domain == 1
+                    else "shortest route"
+                )
+            )
+        else:  # the front robot can only use an arc of the loop around the antipode of P
+            domain, delta = 1, th_g - th_s
+            rule = "clearance above the stick and half the loop: the front robot moves within its arc of the loop"
+        if abs(delta) > 0:
+            moves.append(RobotMove("loop", th_s, delta))
+        if fg < ell:
+            moves.append(RobotMove("stick", ell, fg - ell))
+        return domain, rule, moves
 
     def _loop_trace(self, st: np.ndarray) -> tuple[RobotMove, RobotMove]:
         tr = self.track

@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
 from mpa.errors import InvalidInputError
-from mpa.graph import MetricGraph
+from mpa.graph import MetricGraph, read_json_file
 
 __all__ = ["graph_from_json_data", "load_graph_json"]
 
@@ -91,17 +90,4 @@ def load_graph_json(path: str | Path) -> MetricGraph:
     InvalidInputError
         If the file is missing or unreadable, is not JSON, or does not describe a graph.
     """
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InvalidInputError(f"graph file {str(p)!r} does not exist, expected a JSON file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InvalidInputError(f"graph file {str(p)!r} cannot be read ({exc}), expected a UTF-8 JSON file") from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InvalidInputError(
-            f"graph file {str(p)!r} is not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})"
-        ) from None
-    return graph_from_json_data(data)
+    return graph_from_json_data(read_json_file(path, "graph"))

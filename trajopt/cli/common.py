@@ -20,6 +20,7 @@ __all__ = [
     "add_trajectory_arguments",
     "check_output_dir",
     "output_error",
+    "parse_coordinates",
     "query_from_args",
     "track_from_args",
 ]
@@ -45,7 +46,8 @@ def add_query_arguments(p: argparse.ArgumentParser, graph: bool = False) -> None
     p.add_argument("--goal", nargs=2, required=True, metavar=("A", "B"), help=f"goal: {what}")
 
 
-def _coordinates(values: list[str], option: str) -> tuple[float, float]:
+def parse_coordinates(values: list[str], option: str) -> tuple[float, float]:
+    """Two track coordinates (metres) given to ``option`` (InvalidInputError naming the option otherwise)."""
     out = []
     for v in values:
         try:
@@ -71,7 +73,7 @@ def query_from_args(args: argparse.Namespace) -> tuple[Track | GraphTrack, Any, 
         start = tuple(track.position(v, f"--start of robot {r}") for v, r in zip(args.start, "AB"))
         goal = tuple(track.position(v, f"--goal of robot {r}") for v, r in zip(args.goal, "AB"))
         return track, start, goal
-    return track_from_args(args), _coordinates(args.start, "--start"), _coordinates(args.goal, "--goal")
+    return track_from_args(args), parse_coordinates(args.start, "--start"), parse_coordinates(args.goal, "--goal")
 
 
 #: Defaults of the query options of every subcommand (from :mod:`mpa.defaults`).

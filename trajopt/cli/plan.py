@@ -98,15 +98,10 @@ def _check_plot_path(path: str, graph_plan: bool, dpi: float) -> None:
 def _write_plot(p: GraphPlan, args: argparse.Namespace) -> None:
     """Draw the plan (layout, routes, switches, cells crossed) into ``--plot``, atomically (temp file, rename)."""
     from trajopt.viz.layout import graph_plan_figure
+    from trajopt.viz.plotting import save_figure
 
-    out = Path(args.plot)
     fig = graph_plan_figure(p, name=Path(args.graph).stem if args.graph else args.track)
-    tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
-    try:
-        fig.savefig(tmp, dpi=args.dpi, facecolor="white", format=out.suffix.lstrip(".").lower())
-        os.replace(tmp, out)
-    finally:
-        tmp.unlink(missing_ok=True)
+    save_figure(fig, args.plot, args.dpi, facecolor="white")
 
 
 def _route_text(plan: GraphPlan, robot: int) -> str:

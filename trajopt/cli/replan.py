@@ -25,7 +25,7 @@ import numpy as np
 
 from mpa.errors import InvalidInputError, MPAError
 from mpa.tracks import make_track
-from trajopt.cli.common import check_output_dir
+from trajopt.cli.common import check_output_dir, parse_coordinates
 from trajopt.cli.outputs import add_output_arguments, check_output_options, output_files, summary_text
 from trajopt.export import CSV_COLUMNS, Trajectory
 from trajopt.generator import TrajectoryGenerator
@@ -148,19 +148,9 @@ def load_trajectory(directory: str | Path, option: str = "--from") -> tuple[Traj
     return gen, traj, recipe
 
 
-def _goal(values: list[str]) -> tuple[float, float]:
-    out = []
-    for v in values:
-        try:
-            out.append(float(v))
-        except ValueError:
-            raise InvalidInputError(f"--goal has {v!r}, expected a track coordinate (a number, metres)") from None
-    return out[0], out[1]
-
-
 def _cmd_replan(args: argparse.Namespace) -> int:
     opts = check_output_options(args)
-    goal = _goal(args.goal)
+    goal = parse_coordinates(args.goal, "--goal")
     at = float(args.at)
     if not math.isfinite(at):
         raise InvalidInputError(f"--at is {args.at!r}, expected a time in seconds")

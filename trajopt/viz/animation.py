@@ -146,7 +146,17 @@ def ffmpeg_executable() -> str | None:
         return None
 
 
-def _writer(fmt: str, fps: float) -> Any:
+def animation_format(out: Path, fmt: str | None) -> str:
+    """The animation format: ``fmt``, else the suffix of ``out`` (InvalidInputError unless one of :data:`FORMATS`)."""
+    fmt = fmt if fmt is not None else out.suffix.lstrip(".").lower()
+    if fmt not in FORMATS:
+        raise InvalidInputError(f"format is {fmt!r}, expected one of {sorted(FORMATS)}")
+    return fmt
+
+
+def movie_writer(fmt: str, fps: float, ffmpeg_fps: float | None = None) -> Any:
+    """The writer of an animation: a streaming GIF writer at ``fps``, or ffmpeg's h264 at ``ffmpeg_fps`` (default
+    ``fps``); InvalidInputError for mp4 without an ffmpeg executable."""
     if fmt == "gif":
         from trajopt.viz.layout_animation import StreamingGifWriter
 
@@ -157,7 +167,8 @@ def _writer(fmt: str, fps: float) -> Any:
             "format is 'mp4', which needs an ffmpeg executable: install one (pip install imageio-ffmpeg) or use gif"
         )
     mpl.rcParams["animation.ffmpeg_path"] = exe
-    return FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])  # type: ignore[arg-type]
+    rate = fps if ffmpeg_fps is None else ffmpeg_fps
+    return FFMpegWriter(fps=rate, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])  # type: ignore[arg-type]
 
 
 def _check(name: str, value: float, lo: float, *, integer: bool = False) -> None:
@@ -216,32 +227,10 @@ def animate_motions(
     """
     out = Path(out)
     fmt = _check_animation_options(out, motions, fps=fps, dpi=dpi, max_frames=max_frames, fmt=fmt)
-    writer = _writer(fmt, fps)
+    writer = movie_writer(fmt, fps)
     times, speedup = _frame_times(motions, fps, max_frames)
-
-    fig = Figure(figsize=(11.0, 3.3 * len(motions) + 0.5), layout="constrained")
-    axes = fig.subplots(len(motions), 3, squeeze=False, width_ratios=[1.35, 1.0, 1.1])
-    sk = plan.skeleton if plan is not None else skeleton_of(track)
-    vlim = max(float(np.max(np.abs(m.speed))) for m in motions) * 1.1 + 1e-9
-    artists = [
-        _draw_motion_row(axes[row], track, sk, m, duration=float(times[-1]), vlim=vlim, last=row == len(motions) - 1)
-        for row, m in enumerate(motions)
-    ]
-    head = title or dr.track_title(track)
-    if speedup > 1.0:
-        head += f"  (played {speedup:.1f}× faster than real time)"
-    fig.suptitle(head, fontsize=12)
-
-    fig.set_dpi(dpi)
-    w, h = (np.asarray(fig.get_size_inches()) * dpi).astype(int) // 2 * 2  # even pixel sizes (what h264 needs)
-    fig.set_size_inches(w / dpi, h / dpi)
-    canvas = FigureCanvasAgg(fig)
-    moving = [a for art in artists for a in _artist_list(art)]
-    for a in moving:
-        a.set_animated(True)  # left out of the background
-    canvas.draw()
-    fig.set_layout_engine("none")  # freeze the layout: frames differ only in the moving artists
-    background = canvas.copy_from_bbox(fig.bbox)
+    fig, artists = _motions_figure(track, motions, plan, float(times[-1]), title, speedup)
+    canvas, background = _freeze_background(fig, dpi, artists)
     bar = _Progress(len(times), "animate", progress)
 
     def frames() -> Any:
@@ -305,13 +294,46 @@ class _Progress:
             sys.stderr.flush()
 
 
+def _motions_figure(
+    track: Track, motions: Sequence[Motion], plan: Plan | None, duration: float, title: str | None, speedup: float
+) -> tuple[Figure, list[dict[str, Any]]]:
+    """The figure of :func:`animate_motions` (one row of three panels per motion, a title) and each row's moving
+    artists; ``duration`` (s) is the shared clock's length."""
+    fig = Figure(figsize=(11.0, 3.3 * len(motions) + 0.5), layout="constrained")
+    axes = fig.subplots(len(motions), 3, squeeze=False, width_ratios=[1.35, 1.0, 1.1])
+    sk = plan.skeleton if plan is not None else skeleton_of(track)
+    vlim = max(float(np.max(np.abs(m.speed))) for m in motions) * 1.1 + 1e-9
+    artists = [
+        _draw_motion_row(axes[row], track, sk, m, duration=duration, vlim=vlim, last=row == len(motions) - 1)
+        for row, m in enumerate(motions)
+    ]
+    head = title or dr.track_title(track)
+    if speedup > 1.0:
+        head += f"  (played {speedup:.1f}× faster than real time)"
+    fig.suptitle(head, fontsize=12)
+    return fig, artists
+
+
+def _freeze_background(fig: Figure, dpi: float, artists: Sequence[dict[str, Any]]) -> tuple[FigureCanvasAgg, Any]:
+    """Fix the figure's pixel size (even, as h264 needs) and layout, and draw everything but the moving artists
+    once: returns the canvas and that background (restored before each frame)."""
+    fig.set_dpi(dpi)
+    w, h = (np.asarray(fig.get_size_inches()) * dpi).astype(int) // 2 * 2  # even pixel sizes (what h264 needs)
+    fig.set_size_inches(w / dpi, h / dpi)
+    canvas = FigureCanvasAgg(fig)
+    moving = [a for art in artists for a in _artist_list(art)]
+    for a in moving:
+        a.set_animated(True)  # left out of the background
+    canvas.draw()
+    fig.set_layout_engine("none")  # freeze the layout: frames differ only in the moving artists
+    return canvas, canvas.copy_from_bbox(fig.bbox)
+
+
 def _check_animation_options(
     out: Path, motions: Sequence[Motion], *, fps: float, dpi: float, max_frames: int | None, fmt: str | None
 ) -> str:
     """Validate the options of :func:`animate_motions`; returns the format."""
-    fmt = fmt if fmt is not None else out.suffix.lstrip(".").lower()
-    if fmt not in FORMATS:
-        raise InvalidInputError(f"format is {fmt!r}, expected one of {sorted(FORMATS)}")
+    fmt = animation_format(out, fmt)
     _check("fps", float(fps), 1.0)
     _check("dpi", float(dpi), 10.0)
     if max_frames is not None:

@@ -16,12 +16,12 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-import matplotlib as mpl
 import numpy as np
-from matplotlib.animation import AbstractMovieWriter, FFMpegWriter
+from matplotlib.animation import AbstractMovieWriter
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike, NDArray
@@ -31,7 +31,7 @@ from mpa.errors import InvalidInputError
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, as_graph_track
 from mpa.planners.graph import GraphPlan
-from trajopt.viz.animation import FORMATS, ffmpeg_executable
+from trajopt.viz.animation import FORMATS, animation_format, movie_writer
 from trajopt.viz.drawing import ROBOT_COLORS
 from trajopt.viz.layout import ROUTE_STYLES, LayoutGeometry, draw_layout, draw_routes, layout_geometry
 
@@ -172,18 +172,6 @@ def _body_points(tr: GraphTrack, route: DirectedRoute, r: float, half: float) ->
     return np.full(BODY_POINTS, int(e[0])), off
 
 
-def _writer(fmt: str, fps: float) -> AbstractMovieWriter:
-    if fmt == "gif":
-        return StreamingGifWriter(fps=fps)
-    exe = ffmpeg_executable()
-    if exe is None:
-        raise InvalidInputError(
-            "format is 'mp4', which needs an ffmpeg executable: install one (pip install imageio-ffmpeg) or use gif"
-        )
-    mpl.rcParams["animation.ffmpeg_path"] = exe
-    return FFMpegWriter(fps=round(fps), codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
-
-
 def animate_layout(
     track: object,
     route_a: DirectedRoute,
@@ -245,9 +233,7 @@ def animate_layout(
     tr = as_graph_track(track)
     tt, ss = _check_motion(t, s)
     out = Path(out)
-    fmt = fmt if fmt is not None else out.suffix.lstrip(".").lower()
-    if fmt not in FORMATS:
-        raise InvalidInputError(f"format is {fmt!r}, expected one of {sorted(FORMATS)}")
+    fmt = animation_format(out, fmt)
     fps = _check_number("fps", fps, 1.0)
     dpi = _check_number("dpi", dpi, 10.0)
     if max_frames is not None:
@@ -255,7 +241,7 @@ def animate_layout(
     half = 0.0
     if clearance is not None:
         half = 0.5 * _check_number("clearance", clearance, 0.0)
-    writer = _writer(fmt, fps)
+    writer: AbstractMovieWriter = movie_writer(fmt, fps, round(fps))
     times, speedup = _frame_times(tt, fps, max_frames)
 
     geo = layout_geometry(tr)
@@ -265,18 +251,35 @@ def animate_layout(
     fig.canvas.draw()
     fig.set_layout_engine("none")  # freeze the layout: frames differ only in the moving artists
 
+    def draw_frame(now: float) -> None:
+        r = np.array([np.interp(now, tt, ss[:, 0]), np.interp(now, tt, ss[:, 1])])
+        _update(tr, geo, (route_a, route_b), moving, r, half if bodies else 0.0, now - tt[0], tt[-1] - tt[0])
+
+    _write_frames(fig, writer, out, fmt, dpi, times, draw_frame)
+    return out
+
+
+def _write_frames(
+    fig: Figure,
+    writer: AbstractMovieWriter,
+    out: Path,
+    fmt: str,
+    dpi: float,
+    times: FloatArray,
+    draw_frame: Callable[[float], None],
+) -> None:
+    """Draw (``draw_frame(now)``) and grab one frame per time into a temporary file, then move it to ``out``
+    (nothing is left at ``out`` on failure)."""
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = out.with_name(f".{out.stem}.tmp{FORMATS[fmt]}")
     try:
         with writer.saving(fig, str(tmp), dpi):
             for now in times:
-                r = np.array([np.interp(now, tt, ss[:, 0]), np.interp(now, tt, ss[:, 1])])
-                _update(tr, geo, (route_a, route_b), moving, r, half if bodies else 0.0, now - tt[0], tt[-1] - tt[0])
+                draw_frame(now)
                 writer.grab_frame(facecolor="white")
         os.replace(tmp, out)
     finally:
         tmp.unlink(missing_ok=True)
-    return out
 
 
 def _static_figure(

@@ -9,6 +9,8 @@ track and configuration-space panels are drawn with :mod:`trajopt.viz.drawing`.
 from __future__ import annotations
 
 import io
+import os
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -23,7 +25,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from trajopt.export import Trajectory
 
-__all__ = ["draw_cspace", "draw_profiles", "draw_track", "figure_png", "plot_trajectory"]
+__all__ = ["draw_cspace", "draw_profiles", "draw_track", "figure_png", "plot_trajectory", "save_figure"]
 
 COLORS = ("tab:blue", "tab:orange")
 #: Line styles of robots A and B in the profiles: B dashed on top of A, so equal curves (a symmetric swap) show both.
@@ -112,6 +114,23 @@ def plot_trajectory(traj: Trajectory) -> Figure:
         f"({plan.goal[0]:g}, {plan.goal[1]:g}), domain {traj.domain}, makespan {traj.makespan:.2f} s ({what})"
     )
     return fig
+
+
+def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float, **savefig_kwargs: Any) -> Path:
+    """Write ``fig`` to ``path`` atomically (a temporary file beside it, then a rename; nothing left on failure).
+
+    The format is the suffix of ``path`` (PNG without one); the parent folders are made. ``savefig_kwargs`` go to
+    :meth:`matplotlib.figure.Figure.savefig` (e.g. ``facecolor``). Returns the path written.
+    """
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
+    try:
+        fig.savefig(tmp, dpi=dpi, format=out.suffix.lstrip(".").lower() or "png", **savefig_kwargs)
+        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return out
 
 
 def figure_png(fig: Figure) -> bytes:

@@ -10,7 +10,7 @@ layout drawn with :mod:`trajopt.viz.layout`), the configuration space (track coo
 from __future__ import annotations
 
 import csv
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -98,9 +98,6 @@ def plot_rows(
     """
     from matplotlib.figure import Figure
 
-    from trajopt.viz import plotting as pl
-
-    t = rows["time"]
     profiles = [(k, u) for k, u in _PROFILES if f"a_{k}" in rows and f"b_{k}" in rows]
     fig = Figure(figsize=(12, 8), constrained_layout=True)
     gs = fig.add_gridspec(max(len(profiles), 2), 2, width_ratios=[1.0, 1.2])
@@ -110,30 +107,61 @@ def plot_rows(
     pos = None
     if "a_track" in rows and "b_track" in rows:
         pos = np.column_stack([rows["a_track"], rows["b_track"]])
+    _draw_track_panel(ax_track, pos, track, layout)
+    _draw_cspace_panel(ax_cs, rows, pos, track, clearance)
+    axes = [fig.add_subplot(gs[i, 1]) for i in range(len(profiles))]
+    _draw_profiles(axes, rows, profiles)
+    text = title
+    if words:
+        text += "".join(f"\n{k}: {v}" for k, v in words.items())
+    if text:
+        fig.suptitle(text, fontsize=10)
+    return fig
+
+
+def _draw_track_panel(ax: Any, pos: FloatArray | None, track: Any, layout: Mapping[str, Any] | None) -> None:
+    """The robots on the paper track (``pos``: track coordinates, shape (N, 2)) or the graph layout, else a note."""
+    from trajopt.viz import plotting as pl
+
     drawn = False
     if track is not None:
-        pl.draw_track(ax_track, track, pos)
+        pl.draw_track(ax, track, pos)
         drawn = True
     elif layout is not None:
-        drawn = _draw_graph_track(ax_track, layout)
+        drawn = _draw_graph_track(ax, layout)
     if not drawn:
-        ax_track.set_axis_off()
-        ax_track.text(0.5, 0.5, "track unknown (no summary.json beside the file)", ha="center", va="center")
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, "track unknown (no summary.json beside the file)", ha="center", va="center")
+
+
+def _draw_cspace_panel(
+    ax: Any, rows: Mapping[str, FloatArray], pos: FloatArray | None, track: Any, clearance: float | None
+) -> None:
+    """The path in the configuration space: with the band ``d < D`` on a paper track, else the bare path in track
+    (``pos``) or route coordinates."""
+    from trajopt.viz import plotting as pl
+
     path = pos if pos is not None else (np.column_stack([rows["a_s"], rows["b_s"]]) if "a_s" in rows else None)
     if track is not None and pos is not None and clearance is not None:
-        pl.draw_cspace(ax_cs, track, clearance, {"setpoints": pos})
+        pl.draw_cspace(ax, track, clearance, {"setpoints": pos})
     elif path is not None:
-        ax_cs.plot(path[:, 0], path[:, 1], color="tab:red", lw=1.6)
-        ax_cs.plot(*path[0], "o", color="k")
-        ax_cs.plot(*path[-1], "o", mfc="none", color="k")
+        ax.plot(path[:, 0], path[:, 1], color="tab:red", lw=1.6)
+        ax.plot(*path[0], "o", color="k")
+        ax.plot(*path[-1], "o", mfc="none", color="k")
         which = "track" if pos is not None else "route"
-        ax_cs.set_xlabel(f"a ({which} coordinate of A, m)")
-        ax_cs.set_ylabel(f"b ({which} coordinate of B, m)")
-        ax_cs.set_title("configuration space")
-        ax_cs.grid(alpha=0.3)
+        ax.set_xlabel(f"a ({which} coordinate of A, m)")
+        ax.set_ylabel(f"b ({which} coordinate of B, m)")
+        ax.set_title("configuration space")
+        ax.grid(alpha=0.3)
     else:  # pragma: no cover - read_rows requires a_*/b_* columns
-        ax_cs.set_axis_off()
-    axes = [fig.add_subplot(gs[i, 1]) for i in range(len(profiles))]
+        ax.set_axis_off()
+
+
+def _draw_profiles(axes: Sequence[Any], rows: Mapping[str, FloatArray], profiles: Sequence[tuple[str, str]]) -> None:
+    """One panel per profile (key, unit): both carts' column against time, A and B in their own styles."""
+    from trajopt.viz import plotting as pl
+
+    t = rows["time"]
     for ax, (key, unit) in zip(axes, profiles):
         for r, name in enumerate("ab"):
             ax.plot(
@@ -150,9 +178,3 @@ def plot_rows(
     if axes:
         axes[0].legend(fontsize=8, loc="upper left")
         axes[-1].set_xlabel("t (s)")
-    text = title
-    if words:
-        text += "".join(f"\n{k}: {v}" for k, v in words.items())
-    if text:
-        fig.suptitle(text, fontsize=10)
-    return fig
