@@ -16,7 +16,8 @@ free set are the connected components of the polygon–face incidence graph (uni
 
 Tolerances. Membership uses ``d >= D - tol`` with ``tol = 1e-12 · max(1, total length)``, so thresholds that are met
 exactly (a siding exactly as long as the clearance) count as free. A clearance of 0 (the paper's ``C²``, only the
-diagonal removed) is replaced internally by ``1e-9 · max(1, total length)`` metres: :attr:`FreeSpace.clearance_used`.
+diagonal removed), and any clearance below it, is replaced internally by ``1e-9 · max(1, total length)`` metres
+(:attr:`FreeSpace.clearance_used`): with a clearance under the tolerance the robots could pass through each other.
 
 Swapping. :meth:`FreeSpace.can_swap` with two positions answers whether ``(x, y)`` and ``(y, x)`` are in one path
 component (the robots can exchange these places); without arguments, whether any configuration can be exchanged,
@@ -126,7 +127,9 @@ class FreeSpace:
         self.clearance = dd
         scale = max(1.0, tr.total_length)
         self.tol = TOL * scale
-        self.clearance_used = dd if dd > 0 else ZERO_CLEARANCE * scale
+        # below the membership tolerance a clearance would let the robots pass through each other (d >= D - tol
+        # holds at d = 0): every clearance is at least the one that stands for 0
+        self.clearance_used = max(dd, ZERO_CLEARANCE * scale)
         self.geometry = tr.geometry
         self._build()
 

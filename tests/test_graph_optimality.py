@@ -172,3 +172,22 @@ def test_fastest_reaches_the_lp_optimum_of_its_corridor(seed: int, D: float, va:
     assert p.min_distance() >= p.clearance_used - 1e-9
     # the planner breaks ties towards the least travel (a 1e-6 weight), then the straightest (1e-9): allow that
     assert p.makespan <= _corridor_lp(p) + 2 * TIE_BREAK * p.length / min(va, vb) + 1e-9
+
+
+def test_a_clearance_below_the_tolerance_is_not_a_licence_to_pass_through() -> None:
+    """Hypothesis found D = 3.5e-150: the robots on one edge 'swapped' through each other (d = 0 >= D - tol).
+
+    Any clearance below the one that stands for 0 is raised to it, so the plan equals the plan for D = 0.
+    """
+    rng = np.random.default_rng(8286)
+    track = random_layout(rng)
+    s = ((1, 0.4078405086104622), (1, 0.9912407425716102))
+    t = ((2, 0.22454853424815516), (1, 0.0))
+    zero = plan_graph(track, s, t, 0.0, objective="fastest", speeds=(1.0, 1.0))
+    for D in (3.487496535385975e-150, 1e-15, 1e-12):
+        p = plan_graph(track, s, t, D, objective="fastest", speeds=(1.0, 1.0))
+        assert p.word == zero.word and abs(p.makespan - zero.makespan) < 1e-9, (D, p.word, p.makespan)
+        assert p.makespan <= _corridor_lp(p) + 2 * TIE_BREAK * p.length + 1e-9
+        u = np.linspace(0.0, 1.0, 4001)
+        (ea, sa), (eb, sb) = p.positions(u)
+        assert float(np.min(track.geometry.distance(ea, sa, eb, sb))) > 0.0
