@@ -462,3 +462,20 @@ def test_unverified_output_never_leaves(monkeypatch) -> None:  # type: ignore[no
     track = GraphTrack.from_json(Y)
     with pytest.raises(MPAError):
         TrajectoryGenerator(track, clearance=0.3).generate(("left", "right"), ("right", "left"))
+
+
+def test_a_clearance_that_fits_exactly_says_so_and_the_suggested_one_works() -> None:
+    """D equal to the short branch: the swap exists with no slack, so no finite grid of setpoints can be verified
+    at 100 Hz; the error says why and which clearance works, and that clearance gives verified setpoints."""
+    import re
+
+    from mpa import GraphTrack, InvalidInputError
+    from trajopt import TrajectoryGenerator
+
+    track = GraphTrack.from_json(ROOT / "examples" / "tracks" / "y_junction.json")
+    with pytest.raises(InvalidInputError, match="lower the clearance to about") as info:
+        TrajectoryGenerator(track, clearance=1.0).generate(("left", "right"), ("right", "left"))
+    suggested = float(re.search(r"lower the clearance to about ([0-9.]+) m", str(info.value)).group(1))
+    assert 0.999 < suggested < 1.0
+    traj = TrajectoryGenerator(track, clearance=suggested).generate(("left", "right"), ("right", "left"))
+    assert traj.verification["ok"] and traj.min_separation >= suggested - 1e-9

@@ -274,12 +274,20 @@ class TrajectoryGenerator:
     def _explain_rejection(self, plan: Plan | GraphPlan) -> str:
         """Why every candidate of ``plan`` fails the gate at this rate, if the caller can fix it ("" if not)."""
         best = self.lowest_rate(plan)
+        margin = separation_margin(self.limits, self.rate)
         if best is not None:
+            slack = float(plan.min_distance()) - self.clearance
+            tight = ""
+            if slack < margin:  # the layout itself leaves (almost) no room: say so, and what clearance would do
+                tight = (
+                    f" (the motion's closest approach keeps only {max(slack, 0.0):.3g} m beyond the clearance, the "
+                    f"most this track allows here, and setpoints at {self.rate:g} Hz need {margin:.3g} m; or lower "
+                    f"the clearance to about {self.clearance + slack - 2.0 * margin:.6g} m)"
+                )
             return (
                 f"rate is {self.rate!r} Hz, too low for this motion: between rows the robots could come closer "
-                f"than the clearance {self.clearance!r} m; the lowest usable rate is {best:g} Hz"
+                f"than the clearance {self.clearance!r} m; the lowest usable rate is {best:g} Hz{tight}"
             )
-        margin = separation_margin(self.limits, self.rate)
         view = plan_view(plan)
         ends: tuple[Any, Any] = (plan.start, plan.goal)
         for name, st in zip(("start", "goal"), ends):
