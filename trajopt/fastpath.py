@@ -16,10 +16,10 @@ from typing import Any
 
 import numpy as np
 
-from mpa.errors import MPAError, PlanningError
+from mpa.errors import MPAError
 from mpa.geometry import RouteGeometry
 from trajopt.planview import plan_view
-from trajopt.timing import BlendedPath, Limits, TimeScaling, blend_polyline
+from trajopt.timing import BlendedPath, Limits, TimeScaling, blend_polyline, rest_to_rest_profile
 
 __all__ = ["straight_line_clearance", "straight_scaling"]
 
@@ -69,8 +69,6 @@ def straight_scaling(plan: Any, limits: Limits) -> TimeScaling:
     PlanningError
         ruckig fails (never expected for rest-to-rest).
     """
-    from ruckig import InputParameter, Result, Ruckig, Trajectory
-
     t_start = time.perf_counter()
     ends = plan_view(plan).waypoints[[0, -1]]
     path: BlendedPath = blend_polyline(ends)
@@ -80,22 +78,9 @@ def straight_scaling(plan: Any, limits: Limits) -> TimeScaling:
     u = np.abs(ends[1] - ends[0]) / length
     moving = u > 0
     v_s, a_s, j_s = (float(np.min(lim[moving] / u[moving])) for lim in (limits.v, limits.a, limits.j))
-    otg, inp, traj = Ruckig(1), InputParameter(1), Trajectory(1)
-    inp.current_position, inp.target_position = [0.0], [length]
-    inp.current_velocity = inp.target_velocity = [0.0]
-    inp.current_acceleration = inp.target_acceleration = [0.0]
-    inp.max_velocity, inp.max_acceleration, inp.max_jerk = [v_s], [a_s], [j_s]
-    res = otg.calculate(inp, traj)
-    if res not in (Result.Working, Result.Finished):
-        raise PlanningError(f"ruckig failed on the straight line: {res}")
-    prof = traj.profiles[0][0]
-    tp = np.asarray(prof.t, dtype=float)
-    keep = tp > 0
-    t0 = np.concatenate([[0.0], np.cumsum(tp)])[:-1][keep]
-    p = np.asarray(prof.p[:7], dtype=float)
-    v = np.asarray(prof.v[:7], dtype=float)
-    a = np.asarray(prof.a[:7], dtype=float)
-    j = np.asarray(prof.j, dtype=float)
+    prof = rest_to_rest_profile(length, v_s, a_s, j_s)
+    keep = prof.dt > 0
+    t0, p, v, a, j = prof.t0[keep], prof.p, prof.v, prof.a, prof.j
     stats: dict[str, Any] = {"pieces": 1, "blends": 0, "jerk_time": time.perf_counter() - t_start}
     return TimeScaling(
         path,
@@ -104,7 +89,7 @@ def straight_scaling(plan: Any, limits: Limits) -> TimeScaling:
         v[keep],
         a[keep],
         j[keep],
-        float(np.sum(tp)),
+        prof.duration,
         np.zeros(2),
         np.zeros(int(np.sum(keep)), dtype=np.intp),
         stats,

@@ -43,11 +43,13 @@ __all__ = [
     "BlendedPath",
     "Limits",
     "PieceLimits",
+    "RestToRest",
     "TimeScaling",
     "blend_polyline",
     "filtered_scaling",
     "jerk_limited_scaling",
     "min_time_rest_to_rest",
+    "rest_to_rest_profile",
     "spline_path",
     "toppra_profile",
 ]
@@ -1024,16 +1026,49 @@ def _box_filtered(
     return t0, p_out, v_out, a_out, j_out
 
 
+class RestToRest(NamedTuple):
+    """A 1-DoF jerk-limited profile from rest at 0 to rest at ``length``: ruckig's seven phases.
+
+    ``dt`` (shape (7,)) the phase durations (some may be 0), ``t0`` their start times, ``p, v, a`` the state at
+    each phase start and ``j`` the phase's constant jerk (each shape (7,)); ``duration`` the sum of ``dt``.
+    """
+
+    dt: FloatArray
+    t0: FloatArray
+    p: FloatArray
+    v: FloatArray
+    a: FloatArray
+    j: FloatArray
+    duration: float
+
+
+def rest_to_rest_profile(length: float, v: float, a: float, j: float) -> RestToRest:
+    """The time-optimal jerk-limited 1-DoF profile over ``length`` (m) from rest to rest (ruckig; ``length > 0``).
+
+    Raises
+    ------
+    PlanningError
+        ruckig reports a failure.
+    """
+    from ruckig import InputParameter, Result, Ruckig, Trajectory
+
+    otg, inp, traj = Ruckig(1), InputParameter(1), Trajectory(1)
+    inp.current_position, inp.target_position = [0.0], [float(length)]
+    inp.current_velocity = inp.target_velocity = [0.0]
+    inp.current_acceleration = inp.target_acceleration = [0.0]
+    inp.max_velocity, inp.max_acceleration, inp.max_jerk = [float(v)], [float(a)], [float(j)]
+    res = otg.calculate(inp, traj)
+    if res not in (Result.Working, Result.Finished):
+        raise PlanningError(f"ruckig failed on a rest-to-rest move of {length!r} m: {res}")
+    prof = traj.profiles[0][0]
+    dt = np.asarray(prof.t, dtype=float)
+    t0 = np.concatenate([[0.0], np.cumsum(dt)])[:-1]
+    p, vv, aa = (np.asarray(x[:7], dtype=float) for x in (prof.p, prof.v, prof.a))
+    return RestToRest(dt, t0, p, vv, aa, np.asarray(prof.j, dtype=float), float(dt.sum()))
+
+
 def min_time_rest_to_rest(distance: float, v: float, a: float, j: float) -> float:
     """Jerk-limited minimum time (s) to travel ``distance`` from rest to rest in one DoF (ruckig)."""
-    from ruckig import InputParameter, Ruckig, Trajectory
-
     if distance <= 0:
         return 0.0
-    otg, inp, traj = Ruckig(1), InputParameter(1), Trajectory(1)
-    inp.current_position, inp.target_position = [0.0], [float(distance)]
-    inp.current_velocity, inp.current_acceleration = [0.0], [0.0]
-    inp.target_velocity, inp.target_acceleration = [0.0], [0.0]
-    inp.max_velocity, inp.max_acceleration, inp.max_jerk = [v], [a], [j]
-    otg.calculate(inp, traj)
-    return float(traj.duration)
+    return rest_to_rest_profile(distance, v, a, j).duration

@@ -40,6 +40,7 @@ from bench.ompl_tools import joint_state_space
 from mpa.routes import RobotMove
 from mpa.tracks import Circle, Lollipop, Track
 from trajopt import Limits
+from trajopt.timing import rest_to_rest_profile
 
 __all__ = ["LeanOmpl", "LeanResult"]
 
@@ -104,21 +105,8 @@ def _positions(track: Track, moves: tuple[RobotMove, ...], x: FloatArray) -> Flo
 
 def _profile(length: float, v: float, a: float, j: float) -> tuple[FloatArray, ...]:
     """One rest-to-rest ruckig profile of ``length``: phase start times, p, v, a at them, jerks, duration."""
-    from ruckig import InputParameter, Result, Ruckig, Trajectory
-
-    otg, inp, traj = Ruckig(1), InputParameter(1), Trajectory(1)
-    inp.current_position, inp.target_position = [0.0], [length]
-    inp.current_velocity = inp.target_velocity = [0.0]
-    inp.current_acceleration = inp.target_acceleration = [0.0]
-    inp.max_velocity, inp.max_acceleration, inp.max_jerk = [v], [a], [j]
-    res = otg.calculate(inp, traj)
-    if res not in (Result.Working, Result.Finished):
-        raise RuntimeError(f"ruckig failed: {res}")
-    prof = traj.profiles[0][0]
-    tp = np.asarray(prof.t, dtype=float)
-    t0 = np.concatenate([[0.0], np.cumsum(tp)])[:-1]
-    p, v, a = (np.asarray(x[:7], dtype=float) for x in (prof.p, prof.v, prof.a))
-    return t0, p, v, a, np.asarray(prof.j, dtype=float), float(tp.sum())
+    prof = rest_to_rest_profile(length, v, a, j)
+    return prof.t0, prof.p, prof.v, prof.a, prof.j, prof.duration
 
 
 class LeanOmpl:
