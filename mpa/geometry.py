@@ -27,6 +27,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -393,17 +394,27 @@ class RouteGeometry:
     def segment_min_distances(self, pts: ArrayLike) -> FloatArray:
         """Exact minimum of the distance along every chord of the polyline ``pts`` (shape (n, 2)). Shape (n-1,).
 
-        Every chord is cut where either robot changes route piece; on each sub-chord both robots stay on one edge
-        with affine offsets and :meth:`GraphGeometry.segment_min` is exact. Vectorized over the chords; continuous
-        in the chord ends.
+        :meth:`chord_min_distances` of the consecutive points. Continuous in the chord ends.
         """
         p = np.atleast_2d(np.asarray(pts, dtype=float))
-        n = len(p) - 1
+        if len(p) < 2:
+            return np.zeros(0)
+        return self.chord_min_distances(p[:-1], p[1:])
+
+    def chord_min_distances(self, a: ArrayLike, b: ArrayLike) -> FloatArray:
+        """Exact minimum of the distance along every chord ``a[k] -> b[k]`` (each shape (n, 2), route coordinates).
+
+        Every chord is cut where either robot changes route piece; on each sub-chord both robots stay on one edge
+        with affine offsets and :meth:`GraphGeometry.segment_min` is exact. Vectorized over the chords and their
+        sub-chords (a dense ``(n, breaks + 1)`` layout: a break outside a chord gives an empty sub-chord at its
+        end); continuous in the chord ends. Shape (n,).
+        """
+        a = np.atleast_2d(np.asarray(a, dtype=float))
+        b = np.atleast_2d(np.asarray(b, dtype=float))
+        n = len(a)
         if n < 1:
             return np.zeros(0)
-        a, b = p[:-1], p[1:]
-        ks = [np.arange(n)]
-        lam = [np.zeros(n)]
+        cuts = [np.zeros((n, 1))]
         for r, route in enumerate(self.routes):
             br = route.breaks[1:-1]
             if len(br) == 0:
@@ -412,34 +423,58 @@ class RouteGeometry:
             with np.errstate(divide="ignore", invalid="ignore"):
                 tt = (br[None, :] - a[:, r, None]) / d[:, None]
             ok = np.isfinite(tt) & (tt > 0.0) & (tt < 1.0)
-            kk, jj = np.nonzero(ok)
-            ks.append(kk)
-            lam.append(tt[kk, jj])
-        k_all = np.concatenate(ks)
-        l_all = np.concatenate(lam)
-        order = np.lexsort((l_all, k_all))
-        k_all, l_all = k_all[order], l_all[order]
-        l_end = np.append(l_all[1:], 1.0)
-        last = np.append(k_all[1:] != k_all[:-1], True)
-        l_end[last] = 1.0
-        d_ab = b - a
-        q0 = np.where(l_all[:, None] == 0.0, a[k_all], a[k_all] + l_all[:, None] * d_ab[k_all])
-        q1 = np.where(l_end[:, None] == 1.0, b[k_all], a[k_all] + l_end[:, None] * d_ab[k_all])
+            cuts.append(np.where(ok, tt, 1.0))
+        lam = np.concatenate(cuts, axis=1)
+        if lam.shape[1] > 1:
+            lam.sort(axis=1)
+        m = lam.shape[1]
+        l0 = lam.reshape(-1, 1)
+        l1 = np.concatenate([lam[:, 1:], np.ones((n, 1))], axis=1).reshape(-1, 1)
+        aa, bb = np.repeat(a, m, axis=0), np.repeat(b, m, axis=0)
+        d_ab = bb - aa
+        q0 = np.where(l0 == 0.0, aa, aa + l0 * d_ab)
+        q1 = np.where(l1 == 1.0, bb, aa + l1 * d_ab)
         mid = 0.5 * (q0 + q1)
         ra, rb = self.routes
         ia = ra.piece_index(mid[:, 0])
         ib = rb.piece_index(mid[:, 1])
+        # inside the rectangle (ia, ib) every term of d is affine in σ (see _cell_terms); both ends are clamped
+        # to the rectangle, as the positions are to the pieces
+        ga, gb, h, same = self._cell_terms
+        lo_a, hi_a, lo_b, hi_b = ra.breaks[ia], ra.breaks[ia + 1], rb.breaks[ib], rb.breaks[ib + 1]
+        x0, x1 = np.clip(q0[:, 0], lo_a, hi_a)[:, None], np.clip(q1[:, 0], lo_a, hi_a)[:, None]
+        y0, y1 = np.clip(q0[:, 1], lo_b, hi_b)[:, None], np.clip(q1[:, 1], lo_b, hi_b)[:, None]
+        ga, gb, h = ga[ia, ib], gb[ia, ib], h[ia, ib]  # (S, 5)
+        v0 = ga * x0 + gb * y0 + h
+        v1 = ga * x1 + gb * y1 + h
+        terms = np.min(np.minimum(v0[:, :4], v1[:, :4]), axis=1)
+        g0, g1 = v0[:, 4], v1[:, 4]  # s − t on one edge: d is 0 where it changes sign, else |s − t| is a term
+        gap = np.where(g0 * g1 <= 0.0, 0.0, np.minimum(np.abs(g0), np.abs(g1)))
+        sub = np.where(same[ia, ib], np.minimum(terms, gap), terms)
+        return np.asarray(np.min(sub.reshape(n, m), axis=1))
 
-        def offs(route: DirectedRoute, i: IntArray, r: FloatArray) -> FloatArray:
-            rr = np.clip(r, route.breaks[i], route.breaks[i + 1])
-            return route.entry[i] + route.dirs[i] * (rr - route.breaks[i])
+    @cached_property
+    def _cell_terms(self) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:
+        """Every rectangle's terms of ``d`` as affine functions ``gA·σ_A + gB·σ_B + h`` of route coordinates.
 
-        p0 = np.stack([offs(ra, ia, q0[:, 0]), offs(rb, ib, q0[:, 1])], axis=1)
-        p1 = np.stack([offs(ra, ia, q1[:, 0]), offs(rb, ib, q1[:, 1])], axis=1)
-        sub = self.geometry.segment_min(ra.edges[ia], rb.edges[ib], p0, p1)
-        out = np.full(n, np.inf)
-        np.minimum.at(out, k_all, sub)
-        return out
+        ``gA, gB, h`` have shape (Ma, Mb, 5) (route pieces of A and B): the four terms of
+        :meth:`GraphGeometry.cell_terms` (``h = inf`` through unreachable vertices) and, fifth, the signed gap
+        ``s − t`` of the offsets (``|s − t|`` is a term where both robots are on one edge: ``same``, (Ma, Mb)).
+        """
+        ra, rb = self.routes
+        oa = ra.entry - ra.dirs * ra.breaks[:-1]  # offset = o + dir·σ on each piece
+        ob = rb.entry - rb.dirs * rb.breaks[:-1]
+        da, db = ra.dirs.astype(float)[:, None, None], rb.dirs.astype(float)[None, :, None]
+        c0 = self.geometry.cell_terms_array(ra.edges[:, None], rb.edges[None, :])  # (Ma, Mb, 4)
+        ca, cb = np.array([1.0, 1.0, -1.0, -1.0]), np.array([1.0, -1.0, 1.0, -1.0])
+        shape = (*c0.shape[:2], 5)
+        ga, gb, h = np.empty(shape), np.empty(shape), np.empty(shape)
+        ga[..., :4], gb[..., :4] = ca * da, cb * db
+        h[..., :4] = c0 + ca * oa[:, None, None] + cb * ob[None, :, None]
+        ga[..., 4], gb[..., 4] = da[..., 0], -db[..., 0]
+        h[..., 4] = oa[:, None] - ob[None, :]
+        same = ra.edges[:, None] == rb.edges[None, :]
+        return ga, gb, h, same
 
     def interval(self, robot: int, sigma: ArrayLike) -> IntArray:
         """Index of the route piece of ``robot`` that holds ``σ`` (the later one at a break)."""

@@ -90,3 +90,26 @@ def test_cell_rows_bound_the_distance_and_are_exact_on_their_side(track: Track) 
             # at mid itself the rows are exact
             dm = float(geom.distance(mid))
             assert min(gA * mid[0] + gB * mid[1] + c for gA, gB, c in rows) == pytest.approx(dm, abs=1e-9)
+
+
+@pytest.mark.parametrize("track", TRACKS, ids=repr)
+def test_chord_minimum_is_exact_on_independent_chords(track: Track) -> None:
+    rng = np.random.default_rng(6)
+    for i, p in enumerate(_plans(track, 30, 7)):
+        geom = _geometry(track, p)
+        ra, rb = p.routes
+        lo = np.array([ra.sigma_min, rb.sigma_min])
+        hi = np.array([ra.sigma_max, rb.sigma_max])
+        a = lo + rng.uniform(size=(25, 2)) * (hi - lo)
+        b = lo + rng.uniform(size=(25, 2)) * (hi - lo)
+        b[0] = a[0]  # a chord of length 0
+        a[1, 0] = geom.routes[0].breaks[len(geom.routes[0].breaks) // 2]  # an end on a break
+        exact = geom.chord_min_distances(a, b)
+        lam = np.linspace(0.0, 1.0, 2001)[None, :, None]
+        dense = a[:, None, :] + lam * (b - a)[:, None, :]
+        sampled = np.min(geom.distance(dense), axis=1)
+        step = np.abs(b - a).sum(axis=1) / 2000
+        assert np.all(exact <= sampled + 1e-9), (i, exact - sampled)
+        assert np.all(exact >= sampled - step - 1e-9), (i, exact - sampled)
+        # the polyline version is the chord version on consecutive points
+        np.testing.assert_array_equal(geom.segment_min_distances(a), geom.chord_min_distances(a[:-1], a[1:]))

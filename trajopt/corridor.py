@@ -22,6 +22,7 @@ halving, no corner passed at rest, a fixed number of nodes and pieces):
 
 from __future__ import annotations
 
+import threading
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -83,14 +84,22 @@ def hull_clearance(geom: RouteGeometry, centers: FloatArray, width: int = 4) -> 
     small hull, so the minimum over the hull is on its boundary, which those chords cover. Continuous in the points.
     """
     n1 = len(centers)
-    pairs = [(i, j) for i in range(width) for j in range(i + 1, width)]
-    starts = np.arange(n1 - width + 1)
-    a = np.concatenate([centers[starts + i] for i, _ in pairs])
-    b = np.concatenate([centers[starts + j] for _, j in pairs])
-    pts = np.empty((2 * len(a), 2))
-    pts[0::2], pts[1::2] = a, b
-    e = geom.segment_min_distances(pts)[0::2]
-    return np.asarray(np.min(e.reshape(len(pairs), len(starts)), axis=0))
+    nw = n1 - width + 1
+    if nw < 1:
+        return np.zeros(0)
+    # every chord (i, i + g), 1 <= g < width, once (a chord is shared by up to width - g windows)
+    gaps = range(1, width)
+    chords = geom.chord_min_distances(
+        np.concatenate([centers[: n1 - g] for g in gaps]), np.concatenate([centers[g:] for g in gaps])
+    )
+    out = np.full(nw, np.inf)
+    first = 0
+    for g in gaps:
+        e = chords[first : first + n1 - g]
+        first += n1 - g
+        for i in range(width - g):  # the chord (w + i, w + i + g) of window w
+            np.minimum(out, e[i : i + nw], out=out)
+    return out
 
 
 def corridor_radii(geom: RouteGeometry, centers: FloatArray, separation: float) -> FloatArray:
@@ -164,7 +173,20 @@ class CorridorProblem:
             opts.update({"daqp": {"primal_tol": 1e-12, "dual_tol": 1e-12}})
         self.solver_name = solver
         self.solver = ca.conic(f"corridor{n}", solver, {"h": ca.DM(h).sparsity(), "a": ca.DM(a).sparsity()}, opts)
-        self._h_dm, self._a_dm = ca.DM(h), ca.DM(a)
+        # One call per solve through a buffer: the fixed H and A are constants of a wrapping function whose one
+        # input is [g, lba, uba, lbx, ubx] and one output [x, λ_A] (numpy memory, no DM conversions per call).
+        nx = self.nx
+        p = ca.MX.sym("p", 5 * nx)
+        g_, lba_, uba_, lbx_, ubx_ = ca.vertsplit(p, [0, nx, 2 * nx, 3 * nx, 4 * nx, 5 * nx])
+        out = self.solver(h=ca.DM(h), g=g_, a=ca.DM(a), lba=lba_, uba=uba_, lbx=lbx_, ubx=ubx_)
+        self._function = ca.Function(f"corridor{n}_packed", [p], [ca.vertcat(out["x"], out["lam_a"])])
+        self._in = np.zeros(5 * nx)
+        self._out = np.zeros(2 * nx)
+        self._buffer, self._eval = self._function.buffer()
+        buf: Any = self._buffer  # (CasADi's stubs ask for a size that its Python binding does not take)
+        buf.set_arg(0, self._in.data)
+        buf.set_res(0, self._out.data)
+        self._lock = threading.Lock()
         self.build_time = time.perf_counter() - t0
 
     def solve(
@@ -186,33 +208,33 @@ class CorridorProblem:
         nodes : ndarray, shape (n+1, 2)
         stats : dict
         """
-        n, m = self.n, self.n - 1
+        n, m, nx = self.n, self.n - 1, self.nx
         ends = centers[[0, -1]]
-        g = np.concatenate([self._g_ends[r] @ ends[:, r] for r in (0, 1)])
         c = centers[1:-1]
         rr = radius[1:-1]
         sp, sm = c[:, 0] + c[:, 1], c[:, 0] - c[:, 1]
-        lba = np.empty(2 * m)
-        uba = np.empty(2 * m)
-        lba[0::2], uba[0::2] = sp - rr, sp + rr
-        lba[1::2], uba[1::2] = sm - rr, sm + rr
-        lbx = np.concatenate([np.full(m, lower[0]), np.full(m, lower[1])])
-        ubx = np.concatenate([np.full(m, upper[0]), np.full(m, upper[1])])
         t0 = time.perf_counter()
-        sol = self.solver(h=self._h_dm, g=g, a=self._a_dm, lba=lba, uba=uba, lbx=lbx, ubx=ubx)
+        with self._lock:
+            x = self._in
+            x[0:m] = self._g_ends[0] @ ends[:, 0]
+            x[m:nx] = self._g_ends[1] @ ends[:, 1]
+            x[nx : 2 * nx : 2], x[2 * nx : 3 * nx : 2] = sp - rr, sp + rr
+            x[nx + 1 : 2 * nx : 2], x[2 * nx + 1 : 3 * nx : 2] = sm - rr, sm + rr
+            x[3 * nx : 3 * nx + m], x[3 * nx + m : 4 * nx] = lower[0], lower[1]
+            x[4 * nx : 4 * nx + m], x[4 * nx + m : 5 * nx] = upper[0], upper[1]
+            self._eval()
+            st = self._buffer.stats()
+            xs = self._out[:nx].copy()
         elapsed = time.perf_counter() - t0
-        st = self.solver.stats()
-        xs = np.asarray(sol["x"], dtype=float).ravel()
-        nodes = np.vstack([ends[:1], np.stack([xs[:m], xs[m:]], axis=1), ends[1:]])
-        v = self.vmax
+        nodes = np.empty((n + 1, 2))
+        nodes[0], nodes[-1] = ends[0], ends[1]
+        nodes[1:-1, 0], nodes[1:-1, 1] = xs[:m], xs[m:]
         stats = {
             "n_segments": n,
             "qp_solver": self.solver_name,
             "qp_status": str(st.get("return_status", "")),
             "qp_success": bool(st.get("success", False)),
             "qp_time": elapsed,
-            "plan_time_bound": float(np.sum(np.max(np.abs(np.diff(centers, axis=0)) / v, axis=1))),
-            "optimized_time_bound": float(np.sum(np.max(np.abs(np.diff(nodes, axis=0)) / v, axis=1))),
         }
         return nodes, stats
 
@@ -264,7 +286,9 @@ def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: C
         stats.update({k: v for k, v in st.items() if k != "qp_time"})
         stats["qp_time"] = stats.get("qp_time", 0.0) + st["qp_time"]
         centers = nodes
-    stats["plan_time_bound"] = float(np.sum(np.max(np.abs(np.diff(plan_centers, axis=0)) / problem.vmax, axis=1)))
+    v = problem.vmax
+    stats["plan_time_bound"] = float(np.sum(np.max(np.abs(np.diff(plan_centers, axis=0)) / v, axis=1)))
+    stats["optimized_time_bound"] = float(np.sum(np.max(np.abs(np.diff(nodes, axis=0)) / v, axis=1)))
     stats["corridor_time"] = t1 - t0
     stats["corridor_iterations"] = CORRIDOR_ITERATIONS
     return CorridorResult(nodes, plan_centers, free, stats)
