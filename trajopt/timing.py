@@ -789,18 +789,27 @@ def _window_min(values: FloatArray, breaks: FloatArray, lo: FloatArray, hi: Floa
 
 
 def _topp_passes(cap: FloatArray, two_a_ds: FloatArray) -> FloatArray:
-    """Forward and backward passes on ``ṡ²``: the largest profile under ``cap`` with ``|Δṡ²| ≤ 2·a·Δs``."""
-    b = cap.copy()
+    """Forward and backward passes on ``ṡ²``: the largest profile under ``cap`` with ``|Δṡ²| ≤ 2·a·Δs``.
+
+    Two sequential scans on Python floats (each step's rounding is relative to the local ``ṡ²``, so a short grid
+    interval keeps its acceleration to rounding; a closed form with running sums would not).
+    """
+    b = cap.tolist()
     b[0] = 0.0
-    for i in range(len(two_a_ds)):  # forward
-        nb = b[i] + two_a_ds[i]
-        if nb < b[i + 1]:
-            b[i + 1] = nb
-    for i in range(len(two_a_ds) - 1, -1, -1):  # backward
-        nb = b[i + 1] + two_a_ds[i]
-        if nb < b[i]:
-            b[i] = nb
-    return np.maximum(b, 0.0)
+    d = two_a_ds.tolist()
+    n = len(d)
+    prev = 0.0
+    for i in range(n):  # forward
+        nb = prev + d[i]
+        prev = b[i + 1]
+        if nb < prev:
+            b[i + 1] = prev = nb
+    for i in range(n - 1, -1, -1):  # backward
+        nb = prev + d[i]
+        prev = b[i]
+        if nb < prev:
+            b[i] = prev = nb
+    return np.maximum(np.array(b), 0.0)
 
 
 def _window_extreme(grid: FloatArray, f: FloatArray, r: float, fn: Any) -> FloatArray:
@@ -1016,13 +1025,13 @@ def _box_filtered(
     ti, T = ph.t, ph.duration
     t0 = np.unique(np.concatenate([ti, ti + tau]))
     t0 = t0[t0 < T + tau]
-    f1, s1, v1, _ = _phase_state(ph, S, t0)
-    f0, s0, v0, _ = _phase_state(ph, S, t0 - tau)
-    p_out = np.clip((f1 - f0) / tau, 0.0, S)
-    v_out = (s1 - s0) / tau
-    a_out = (v1 - v0) / tau
     mid = 0.5 * (t0 + np.append(t0[1:], T + tau))  # the jerk of a phase, away from rounding at its ends
-    j_out = (_phase_state(ph, S, mid)[3] - _phase_state(ph, S, mid - tau)[3]) / tau
+    k = len(t0)
+    f, s, v, a = _phase_state(ph, S, np.concatenate([t0, t0 - tau, mid, mid - tau]))  # one evaluation
+    p_out = np.clip((f[:k] - f[k : 2 * k]) / tau, 0.0, S)
+    v_out = (s[:k] - s[k : 2 * k]) / tau
+    a_out = (v[:k] - v[k : 2 * k]) / tau
+    j_out = (a[2 * k : 3 * k] - a[3 * k :]) / tau
     return t0, p_out, v_out, a_out, j_out
 
 
