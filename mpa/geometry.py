@@ -405,37 +405,39 @@ class RouteGeometry:
         """Exact minimum of the distance along every chord ``a[k] -> b[k]`` (each shape (n, 2), route coordinates).
 
         Every chord is cut where either robot changes route piece; on each sub-chord both robots stay on one edge
-        with affine offsets and :meth:`GraphGeometry.segment_min` is exact. Vectorized over the chords and their
-        sub-chords (a dense ``(n, breaks + 1)`` layout: a break outside a chord gives an empty sub-chord at its
-        end); continuous in the chord ends. Shape (n,).
+        with affine offsets and the minimum of ``d`` is at an end of the sub-chord (every term is affine there),
+        or 0 where the robots cross on one edge (as :meth:`GraphGeometry.segment_min`). Vectorized over the chords
+        and their sub-chords; continuous in the chord ends. Shape (n,).
         """
         a = np.atleast_2d(np.asarray(a, dtype=float))
         b = np.atleast_2d(np.asarray(b, dtype=float))
         n = len(a)
         if n < 1:
             return np.zeros(0)
-        cuts = [np.zeros((n, 1))]
-        for r, route in enumerate(self.routes):
-            br = route.breaks[1:-1]
-            if len(br) == 0:
-                continue
-            d = b[:, r] - a[:, r]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                tt = (br[None, :] - a[:, r, None]) / d[:, None]
-            ok = np.isfinite(tt) & (tt > 0.0) & (tt < 1.0)
-            cuts.append(np.where(ok, tt, 1.0))
-        lam = np.concatenate(cuts, axis=1)
-        if lam.shape[1] > 1:
-            lam.sort(axis=1)
-        m = lam.shape[1]
-        l0 = lam.reshape(-1, 1)
-        l1 = np.concatenate([lam[:, 1:], np.ones((n, 1))], axis=1).reshape(-1, 1)
-        aa, bb = np.repeat(a, m, axis=0), np.repeat(b, m, axis=0)
-        d_ab = bb - aa
-        q0 = np.where(l0 == 0.0, aa, aa + l0 * d_ab)
-        q1 = np.where(l1 == 1.0, bb, aa + l1 * d_ab)
-        mid = 0.5 * (q0 + q1)
         ra, rb = self.routes
+        brk, rob = self._interior_breaks
+        if len(brk):
+            d = b[:, rob] - a[:, rob]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                tt = (brk[None, :] - a[:, rob]) / d
+            kk, jj = np.nonzero(np.isfinite(tt) & (tt > 0.0) & (tt < 1.0))
+        else:
+            kk = np.zeros(0, dtype=np.intp)
+        if len(kk):  # sub-chords in order along every chord: [λ_i, λ_i+1] over its cuts
+            k_all = np.concatenate([np.arange(n), kk])
+            l_all = np.concatenate([np.zeros(n), tt[kk, jj]])
+            order = np.lexsort((l_all, k_all))
+            k_all, l_all = k_all[order], l_all[order]
+            l_end = np.append(l_all[1:], 1.0)
+            last = np.append(k_all[1:] != k_all[:-1], True)
+            l_end[last] = 1.0
+            aa, bb = a[k_all], b[k_all]
+            d_ab = bb - aa
+            q0 = np.where(l_all[:, None] == 0.0, aa, aa + l_all[:, None] * d_ab)
+            q1 = np.where(l_end[:, None] == 1.0, bb, aa + l_end[:, None] * d_ab)
+        else:
+            q0, q1 = a, b
+        mid = 0.5 * (q0 + q1)
         ia = ra.piece_index(mid[:, 0])
         ib = rb.piece_index(mid[:, 1])
         # inside the rectangle (ia, ib) every term of d is affine in σ (see _cell_terms); both ends are clamped
@@ -451,7 +453,15 @@ class RouteGeometry:
         g0, g1 = v0[:, 4], v1[:, 4]  # s − t on one edge: d is 0 where it changes sign, else |s − t| is a term
         gap = np.where(g0 * g1 <= 0.0, 0.0, np.minimum(np.abs(g0), np.abs(g1)))
         sub = np.where(same[ia, ib], np.minimum(terms, gap), terms)
-        return np.asarray(np.min(sub.reshape(n, m), axis=1))
+        if len(kk):
+            return np.asarray(np.minimum.reduceat(sub, np.flatnonzero(np.append(True, k_all[1:] != k_all[:-1]))))
+        return np.asarray(sub)
+
+    @cached_property
+    def _interior_breaks(self) -> tuple[FloatArray, IntArray]:
+        """The interior breaks of both routes (route coordinates, metres) and the robot of each (0 or 1)."""
+        ba, bb = self.routes[0].breaks[1:-1], self.routes[1].breaks[1:-1]
+        return np.concatenate([ba, bb]), np.concatenate([np.zeros(len(ba), np.intp), np.ones(len(bb), np.intp)])
 
     @cached_property
     def _cell_terms(self) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:

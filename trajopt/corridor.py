@@ -43,10 +43,13 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.intp]
 #: Number of segments of the hard path (nodes ``n + 1``), the same for every query.
 CORRIDOR_SEGMENTS = 32
 #: Corridor solves: each re-centres the balls on the previous solution (a fixed count: continuous).
 CORRIDOR_ITERATIONS = 8
+#: Primal and dual tolerance of a known active set's KKT check (DAQP's own tolerances).
+KKT_TOL = 1e-12
 #: Share of the free ball a node may use.
 NODE_SHARE = 1.0
 #: Control points of one span of the cubic B-spline.
@@ -174,23 +177,34 @@ class CorridorProblem:
         self.solver_name = solver
         self.solver = ca.conic(f"corridor{n}", solver, {"h": ca.DM(h).sparsity(), "a": ca.DM(a).sparsity()}, opts)
         # One call per solve through a buffer: the fixed H and A are constants of a wrapping function whose one
-        # input is [g, lba, uba, lbx, ubx] and one output [x, λ_A] (numpy memory, no DM conversions per call).
+        # input is [g, lba, uba, lbx, ubx] and one output [x, λ_A, λ_x] (numpy memory, no DM conversion per call).
         nx = self.nx
         p = ca.MX.sym("p", 5 * nx)
         g_, lba_, uba_, lbx_, ubx_ = ca.vertsplit(p, [0, nx, 2 * nx, 3 * nx, 4 * nx, 5 * nx])
         out = self.solver(h=ca.DM(h), g=g_, a=ca.DM(a), lba=lba_, uba=uba_, lbx=lbx_, ubx=ubx_)
-        self._function = ca.Function(f"corridor{n}_packed", [p], [ca.vertcat(out["x"], out["lam_a"])])
+        self._function = ca.Function(f"corridor{n}_packed", [p], [ca.vertcat(out["x"], out["lam_a"], out["lam_x"])])
         self._in = np.zeros(5 * nx)
-        self._out = np.zeros(2 * nx)
+        self._out = np.zeros(3 * nx)
         self._buffer, self._eval = self._function.buffer()
         buf: Any = self._buffer  # (CasADi's stubs ask for a size that its Python binding does not take)
         buf.set_arg(0, self._in.data)
         buf.set_res(0, self._out.data)
         self._lock = threading.Lock()
+        # For a known active set (the previous solve's): all constraints as rows C = [A; I], G = C·H⁻¹, K = G·Cᵀ
+        self._c = np.vstack([a, np.eye(nx)])
+        self._hinv = np.linalg.inv(h)
+        self._hinv = 0.5 * (self._hinv + self._hinv.T)
+        self._gmat = self._c @ self._hinv
+        self._k = self._gmat @ self._c.T
         self.build_time = time.perf_counter() - t0
 
     def solve(
-        self, centers: FloatArray, radius: FloatArray, lower: FloatArray, upper: FloatArray
+        self,
+        centers: FloatArray,
+        radius: FloatArray,
+        lower: FloatArray,
+        upper: FloatArray,
+        active: tuple[IntArray, FloatArray] | None = None,
     ) -> tuple[FloatArray, dict[str, Any]]:
         """Solve for one query.
 
@@ -202,11 +216,17 @@ class CorridorProblem:
             L1 radius of every node's ball (metres).
         lower, upper : ndarray, shape (2,)
             Extent of each robot's route (metres).
+        active : (ndarray of int, ndarray of float), optional
+            A guess of the active set (constraint rows of ``[A; I]`` and their sides, +1 upper, −1 lower), e.g.
+            ``stats["active"]`` of the previous solve. If the equality-constrained solution for it satisfies
+            every KKT condition (primal and dual feasibility to 1e-12, the solver's tolerances) it *is* the unique
+            solution and DAQP is not called; otherwise DAQP solves the QP.
 
         Returns
         -------
         nodes : ndarray, shape (n+1, 2)
         stats : dict
+            Also ``active``: the active set of the solution (for the next solve).
         """
         n, m, nx = self.n, self.n - 1, self.nx
         ends = centers[[0, -1]]
@@ -214,17 +234,29 @@ class CorridorProblem:
         rr = radius[1:-1]
         sp, sm = c[:, 0] + c[:, 1], c[:, 0] - c[:, 1]
         t0 = time.perf_counter()
-        with self._lock:
-            x = self._in
-            x[0:m] = self._g_ends[0] @ ends[:, 0]
-            x[m:nx] = self._g_ends[1] @ ends[:, 1]
-            x[nx : 2 * nx : 2], x[2 * nx : 3 * nx : 2] = sp - rr, sp + rr
-            x[nx + 1 : 2 * nx : 2], x[2 * nx + 1 : 3 * nx : 2] = sm - rr, sm + rr
-            x[3 * nx : 3 * nx + m], x[3 * nx + m : 4 * nx] = lower[0], lower[1]
-            x[4 * nx : 4 * nx + m], x[4 * nx + m : 5 * nx] = upper[0], upper[1]
-            self._eval()
-            st = self._buffer.stats()
-            xs = self._out[:nx].copy()
+        g = np.concatenate([self._g_ends[0] @ ends[:, 0], self._g_ends[1] @ ends[:, 1]])
+        lo, hi = np.empty(2 * nx), np.empty(2 * nx)  # rows of C = [A; I]
+        lo[0:nx:2], hi[0:nx:2] = sp - rr, sp + rr
+        lo[1:nx:2], hi[1:nx:2] = sm - rr, sm + rr
+        lo[nx : nx + m], lo[nx + m :] = lower[0], lower[1]
+        hi[nx : nx + m], hi[nx + m :] = upper[0], upper[1]
+        xs = self._known_active_set(g, lo, hi, active) if active is not None else None
+        if xs is not None:
+            status, success, act = "KKT_VERIFIED", True, active
+        else:
+            with self._lock:
+                buf_in = self._in
+                buf_in[:nx] = g
+                buf_in[nx : 2 * nx], buf_in[2 * nx : 3 * nx] = lo[:nx], hi[:nx]
+                buf_in[3 * nx : 4 * nx], buf_in[4 * nx :] = lo[nx:], hi[nx:]
+                self._eval()
+                st = self._buffer.stats()
+                out = self._out.copy()
+            xs = out[:nx]
+            status, success = str(st.get("return_status", "")), bool(st.get("success", False))
+            lam = out[nx:]
+            w = np.flatnonzero(lam != 0.0)
+            act = (w, np.sign(lam[w]))
         elapsed = time.perf_counter() - t0
         nodes = np.empty((n + 1, 2))
         nodes[0], nodes[-1] = ends[0], ends[1]
@@ -232,11 +264,32 @@ class CorridorProblem:
         stats = {
             "n_segments": n,
             "qp_solver": self.solver_name,
-            "qp_status": str(st.get("return_status", "")),
-            "qp_success": bool(st.get("success", False)),
+            "qp_status": status,
+            "qp_success": success,
             "qp_time": elapsed,
+            "active": act,
         }
         return nodes, stats
+
+    def _known_active_set(
+        self, g: FloatArray, lo: FloatArray, hi: FloatArray, active: tuple[IntArray, FloatArray]
+    ) -> FloatArray | None:
+        """The solution if ``active`` is the optimal active set (all KKT conditions hold), else None."""
+        w, side = active
+        x = -(self._hinv @ g)
+        if len(w):
+            b = np.where(side > 0, hi[w], lo[w])
+            try:
+                nu = np.linalg.solve(self._k[np.ix_(w, w)], self._c[w] @ x - b)
+            except np.linalg.LinAlgError:
+                return None
+            if not np.all(nu * side >= -KKT_TOL):  # dual feasibility (upper rows ν ≥ 0, lower ν ≤ 0)
+                return None
+            x = x - self._gmat[w].T @ nu
+        cx = self._c @ x
+        if not (np.all(cx >= lo - KKT_TOL) and np.all(cx <= hi + KKT_TOL) and np.all(np.isfinite(x))):
+            return None
+        return x
 
 
 def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: CorridorProblem) -> CorridorResult:
@@ -269,12 +322,16 @@ def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: C
     lower, upper = view.lower, view.upper
     t1 = time.perf_counter()
     plan_centers = centers
-    stats: dict[str, Any] = {}
+    stats: dict[str, Any] = {"qp_known_active_sets": 0}
+    active = None
     for it in range(CORRIDOR_ITERATIONS):
         free = corridor_radii(geom, centers, separation)
         if it == 0:
             stats["min_free"] = float(np.min(free[1:-1]))
-        nodes, st = problem.solve(centers, NODE_SHARE * free, lower, upper)
+        # the previous solve's active set is tried first (exact if its KKT conditions hold, else DAQP)
+        nodes, st = problem.solve(centers, NODE_SHARE * free, lower, upper, active)
+        active = st.pop("active", None)
+        stats["qp_known_active_sets"] += st["qp_status"] == "KKT_VERIFIED"
         if not st["qp_success"]:
             raise PlanningError(f"corridor QP failed: {st['qp_status']}")
         nodes[0], nodes[-1] = centers[0], centers[-1]

@@ -1,0 +1,105 @@
+"""The corridor QP of the hard path: the known-active-set solve is DAQP's solution, the hull clearance is the
+minimum over all chords of every window."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from mpa import Lollipop, MPAError, make_planner
+from trajopt import Limits
+from trajopt.corridor import (
+    CORRIDOR_ITERATIONS,
+    CORRIDOR_SEGMENTS,
+    CorridorProblem,
+    corridor_radii,
+    hull_clearance,
+)
+from trajopt.generator import separation_margin
+from trajopt.planview import plan_view
+
+TRACKS = [Lollipop(1.0, 1.0), Lollipop(1.5, 0.8)]
+LIMITS = Limits(0.5, 1.0, 5.0)
+SEP = 0.05 + separation_margin(LIMITS, 100.0)
+
+
+def _plans(track, n, seed):  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(seed)
+    pl = make_planner(track, 0.05)
+    out = []
+    while len(out) < n:
+        s, g = rng.uniform(0, track.total_length, 2), rng.uniform(0, track.total_length, 2)
+        try:
+            out.append(pl.plan(s, g))
+        except MPAError:  # invalid random queries are skipped
+            continue
+    return out
+
+
+def _samples(view, n):  # type: ignore[no-untyped-def]
+    c = view.path_s(np.linspace(0.0, 1.0, n + 1))
+    c[0], c[-1] = view.waypoints[0], view.waypoints[-1]
+    return c
+
+
+@pytest.fixture(scope="module")
+def problem() -> CorridorProblem:
+    return CorridorProblem(CORRIDOR_SEGMENTS, LIMITS.v)
+
+
+@pytest.mark.parametrize("track", TRACKS, ids=repr)
+def test_known_active_set_gives_daqps_solution(track, problem) -> None:  # type: ignore[no-untyped-def]
+    verified = 0
+    for p in _plans(track, 25, 1):
+        view = plan_view(p)
+        centers = _samples(view, problem.n)
+        active = None
+        for _ in range(CORRIDOR_ITERATIONS):
+            free = corridor_radii(view.geom, centers, SEP)
+            warm, st = problem.solve(centers, free, view.lower, view.upper, active)
+            cold, st0 = problem.solve(centers, free, view.lower, view.upper)
+            assert st["qp_success"] and st0["qp_status"] != "KKT_VERIFIED"
+            np.testing.assert_allclose(warm, cold, rtol=0.0, atol=1e-9)
+            verified += st["qp_status"] == "KKT_VERIFIED"
+            active = st["active"]
+            centers = np.clip(warm, view.lower, view.upper)
+    assert verified > 0  # the shortcut is exercised
+
+
+def test_a_wrong_active_set_falls_back_to_daqp(problem) -> None:  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(2)
+    nrows = 2 * problem.nx
+    for p in _plans(TRACKS[0], 10, 3):
+        view = plan_view(p)
+        centers = _samples(view, problem.n)
+        free = corridor_radii(view.geom, centers, SEP)
+        cold, _ = problem.solve(centers, free, view.lower, view.upper)
+        guesses = [
+            (np.arange(nrows // 2), np.ones(nrows // 2)),  # every ball row at its upper side
+            (np.array([0, 0]), np.array([1.0, 1.0])),  # a repeated row: singular
+            (np.sort(rng.choice(nrows, 5, replace=False)), rng.choice([-1.0, 1.0], 5)),
+        ]
+        for k, guess in enumerate(guesses):
+            warm, st = problem.solve(centers, free, view.lower, view.upper, guess)
+            np.testing.assert_allclose(warm, cold, rtol=0.0, atol=1e-9)
+            if k < 2:  # certainly wrong: DAQP solved it
+                assert st["qp_status"] != "KKT_VERIFIED"
+            assert st["qp_success"]
+
+
+@pytest.mark.parametrize("track", TRACKS, ids=repr)
+def test_hull_clearance_is_the_minimum_over_all_chords_of_each_window(track) -> None:  # type: ignore[no-untyped-def]
+    for p in _plans(track, 15, 4):
+        view = plan_view(p)
+        centers = _samples(view, CORRIDOR_SEGMENTS)
+        got = hull_clearance(view.geom, centers, 4)
+        want = [
+            min(
+                float(view.geom.polyline_min_distance(centers[[w + i, w + j]]))
+                for i, j in itertools.combinations(range(4), 2)
+            )
+            for w in range(len(centers) - 3)
+        ]
+        np.testing.assert_allclose(got, want, rtol=0.0, atol=1e-12)
