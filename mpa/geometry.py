@@ -416,21 +416,22 @@ class RouteGeometry:
             return np.zeros(0)
         ra, rb = self.routes
         brk, rob = self._interior_breaks
+        kk = np.zeros(0, dtype=np.intp)
         if len(brk):
-            d = b[:, rob] - a[:, rob]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                tt = (brk[None, :] - a[:, rob]) / d
-            kk, jj = np.nonzero(np.isfinite(tt) & (tt > 0.0) & (tt < 1.0))
-        else:
-            kk = np.zeros(0, dtype=np.intp)
+            ar = a[:, rob]
+            d = b[:, rob] - ar
+            tt = (brk - ar) / np.where(d == 0.0, np.inf, d)  # a chord parallel to a break is not cut (tt = 0)
+            kk, jj = np.nonzero((tt > 0.0) & (tt < 1.0))
         if len(kk):  # sub-chords in order along every chord: [λ_i, λ_i+1] over its cuts
             k_all = np.concatenate([np.arange(n), kk])
             l_all = np.concatenate([np.zeros(n), tt[kk, jj]])
             order = np.lexsort((l_all, k_all))
             k_all, l_all = k_all[order], l_all[order]
-            l_end = np.append(l_all[1:], 1.0)
-            last = np.append(k_all[1:] != k_all[:-1], True)
-            l_end[last] = 1.0
+            first = np.empty(len(k_all), dtype=bool)
+            first[0] = True
+            np.not_equal(k_all[1:], k_all[:-1], out=first[1:])
+            l_end = np.ones(len(l_all))
+            l_end[:-1] = np.where(first[1:], 1.0, l_all[1:])
             aa, bb = a[k_all], b[k_all]
             d_ab = bb - aa
             q0 = np.where(l_all[:, None] == 0.0, aa, aa + l_all[:, None] * d_ab)
@@ -438,23 +439,26 @@ class RouteGeometry:
         else:
             q0, q1 = a, b
         mid = 0.5 * (q0 + q1)
-        ia = ra.piece_index(mid[:, 0])
-        ib = rb.piece_index(mid[:, 1])
-        # inside the rectangle (ia, ib) every term of d is affine in σ (see _cell_terms); both ends are clamped
-        # to the rectangle, as the positions are to the pieces
-        ga, gb, h, same = self._cell_terms
-        lo_a, hi_a, lo_b, hi_b = ra.breaks[ia], ra.breaks[ia + 1], rb.breaks[ib], rb.breaks[ib + 1]
-        x0, x1 = np.clip(q0[:, 0], lo_a, hi_a)[:, None], np.clip(q1[:, 0], lo_a, hi_a)[:, None]
-        y0, y1 = np.clip(q0[:, 1], lo_b, hi_b)[:, None], np.clip(q1[:, 1], lo_b, hi_b)[:, None]
-        ga, gb, h = ga[ia, ib], gb[ia, ib], h[ia, ib]  # (S, 5)
-        v0 = ga * x0 + gb * y0 + h
-        v1 = ga * x1 + gb * y1 + h
+        # the rectangle (ia, ib) of every sub-chord (the later piece at a break, as piece_index)
+        ia = np.minimum(np.maximum(np.searchsorted(ra.breaks, mid[:, 0], side="right") - 1, 0), len(ra.edges) - 1)
+        ib = np.minimum(np.maximum(np.searchsorted(rb.breaks, mid[:, 1], side="right") - 1, 0), len(rb.edges) - 1)
+        # inside it every term of d is affine in σ (see _cell_terms); both ends are clamped to the rectangle, as
+        # the positions are to the pieces
+        lo, hi = np.empty((len(ia), 2)), np.empty((len(ia), 2))
+        lo[:, 0], hi[:, 0] = ra.breaks[ia], ra.breaks[ia + 1]
+        lo[:, 1], hi[:, 1] = rb.breaks[ib], rb.breaks[ib + 1]
+        q0 = np.minimum(np.maximum(q0, lo), hi)
+        q1 = np.minimum(np.maximum(q1, lo), hi)
+        cell = self._cell_terms[ia * len(rb.edges) + ib]  # (S, 16): gA (5), gB (5), h (5), same edge
+        ga, gb, h = cell[:, 0:5], cell[:, 5:10], cell[:, 10:15]
+        v0 = ga * q0[:, :1] + gb * q0[:, 1:] + h
+        v1 = ga * q1[:, :1] + gb * q1[:, 1:] + h
         terms = np.min(np.minimum(v0[:, :4], v1[:, :4]), axis=1)
         g0, g1 = v0[:, 4], v1[:, 4]  # s − t on one edge: d is 0 where it changes sign, else |s − t| is a term
         gap = np.where(g0 * g1 <= 0.0, 0.0, np.minimum(np.abs(g0), np.abs(g1)))
-        sub = np.where(same[ia, ib], np.minimum(terms, gap), terms)
+        sub = np.where(cell[:, 15] > 0.0, np.minimum(terms, gap), terms)
         if len(kk):
-            return np.asarray(np.minimum.reduceat(sub, np.flatnonzero(np.append(True, k_all[1:] != k_all[:-1]))))
+            return np.asarray(np.minimum.reduceat(sub, np.flatnonzero(first)))
         return np.asarray(sub)
 
     @cached_property
@@ -464,12 +468,13 @@ class RouteGeometry:
         return np.concatenate([ba, bb]), np.concatenate([np.zeros(len(ba), np.intp), np.ones(len(bb), np.intp)])
 
     @cached_property
-    def _cell_terms(self) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:
+    def _cell_terms(self) -> FloatArray:
         """Every rectangle's terms of ``d`` as affine functions ``gA·σ_A + gB·σ_B + h`` of route coordinates.
 
-        ``gA, gB, h`` have shape (Ma, Mb, 5) (route pieces of A and B): the four terms of
-        :meth:`GraphGeometry.cell_terms` (``h = inf`` through unreachable vertices) and, fifth, the signed gap
-        ``s − t`` of the offsets (``|s − t|`` is a term where both robots are on one edge: ``same``, (Ma, Mb)).
+        Shape (Ma·Mb, 16), row ``ia·Mb + ib`` for route pieces ``(ia, ib)``: ``gA`` (5), ``gB`` (5), ``h`` (5) of
+        the four terms of :meth:`GraphGeometry.cell_terms` (``h = inf`` through unreachable vertices) and, fifth,
+        of the signed gap ``s − t`` of the offsets; the last column is 1 where both robots are on one edge (there
+        ``|s − t|`` is a term too).
         """
         ra, rb = self.routes
         oa = ra.entry - ra.dirs * ra.breaks[:-1]  # offset = o + dir·σ on each piece
@@ -477,14 +482,13 @@ class RouteGeometry:
         da, db = ra.dirs.astype(float)[:, None, None], rb.dirs.astype(float)[None, :, None]
         c0 = self.geometry.cell_terms_array(ra.edges[:, None], rb.edges[None, :])  # (Ma, Mb, 4)
         ca, cb = np.array([1.0, 1.0, -1.0, -1.0]), np.array([1.0, -1.0, 1.0, -1.0])
-        shape = (*c0.shape[:2], 5)
-        ga, gb, h = np.empty(shape), np.empty(shape), np.empty(shape)
-        ga[..., :4], gb[..., :4] = ca * da, cb * db
-        h[..., :4] = c0 + ca * oa[:, None, None] + cb * ob[None, :, None]
-        ga[..., 4], gb[..., 4] = da[..., 0], -db[..., 0]
-        h[..., 4] = oa[:, None] - ob[None, :]
-        same = ra.edges[:, None] == rb.edges[None, :]
-        return ga, gb, h, same
+        out = np.empty((*c0.shape[:2], 16))
+        out[..., 0:4], out[..., 5:9] = ca * da, cb * db
+        out[..., 10:14] = c0 + ca * oa[:, None, None] + cb * ob[None, :, None]
+        out[..., 4], out[..., 9] = da[..., 0], -db[..., 0]
+        out[..., 14] = oa[:, None] - ob[None, :]
+        out[..., 15] = ra.edges[:, None] == rb.edges[None, :]
+        return out.reshape(-1, 16)
 
     def interval(self, robot: int, sigma: ArrayLike) -> IntArray:
         """Index of the route piece of ``robot`` that holds ``σ`` (the later one at a break)."""

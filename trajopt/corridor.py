@@ -25,6 +25,7 @@ from __future__ import annotations
 import threading
 import time
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -87,22 +88,29 @@ def hull_clearance(geom: RouteGeometry, centers: FloatArray, width: int = 4) -> 
     small hull, so the minimum over the hull is on its boundary, which those chords cover. Continuous in the points.
     """
     n1 = len(centers)
-    nw = n1 - width + 1
-    if nw < 1:
+    if n1 - width + 1 < 1:
         return np.zeros(0)
-    # every chord (i, i + g), 1 <= g < width, once (a chord is shared by up to width - g windows)
-    gaps = range(1, width)
-    chords = geom.chord_min_distances(
-        np.concatenate([centers[: n1 - g] for g in gaps]), np.concatenate([centers[g:] for g in gaps])
-    )
-    out = np.full(nw, np.inf)
-    first = 0
-    for g in gaps:
-        e = chords[first : first + n1 - g]
-        first += n1 - g
-        for i in range(width - g):  # the chord (w + i, w + i + g) of window w
-            np.minimum(out, e[i : i + nw], out=out)
-    return out
+    first, second, windows = _hull_chords(n1, width)
+    chords = geom.chord_min_distances(centers[first], centers[second])
+    return np.asarray(np.min(chords[windows], axis=0))
+
+
+@lru_cache(maxsize=16)
+def _hull_chords(n1: int, width: int) -> tuple[IntArray, IntArray, IntArray]:
+    """Every chord ``(i, i + g)`` (``1 <= g < width``) of ``n1`` points once (a chord is shared by up to
+    ``width − g`` windows): its first and second point, and for every window its chords (shape (pairs, windows))."""
+    nw = n1 - width + 1
+    first: list[int] = []
+    second: list[int] = []
+    index: dict[tuple[int, int], int] = {}
+    for g in range(1, width):
+        for i in range(n1 - g):
+            index[i, i + g] = len(first)
+            first.append(i)
+            second.append(i + g)
+    pairs = [(i, j) for i in range(width) for j in range(i + 1, width)]
+    windows = np.array([[index[w + i, w + j] for w in range(nw)] for i, j in pairs], dtype=np.intp)
+    return np.array(first, dtype=np.intp), np.array(second, dtype=np.intp), windows
 
 
 def corridor_radii(geom: RouteGeometry, centers: FloatArray, separation: float) -> FloatArray:
@@ -113,7 +121,7 @@ def corridor_radii(geom: RouteGeometry, centers: FloatArray, separation: float) 
     t = np.maximum(hull_clearance(geom, centers, SPAN_POINTS) - separation, 0.0)
     r = np.full(len(centers), np.inf)
     for off in range(SPAN_POINTS):
-        r[off : off + len(t)] = np.minimum(r[off : off + len(t)], t)
+        np.minimum(r[off : off + len(t)], t, out=r[off : off + len(t)])
     return r
 
 
@@ -196,6 +204,10 @@ class CorridorProblem:
         self._hinv = 0.5 * (self._hinv + self._hinv.T)
         self._gmat = self._c @ self._hinv
         self._k = self._gmat @ self._c.T
+        # g = E·[σ_A(start), σ_A(goal), σ_B(start), σ_B(goal)]; the unconstrained solution is −H⁻¹·g
+        self._e = np.zeros((nx, 4))
+        self._e[:m, 0:2], self._e[m:, 2:4] = self._g_ends[0], self._g_ends[1]
+        self._x_free = -(self._hinv @ self._e)
         self.build_time = time.perf_counter() - t0
 
     def solve(
@@ -234,19 +246,19 @@ class CorridorProblem:
         rr = radius[1:-1]
         sp, sm = c[:, 0] + c[:, 1], c[:, 0] - c[:, 1]
         t0 = time.perf_counter()
-        g = np.concatenate([self._g_ends[0] @ ends[:, 0], self._g_ends[1] @ ends[:, 1]])
+        e4 = ends.T.ravel()
         lo, hi = np.empty(2 * nx), np.empty(2 * nx)  # rows of C = [A; I]
         lo[0:nx:2], hi[0:nx:2] = sp - rr, sp + rr
         lo[1:nx:2], hi[1:nx:2] = sm - rr, sm + rr
         lo[nx : nx + m], lo[nx + m :] = lower[0], lower[1]
         hi[nx : nx + m], hi[nx + m :] = upper[0], upper[1]
-        xs = self._known_active_set(g, lo, hi, active) if active is not None else None
+        xs = self._known_active_set(e4, lo, hi, active) if active is not None else None
         if xs is not None:
             status, success, act = "KKT_VERIFIED", True, active
         else:
             with self._lock:
                 buf_in = self._in
-                buf_in[:nx] = g
+                buf_in[:nx] = self._e @ e4
                 buf_in[nx : 2 * nx], buf_in[2 * nx : 3 * nx] = lo[:nx], hi[:nx]
                 buf_in[3 * nx : 4 * nx], buf_in[4 * nx :] = lo[nx:], hi[nx:]
                 self._eval()
@@ -272,11 +284,14 @@ class CorridorProblem:
         return nodes, stats
 
     def _known_active_set(
-        self, g: FloatArray, lo: FloatArray, hi: FloatArray, active: tuple[IntArray, FloatArray]
+        self, ends: FloatArray, lo: FloatArray, hi: FloatArray, active: tuple[IntArray, FloatArray]
     ) -> FloatArray | None:
-        """The solution if ``active`` is the optimal active set (all KKT conditions hold), else None."""
+        """The solution if ``active`` is the optimal active set (all KKT conditions hold), else None.
+
+        ``ends``: ``[σ_A(start), σ_A(goal), σ_B(start), σ_B(goal)]``; ``lo, hi``: bounds of the rows ``[A; I]``.
+        """
         w, side = active
-        x = -(self._hinv @ g)
+        x = self._x_free @ ends
         if len(w):
             b = np.where(side > 0, hi[w], lo[w])
             try:
