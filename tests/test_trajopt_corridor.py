@@ -103,3 +103,31 @@ def test_hull_clearance_is_the_minimum_over_all_chords_of_each_window(track) -> 
             for w in range(len(centers) - 3)
         ]
         np.testing.assert_allclose(got, want, rtol=0.0, atol=1e-12)
+
+
+def test_window_extremes_match_brute_force() -> None:
+    from trajopt.timing import _window_extreme, _window_min
+
+    rng = np.random.default_rng(5)
+    for _ in range(30):
+        P = int(rng.integers(1, 40))
+        breaks = np.concatenate([[0.0], np.cumsum(rng.uniform(0.01, 0.2, P))])
+        values = rng.uniform(0.1, 2.0, (2, P))
+        mid = rng.uniform(-0.1, breaks[-1] + 0.1, 50)
+        reach = float(rng.uniform(0.0, 0.5))
+        got = _window_min(values, breaks, mid - reach, mid + reach)
+        inside = (breaks[1:][None, :] >= (mid - reach)[:, None]) & (breaks[:-1][None, :] <= (mid + reach)[:, None])
+        for k in range(2):
+            want = np.min(np.where(inside, values[k][None, :], np.inf), axis=1)
+            edge = np.all(~inside, axis=1)  # a window beyond the path: the nearest piece's value (clamped index)
+            np.testing.assert_array_equal(got[k][~edge], want[~edge])
+        np.testing.assert_array_equal(_window_min(values[0], breaks, mid - reach, mid + reach), got[0])
+        grid = np.sort(rng.uniform(0.0, 1.0, int(rng.integers(2, 300))))
+        f = rng.uniform(-1.0, 1.0, len(grid))
+        r = float(rng.uniform(0.0, 0.3))
+        for fn in (np.minimum, np.maximum):
+            ends = fn(np.interp(grid - r, grid, f), np.interp(grid + r, grid, f))
+            near = np.abs(grid[None, :] - grid[:, None]) <= r
+            red = np.min if fn is np.minimum else np.max
+            want = fn(red(np.where(near, f[None, :], np.inf if fn is np.minimum else -np.inf), axis=1), ends)
+            np.testing.assert_array_equal(_window_extreme(grid, f, r, fn), want)

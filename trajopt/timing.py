@@ -780,12 +780,35 @@ def _ruckig_phases(
 
 
 def _window_min(values: FloatArray, breaks: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
-    """Minimum of the piecewise-constant ``values`` (one per piece ``[breaks[k], breaks[k+1]]``) over ``[lo, hi]``."""
-    first = np.clip(np.searchsorted(breaks[1:], lo, side="left"), 0, len(values) - 1)
-    last = np.clip(np.searchsorted(breaks[:-1], hi, side="right") - 1, 0, len(values) - 1)
-    k = np.arange(len(values))
-    inside = (k[None, :] >= first[:, None]) & (k[None, :] <= last[:, None])
-    return np.min(np.where(inside, values[None, :], np.inf), axis=1)
+    """Minimum of the piecewise-constant ``values`` (one per piece ``[breaks[k], breaks[k+1]]``, shape (P,) or
+    (K, P) for K functions at once) over ``[lo, hi]`` (shape (G,)); shape (G,) or (K, G)."""
+    P = values.shape[-1]
+    first = np.minimum(np.maximum(np.searchsorted(breaks[1:], lo, side="left"), 0), P - 1)
+    last = np.minimum(np.maximum(np.searchsorted(breaks[:-1], hi, side="right") - 1, 0), P - 1)
+    out = _range_extreme(_sparse_table(values, np.minimum), first, np.maximum(last, first), np.minimum)
+    return np.where(last >= first, out, np.inf)
+
+
+def _sparse_table(f: FloatArray, fn: Any, longest: int | None = None) -> FloatArray:
+    """Range extremes of ``f`` (shape (..., n)) over blocks of 2^k: ``t[k, ..., i] = fn(f[..., i : i + 2^k])``
+    for ``i <= n − 2^k`` (the rest repeats the level below). Shape (L, ..., n), ``2^(L−1) <= min(n, longest)``
+    (``longest``: the longest range that will be asked)."""
+    n = f.shape[-1]
+    levels = max(int(min(n, n if longest is None else max(int(longest), 1))).bit_length(), 1)
+    t = np.empty((levels, *f.shape))
+    t[0] = f
+    for k in range(1, levels):
+        half, valid = 1 << (k - 1), n - (1 << k) + 1
+        fn(t[k - 1, ..., :valid], t[k - 1, ..., half : half + valid], out=t[k, ..., :valid])
+        t[k, ..., valid:] = t[k - 1, ..., valid:]
+    return t
+
+
+def _range_extreme(table: FloatArray, lo: NDArray[np.intp], hi: NDArray[np.intp], fn: Any) -> FloatArray:
+    """``fn`` of the values ``lo[i] .. hi[i]`` (inclusive, ``lo <= hi``) from :func:`_sparse_table`'s table."""
+    level = np.frexp(hi - lo + 1)[1] - 1  # floor(log2(length)), exact
+    out = fn(table[level, ..., lo], table[level, ..., hi - (1 << level) + 1])  # (G, ...): the indexed axis first
+    return np.asarray(np.moveaxis(out, 0, -1))
 
 
 def _topp_passes(cap: FloatArray, two_a_ds: FloatArray) -> FloatArray:
@@ -814,26 +837,11 @@ def _topp_passes(cap: FloatArray, two_a_ds: FloatArray) -> FloatArray:
 
 def _window_extreme(grid: FloatArray, f: FloatArray, r: float, fn: Any) -> FloatArray:
     """``fn`` (np.minimum or np.maximum) of the piecewise-linear ``f`` over ``[x − r, x + r]`` at every grid point."""
-    n = len(grid)
     lo = np.searchsorted(grid, grid - r, side="left")
     hi = np.searchsorted(grid, grid + r, side="right") - 1
-    # sparse table of range extremes over the grid values
-    table = [f]
-    k = 1
-    while 2 * k <= n:
-        prev = table[-1]
-        table.append(fn(prev[: len(prev) - k], prev[k:]))
-        k *= 2
-    length = np.maximum(hi - lo + 1, 1)
-    lev = np.floor(np.log2(length)).astype(int)
-    out = np.empty(n)
-    for level in np.unique(lev):
-        sel = lev == level
-        t = table[level]
-        span = 1 << int(level)
-        out[sel] = fn(t[lo[sel]], t[np.maximum(hi[sel] - span + 1, lo[sel])])
-    ends = np.stack([np.interp(grid - r, grid, f), np.interp(grid + r, grid, f)])
-    return np.asarray(fn(out, fn(ends[0], ends[1])))
+    hi = np.maximum(hi, lo)
+    out = _range_extreme(_sparse_table(f, fn, int(np.max(hi - lo)) + 1), lo, hi, fn)
+    return np.asarray(fn(out, fn(np.interp(grid - r, grid, f), np.interp(grid + r, grid, f))))
 
 
 def _opening(grid: FloatArray, f: FloatArray, r: float) -> FloatArray:
@@ -918,8 +926,7 @@ def _eroded_flat_top_profile(
     grid = np.concatenate([(pts[:-1, None] + frac[None, :] * np.diff(pts)[:, None]).ravel(), pts[-1:]])
     ds = np.diff(grid)
     mid = 0.5 * (grid[:-1] + grid[1:])
-    v_int = _window_min(pl.v, br, mid - reach, mid + reach)
-    a_int = _window_min(a_lim, br, mid - reach, mid + reach)
+    v_int, a_int = _window_min(np.stack([pl.v, a_lim]), br, mid - reach, mid + reach)
     cap = np.empty(len(grid))
     cap[0], cap[-1] = 0.0, 0.0
     cap[1:-1] = np.minimum(v_int[:-1], v_int[1:]) ** 2
