@@ -33,10 +33,46 @@ from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import InvalidInputError
 
-__all__ = ["DirectedRoute", "GraphGeometry", "RouteGeometry", "vertex_distance_matrix"]
+__all__ = ["DirectedRoute", "GraphGeometry", "RouteGeometry", "densify_polyline", "vertex_distance_matrix"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
+
+
+def densify_polyline(pts: ArrayLike, step: float) -> FloatArray:
+    """Points along a polyline with at most ``step`` between consecutive ones (max-norm), vectorized.
+
+    Every leg ``p_k → p_{k+1}`` is cut into ``n_k = max(1, ⌈|p_{k+1} − p_k|_∞ / step⌉)`` equal parts; the result
+    holds each leg's start and its ``n_k − 1`` inner points, then the last point.
+
+    Parameters
+    ----------
+    pts : array_like, shape (K, D)
+        The polyline's vertices.
+    step : float
+        Largest max-norm distance between consecutive output points (same unit as ``pts``, > 0).
+
+    Returns
+    -------
+    ndarray, shape (M, D)
+        ``M = Σ n_k + 1`` (a copy of ``pts`` when no leg is longer than ``step``).
+
+    Examples
+    --------
+    >>> densify_polyline([[0.0, 0.0], [1.0, 0.5]], 0.5).tolist()
+    [[0.0, 0.0], [0.5, 0.25], [1.0, 0.5]]
+    """
+    p = np.atleast_2d(np.asarray(pts, dtype=float))
+    if len(p) < 2:
+        return p.copy()
+    leg = np.diff(p, axis=0)
+    n = np.maximum(1, np.ceil(np.max(np.abs(leg), axis=1) / step).astype(np.int64))
+    if int(n.max()) == 1:
+        return p.copy()
+    k = np.repeat(np.arange(len(leg)), n)
+    first = np.repeat(np.cumsum(n) - n, n)
+    frac = (np.arange(len(k)) - first) / n[k]
+    return np.vstack([p[k] + frac[:, None] * leg[k], p[-1:]])
 
 
 def vertex_distance_matrix(n_vertices: int, tails: ArrayLike, heads: ArrayLike, lengths: ArrayLike) -> FloatArray:

@@ -445,7 +445,17 @@ def directed_route(route: Route) -> DirectedRoute:
     Returns
     -------
     DirectedRoute
+        Built once per route (cached on it: a route is immutable).
     """
+    cached = route.__dict__.get("_directed_route")
+    if cached is not None:
+        return cached
+    out = _directed_route(route)
+    object.__setattr__(route, "_directed_route", out)
+    return out
+
+
+def _directed_route(route: Route) -> DirectedRoute:
     tr = route.track
     breaks, alpha, beta, is_line = route._affine()
     lo = np.concatenate([[route.sigma_min], breaks])

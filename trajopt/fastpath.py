@@ -1,10 +1,13 @@
 """The fast path: a query whose straight motion in route coordinates keeps the separation, timed by one profile.
 
 If the segment from the start to the goal in route coordinates (both robots along their routes, proportionally)
-keeps the separation (exact check, :meth:`mpa.geometry.RouteGeometry.polyline_min_distance`) and has the
-plan's homotopy class (paper plans; on a graph plan any motion along the plan's routes qualifies), it is timed
+keeps the separation (exact check, :meth:`mpa.geometry.RouteGeometry.polyline_min_distance`), it is timed
 directly by one time-synchronised jerk-limited ruckig profile for both robots (one 1-DoF profile of the line's
-length under the binding robot's limits: both robots in phase, on the line), with no QP and no toppra.
+length under the binding robot's limits: both robots in phase, on the line), with no QP and no toppra. The line
+must also have the plan's homotopy class (paper plans; on a graph plan any motion along the plan's routes
+qualifies): the generator leaves that to the gate, which checks the class of the rows (they lie on the line) and
+sends a line of another class to the hard path (:meth:`trajopt.TrajectoryGenerator.generate`);
+:func:`straight_line_clearance` checks both at once.
 The line and the phase-synchronised profile move continuously with the query. On the other side of the switch,
 the hard path (:mod:`trajopt.corridor`) converges to the same line; its timing costs ``a/j`` more (its filter).
 """

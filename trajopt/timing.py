@@ -207,6 +207,27 @@ class BlendedPath:
             out += fac * c[:, i, :] * (tau ** (i - order))[:, None]
         return out.reshape((*s_arr.shape, 2))
 
+    def derivatives(self, s: ArrayLike, piece: ArrayLike | None = None) -> tuple[FloatArray, ...]:
+        """``q``, ``q'``, ``q''`` and ``q'''`` at ``s`` (shape (N,)) in one pass, each shape (N, 2).
+
+        The same values as :meth:`__call__` for orders 0 to 3 (``piece`` likewise), by Horner's scheme.
+        """
+        flat = np.clip(np.asarray(s, dtype=float).ravel(), self.breaks[0], self.breaks[-1])
+        if piece is None:
+            k = np.clip(np.searchsorted(self.breaks, flat, side="right") - 1, 0, len(self.coef) - 1)
+        else:
+            k = np.asarray(piece, dtype=np.intp).ravel()
+        tau = (flat - self.breaks[k])[:, None]
+        c = self.coef[k]  # (n, 6, 2)
+        out = []
+        for order in range(4):
+            fac = _FALLING[order]
+            acc = c[:, 5, :] * fac[5]
+            for i in range(4, order - 1, -1):
+                acc = acc * tau + c[:, i, :] * fac[i]
+            out.append(acc)
+        return tuple(out)
+
     def eval(self, s: ArrayLike) -> FloatArray:
         """``q(s)``."""
         return self(s, 0)
@@ -218,6 +239,12 @@ class BlendedPath:
     def evaldd(self, s: ArrayLike) -> FloatArray:
         """``q''(s)``."""
         return self(s, 2)
+
+
+#: ``_FALLING[order][i] = i·(i−1)···(i−order+1)``: the factor of ``c_i τ^(i−order)`` in the ``order``-th derivative.
+_FALLING = tuple(
+    tuple(float(np.prod(np.arange(i - o + 1, i + 1))) if i >= o else 0.0 for i in range(6)) for o in range(4)
+)
 
 
 def _piece_bounds(coef: FloatArray, length: float) -> FloatArray:
@@ -649,7 +676,7 @@ class TimeScaling:
         pc = None
         if len(self.t0) and len(self.piece) == len(self.t0):
             pc = np.where(tt >= self.duration, len(self.path.coef) - 1, self.piece[self._phase(tt)])
-        q0, q1, q2, q3 = (self.path(s, k, pc) for k in range(4))
+        q0, q1, q2, q3 = (x.reshape((*tt.shape, 2)) for x in self.path.derivatives(s, pc))
         sd_, sdd_, sddd_ = sd[..., None], sdd[..., None], sddd[..., None]
         vel = q1 * sd_
         acc = q2 * sd_**2 + q1 * sdd_

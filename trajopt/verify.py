@@ -29,19 +29,21 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import MPAError, PlanningError
-from mpa.geometry import DirectedRoute, GraphGeometry
+from mpa.geometry import DirectedRoute, GraphGeometry, densify_polyline
 from mpa.homotopy import path_word
 from mpa.routes import Route, directed_route
 from mpa.tracks import Track
 from trajopt.timing import Limits
 
 __all__ = [
+    "CLASS_FAILURE_PREFIXES",
     "LIMIT_RTOL",
     "POSITION_TOL",
     "SEPARATION_TOL",
     "VerificationError",
     "VerificationReport",
     "between_rows_separation",
+    "class_failures_only",
     "verify_graph_setpoints",
     "verify_setpoints",
 ]
@@ -243,16 +245,6 @@ def _deviation_from_chords(a: FloatArray, dt: float, limits: Limits) -> FloatArr
     return np.sum(a_int, axis=1) * dt * dt / 8.0
 
 
-def _refine(s: FloatArray, step: float) -> FloatArray:
-    ds = np.max(np.abs(np.diff(s, axis=0)), axis=1)
-    if len(ds) == 0 or float(ds.max()) <= step:
-        return s
-    n = np.maximum(1, np.ceil(ds / step).astype(int))
-    parts = [s[k] + np.linspace(0.0, 1.0, n[k], endpoint=False)[:, None] * (s[k + 1] - s[k]) for k in range(len(ds))]
-    parts.append(s[-1:])
-    return np.vstack(parts)
-
-
 def verify_setpoints(
     track: Track,
     routes: Sequence[Route],
@@ -332,6 +324,25 @@ def verify_setpoints(
     )
 
 
+#: How :func:`verify_setpoints` words a failed homotopy-class check (the start of the failure's message).
+CLASS_FAILURE_PREFIXES = ("homotopy class ", "cannot compute the homotopy class")
+
+
+def class_failures_only(report: VerificationReport) -> bool:
+    """Whether ``report`` failed on the homotopy class alone (every other check passed).
+
+    Parameters
+    ----------
+    report : VerificationReport
+
+    Returns
+    -------
+    bool
+        False when ``report.ok`` or when any other check failed.
+    """
+    return bool(report.failures) and all(f.startswith(CLASS_FAILURE_PREFIXES) for f in report.failures)
+
+
 def _graph_positions(track: Track, P: FloatArray) -> tuple[NDArray[np.int64], FloatArray]:
     """Track coordinates ``P`` (shape (N, 2)) as graph positions: edges and offsets, each shape (N, 2).
 
@@ -355,7 +366,7 @@ def _word_check(
 ) -> tuple[tuple[str, ...], list[str]]:
     """The motion's reduced skeleton word (rows ``S`` refined along the chords), and the failure if not ``word``."""
     try:
-        dense = _refine(S, 0.004 * track.total_length)
+        dense = densify_polyline(S, 0.004 * track.total_length)
         w = path_word(track, np.stack([routes[0].position(dense[:, 0]), routes[1].position(dense[:, 1])], axis=1))
     except MPAError as exc:
         return (), [f"cannot compute the homotopy class: {exc}"]
