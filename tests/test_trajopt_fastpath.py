@@ -58,9 +58,9 @@ def test_a_free_line_of_another_class_takes_the_hard_path(monkeypatch: pytest.Mo
     real = verify._word_check
     calls: list[int] = []
 
-    def once_wrong(track, routes, S, word):  # type: ignore[no-untyped-def]
+    def once_wrong(track, routes, S, word, *rest):  # type: ignore[no-untyped-def]
         calls.append(len(S))
-        w, fails = real(track, routes, S, word)
+        w, fails = real(track, routes, S, word, *rest)
         return (w, [*fails, "homotopy class (test) differs from the plan's"]) if len(calls) == 1 else (w, fails)
 
     monkeypatch.setattr(verify, "_word_check", once_wrong)

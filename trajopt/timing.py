@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from functools import cached_property
 from math import comb
 from typing import Any, NamedTuple
 
@@ -218,15 +219,25 @@ class BlendedPath:
         else:
             k = np.asarray(piece, dtype=np.intp).ravel()
         tau = (flat - self.breaks[k])[:, None]
-        c = self.coef[k]  # (n, 6, 2)
+        deg = self.degree
+        c = self.coef[k, : deg + 1]  # (n, deg + 1, 2)
         out = []
         for order in range(4):
+            if order > deg:
+                out.append(np.zeros((len(flat), 2)))
+                continue
             fac = _FALLING[order]
-            acc = c[:, 5, :] * fac[5]
-            for i in range(4, order - 1, -1):
+            acc = c[:, deg, :] * fac[deg]
+            for i in range(deg - 1, order - 1, -1):
                 acc = acc * tau + c[:, i, :] * fac[i]
             out.append(acc)
         return tuple(out)
+
+    @cached_property
+    def degree(self) -> int:
+        """The highest power with a non-zero coefficient on any piece (0 to 5; 1 for a polyline)."""
+        nonzero = np.flatnonzero(np.any(self.coef != 0.0, axis=(0, 2)))
+        return int(nonzero[-1]) if len(nonzero) else 0
 
     def eval(self, s: ArrayLike) -> FloatArray:
         """``q(s)``."""
