@@ -85,3 +85,15 @@ def test_other_gate_failures_on_the_fast_path_fall_back(monkeypatch: pytest.Monk
     monkeypatch.setattr(verify, "_limit_check", once_over)
     traj = gen.generate((0.1, 0.6), (0.3, 0.8))
     assert traj.fallback and "|v| of robot A" in traj.fallback_reason and traj.verification["ok"]
+
+
+def test_line_path_is_blend_polyline_of_the_two_ends() -> None:
+    from trajopt.fastpath import _line_path
+    from trajopt.timing import blend_polyline
+
+    rng = np.random.default_rng(8)
+    for k in range(3000):
+        ends = rng.normal(size=(2, 2)) * 10 ** rng.uniform(-6, 2)
+        got, want = _line_path(ends), blend_polyline(ends)
+        for name in ("breaks", "coef", "is_blend", "stop", "corners", "radii", "bounds"):
+            assert np.array_equal(getattr(got, name), getattr(want, name)), (k, name, ends)

@@ -14,10 +14,12 @@ the hard path (:mod:`trajopt.corridor`) converges to the same line; its timing c
 
 from __future__ import annotations
 
+import math
 import time
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from mpa.errors import MPAError
 from mpa.geometry import RouteGeometry
@@ -25,6 +27,8 @@ from trajopt.planview import plan_view
 from trajopt.timing import BlendedPath, Limits, TimeScaling, blend_polyline, rest_to_rest_profile
 
 __all__ = ["straight_line_clearance", "straight_scaling"]
+
+FloatArray = NDArray[np.float64]
 
 
 def straight_line_clearance(plan: Any, geom: RouteGeometry | None = None) -> float:
@@ -74,7 +78,7 @@ def straight_scaling(plan: Any, limits: Limits) -> TimeScaling:
     """
     t_start = time.perf_counter()
     ends = plan_view(plan).waypoints[[0, -1]]
-    path: BlendedPath = blend_polyline(ends)
+    path = _line_path(ends)
     length = path.length
     if length <= 0:
         return TimeScaling(path, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, np.zeros(2))
@@ -96,4 +100,25 @@ def straight_scaling(plan: Any, limits: Limits) -> TimeScaling:
         np.zeros(2),
         np.zeros(int(np.sum(keep)), dtype=np.intp),
         stats,
+    )
+
+
+def _line_path(ends: FloatArray) -> BlendedPath:
+    """``blend_polyline(ends)`` of a two-point polyline (one straight piece), built directly."""
+    seg = ends[1] - ends[0]
+    x, y = float(seg[0]), float(seg[1])
+    length = math.sqrt(x * x + y * y)  # as np.linalg.norm (bit for bit)
+    if length <= 1e-12:  # no straight piece: blend_polyline's single point (or its error)
+        return blend_polyline(ends)
+    u = seg / length
+    coef = np.zeros((1, 6, 2))
+    coef[0, 0], coef[0, 1] = ends[0], u
+    return BlendedPath(
+        breaks=np.array([0.0, length]),
+        coef=coef,
+        is_blend=np.zeros(1, dtype=bool),
+        stop=np.ones(2, dtype=bool),
+        corners=ends,
+        radii=np.zeros(2),
+        bounds=np.stack([np.abs(u), np.zeros(2), np.zeros(2)])[None],
     )
