@@ -20,7 +20,6 @@ Prints one line per query. Headless, no files written.
 from __future__ import annotations
 
 import argparse
-import itertools
 import sys
 import time
 from pathlib import Path
@@ -30,6 +29,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from mpa import Lollipop
+from mpa.geometry import densify_polyline
 from mpa.homotopy import path_word
 from trajopt import TrajectoryGenerator
 
@@ -55,15 +55,6 @@ def _by_travel(pts: np.ndarray, s: np.ndarray, n: int) -> np.ndarray:
     return pts[idx]
 
 
-def _densify(nodes: np.ndarray, step: float) -> np.ndarray:
-    """The polyline ``nodes`` (M, 2) with points at most ``step`` apart (max norm) on every leg."""
-    out = [nodes[:1]]
-    for p, q in itertools.pairwise(nodes):
-        k = max(1, int(np.ceil(np.max(np.abs(q - p)) / step)))
-        out.append(p + (q - p) * (np.arange(1, k + 1) / k)[:, None])
-    return np.vstack(out)
-
-
 def ompl_curve(track, result, n: int = 600) -> np.ndarray | None:  # type: ignore[no-untyped-def]
     """The OMPL path as ``n`` track positions equally spaced in route travel (None if unsolved)."""
     from bench.geometry import split_routes
@@ -72,7 +63,7 @@ def ompl_curve(track, result, n: int = 600) -> np.ndarray | None:  # type: ignor
         return None
     pts, ss, offset = [], [], np.zeros(2)
     for seg in split_routes(result.simplified):
-        dense = _densify(seg.nodes, 1e-3)
+        dense = densify_polyline(seg.nodes, 1e-3)
         pts.append(np.stack([seg.routes[0].position(dense[:, 0]), seg.routes[1].position(dense[:, 1])], axis=1))
         ss.append(np.cumsum(np.vstack([offset[None, :], np.abs(np.diff(dense, axis=0))]), axis=0))
         offset = ss[-1][-1]

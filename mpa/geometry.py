@@ -25,6 +25,8 @@ separation along a polyline is :meth:`GraphGeometry.route_min_distance`; smoothi
 
 from __future__ import annotations
 
+import itertools
+from bisect import bisect_right
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -34,10 +36,46 @@ from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import InvalidInputError
 
-__all__ = ["DirectedRoute", "GraphGeometry", "RouteGeometry", "vertex_distance_matrix"]
+__all__ = ["DirectedRoute", "GraphGeometry", "RouteGeometry", "densify_polyline", "vertex_distance_matrix"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
+
+
+def densify_polyline(pts: ArrayLike, step: float) -> FloatArray:
+    """Points along a polyline with at most ``step`` between consecutive ones (max-norm), vectorized.
+
+    Every leg ``p_k → p_{k+1}`` is cut into ``n_k = max(1, ⌈|p_{k+1} − p_k|_∞ / step⌉)`` equal parts; the result
+    holds each leg's start and its ``n_k − 1`` inner points, then the last point.
+
+    Parameters
+    ----------
+    pts : array_like, shape (K, D)
+        The polyline's vertices.
+    step : float
+        Largest max-norm distance between consecutive output points (same unit as ``pts``, > 0).
+
+    Returns
+    -------
+    ndarray, shape (M, D)
+        ``M = Σ n_k + 1`` (a copy of ``pts`` when no leg is longer than ``step``).
+
+    Examples
+    --------
+    >>> densify_polyline([[0.0, 0.0], [1.0, 0.5]], 0.5).tolist()
+    [[0.0, 0.0], [0.5, 0.25], [1.0, 0.5]]
+    """
+    p = np.atleast_2d(np.asarray(pts, dtype=float))
+    if len(p) < 2:
+        return p.copy()
+    leg = np.diff(p, axis=0)
+    n = np.maximum(1, np.ceil(np.max(np.abs(leg), axis=1) / step).astype(np.int64))
+    if int(n.max()) == 1:
+        return p.copy()
+    k = np.repeat(np.arange(len(leg)), n)
+    first = np.repeat(np.cumsum(n) - n, n)
+    frac = (np.arange(len(k)) - first) / n[k]
+    return np.vstack([p[k] + frac[:, None] * leg[k], p[-1:]])
 
 
 def vertex_distance_matrix(n_vertices: int, tails: ArrayLike, heads: ArrayLike, lengths: ArrayLike) -> FloatArray:
@@ -134,6 +172,11 @@ class DirectedRoute:
         rr: FloatArray = np.clip(np.asarray(r, dtype=float), self.breaks[0], self.breaks[-1])
         i = self.piece_index(rr)
         return self.edges[i], self.entry[i] + self.dirs[i] * (rr - self.breaks[i])
+
+    @cached_property
+    def pieces_list(self) -> tuple[list[float], list[int], list[int], list[float]]:
+        """``breaks``, ``edges``, ``dirs``, ``entry`` as Python lists (for the scalar twins; built once)."""
+        return self.breaks.tolist(), self.edges.tolist(), self.dirs.tolist(), self.entry.tolist()
 
     def to_list(self, names: Sequence[str] | None = None) -> list[dict[str, object]]:
         """JSON-friendly pieces ``{"edge", "dir", "entry", "from_s", "to_s"}``."""
@@ -315,6 +358,8 @@ class GraphGeometry:
             ea, sa = route_a.positions(w[0, 0])
             eb, sb = route_b.positions(w[0, 1])
             return self.distance_scalar(int(ea), float(sa), int(eb), float(sb))
+        if len(w) == 2:
+            return self._segment_route_min(route_a, route_b, w[0].tolist(), w[1].tolist())
         lam_all = []
         for k in range(len(w) - 1):
             a, b = w[k], w[k + 1]
@@ -341,6 +386,34 @@ class GraphGeometry:
         p0 = np.stack([offs(route_a, ia, q0[:, 0]), offs(route_b, ib, q0[:, 1])], axis=1)
         p1 = np.stack([offs(route_a, ia, q1[:, 0]), offs(route_b, ib, q1[:, 1])], axis=1)
         return float(np.min(self.segment_min(route_a.edges[ia], route_b.edges[ib], p0, p1)))
+
+    def _segment_route_min(
+        self, route_a: DirectedRoute, route_b: DirectedRoute, a: list[float], b: list[float]
+    ) -> float:
+        """:meth:`route_min_distance` of one segment ``a -> b`` in plain Python (the same cuts and cells)."""
+        lams = [0.0, 1.0]
+        for j, route in ((0, route_a), (1, route_b)):
+            lo, hi = min(a[j], b[j]), max(a[j], b[j])
+            if hi > lo:
+                lams.extend((x - a[j]) / (b[j] - a[j]) for x in route.pieces_list[0] if lo < x < hi)
+        lams = sorted(set(lams))
+        (br_a, e_a, dir_a, en_a), (br_b, e_b, dir_b, en_b) = route_a.pieces_list, route_b.pieces_list
+        da, db = b[0] - a[0], b[1] - a[1]
+        best = np.inf
+        for l0, l1 in itertools.pairwise(lams):
+            qa0, qb0, qa1, qb1 = a[0] + l0 * da, a[1] + l0 * db, a[0] + l1 * da, a[1] + l1 * db
+            ia = min(max(bisect_right(br_a, 0.5 * (qa0 + qa1)) - 1, 0), len(e_a) - 1)
+            ib = min(max(bisect_right(br_b, 0.5 * (qb0 + qb1)) - 1, 0), len(e_b) - 1)
+            d = self.segment_min_scalar(
+                e_a[ia],
+                e_b[ib],
+                en_a[ia] + dir_a[ia] * (qa0 - br_a[ia]),
+                en_b[ib] + dir_b[ib] * (qb0 - br_b[ib]),
+                en_a[ia] + dir_a[ia] * (qa1 - br_a[ia]),
+                en_b[ib] + dir_b[ib] * (qb1 - br_b[ib]),
+            )
+            best = min(best, d)
+        return float(best)
 
 
 @dataclass(frozen=True, eq=False)

@@ -146,6 +146,10 @@ def _jumps(sk: Skeleton, edge: np.ndarray, t: np.ndarray) -> np.ndarray:
     return np.array([i for i in idx if not (ends[edge[i]] & ends[edge[i + 1]])], dtype=np.int64)
 
 
+#: Where a gap between two samples is refined (16 inner points).
+_REFINE_FRACTIONS = np.linspace(0.0, 1.0, 18)[1:-1]
+
+
 def path_word(track: Track, states: ArrayLike, refine: int = 6) -> tuple[str, ...]:
     """Reduced skeleton word of a densely sampled path of states (track coordinates, shape (N, 2)).
 
@@ -159,7 +163,7 @@ def path_word(track: Track, states: ArrayLike, refine: int = 6) -> tuple[str, ..
         return ()
     st = np.atleast_2d(np.asarray(states, dtype=float))
     edge, t = skeleton_points(sk, st)
-    f = np.linspace(0.0, 1.0, 18)[1:-1]
+    f = _REFINE_FRACTIONS
     for _ in range(refine):
         gaps = _jumps(sk, edge, t)
         if len(gaps) == 0:

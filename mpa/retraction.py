@@ -79,12 +79,12 @@ def lollipop_trace(model: Lollipop, states: ArrayLike) -> FloatArray:
     a, b = st[:, 0], st[:, 1]
     a_st, b_st = a <= ell, b <= ell
     out = np.zeros_like(st)
-    d = model.distance(a, b)
 
-    # both on the stick
+    # both on the stick (the distance d is computed per case, as Lollipop.distance does)
     m = a_st & b_st
     if np.any(m):
-        pa, pb, dd = a[m], b[m], d[m]
+        pa, pb = a[m], b[m]
+        dd = np.abs(pa - pb)
         front_is_b = pb > pa
         rear = np.where(front_is_b, pa, pb)
         front = np.where(front_is_b, pb, pa)
@@ -101,11 +101,12 @@ def lollipop_trace(model: Lollipop, states: ArrayLike) -> FloatArray:
     for stick_idx, loop_idx, mask in ((0, 1, a_st & ~b_st), (1, 0, ~a_st & b_st)):
         if not np.any(mask):
             continue
-        ps, pl, dd = st[mask, stick_idx], st[mask, loop_idx], d[mask]
+        ps, pl = st[mask, stick_idx], st[mask, loop_idx]
         x = ell - ps
         th = pl - ell
         side = np.where(th <= h, 1.0, -1.0)
         w = np.minimum(th, c - th)
+        dd = x + w
         far = dd >= h
         lam = np.where(far, 1.0, h / np.maximum(dd, 1e-300))
         x_new = np.where(far, h - w, lam * x)

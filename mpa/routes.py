@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import functools
 import itertools
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -445,7 +446,17 @@ def directed_route(route: Route) -> DirectedRoute:
     Returns
     -------
     DirectedRoute
+        Built once per route (cached on it: a route is immutable).
     """
+    cached = route.__dict__.get("_directed_route")
+    if cached is not None:
+        return cached
+    out = _directed_route(route)
+    object.__setattr__(route, "_directed_route", out)
+    return out
+
+
+def _directed_route(route: Route) -> DirectedRoute:
     tr = route.track
     breaks, alpha, beta, is_line = route._affine()
     lo = np.concatenate([[route.sigma_min], breaks])
@@ -464,20 +475,21 @@ def directed_route(route: Route) -> DirectedRoute:
         entry.append(a + b * s0 - shift)
         lengths.append(s1 - s0)
 
-    for s0, s1, a, b, line in zip(lo, hi, alpha, beta, is_line):
-        s0, s1 = max(float(s0), route.sigma_min), min(float(s1), route.sigma_max)
+    s_min, s_max = route.sigma_min, route.sigma_max
+    for s0, s1, a, b, line in zip(lo.tolist(), hi.tolist(), alpha.tolist(), beta.tolist(), is_line.tolist()):
+        s0, s1 = max(s0, s_min), min(s1, s_max)
         if s1 < s0:
             continue
         if not line or isinstance(tr, Interval):
-            piece(stick_edge, s0, s1, float(a), float(b), 0.0)
+            piece(stick_edge, s0, s1, a, b, 0.0)
             continue
         # the unrolled loop coordinate U = a + b·σ: one piece per turn, cut where U is a multiple of c
         u0, u1 = a + b * s0, a + b * s1
-        cuts = np.arange(np.floor(min(u0, u1) / c) + 1, np.ceil(max(u0, u1) / c)) * c
-        ss = np.unique(np.concatenate([[s0, s1], np.clip((cuts - a) / b, s0, s1)]))
+        cuts = [k * c for k in range(math.floor(min(u0, u1) / c) + 1, math.ceil(max(u0, u1) / c))]
+        ss = sorted({s0, s1, *(min(max((x - a) / b, s0), s1) for x in cuts)})
         for p0, p1 in itertools.pairwise(ss):
-            m = np.floor((a + b * 0.5 * (p0 + p1)) / c)
-            piece(loop_edge, float(p0), float(p1), float(a), float(b), float(m * c))
+            m = math.floor((a + b * 0.5 * (p0 + p1)) / c)
+            piece(loop_edge, p0, p1, a, b, m * c)
         if len(ss) == 1:  # a piece of length 0
-            piece(loop_edge, s0, s1, float(a), float(b), float(np.floor((a + b * s0) / c) * c))
+            piece(loop_edge, s0, s1, a, b, math.floor((a + b * s0) / c) * c)
     return DirectedRoute.from_pieces(edges, dirs, entry, lengths, origin=route.sigma_min)

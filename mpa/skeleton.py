@@ -275,19 +275,19 @@ class LollipopSkeleton(Skeleton):
         h, ell = self.half, self.model.stick
         c = 2 * h
         a_stick, b_stick = a <= ell + VERTEX_TOL, b <= ell + VERTEX_TOL
-        edge = np.empty(len(a), dtype=np.int64)
-        t = np.empty(len(a))
         both = a_stick & b_stick
-        i1 = both & (b > a)
-        i2 = both & ~(b > a)
-        edge[i1], t[i1] = 0, np.clip(a[i1], 0.0, ell - h)
-        edge[i2], t[i2] = 7, np.clip(b[i2], 0.0, ell - h)
-        for mask, j, coord in ((a_stick & ~b_stick, 1, b), (~a_stick & b_stick, 3, a), (~a_stick & ~b_stick, 2, a)):
-            phi = np.mod(coord[mask] - ell, c)
-            phi = np.where(phi >= c - VERTEX_TOL, 0.0, phi)
-            is_b = phi >= h
-            edge[mask] = np.where(is_b, 2 * j, 2 * j - 1)
-            t[mask] = np.where(is_b, phi - h, phi)
+        b_ahead = b > a
+        # both on the stick: I1 (B ahead) or I2, at the rear robot's depth
+        edge_i = np.where(b_ahead, 0, 7)
+        t_i = np.clip(np.where(b_ahead, a, b), 0.0, ell - h)
+        # else circle S_j (j = 1: A on the stick, 3: B on the stick, 2: both on the loop) at the loop robot's φ
+        a_only = a_stick & ~b_stick
+        j = np.where(a_only, 1, np.where(b_stick, 3, 2))
+        phi = np.mod(np.where(a_only, b, a) - ell, c)
+        phi = np.where(phi >= c - VERTEX_TOL, 0.0, phi)
+        is_b = phi >= h
+        edge = np.where(both, edge_i, np.where(is_b, 2 * j, 2 * j - 1)).astype(np.int64)
+        t = np.where(both, t_i, np.where(is_b, phi - h, phi))
         return edge, t
 
     def blocks_of(self, pt: SkeletonPoint) -> tuple[int, ...]:

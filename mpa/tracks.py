@@ -162,9 +162,13 @@ class Track:
         Interval: ``stick`` (F -> E); circle: ``loop`` (P -> P, ccw); lollipop: ``stick`` (free end F -> pole P) and
         ``loop`` (P -> P, ccw). Offsets: ``p`` on the stick, ``p - stick`` on a lollipop's loop, ``p`` on a circle.
         """
-        from mpa.graph_track import paper_track_as_graph
+        cached = self.__dict__.get("_graph_track")
+        if cached is None:  # built once per track (tracks are immutable)
+            from mpa.graph_track import paper_track_as_graph
 
-        return paper_track_as_graph(self)
+            cached = paper_track_as_graph(self)
+            object.__setattr__(self, "_graph_track", cached)
+        return cached
 
     def to_graph_position(self, p: ArrayLike) -> tuple[NDArray[np.int64], FloatArray]:
         """Track coordinates -> ``(edge index, offset)`` on :meth:`as_graph_track` (vectorized)."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from mpa import Circle, Lollipop
 from trajopt import TrajectoryGenerator
@@ -46,3 +47,53 @@ def test_most_random_queries_take_the_fast_path() -> None:
             assert not traj.fallback
             paths.append(traj.solver_stats["path"])
         assert paths.count("fast") >= share * len(paths), (track, paths.count("fast"))
+
+
+def test_a_free_line_of_another_class_takes_the_hard_path(monkeypatch: pytest.MonkeyPatch) -> None:
+    # The gate decides the line's homotopy class (the fast path does not check it in advance). Make the gate's class
+    # check fail once, on the fast path's rows: the generator must take the hard path, not fall back or raise.
+    import trajopt.verify as verify
+
+    gen = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05)
+    real = verify._word_check
+    calls: list[int] = []
+
+    def once_wrong(track, routes, S, word, *rest):  # type: ignore[no-untyped-def]
+        calls.append(len(S))
+        w, fails = real(track, routes, S, word, *rest)
+        return (w, [*fails, "homotopy class (test) differs from the plan's"]) if len(calls) == 1 else (w, fails)
+
+    monkeypatch.setattr(verify, "_word_check", once_wrong)
+    traj = gen.generate((0.1, 0.6), (0.3, 0.8))  # a free line (see the first test)
+    assert len(calls) == 2
+    assert traj.solver_stats["path"] == "hard" and traj.solver_stats["line_other_class"]
+    assert not traj.fallback and traj.verification["ok"]
+
+
+def test_other_gate_failures_on_the_fast_path_fall_back(monkeypatch: pytest.MonkeyPatch) -> None:
+    import trajopt.verify as verify
+
+    gen = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05)
+    real = verify._limit_check
+    calls: list[int] = []
+
+    def once_over(V, A, J, limits):  # type: ignore[no-untyped-def]
+        calls.append(1)
+        peak, fails = real(V, A, J, limits)
+        return (peak, [*fails, "row 0: |v| of robot A is 9, limit 0.5"]) if len(calls) == 1 else (peak, fails)
+
+    monkeypatch.setattr(verify, "_limit_check", once_over)
+    traj = gen.generate((0.1, 0.6), (0.3, 0.8))
+    assert traj.fallback and "|v| of robot A" in traj.fallback_reason and traj.verification["ok"]
+
+
+def test_line_path_is_blend_polyline_of_the_two_ends() -> None:
+    from trajopt.fastpath import _line_path
+    from trajopt.timing import blend_polyline
+
+    rng = np.random.default_rng(8)
+    for k in range(3000):
+        ends = rng.normal(size=(2, 2)) * 10 ** rng.uniform(-6, 2)
+        got, want = _line_path(ends), blend_polyline(ends)
+        for name in ("breaks", "coef", "is_blend", "stop", "corners", "radii", "bounds"):
+            assert np.array_equal(getattr(got, name), getattr(want, name)), (k, name, ends)

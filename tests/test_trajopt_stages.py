@@ -12,7 +12,13 @@ import pytest
 from mpa import Circle, Interval, Lollipop, MPAError, make_planner
 from trajopt import Limits, TrajectoryGenerator, verify_setpoints
 from trajopt.planview import densify, route_geometry
-from trajopt.timing import blend_polyline, jerk_limited_scaling, min_time_rest_to_rest, toppra_profile
+from trajopt.timing import (
+    blend_polyline,
+    jerk_limited_scaling,
+    min_time_rest_to_rest,
+    spline_path,
+    toppra_profile,
+)
 
 TRACKS = [Lollipop(1.0, 1.0), Lollipop(0.4, 1.5), Circle(1.0), Interval(1.0)]
 
@@ -110,6 +116,22 @@ def test_blend_is_c2_and_collision_checked() -> None:
             right = path(np.array([b]), order, piece=[np.searchsorted(path.breaks, b)])
             np.testing.assert_allclose(left, right, atol=1e-9, err_msg=f"order {order} at s = {b}")
     np.testing.assert_allclose(path(np.array([0.0, path.length])), corners[[0, -1]], atol=1e-12)
+
+
+def test_derivatives_in_one_pass_equal_each_order() -> None:
+    # BlendedPath.derivatives (Horner, up to the path's degree) is what sampling uses; __call__ is the reference
+    rng = np.random.default_rng(11)
+    for k in range(300):
+        pts = np.cumsum(rng.normal(size=(int(rng.integers(3, 8)), 2)), axis=0)
+        path = [blend_polyline(pts), spline_path(pts), blend_polyline(pts[:2])][k % 3]
+        s = rng.uniform(-0.1, path.length + 0.1, size=200)
+        pieces = np.clip(np.searchsorted(path.breaks, s) - 1, 0, len(path.coef) - 1)
+        for piece in (None, pieces):
+            got = path.derivatives(s, piece)
+            for order in range(4):
+                ref = path(s, order, piece)
+                scale = max(1.0, float(np.max(np.abs(ref))))
+                assert np.max(np.abs(got[order] - ref)) <= 1e-12 * scale, (k, order, path.degree)
 
 
 def test_unsafe_corner_is_passed_at_rest() -> None:

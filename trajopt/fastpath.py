@@ -1,20 +1,25 @@
 """The fast path: a query whose straight motion in route coordinates keeps the separation, timed by one profile.
 
 If the segment from the start to the goal in route coordinates (both robots along their routes, proportionally)
-keeps the separation (exact check, :meth:`mpa.geometry.RouteGeometry.polyline_min_distance`) and has the
-plan's homotopy class (paper plans; on a graph plan any motion along the plan's routes qualifies), it is timed
+keeps the separation (exact check, :meth:`mpa.geometry.RouteGeometry.polyline_min_distance`), it is timed
 directly by one time-synchronised jerk-limited ruckig profile for both robots (one 1-DoF profile of the line's
-length under the binding robot's limits: both robots in phase, on the line), with no QP and no toppra.
+length under the binding robot's limits: both robots in phase, on the line), with no QP and no toppra. The line
+must also have the plan's homotopy class (paper plans; on a graph plan any motion along the plan's routes
+qualifies): the generator leaves that to the gate, which checks the class of the rows (they lie on the line) and
+sends a line of another class to the hard path (:meth:`trajopt.TrajectoryGenerator.generate`);
+:func:`straight_line_clearance` checks both at once.
 The line and the phase-synchronised profile move continuously with the query. On the other side of the switch,
 the hard path (:mod:`trajopt.corridor`) converges to the same line; its timing costs ``a/j`` more (its filter).
 """
 
 from __future__ import annotations
 
+import math
 import time
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from mpa.errors import MPAError
 from mpa.geometry import RouteGeometry
@@ -22,6 +27,8 @@ from trajopt.planview import plan_view
 from trajopt.timing import BlendedPath, Limits, TimeScaling, blend_polyline, rest_to_rest_profile
 
 __all__ = ["straight_line_clearance", "straight_scaling"]
+
+FloatArray = NDArray[np.float64]
 
 
 def straight_line_clearance(plan: Any, geom: RouteGeometry | None = None) -> float:
@@ -71,7 +78,7 @@ def straight_scaling(plan: Any, limits: Limits) -> TimeScaling:
     """
     t_start = time.perf_counter()
     ends = plan_view(plan).waypoints[[0, -1]]
-    path: BlendedPath = blend_polyline(ends)
+    path = _line_path(ends)
     length = path.length
     if length <= 0:
         return TimeScaling(path, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, np.zeros(2))
@@ -93,4 +100,25 @@ def straight_scaling(plan: Any, limits: Limits) -> TimeScaling:
         np.zeros(2),
         np.zeros(int(np.sum(keep)), dtype=np.intp),
         stats,
+    )
+
+
+def _line_path(ends: FloatArray) -> BlendedPath:
+    """``blend_polyline(ends)`` of a two-point polyline (one straight piece), built directly."""
+    seg = ends[1] - ends[0]
+    x, y = float(seg[0]), float(seg[1])
+    length = math.sqrt(x * x + y * y)  # as np.linalg.norm (bit for bit)
+    if length <= 1e-12:  # no straight piece: blend_polyline's single point (or its error)
+        return blend_polyline(ends)
+    u = seg / length
+    coef = np.zeros((1, 6, 2))
+    coef[0, 0], coef[0, 1] = ends[0], u
+    return BlendedPath(
+        breaks=np.array([0.0, length]),
+        coef=coef,
+        is_blend=np.zeros(1, dtype=bool),
+        stop=np.ones(2, dtype=bool),
+        corners=ends,
+        radii=np.zeros(2),
+        bounds=np.stack([np.abs(u), np.zeros(2), np.zeros(2)])[None],
     )

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mpa.geometry import DirectedRoute, RouteGeometry
+from mpa.geometry import DirectedRoute, RouteGeometry, densify_polyline
 from mpa.graph_track import GraphTrack
 from mpa.homotopy import path_word
 from mpa.planners.graph import GraphPlan
@@ -38,15 +38,11 @@ REST_SPEED = 1e-9
 
 
 def densify(pts: ArrayLike, step: float) -> FloatArray:
-    """Points along a polyline (shape (n, 2)) with at most ``step`` between consecutive ones (max-norm)."""
-    p = np.atleast_2d(np.asarray(pts, dtype=float))
-    if len(p) < 2:
-        return p.copy()
-    seg = np.max(np.abs(np.diff(p, axis=0)), axis=1)
-    n = np.maximum(1, np.ceil(seg / step).astype(int))
-    out = [p[i] + np.linspace(0.0, 1.0, n[i], endpoint=False)[:, None] * (p[i + 1] - p[i]) for i in range(len(p) - 1)]
-    out.append(p[-1:])
-    return np.vstack(out)
+    """Points along a polyline (shape (n, 2)) with at most ``step`` between consecutive ones (max-norm).
+
+    :func:`mpa.geometry.densify_polyline`.
+    """
+    return densify_polyline(pts, step)
 
 
 @dataclass(frozen=True, eq=False)

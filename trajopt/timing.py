@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from functools import cached_property
 from math import comb
 from typing import Any, NamedTuple
 
@@ -207,6 +208,37 @@ class BlendedPath:
             out += fac * c[:, i, :] * (tau ** (i - order))[:, None]
         return out.reshape((*s_arr.shape, 2))
 
+    def derivatives(self, s: ArrayLike, piece: ArrayLike | None = None) -> tuple[FloatArray, ...]:
+        """``q``, ``q'``, ``q''`` and ``q'''`` at ``s`` (shape (N,)) in one pass, each shape (N, 2).
+
+        The same values as :meth:`__call__` for orders 0 to 3 (``piece`` likewise), by Horner's scheme.
+        """
+        flat = np.clip(np.asarray(s, dtype=float).ravel(), self.breaks[0], self.breaks[-1])
+        if piece is None:
+            k = np.clip(np.searchsorted(self.breaks, flat, side="right") - 1, 0, len(self.coef) - 1)
+        else:
+            k = np.asarray(piece, dtype=np.intp).ravel()
+        tau = (flat - self.breaks[k])[:, None]
+        deg = self.degree
+        c = self.coef[k, : deg + 1]  # (n, deg + 1, 2)
+        out = []
+        for order in range(4):
+            if order > deg:
+                out.append(np.zeros((len(flat), 2)))
+                continue
+            fac = _FALLING[order]
+            acc = c[:, deg, :] * fac[deg]
+            for i in range(deg - 1, order - 1, -1):
+                acc = acc * tau + c[:, i, :] * fac[i]
+            out.append(acc)
+        return tuple(out)
+
+    @cached_property
+    def degree(self) -> int:
+        """The highest power with a non-zero coefficient on any piece (0 to 5; 1 for a polyline)."""
+        nonzero = np.flatnonzero(np.any(self.coef != 0.0, axis=(0, 2)))
+        return int(nonzero[-1]) if len(nonzero) else 0
+
     def eval(self, s: ArrayLike) -> FloatArray:
         """``q(s)``."""
         return self(s, 0)
@@ -218,6 +250,12 @@ class BlendedPath:
     def evaldd(self, s: ArrayLike) -> FloatArray:
         """``q''(s)``."""
         return self(s, 2)
+
+
+#: ``_FALLING[order][i] = i·(i−1)···(i−order+1)``: the factor of ``c_i τ^(i−order)`` in the ``order``-th derivative.
+_FALLING = tuple(
+    tuple(float(np.prod(np.arange(i - o + 1, i + 1))) if i >= o else 0.0 for i in range(6)) for o in range(4)
+)
 
 
 def _piece_bounds(coef: FloatArray, length: float) -> FloatArray:
@@ -649,7 +687,7 @@ class TimeScaling:
         pc = None
         if len(self.t0) and len(self.piece) == len(self.t0):
             pc = np.where(tt >= self.duration, len(self.path.coef) - 1, self.piece[self._phase(tt)])
-        q0, q1, q2, q3 = (self.path(s, k, pc) for k in range(4))
+        q0, q1, q2, q3 = (x.reshape((*tt.shape, 2)) for x in self.path.derivatives(s, pc))
         sd_, sdd_, sddd_ = sd[..., None], sdd[..., None], sddd[..., None]
         vel = q1 * sd_
         acc = q2 * sd_**2 + q1 * sdd_

@@ -29,19 +29,21 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import MPAError, PlanningError
-from mpa.geometry import DirectedRoute, GraphGeometry
+from mpa.geometry import DirectedRoute, GraphGeometry, densify_polyline
 from mpa.homotopy import path_word
 from mpa.routes import Route, directed_route
 from mpa.tracks import Track
 from trajopt.timing import Limits
 
 __all__ = [
+    "CLASS_FAILURE_PREFIXES",
     "LIMIT_RTOL",
     "POSITION_TOL",
     "SEPARATION_TOL",
     "VerificationError",
     "VerificationReport",
     "between_rows_separation",
+    "class_failures_only",
     "verify_graph_setpoints",
     "verify_setpoints",
 ]
@@ -177,41 +179,68 @@ def between_rows_separation(
         geometry, droutes = _graph_form(track, routes)  # type: ignore[arg-type]
     else:
         geometry, droutes = track, (routes[0], routes[1])  # type: ignore[assignment]
-    n = len(s)
-    if n < 2:
+    if len(s) < 2:
         return np.zeros(0)
-    kk, p0, p1 = _chords_cut_at_junctions(droutes, s)
+    (ea, oa), (eb, ob) = droutes[0].positions(s[:, 0]), droutes[1].positions(s[:, 1])
+    return _between_rows(geometry, droutes, s, geometry.distance(ea, oa, eb, ob), a, dt, limits)
+
+
+def _between_rows(
+    geometry: GraphGeometry,
+    droutes: Sequence[DirectedRoute],
+    s: FloatArray,
+    d_rows: FloatArray,
+    a: FloatArray,
+    dt: float,
+    limits: Limits,
+) -> FloatArray:
+    """:func:`between_rows_separation` given the distances at the rows' route positions ``d_rows`` (shape (N,))."""
+    n = len(s)
+    kk, p0, p1, inner0, inner1 = _chords_cut_at_junctions(droutes, s)
 
     def dist(q: FloatArray) -> FloatArray:
         (ea, oa), (eb, ob) = droutes[0].positions(q[:, 0]), droutes[1].positions(q[:, 1])
         return geometry.distance(ea, oa, eb, ob)
 
-    sub = _chord_min(dist, p0, p1, dist(p0), dist(p1))
-    chord = np.full(n - 1, np.inf)
-    np.minimum.at(chord, kk, sub)
+    d0, d1 = d_rows[kk], d_rows[kk + 1]  # a piece that starts (ends) at a row: the row's distance
+    n0, n1 = int(np.count_nonzero(inner0)), int(np.count_nonzero(inner1))
+    if n0 + n1:  # ends at cuts, in one call
+        d_cut = dist(np.concatenate([p0[inner0], p1[inner1]]))
+        d0[inner0], d1[inner1] = d_cut[:n0], d_cut[n0:]
+    sub = _chord_min(dist, p0, p1, d0, d1)
+    if len(kk) == n - 1:  # no cut: piece k is row step k
+        chord = sub
+    else:
+        chord = np.full(n - 1, np.inf)
+        np.minimum.at(chord, kk, sub)
     return chord - _deviation_from_chords(a, dt, limits)
 
 
 def _chords_cut_at_junctions(
     droutes: Sequence[DirectedRoute], s: FloatArray
-) -> tuple[NDArray[np.int64], FloatArray, FloatArray]:
+) -> tuple[NDArray[np.int64], FloatArray, FloatArray, NDArray[np.bool_], NDArray[np.bool_]]:
     """The chords between consecutive rows ``s`` (shape (N, 2)), cut where a robot changes edge.
 
-    Returns ``(kk, p0, p1)``: the row step ``k`` of each piece (shape (M,)) and the piece's ends (shape (M, 2)); on
-    a piece both robots stay on one edge each. Rows without a cut are one chord (ends exactly the rows).
+    Returns ``(kk, p0, p1, inner0, inner1)``: the row step ``k`` of each piece (shape (M,)), the piece's ends
+    (shape (M, 2)), and whether each end lies inside the step (a cut) rather than on a row; on a piece both
+    robots stay on one edge each. Rows without a cut are one chord (ends exactly the rows); without any cut the
+    pieces are the row steps in order (``kk = 0 … N−2``).
     """
     n = len(s)
+    lo_all, hi_all = np.minimum(s[:-1], s[1:]), np.maximum(s[:-1], s[1:])
     cuts: dict[int, list[float]] = {}
     for r in (0, 1):
-        junc = np.sort(droutes[r].breaks[1:-1])
+        junc = droutes[r].breaks[1:-1]
         if len(junc) == 0:
             continue
-        lo = np.minimum(s[:-1, r], s[1:, r])
-        hi = np.maximum(s[:-1, r], s[1:, r])
+        lo, hi = lo_all[:, r], hi_all[:, r]
         cnt = np.searchsorted(junc, hi, side="left") - np.searchsorted(junc, lo, side="right")
         for k in np.flatnonzero(cnt > 0).tolist():
             inside = junc[(junc > lo[k]) & (junc < hi[k])]
             cuts.setdefault(k, []).extend(((inside - s[k, r]) / (s[k + 1, r] - s[k, r])).tolist())
+    if not cuts:
+        none = np.zeros(n - 1, dtype=bool)
+        return np.arange(n - 1), s[:-1], s[1:], none, none
     # rows without a cut are one chord [0, 1]; the few cut rows are split (vectorized: same chords as row by row)
     ks_list: list[int] = []
     t0s: list[float] = []
@@ -230,7 +259,7 @@ def _chords_cut_at_junctions(
     ds = s[kk + 1] - s[kk]
     p0 = np.where(t0 == 0.0, s[kk], s[kk] + t0 * ds)
     p1 = np.where(t1 == 1.0, s[kk + 1], s[kk] + t1 * ds)
-    return kk, p0, p1
+    return kk, p0, p1, t0[:, 0] != 0.0, t1[:, 0] != 1.0
 
 
 def _deviation_from_chords(a: FloatArray, dt: float, limits: Limits) -> FloatArray:
@@ -241,16 +270,6 @@ def _deviation_from_chords(a: FloatArray, dt: float, limits: Limits) -> FloatArr
     amax, jmax = limits.a, limits.j
     a_int = np.minimum(amax[None, :], np.maximum(np.abs(a[:-1]), np.abs(a[1:])) + jmax[None, :] * dt / 2)
     return np.sum(a_int, axis=1) * dt * dt / 8.0
-
-
-def _refine(s: FloatArray, step: float) -> FloatArray:
-    ds = np.max(np.abs(np.diff(s, axis=0)), axis=1)
-    if len(ds) == 0 or float(ds.max()) <= step:
-        return s
-    n = np.maximum(1, np.ceil(ds / step).astype(int))
-    parts = [s[k] + np.linspace(0.0, 1.0, n[k], endpoint=False)[:, None] * (s[k + 1] - s[k]) for k in range(len(ds))]
-    parts.append(s[-1:])
-    return np.vstack(parts)
 
 
 def verify_setpoints(
@@ -325,11 +344,30 @@ def verify_setpoints(
     )
     if not np.isfinite(rep.min_separation):
         return rep
-    w, word_fails = _word_check(track, routes, np.asarray(s, dtype=float), word)
+    w, word_fails = _word_check(track, routes, np.asarray(s, dtype=float), word, P)
     fails = [*rep.failures, *word_fails]
     return VerificationReport(
         not fails, tuple(fails), rep.min_separation, rep.min_separation_between, rep.peak_ratio, tuple(w)
     )
+
+
+#: How :func:`verify_setpoints` words a failed homotopy-class check (the start of the failure's message).
+CLASS_FAILURE_PREFIXES = ("homotopy class ", "cannot compute the homotopy class")
+
+
+def class_failures_only(report: VerificationReport) -> bool:
+    """Whether ``report`` failed on the homotopy class alone (every other check passed).
+
+    Parameters
+    ----------
+    report : VerificationReport
+
+    Returns
+    -------
+    bool
+        False when ``report.ok`` or when any other check failed.
+    """
+    return bool(report.failures) and all(f.startswith(CLASS_FAILURE_PREFIXES) for f in report.failures)
 
 
 def _graph_positions(track: Track, P: FloatArray) -> tuple[NDArray[np.int64], FloatArray]:
@@ -337,11 +375,9 @@ def _graph_positions(track: Track, P: FloatArray) -> tuple[NDArray[np.int64], Fl
 
     If any coordinate is not finite every offset is NaN (the graph check then reports non-finite values).
     """
-    finite = np.all(np.isfinite(P))
-    pos = [track.to_graph_position(np.where(finite, P[:, r], 0.0)) for r in (0, 1)]
-    edges = np.stack([pos[0][0], pos[1][0]], axis=1)
-    offsets = np.where(finite, np.stack([pos[0][1], pos[1][1]], axis=1), np.nan)
-    return edges, offsets
+    finite = bool(np.isfinite(P).all())
+    edges, offsets = track.to_graph_position(P if finite else np.where(np.isfinite(P), P, 0.0))
+    return edges, offsets if finite else np.full(P.shape, np.nan)
 
 
 def _graph_query_point(track: Track, q: ArrayLike) -> tuple[tuple[int, float], tuple[int, float]]:
@@ -351,12 +387,22 @@ def _graph_query_point(track: Track, q: ArrayLike) -> tuple[tuple[int, float], t
 
 
 def _word_check(
-    track: Track, routes: Sequence[Route], S: FloatArray, word: Sequence[str]
+    track: Track, routes: Sequence[Route], S: FloatArray, word: Sequence[str], P: FloatArray | None = None
 ) -> tuple[tuple[str, ...], list[str]]:
-    """The motion's reduced skeleton word (rows ``S`` refined along the chords), and the failure if not ``word``."""
+    """The motion's reduced skeleton word, and the failure if not ``word``.
+
+    The word is taken of the rows' track coordinates ``P`` (shape (N, 2), checked against the routes elsewhere)
+    when consecutive rows are close enough (route coordinates ``S`` at most ``0.004 × track length`` apart),
+    else of the route positions of ``S`` refined along the chords to that step.
+    """
     try:
-        dense = _refine(S, 0.004 * track.total_length)
-        w = path_word(track, np.stack([routes[0].position(dense[:, 0]), routes[1].position(dense[:, 1])], axis=1))
+        step = 0.004 * track.total_length
+        dense = densify_polyline(S, step)
+        if P is not None and len(dense) == len(S):
+            states = P
+        else:
+            states = np.stack([routes[0].position(dense[:, 0]), routes[1].position(dense[:, 1])], axis=1)
+        w = path_word(track, states)
     except MPAError as exc:
         return (), [f"cannot compute the homotopy class: {exc}"]
     if tuple(w) != tuple(word):
@@ -422,12 +468,21 @@ def verify_graph_setpoints(
     if abs(tt[0]) > TIME_TOL or np.any(np.abs(tt - dt * np.arange(n)) > TIME_TOL * max(1.0, n * dt)):
         fails.append(f"time grid is not 0, 1/{rate:g}, 2/{rate:g}, …")
     OFF, S, V, A, J = arrs["offset"], arrs["s"], arrs["v"], arrs["a"], arrs["j"]
-    fails += _route_consistency_failures(geometry, routes, E, OFF, S)
+    # every graph distance of the gate in one call: the rows' separation, each robot's row against its route
+    # position (consistency), and the separation at the route positions (the chords' ends)
+    (ra_e, ra_o), (rb_e, rb_o) = routes[0].positions(S[:, 0]), routes[1].positions(S[:, 1])
+    all_d = geometry.distance(
+        np.concatenate([E[:, 0], ra_e, rb_e, ra_e]),
+        np.concatenate([OFF[:, 0], ra_o, rb_o, ra_o]),
+        np.concatenate([E[:, 1], E[:, 0], E[:, 1], rb_e]),
+        np.concatenate([OFF[:, 1], OFF[:, 0], OFF[:, 1], rb_o]),
+    )
+    d, err_a, err_b, d_route = all_d[:n], all_d[n : 2 * n], all_d[2 * n : 3 * n], all_d[3 * n :]
+    fails += _route_consistency_failures(E, OFF, S, ((ra_e, ra_o, err_a), (rb_e, rb_o, err_b)))
     fails += _endpoint_failures(geometry, E, OFF, V, A, start, goal)
     peak, limit_fails = _limit_check(V, A, J, limits)
     fails += limit_fails
-    d = geometry.distance(E[:, 0], OFF[:, 0], E[:, 1], OFF[:, 1])
-    between = between_rows_separation(geometry, routes, S, A, dt, limits)
+    between = _between_rows(geometry, routes, S, d_route, A, dt, limits)
     dmin, bmin, sep_fails = _separation_check(d, between, clearance)
     fails += sep_fails
     return VerificationReport(not fails, tuple(fails), dmin, bmin, peak, ())
@@ -438,22 +493,26 @@ def _input_failure(tt: FloatArray, E: NDArray[Any], arrs: dict[str, FloatArray],
     n = len(tt)
     if n == 0 or tt.ndim != 1 or E.shape != (n, 2) or any(x.shape != (n, 2) for x in arrs.values()):
         return "arrays have inconsistent shapes"
-    if not (np.all(np.isfinite(tt)) and all(np.all(np.isfinite(x)) for x in arrs.values())):
+    if not (np.isfinite(tt).all() and np.isfinite(np.stack(list(arrs.values()))).all()):
         return "non-finite values in the setpoints"
-    if not np.issubdtype(E.dtype, np.integer) or np.any(E < 0) or np.any(E >= n_edges):
+    if not np.issubdtype(E.dtype, np.integer) or E.min() < 0 or E.max() >= n_edges:
         return "edge indices out of range"
     return ""
 
 
 def _route_consistency_failures(
-    geometry: GraphGeometry, routes: Sequence[DirectedRoute], E: NDArray[Any], OFF: FloatArray, S: FloatArray
+    E: NDArray[Any],
+    OFF: FloatArray,
+    S: FloatArray,
+    at_route: tuple[tuple[NDArray[Any], FloatArray, FloatArray], tuple[NDArray[Any], FloatArray, FloatArray]],
 ) -> list[str]:
-    """Each row's position ``(E, OFF)`` is ``route.position(s)`` (graph distance ≤ :data:`POSITION_TOL`)."""
+    """Each row's position ``(E, OFF)`` is ``route.position(s)`` (graph distance ≤ :data:`POSITION_TOL`).
+
+    ``at_route``: per robot the route's edges and offsets at ``S`` and their graph distance to the rows' positions.
+    """
     fails = []
-    for r in (0, 1):
-        re_, ro = routes[r].positions(S[:, r])
-        err = geometry.distance(re_, ro, E[:, r], OFF[:, r])
-        if np.any(err > POSITION_TOL):
+    for r, (re_, ro, err) in enumerate(at_route):
+        if err.max() > POSITION_TOL:
             k = int(np.argmax(err))
             fails.append(
                 f"row {k}: robot {'AB'[r]} position (edge {int(E[k, r])}, {OFF[k, r]!r}) is not route.position(s) = "
@@ -479,7 +538,7 @@ def _endpoint_failures(
         end_err = max(float(g) for g in gaps)
         if end_err > POSITION_TOL:
             fails.append(f"{name} row is {end_err:.3g} m from {'the start' if row == 0 else 'the goal'}")
-        if np.any(np.abs(V[row]) > POSITION_TOL) or np.any(np.abs(A[row]) > POSITION_TOL):
+        if max(abs(x) for x in (*V[row].tolist(), *A[row].tolist())) > POSITION_TOL:
             fails.append(f"{name} row is not at rest (v = {V[row].tolist()}, a = {A[row].tolist()})")
     return fails
 
@@ -488,15 +547,17 @@ def _limit_check(
     V: FloatArray, A: FloatArray, J: FloatArray, limits: Limits
 ) -> tuple[dict[str, tuple[float, float]], list[str]]:
     """The peak ``|value| / limit`` of v, a, j per robot, and the failures where one exceeds ``1 + LIMIT_RTOL``."""
+    X = np.abs(np.stack([V, A, J]))  # (3, N, 2)
+    lims = np.stack([limits.v, limits.a, limits.j])  # (3, 2)
+    ratios = (X.max(axis=1) / lims).tolist()
     fails = []
     peak: dict[str, tuple[float, float]] = {}
-    for name, x, lim in (("v", V, limits.v), ("a", A, limits.a), ("j", J, limits.j)):
-        ratio = np.max(np.abs(x), axis=0) / lim
-        peak[name] = (float(ratio[0]), float(ratio[1]))
+    for q, name in enumerate(("v", "a", "j")):
+        peak[name] = (float(ratios[q][0]), float(ratios[q][1]))
         for r in (0, 1):
-            if ratio[r] > 1 + LIMIT_RTOL:
-                k = int(np.argmax(np.abs(x[:, r])))
-                fails.append(f"row {k}: |{name}| of robot {'AB'[r]} is {abs(x[k, r]):.9g}, limit {lim[r]:g}")
+            if ratios[q][r] > 1 + LIMIT_RTOL:
+                k = int(np.argmax(X[q, :, r]))
+                fails.append(f"row {k}: |{name}| of robot {'AB'[r]} is {X[q, k, r]:.9g}, limit {lims[q, r]:g}")
     return peak, fails
 
 
