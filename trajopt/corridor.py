@@ -293,16 +293,16 @@ class CorridorProblem:
         w, side = active
         x = self._x_free @ ends
         if len(w):
-            b = np.where(side > 0, hi[w], lo[w])
+            b = np.where(side > 0, hi.take(w), lo.take(w))
             try:
-                nu = np.linalg.solve(self._k[np.ix_(w, w)], self._c[w] @ x - b)
+                nu = np.linalg.solve(self._k.take(w, 0).take(w, 1), self._c.take(w, 0) @ x - b)
             except np.linalg.LinAlgError:
                 return None
-            if not np.all(nu * side >= -KKT_TOL):  # dual feasibility (upper rows ν ≥ 0, lower ν ≤ 0)
+            if not (nu * side).min() >= -KKT_TOL:  # dual feasibility (upper rows ν ≥ 0, lower ν ≤ 0; NaN fails)
                 return None
-            x = x - self._gmat[w].T @ nu
+            x = x - nu @ self._gmat.take(w, 0)
         cx = self._c @ x
-        if not (np.all(cx >= lo - KKT_TOL) and np.all(cx <= hi + KKT_TOL) and np.all(np.isfinite(x))):
+        if not np.maximum(lo - cx, cx - hi).max() <= KKT_TOL:  # primal feasibility (NaN fails)
             return None
         return x
 
@@ -350,9 +350,9 @@ def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: C
         if not st["qp_success"]:
             raise PlanningError(f"corridor QP failed: {st['qp_status']}")
         nodes[0], nodes[-1] = centers[0], centers[-1]
-        nodes = np.clip(nodes, lower, upper)
-        dev = np.sum(np.abs(nodes - centers), axis=1)
-        if np.any(dev > NODE_SHARE * free + 1e-9):
+        nodes = np.minimum(np.maximum(nodes, lower), upper)  # (np.clip, without its overhead)
+        dev = np.abs(nodes - centers).sum(axis=1)
+        if (dev > NODE_SHARE * free + 1e-9).any():
             k = int(np.argmax(dev - NODE_SHARE * free))
             raise PlanningError(f"corridor QP node {k} leaves its ball by {dev[k] - NODE_SHARE * free[k]:.3g} m")
         stats.update({k: v for k, v in st.items() if k != "qp_time"})
