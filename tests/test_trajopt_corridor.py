@@ -84,7 +84,7 @@ def test_a_wrong_active_set_falls_back_to_daqp(problem) -> None:  # type: ignore
         for k, guess in enumerate(guesses):
             warm, st = problem.solve(centers, free, view.lower, view.upper, guess)
             np.testing.assert_allclose(warm, cold, rtol=0.0, atol=1e-9)
-            if k < 2:  # certainly wrong: DAQP solved it
+            if k == 1:  # singular: DAQP solved it (the other guesses may be repaired, then verified)
                 assert st["qp_status"] != "KKT_VERIFIED"
             assert st["qp_success"]
 

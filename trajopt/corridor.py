@@ -51,6 +51,8 @@ CORRIDOR_SEGMENTS = 32
 CORRIDOR_ITERATIONS = 8
 #: Primal and dual tolerance of a known active set's KKT check (DAQP's own tolerances).
 KKT_TOL = 1e-12
+#: Repairs of a wrong active-set guess tried before DAQP is called.
+ACTIVE_SET_REPAIRS = 3
 #: Share of the free ball a node may use.
 NODE_SHARE = 1.0
 #: Control points of one span of the cubic B-spline.
@@ -252,9 +254,10 @@ class CorridorProblem:
         lo[1:nx:2], hi[1:nx:2] = sm - rr, sm + rr
         lo[nx : nx + m], lo[nx + m :] = lower[0], lower[1]
         hi[nx : nx + m], hi[nx + m :] = upper[0], upper[1]
-        xs = self._known_active_set(e4, lo, hi, active) if active is not None else None
-        if xs is not None:
-            status, success, act = "KKT_VERIFIED", True, active
+        known = self._known_active_set(e4, lo, hi, active) if active is not None else None
+        if known is not None:
+            xs, act = known
+            status, success = "KKT_VERIFIED", True
         else:
             with self._lock:
                 buf_in = self._in
@@ -285,26 +288,40 @@ class CorridorProblem:
 
     def _known_active_set(
         self, ends: FloatArray, lo: FloatArray, hi: FloatArray, active: tuple[IntArray, FloatArray]
-    ) -> FloatArray | None:
-        """The solution if ``active`` is the optimal active set (all KKT conditions hold), else None.
+    ) -> tuple[FloatArray, tuple[IntArray, FloatArray]] | None:
+        """The solution and its active set if ``active``, or one of up to :data:`ACTIVE_SET_REPAIRS` repairs of
+        it, is the optimal active set (all KKT conditions hold), else None.
 
         ``ends``: ``[σ_A(start), σ_A(goal), σ_B(start), σ_B(goal)]``; ``lo, hi``: bounds of the rows ``[A; I]``.
+        A repair drops the rows whose multiplier has the wrong sign and adds the violated rows (a guess only:
+        whatever set is tried, the answer is accepted only if every KKT condition holds, and then it is the
+        unique solution).
         """
         w, side = active
-        x = self._x_free @ ends
-        if len(w):
-            b = np.where(side > 0, hi.take(w), lo.take(w))
-            try:
-                nu = np.linalg.solve(self._k.take(w, 0).take(w, 1), self._c.take(w, 0) @ x - b)
-            except np.linalg.LinAlgError:
+        x_free = self._x_free @ ends
+        for _ in range(ACTIVE_SET_REPAIRS + 1):
+            x: FloatArray = x_free
+            nu: FloatArray = np.zeros(0)
+            if len(w):
+                b = np.where(side > 0, hi.take(w), lo.take(w))
+                try:
+                    nu = np.asarray(
+                        np.linalg.solve(self._k.take(w, 0).take(w, 1), self._c.take(w, 0) @ x_free - b), float
+                    )
+                except np.linalg.LinAlgError:
+                    return None
+                x = x_free - nu @ self._gmat.take(w, 0)
+            cx = self._c @ x
+            dual = nu * side  # upper rows ν ≥ 0, lower rows ν ≤ 0
+            if (len(w) == 0 or dual.min() >= -KKT_TOL) and np.maximum(lo - cx, cx - hi).max() <= KKT_TOL:
+                return x, (w, side)  # (NaN fails both tests)
+            if not np.all(np.isfinite(cx)):
                 return None
-            if not (nu * side).min() >= -KKT_TOL:  # dual feasibility (upper rows ν ≥ 0, lower ν ≤ 0; NaN fails)
-                return None
-            x = x - nu @ self._gmat.take(w, 0)
-        cx = self._c @ x
-        if not np.maximum(lo - cx, cx - hi).max() <= KKT_TOL:  # primal feasibility (NaN fails)
-            return None
-        return x
+            keep = dual >= -KKT_TOL
+            above, below = np.flatnonzero(cx > hi + KKT_TOL), np.flatnonzero(cx < lo - KKT_TOL)
+            w = np.concatenate([w[keep], above, below])
+            side = np.concatenate([side[keep], np.ones(len(above)), -np.ones(len(below))])
+        return None
 
 
 def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: CorridorProblem) -> CorridorResult:
