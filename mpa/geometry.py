@@ -487,15 +487,15 @@ class RouteGeometry:
         n = len(a)
         if n < 1:
             return np.zeros(0)
-        ra, rb = self.routes
-        brk, rob = self._interior_breaks
-        kk = np.zeros(0, dtype=np.intp)
+        brk, rob, inner_a, inner_b, n_b = self._interior_breaks
+        cut = False
         if len(brk):
             ar = a[:, rob]
             d = b[:, rob] - ar
             tt = (brk - ar) / np.where(d == 0.0, np.inf, d)  # a chord parallel to a break is not cut (tt = 0)
             kk, jj = np.nonzero((tt > 0.0) & (tt < 1.0))
-        if len(kk):  # sub-chords in order along every chord: [λ_i, λ_i+1] over its cuts
+            cut = len(kk) > 0
+        if cut:  # sub-chords in order along every chord: [λ_i, λ_i+1] over its cuts
             k_all = np.concatenate([np.arange(n), kk])
             l_all = np.concatenate([np.zeros(n), tt[kk, jj]])
             order = np.lexsort((l_all, k_all))
@@ -511,43 +511,42 @@ class RouteGeometry:
             q1 = np.where(l_end[:, None] == 1.0, bb, aa + l_end[:, None] * d_ab)
         else:
             q0, q1 = a, b
+        s = len(q0)
+        q = np.concatenate([q0, q1])  # both ends of every sub-chord
         mid = 0.5 * (q0 + q1)
-        # the rectangle (ia, ib) of every sub-chord (the later piece at a break, as piece_index)
-        ia = np.minimum(np.maximum(np.searchsorted(ra.breaks, mid[:, 0], side="right") - 1, 0), len(ra.edges) - 1)
-        ib = np.minimum(np.maximum(np.searchsorted(rb.breaks, mid[:, 1], side="right") - 1, 0), len(rb.edges) - 1)
-        # inside it every term of d is affine in σ (see _cell_terms); both ends are clamped to the rectangle, as
-        # the positions are to the pieces
-        lo, hi = np.empty((len(ia), 2)), np.empty((len(ia), 2))
-        lo[:, 0], hi[:, 0] = ra.breaks[ia], ra.breaks[ia + 1]
-        lo[:, 1], hi[:, 1] = rb.breaks[ib], rb.breaks[ib + 1]
-        q0 = np.minimum(np.maximum(q0, lo), hi)
-        q1 = np.minimum(np.maximum(q1, lo), hi)
-        cell = self._cell_terms[ia * len(rb.edges) + ib]  # (S, 16): gA (5), gB (5), h (5), same edge
-        ga, gb, h = cell[:, 0:5], cell[:, 5:10], cell[:, 10:15]
-        v0 = ga * q0[:, :1] + gb * q0[:, 1:] + h
-        v1 = ga * q1[:, :1] + gb * q1[:, 1:] + h
-        terms = np.min(np.minimum(v0[:, :4], v1[:, :4]), axis=1)
-        g0, g1 = v0[:, 4], v1[:, 4]  # s − t on one edge: d is 0 where it changes sign, else |s − t| is a term
+        # the rectangle of every sub-chord: the route pieces at its middle (the later one at a break, as
+        # piece_index); inside it every term of d is affine in σ (see _cell_terms); its ends are clamped to the
+        # rectangle, as positions are to their pieces
+        cell = self._cell_terms[
+            np.searchsorted(inner_a, mid[:, 0], side="right") * n_b + np.searchsorted(inner_b, mid[:, 1], side="right")
+        ]  # (S, 20)
+        cell2 = np.concatenate([cell, cell])
+        q = np.minimum(np.maximum(q, cell2[:, 16:18]), cell2[:, 18:20])
+        v = cell2[:, 0:5] * q[:, :1] + cell2[:, 5:10] * q[:, 1:] + cell2[:, 10:15]  # (2S, 5)
+        terms = np.min(np.minimum(v[:s, :4], v[s:, :4]), axis=1)
+        g0, g1 = v[:s, 4], v[s:, 4]  # s − t on one edge: d is 0 where it changes sign, else |s − t| is a term
         gap = np.where(g0 * g1 <= 0.0, 0.0, np.minimum(np.abs(g0), np.abs(g1)))
         sub = np.where(cell[:, 15] > 0.0, np.minimum(terms, gap), terms)
-        if len(kk):
+        if cut:
             return np.asarray(np.minimum.reduceat(sub, np.flatnonzero(first)))
         return np.asarray(sub)
 
     @cached_property
-    def _interior_breaks(self) -> tuple[FloatArray, IntArray]:
-        """The interior breaks of both routes (route coordinates, metres) and the robot of each (0 or 1)."""
+    def _interior_breaks(self) -> tuple[FloatArray, IntArray, FloatArray, FloatArray, int]:
+        """The interior breaks of both routes (route coordinates, metres) and the robot of each (0 or 1); each
+        route's interior breaks (``searchsorted(·, σ, "right")`` is the piece index); B's piece count."""
         ba, bb = self.routes[0].breaks[1:-1], self.routes[1].breaks[1:-1]
-        return np.concatenate([ba, bb]), np.concatenate([np.zeros(len(ba), np.intp), np.ones(len(bb), np.intp)])
+        robot = np.concatenate([np.zeros(len(ba), np.intp), np.ones(len(bb), np.intp)])
+        return np.concatenate([ba, bb]), robot, ba, bb, len(self.routes[1].edges)
 
     @cached_property
     def _cell_terms(self) -> FloatArray:
         """Every rectangle's terms of ``d`` as affine functions ``gA·σ_A + gB·σ_B + h`` of route coordinates.
 
-        Shape (Ma·Mb, 16), row ``ia·Mb + ib`` for route pieces ``(ia, ib)``: ``gA`` (5), ``gB`` (5), ``h`` (5) of
+        Shape (Ma·Mb, 20), row ``ia·Mb + ib`` for route pieces ``(ia, ib)``: ``gA`` (5), ``gB`` (5), ``h`` (5) of
         the four terms of :meth:`GraphGeometry.cell_terms` (``h = inf`` through unreachable vertices) and, fifth,
-        of the signed gap ``s − t`` of the offsets; the last column is 1 where both robots are on one edge (there
-        ``|s − t|`` is a term too).
+        of the signed gap ``s − t`` of the offsets; then 1 where both robots are on one edge (there ``|s − t|`` is
+        a term too); then the rectangle ``σ_A, σ_B`` from and ``σ_A, σ_B`` to.
         """
         ra, rb = self.routes
         oa = ra.entry - ra.dirs * ra.breaks[:-1]  # offset = o + dir·σ on each piece
@@ -555,13 +554,15 @@ class RouteGeometry:
         da, db = ra.dirs.astype(float)[:, None, None], rb.dirs.astype(float)[None, :, None]
         c0 = self.geometry.cell_terms_array(ra.edges[:, None], rb.edges[None, :])  # (Ma, Mb, 4)
         ca, cb = np.array([1.0, 1.0, -1.0, -1.0]), np.array([1.0, -1.0, 1.0, -1.0])
-        out = np.empty((*c0.shape[:2], 16))
+        out = np.empty((*c0.shape[:2], 20))
         out[..., 0:4], out[..., 5:9] = ca * da, cb * db
         out[..., 10:14] = c0 + ca * oa[:, None, None] + cb * ob[None, :, None]
         out[..., 4], out[..., 9] = da[..., 0], -db[..., 0]
         out[..., 14] = oa[:, None] - ob[None, :]
         out[..., 15] = ra.edges[:, None] == rb.edges[None, :]
-        return out.reshape(-1, 16)
+        out[..., 16], out[..., 18] = ra.breaks[:-1, None], ra.breaks[1:, None]
+        out[..., 17], out[..., 19] = rb.breaks[None, :-1], rb.breaks[None, 1:]
+        return out.reshape(-1, 20)
 
     def interval(self, robot: int, sigma: ArrayLike) -> IntArray:
         """Index of the route piece of ``robot`` that holds ``σ`` (the later one at a break)."""
