@@ -550,9 +550,12 @@ def piece_limits(path: BlendedPath, limits: Limits, safety: float = 1.0) -> Piec
         a = np.minimum(a, np.min(np.where(m2 > 0, 0.5 * (J - m3 * vc**3) / (3 * m2 * vc), inf), axis=1))
         j = np.min(np.where(m1 > 0, (J - m3 * vc**3 - 3 * m2 * vc * a[:, None]) / m1, inf), axis=1)
         straight = ~np.asarray(path.is_blend, dtype=bool)
-        vs = np.where(straight, np.min(v_lin, axis=1), v)
-        as_ = np.where(straight, np.min(np.where(m1 > 0, A / m1, inf), axis=1), a)
-        js = np.where(straight, np.min(np.where(m1 > 0, J / m1, inf), axis=1), j)
+        if straight.any():
+            vs = np.where(straight, np.min(v_lin, axis=1), v)
+            as_ = np.where(straight, np.min(np.where(m1 > 0, A / m1, inf), axis=1), a)
+            js = np.where(straight, np.min(np.where(m1 > 0, J / m1, inf), axis=1), j)
+        else:  # all curved (the hard path's spline)
+            vs, as_, js = v, a, j
     if not (np.all(np.isfinite(vs)) and np.all(vs > 0) and np.all(as_ > 0) and np.all(js > 0)):
         bad = PieceLimits(vs, as_, js)
         raise PlanningError(f"no valid 1-DoF limits on some piece: {bad}")
@@ -1048,8 +1051,8 @@ def _phase_state(ph: _Phases, S: float, t: FloatArray) -> tuple[FloatArray, Floa
     the end at rest at ``S``."""
     ti, s_i, v_i, a_i, f_i = ph
     T = ph.duration
-    k = np.clip(np.searchsorted(ti, t, side="right") - 1, 0, len(s_i) - 1)
-    x = np.clip(t - ti[k], 0.0, None)
+    k = np.minimum(np.maximum(np.searchsorted(ti, t, side="right") - 1, 0), len(s_i) - 1)  # (np.clip is slow)
+    x = np.maximum(t - ti[k], 0.0)
     s = s_i[k] + v_i[k] * x + a_i[k] * x**2 / 2
     v = v_i[k] + a_i[k] * x
     f = f_i[k] + s_i[k] * x + v_i[k] * x**2 / 2 + a_i[k] * x**3 / 6
@@ -1072,12 +1075,20 @@ def _box_filtered(
     t0 = t0[t0 < T + tau]
     mid = 0.5 * (t0 + np.append(t0[1:], T + tau))  # the jerk of a phase, away from rounding at its ends
     k = len(t0)
-    f, s, v, a = _phase_state(ph, S, np.concatenate([t0, t0 - tau, mid, mid - tau]))  # one evaluation
-    p_out = np.clip((f[:k] - f[k : 2 * k]) / tau, 0.0, S)
-    v_out = (s[:k] - s[k : 2 * k]) / tau
-    a_out = (v[:k] - v[k : 2 * k]) / tau
-    j_out = (a[2 * k : 3 * k] - a[3 * k :]) / tau
+    f, s, v, _ = _phase_state(ph, S, np.concatenate([t0, t0 - tau]))  # one evaluation each
+    a = _phase_acceleration(ph, np.concatenate([mid, mid - tau]))
+    p_out = np.clip((f[:k] - f[k:]) / tau, 0.0, S)
+    v_out = (s[:k] - s[k:]) / tau
+    a_out = (v[:k] - v[k:]) / tau
+    j_out = (a[:k] - a[k:]) / tau
     return t0, p_out, v_out, a_out, j_out
+
+
+def _phase_acceleration(ph: _Phases, t: FloatArray) -> FloatArray:
+    """The acceleration of :func:`_phase_state` alone (its fourth output)."""
+    ti = ph.t
+    k = np.minimum(np.maximum(np.searchsorted(ti, t, side="right") - 1, 0), len(ph.s) - 1)
+    return np.where((t < 0.0) | (t >= ph.duration), 0.0, ph.a[k])
 
 
 class RestToRest(NamedTuple):
