@@ -849,7 +849,7 @@ def _range_extreme(table: FloatArray, lo: NDArray[np.intp], hi: NDArray[np.intp]
     """``fn`` of the values ``lo[i] .. hi[i]`` (inclusive, ``lo <= hi``) from :func:`_sparse_table`'s table."""
     level = np.frexp(hi - lo + 1)[1] - 1  # floor(log2(length)), exact
     out = fn(table[level, ..., lo], table[level, ..., hi - (1 << level) + 1])  # (G, ...): the indexed axis first
-    return np.asarray(np.moveaxis(out, 0, -1))
+    return np.asarray(out if out.ndim == 1 else np.moveaxis(out, 0, -1))
 
 
 def _topp_passes(cap: FloatArray, two_a_ds: FloatArray) -> FloatArray:
@@ -876,18 +876,26 @@ def _topp_passes(cap: FloatArray, two_a_ds: FloatArray) -> FloatArray:
     return np.maximum(np.array(b), 0.0)
 
 
-def _window_extreme(grid: FloatArray, f: FloatArray, r: float, fn: Any) -> FloatArray:
-    """``fn`` (np.minimum or np.maximum) of the piecewise-linear ``f`` over ``[x − r, x + r]`` at every grid point."""
-    lo = np.searchsorted(grid, grid - r, side="left")
-    hi = np.searchsorted(grid, grid + r, side="right") - 1
-    hi = np.maximum(hi, lo)
+def _window_extreme(
+    grid: FloatArray, f: FloatArray, r: float, fn: Any, span: tuple[NDArray[np.intp], NDArray[np.intp]] | None = None
+) -> FloatArray:
+    """``fn`` (np.minimum or np.maximum) of the piecewise-linear ``f`` over ``[x − r, x + r]`` at every grid point
+    (``span``: :func:`_window_span` of ``grid`` and ``r``, if known)."""
+    lo, hi = _window_span(grid, r) if span is None else span
     out = _range_extreme(_sparse_table(f, fn, int(np.max(hi - lo)) + 1), lo, hi, fn)
     return np.asarray(fn(out, fn(np.interp(grid - r, grid, f), np.interp(grid + r, grid, f))))
 
 
+def _window_span(grid: FloatArray, r: float) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """First and last grid index within ``[x − r, x + r]`` of every grid point ``x``."""
+    lo = np.searchsorted(grid, grid - r, side="left")
+    return lo, np.maximum(np.searchsorted(grid, grid + r, side="right") - 1, lo)
+
+
 def _opening(grid: FloatArray, f: FloatArray, r: float) -> FloatArray:
     """Morphological opening of ``f`` with the window ``[−r, r]``: narrow peaks become plateaus ``2r`` wide."""
-    return _window_extreme(grid, _window_extreme(grid, f, r, np.minimum), r, np.maximum)
+    span = _window_span(grid, r)
+    return _window_extreme(grid, _window_extreme(grid, f, r, np.minimum, span), r, np.maximum, span)
 
 
 def filtered_scaling(
