@@ -511,22 +511,21 @@ class RouteGeometry:
             q1 = np.where(l_end[:, None] == 1.0, bb, aa + l_end[:, None] * d_ab)
         else:
             q0, q1 = a, b
-        s = len(q0)
-        q = np.concatenate([q0, q1])  # both ends of every sub-chord
+        q = np.stack([q0, q1])  # (2, S, 2): both ends of every sub-chord
         mid = 0.5 * (q0 + q1)
         # the rectangle of every sub-chord: the route pieces at its middle (the later one at a break, as
         # piece_index); inside it every term of d is affine in σ (see _cell_terms); its ends are clamped to the
         # rectangle, as positions are to their pieces
-        cell = self._cell_terms[
-            np.searchsorted(inner_a, mid[:, 0], side="right") * n_b + np.searchsorted(inner_b, mid[:, 1], side="right")
-        ]  # (S, 20)
-        cell2 = np.concatenate([cell, cell])
-        q = np.minimum(np.maximum(q, cell2[:, 16:18]), cell2[:, 18:20])
-        v = cell2[:, 0:5] * q[:, :1] + cell2[:, 5:10] * q[:, 1:] + cell2[:, 10:15]  # (2S, 5)
-        terms = np.min(np.minimum(v[:s, :4], v[s:, :4]), axis=1)
-        g0, g1 = v[:s, 4], v[s:, 4]  # s − t on one edge: d is 0 where it changes sign, else |s − t| is a term
+        ia = np.searchsorted(inner_a, mid[:, 0], side="right")
+        idx = ia * n_b + np.searchsorted(inner_b, mid[:, 1], side="right")
+        cell = self._cell_terms.take(idx, axis=1)  # (20, S)
+        qa = np.minimum(np.maximum(q[..., 0], cell[16]), cell[18])  # (2, S)
+        qb = np.minimum(np.maximum(q[..., 1], cell[17]), cell[19])
+        v = cell[0:5, None, :] * qa + cell[5:10, None, :] * qb + cell[10:15, None, :]  # (5, 2, S)
+        terms = np.min(v[:4].reshape(8, -1), axis=0)
+        g0, g1 = v[4, 0], v[4, 1]  # s − t on one edge: d is 0 where it changes sign, else |s − t| is a term
         gap = np.where(g0 * g1 <= 0.0, 0.0, np.minimum(np.abs(g0), np.abs(g1)))
-        sub = np.where(cell[:, 15] > 0.0, np.minimum(terms, gap), terms)
+        sub = np.where(cell[15] > 0.0, np.minimum(terms, gap), terms)
         if cut:
             return np.asarray(np.minimum.reduceat(sub, np.flatnonzero(first)))
         return np.asarray(sub)
@@ -543,7 +542,7 @@ class RouteGeometry:
     def _cell_terms(self) -> FloatArray:
         """Every rectangle's terms of ``d`` as affine functions ``gA·σ_A + gB·σ_B + h`` of route coordinates.
 
-        Shape (Ma·Mb, 20), row ``ia·Mb + ib`` for route pieces ``(ia, ib)``: ``gA`` (5), ``gB`` (5), ``h`` (5) of
+        Shape (20, Ma·Mb), column ``ia·Mb + ib`` for route pieces ``(ia, ib)``: ``gA`` (5), ``gB`` (5), ``h`` (5) of
         the four terms of :meth:`GraphGeometry.cell_terms` (``h = inf`` through unreachable vertices) and, fifth,
         of the signed gap ``s − t`` of the offsets; then 1 where both robots are on one edge (there ``|s − t|`` is
         a term too); then the rectangle ``σ_A, σ_B`` from and ``σ_A, σ_B`` to.
@@ -562,7 +561,7 @@ class RouteGeometry:
         out[..., 15] = ra.edges[:, None] == rb.edges[None, :]
         out[..., 16], out[..., 18] = ra.breaks[:-1, None], ra.breaks[1:, None]
         out[..., 17], out[..., 19] = rb.breaks[None, :-1], rb.breaks[None, 1:]
-        return out.reshape(-1, 20)
+        return np.ascontiguousarray(out.reshape(-1, 20).T)
 
     def interval(self, robot: int, sigma: ArrayLike) -> IntArray:
         """Index of the route piece of ``robot`` that holds ``σ`` (the later one at a break)."""
