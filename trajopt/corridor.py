@@ -13,7 +13,10 @@ halving, no corner passed at rest, a fixed number of nodes and pieces):
    within ``R`` of the hull of their samples, hence keeps ``d ≥ sep``, and the motion stays homotopic to the plan.
 2. *QP* (:class:`CorridorProblem`): an elastic band with a bending term in the time-like metric ``σ_r / vmax_r``;
    the Hessian is fixed and positive definite, so the solution is unique and a continuous function of the query.
-   Solved exactly by the dual active-set solver DAQP through CasADi's ``conic`` (built once per generator).
+   Solved exactly by the dual active-set solver DAQP through CasADi's ``conic`` (built once per generator, called
+   through a buffer); from the second re-centring on, the previous solve's active set (or up to three repairs of
+   it) is tried first: its equality-constrained solution is accepted only if every KKT condition holds to DAQP's
+   tolerances, and then it *is* the unique solution, so the answer does not depend on which way it was found.
 3. *Path*: the uniform cubic B-spline of the nodes (:func:`trajopt.timing.spline_path`), each span inside the hull
    of four consecutive nodes, C² with a fixed number of pieces.
 4. *Timing*: :func:`trajopt.timing.filtered_scaling`, a v/a-limited profile with eroded per-piece limits on a grid
@@ -138,7 +141,8 @@ class CorridorProblem:
         Speed limits of A and B (m/s): route coordinates are divided by them (a time-like metric).
     solver : str
         A CasADi ``conic`` plugin that ships with CasADi (default ``"daqp"``, a dual active-set method: exact
-        and deterministic, no warm start kept between queries).
+        and deterministic, no warm start kept between queries; an active set passed to :meth:`solve` is checked
+        with ``H⁻¹`` precomputed here, see there).
 
     Notes
     -----
