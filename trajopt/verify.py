@@ -21,6 +21,8 @@ robots' routes and the limits; it does not use any of the generator's geometry. 
 
 from __future__ import annotations
 
+import itertools
+from bisect import bisect_right
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -199,6 +201,8 @@ def _between_rows(
     kk, p0, p1, inner0, inner1 = _chords_cut_at_junctions(droutes, s)
 
     def dist(q: FloatArray) -> FloatArray:
+        if len(q) <= _FEW:  # a few points (the cuts): plain Python, the same positions and distances
+            return np.array([_distance_at(geometry, droutes, qa, qb) for qa, qb in q.tolist()])
         (ea, oa), (eb, ob) = droutes[0].positions(q[:, 0]), droutes[1].positions(q[:, 1])
         return geometry.distance(ea, oa, eb, ob)
 
@@ -216,6 +220,21 @@ def _between_rows(
     return chord - _deviation_from_chords(a, dt, limits)
 
 
+#: Up to this many points the gate evaluates distances in plain Python (:func:`_distance_at`).
+_FEW = 16
+
+
+def _distance_at(geometry: GraphGeometry, droutes: Sequence[DirectedRoute], qa: float, qb: float) -> float:
+    """The graph distance at route coordinates ``(qa, qb)``, in plain Python (as ``positions`` + ``distance``)."""
+    pos = []
+    for route, r in ((droutes[0], qa), (droutes[1], qb)):
+        br, edges, dirs, entry = route.pieces_list
+        r = min(max(r, br[0]), br[-1])
+        i = min(max(bisect_right(br, r) - 1, 0), len(edges) - 1)
+        pos.append((edges[i], entry[i] + dirs[i] * (r - br[i])))
+    return geometry.distance_scalar(pos[0][0], pos[0][1], pos[1][0], pos[1][1])
+
+
 def _chords_cut_at_junctions(
     droutes: Sequence[DirectedRoute], s: FloatArray
 ) -> tuple[NDArray[np.int64], FloatArray, FloatArray, NDArray[np.bool_], NDArray[np.bool_]]:
@@ -224,42 +243,51 @@ def _chords_cut_at_junctions(
     Returns ``(kk, p0, p1, inner0, inner1)``: the row step ``k`` of each piece (shape (M,)), the piece's ends
     (shape (M, 2)), and whether each end lies inside the step (a cut) rather than on a row; on a piece both
     robots stay on one edge each. Rows without a cut are one chord (ends exactly the rows); without any cut the
-    pieces are the row steps in order (``kk = 0 … N−2``).
+    pieces are the row steps in order (``kk = 0 … N−2``). The few cut rows are split in plain Python.
     """
     n = len(s)
-    lo_all, hi_all = np.minimum(s[:-1], s[1:]), np.maximum(s[:-1], s[1:])
     cuts: dict[int, list[float]] = {}
     for r in (0, 1):
         junc = droutes[r].breaks[1:-1]
         if len(junc) == 0:
             continue
-        lo, hi = lo_all[:, r], hi_all[:, r]
-        cnt = np.searchsorted(junc, hi, side="left") - np.searchsorted(junc, lo, side="right")
-        for k in np.flatnonzero(cnt > 0).tolist():
-            inside = junc[(junc > lo[k]) & (junc < hi[k])]
-            cuts.setdefault(k, []).extend(((inside - s[k, r]) / (s[k + 1, r] - s[k, r])).tolist())
+        col = s[:, r]
+        lo, hi = np.minimum(col[:-1], col[1:]), np.maximum(col[:-1], col[1:])
+        rows = np.flatnonzero(np.searchsorted(junc, hi, side="left") - np.searchsorted(junc, lo, side="right"))
+        if len(rows) == 0:
+            continue
+        jl = junc.tolist()
+        for k in rows.tolist():
+            a, b = float(col[k]), float(col[k + 1])
+            low, high = min(a, b), max(a, b)
+            cuts.setdefault(k, []).extend((x - a) / (b - a) for x in jl if low < x < high)
     if not cuts:
         none = np.zeros(n - 1, dtype=bool)
         return np.arange(n - 1), s[:-1], s[1:], none, none
-    # rows without a cut are one chord [0, 1]; the few cut rows are split (vectorized: same chords as row by row)
-    ks_list: list[int] = []
-    t0s: list[float] = []
-    t1s: list[float] = []
-    for row, c in cuts.items():
-        ts = [0.0, *sorted(c), 1.0]
-        ks_list.extend([row] * (len(ts) - 1))
-        t0s.extend(ts[:-1])
-        t1s.extend(ts[1:])
+    # rows without a cut are one chord [0, 1]; a cut row is split at its cuts (ends as s_k + t·(s_k+1 − s_k))
+    ks: list[int] = []
+    ends0: list[list[float]] = []
+    ends1: list[list[float]] = []
+    in0: list[bool] = []
+    in1: list[bool] = []
+    for row in cuts:
+        a, b = s[row].tolist(), s[row + 1].tolist()
+        ds = (b[0] - a[0], b[1] - a[1])
+        ts = [0.0, *sorted(cuts[row]), 1.0]
+        for t0, t1 in itertools.pairwise(ts):
+            ks.append(row)
+            ends0.append(a if t0 == 0.0 else [a[0] + t0 * ds[0], a[1] + t0 * ds[1]])
+            ends1.append(b if t1 == 1.0 else [a[0] + t1 * ds[0], a[1] + t1 * ds[1]])
+            in0.append(t0 != 0.0)
+            in1.append(t1 != 1.0)
     plain = np.ones(n - 1, dtype=bool)
     plain[list(cuts)] = False
     rows_plain = np.flatnonzero(plain)
-    kk = np.concatenate([rows_plain, np.asarray(ks_list, dtype=np.int64)])
-    t0 = np.concatenate([np.zeros(len(rows_plain)), np.asarray(t0s, dtype=float)])[:, None]
-    t1 = np.concatenate([np.ones(len(rows_plain)), np.asarray(t1s, dtype=float)])[:, None]
-    ds = s[kk + 1] - s[kk]
-    p0 = np.where(t0 == 0.0, s[kk], s[kk] + t0 * ds)
-    p1 = np.where(t1 == 1.0, s[kk + 1], s[kk] + t1 * ds)
-    return kk, p0, p1, t0[:, 0] != 0.0, t1[:, 0] != 1.0
+    kk = np.concatenate([rows_plain, np.asarray(ks, dtype=np.int64)])
+    p0 = np.concatenate([s[rows_plain], np.asarray(ends0)])
+    p1 = np.concatenate([s[rows_plain + 1], np.asarray(ends1)])
+    no = np.zeros(len(rows_plain), dtype=bool)
+    return kk, p0, p1, np.concatenate([no, in0]), np.concatenate([no, in1])
 
 
 def _deviation_from_chords(a: FloatArray, dt: float, limits: Limits) -> FloatArray:
