@@ -8,13 +8,13 @@ robots' routes and the limits; it does not use any of the generator's geometry. 
 - endpoints: first row at the start and last row at the goal, both at rest (``v = a = 0``);
 - limits: ``|v|, |a|, |j| ≤ limit·(1 + LIMIT_RTOL)`` per robot at every row;
 - separation at every row: ``d ≥ D − SEPARATION_TOL``;
-- separation between rows: along the chord between two rows (both robots linear in ``s``) the graph distance is
-  piecewise affine, and its minimum is at an end, where a robot passes the pole P (a junction of its route), or 0
-  where the robots meet; meeting is excluded when ``d_k + d_{k+1} > |Δs_A| + |Δs_B|``, else the chord is bisected
-  until it is (robots moving side by side, close but apart, pass after a few halvings). The real motion deviates
-  from the chord by at most ``a_int·Δt²/8`` per robot, ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)``;
-  the distance is 1-Lipschitz in each robot's coordinate, so ``min_chord − Σ dev ≥ D − SEPARATION_TOL`` is
-  required;
+- separation between rows: the chord between two rows (both robots linear in ``s``) is cut where a robot passes a
+  junction of its route; on each piece both robots stay on one edge, the distance is the minimum of the cell's
+  affine terms (and ``|s − t|`` on one edge), and its minimum is at an end unless the robots meet there
+  (:meth:`mpa.geometry.GraphGeometry.segment_min`, exact; pieces where ``d_k + d_{k+1} > |Δs_A| + |Δs_B|``
+  exclude meeting at once). The real motion deviates from the chord by at most ``a_int·Δt²/8`` per robot,
+  ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)``; the distance is 1-Lipschitz in each robot's
+  coordinate, so ``min_chord − Σ dev ≥ D − SEPARATION_TOL`` is required;
 - homotopy class: the reduced skeleton word of the motion (:func:`mpa.homotopy.path_word`, rows refined
   along the chords) equals the plan's.
 """
@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import itertools
 from bisect import bisect_right
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -51,6 +51,7 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
 #: Relative tolerance of the limit checks.
 LIMIT_RTOL = 1e-6
 #: Absolute tolerance (metres) of the separation checks.
@@ -109,42 +110,43 @@ class VerificationError(PlanningError):
 
 
 def _chord_min(
-    dist: Callable[[FloatArray], FloatArray], s0: FloatArray, s1: FloatArray, d0: FloatArray, d1: FloatArray
+    geometry: GraphGeometry,
+    droutes: Sequence[DirectedRoute],
+    s0: FloatArray,
+    s1: FloatArray,
+    d0: FloatArray,
+    d1: FloatArray,
 ) -> FloatArray:
-    """Exact minimum (up to :data:`SEPARATION_TOL`) of the distance along chords ``s0 → s1`` (shape (M, 2)).
+    """Exact minimum of the distance along chords ``s0 → s1`` (shape (M, 2)) on which each robot stays on one edge.
 
-    Along a chord the distance is piecewise affine in the chord parameter; between the points where a robot
-    changes edge it has no interior minimum unless the robots meet there. Meeting on a (sub)chord is
-    excluded when ``d_lo + d_hi > |ΔsA| + |ΔsB|`` (the distance is 1-Lipschitz in each route coordinate).
-    Chords where it is not excluded are bisected (the distance ``dist`` is evaluated at the midpoints) until it
-    is, which takes few steps unless the robots really come close; after :data:`_BISECT_DEPTH` halvings the
-    Lipschitz bound ``(d_lo + d_hi − |ΔsA| − |ΔsB|) / 2`` is used instead (a valid lower bound).
+    On such a chord each robot's offset is affine in the chord parameter, so the distance is the minimum of the
+    cell's affine terms (and ``|s − t|`` when both robots are on one edge): its minimum is at an end unless the
+    robots meet on one edge (:meth:`mpa.geometry.GraphGeometry.segment_min`, exact). Meeting is excluded at once
+    when ``d0 + d1 > |ΔsA| + |ΔsB|`` (the distance is 1-Lipschitz in each route coordinate) with a margin of
+    1e-9 relative and 1e-12 m (head-on robots that meet have ``d0 + d1 = |ΔsA| + |ΔsB|`` exactly, which
+    rounding can tip either way); the other chords (robots close together, heading at each other, or following
+    each other on one edge) get the exact cell minimum.
     """
     out = np.minimum(d0, d1)
-    lo_s, hi_s, lo_d, hi_d = s0, s1, d0, d1
-    owner = np.arange(len(s0))
-    for depth in range(_BISECT_DEPTH + 1):
-        span = np.sum(np.abs(hi_s - lo_s), axis=1)
-        open_ = ~(lo_d + hi_d > span)
-        if not np.any(open_):
-            break
-        lo_s, hi_s, lo_d, hi_d, owner, span = (x[open_] for x in (lo_s, hi_s, lo_d, hi_d, owner, span))
-        if depth == _BISECT_DEPTH or len(owner) > _BISECT_MAX:
-            np.minimum.at(out, owner, np.maximum(0.5 * (lo_d + hi_d - span), 0.0))
-            break
-        mid_s = 0.5 * (lo_s + hi_s)
-        mid_d = dist(mid_s)
-        np.minimum.at(out, owner, mid_d)
-        lo_s, hi_s = np.vstack([lo_s, mid_s]), np.vstack([mid_s, hi_s])
-        lo_d, hi_d = np.concatenate([lo_d, mid_d]), np.concatenate([mid_d, hi_d])
-        owner = np.concatenate([owner, owner])
+    span = np.abs(s1[:, 0] - s0[:, 0]) + np.abs(s1[:, 1] - s0[:, 1])
+    # robots heading straight at each other have d0 + d1 == span exactly, and meet: exclude only with a margin
+    open_ = np.flatnonzero(~(d0 + d1 > span * (1.0 + 1e-9) + 1e-12))
+    if len(open_) == 0:
+        return out
+    q0, q1 = s0[open_], s1[open_]
+    mid = 0.5 * (q0 + q1)
+    edges: list[IntArray] = []
+    off0: list[FloatArray] = []
+    off1: list[FloatArray] = []
+    for r, route in enumerate(droutes):
+        i = route.piece_index(np.clip(mid[:, r], route.breaks[0], route.breaks[-1]))
+        edges.append(route.edges[i])
+        for q, off in ((q0, off0), (q1, off1)):
+            x = np.clip(q[:, r], route.breaks[0], route.breaks[-1])
+            off.append(route.entry[i] + route.dirs[i] * (x - route.breaks[i]))
+    exact = geometry.segment_min(edges[0], edges[1], np.stack(off0, axis=1), np.stack(off1, axis=1))
+    out[open_] = np.minimum(out[open_], exact)
     return out
-
-
-#: Halvings of a chord before the gate falls back to the Lipschitz bound between rows.
-_BISECT_DEPTH = 40
-#: Largest number of open sub-chords the gate bisects at once (beyond it: the Lipschitz bound).
-_BISECT_MAX = 200_000
 
 
 def _graph_form(track: Track, routes: Sequence[Route]) -> tuple[GraphGeometry, tuple[DirectedRoute, DirectedRoute]]:
@@ -211,7 +213,7 @@ def _between_rows(
     if n0 + n1:  # ends at cuts, in one call
         d_cut = dist(np.concatenate([p0[inner0], p1[inner1]]))
         d0[inner0], d1[inner1] = d_cut[:n0], d_cut[n0:]
-    sub = _chord_min(dist, p0, p1, d0, d1)
+    sub = _chord_min(geometry, droutes, p0, p1, d0, d1)
     if len(kk) == n - 1:  # no cut: piece k is row step k
         chord = sub
     else:
