@@ -492,4 +492,8 @@ def _directed_route(route: Route) -> DirectedRoute:
             piece(loop_edge, p0, p1, a, b, m * c)
         if len(ss) == 1:  # a piece of length 0
             piece(loop_edge, s0, s1, a, b, math.floor((a + b * s0) / c) * c)
-    return DirectedRoute.from_pieces(edges, dirs, entry, lengths, origin=route.sigma_min)
+    # valid by construction (s1 >= s0, directions ±1): DirectedRoute.from_pieces without its checks
+    breaks = float(s_min) + np.concatenate([[0.0], np.cumsum(np.asarray(lengths, dtype=float))])
+    return DirectedRoute(
+        np.asarray(edges, dtype=np.int64), np.asarray(dirs, dtype=np.int64), np.asarray(entry, dtype=float), breaks
+    )

@@ -693,6 +693,8 @@ class TimeScaling:
         q0, q1, q2, q3 = (x.reshape((*tt.shape, 2)) for x in self.path.derivatives(s, pc))
         sd_, sdd_, sddd_ = sd[..., None], sdd[..., None], sddd[..., None]
         vel = q1 * sd_
+        if self.path.degree <= 1:  # straight pieces: the second and third path derivatives are 0
+            return q0, vel, q1 * sdd_ + 0.0, q1 * sddd_ + 0.0
         acc = q2 * sd_**2 + q1 * sdd_
         jer = q3 * sd_**3 + 3 * q2 * sd_ * sdd_ + q1 * sddd_
         return q0, vel, acc, jer

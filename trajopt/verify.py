@@ -8,20 +8,22 @@ robots' routes and the limits; it does not use any of the generator's geometry. 
 - endpoints: first row at the start and last row at the goal, both at rest (``v = a = 0``);
 - limits: ``|v|, |a|, |j| ≤ limit·(1 + LIMIT_RTOL)`` per robot at every row;
 - separation at every row: ``d ≥ D − SEPARATION_TOL``;
-- separation between rows: along the chord between two rows (both robots linear in ``s``) the graph distance is
-  piecewise affine, and its minimum is at an end, where a robot passes the pole P (a junction of its route), or 0
-  where the robots meet; meeting is excluded when ``d_k + d_{k+1} > |Δs_A| + |Δs_B|``, else the chord is bisected
-  until it is (robots moving side by side, close but apart, pass after a few halvings). The real motion deviates
-  from the chord by at most ``a_int·Δt²/8`` per robot, ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)``;
-  the distance is 1-Lipschitz in each robot's coordinate, so ``min_chord − Σ dev ≥ D − SEPARATION_TOL`` is
-  required;
+- separation between rows: the chord between two rows (both robots linear in ``s``) is cut where a robot passes a
+  junction of its route; on each piece both robots stay on one edge, the distance is the minimum of the cell's
+  affine terms (and ``|s − t|`` on one edge), and its minimum is at an end unless the robots meet there
+  (:meth:`mpa.geometry.GraphGeometry.segment_min`, exact; pieces where ``d_k + d_{k+1} > |Δs_A| + |Δs_B|``
+  exclude meeting at once). The real motion deviates from the chord by at most ``a_int·Δt²/8`` per robot,
+  ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)``; the distance is 1-Lipschitz in each robot's
+  coordinate, so ``min_chord − Σ dev ≥ D − SEPARATION_TOL`` is required;
 - homotopy class: the reduced skeleton word of the motion (:func:`mpa.homotopy.path_word`, rows refined
   along the chords) equals the plan's.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import itertools
+from bisect import bisect_right
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -49,6 +51,7 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
 #: Relative tolerance of the limit checks.
 LIMIT_RTOL = 1e-6
 #: Absolute tolerance (metres) of the separation checks.
@@ -107,42 +110,43 @@ class VerificationError(PlanningError):
 
 
 def _chord_min(
-    dist: Callable[[FloatArray], FloatArray], s0: FloatArray, s1: FloatArray, d0: FloatArray, d1: FloatArray
+    geometry: GraphGeometry,
+    droutes: Sequence[DirectedRoute],
+    s0: FloatArray,
+    s1: FloatArray,
+    d0: FloatArray,
+    d1: FloatArray,
 ) -> FloatArray:
-    """Exact minimum (up to :data:`SEPARATION_TOL`) of the distance along chords ``s0 → s1`` (shape (M, 2)).
+    """Exact minimum of the distance along chords ``s0 → s1`` (shape (M, 2)) on which each robot stays on one edge.
 
-    Along a chord the distance is piecewise affine in the chord parameter; between the points where a robot
-    changes edge it has no interior minimum unless the robots meet there. Meeting on a (sub)chord is
-    excluded when ``d_lo + d_hi > |ΔsA| + |ΔsB|`` (the distance is 1-Lipschitz in each route coordinate).
-    Chords where it is not excluded are bisected (the distance ``dist`` is evaluated at the midpoints) until it
-    is, which takes few steps unless the robots really come close; after :data:`_BISECT_DEPTH` halvings the
-    Lipschitz bound ``(d_lo + d_hi − |ΔsA| − |ΔsB|) / 2`` is used instead (a valid lower bound).
+    On such a chord each robot's offset is affine in the chord parameter, so the distance is the minimum of the
+    cell's affine terms (and ``|s − t|`` when both robots are on one edge): its minimum is at an end unless the
+    robots meet on one edge (:meth:`mpa.geometry.GraphGeometry.segment_min`, exact). Meeting is excluded at once
+    when ``d0 + d1 > |ΔsA| + |ΔsB|`` (the distance is 1-Lipschitz in each route coordinate) with a margin of
+    1e-9 relative and 1e-12 m (head-on robots that meet have ``d0 + d1 = |ΔsA| + |ΔsB|`` exactly, which
+    rounding can tip either way); the other chords (robots close together, heading at each other, or following
+    each other on one edge) get the exact cell minimum.
     """
     out = np.minimum(d0, d1)
-    lo_s, hi_s, lo_d, hi_d = s0, s1, d0, d1
-    owner = np.arange(len(s0))
-    for depth in range(_BISECT_DEPTH + 1):
-        span = np.sum(np.abs(hi_s - lo_s), axis=1)
-        open_ = ~(lo_d + hi_d > span)
-        if not np.any(open_):
-            break
-        lo_s, hi_s, lo_d, hi_d, owner, span = (x[open_] for x in (lo_s, hi_s, lo_d, hi_d, owner, span))
-        if depth == _BISECT_DEPTH or len(owner) > _BISECT_MAX:
-            np.minimum.at(out, owner, np.maximum(0.5 * (lo_d + hi_d - span), 0.0))
-            break
-        mid_s = 0.5 * (lo_s + hi_s)
-        mid_d = dist(mid_s)
-        np.minimum.at(out, owner, mid_d)
-        lo_s, hi_s = np.vstack([lo_s, mid_s]), np.vstack([mid_s, hi_s])
-        lo_d, hi_d = np.concatenate([lo_d, mid_d]), np.concatenate([mid_d, hi_d])
-        owner = np.concatenate([owner, owner])
+    span = np.abs(s1[:, 0] - s0[:, 0]) + np.abs(s1[:, 1] - s0[:, 1])
+    # robots heading straight at each other have d0 + d1 == span exactly, and meet: exclude only with a margin
+    open_ = np.flatnonzero(~(d0 + d1 > span * (1.0 + 1e-9) + 1e-12))
+    if len(open_) == 0:
+        return out
+    q0, q1 = s0[open_], s1[open_]
+    mid = 0.5 * (q0 + q1)
+    edges: list[IntArray] = []
+    off0: list[FloatArray] = []
+    off1: list[FloatArray] = []
+    for r, route in enumerate(droutes):
+        i = route.piece_index(np.clip(mid[:, r], route.breaks[0], route.breaks[-1]))
+        edges.append(route.edges[i])
+        for q, off in ((q0, off0), (q1, off1)):
+            x = np.clip(q[:, r], route.breaks[0], route.breaks[-1])
+            off.append(route.entry[i] + route.dirs[i] * (x - route.breaks[i]))
+    exact = geometry.segment_min(edges[0], edges[1], np.stack(off0, axis=1), np.stack(off1, axis=1))
+    out[open_] = np.minimum(out[open_], exact)
     return out
-
-
-#: Halvings of a chord before the gate falls back to the Lipschitz bound between rows.
-_BISECT_DEPTH = 40
-#: Largest number of open sub-chords the gate bisects at once (beyond it: the Lipschitz bound).
-_BISECT_MAX = 200_000
 
 
 def _graph_form(track: Track, routes: Sequence[Route]) -> tuple[GraphGeometry, tuple[DirectedRoute, DirectedRoute]]:
@@ -199,6 +203,8 @@ def _between_rows(
     kk, p0, p1, inner0, inner1 = _chords_cut_at_junctions(droutes, s)
 
     def dist(q: FloatArray) -> FloatArray:
+        if len(q) <= _FEW:  # a few points (the cuts): plain Python, the same positions and distances
+            return np.array([_distance_at(geometry, droutes, qa, qb) for qa, qb in q.tolist()])
         (ea, oa), (eb, ob) = droutes[0].positions(q[:, 0]), droutes[1].positions(q[:, 1])
         return geometry.distance(ea, oa, eb, ob)
 
@@ -207,13 +213,28 @@ def _between_rows(
     if n0 + n1:  # ends at cuts, in one call
         d_cut = dist(np.concatenate([p0[inner0], p1[inner1]]))
         d0[inner0], d1[inner1] = d_cut[:n0], d_cut[n0:]
-    sub = _chord_min(dist, p0, p1, d0, d1)
+    sub = _chord_min(geometry, droutes, p0, p1, d0, d1)
     if len(kk) == n - 1:  # no cut: piece k is row step k
         chord = sub
     else:
         chord = np.full(n - 1, np.inf)
         np.minimum.at(chord, kk, sub)
     return chord - _deviation_from_chords(a, dt, limits)
+
+
+#: Up to this many points the gate evaluates distances in plain Python (:func:`_distance_at`).
+_FEW = 16
+
+
+def _distance_at(geometry: GraphGeometry, droutes: Sequence[DirectedRoute], qa: float, qb: float) -> float:
+    """The graph distance at route coordinates ``(qa, qb)``, in plain Python (as ``positions`` + ``distance``)."""
+    pos = []
+    for route, r in ((droutes[0], qa), (droutes[1], qb)):
+        br, edges, dirs, entry = route.pieces_list
+        r = min(max(r, br[0]), br[-1])
+        i = min(max(bisect_right(br, r) - 1, 0), len(edges) - 1)
+        pos.append((edges[i], entry[i] + dirs[i] * (r - br[i])))
+    return geometry.distance_scalar(pos[0][0], pos[0][1], pos[1][0], pos[1][1])
 
 
 def _chords_cut_at_junctions(
@@ -224,42 +245,51 @@ def _chords_cut_at_junctions(
     Returns ``(kk, p0, p1, inner0, inner1)``: the row step ``k`` of each piece (shape (M,)), the piece's ends
     (shape (M, 2)), and whether each end lies inside the step (a cut) rather than on a row; on a piece both
     robots stay on one edge each. Rows without a cut are one chord (ends exactly the rows); without any cut the
-    pieces are the row steps in order (``kk = 0 … N−2``).
+    pieces are the row steps in order (``kk = 0 … N−2``). The few cut rows are split in plain Python.
     """
     n = len(s)
-    lo_all, hi_all = np.minimum(s[:-1], s[1:]), np.maximum(s[:-1], s[1:])
     cuts: dict[int, list[float]] = {}
     for r in (0, 1):
         junc = droutes[r].breaks[1:-1]
         if len(junc) == 0:
             continue
-        lo, hi = lo_all[:, r], hi_all[:, r]
-        cnt = np.searchsorted(junc, hi, side="left") - np.searchsorted(junc, lo, side="right")
-        for k in np.flatnonzero(cnt > 0).tolist():
-            inside = junc[(junc > lo[k]) & (junc < hi[k])]
-            cuts.setdefault(k, []).extend(((inside - s[k, r]) / (s[k + 1, r] - s[k, r])).tolist())
+        col = s[:, r]
+        lo, hi = np.minimum(col[:-1], col[1:]), np.maximum(col[:-1], col[1:])
+        rows = np.flatnonzero(np.searchsorted(junc, hi, side="left") - np.searchsorted(junc, lo, side="right"))
+        if len(rows) == 0:
+            continue
+        jl = junc.tolist()
+        for k in rows.tolist():
+            a, b = float(col[k]), float(col[k + 1])
+            low, high = min(a, b), max(a, b)
+            cuts.setdefault(k, []).extend((x - a) / (b - a) for x in jl if low < x < high)
     if not cuts:
         none = np.zeros(n - 1, dtype=bool)
         return np.arange(n - 1), s[:-1], s[1:], none, none
-    # rows without a cut are one chord [0, 1]; the few cut rows are split (vectorized: same chords as row by row)
-    ks_list: list[int] = []
-    t0s: list[float] = []
-    t1s: list[float] = []
-    for row, c in cuts.items():
-        ts = [0.0, *sorted(c), 1.0]
-        ks_list.extend([row] * (len(ts) - 1))
-        t0s.extend(ts[:-1])
-        t1s.extend(ts[1:])
+    # rows without a cut are one chord [0, 1]; a cut row is split at its cuts (ends as s_k + t·(s_k+1 − s_k))
+    ks: list[int] = []
+    ends0: list[list[float]] = []
+    ends1: list[list[float]] = []
+    in0: list[bool] = []
+    in1: list[bool] = []
+    for row in cuts:
+        a, b = s[row].tolist(), s[row + 1].tolist()
+        ds = (b[0] - a[0], b[1] - a[1])
+        ts = [0.0, *sorted(cuts[row]), 1.0]
+        for t0, t1 in itertools.pairwise(ts):
+            ks.append(row)
+            ends0.append(a if t0 == 0.0 else [a[0] + t0 * ds[0], a[1] + t0 * ds[1]])
+            ends1.append(b if t1 == 1.0 else [a[0] + t1 * ds[0], a[1] + t1 * ds[1]])
+            in0.append(t0 != 0.0)
+            in1.append(t1 != 1.0)
     plain = np.ones(n - 1, dtype=bool)
     plain[list(cuts)] = False
     rows_plain = np.flatnonzero(plain)
-    kk = np.concatenate([rows_plain, np.asarray(ks_list, dtype=np.int64)])
-    t0 = np.concatenate([np.zeros(len(rows_plain)), np.asarray(t0s, dtype=float)])[:, None]
-    t1 = np.concatenate([np.ones(len(rows_plain)), np.asarray(t1s, dtype=float)])[:, None]
-    ds = s[kk + 1] - s[kk]
-    p0 = np.where(t0 == 0.0, s[kk], s[kk] + t0 * ds)
-    p1 = np.where(t1 == 1.0, s[kk + 1], s[kk] + t1 * ds)
-    return kk, p0, p1, t0[:, 0] != 0.0, t1[:, 0] != 1.0
+    kk = np.concatenate([rows_plain, np.asarray(ks, dtype=np.int64)])
+    p0 = np.concatenate([s[rows_plain], np.asarray(ends0)])
+    p1 = np.concatenate([s[rows_plain + 1], np.asarray(ends1)])
+    no = np.zeros(len(rows_plain), dtype=bool)
+    return kk, p0, p1, np.concatenate([no, in0]), np.concatenate([no, in1])
 
 
 def _deviation_from_chords(a: FloatArray, dt: float, limits: Limits) -> FloatArray:
