@@ -69,7 +69,9 @@ def densify_polyline(pts: ArrayLike, step: float) -> FloatArray:
     if len(p) < 2:
         return p.copy()
     leg = np.diff(p, axis=0)
-    n = np.maximum(1, np.ceil(np.max(np.abs(leg), axis=1) / step).astype(np.int64))
+    size = np.abs(leg)
+    size = np.maximum(size[:, 0], size[:, 1]) if size.shape[1] == 2 else size.max(axis=1)  # (axis-1 max is slow)
+    n = np.maximum(1, np.ceil(size / step).astype(np.int64))
     if int(n.max()) == 1:
         return p.copy()
     k = np.repeat(np.arange(len(leg)), n)

@@ -78,57 +78,49 @@ def lollipop_trace(model: Lollipop, states: ArrayLike) -> FloatArray:
     h = 0.5 * c
     a, b = st[:, 0], st[:, 1]
     a_st, b_st = a <= ell, b <= ell
-    out = np.zeros_like(st)
-
-    # both on the stick (the distance d is computed per case, as Lollipop.distance does)
-    m = a_st & b_st
-    if np.any(m):
-        pa, pb = a[m], b[m]
-        dd = np.abs(pa - pb)
-        front_is_b = pb > pa
-        rear = np.where(front_is_b, pa, pb)
-        front = np.where(front_is_b, pb, pa)
-        far = dd >= h
-        room_rear, room_front = rear, ell - front
-        total = np.maximum(room_rear + room_front, 1e-300)
-        miss = h - dd
-        d_rear = np.where(far, dd - h, -miss * room_rear / total)
-        d_front = np.where(far, 0.0, miss * room_front / total)
-        out[m, 0] = np.where(front_is_b, d_rear, d_front)
-        out[m, 1] = np.where(front_is_b, d_front, d_rear)
-
-    # one robot on the stick (depth x), the other on the loop (side s, distance w from P)
-    for stick_idx, loop_idx, mask in ((0, 1, a_st & ~b_st), (1, 0, ~a_st & b_st)):
-        if not np.any(mask):
-            continue
-        ps, pl = st[mask, stick_idx], st[mask, loop_idx]
-        x = ell - ps
-        th = pl - ell
-        side = np.where(th <= h, 1.0, -1.0)
-        w = np.minimum(th, c - th)
-        dd = x + w
-        far = dd >= h
-        lam = np.where(far, 1.0, h / np.maximum(dd, 1e-300))
-        x_new = np.where(far, h - w, lam * x)
-        w_new = np.where(far, w, lam * w)
-        out[mask, stick_idx] = -(x_new - x)
-        out[mask, loop_idx] = side * (w_new - w)
-
+    # every case on every state (branch-free; the divisions are guarded), then each state takes its own case
+    # both on the stick
+    front_is_b = b > a
+    rear = np.where(front_is_b, a, b)
+    front = np.where(front_is_b, b, a)
+    dd = front - rear  # = |a - b|
+    far = dd >= h
+    room_rear, room_front = rear, ell - front
+    total = np.maximum(room_rear + room_front, 1e-300)
+    miss = h - dd
+    d_rear = np.where(far, dd - h, -miss * room_rear / total)
+    d_front = np.where(far, 0.0, miss * room_front / total)
+    ss0 = np.where(front_is_b, d_rear, d_front)
+    ss1 = np.where(front_is_b, d_front, d_rear)
+    # one on the stick: ps the stick robot, pl the loop robot
+    ps = np.where(a_st, a, b)
+    pl = np.where(a_st, b, a)
+    x = ell - ps
+    th = pl - ell
+    side = np.where(th <= h, 1.0, -1.0)
+    w = np.minimum(th, c - th)
+    d1 = x + w
+    far1 = d1 >= h
+    lam1 = np.where(far1, 1.0, h / np.maximum(d1, 1e-300))
+    x_new = np.where(far1, h - w, lam1 * x)
+    w_new = np.where(far1, w, lam1 * w)
+    stick_disp = -(x_new - x)
+    loop_disp = side * (w_new - w)
     # both on the loop
-    m = ~a_st & ~b_st
-    if np.any(m):
-        ta, tb = a[m] - ell, b[m] - ell
-        # P lies on the ccw arc from A to B iff θ_B < θ_A
-        p_on_ccw = tb < ta
-        wa = np.where(p_on_ccw, c - ta, ta)  # A's distance to P along the arc that contains P
-        wb = np.where(p_on_ccw, tb, c - tb)
-        lam = h / (wa + wb)
-        da = (lam - 1.0) * wa
-        db = (lam - 1.0) * wb
-        # moving away from P along that arc: A ccw if P is ahead ccw of A ... towards P is the other way
-        out[m, 0] = np.where(p_on_ccw, -da, da)
-        out[m, 1] = np.where(p_on_ccw, db, -db)
-    return out
+    ta, tb = a - ell, b - ell
+    p_on_ccw = tb < ta
+    wa = np.where(p_on_ccw, c - ta, ta)
+    wb = np.where(p_on_ccw, tb, c - tb)
+    lam = h / np.maximum(wa + wb, 1e-300)
+    da = (lam - 1.0) * wa
+    db = (lam - 1.0) * wb
+    ll0 = np.where(p_on_ccw, -da, da)
+    ll1 = np.where(p_on_ccw, db, -db)
+    both = a_st & b_st
+    none = ~a_st & ~b_st
+    out0 = np.where(both, ss0, np.where(none, ll0, np.where(a_st, stick_disp, loop_disp)))
+    out1 = np.where(both, ss1, np.where(none, ll1, np.where(a_st, loop_disp, stick_disp)))
+    return np.stack([out0, out1], axis=1)
 
 
 def lollipop_trace_scalar(ell: float, c: float, a: float, b: float) -> tuple[float, float]:

@@ -130,3 +130,20 @@ def test_scalar_twins_agree_with_the_vectorized_versions(track) -> None:  # type
         want = lollipop_trace(sk.model, m)
         got = np.array([lollipop_trace_scalar(sk.model.stick, sk.model.loop, a, b) for a, b in m])
         assert np.max(np.abs(got - want)) < EXACT
+
+
+@pytest.mark.parametrize("track", [Lollipop(1.0, 1.0), Lollipop(0.6, 1.2), Lollipop(2.0, 0.5)], ids=repr)
+def test_trace_on_vertices_and_every_case_matches_the_scalar_twin(track) -> None:  # type: ignore[no-untyped-def]
+    # the vectorized trace computes every case branch-free: on P, the free end and the loop's seam as well
+    from mpa.retraction import lollipop_trace, lollipop_trace_scalar
+
+    rng = np.random.default_rng(32)
+    sk = skeleton_of(track)
+    ell, c = sk.model.stick, sk.model.loop
+    m = rng.uniform(0.0, ell + c, (4000, 2))
+    m[:300, 0], m[300:600, 1], m[600:700, 0], m[700:800, 1] = ell, ell, 0.0, ell + c * (1 - 1e-16)
+    m = m[sk.model.distance(m[:, 0], m[:, 1]) > 1e-6]
+    with np.errstate(all="raise"):
+        want = lollipop_trace(sk.model, m)
+    got = np.array([lollipop_trace_scalar(ell, c, a, b) for a, b in m.tolist()])
+    assert np.max(np.abs(got - want)) < EXACT
