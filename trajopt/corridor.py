@@ -351,40 +351,50 @@ def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: C
     """
     t0 = time.perf_counter()
     n = problem.n
-    u = np.linspace(0.0, 1.0, n + 1)
     view = plan_view(plan)
-    centers = view.path_s(u)
+    centers = view.path_s(_unit_grid(n))
     centers[0], centers[-1] = view.waypoints[0], view.waypoints[-1]
     lower, upper = view.lower, view.upper
     t1 = time.perf_counter()
     plan_centers = centers
     stats: dict[str, Any] = {"qp_known_active_sets": 0}
     active = None
+    qp_time = 0.0
     for it in range(CORRIDOR_ITERATIONS):
         free = corridor_radii(geom, centers, separation)
         if it == 0:
             stats["min_free"] = float(np.min(free[1:-1]))
+        share = NODE_SHARE * free
         # the previous solve's active set is tried first (exact if its KKT conditions hold, else DAQP)
-        nodes, st = problem.solve(centers, NODE_SHARE * free, lower, upper, active)
+        nodes, st = problem.solve(centers, share, lower, upper, active)
         active = st.pop("active", None)
         stats["qp_known_active_sets"] += st["qp_status"] == "KKT_VERIFIED"
+        qp_time += st["qp_time"]
         if not st["qp_success"]:
             raise PlanningError(f"corridor QP failed: {st['qp_status']}")
         nodes[0], nodes[-1] = centers[0], centers[-1]
         nodes = np.minimum(np.maximum(nodes, lower), upper)  # (np.clip, without its overhead)
-        dev = np.abs(nodes - centers).sum(axis=1)
-        if (dev > NODE_SHARE * free + 1e-9).any():
-            k = int(np.argmax(dev - NODE_SHARE * free))
-            raise PlanningError(f"corridor QP node {k} leaves its ball by {dev[k] - NODE_SHARE * free[k]:.3g} m")
-        stats.update({k: v for k, v in st.items() if k != "qp_time"})
-        stats["qp_time"] = stats.get("qp_time", 0.0) + st["qp_time"]
+        excess = np.abs(nodes - centers).sum(axis=1) - share
+        if excess.max() > 1e-9:
+            k = int(np.argmax(excess))
+            raise PlanningError(f"corridor QP node {k} leaves its ball by {excess[k]:.3g} m")
         centers = nodes
+    stats.update({k: v for k, v in st.items() if k != "qp_time"})  # the last solve's
+    stats["qp_time"] = qp_time
     v = problem.vmax
     stats["plan_time_bound"] = float(np.sum(np.max(np.abs(np.diff(plan_centers, axis=0)) / v, axis=1)))
     stats["optimized_time_bound"] = float(np.sum(np.max(np.abs(np.diff(nodes, axis=0)) / v, axis=1)))
     stats["corridor_time"] = t1 - t0
     stats["corridor_iterations"] = CORRIDOR_ITERATIONS
     return CorridorResult(nodes, plan_centers, free, stats)
+
+
+@lru_cache(maxsize=8)
+def _unit_grid(n: int) -> FloatArray:
+    """``k/n`` for ``k = 0 … n`` (shape (n+1,); shared: never written to)."""
+    u = np.linspace(0.0, 1.0, n + 1)
+    u.flags.writeable = False
+    return u
 
 
 def hard_path_scaling(
