@@ -14,9 +14,9 @@ halving, no corner passed at rest, a fixed number of nodes and pieces):
 2. *QP* (:class:`CorridorProblem`): an elastic band with a bending term in the time-like metric ``σ_r / vmax_r``;
    the Hessian is fixed and positive definite, so the solution is unique and a continuous function of the query.
    Solved exactly by the dual active-set solver DAQP through CasADi's ``conic`` (built once per generator, called
-   through a buffer); from the second re-centring on, the previous solve's active set (or up to three repairs of
-   it) is tried first: its equality-constrained solution is accepted only if every KKT condition holds to DAQP's
-   tolerances, and then it *is* the unique solution, so the answer does not depend on which way it was found.
+   through a buffer); from the second re-centring on, the previous solve's active set (then up to five one-row
+   repairs of it) is tried first: its equality-constrained solution is accepted only if every KKT condition holds
+   to DAQP's tolerances, and then it *is* the unique solution, so the answer does not depend on how it was found.
 3. *Path*: the uniform cubic B-spline of the nodes (:func:`trajopt.timing.spline_path`), each span inside the hull
    of four consecutive nodes, C² with a fixed number of pieces.
 4. *Timing*: :func:`trajopt.timing.filtered_scaling`, a v/a-limited profile with eroded per-piece limits on a grid
@@ -55,7 +55,7 @@ CORRIDOR_ITERATIONS = 8
 #: Primal and dual tolerance of a known active set's KKT check (DAQP's own tolerances).
 KKT_TOL = 1e-12
 #: Repairs of a wrong active-set guess tried before DAQP is called.
-ACTIVE_SET_REPAIRS = 3
+ACTIVE_SET_REPAIRS = 5
 #: Share of the free ball a node may use.
 NODE_SHARE = 1.0
 #: Control points of one span of the cubic B-spline.
@@ -297,8 +297,8 @@ class CorridorProblem:
         it, is the optimal active set (all KKT conditions hold), else None.
 
         ``ends``: ``[σ_A(start), σ_A(goal), σ_B(start), σ_B(goal)]``; ``lo, hi``: bounds of the rows ``[A; I]``.
-        A repair drops the rows whose multiplier has the wrong sign and adds the violated rows (a guess only:
-        whatever set is tried, the answer is accepted only if every KKT condition holds, and then it is the
+        A repair drops the row whose multiplier is the most negative and adds the most violated row (a guess
+        only: whatever set is tried, the answer is accepted only if every KKT condition holds, and then it is the
         unique solution).
         """
         w, side = active
@@ -321,10 +321,14 @@ class CorridorProblem:
                 return x, (w, side)  # (NaN fails both tests)
             if not np.all(np.isfinite(cx)):
                 return None
-            keep = dual >= -KKT_TOL
-            above, below = np.flatnonzero(cx > hi + KKT_TOL), np.flatnonzero(cx < lo - KKT_TOL)
-            w = np.concatenate([w[keep], above, below])
-            side = np.concatenate([side[keep], np.ones(len(above)), -np.ones(len(below))])
+            # one active-set step: drop the row with the most negative multiplier, add the most violated row
+            if len(w) and dual.min() < -KKT_TOL:
+                drop = int(np.argmin(dual))
+                w, side = np.delete(w, drop), np.delete(side, drop)
+            up, down = cx - hi, lo - cx
+            j = int(np.argmax(np.maximum(up, down)))
+            if max(up[j], down[j]) > KKT_TOL:
+                w, side = np.append(w, j), np.append(side, 1.0 if up[j] > down[j] else -1.0)
         return None
 
 
