@@ -14,9 +14,9 @@ halving, no corner passed at rest, a fixed number of nodes and pieces):
 2. *QP* (:class:`CorridorProblem`): an elastic band with a bending term in the time-like metric ``σ_r / vmax_r``;
    the Hessian is fixed and positive definite, so the solution is unique and a continuous function of the query.
    Solved exactly by the dual active-set solver DAQP through CasADi's ``conic`` (built once per generator, called
-   through a buffer); from the second re-centring on, the previous solve's active set (or up to three repairs of
-   it) is tried first: its equality-constrained solution is accepted only if every KKT condition holds to DAQP's
-   tolerances, and then it *is* the unique solution, so the answer does not depend on which way it was found.
+   through a buffer); from the second re-centring on, the previous solve's active set (then up to five one-row
+   repairs of it) is tried first: its equality-constrained solution is accepted only if every KKT condition holds
+   to DAQP's tolerances, and then it *is* the unique solution, so the answer does not depend on how it was found.
 3. *Path*: the uniform cubic B-spline of the nodes (:func:`trajopt.timing.spline_path`), each span inside the hull
    of four consecutive nodes, C² with a fixed number of pieces.
 4. *Timing*: :func:`trajopt.timing.filtered_scaling`, a v/a-limited profile with eroded per-piece limits on a grid
@@ -55,7 +55,7 @@ CORRIDOR_ITERATIONS = 8
 #: Primal and dual tolerance of a known active set's KKT check (DAQP's own tolerances).
 KKT_TOL = 1e-12
 #: Repairs of a wrong active-set guess tried before DAQP is called.
-ACTIVE_SET_REPAIRS = 3
+ACTIVE_SET_REPAIRS = 5
 #: Share of the free ball a node may use.
 NODE_SHARE = 1.0
 #: Control points of one span of the cubic B-spline.
@@ -297,8 +297,8 @@ class CorridorProblem:
         it, is the optimal active set (all KKT conditions hold), else None.
 
         ``ends``: ``[σ_A(start), σ_A(goal), σ_B(start), σ_B(goal)]``; ``lo, hi``: bounds of the rows ``[A; I]``.
-        A repair drops the rows whose multiplier has the wrong sign and adds the violated rows (a guess only:
-        whatever set is tried, the answer is accepted only if every KKT condition holds, and then it is the
+        A repair drops the row whose multiplier is the most negative and adds the most violated row (a guess
+        only: whatever set is tried, the answer is accepted only if every KKT condition holds, and then it is the
         unique solution).
         """
         w, side = active
@@ -321,10 +321,14 @@ class CorridorProblem:
                 return x, (w, side)  # (NaN fails both tests)
             if not np.all(np.isfinite(cx)):
                 return None
-            keep = dual >= -KKT_TOL
-            above, below = np.flatnonzero(cx > hi + KKT_TOL), np.flatnonzero(cx < lo - KKT_TOL)
-            w = np.concatenate([w[keep], above, below])
-            side = np.concatenate([side[keep], np.ones(len(above)), -np.ones(len(below))])
+            # one active-set step: drop the row with the most negative multiplier, add the most violated row
+            if len(w) and dual.min() < -KKT_TOL:
+                drop = int(np.argmin(dual))
+                w, side = np.delete(w, drop), np.delete(side, drop)
+            up, down = cx - hi, lo - cx
+            j = int(np.argmax(np.maximum(up, down)))
+            if max(up[j], down[j]) > KKT_TOL:
+                w, side = np.append(w, j), np.append(side, 1.0 if up[j] > down[j] else -1.0)
         return None
 
 
@@ -351,40 +355,50 @@ def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: C
     """
     t0 = time.perf_counter()
     n = problem.n
-    u = np.linspace(0.0, 1.0, n + 1)
     view = plan_view(plan)
-    centers = view.path_s(u)
+    centers = view.path_s(_unit_grid(n))
     centers[0], centers[-1] = view.waypoints[0], view.waypoints[-1]
     lower, upper = view.lower, view.upper
     t1 = time.perf_counter()
     plan_centers = centers
     stats: dict[str, Any] = {"qp_known_active_sets": 0}
     active = None
+    qp_time = 0.0
     for it in range(CORRIDOR_ITERATIONS):
         free = corridor_radii(geom, centers, separation)
         if it == 0:
             stats["min_free"] = float(np.min(free[1:-1]))
+        share = NODE_SHARE * free
         # the previous solve's active set is tried first (exact if its KKT conditions hold, else DAQP)
-        nodes, st = problem.solve(centers, NODE_SHARE * free, lower, upper, active)
+        nodes, st = problem.solve(centers, share, lower, upper, active)
         active = st.pop("active", None)
         stats["qp_known_active_sets"] += st["qp_status"] == "KKT_VERIFIED"
+        qp_time += st["qp_time"]
         if not st["qp_success"]:
             raise PlanningError(f"corridor QP failed: {st['qp_status']}")
         nodes[0], nodes[-1] = centers[0], centers[-1]
         nodes = np.minimum(np.maximum(nodes, lower), upper)  # (np.clip, without its overhead)
-        dev = np.abs(nodes - centers).sum(axis=1)
-        if (dev > NODE_SHARE * free + 1e-9).any():
-            k = int(np.argmax(dev - NODE_SHARE * free))
-            raise PlanningError(f"corridor QP node {k} leaves its ball by {dev[k] - NODE_SHARE * free[k]:.3g} m")
-        stats.update({k: v for k, v in st.items() if k != "qp_time"})
-        stats["qp_time"] = stats.get("qp_time", 0.0) + st["qp_time"]
+        excess = np.abs(nodes - centers).sum(axis=1) - share
+        if excess.max() > 1e-9:
+            k = int(np.argmax(excess))
+            raise PlanningError(f"corridor QP node {k} leaves its ball by {excess[k]:.3g} m")
         centers = nodes
+    stats.update({k: v for k, v in st.items() if k != "qp_time"})  # the last solve's
+    stats["qp_time"] = qp_time
     v = problem.vmax
     stats["plan_time_bound"] = float(np.sum(np.max(np.abs(np.diff(plan_centers, axis=0)) / v, axis=1)))
     stats["optimized_time_bound"] = float(np.sum(np.max(np.abs(np.diff(nodes, axis=0)) / v, axis=1)))
     stats["corridor_time"] = t1 - t0
     stats["corridor_iterations"] = CORRIDOR_ITERATIONS
     return CorridorResult(nodes, plan_centers, free, stats)
+
+
+@lru_cache(maxsize=8)
+def _unit_grid(n: int) -> FloatArray:
+    """``k/n`` for ``k = 0 … n`` (shape (n+1,); shared: never written to)."""
+    u = np.linspace(0.0, 1.0, n + 1)
+    u.flags.writeable = False
+    return u
 
 
 def hard_path_scaling(
