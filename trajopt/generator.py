@@ -418,7 +418,15 @@ class TrajectoryGenerator:
         timings["sample"] = time.perf_counter() - t0
         t1 = time.perf_counter()
         rep: VerificationReport = view.verify(
-            t, s, v, a, j, limits=self.limits, clearance=self.clearance, rate=self.rate
+            t,
+            s,
+            v,
+            a,
+            j,
+            limits=self.limits,
+            clearance=self.clearance,
+            rate=self.rate,
+            track_pos=None if view.is_graph else tr,  # the rows' coordinates, as exported
         )
         timings["verify" if source is Source.OPTIMIZED else "fallback_verify"] = time.perf_counter() - t1
         if not rep.ok:
