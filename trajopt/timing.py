@@ -236,8 +236,10 @@ class BlendedPath:
     @cached_property
     def degree(self) -> int:
         """The highest power with a non-zero coefficient on any piece (0 to 5; 1 for a polyline)."""
-        nonzero = np.flatnonzero(np.any(self.coef != 0.0, axis=(0, 2)))
-        return int(nonzero[-1]) if len(nonzero) else 0
+        for d in range(self.coef.shape[1] - 1, 0, -1):  # (a few tiny .any() calls: cheaper than one reduction)
+            if self.coef[:, d].any():
+                return d
+        return 0
 
     def eval(self, s: ArrayLike) -> FloatArray:
         """``q(s)``."""
@@ -662,7 +664,8 @@ class TimeScaling:
     stats: dict[str, Any] = field(default_factory=dict)
 
     def _phase(self, tt: FloatArray) -> NDArray[np.intp]:
-        return np.clip(np.searchsorted(self.t0, tt, side="right") - 1, 0, len(self.t0) - 1)
+        # searchsorted returns at most len(t0), so only the lower end needs clamping
+        return np.maximum(np.searchsorted(self.t0, tt, side="right") - 1, 0)
 
     def param(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         """``s, ṡ, s̈, s⃛`` at times ``t`` (after the end: held at rest at the end)."""
@@ -670,8 +673,11 @@ class TimeScaling:
         if len(self.t0) == 0:
             z = np.zeros_like(tt)
             return z + self.path.length, z, z.copy(), z.copy()
-        k = self._phase(tt)
-        tau = np.clip(tt - self.t0[k], 0.0, None)
+        return self._param(tt, self._phase(tt))
+
+    def _param(self, tt: FloatArray, k: NDArray[np.intp]) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """:meth:`param` at times ``tt`` in phases ``k`` (``t0`` not empty)."""
+        tau = np.maximum(tt - self.t0[k], 0.0)
         j = self.j[k]
         a = self.a[k] + j * tau
         v = self.v[k] + self.a[k] * tau + 0.5 * j * tau**2
@@ -686,10 +692,14 @@ class TimeScaling:
     def sample(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         """Route coordinates and their first three time derivatives at ``t``. Each shape ``t.shape + (2,)``."""
         tt = np.asarray(t, dtype=float)
-        s, sd, sdd, sddd = self.param(tt)
         pc = None
-        if len(self.t0) and len(self.piece) == len(self.t0):
-            pc = np.where(tt >= self.duration, len(self.path.coef) - 1, self.piece[self._phase(tt)])
+        if len(self.t0):
+            k = self._phase(tt)
+            s, sd, sdd, sddd = self._param(tt, k)
+            if len(self.piece) == len(self.t0):
+                pc = np.where(tt >= self.duration, len(self.path.coef) - 1, self.piece[k])
+        else:
+            s, sd, sdd, sddd = self.param(tt)
         q0, q1, q2, q3 = (x.reshape((*tt.shape, 2)) for x in self.path.derivatives(s, pc))
         sd_, sdd_, sddd_ = sd[..., None], sdd[..., None], sddd[..., None]
         vel = q1 * sd_
