@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpa import Circle, Interval, Lollipop, Track
+from mpa import Circle, Interval, Lollipop, MPAError, Plan, Track, make_planner
 
 #: Tolerances, named once.
 EXACT = 1e-9  # floating-point identities (metres)
@@ -52,3 +52,17 @@ def path_gap(track: Track, p, q, n: int = 801) -> float:  # type: ignore[no-unty
     u = np.linspace(0.0, 1.0, n)
     a, b = p.path(u), q.path(u)
     return float(max(track.distance(a[:, 0], b[:, 0]).max(), track.distance(a[:, 1], b[:, 1]).max()))
+
+
+def random_plans(track: Track, clearance: float, n: int, seed: int) -> list[Plan]:
+    """``n`` plans of seeded uniformly random queries on ``track`` (queries the planner refuses are skipped)."""
+    rng = np.random.default_rng(seed)
+    planner = make_planner(track, clearance)
+    out: list[Plan] = []
+    while len(out) < n:
+        s, g = rng.uniform(0, track.total_length, 2), rng.uniform(0, track.total_length, 2)
+        try:
+            out.append(planner.plan(s, g))
+        except MPAError:  # invalid random queries (closer than the clearance, no motion) are skipped
+            continue
+    return out

@@ -8,7 +8,8 @@ import itertools
 import numpy as np
 import pytest
 
-from mpa import Lollipop, MPAError, make_planner
+from mpa import Lollipop
+from tests.common import random_plans
 from trajopt import Limits
 from trajopt.corridor import (
     CORRIDOR_ITERATIONS,
@@ -25,19 +26,6 @@ LIMITS = Limits(0.5, 1.0, 5.0)
 SEP = 0.05 + separation_margin(LIMITS, 100.0)
 
 
-def _plans(track, n, seed):  # type: ignore[no-untyped-def]
-    rng = np.random.default_rng(seed)
-    pl = make_planner(track, 0.05)
-    out = []
-    while len(out) < n:
-        s, g = rng.uniform(0, track.total_length, 2), rng.uniform(0, track.total_length, 2)
-        try:
-            out.append(pl.plan(s, g))
-        except MPAError:  # invalid random queries are skipped
-            continue
-    return out
-
-
 def _samples(view, n):  # type: ignore[no-untyped-def]
     c = view.path_s(np.linspace(0.0, 1.0, n + 1))
     c[0], c[-1] = view.waypoints[0], view.waypoints[-1]
@@ -52,7 +40,7 @@ def problem() -> CorridorProblem:
 @pytest.mark.parametrize("track", TRACKS, ids=repr)
 def test_known_active_set_gives_daqps_solution(track, problem) -> None:  # type: ignore[no-untyped-def]
     verified = 0
-    for p in _plans(track, 25, 1):
+    for p in random_plans(track, 0.05, 25, 1):
         view = plan_view(p)
         centers = _samples(view, problem.n)
         active = None
@@ -71,7 +59,7 @@ def test_known_active_set_gives_daqps_solution(track, problem) -> None:  # type:
 def test_a_wrong_active_set_falls_back_to_daqp(problem) -> None:  # type: ignore[no-untyped-def]
     rng = np.random.default_rng(2)
     nrows = 2 * problem.nx
-    for p in _plans(TRACKS[0], 10, 3):
+    for p in random_plans(TRACKS[0], 0.05, 10, 3):
         view = plan_view(p)
         centers = _samples(view, problem.n)
         free = corridor_radii(view.geom, centers, SEP)
@@ -91,7 +79,7 @@ def test_a_wrong_active_set_falls_back_to_daqp(problem) -> None:  # type: ignore
 
 @pytest.mark.parametrize("track", TRACKS, ids=repr)
 def test_hull_clearance_is_the_minimum_over_all_chords_of_each_window(track) -> None:  # type: ignore[no-untyped-def]
-    for p in _plans(track, 15, 4):
+    for p in random_plans(track, 0.05, 15, 4):
         view = plan_view(p)
         centers = _samples(view, CORRIDOR_SEGMENTS)
         got = hull_clearance(view.geom, centers, 4)

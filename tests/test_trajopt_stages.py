@@ -9,7 +9,8 @@ from typing import NamedTuple
 import numpy as np
 import pytest
 
-from mpa import Circle, Interval, Lollipop, MPAError, make_planner
+from mpa import Circle, Interval, Lollipop, make_planner
+from tests.common import random_plans
 from trajopt import Limits, TrajectoryGenerator, verify_setpoints
 from trajopt.planview import densify, route_geometry
 from trajopt.timing import (
@@ -23,23 +24,10 @@ from trajopt.timing import (
 TRACKS = [Lollipop(1.0, 1.0), Lollipop(0.4, 1.5), Circle(1.0), Interval(1.0)]
 
 
-def _plans(track, clearance, n, seed):  # type: ignore[no-untyped-def]
-    rng = np.random.default_rng(seed)
-    pl = make_planner(track, clearance)
-    out = []
-    while len(out) < n:
-        s, g = rng.uniform(0, track.total_length, 2), rng.uniform(0, track.total_length, 2)
-        try:
-            out.append(pl.plan(s, g))
-        except MPAError:  # invalid random queries are skipped
-            continue
-    return out
-
-
 @pytest.mark.parametrize("track", TRACKS, ids=repr)
 def test_polyline_min_distance_is_exact(track) -> None:  # type: ignore[no-untyped-def]
     rng = np.random.default_rng(5)
-    for p in _plans(track, 0.02, 15, 1):
+    for p in random_plans(track, 0.02, 15, 1):
         geom = route_geometry(track, p.routes)
         lo = np.array([r.sigma_min for r in p.routes])
         hi = np.array([r.sigma_max for r in p.routes])
@@ -85,7 +73,7 @@ def test_cells_imply_clearance(track) -> None:  # type: ignore[no-untyped-def]
     """Random points inside a plan piece's cell (box and half-planes) keep d >= D."""
     D = 0.05
     rng = np.random.default_rng(2)
-    for p in _plans(track, D, 10, 3):
+    for p in random_plans(track, D, 10, 3):
         geom = route_geometry(track, p.routes)
         cells = _plan_cells(geom, p.waypoints_s)
         for k in range(len(cells.points) - 1):
