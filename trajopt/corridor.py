@@ -123,11 +123,30 @@ def corridor_radii(geom: RouteGeometry, centers: FloatArray, separation: float) 
 
     ``E`` is :func:`hull_clearance` of the span's four plan samples. Shape (n+1,).
     """
-    t = np.maximum(hull_clearance(geom, centers, SPAN_POINTS) - separation, 0.0)
-    r = np.full(len(centers), np.inf)
-    for off in range(SPAN_POINTS):
-        np.minimum(r[off : off + len(t)], t, out=r[off : off + len(t)])
-    return r
+    n1 = len(centers)
+    if n1 < SPAN_POINTS:
+        return np.full(n1, np.inf)
+    ends, table = _node_chords(n1)
+    a, b = centers.take(ends, axis=0)
+    chords = geom.chord_min_distances(a, b)
+    # min over windows of max(E − sep, 0) = max(min over the windows' chords − sep, 0) (monotone, also rounded)
+    return np.maximum(np.minimum.reduce(chords.take(table), axis=1) - separation, 0.0)
+
+
+@lru_cache(maxsize=8)
+def _node_chords(n1: int) -> tuple[IntArray, IntArray]:
+    """The chords of :func:`hull_clearance` (windows of :data:`SPAN_POINTS` of ``n1`` points): their ends (shape
+    (2, C)) and, for every point, the chords of all the windows that contain it (shape (n1, M), repeats padding the
+    rows of the points near the ends, which are in fewer windows)."""
+    first, second, windows = _hull_chords(n1, SPAN_POINTS)
+    nw = n1 - SPAN_POINTS + 1
+    rows = []
+    for k in range(n1):
+        ws = range(max(k - SPAN_POINTS + 1, 0), min(k, nw - 1) + 1)
+        rows.append(sorted({int(c) for w in ws for c in windows[:, w]}))
+    m = max(len(r) for r in rows)
+    table = np.array([r + [r[0]] * (m - len(r)) for r in rows], dtype=np.intp)
+    return np.stack([first, second]), table
 
 
 class CorridorProblem:

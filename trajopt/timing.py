@@ -537,23 +537,28 @@ def piece_limits(path: BlendedPath, limits: Limits, safety: float = 1.0) -> Piec
     V, A, J = limits.v * safety, limits.a * safety, limits.j * safety
     m1, m2, m3 = path.bounds[:, 0], path.bounds[:, 1], path.bounds[:, 2]  # (P, 2) each
     inf = np.inf
+
+    def jmin(x: FloatArray) -> FloatArray:
+        """Minimum over the joints (axis 1 of length 2, without numpy's slow short-axis reduction)."""
+        return np.minimum(x[:, 0], x[:, 1])
+
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         v_lin = np.where(m1 > 0, V / m1, inf)
-        v = np.min(
-            np.minimum.reduce(
-                [v_lin, np.where(m2 > 0, np.sqrt(0.5 * A / m2), inf), np.where(m3 > 0, np.cbrt(0.5 * J / m3), inf)]
-            ),
-            axis=1,
+        v = jmin(
+            np.minimum(
+                np.minimum(v_lin, np.where(m2 > 0, np.sqrt(0.5 * A / m2), inf)),
+                np.where(m3 > 0, np.cbrt(0.5 * J / m3), inf),
+            )
         )
         vc = v[:, None]
-        a = np.min(np.where(m1 > 0, (A - m2 * vc * vc) / m1, inf), axis=1)
-        a = np.minimum(a, np.min(np.where(m2 > 0, 0.5 * (J - m3 * vc**3) / (3 * m2 * vc), inf), axis=1))
-        j = np.min(np.where(m1 > 0, (J - m3 * vc**3 - 3 * m2 * vc * a[:, None]) / m1, inf), axis=1)
+        a = jmin(np.where(m1 > 0, (A - m2 * vc * vc) / m1, inf))
+        a = np.minimum(a, jmin(np.where(m2 > 0, 0.5 * (J - m3 * vc**3) / (3 * m2 * vc), inf)))
+        j = jmin(np.where(m1 > 0, (J - m3 * vc**3 - 3 * m2 * vc * a[:, None]) / m1, inf))
         straight = ~np.asarray(path.is_blend, dtype=bool)
         if straight.any():
-            vs = np.where(straight, np.min(v_lin, axis=1), v)
-            as_ = np.where(straight, np.min(np.where(m1 > 0, A / m1, inf), axis=1), a)
-            js = np.where(straight, np.min(np.where(m1 > 0, J / m1, inf), axis=1), j)
+            vs = np.where(straight, jmin(v_lin), v)
+            as_ = np.where(straight, jmin(np.where(m1 > 0, A / m1, inf)), a)
+            js = np.where(straight, jmin(np.where(m1 > 0, J / m1, inf)), j)
         else:  # all curved (the hard path's spline)
             vs, as_, js = v, a, j
     if not (np.all(np.isfinite(vs)) and np.all(vs > 0) and np.all(as_ > 0) and np.all(js > 0)):
