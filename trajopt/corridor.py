@@ -287,10 +287,11 @@ class CorridorProblem:
         """What the solves of one query share: the ends, the unconstrained solution, the bound rows."""
         nx, m = self.nx, self.n - 1
         e4 = np.array([start[0], goal[0], start[1], goal[1]], dtype=float)
-        lo, hi = np.empty(2 * nx), np.empty(2 * nx)  # rows of C = [A; I]; the ball rows are set per solve
+        lohi = np.empty(4 * nx)  # bounds of the rows of C = [A; I], lower then upper; ball rows set per solve
+        lo, hi = lohi[: 2 * nx], lohi[2 * nx :]
         lo[nx : nx + m], lo[nx + m :] = lower[0], lower[1]
         hi[nx : nx + m], hi[nx + m :] = upper[0], upper[1]
-        return _Query(e4, self._x_free @ e4, self._e @ e4, lo, hi, {})
+        return _Query(e4, self._x_free @ e4, self._e @ e4, lo, hi, lohi, {})
 
     def _solve(
         self, q: _Query, centers: FloatArray, radius: FloatArray, active: tuple[IntArray, FloatArray] | None
@@ -334,35 +335,42 @@ class CorridorProblem:
         for _ in range(ACTIVE_SET_REPAIRS + 1):
             x: FloatArray = x_free
             nu: FloatArray = _EMPTY
+            dual: FloatArray = _EMPTY
+            dmin = 0.0
             if len(w):
-                key = w.tobytes()
+                key = w.tobytes() + side.tobytes()
                 sub = q.sets.get(key)
-                if sub is None:  # K restricted to the set, C·x_free on it, H⁻¹·C of its rows (per query)
+                if sub is None:  # K restricted to the set, C·x_free on it, H⁻¹·C of its rows, its sides' bounds
                     sub = q.sets[key] = (
                         self._k.take(w, 0).take(w, 1),
                         self._c.take(w, 0) @ x_free,
                         self._gmat.take(w, 0),
+                        w + np.where(side > 0, len(lo), 0),
                     )
-                b = np.where(side > 0, hi.take(w), lo.take(w))
+                b = q.lohi.take(sub[3])
                 try:
-                    nu = np.asarray(np.linalg.solve(sub[0], sub[1] - b), float)
+                    nu = np.linalg.solve(sub[0], sub[1] - b)
                 except np.linalg.LinAlgError:
                     return None
                 x = x_free - nu @ sub[2]
+                dual = nu * side  # upper rows ν ≥ 0, lower rows ν ≤ 0
+                dmin = dual.min()
             cx = self._c @ x
-            dual = nu * side  # upper rows ν ≥ 0, lower rows ν ≤ 0
-            if (len(w) == 0 or dual.min() >= -KKT_TOL) and np.maximum(lo - cx, cx - hi).max() <= KKT_TOL:
+            up, down = cx - hi, lo - cx
+            viol = np.maximum(up, down)
+            j = int(viol.argmax())  # (the first NaN if any)
+            if dmin >= -KKT_TOL and viol[j] <= KKT_TOL:
                 return x, (w, side)  # (NaN fails both tests)
-            if not np.isfinite(cx).all():
+            if not np.isfinite(viol[j]):  # (cx not finite)
                 return None
             # one active-set step: drop the row with the most negative multiplier, add the most violated row
-            if len(w) and dual.min() < -KKT_TOL:
-                drop = int(np.argmin(dual))
-                w, side = np.delete(w, drop), np.delete(side, drop)
-            up, down = cx - hi, lo - cx
-            j = int(np.argmax(np.maximum(up, down)))
-            if max(up[j], down[j]) > KKT_TOL:
-                w, side = np.append(w, j), np.append(side, 1.0 if up[j] > down[j] else -1.0)
+            if dmin < -KKT_TOL:
+                drop = int(dual.argmin())
+                w = np.concatenate((w[:drop], w[drop + 1 :]))
+                side = np.concatenate((side[:drop], side[drop + 1 :]))
+            if viol[j] > KKT_TOL:
+                w = np.concatenate((w, (j,)))
+                side = np.concatenate((side, (1.0 if up[j] > down[j] else -1.0,)))
         return None
 
 
@@ -375,7 +383,8 @@ class _Query(NamedTuple):
     g: FloatArray
     lo: FloatArray
     hi: FloatArray
-    sets: dict[bytes, tuple[FloatArray, FloatArray, FloatArray]]
+    lohi: FloatArray
+    sets: dict[bytes, tuple[FloatArray, FloatArray, FloatArray, IntArray]]
 
 
 _ROTATE = np.array([[1.0, 1.0], [1.0, -1.0]])
