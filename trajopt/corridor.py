@@ -349,7 +349,7 @@ class CorridorProblem:
                     )
                 b = q.lohi.take(sub[3])
                 try:
-                    nu = np.linalg.solve(sub[0], sub[1] - b)
+                    nu = np.linalg.solve(sub[0], sub[1] - b).astype(float, copy=False)
                 except np.linalg.LinAlgError:
                     return None
                 x = x_free - nu @ sub[2]
