@@ -831,8 +831,8 @@ def _window_min(values: FloatArray, breaks: FloatArray, lo: FloatArray, hi: Floa
     """Minimum of the piecewise-constant ``values`` (one per piece ``[breaks[k], breaks[k+1]]``, shape (P,) or
     (K, P) for K functions at once) over ``[lo, hi]`` (shape (G,)); shape (G,) or (K, G)."""
     P = values.shape[-1]
-    first = np.minimum(np.maximum(np.searchsorted(breaks[1:], lo, side="left"), 0), P - 1)
-    last = np.minimum(np.maximum(np.searchsorted(breaks[:-1], hi, side="right") - 1, 0), P - 1)
+    first = np.minimum(np.maximum(breaks[1:].searchsorted(lo, "left"), 0), P - 1)
+    last = np.minimum(np.maximum(breaks[:-1].searchsorted(hi, "right") - 1, 0), P - 1)
     out = _range_extreme(_sparse_table(values, np.minimum), first, np.maximum(last, first), np.minimum)
     return np.where(last >= first, out, np.inf)
 
@@ -889,14 +889,14 @@ def _window_extreme(
     """``fn`` (np.minimum or np.maximum) of the piecewise-linear ``f`` over ``[x − r, x + r]`` at every grid point
     (``span``: :func:`_window_span` of ``grid`` and ``r``, if known)."""
     lo, hi = _window_span(grid, r) if span is None else span
-    out = _range_extreme(_sparse_table(f, fn, int(np.max(hi - lo)) + 1), lo, hi, fn)
+    out = _range_extreme(_sparse_table(f, fn, int((hi - lo).max()) + 1), lo, hi, fn)
     return np.asarray(fn(out, fn(np.interp(grid - r, grid, f), np.interp(grid + r, grid, f))))
 
 
 def _window_span(grid: FloatArray, r: float) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
     """First and last grid index within ``[x − r, x + r]`` of every grid point ``x``."""
-    lo = np.searchsorted(grid, grid - r, side="left")
-    return lo, np.maximum(np.searchsorted(grid, grid + r, side="right") - 1, lo)
+    lo = grid.searchsorted(grid - r, "left")
+    return lo, np.maximum(grid.searchsorted(grid + r, "right") - 1, lo)
 
 
 def _opening(grid: FloatArray, f: FloatArray, r: float) -> FloatArray:
@@ -976,21 +976,26 @@ def _eroded_flat_top_profile(
     S = path.length
     br = path.breaks
     a_lim = np.minimum(pl.a, tau * pl.j)
-    pts = np.sort(np.clip(np.concatenate([br, br - reach, br + reach]), 0.0, S))
+    pts = np.minimum(np.maximum(np.concatenate([br, br - reach, br + reach]), 0.0), S)  # (np.clip is slow)
+    pts.sort()
     m = per_interval
     frac = np.arange(m) / m
-    grid = np.concatenate([(pts[:-1, None] + frac[None, :] * np.diff(pts)[:, None]).ravel(), pts[-1:]])
-    ds = np.diff(grid)
+    grid = np.concatenate([(pts[:-1, None] + frac[None, :] * (pts[1:] - pts[:-1])[:, None]).ravel(), pts[-1:]])
+    ds = grid[1:] - grid[:-1]
     mid = 0.5 * (grid[:-1] + grid[1:])
     v_int, a_int = _window_min(np.stack([pl.v, a_lim]), br, mid - reach, mid + reach)
     cap = np.empty(len(grid))
     cap[0], cap[-1] = 0.0, 0.0
     cap[1:-1] = np.minimum(v_int[:-1], v_int[1:]) ** 2
     stops = br[path.stop]
-    cap[np.isin(grid, stops)] = 0.0
+    if len(stops) <= 4:  # (the spline's two ends; np.isin is slow)
+        for stop in stops.tolist():
+            cap[grid == stop] = 0.0
+    else:
+        cap[np.isin(grid, stops)] = 0.0
     two_a_ds = 2.0 * a_int * ds
     b0 = _topp_passes(cap, two_a_ds)
-    ds_max = float(np.max(ds, initial=0.0))
+    ds_max = max(float(ds.max()), 0.0) if len(ds) else 0.0
 
     def flat_tops(c: float) -> tuple[FloatArray, float]:
         """Speeds capped at ``c`` with every speed peak a plateau at least τ long (an opening of ``ṡ²`` over ±r,
@@ -1043,20 +1048,20 @@ class _Phases(NamedTuple):
 
 def _constant_acceleration_phases(grid: FloatArray, b: FloatArray) -> _Phases:
     """The motion through the grid points ``grid`` with ``ṡ² = b`` there (constant acceleration between them)."""
-    ds = np.diff(grid)
+    ds = grid[1:] - grid[:-1]
     sq = np.sqrt(b)
     den = sq[:-1] + sq[1:]
     with np.errstate(divide="ignore", invalid="ignore"):
         dt = np.where(ds > 0, 2.0 * ds / den, 0.0)
         acc = np.where(ds > 0, (b[1:] - b[:-1]) / (2.0 * ds), 0.0)
-    if not np.all(np.isfinite(dt)):
+    if not np.isfinite(dt).all():
         k = int(np.argmin(np.isfinite(dt)))
         raise PlanningError(f"the timing is stuck: zero speed over [{grid[k]:.6g}, {grid[k + 1]:.6g}] m of the path")
     keep = dt > 0
     ti = np.concatenate([[0.0], np.cumsum(dt[keep])])
     s_i, v_i, a_i = grid[:-1][keep], sq[:-1][keep], acc[keep]
     # integral F(t) = ∫_0^t s: exact at the phase starts
-    dtk = np.diff(ti)
+    dtk = ti[1:] - ti[:-1]
     f_i = np.concatenate([[0.0], np.cumsum(s_i * dtk + v_i * dtk**2 / 2 + a_i * dtk**3 / 6)])
     return _Phases(ti, s_i, v_i, a_i, f_i)
 
@@ -1066,12 +1071,13 @@ def _phase_state(ph: _Phases, S: float, t: FloatArray) -> tuple[FloatArray, Floa
     the end at rest at ``S``."""
     ti, s_i, v_i, a_i, f_i = ph
     T = ph.duration
-    k = np.minimum(np.maximum(np.searchsorted(ti, t, side="right") - 1, 0), len(s_i) - 1)  # (np.clip is slow)
-    x = np.maximum(t - ti[k], 0.0)
-    s = s_i[k] + v_i[k] * x + a_i[k] * x**2 / 2
-    v = v_i[k] + a_i[k] * x
-    f = f_i[k] + s_i[k] * x + v_i[k] * x**2 / 2 + a_i[k] * x**3 / 6
-    a = a_i[k].copy()
+    k = np.minimum(np.maximum(ti.searchsorted(t, "right") - 1, 0), len(s_i) - 1)  # (np.clip is slow)
+    x = np.maximum(t - ti.take(k), 0.0)
+    sk, vk, ak = s_i.take(k), v_i.take(k), a_i.take(k)
+    s = sk + vk * x + ak * x**2 / 2
+    v = vk + ak * x
+    f = f_i.take(k) + sk * x + vk * x**2 / 2 + ak * x**3 / 6
+    a = ak
     before, after = t < 0.0, t >= T
     f = np.where(before, 0.0, np.where(after, f_i[-1] + S * (t - T), f))
     s = np.where(before, 0.0, np.where(after, S, s))
@@ -1086,13 +1092,18 @@ def _box_filtered(
     """Step 4 of :func:`filtered_scaling`: ``s̃(t) = (1/τ)∫_{t−τ}^{t} s`` as phases of constant jerk: their start
     times and ``s̃, ṡ̃, s̈̃`` there, and their jerks (each shape (K,))."""
     ti, T = ph.t, ph.duration
-    t0 = np.unique(np.concatenate([ti, ti + tau]))
-    t0 = t0[t0 < T + tau]
+    t0 = np.concatenate([ti, ti + tau])
+    t0.sort()
+    keep = np.empty(len(t0), dtype=bool)  # (np.unique, without its overhead)
+    keep[0] = True
+    np.not_equal(t0[1:], t0[:-1], out=keep[1:])
+    keep &= t0 < T + tau
+    t0 = t0[keep]
     mid = 0.5 * (t0 + np.append(t0[1:], T + tau))  # the jerk of a phase, away from rounding at its ends
     k = len(t0)
     f, s, v, _ = _phase_state(ph, S, np.concatenate([t0, t0 - tau]))  # one evaluation each
     a = _phase_acceleration(ph, np.concatenate([mid, mid - tau]))
-    p_out = np.clip((f[:k] - f[k:]) / tau, 0.0, S)
+    p_out = np.minimum(np.maximum((f[:k] - f[k:]) / tau, 0.0), S)
     v_out = (s[:k] - s[k:]) / tau
     a_out = (v[:k] - v[k:]) / tau
     j_out = (a[:k] - a[k:]) / tau
@@ -1102,8 +1113,8 @@ def _box_filtered(
 def _phase_acceleration(ph: _Phases, t: FloatArray) -> FloatArray:
     """The acceleration of :func:`_phase_state` alone (its fourth output)."""
     ti = ph.t
-    k = np.minimum(np.maximum(np.searchsorted(ti, t, side="right") - 1, 0), len(ph.s) - 1)
-    return np.where((t < 0.0) | (t >= ph.duration), 0.0, ph.a[k])
+    k = np.minimum(np.maximum(ti.searchsorted(t, "right") - 1, 0), len(ph.s) - 1)
+    return np.where((t < 0.0) | (t >= ph.duration), 0.0, ph.a.take(k))
 
 
 class RestToRest(NamedTuple):
