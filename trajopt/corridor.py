@@ -14,9 +14,10 @@ halving, no corner passed at rest, a fixed number of nodes and pieces):
 2. *QP* (:class:`CorridorProblem`): an elastic band with a bending term in the time-like metric ``σ_r / vmax_r``;
    the Hessian is fixed and positive definite, so the solution is unique and a continuous function of the query.
    Solved exactly by the dual active-set solver DAQP through CasADi's ``conic`` (built once per generator, called
-   through a buffer); from the second re-centring on, the previous solve's active set (then up to five one-row
-   repairs of it) is tried first: its equality-constrained solution is accepted only if every KKT condition holds
-   to DAQP's tolerances, and then it *is* the unique solution, so the answer does not depend on how it was found.
+   through a buffer) when a guess fails: the previous solve's active set (the empty set for the first solve), then
+   up to five one-row repairs of it, is tried first: its equality-constrained solution is accepted only if every
+   KKT condition holds to DAQP's tolerances, and then it *is* the unique solution, so the answer does not depend on
+   how it was found (up to rounding).
 3. *Path*: the uniform cubic B-spline of the nodes (:func:`trajopt.timing.spline_path`), each span inside the hull
    of four consecutive nodes, C² with a fixed number of pieces.
 4. *Timing*: :func:`trajopt.timing.filtered_scaling`, a v/a-limited profile with eroded per-piece limits on a grid
@@ -242,6 +243,7 @@ class CorridorProblem:
         lower: FloatArray,
         upper: FloatArray,
         active: tuple[IntArray, FloatArray] | None = None,
+        query: _Query | None = None,
     ) -> tuple[FloatArray, dict[str, Any]]:
         """Solve for one query.
 
@@ -258,6 +260,8 @@ class CorridorProblem:
             ``stats["active"]`` of the previous solve. If the equality-constrained solution for it satisfies
             every KKT condition (primal and dual feasibility to 1e-12, the solver's tolerances) it *is* the unique
             solution and DAQP is not called; otherwise DAQP solves the QP.
+        query : optional
+            :meth:`query` of the same ends and bounds, shared by the solves of one query.
 
         Returns
         -------
@@ -267,7 +271,8 @@ class CorridorProblem:
         """
         n, m = self.n, self.n - 1
         t0 = time.perf_counter()
-        query = self.query(centers[0], centers[-1], lower, upper)
+        if query is None:
+            query = self.query(centers[0], centers[-1], lower, upper)
         xs, act, status, success = self._solve(query, centers, radius, active)
         elapsed = time.perf_counter() - t0
         nodes = np.empty((n + 1, 2))
@@ -421,26 +426,24 @@ def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: C
     t1 = time.perf_counter()
     plan_centers = centers
     query = problem.query(centers[0], centers[-1], lower, upper)
-    m = n - 1
     known_sets = 0
-    active = None
+    active: tuple[IntArray, FloatArray] | None = (np.zeros(0, np.intp), np.zeros(0))
     qp_time = 0.0
-    status, success = "", False
+    st: dict[str, Any] = {}
     for it in range(CORRIDOR_ITERATIONS):
         free = corridor_radii(geom, centers, separation)
         if it == 0:
             min_free = float(free[1:-1].min())
         share = free if NODE_SHARE == 1.0 else NODE_SHARE * free
-        # the previous solve's active set is tried first (exact if its KKT conditions hold, else DAQP)
-        tq = time.perf_counter()
-        xs, active, status, success = problem._solve(query, centers, share, active)
-        qp_time += time.perf_counter() - tq
-        known_sets += status == "KKT_VERIFIED"
-        if not success:
-            raise PlanningError(f"corridor QP failed: {status}")
-        nodes = np.empty((n + 1, 2))
+        # the previous solve's active set (at first the empty set: the greedy repairs find most first active sets)
+        # is tried first (exact if its KKT conditions hold, else DAQP)
+        nodes, st = problem.solve(centers, share, lower, upper, active, query)
+        active = st.get("active")
+        qp_time += st["qp_time"]
+        known_sets += st["qp_status"] == "KKT_VERIFIED"
+        if not st["qp_success"]:
+            raise PlanningError(f"corridor QP failed: {st['qp_status']}")
         nodes[0], nodes[-1] = centers[0], centers[-1]
-        nodes[1:-1, 0], nodes[1:-1, 1] = xs[:m], xs[m:]
         nodes = np.minimum(np.maximum(nodes, lower), upper)  # (np.clip, without its overhead)
         dev = np.abs(nodes - centers)
         excess = dev[:, 0] + dev[:, 1] - share
@@ -449,7 +452,7 @@ def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: C
             raise PlanningError(f"corridor QP node {k} leaves its ball by {excess[k]:.3g} m")
         centers = nodes
     stats: dict[str, Any] = {"qp_known_active_sets": known_sets, "min_free": min_free}
-    stats.update(n_segments=n, qp_solver=problem.solver_name, qp_status=status, qp_success=success)  # the last's
+    stats.update({k: v for k, v in st.items() if k not in ("qp_time", "active")})  # the last solve's
     stats["qp_time"] = qp_time
     v = problem.vmax
     for key, pts in (("plan_time_bound", plan_centers), ("optimized_time_bound", nodes)):
