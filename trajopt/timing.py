@@ -832,10 +832,11 @@ def _window_min(values: FloatArray, breaks: FloatArray, lo: FloatArray, hi: Floa
     """Minimum of the piecewise-constant ``values`` (one per piece ``[breaks[k], breaks[k+1]]``, shape (P,) or
     (K, P) for K functions at once) over ``[lo, hi]`` (shape (G,)); shape (G,) or (K, G)."""
     P = values.shape[-1]
-    first = np.minimum(np.maximum(breaks[1:].searchsorted(lo, "left"), 0), P - 1)
+    first = np.minimum(breaks[1:].searchsorted(lo, "left"), P - 1)
     last = np.minimum(np.maximum(breaks[:-1].searchsorted(hi, "right") - 1, 0), P - 1)
-    out = _range_extreme(_sparse_table(values, np.minimum), first, np.maximum(last, first), np.minimum)
-    return np.where(last >= first, out, np.inf)
+    upto = np.maximum(last, first)
+    table = _sparse_table(values, np.minimum, int((upto - first).max()) + 1 if len(first) else None)
+    return np.where(last >= first, _range_extreme(table, first, upto, np.minimum), np.inf)
 
 
 def _sparse_table(f: FloatArray, fn: Any, longest: int | None = None) -> FloatArray:
@@ -855,9 +856,15 @@ def _sparse_table(f: FloatArray, fn: Any, longest: int | None = None) -> FloatAr
 
 def _range_extreme(table: FloatArray, lo: NDArray[np.intp], hi: NDArray[np.intp], fn: Any) -> FloatArray:
     """``fn`` of the values ``lo[i] .. hi[i]`` (inclusive, ``lo <= hi``) from :func:`_sparse_table`'s table."""
+    n = table.shape[-1]
     level = np.frexp(hi - lo + 1)[1] - 1  # floor(log2(length)), exact
-    out = fn(table[level, ..., lo], table[level, ..., hi - (1 << level) + 1])  # (G, ...): the indexed axis first
-    return np.asarray(out if out.ndim == 1 else np.moveaxis(out, 0, -1))
+    row = level * n  # flat index of (level, i) is row + i
+    first, last = row + lo, row + (hi + 1 - np.left_shift(1, level))
+    if table.ndim == 2:
+        flat = table.ravel()
+        return np.asarray(fn(flat.take(first), flat.take(last)))
+    flat = np.moveaxis(table, 0, -2).reshape(*table.shape[1:-1], -1)  # (..., levels·n)
+    return np.asarray(fn(flat.take(first, axis=-1), flat.take(last, axis=-1)))
 
 
 def _topp_passes(cap: FloatArray, two_a_ds: FloatArray) -> FloatArray:
