@@ -547,10 +547,10 @@ class RouteGeometry:
     def _cell_terms(self) -> FloatArray:
         """Every rectangle's terms of ``d`` as affine functions ``gA·σ_A + gB·σ_B + h`` of route coordinates.
 
-        Shape (20, Ma·Mb), column ``ia·Mb + ib`` for route pieces ``(ia, ib)``: ``gA`` (5), ``gB`` (5), ``h`` (5) of
+        Shape (19, Ma·Mb), column ``ia·Mb + ib`` for route pieces ``(ia, ib)``: ``gA`` (5), ``gB`` (5), ``h`` (5) of
         the four terms of :meth:`GraphGeometry.cell_terms` (``h = inf`` through unreachable vertices) and, fifth,
-        of the signed gap ``s − t`` of the offsets; then 1 where both robots are on one edge (there ``|s − t|`` is
-        a term too); then the rectangle ``σ_A, σ_B`` from and ``σ_A, σ_B`` to.
+        of the signed gap ``s − t`` of the offsets where both robots are on one edge (there ``|s − t|`` is a term
+        too; elsewhere ``0·σ + inf``); then the rectangle ``σ_A, σ_B`` from and ``σ_A, σ_B`` to.
         """
         ra, rb = self.routes
         oa = ra.entry - ra.dirs * ra.breaks[:-1]  # offset = o + dir·σ on each piece
