@@ -498,7 +498,8 @@ def spline_path(control: ArrayLike, span: float | None = None) -> BlendedPath:
     if n < 2:
         raise PlanningError(f"a cubic spline needs at least 3 control points, got {n + 1}")
     if span is None:
-        span = float(np.sum(np.linalg.norm(np.diff(c, axis=0), axis=1))) / n
+        leg = c[1:] - c[:-1]
+        span = float(np.sqrt(leg[:, 0] * leg[:, 0] + leg[:, 1] * leg[:, 1]).sum()) / n  # (np.linalg.norm's sum)
     if not span > 0:
         raise PlanningError("the control polygon has length 0")
     g = np.vstack([2 * c[0] - c[1], c, 2 * c[-1] - c[-2]])
@@ -948,15 +949,15 @@ def filtered_scaling(
         return TimeScaling(path, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, np.zeros(P + 1))
     pl = piece_limits(path, limits, safety)
     br = path.breaks
-    tau = float(np.max(limits.a / limits.j))
-    reach = tau * float(np.max(pl.v))
+    tau = float((limits.a / limits.j).max())
+    reach = tau * float(pl.v.max())
     grid, b = _eroded_flat_top_profile(path, pl, tau, reach, int(per_interval))
     phases = _constant_acceleration_phases(grid, b)
     T = phases.duration
     t0, p_out, v_out, a_out, j_out = _box_filtered(phases, tau, S)
     stats = {
         "pieces": P,
-        "blends": int(np.sum(path.is_blend)),
+        "blends": int(path.is_blend.sum()),
         "filter_width": tau,
         "input_duration": T,
         "grid": len(grid),
@@ -1010,11 +1011,11 @@ def _eroded_flat_top_profile(
         ``r = c·τ/2`` plus the grid step), so the input's acceleration never swings from +a to −a within τ;
         ``ṡ²`` on the grid and the duration (inf where the profile is stuck at zero speed)."""
         capped = np.minimum(b0, c * c)
-        bb = np.maximum(_topp_passes(np.minimum(capped, _opening(grid, capped, 0.5 * tau * c + ds_max)), two_a_ds), 0)
+        bb = _topp_passes(np.minimum(capped, _opening(grid, capped, 0.5 * tau * c + ds_max)), two_a_ds)  # (>= 0)
         sq = np.sqrt(bb)
         with np.errstate(divide="ignore", invalid="ignore"):
             dt = np.where(ds > 0, 2.0 * ds / (sq[:-1] + sq[1:]), 0.0)
-        return bb, float(np.sum(dt))
+        return bb, float(dt.sum())
 
     vpeak = reach / tau if tau > 0 else float(np.max(pl.v))
     b, total = flat_tops(vpeak)
