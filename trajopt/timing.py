@@ -1075,24 +1075,23 @@ def _constant_acceleration_phases(grid: FloatArray, b: FloatArray) -> _Phases:
     return _Phases(ti, s_i, v_i, a_i, f_i)
 
 
-def _phase_state(ph: _Phases, S: float, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """``(F, s, v, a)`` of the motion at times ``t`` (right-continuous acceleration); before 0 at rest at 0, after
-    the end at rest at ``S``."""
+def _phase_state(ph: _Phases, S: float, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """``(F, s, v)`` of the motion at times ``t``; before 0 at rest at 0, after the end at rest at ``S`` (the
+    acceleration: :func:`_phase_acceleration`)."""
     ti, s_i, v_i, a_i, f_i = ph
     T = ph.duration
     k = np.minimum(np.maximum(ti.searchsorted(t, "right") - 1, 0), len(s_i) - 1)  # (np.clip is slow)
     x = np.maximum(t - ti.take(k), 0.0)
+    x2 = x**2
     sk, vk, ak = s_i.take(k), v_i.take(k), a_i.take(k)
-    s = sk + vk * x + ak * x**2 / 2
+    s = sk + vk * x + ak * x2 / 2
     v = vk + ak * x
-    f = f_i.take(k) + sk * x + vk * x**2 / 2 + ak * x**3 / 6
-    a = ak
+    f = f_i.take(k) + sk * x + vk * x2 / 2 + ak * x**3 / 6
     before, after = t < 0.0, t >= T
     f = np.where(before, 0.0, np.where(after, f_i[-1] + S * (t - T), f))
     s = np.where(before, 0.0, np.where(after, S, s))
     v = np.where(before | after, 0.0, v)
-    a = np.where(before | after, 0.0, a)
-    return f, s, v, a
+    return f, s, v
 
 
 def _box_filtered(
@@ -1110,7 +1109,7 @@ def _box_filtered(
     t0 = t0[keep]
     mid = 0.5 * (t0 + np.append(t0[1:], T + tau))  # the jerk of a phase, away from rounding at its ends
     k = len(t0)
-    f, s, v, _ = _phase_state(ph, S, np.concatenate([t0, t0 - tau]))  # one evaluation each
+    f, s, v = _phase_state(ph, S, np.concatenate([t0, t0 - tau]))  # one evaluation each
     a = _phase_acceleration(ph, np.concatenate([mid, mid - tau]))
     p_out = np.minimum(np.maximum((f[:k] - f[k:]) / tau, 0.0), S)
     v_out = (s[:k] - s[k:]) / tau
@@ -1120,7 +1119,7 @@ def _box_filtered(
 
 
 def _phase_acceleration(ph: _Phases, t: FloatArray) -> FloatArray:
-    """The acceleration of :func:`_phase_state` alone (its fourth output)."""
+    """The acceleration of the motion of :func:`_phase_state` at times ``t`` (right-continuous; 0 at rest)."""
     ti = ph.t
     k = np.minimum(np.maximum(ti.searchsorted(t, "right") - 1, 0), len(ph.s) - 1)
     return np.where((t < 0.0) | (t >= ph.duration), 0.0, ph.a.take(k))
