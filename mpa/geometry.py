@@ -556,7 +556,7 @@ class RouteGeometry:
         oa = ra.entry - ra.dirs * ra.breaks[:-1]  # offset = o + dir·σ on each piece
         ob = rb.entry - rb.dirs * rb.breaks[:-1]
         da, db = ra.dirs.astype(float)[:, None, None], rb.dirs.astype(float)[None, :, None]
-        c0 = self.geometry.cell_terms_array(ra.edges[:, None], rb.edges[None, :])  # (Ma, Mb, 4)
+        c0 = self._cell_constants()  # (Ma, Mb, 4)
         ca, cb = np.array([1.0, 1.0, -1.0, -1.0]), np.array([1.0, -1.0, 1.0, -1.0])
         out = np.empty((*c0.shape[:2], 19))
         out[..., 0:4], out[..., 5:9] = ca * da, cb * db
@@ -567,6 +567,23 @@ class RouteGeometry:
         out[..., 15], out[..., 17] = ra.breaks[:-1, None], ra.breaks[1:, None]
         out[..., 16], out[..., 18] = rb.breaks[None, :-1], rb.breaks[None, 1:]
         return np.ascontiguousarray(out.reshape(-1, 19).T)
+
+    def _cell_constants(self) -> FloatArray:
+        """:meth:`GraphGeometry.cell_terms_array` of every pair of route pieces, shape (Ma, Mb, 4) (the same
+        values, gathered from the flat vertex distances)."""
+        geo = self.geometry
+        ea, eb = self.routes[0].edges, self.routes[1].edges
+        nv = geo.dv.shape[1]
+        dv = geo.dv.ravel()
+        ta, ha = geo.tails.take(ea)[:, None] * nv, geo.heads.take(ea)[:, None] * nv
+        tb, hb = geo.tails.take(eb)[None, :], geo.heads.take(eb)[None, :]
+        la, lb = geo.lengths.take(ea)[:, None], geo.lengths.take(eb)[None, :]
+        c0 = np.empty((len(ea), len(eb), 4))
+        c0[..., 0] = dv.take(ta + tb)
+        c0[..., 1] = dv.take(ta + hb) + lb
+        c0[..., 2] = la + dv.take(ha + tb)
+        c0[..., 3] = la + lb + dv.take(ha + hb)
+        return c0
 
     def interval(self, robot: int, sigma: ArrayLike) -> IntArray:
         """Index of the route piece of ``robot`` that holds ``σ`` (the later one at a break)."""
