@@ -484,8 +484,9 @@ class RouteGeometry:
         or 0 where the robots cross on one edge (as :meth:`GraphGeometry.segment_min`). Vectorized over the chords
         and their sub-chords; continuous in the chord ends. Shape (n,).
         """
-        a = np.atleast_2d(np.asarray(a, dtype=float))
-        b = np.atleast_2d(np.asarray(b, dtype=float))
+        a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+        if a.ndim < 2 or b.ndim < 2:
+            a, b = np.atleast_2d(a), np.atleast_2d(b)
         if len(a) < 1:
             return np.zeros(0)
         return self._chord_min(a, b)
