@@ -545,25 +545,27 @@ def piece_limits(path: BlendedPath, limits: Limits, safety: float = 1.0) -> Piec
         return np.minimum(x[:, 0], x[:, 1])
 
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        v_lin = np.where(m1 > 0, V / m1, inf)
+        pos1, pos2 = m1 > 0, m2 > 0
+        v_lin = np.where(pos1, V / m1, inf)
         v = jmin(
             np.minimum(
-                np.minimum(v_lin, np.where(m2 > 0, np.sqrt(0.5 * A / m2), inf)),
+                np.minimum(v_lin, np.where(pos2, np.sqrt(0.5 * A / m2), inf)),
                 np.where(m3 > 0, np.cbrt(0.5 * J / m3), inf),
             )
         )
         vc = v[:, None]
-        a = jmin(np.where(m1 > 0, (A - m2 * vc * vc) / m1, inf))
-        a = np.minimum(a, jmin(np.where(m2 > 0, 0.5 * (J - m3 * vc**3) / (3 * m2 * vc), inf)))
-        j = jmin(np.where(m1 > 0, (J - m3 * vc**3 - 3 * m2 * vc * a[:, None]) / m1, inf))
+        vc3 = vc**3
+        a = jmin(np.where(pos1, (A - m2 * vc * vc) / m1, inf))
+        a = np.minimum(a, jmin(np.where(pos2, 0.5 * (J - m3 * vc3) / (3 * m2 * vc), inf)))
+        j = jmin(np.where(pos1, (J - m3 * vc3 - 3 * m2 * vc * a[:, None]) / m1, inf))
         straight = ~np.asarray(path.is_blend, dtype=bool)
         if straight.any():
             vs = np.where(straight, jmin(v_lin), v)
-            as_ = np.where(straight, jmin(np.where(m1 > 0, A / m1, inf)), a)
-            js = np.where(straight, jmin(np.where(m1 > 0, J / m1, inf)), j)
+            as_ = np.where(straight, jmin(np.where(pos1, A / m1, inf)), a)
+            js = np.where(straight, jmin(np.where(pos1, J / m1, inf)), j)
         else:  # all curved (the hard path's spline)
             vs, as_, js = v, a, j
-    if not (np.all(np.isfinite(vs)) and np.all(vs > 0) and np.all(as_ > 0) and np.all(js > 0)):
+    if not (np.isfinite(vs).all() and (vs > 0).all() and (as_ > 0).all() and (js > 0).all()):
         bad = PieceLimits(vs, as_, js)
         raise PlanningError(f"no valid 1-DoF limits on some piece: {bad}")
     return PieceLimits(vs, as_, js)
