@@ -894,26 +894,40 @@ def _topp_passes(cap: FloatArray, two_a_ds: FloatArray) -> FloatArray:
     return np.maximum(np.array(b), 0.0)
 
 
-def _window_extreme(
-    grid: FloatArray, f: FloatArray, r: float, fn: Any, span: tuple[NDArray[np.intp], NDArray[np.intp]] | None = None
-) -> FloatArray:
+class _Windows(NamedTuple):
+    """The windows ``[x − r, x + r]`` of every grid point ``x``: the grid points ``x ∓ r``, the longest window
+    (in grid points) and the flat sparse-table indices of the two blocks that cover each window."""
+
+    left: FloatArray
+    right: FloatArray
+    longest: int
+    first: NDArray[np.intp]
+    last: NDArray[np.intp]
+
+
+def _windows(grid: FloatArray, r: float) -> _Windows:
+    """:class:`_Windows` of ``grid`` and radius ``r``."""
+    left, right = grid - r, grid + r
+    lo = grid.searchsorted(left, "left")
+    hi = np.maximum(grid.searchsorted(right, "right") - 1, lo)  # first and last grid index in the window
+    level = np.frexp(hi - lo + 1)[1] - 1  # floor(log2(length)), exact (as _range_extreme)
+    row = level * len(grid)
+    return _Windows(left, right, int((hi - lo).max()) + 1, row + lo, row + (hi + 1 - np.left_shift(1, level)))
+
+
+def _window_extreme(grid: FloatArray, f: FloatArray, r: float, fn: Any, windows: _Windows | None = None) -> FloatArray:
     """``fn`` (np.minimum or np.maximum) of the piecewise-linear ``f`` over ``[x − r, x + r]`` at every grid point
-    (``span``: :func:`_window_span` of ``grid`` and ``r``, if known)."""
-    lo, hi = _window_span(grid, r) if span is None else span
-    out = _range_extreme(_sparse_table(f, fn, int((hi - lo).max()) + 1), lo, hi, fn)
-    return np.asarray(fn(out, fn(np.interp(grid - r, grid, f), np.interp(grid + r, grid, f))))
-
-
-def _window_span(grid: FloatArray, r: float) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-    """First and last grid index within ``[x − r, x + r]`` of every grid point ``x``."""
-    lo = grid.searchsorted(grid - r, "left")
-    return lo, np.maximum(grid.searchsorted(grid + r, "right") - 1, lo)
+    (``windows``: :func:`_windows` of ``grid`` and ``r``, if known)."""
+    w = _windows(grid, r) if windows is None else windows
+    flat = _sparse_table(f, fn, w.longest).ravel()
+    out = fn(flat.take(w.first), flat.take(w.last))
+    return np.asarray(fn(out, fn(np.interp(w.left, grid, f), np.interp(w.right, grid, f))))
 
 
 def _opening(grid: FloatArray, f: FloatArray, r: float) -> FloatArray:
     """Morphological opening of ``f`` with the window ``[−r, r]``: narrow peaks become plateaus ``2r`` wide."""
-    span = _window_span(grid, r)
-    return _window_extreme(grid, _window_extreme(grid, f, r, np.minimum, span), r, np.maximum, span)
+    w = _windows(grid, r)
+    return _window_extreme(grid, _window_extreme(grid, f, r, np.minimum, w), r, np.maximum, w)
 
 
 def filtered_scaling(
