@@ -967,8 +967,8 @@ def filtered_scaling(
     br = path.breaks
     tau = float((limits.a / limits.j).max())
     reach = tau * float(pl.v.max())
-    grid, b = _eroded_flat_top_profile(path, pl, tau, reach, int(per_interval))
-    phases = _constant_acceleration_phases(grid, b)
+    grid, b, sq, dt = _eroded_flat_top_profile(path, pl, tau, reach, int(per_interval))
+    phases = _constant_acceleration_phases(grid, b, sq, dt)
     T = phases.duration
     t0, p_out, v_out, a_out, j_out = _box_filtered(phases, tau, S)
     stats = {
@@ -995,9 +995,10 @@ def filtered_scaling(
 
 def _eroded_flat_top_profile(
     path: BlendedPath, pl: PieceLimits, tau: float, reach: float, per_interval: int
-) -> tuple[FloatArray, FloatArray]:
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Steps 2 and 3 of :func:`filtered_scaling`: the grid of path lengths (shape (G,)) and ``ṡ²`` on it (shape
-    (G,), >= 0) of the time-optimal v/a-limited profile under the eroded limits, with flattened speed peaks."""
+    (G,), >= 0) of the time-optimal v/a-limited profile under the eroded limits, with flattened speed peaks; also
+    ``ṡ`` (shape (G,)) and the duration of every grid interval (shape (G−1,))."""
     S = path.length
     br = path.breaks
     a_lim = np.minimum(pl.a, tau * pl.j)
@@ -1022,7 +1023,7 @@ def _eroded_flat_top_profile(
     b0 = _topp_passes(cap, two_a_ds)
     ds_max = max(float(ds.max()), 0.0) if len(ds) else 0.0
 
-    def flat_tops(c: float) -> tuple[FloatArray, float]:
+    def flat_tops(c: float) -> tuple[FloatArray, float, FloatArray, FloatArray]:
         """Speeds capped at ``c`` with every speed peak a plateau at least τ long (an opening of ``ṡ²`` over ±r,
         ``r = c·τ/2`` plus the grid step), so the input's acceleration never swings from +a to −a within τ;
         ``ṡ²`` on the grid and the duration (inf where the profile is stuck at zero speed)."""
@@ -1031,10 +1032,10 @@ def _eroded_flat_top_profile(
         sq = np.sqrt(bb)
         with np.errstate(divide="ignore", invalid="ignore"):
             dt = np.where(ds > 0, 2.0 * ds / (sq[:-1] + sq[1:]), 0.0)
-        return bb, float(dt.sum())
+        return bb, float(dt.sum()), sq, dt
 
     vpeak = reach / tau if tau > 0 else float(np.max(pl.v))
-    b, total = flat_tops(vpeak)
+    b, total, sq, dt = flat_tops(vpeak)
     if not np.isfinite(total):
         # a path too short for plateaus at full speed (τ·vmax beyond its length): the plateau speed that
         # minimises the duration (golden section on a fixed bracket and count: continuous in the path)
@@ -1051,8 +1052,8 @@ def _eroded_flat_top_profile(
                 lo, x1, f1 = x1, x2, f2
                 x2 = lo + g * (hi - lo)
                 f2 = flat_tops(x2)[1]
-        b, total = flat_tops(0.5 * (lo + hi))
-    return grid, b
+        b, total, sq, dt = flat_tops(0.5 * (lo + hi))
+    return grid, b, sq, dt
 
 
 class _Phases(NamedTuple):
@@ -1071,13 +1072,16 @@ class _Phases(NamedTuple):
         return float(self.t[-1])
 
 
-def _constant_acceleration_phases(grid: FloatArray, b: FloatArray) -> _Phases:
-    """The motion through the grid points ``grid`` with ``ṡ² = b`` there (constant acceleration between them)."""
+def _constant_acceleration_phases(
+    grid: FloatArray, b: FloatArray, sq: FloatArray | None = None, dt: FloatArray | None = None
+) -> _Phases:
+    """The motion through the grid points ``grid`` with ``ṡ² = b`` there (constant acceleration between them);
+    ``sq = √b`` and the intervals' durations ``dt`` if known (as :func:`_eroded_flat_top_profile` computes them)."""
     ds = grid[1:] - grid[:-1]
-    sq = np.sqrt(b)
-    den = sq[:-1] + sq[1:]
     with np.errstate(divide="ignore", invalid="ignore"):
-        dt = np.where(ds > 0, 2.0 * ds / den, 0.0)
+        if sq is None or dt is None:
+            sq = np.sqrt(b)
+            dt = np.where(ds > 0, 2.0 * ds / (sq[:-1] + sq[1:]), 0.0)
         acc = np.where(ds > 0, (b[1:] - b[:-1]) / (2.0 * ds), 0.0)
     if not np.isfinite(dt).all():
         k = int(np.argmin(np.isfinite(dt)))
