@@ -510,23 +510,23 @@ class RouteGeometry:
                 first[0] = True
                 np.not_equal(k_all[1:], k_all[:-1], out=first[1:])
                 starts = first.nonzero()[0]
-                aa = a.take(k_all, axis=0)
-                q = np.empty((2, len(k_all), 2))  # both ends of every sub-chord
-                np.add(aa, l_all[:, None] * (b.take(k_all, axis=0) - aa), out=q[0])  # (λ = 0: exactly a)
-                q[1, :-1] = q[0, 1:]  # a sub-chord ends where the next one starts, the last of a chord at b
-                q[1, starts[1:] - 1] = b[:-1]
-                q[1, -1] = b[-1]
+                aa = a.T.take(k_all, axis=1)
+                q = np.empty((2, 2, len(k_all)))  # (end, robot, sub-chord): both ends of every sub-chord
+                np.add(aa, l_all * (b.T.take(k_all, axis=1) - aa), out=q[0])  # (λ = 0: exactly a)
+                q[1, :, :-1] = q[0, :, 1:]  # a sub-chord ends where the next one starts, the last of a chord at b
+                q[1, :, starts[1:] - 1] = b[:-1]  # (advanced index first: shape (n − 1, 2))
+                q[1, :, -1] = b[-1]
         if starts is None:
-            q = np.stack([a, b])
+            q = np.empty((2, 2, n))
+            q[0], q[1] = a.T, b.T
         mid = 0.5 * (q[0] + q[1])
         # the rectangle of every sub-chord: the route pieces at its middle (the later one at a break, as
         # piece_index); inside it every term of d is affine in σ (see _cell_terms); its ends are clamped to the
         # rectangle, as positions are to their pieces
-        idx = inner_a.searchsorted(mid[:, 0], "right") * n_b + inner_b.searchsorted(mid[:, 1], "right")
+        idx = inner_a.searchsorted(mid[0], "right") * n_b + inner_b.searchsorted(mid[1], "right")
         cell = self._cell_terms.take(idx, axis=1)  # (19, S)
-        qa = np.minimum(np.maximum(q[..., 0], cell[15]), cell[17])  # (2, S)
-        qb = np.minimum(np.maximum(q[..., 1], cell[16]), cell[18])
-        v = cell[0:5, None, :] * qa + cell[5:10, None, :] * qb + cell[10:15, None, :]  # (5, 2, S)
+        qc = np.minimum(np.maximum(q, cell[15:17]), cell[17:19])  # (2, 2, S)
+        v = cell[0:5, None, :] * qc[:, 0] + cell[5:10, None, :] * qc[:, 1] + cell[10:15, None, :]  # (5, 2, S)
         # the fifth term is s − t on one edge (else +inf): d is 0 where it changes sign along the sub-chord, else
         # |s − t| at an end is a term: the minimum of |s − t| is max(min(g0, g1), −max(g0, g1), 0)
         g = v[4]
