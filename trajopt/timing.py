@@ -1005,6 +1005,15 @@ def _eroded_flat_top_profile(
     pts = np.minimum(np.maximum(np.concatenate([br, br - reach, br + reach]), 0.0), S)  # (np.clip is slow)
     pts.sort()
     m = per_interval
+    # The points clipped to 0 and S repeat the path's ends, where ṡ = 0 (stops): their zero-length intervals
+    # change nothing but cost grid points; one copy of each end is kept (the durations' sum still adds their zeros,
+    # so that it is rounded as on the full grid).
+    pad0 = padS = 0
+    if path.stop[0] and path.stop[-1]:
+        z0, zS = int(pts.searchsorted(0.0, "right")), len(pts) - int(pts.searchsorted(S, "left"))
+        if z0 > 1 or zS > 1:
+            pts = pts[max(z0, 1) - 1 : len(pts) - max(zS, 1) + 1]
+            pad0, padS = (max(z0, 1) - 1) * m, (max(zS, 1) - 1) * m
     frac = np.arange(m) / m
     grid = np.concatenate([(pts[:-1, None] + frac[None, :] * (pts[1:] - pts[:-1])[:, None]).ravel(), pts[-1:]])
     ds = grid[1:] - grid[:-1]
@@ -1032,7 +1041,8 @@ def _eroded_flat_top_profile(
         sq = np.sqrt(bb)
         with np.errstate(divide="ignore", invalid="ignore"):
             dt = np.where(ds > 0, 2.0 * ds / (sq[:-1] + sq[1:]), 0.0)
-        return bb, float(dt.sum()), sq, dt
+        total = dt.sum() if pad0 + padS == 0 else np.concatenate((np.zeros(pad0), dt, np.zeros(padS))).sum()
+        return bb, float(total), sq, dt
 
     vpeak = reach / tau if tau > 0 else float(np.max(pl.v))
     b, total, sq, dt = flat_tops(vpeak)
