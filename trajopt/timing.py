@@ -994,11 +994,12 @@ def filtered_scaling(
 
 
 def _eroded_flat_top_profile(
-    path: BlendedPath, pl: PieceLimits, tau: float, reach: float, per_interval: int
+    path: BlendedPath, pl: PieceLimits, tau: float, reach: float, per_interval: int, ends_once: bool = True
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Steps 2 and 3 of :func:`filtered_scaling`: the grid of path lengths (shape (G,)) and ``ṡ²`` on it (shape
     (G,), >= 0) of the time-optimal v/a-limited profile under the eroded limits, with flattened speed peaks; also
-    ``ṡ`` (shape (G,)) and the duration of every grid interval (shape (G−1,))."""
+    ``ṡ`` (shape (G,)) and the duration of every grid interval (shape (G−1,)). ``ends_once``: the points clipped
+    to the ends are merged (the same profile on fewer grid points; False for the full grid, for tests)."""
     S = path.length
     br = path.breaks
     a_lim = np.minimum(pl.a, tau * pl.j)
@@ -1009,7 +1010,7 @@ def _eroded_flat_top_profile(
     # change nothing but cost grid points; one copy of each end is kept (the durations' sum still adds their zeros,
     # so that it is rounded as on the full grid).
     pad0 = padS = 0
-    if path.stop[0] and path.stop[-1]:
+    if ends_once and path.stop[0] and path.stop[-1]:
         z0, zS = int(pts.searchsorted(0.0, "right")), len(pts) - int(pts.searchsorted(S, "left"))
         if z0 > 1 or zS > 1:
             pts = pts[max(z0, 1) - 1 : len(pts) - max(zS, 1) + 1]
