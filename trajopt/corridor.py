@@ -335,7 +335,13 @@ class CorridorProblem:
         row whose multiplier is the most negative and adds the most violated row (a guess only: whatever set is
         tried, the answer is accepted only if every KKT condition holds, and then it is the unique solution).
         """
-        w, side = active
+        with np.errstate(all="ignore"):  # a singular set gives NaN multipliers (rejected below)
+            return self._repaired(q, *active)
+
+    def _repaired(
+        self, q: _Query, w: IntArray, side: FloatArray
+    ) -> tuple[FloatArray, tuple[IntArray, FloatArray]] | None:
+        """:meth:`_known_active_set` (within its error state)."""
         x_free, lo, hi = q.x_free, q.lo, q.hi
         for _ in range(ACTIVE_SET_REPAIRS + 1):
             x: FloatArray = x_free
@@ -354,7 +360,7 @@ class CorridorProblem:
                     )
                 b = q.lohi.take(sub[3])
                 try:
-                    nu = np.linalg.solve(sub[0], sub[1] - b).astype(float, copy=False)
+                    nu = _solve_vector(sub[0], sub[1] - b)
                 except np.linalg.LinAlgError:
                     return None
                 x = x_free - nu @ sub[2]
@@ -391,6 +397,22 @@ class _Query(NamedTuple):
     lohi: FloatArray
     sets: dict[bytes, tuple[FloatArray, FloatArray, FloatArray, IntArray]]
 
+
+def _solve_vector(k: FloatArray, r: FloatArray) -> FloatArray:
+    """``K⁻¹·r`` for a vector ``r``: LAPACK's solve as :func:`numpy.linalg.solve` calls it (its gufunc, the same
+    result bit for bit, without the wrapper's checks: a singular ``K`` gives NaN, or raises ``LinAlgError``
+    where numpy's internal gufunc is not available)."""
+    if _SOLVE1 is None:
+        return np.asarray(np.linalg.solve(k, r), dtype=float)
+    return np.asarray(_SOLVE1(k, r), dtype=float)
+
+
+try:  # numpy's own gufunc behind numpy.linalg.solve for a vector right-hand side (numpy >= 1.8)
+    from numpy.linalg import _umath_linalg
+
+    _SOLVE1: Any = _umath_linalg.solve1
+except (ImportError, AttributeError):  # pragma: no cover - another numpy layout
+    _SOLVE1 = None
 
 _ROTATE = np.array([[1.0, 1.0], [1.0, -1.0]])
 _EMPTY = np.zeros(0)
