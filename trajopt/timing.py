@@ -1098,11 +1098,11 @@ def _constant_acceleration_phases(
         k = int(np.argmin(np.isfinite(dt)))
         raise PlanningError(f"the timing is stuck: zero speed over [{grid[k]:.6g}, {grid[k + 1]:.6g}] m of the path")
     keep = dt > 0
-    ti = np.concatenate([[0.0], np.cumsum(dt[keep])])
+    ti = np.concatenate(((0.0,), dt[keep].cumsum()))
     s_i, v_i, a_i = grid[:-1][keep], sq[:-1][keep], acc[keep]
     # integral F(t) = ∫_0^t s: exact at the phase starts
     dtk = ti[1:] - ti[:-1]
-    f_i = np.concatenate([[0.0], np.cumsum(s_i * dtk + v_i * dtk**2 / 2 + a_i * dtk**3 / 6)])
+    f_i = np.concatenate(((0.0,), (s_i * dtk + v_i * dtk**2 / 2 + a_i * dtk**3 / 6).cumsum()))
     return _Phases(ti, s_i, v_i, a_i, f_i)
 
 
@@ -1138,7 +1138,7 @@ def _box_filtered(
     np.not_equal(t0[1:], t0[:-1], out=keep[1:])
     keep &= t0 < T + tau
     t0 = t0[keep]
-    mid = 0.5 * (t0 + np.append(t0[1:], T + tau))  # the jerk of a phase, away from rounding at its ends
+    mid = 0.5 * (t0 + np.concatenate((t0[1:], (T + tau,))))  # the jerk of a phase, away from rounding at its ends
     k = len(t0)
     f, s, v = _phase_state(ph, S, np.concatenate([t0, t0 - tau]))  # one evaluation each
     a = _phase_acceleration(ph, np.concatenate([mid, mid - tau]))
