@@ -271,14 +271,15 @@ def _cubic_bounds(coef: FloatArray, length: float) -> FloatArray:
     """
     c1, c2, c3 = coef[:, 1], coef[:, 2], coef[:, 3]
     L = float(length)
+    two_c2, three_c3, six_c3 = 2 * c2, 3 * c3, 6 * c3
     cubic = c3 != 0
-    tv = np.where(cubic, -c2 / np.where(cubic, 3 * c3, 1.0), -1.0)  # the vertex of the first derivative
+    tv = np.where(cubic, -c2 / np.where(cubic, three_c3, 1.0), -1.0)  # the vertex of the first derivative
     inside = (tv > 0) & (tv < L)
     out = np.empty((len(coef), 3, 2))
-    m1 = np.maximum(np.abs(c1), np.abs(c1 + 2 * c2 * L + 3 * c3 * L * L))
-    np.maximum(m1, np.where(inside, np.abs(c1 + 2 * c2 * tv + 3 * c3 * tv * tv), 0.0), out=out[:, 0])
-    np.maximum(np.abs(2 * c2), np.abs(2 * c2 + 6 * c3 * L), out=out[:, 1])
-    np.abs(6 * c3, out=out[:, 2])
+    m1 = np.maximum(np.abs(c1), np.abs(c1 + two_c2 * L + three_c3 * L * L))
+    np.maximum(m1, np.where(inside, np.abs(c1 + two_c2 * tv + three_c3 * tv * tv), 0.0), out=out[:, 0])
+    np.maximum(np.abs(two_c2), np.abs(two_c2 + six_c3 * L), out=out[:, 1])
+    np.abs(six_c3, out=out[:, 2])
     out *= 1 + 1e-9
     return out
 
