@@ -484,52 +484,56 @@ class RouteGeometry:
         or 0 where the robots cross on one edge (as :meth:`GraphGeometry.segment_min`). Vectorized over the chords
         and their sub-chords; continuous in the chord ends. Shape (n,).
         """
-        a = np.atleast_2d(np.asarray(a, dtype=float))
-        b = np.atleast_2d(np.asarray(b, dtype=float))
-        n = len(a)
-        if n < 1:
+        a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+        if a.ndim < 2 or b.ndim < 2:
+            a, b = np.atleast_2d(a), np.atleast_2d(b)
+        if len(a) < 1:
             return np.zeros(0)
+        return self._chord_min(a, b)
+
+    def _chord_min(self, a: FloatArray, b: FloatArray) -> FloatArray:
+        """:meth:`chord_min_distances` of float arrays of shape (n, 2), ``n >= 1`` (no conversions)."""
+        n = len(a)
         brk, rob, inner_a, inner_b, n_b = self._interior_breaks
-        cut = False
+        starts = None
         if len(brk):
-            ar = a[:, rob]
-            d = b[:, rob] - ar
+            ar = a.take(rob, axis=1)
+            d = b.take(rob, axis=1) - ar
             tt = (brk - ar) / np.where(d == 0.0, np.inf, d)  # a chord parallel to a break is not cut (tt = 0)
-            kk, jj = np.nonzero((tt > 0.0) & (tt < 1.0))
-            cut = len(kk) > 0
-        if cut:  # sub-chords in order along every chord: [λ_i, λ_i+1] over its cuts
-            k_all = np.concatenate([np.arange(n), kk])
-            l_all = np.concatenate([np.zeros(n), tt[kk, jj]])
-            order = np.lexsort((l_all, k_all))
-            k_all, l_all = k_all[order], l_all[order]
-            first = np.empty(len(k_all), dtype=bool)
-            first[0] = True
-            np.not_equal(k_all[1:], k_all[:-1], out=first[1:])
-            l_end = np.ones(len(l_all))
-            l_end[:-1] = np.where(first[1:], 1.0, l_all[1:])
-            aa, bb = a[k_all], b[k_all]
-            d_ab = bb - aa
-            q0 = np.where(l_all[:, None] == 0.0, aa, aa + l_all[:, None] * d_ab)
-            q1 = np.where(l_end[:, None] == 1.0, bb, aa + l_end[:, None] * d_ab)
-        else:
-            q0, q1 = a, b
-        q = np.stack([q0, q1])  # (2, S, 2): both ends of every sub-chord
-        mid = 0.5 * (q0 + q1)
+            cuts = ((tt > 0.0) & (tt < 1.0)).ravel().nonzero()[0]
+            if len(cuts):  # sub-chords in order along every chord: [λ_i, λ_i+1] over its cuts
+                k_all = np.concatenate([np.arange(n), cuts // len(brk)])
+                l_all = np.concatenate([np.zeros(n), tt.take(cuts)])
+                order = np.lexsort((l_all, k_all))
+                k_all, l_all = k_all.take(order), l_all.take(order)
+                first = np.empty(len(k_all), dtype=bool)
+                first[0] = True
+                np.not_equal(k_all[1:], k_all[:-1], out=first[1:])
+                starts = first.nonzero()[0]
+                aa = a.T.take(k_all, axis=1)
+                q = np.empty((2, 2, len(k_all)))  # (end, robot, sub-chord): both ends of every sub-chord
+                np.add(aa, l_all * (b.T.take(k_all, axis=1) - aa), out=q[0])  # (λ = 0: exactly a)
+                q[1, :, :-1] = q[0, :, 1:]  # a sub-chord ends where the next one starts, the last of a chord at b
+                q[1, :, starts[1:] - 1] = b[:-1]  # (advanced index first: shape (n − 1, 2))
+                q[1, :, -1] = b[-1]
+        if starts is None:
+            q = np.empty((2, 2, n))
+            q[0], q[1] = a.T, b.T
+        mid = 0.5 * (q[0] + q[1])
         # the rectangle of every sub-chord: the route pieces at its middle (the later one at a break, as
         # piece_index); inside it every term of d is affine in σ (see _cell_terms); its ends are clamped to the
         # rectangle, as positions are to their pieces
-        ia = np.searchsorted(inner_a, mid[:, 0], side="right")
-        idx = ia * n_b + np.searchsorted(inner_b, mid[:, 1], side="right")
-        cell = self._cell_terms.take(idx, axis=1)  # (20, S)
-        qa = np.minimum(np.maximum(q[..., 0], cell[16]), cell[18])  # (2, S)
-        qb = np.minimum(np.maximum(q[..., 1], cell[17]), cell[19])
-        v = cell[0:5, None, :] * qa + cell[5:10, None, :] * qb + cell[10:15, None, :]  # (5, 2, S)
-        terms = np.min(v[:4].reshape(8, -1), axis=0)
-        g0, g1 = v[4, 0], v[4, 1]  # s − t on one edge: d is 0 where it changes sign, else |s − t| is a term
-        gap = np.where(g0 * g1 <= 0.0, 0.0, np.minimum(np.abs(g0), np.abs(g1)))
-        sub = np.where(cell[15] > 0.0, np.minimum(terms, gap), terms)
-        if cut:
-            return np.asarray(np.minimum.reduceat(sub, np.flatnonzero(first)))
+        idx = inner_a.searchsorted(mid[0], "right") * n_b + inner_b.searchsorted(mid[1], "right")
+        cell = self._cell_terms.take(idx, axis=1)  # (19, S)
+        qc = np.minimum(np.maximum(q, cell[15:17]), cell[17:19])  # (2, 2, S)
+        v = cell[0:5, None, :] * qc[:, 0] + cell[5:10, None, :] * qc[:, 1] + cell[10:15, None, :]  # (5, 2, S)
+        # the fifth term is s − t on one edge (else +inf): d is 0 where it changes sign along the sub-chord, else
+        # |s − t| at an end is a term: the minimum of |s − t| is max(min(g0, g1), −max(g0, g1), 0)
+        g = v[4]
+        gap = np.maximum(np.maximum(np.minimum(g[0], g[1]), -np.maximum(g[0], g[1])), 0.0)
+        sub = np.minimum(np.minimum.reduce(v[:4].reshape(8, -1), axis=0), gap)
+        if starts is not None:
+            return np.asarray(np.minimum.reduceat(sub, starts))
         return np.asarray(sub)
 
     @cached_property
@@ -544,26 +548,43 @@ class RouteGeometry:
     def _cell_terms(self) -> FloatArray:
         """Every rectangle's terms of ``d`` as affine functions ``gA·σ_A + gB·σ_B + h`` of route coordinates.
 
-        Shape (20, Ma·Mb), column ``ia·Mb + ib`` for route pieces ``(ia, ib)``: ``gA`` (5), ``gB`` (5), ``h`` (5) of
+        Shape (19, Ma·Mb), column ``ia·Mb + ib`` for route pieces ``(ia, ib)``: ``gA`` (5), ``gB`` (5), ``h`` (5) of
         the four terms of :meth:`GraphGeometry.cell_terms` (``h = inf`` through unreachable vertices) and, fifth,
-        of the signed gap ``s − t`` of the offsets; then 1 where both robots are on one edge (there ``|s − t|`` is
-        a term too); then the rectangle ``σ_A, σ_B`` from and ``σ_A, σ_B`` to.
+        of the signed gap ``s − t`` of the offsets where both robots are on one edge (there ``|s − t|`` is a term
+        too; elsewhere ``0·σ + inf``); then the rectangle ``σ_A, σ_B`` from and ``σ_A, σ_B`` to.
         """
         ra, rb = self.routes
         oa = ra.entry - ra.dirs * ra.breaks[:-1]  # offset = o + dir·σ on each piece
         ob = rb.entry - rb.dirs * rb.breaks[:-1]
         da, db = ra.dirs.astype(float)[:, None, None], rb.dirs.astype(float)[None, :, None]
-        c0 = self.geometry.cell_terms_array(ra.edges[:, None], rb.edges[None, :])  # (Ma, Mb, 4)
+        c0 = self._cell_constants()  # (Ma, Mb, 4)
         ca, cb = np.array([1.0, 1.0, -1.0, -1.0]), np.array([1.0, -1.0, 1.0, -1.0])
-        out = np.empty((*c0.shape[:2], 20))
+        out = np.empty((*c0.shape[:2], 19))
         out[..., 0:4], out[..., 5:9] = ca * da, cb * db
         out[..., 10:14] = c0 + ca * oa[:, None, None] + cb * ob[None, :, None]
-        out[..., 4], out[..., 9] = da[..., 0], -db[..., 0]
-        out[..., 14] = oa[:, None] - ob[None, :]
-        out[..., 15] = ra.edges[:, None] == rb.edges[None, :]
-        out[..., 16], out[..., 18] = ra.breaks[:-1, None], ra.breaks[1:, None]
-        out[..., 17], out[..., 19] = rb.breaks[None, :-1], rb.breaks[None, 1:]
-        return np.ascontiguousarray(out.reshape(-1, 20).T)
+        same = ra.edges[:, None] == rb.edges[None, :]  # both robots on one edge: |s − t| is a term too
+        out[..., 4], out[..., 9] = np.where(same, da[..., 0], 0.0), np.where(same, -db[..., 0], 0.0)
+        out[..., 14] = np.where(same, oa[:, None] - ob[None, :], np.inf)
+        out[..., 15], out[..., 17] = ra.breaks[:-1, None], ra.breaks[1:, None]
+        out[..., 16], out[..., 18] = rb.breaks[None, :-1], rb.breaks[None, 1:]
+        return np.ascontiguousarray(out.reshape(-1, 19).T)
+
+    def _cell_constants(self) -> FloatArray:
+        """:meth:`GraphGeometry.cell_terms_array` of every pair of route pieces, shape (Ma, Mb, 4) (the same
+        values, gathered from the flat vertex distances)."""
+        geo = self.geometry
+        ea, eb = self.routes[0].edges, self.routes[1].edges
+        nv = geo.dv.shape[1]
+        dv = geo.dv.ravel()
+        ta, ha = geo.tails.take(ea)[:, None] * nv, geo.heads.take(ea)[:, None] * nv
+        tb, hb = geo.tails.take(eb)[None, :], geo.heads.take(eb)[None, :]
+        la, lb = geo.lengths.take(ea)[:, None], geo.lengths.take(eb)[None, :]
+        c0 = np.empty((len(ea), len(eb), 4))
+        c0[..., 0] = dv.take(ta + tb)
+        c0[..., 1] = dv.take(ta + hb) + lb
+        c0[..., 2] = la + dv.take(ha + tb)
+        c0[..., 3] = la + lb + dv.take(ha + hb)
+        return c0
 
     def interval(self, robot: int, sigma: ArrayLike) -> IntArray:
         """Index of the route piece of ``robot`` that holds ``σ`` (the later one at a break)."""

@@ -119,3 +119,49 @@ def test_window_extremes_match_brute_force() -> None:
             red = np.min if fn is np.minimum else np.max
             want = fn(red(np.where(near, f[None, :], np.inf if fn is np.minimum else -np.inf), axis=1), ends)
             np.testing.assert_array_equal(_window_extreme(grid, f, r, fn), want)
+
+
+@pytest.mark.parametrize("track", TRACKS, ids=repr)
+def test_corridor_radii_follow_their_definition(track) -> None:  # type: ignore[no-untyped-def]
+    # the radius of a node: the minimum over the windows (spline spans) that contain it of max(E - sep, 0)
+    rng = np.random.default_rng(8)
+    for p in _plans(track, 12, 4):
+        view = plan_view(p)
+        centers = _samples(view, CORRIDOR_SEGMENTS)
+        for pts in (centers, np.clip(centers + rng.normal(0.0, 0.02, centers.shape), view.lower, view.upper)):
+            t = np.maximum(hull_clearance(view.geom, pts, 4) - SEP, 0.0)
+            want = np.array([t[max(k - 3, 0) : k + 1].min() for k in range(len(pts))])
+            np.testing.assert_array_equal(corridor_radii(view.geom, pts, SEP), want)
+
+
+def test_filtered_profile_on_merged_path_ends_is_the_full_grids() -> None:
+    # the grid points clipped to the path's ends (at rest) are merged: the same motion as on the full grid
+    from trajopt.timing import (
+        _constant_acceleration_phases,
+        _eroded_flat_top_profile,
+        filtered_scaling,
+        piece_limits,
+        spline_path,
+    )
+
+    rng = np.random.default_rng(11)
+    merged_some = 0
+    for i in range(40):
+        nodes = np.cumsum(rng.normal(0.0, [1e-3, 0.01, 0.05, 0.2][i % 4], (int(rng.integers(3, 40)), 2)), axis=0)
+        path = spline_path(nodes)
+        pl = piece_limits(path, LIMITS, 1.0 - 1e-9)
+        tau = float(np.max(LIMITS.a / LIMITS.j))
+        reach = tau * float(np.max(pl.v))
+        full = _eroded_flat_top_profile(path, pl, tau, reach, 4, ends_once=False)
+        once = _eroded_flat_top_profile(path, pl, tau, reach, 4)
+        assert np.sum(once[0] == 0.0) == 1 and np.sum(once[0] == path.length) == 1
+        merged_some += len(once[0]) < len(full[0])
+        a, b = _constant_acceleration_phases(full[0], full[1]), _constant_acceleration_phases(*once)
+        for x, y in zip(a, b, strict=True):
+            np.testing.assert_array_equal(x, y)
+        # the same values on the shared grid points, and the same boundary speeds
+        np.testing.assert_array_equal(np.unique(full[0]), np.unique(once[0]))
+        np.testing.assert_array_equal(
+            np.interp(path.breaks, full[0], np.sqrt(full[1])), filtered_scaling(path, LIMITS).boundary_speed
+        )
+    assert merged_some > 10

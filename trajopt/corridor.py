@@ -14,9 +14,10 @@ halving, no corner passed at rest, a fixed number of nodes and pieces):
 2. *QP* (:class:`CorridorProblem`): an elastic band with a bending term in the time-like metric ``σ_r / vmax_r``;
    the Hessian is fixed and positive definite, so the solution is unique and a continuous function of the query.
    Solved exactly by the dual active-set solver DAQP through CasADi's ``conic`` (built once per generator, called
-   through a buffer); from the second re-centring on, the previous solve's active set (then up to five one-row
-   repairs of it) is tried first: its equality-constrained solution is accepted only if every KKT condition holds
-   to DAQP's tolerances, and then it *is* the unique solution, so the answer does not depend on how it was found.
+   through a buffer) when a guess fails: the previous solve's active set (the empty set for the first solve), then
+   up to five one-row repairs of it, is tried first: its equality-constrained solution is accepted only if every
+   KKT condition holds to DAQP's tolerances, and then it *is* the unique solution, so the answer does not depend on
+   how it was found (up to rounding).
 3. *Path*: the uniform cubic B-spline of the nodes (:func:`trajopt.timing.spline_path`), each span inside the hull
    of four consecutive nodes, C² with a fixed number of pieces.
 4. *Timing*: :func:`trajopt.timing.filtered_scaling`, a v/a-limited profile with eroded per-piece limits on a grid
@@ -29,7 +30,7 @@ import threading
 import time
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -123,11 +124,30 @@ def corridor_radii(geom: RouteGeometry, centers: FloatArray, separation: float) 
 
     ``E`` is :func:`hull_clearance` of the span's four plan samples. Shape (n+1,).
     """
-    t = np.maximum(hull_clearance(geom, centers, SPAN_POINTS) - separation, 0.0)
-    r = np.full(len(centers), np.inf)
-    for off in range(SPAN_POINTS):
-        np.minimum(r[off : off + len(t)], t, out=r[off : off + len(t)])
-    return r
+    n1 = len(centers)
+    if n1 < SPAN_POINTS:
+        return np.full(n1, np.inf)
+    ends, table = _node_chords(n1)
+    a, b = centers.take(ends, axis=0)
+    chords = geom.chord_min_distances(a, b)
+    # min over windows of max(E − sep, 0) = max(min over the windows' chords − sep, 0) (monotone, also rounded)
+    return np.maximum(np.minimum.reduce(chords.take(table), axis=1) - separation, 0.0)
+
+
+@lru_cache(maxsize=8)
+def _node_chords(n1: int) -> tuple[IntArray, IntArray]:
+    """The chords of :func:`hull_clearance` (windows of :data:`SPAN_POINTS` of ``n1`` points): their ends (shape
+    (2, C)) and, for every point, the chords of all the windows that contain it (shape (n1, M), repeats padding the
+    rows of the points near the ends, which are in fewer windows)."""
+    first, second, windows = _hull_chords(n1, SPAN_POINTS)
+    nw = n1 - SPAN_POINTS + 1
+    rows = []
+    for k in range(n1):
+        ws = range(max(k - SPAN_POINTS + 1, 0), min(k, nw - 1) + 1)
+        rows.append(sorted({int(c) for w in ws for c in windows[:, w]}))
+    m = max(len(r) for r in rows)
+    table = np.array([r + [r[0]] * (m - len(r)) for r in rows], dtype=np.intp)
+    return np.stack([first, second]), table
 
 
 class CorridorProblem:
@@ -223,6 +243,7 @@ class CorridorProblem:
         lower: FloatArray,
         upper: FloatArray,
         active: tuple[IntArray, FloatArray] | None = None,
+        query: _Query | None = None,
     ) -> tuple[FloatArray, dict[str, Any]]:
         """Solve for one query.
 
@@ -239,6 +260,8 @@ class CorridorProblem:
             ``stats["active"]`` of the previous solve. If the equality-constrained solution for it satisfies
             every KKT condition (primal and dual feasibility to 1e-12, the solver's tolerances) it *is* the unique
             solution and DAQP is not called; otherwise DAQP solves the QP.
+        query : optional
+            :meth:`query` of the same ends and bounds, shared by the solves of one query.
 
         Returns
         -------
@@ -246,39 +269,14 @@ class CorridorProblem:
         stats : dict
             Also ``active``: the active set of the solution (for the next solve).
         """
-        n, m, nx = self.n, self.n - 1, self.nx
-        ends = centers[[0, -1]]
-        c = centers[1:-1]
-        rr = radius[1:-1]
-        sp, sm = c[:, 0] + c[:, 1], c[:, 0] - c[:, 1]
+        n, m = self.n, self.n - 1
         t0 = time.perf_counter()
-        e4 = ends.T.ravel()
-        lo, hi = np.empty(2 * nx), np.empty(2 * nx)  # rows of C = [A; I]
-        lo[0:nx:2], hi[0:nx:2] = sp - rr, sp + rr
-        lo[1:nx:2], hi[1:nx:2] = sm - rr, sm + rr
-        lo[nx : nx + m], lo[nx + m :] = lower[0], lower[1]
-        hi[nx : nx + m], hi[nx + m :] = upper[0], upper[1]
-        known = self._known_active_set(e4, lo, hi, active) if active is not None else None
-        if known is not None:
-            xs, act = known
-            status, success = "KKT_VERIFIED", True
-        else:
-            with self._lock:
-                buf_in = self._in
-                buf_in[:nx] = self._e @ e4
-                buf_in[nx : 2 * nx], buf_in[2 * nx : 3 * nx] = lo[:nx], hi[:nx]
-                buf_in[3 * nx : 4 * nx], buf_in[4 * nx :] = lo[nx:], hi[nx:]
-                self._eval()
-                st = self._buffer.stats()
-                out = self._out.copy()
-            xs = out[:nx]
-            status, success = str(st.get("return_status", "")), bool(st.get("success", False))
-            lam = out[nx:]
-            w = np.flatnonzero(lam != 0.0)
-            act = (w, np.sign(lam[w]))
+        if query is None:
+            query = self.query(centers[0], centers[-1], lower, upper)
+        xs, act, status, success = self._solve(query, centers, radius, active)
         elapsed = time.perf_counter() - t0
         nodes = np.empty((n + 1, 2))
-        nodes[0], nodes[-1] = ends[0], ends[1]
+        nodes[0], nodes[-1] = centers[0], centers[-1]
         nodes[1:-1, 0], nodes[1:-1, 1] = xs[:m], xs[m:]
         stats = {
             "n_segments": n,
@@ -290,46 +288,134 @@ class CorridorProblem:
         }
         return nodes, stats
 
+    def query(self, start: FloatArray, goal: FloatArray, lower: FloatArray, upper: FloatArray) -> _Query:
+        """What the solves of one query share: the ends, the unconstrained solution, the bound rows."""
+        nx, m = self.nx, self.n - 1
+        e4 = np.array([start[0], goal[0], start[1], goal[1]], dtype=float)
+        lohi = np.empty(4 * nx)  # bounds of the rows of C = [A; I], lower then upper; ball rows set per solve
+        lo, hi = lohi[: 2 * nx], lohi[2 * nx :]
+        lo[nx : nx + m], lo[nx + m :] = lower[0], lower[1]
+        hi[nx : nx + m], hi[nx + m :] = upper[0], upper[1]
+        return _Query(e4, self._x_free @ e4, self._e @ e4, lo, hi, lohi, {})
+
+    def _solve(
+        self, q: _Query, centers: FloatArray, radius: FloatArray, active: tuple[IntArray, FloatArray] | None
+    ) -> tuple[FloatArray, tuple[IntArray, FloatArray], str, bool]:
+        """The interior nodes ``x`` (shape (nx,)), the active set, the status and success of one solve."""
+        nx = self.nx
+        lo, hi = q.lo, q.hi
+        # ball rows of node k: σ_A ± σ_B within (P_A ± P_B) ∓ R_k, interleaved (2k: +, 2k+1: −)
+        rot = centers[1:-1] @ _ROTATE  # (m, 2): [σ_A + σ_B, σ_A − σ_B] (exact: products by ±1, one sum)
+        rr = radius[1:-1, None]
+        np.subtract(rot, rr, out=lo[:nx].reshape(-1, 2))
+        np.add(rot, rr, out=hi[:nx].reshape(-1, 2))
+        if active is not None:
+            known = self._known_active_set(q, active)
+            if known is not None:
+                return known[0], known[1], "KKT_VERIFIED", True
+        with self._lock:
+            buf_in = self._in
+            buf_in[:nx] = q.g
+            buf_in[nx : 2 * nx], buf_in[2 * nx : 3 * nx] = lo[:nx], hi[:nx]
+            buf_in[3 * nx : 4 * nx], buf_in[4 * nx :] = lo[nx:], hi[nx:]
+            self._eval()
+            st = self._buffer.stats()
+            out = self._out.copy()
+        lam = out[nx:]
+        w = (lam != 0.0).nonzero()[0]
+        return out[:nx], (w, np.sign(lam[w])), str(st.get("return_status", "")), bool(st.get("success", False))
+
     def _known_active_set(
-        self, ends: FloatArray, lo: FloatArray, hi: FloatArray, active: tuple[IntArray, FloatArray]
+        self, q: _Query, active: tuple[IntArray, FloatArray]
     ) -> tuple[FloatArray, tuple[IntArray, FloatArray]] | None:
         """The solution and its active set if ``active``, or one of up to :data:`ACTIVE_SET_REPAIRS` repairs of
         it, is the optimal active set (all KKT conditions hold), else None.
 
-        ``ends``: ``[σ_A(start), σ_A(goal), σ_B(start), σ_B(goal)]``; ``lo, hi``: bounds of the rows ``[A; I]``.
-        A repair drops the row whose multiplier is the most negative and adds the most violated row (a guess
-        only: whatever set is tried, the answer is accepted only if every KKT condition holds, and then it is the
-        unique solution).
+        ``q``: the query (its bounds ``lo, hi`` of the rows ``[A; I]`` set for this solve). A repair drops the
+        row whose multiplier is the most negative and adds the most violated row (a guess only: whatever set is
+        tried, the answer is accepted only if every KKT condition holds, and then it is the unique solution).
         """
-        w, side = active
-        x_free = self._x_free @ ends
+        with np.errstate(all="ignore"):  # a singular set gives NaN multipliers (rejected below)
+            return self._repaired(q, *active)
+
+    def _repaired(
+        self, q: _Query, w: IntArray, side: FloatArray
+    ) -> tuple[FloatArray, tuple[IntArray, FloatArray]] | None:
+        """:meth:`_known_active_set` (within its error state)."""
+        x_free, lo, hi = q.x_free, q.lo, q.hi
         for _ in range(ACTIVE_SET_REPAIRS + 1):
             x: FloatArray = x_free
-            nu: FloatArray = np.zeros(0)
+            nu: FloatArray = _EMPTY
+            dual: FloatArray = _EMPTY
+            dmin = 0.0
             if len(w):
-                b = np.where(side > 0, hi.take(w), lo.take(w))
-                try:
-                    nu = np.asarray(
-                        np.linalg.solve(self._k.take(w, 0).take(w, 1), self._c.take(w, 0) @ x_free - b), float
+                key = w.tobytes() + side.tobytes()
+                sub = q.sets.get(key)
+                if sub is None:  # K restricted to the set, C·x_free on it, H⁻¹·C of its rows, its sides' bounds
+                    sub = q.sets[key] = (
+                        self._k.take(w, 0).take(w, 1),
+                        self._c.take(w, 0) @ x_free,
+                        self._gmat.take(w, 0),
+                        w + np.where(side > 0, len(lo), 0),
                     )
+                b = q.lohi.take(sub[3])
+                try:
+                    nu = _solve_vector(sub[0], sub[1] - b)
                 except np.linalg.LinAlgError:
                     return None
-                x = x_free - nu @ self._gmat.take(w, 0)
+                x = x_free - nu @ sub[2]
+                dual = nu * side  # upper rows ν ≥ 0, lower rows ν ≤ 0
+                dmin = dual.min()
             cx = self._c @ x
-            dual = nu * side  # upper rows ν ≥ 0, lower rows ν ≤ 0
-            if (len(w) == 0 or dual.min() >= -KKT_TOL) and np.maximum(lo - cx, cx - hi).max() <= KKT_TOL:
+            up, down = cx - hi, lo - cx
+            viol = np.maximum(up, down)
+            j = int(viol.argmax())  # (the first NaN if any)
+            if dmin >= -KKT_TOL and viol[j] <= KKT_TOL:
                 return x, (w, side)  # (NaN fails both tests)
-            if not np.all(np.isfinite(cx)):
+            if not np.isfinite(viol[j]):  # (cx not finite)
                 return None
             # one active-set step: drop the row with the most negative multiplier, add the most violated row
-            if len(w) and dual.min() < -KKT_TOL:
-                drop = int(np.argmin(dual))
-                w, side = np.delete(w, drop), np.delete(side, drop)
-            up, down = cx - hi, lo - cx
-            j = int(np.argmax(np.maximum(up, down)))
-            if max(up[j], down[j]) > KKT_TOL:
-                w, side = np.append(w, j), np.append(side, 1.0 if up[j] > down[j] else -1.0)
+            if dmin < -KKT_TOL:
+                drop = int(dual.argmin())
+                w = np.concatenate((w[:drop], w[drop + 1 :]))
+                side = np.concatenate((side[:drop], side[drop + 1 :]))
+            if viol[j] > KKT_TOL:
+                w = np.concatenate((w, (j,)))
+                side = np.concatenate((side, (1.0 if up[j] > down[j] else -1.0,)))
         return None
+
+
+class _Query(NamedTuple):
+    """Per query: ``[σ_A(start), σ_A(goal), σ_B(start), σ_B(goal)]``, the unconstrained solution, the linear term
+    ``g``, the bounds of the rows ``[A; I]`` (ball rows rewritten by every solve) and the active sets' matrices."""
+
+    e4: FloatArray
+    x_free: FloatArray
+    g: FloatArray
+    lo: FloatArray
+    hi: FloatArray
+    lohi: FloatArray
+    sets: dict[bytes, tuple[FloatArray, FloatArray, FloatArray, IntArray]]
+
+
+def _solve_vector(k: FloatArray, r: FloatArray) -> FloatArray:
+    """``K⁻¹·r`` for a vector ``r``: LAPACK's solve as :func:`numpy.linalg.solve` calls it (its gufunc, the same
+    result bit for bit, without the wrapper's checks: a singular ``K`` gives NaN, or raises ``LinAlgError``
+    where numpy's internal gufunc is not available)."""
+    if _SOLVE1 is None:
+        return np.asarray(np.linalg.solve(k, r), dtype=float)
+    return np.asarray(_SOLVE1(k, r), dtype=float)
+
+
+try:  # numpy's own gufunc behind numpy.linalg.solve for a vector right-hand side (numpy >= 1.8)
+    from numpy.linalg import _umath_linalg
+
+    _SOLVE1: Any = _umath_linalg.solve1
+except (ImportError, AttributeError):  # pragma: no cover - another numpy layout
+    _SOLVE1 = None
+
+_ROTATE = np.array([[1.0, 1.0], [1.0, -1.0]])
+_EMPTY = np.zeros(0)
 
 
 def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: CorridorProblem) -> CorridorResult:
@@ -361,33 +447,39 @@ def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: C
     lower, upper = view.lower, view.upper
     t1 = time.perf_counter()
     plan_centers = centers
-    stats: dict[str, Any] = {"qp_known_active_sets": 0}
-    active = None
+    query = problem.query(centers[0], centers[-1], lower, upper)
+    known_sets = 0
+    active: tuple[IntArray, FloatArray] | None = (np.zeros(0, np.intp), np.zeros(0))
     qp_time = 0.0
+    st: dict[str, Any] = {}
     for it in range(CORRIDOR_ITERATIONS):
         free = corridor_radii(geom, centers, separation)
         if it == 0:
-            stats["min_free"] = float(np.min(free[1:-1]))
-        share = NODE_SHARE * free
-        # the previous solve's active set is tried first (exact if its KKT conditions hold, else DAQP)
-        nodes, st = problem.solve(centers, share, lower, upper, active)
-        active = st.pop("active", None)
-        stats["qp_known_active_sets"] += st["qp_status"] == "KKT_VERIFIED"
+            min_free = float(free[1:-1].min())
+        share = free if NODE_SHARE == 1.0 else NODE_SHARE * free
+        # the previous solve's active set (at first the empty set: the greedy repairs find most first active sets)
+        # is tried first (exact if its KKT conditions hold, else DAQP)
+        nodes, st = problem.solve(centers, share, lower, upper, active, query)
+        active = st.get("active")
         qp_time += st["qp_time"]
+        known_sets += st["qp_status"] == "KKT_VERIFIED"
         if not st["qp_success"]:
             raise PlanningError(f"corridor QP failed: {st['qp_status']}")
         nodes[0], nodes[-1] = centers[0], centers[-1]
         nodes = np.minimum(np.maximum(nodes, lower), upper)  # (np.clip, without its overhead)
-        excess = np.abs(nodes - centers).sum(axis=1) - share
+        dev = np.abs(nodes - centers)
+        excess = dev[:, 0] + dev[:, 1] - share
         if excess.max() > 1e-9:
             k = int(np.argmax(excess))
             raise PlanningError(f"corridor QP node {k} leaves its ball by {excess[k]:.3g} m")
         centers = nodes
-    stats.update({k: v for k, v in st.items() if k != "qp_time"})  # the last solve's
+    stats: dict[str, Any] = {"qp_known_active_sets": known_sets, "min_free": min_free}
+    stats.update({k: v for k, v in st.items() if k not in ("qp_time", "active")})  # the last solve's
     stats["qp_time"] = qp_time
     v = problem.vmax
-    stats["plan_time_bound"] = float(np.sum(np.max(np.abs(np.diff(plan_centers, axis=0)) / v, axis=1)))
-    stats["optimized_time_bound"] = float(np.sum(np.max(np.abs(np.diff(nodes, axis=0)) / v, axis=1)))
+    for key, pts in (("plan_time_bound", plan_centers), ("optimized_time_bound", nodes)):
+        legs = np.abs(pts[1:] - pts[:-1]) / v
+        stats[key] = float(np.sum(np.maximum(legs[:, 0], legs[:, 1])))
     stats["corridor_time"] = t1 - t0
     stats["corridor_iterations"] = CORRIDOR_ITERATIONS
     return CorridorResult(nodes, plan_centers, free, stats)

@@ -273,15 +273,17 @@ def _cubic_bounds(coef: FloatArray, length: float) -> FloatArray:
     """
     c1, c2, c3 = coef[:, 1], coef[:, 2], coef[:, 3]
     L = float(length)
-    d1 = [np.abs(c1), np.abs(c1 + 2 * c2 * L + 3 * c3 * L * L)]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        tv = np.where(c3 != 0, -c2 / (3 * c3), -1.0)
+    two_c2, three_c3, six_c3 = 2 * c2, 3 * c3, 6 * c3
+    cubic = c3 != 0
+    tv = np.where(cubic, -c2 / np.where(cubic, three_c3, 1.0), -1.0)  # the vertex of the first derivative
     inside = (tv > 0) & (tv < L)
-    d1.append(np.where(inside, np.abs(c1 + 2 * c2 * tv + 3 * c3 * tv * tv), 0.0))
-    m1 = np.maximum.reduce(d1)
-    m2 = np.maximum(np.abs(2 * c2), np.abs(2 * c2 + 6 * c3 * L))
-    m3 = np.abs(6 * c3)
-    return np.stack([m1, m2, m3], axis=1) * (1 + 1e-9)
+    out = np.empty((len(coef), 3, 2))
+    m1 = np.maximum(np.abs(c1), np.abs(c1 + two_c2 * L + three_c3 * L * L))
+    np.maximum(m1, np.where(inside, np.abs(c1 + two_c2 * tv + three_c3 * tv * tv), 0.0), out=out[:, 0])
+    np.maximum(np.abs(two_c2), np.abs(two_c2 + six_c3 * L), out=out[:, 1])
+    np.abs(six_c3, out=out[:, 2])
+    out *= 1 + 1e-9
+    return out
 
 
 def _piece_bounds_many(coef: FloatArray, length: FloatArray, n: int = 257) -> FloatArray:
@@ -499,7 +501,8 @@ def spline_path(control: ArrayLike, span: float | None = None) -> BlendedPath:
     if n < 2:
         raise PlanningError(f"a cubic spline needs at least 3 control points, got {n + 1}")
     if span is None:
-        span = float(np.sum(np.linalg.norm(np.diff(c, axis=0), axis=1))) / n
+        leg = c[1:] - c[:-1]
+        span = float(np.sqrt(leg[:, 0] * leg[:, 0] + leg[:, 1] * leg[:, 1]).sum()) / n  # (np.linalg.norm's sum)
     if not span > 0:
         raise PlanningError("the control polygon has length 0")
     g = np.vstack([2 * c[0] - c[1], c, 2 * c[-1] - c[-2]])
@@ -539,26 +542,33 @@ def piece_limits(path: BlendedPath, limits: Limits, safety: float = 1.0) -> Piec
     V, A, J = limits.v * safety, limits.a * safety, limits.j * safety
     m1, m2, m3 = path.bounds[:, 0], path.bounds[:, 1], path.bounds[:, 2]  # (P, 2) each
     inf = np.inf
+
+    def jmin(x: FloatArray) -> FloatArray:
+        """Minimum over the joints (axis 1 of length 2, without numpy's slow short-axis reduction)."""
+        return np.minimum(x[:, 0], x[:, 1])
+
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        v_lin = np.where(m1 > 0, V / m1, inf)
-        v = np.min(
-            np.minimum.reduce(
-                [v_lin, np.where(m2 > 0, np.sqrt(0.5 * A / m2), inf), np.where(m3 > 0, np.cbrt(0.5 * J / m3), inf)]
-            ),
-            axis=1,
+        pos1, pos2 = m1 > 0, m2 > 0
+        v_lin = np.where(pos1, V / m1, inf)
+        v = jmin(
+            np.minimum(
+                np.minimum(v_lin, np.where(pos2, np.sqrt(0.5 * A / m2), inf)),
+                np.where(m3 > 0, np.cbrt(0.5 * J / m3), inf),
+            )
         )
         vc = v[:, None]
-        a = np.min(np.where(m1 > 0, (A - m2 * vc * vc) / m1, inf), axis=1)
-        a = np.minimum(a, np.min(np.where(m2 > 0, 0.5 * (J - m3 * vc**3) / (3 * m2 * vc), inf), axis=1))
-        j = np.min(np.where(m1 > 0, (J - m3 * vc**3 - 3 * m2 * vc * a[:, None]) / m1, inf), axis=1)
+        vc3 = vc**3
+        a = jmin(np.where(pos1, (A - m2 * vc * vc) / m1, inf))
+        a = np.minimum(a, jmin(np.where(pos2, 0.5 * (J - m3 * vc3) / (3 * m2 * vc), inf)))
+        j = jmin(np.where(pos1, (J - m3 * vc3 - 3 * m2 * vc * a[:, None]) / m1, inf))
         straight = ~np.asarray(path.is_blend, dtype=bool)
         if straight.any():
-            vs = np.where(straight, np.min(v_lin, axis=1), v)
-            as_ = np.where(straight, np.min(np.where(m1 > 0, A / m1, inf), axis=1), a)
-            js = np.where(straight, np.min(np.where(m1 > 0, J / m1, inf), axis=1), j)
+            vs = np.where(straight, jmin(v_lin), v)
+            as_ = np.where(straight, jmin(np.where(pos1, A / m1, inf)), a)
+            js = np.where(straight, jmin(np.where(pos1, J / m1, inf)), j)
         else:  # all curved (the hard path's spline)
             vs, as_, js = v, a, j
-    if not (np.all(np.isfinite(vs)) and np.all(vs > 0) and np.all(as_ > 0) and np.all(js > 0)):
+    if not (np.isfinite(vs).all() and (vs > 0).all() and (as_ > 0).all() and (js > 0).all()):
         bad = PieceLimits(vs, as_, js)
         raise PlanningError(f"no valid 1-DoF limits on some piece: {bad}")
     return PieceLimits(vs, as_, js)
@@ -836,10 +846,11 @@ def _window_min(values: FloatArray, breaks: FloatArray, lo: FloatArray, hi: Floa
     """Minimum of the piecewise-constant ``values`` (one per piece ``[breaks[k], breaks[k+1]]``, shape (P,) or
     (K, P) for K functions at once) over ``[lo, hi]`` (shape (G,)); shape (G,) or (K, G)."""
     P = values.shape[-1]
-    first = np.minimum(np.maximum(np.searchsorted(breaks[1:], lo, side="left"), 0), P - 1)
-    last = np.minimum(np.maximum(np.searchsorted(breaks[:-1], hi, side="right") - 1, 0), P - 1)
-    out = _range_extreme(_sparse_table(values, np.minimum), first, np.maximum(last, first), np.minimum)
-    return np.where(last >= first, out, np.inf)
+    first = np.minimum(breaks[1:].searchsorted(lo, "left"), P - 1)
+    last = np.minimum(np.maximum(breaks[:-1].searchsorted(hi, "right") - 1, 0), P - 1)
+    upto = np.maximum(last, first)
+    table = _sparse_table(values, np.minimum, int((upto - first).max()) + 1 if len(first) else None)
+    return np.where(last >= first, _range_extreme(table, first, upto, np.minimum), np.inf)
 
 
 def _sparse_table(f: FloatArray, fn: Any, longest: int | None = None) -> FloatArray:
@@ -859,9 +870,15 @@ def _sparse_table(f: FloatArray, fn: Any, longest: int | None = None) -> FloatAr
 
 def _range_extreme(table: FloatArray, lo: NDArray[np.intp], hi: NDArray[np.intp], fn: Any) -> FloatArray:
     """``fn`` of the values ``lo[i] .. hi[i]`` (inclusive, ``lo <= hi``) from :func:`_sparse_table`'s table."""
+    n = table.shape[-1]
     level = np.frexp(hi - lo + 1)[1] - 1  # floor(log2(length)), exact
-    out = fn(table[level, ..., lo], table[level, ..., hi - (1 << level) + 1])  # (G, ...): the indexed axis first
-    return np.asarray(out if out.ndim == 1 else np.moveaxis(out, 0, -1))
+    row = level * n  # flat index of (level, i) is row + i
+    first, last = row + lo, row + (hi + 1 - np.left_shift(1, level))
+    if table.ndim == 2:
+        flat = table.ravel()
+        return np.asarray(fn(flat.take(first), flat.take(last)))
+    flat = np.moveaxis(table, 0, -2).reshape(*table.shape[1:-1], -1)  # (..., levels·n)
+    return np.asarray(fn(flat.take(first, axis=-1), flat.take(last, axis=-1)))
 
 
 def _topp_passes(cap: FloatArray, two_a_ds: FloatArray) -> FloatArray:
@@ -888,26 +905,40 @@ def _topp_passes(cap: FloatArray, two_a_ds: FloatArray) -> FloatArray:
     return np.maximum(np.array(b), 0.0)
 
 
-def _window_extreme(
-    grid: FloatArray, f: FloatArray, r: float, fn: Any, span: tuple[NDArray[np.intp], NDArray[np.intp]] | None = None
-) -> FloatArray:
+class _Windows(NamedTuple):
+    """The windows ``[x − r, x + r]`` of every grid point ``x``: the grid points ``x ∓ r``, the longest window
+    (in grid points) and the flat sparse-table indices of the two blocks that cover each window."""
+
+    left: FloatArray
+    right: FloatArray
+    longest: int
+    first: NDArray[np.intp]
+    last: NDArray[np.intp]
+
+
+def _windows(grid: FloatArray, r: float) -> _Windows:
+    """:class:`_Windows` of ``grid`` and radius ``r``."""
+    left, right = grid - r, grid + r
+    lo = grid.searchsorted(left, "left")
+    hi = np.maximum(grid.searchsorted(right, "right") - 1, lo)  # first and last grid index in the window
+    level = np.frexp(hi - lo + 1)[1] - 1  # floor(log2(length)), exact (as _range_extreme)
+    row = level * len(grid)
+    return _Windows(left, right, int((hi - lo).max()) + 1, row + lo, row + (hi + 1 - np.left_shift(1, level)))
+
+
+def _window_extreme(grid: FloatArray, f: FloatArray, r: float, fn: Any, windows: _Windows | None = None) -> FloatArray:
     """``fn`` (np.minimum or np.maximum) of the piecewise-linear ``f`` over ``[x − r, x + r]`` at every grid point
-    (``span``: :func:`_window_span` of ``grid`` and ``r``, if known)."""
-    lo, hi = _window_span(grid, r) if span is None else span
-    out = _range_extreme(_sparse_table(f, fn, int(np.max(hi - lo)) + 1), lo, hi, fn)
-    return np.asarray(fn(out, fn(np.interp(grid - r, grid, f), np.interp(grid + r, grid, f))))
-
-
-def _window_span(grid: FloatArray, r: float) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-    """First and last grid index within ``[x − r, x + r]`` of every grid point ``x``."""
-    lo = np.searchsorted(grid, grid - r, side="left")
-    return lo, np.maximum(np.searchsorted(grid, grid + r, side="right") - 1, lo)
+    (``windows``: :func:`_windows` of ``grid`` and ``r``, if known)."""
+    w = _windows(grid, r) if windows is None else windows
+    flat = _sparse_table(f, fn, w.longest).ravel()
+    out = fn(flat.take(w.first), flat.take(w.last))
+    return np.asarray(fn(out, fn(np.interp(w.left, grid, f), np.interp(w.right, grid, f))))
 
 
 def _opening(grid: FloatArray, f: FloatArray, r: float) -> FloatArray:
     """Morphological opening of ``f`` with the window ``[−r, r]``: narrow peaks become plateaus ``2r`` wide."""
-    span = _window_span(grid, r)
-    return _window_extreme(grid, _window_extreme(grid, f, r, np.minimum, span), r, np.maximum, span)
+    w = _windows(grid, r)
+    return _window_extreme(grid, _window_extreme(grid, f, r, np.minimum, w), r, np.maximum, w)
 
 
 def filtered_scaling(
@@ -945,15 +976,15 @@ def filtered_scaling(
         return TimeScaling(path, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, np.zeros(P + 1))
     pl = piece_limits(path, limits, safety)
     br = path.breaks
-    tau = float(np.max(limits.a / limits.j))
-    reach = tau * float(np.max(pl.v))
-    grid, b = _eroded_flat_top_profile(path, pl, tau, reach, int(per_interval))
-    phases = _constant_acceleration_phases(grid, b)
+    tau = float((limits.a / limits.j).max())
+    reach = tau * float(pl.v.max())
+    grid, b, sq, dt = _eroded_flat_top_profile(path, pl, tau, reach, int(per_interval))
+    phases = _constant_acceleration_phases(grid, b, sq, dt)
     T = phases.duration
     t0, p_out, v_out, a_out, j_out = _box_filtered(phases, tau, S)
     stats = {
         "pieces": P,
-        "blends": int(np.sum(path.is_blend)),
+        "blends": int(path.is_blend.sum()),
         "filter_width": tau,
         "input_duration": T,
         "grid": len(grid),
@@ -974,42 +1005,59 @@ def filtered_scaling(
 
 
 def _eroded_flat_top_profile(
-    path: BlendedPath, pl: PieceLimits, tau: float, reach: float, per_interval: int
-) -> tuple[FloatArray, FloatArray]:
+    path: BlendedPath, pl: PieceLimits, tau: float, reach: float, per_interval: int, ends_once: bool = True
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Steps 2 and 3 of :func:`filtered_scaling`: the grid of path lengths (shape (G,)) and ``ṡ²`` on it (shape
-    (G,), >= 0) of the time-optimal v/a-limited profile under the eroded limits, with flattened speed peaks."""
+    (G,), >= 0) of the time-optimal v/a-limited profile under the eroded limits, with flattened speed peaks; also
+    ``ṡ`` (shape (G,)) and the duration of every grid interval (shape (G−1,)). ``ends_once``: the points clipped
+    to the ends are merged (the same profile on fewer grid points; False for the full grid, for tests)."""
     S = path.length
     br = path.breaks
     a_lim = np.minimum(pl.a, tau * pl.j)
-    pts = np.sort(np.clip(np.concatenate([br, br - reach, br + reach]), 0.0, S))
+    pts = np.minimum(np.maximum(np.concatenate([br, br - reach, br + reach]), 0.0), S)  # (np.clip is slow)
+    pts.sort()
     m = per_interval
+    # The points clipped to 0 and S repeat the path's ends, where ṡ = 0 (stops): their zero-length intervals
+    # change nothing but cost grid points; one copy of each end is kept (the durations' sum still adds their zeros,
+    # so that it is rounded as on the full grid).
+    pad0 = padS = 0
+    if ends_once and path.stop[0] and path.stop[-1]:
+        z0, zS = int(pts.searchsorted(0.0, "right")), len(pts) - int(pts.searchsorted(S, "left"))
+        if z0 > 1 or zS > 1:
+            pts = pts[max(z0, 1) - 1 : len(pts) - max(zS, 1) + 1]
+            pad0, padS = (max(z0, 1) - 1) * m, (max(zS, 1) - 1) * m
     frac = np.arange(m) / m
-    grid = np.concatenate([(pts[:-1, None] + frac[None, :] * np.diff(pts)[:, None]).ravel(), pts[-1:]])
-    ds = np.diff(grid)
+    grid = np.concatenate([(pts[:-1, None] + frac[None, :] * (pts[1:] - pts[:-1])[:, None]).ravel(), pts[-1:]])
+    ds = grid[1:] - grid[:-1]
     mid = 0.5 * (grid[:-1] + grid[1:])
     v_int, a_int = _window_min(np.stack([pl.v, a_lim]), br, mid - reach, mid + reach)
     cap = np.empty(len(grid))
     cap[0], cap[-1] = 0.0, 0.0
     cap[1:-1] = np.minimum(v_int[:-1], v_int[1:]) ** 2
     stops = br[path.stop]
-    cap[np.isin(grid, stops)] = 0.0
+    if len(stops) <= 4:  # (the spline's two ends; np.isin is slow)
+        for stop in stops.tolist():
+            cap[grid == stop] = 0.0
+    else:
+        cap[np.isin(grid, stops)] = 0.0
     two_a_ds = 2.0 * a_int * ds
     b0 = _topp_passes(cap, two_a_ds)
-    ds_max = float(np.max(ds, initial=0.0))
+    ds_max = max(float(ds.max()), 0.0) if len(ds) else 0.0
 
-    def flat_tops(c: float) -> tuple[FloatArray, float]:
+    def flat_tops(c: float) -> tuple[FloatArray, float, FloatArray, FloatArray]:
         """Speeds capped at ``c`` with every speed peak a plateau at least τ long (an opening of ``ṡ²`` over ±r,
         ``r = c·τ/2`` plus the grid step), so the input's acceleration never swings from +a to −a within τ;
         ``ṡ²`` on the grid and the duration (inf where the profile is stuck at zero speed)."""
         capped = np.minimum(b0, c * c)
-        bb = np.maximum(_topp_passes(np.minimum(capped, _opening(grid, capped, 0.5 * tau * c + ds_max)), two_a_ds), 0)
+        bb = _topp_passes(np.minimum(capped, _opening(grid, capped, 0.5 * tau * c + ds_max)), two_a_ds)  # (>= 0)
         sq = np.sqrt(bb)
         with np.errstate(divide="ignore", invalid="ignore"):
             dt = np.where(ds > 0, 2.0 * ds / (sq[:-1] + sq[1:]), 0.0)
-        return bb, float(np.sum(dt))
+        total = dt.sum() if pad0 + padS == 0 else np.concatenate((np.zeros(pad0), dt, np.zeros(padS))).sum()
+        return bb, float(total), sq, dt
 
     vpeak = reach / tau if tau > 0 else float(np.max(pl.v))
-    b, total = flat_tops(vpeak)
+    b, total, sq, dt = flat_tops(vpeak)
     if not np.isfinite(total):
         # a path too short for plateaus at full speed (τ·vmax beyond its length): the plateau speed that
         # minimises the duration (golden section on a fixed bracket and count: continuous in the path)
@@ -1026,8 +1074,8 @@ def _eroded_flat_top_profile(
                 lo, x1, f1 = x1, x2, f2
                 x2 = lo + g * (hi - lo)
                 f2 = flat_tops(x2)[1]
-        b, total = flat_tops(0.5 * (lo + hi))
-    return grid, b
+        b, total, sq, dt = flat_tops(0.5 * (lo + hi))
+    return grid, b, sq, dt
 
 
 class _Phases(NamedTuple):
@@ -1046,43 +1094,46 @@ class _Phases(NamedTuple):
         return float(self.t[-1])
 
 
-def _constant_acceleration_phases(grid: FloatArray, b: FloatArray) -> _Phases:
-    """The motion through the grid points ``grid`` with ``ṡ² = b`` there (constant acceleration between them)."""
-    ds = np.diff(grid)
-    sq = np.sqrt(b)
-    den = sq[:-1] + sq[1:]
+def _constant_acceleration_phases(
+    grid: FloatArray, b: FloatArray, sq: FloatArray | None = None, dt: FloatArray | None = None
+) -> _Phases:
+    """The motion through the grid points ``grid`` with ``ṡ² = b`` there (constant acceleration between them);
+    ``sq = √b`` and the intervals' durations ``dt`` if known (as :func:`_eroded_flat_top_profile` computes them)."""
+    ds = grid[1:] - grid[:-1]
     with np.errstate(divide="ignore", invalid="ignore"):
-        dt = np.where(ds > 0, 2.0 * ds / den, 0.0)
+        if sq is None or dt is None:
+            sq = np.sqrt(b)
+            dt = np.where(ds > 0, 2.0 * ds / (sq[:-1] + sq[1:]), 0.0)
         acc = np.where(ds > 0, (b[1:] - b[:-1]) / (2.0 * ds), 0.0)
-    if not np.all(np.isfinite(dt)):
+    if not np.isfinite(dt).all():
         k = int(np.argmin(np.isfinite(dt)))
         raise PlanningError(f"the timing is stuck: zero speed over [{grid[k]:.6g}, {grid[k + 1]:.6g}] m of the path")
     keep = dt > 0
-    ti = np.concatenate([[0.0], np.cumsum(dt[keep])])
+    ti = np.concatenate(((0.0,), dt[keep].cumsum()))
     s_i, v_i, a_i = grid[:-1][keep], sq[:-1][keep], acc[keep]
     # integral F(t) = ∫_0^t s: exact at the phase starts
-    dtk = np.diff(ti)
-    f_i = np.concatenate([[0.0], np.cumsum(s_i * dtk + v_i * dtk**2 / 2 + a_i * dtk**3 / 6)])
+    dtk = ti[1:] - ti[:-1]
+    f_i = np.concatenate(((0.0,), (s_i * dtk + v_i * dtk**2 / 2 + a_i * dtk**3 / 6).cumsum()))
     return _Phases(ti, s_i, v_i, a_i, f_i)
 
 
-def _phase_state(ph: _Phases, S: float, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """``(F, s, v, a)`` of the motion at times ``t`` (right-continuous acceleration); before 0 at rest at 0, after
-    the end at rest at ``S``."""
+def _phase_state(ph: _Phases, S: float, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """``(F, s, v)`` of the motion at times ``t``; before 0 at rest at 0, after the end at rest at ``S`` (the
+    acceleration: :func:`_phase_acceleration`)."""
     ti, s_i, v_i, a_i, f_i = ph
     T = ph.duration
-    k = np.minimum(np.maximum(np.searchsorted(ti, t, side="right") - 1, 0), len(s_i) - 1)  # (np.clip is slow)
-    x = np.maximum(t - ti[k], 0.0)
-    s = s_i[k] + v_i[k] * x + a_i[k] * x**2 / 2
-    v = v_i[k] + a_i[k] * x
-    f = f_i[k] + s_i[k] * x + v_i[k] * x**2 / 2 + a_i[k] * x**3 / 6
-    a = a_i[k].copy()
+    k = np.minimum(np.maximum(ti.searchsorted(t, "right") - 1, 0), len(s_i) - 1)  # (np.clip is slow)
+    x = np.maximum(t - ti.take(k), 0.0)
+    x2 = x**2
+    sk, vk, ak = s_i.take(k), v_i.take(k), a_i.take(k)
+    s = sk + vk * x + ak * x2 / 2
+    v = vk + ak * x
+    f = f_i.take(k) + sk * x + vk * x2 / 2 + ak * x**3 / 6
     before, after = t < 0.0, t >= T
     f = np.where(before, 0.0, np.where(after, f_i[-1] + S * (t - T), f))
     s = np.where(before, 0.0, np.where(after, S, s))
     v = np.where(before | after, 0.0, v)
-    a = np.where(before | after, 0.0, a)
-    return f, s, v, a
+    return f, s, v
 
 
 def _box_filtered(
@@ -1091,13 +1142,18 @@ def _box_filtered(
     """Step 4 of :func:`filtered_scaling`: ``s̃(t) = (1/τ)∫_{t−τ}^{t} s`` as phases of constant jerk: their start
     times and ``s̃, ṡ̃, s̈̃`` there, and their jerks (each shape (K,))."""
     ti, T = ph.t, ph.duration
-    t0 = np.unique(np.concatenate([ti, ti + tau]))
-    t0 = t0[t0 < T + tau]
-    mid = 0.5 * (t0 + np.append(t0[1:], T + tau))  # the jerk of a phase, away from rounding at its ends
+    t0 = np.concatenate([ti, ti + tau])
+    t0.sort()
+    keep = np.empty(len(t0), dtype=bool)  # (np.unique, without its overhead)
+    keep[0] = True
+    np.not_equal(t0[1:], t0[:-1], out=keep[1:])
+    keep &= t0 < T + tau
+    t0 = t0[keep]
+    mid = 0.5 * (t0 + np.concatenate((t0[1:], (T + tau,))))  # the jerk of a phase, away from rounding at its ends
     k = len(t0)
-    f, s, v, _ = _phase_state(ph, S, np.concatenate([t0, t0 - tau]))  # one evaluation each
+    f, s, v = _phase_state(ph, S, np.concatenate([t0, t0 - tau]))  # one evaluation each
     a = _phase_acceleration(ph, np.concatenate([mid, mid - tau]))
-    p_out = np.clip((f[:k] - f[k:]) / tau, 0.0, S)
+    p_out = np.minimum(np.maximum((f[:k] - f[k:]) / tau, 0.0), S)
     v_out = (s[:k] - s[k:]) / tau
     a_out = (v[:k] - v[k:]) / tau
     j_out = (a[:k] - a[k:]) / tau
@@ -1105,10 +1161,10 @@ def _box_filtered(
 
 
 def _phase_acceleration(ph: _Phases, t: FloatArray) -> FloatArray:
-    """The acceleration of :func:`_phase_state` alone (its fourth output)."""
+    """The acceleration of the motion of :func:`_phase_state` at times ``t`` (right-continuous; 0 at rest)."""
     ti = ph.t
-    k = np.minimum(np.maximum(np.searchsorted(ti, t, side="right") - 1, 0), len(ph.s) - 1)
-    return np.where((t < 0.0) | (t >= ph.duration), 0.0, ph.a[k])
+    k = np.minimum(np.maximum(ti.searchsorted(t, "right") - 1, 0), len(ph.s) - 1)
+    return np.where((t < 0.0) | (t >= ph.duration), 0.0, ph.a.take(k))
 
 
 class RestToRest(NamedTuple):
