@@ -125,7 +125,7 @@ def test_window_extremes_match_brute_force() -> None:
 def test_corridor_radii_follow_their_definition(track) -> None:  # type: ignore[no-untyped-def]
     # the radius of a node: the minimum over the windows (spline spans) that contain it of max(E - sep, 0)
     rng = np.random.default_rng(8)
-    for p in _plans(track, 12, 4):
+    for p in random_plans(track, 0.05, 12, 4):
         view = plan_view(p)
         centers = _samples(view, CORRIDOR_SEGMENTS)
         for pts in (centers, np.clip(centers + rng.normal(0.0, 0.02, centers.shape), view.lower, view.upper)):
