@@ -33,6 +33,12 @@ def _plans(track: Track, n: int, seed: int) -> list:  # type: ignore[type-arg]
     return out
 
 
+def _sigma_box(p) -> tuple[np.ndarray, np.ndarray]:  # type: ignore[no-untyped-def]
+    """The route-coordinate box ``(lo, hi)`` of a plan's two routes (shapes (2,))."""
+    ra, rb = p.routes
+    return np.array([ra.sigma_min, rb.sigma_min]), np.array([ra.sigma_max, rb.sigma_max])
+
+
 def _geometry(track: Track, p) -> RouteGeometry:  # type: ignore[no-untyped-def]
     routes = (directed_route(p.routes[0]), directed_route(p.routes[1]))
     return RouteGeometry(track.as_graph_track().geometry, routes)
@@ -52,10 +58,7 @@ def test_directed_routes_follow_the_paper_routes(track: Track) -> None:
 def test_distance_and_polyline_minimum_are_exact(track: Track) -> None:
     rng = np.random.default_rng(2)
     for i, p in enumerate(_plans(track, 40, 3)):
-        geom = _geometry(track, p)
-        ra, rb = p.routes
-        lo = np.array([ra.sigma_min, rb.sigma_min])
-        hi = np.array([ra.sigma_max, rb.sigma_max])
+        geom, (ra, rb), (lo, hi) = _geometry(track, p), p.routes, _sigma_box(p)
         sig = lo + rng.uniform(size=(200, 2)) * (hi - lo)
         want = track.distance(ra.position(sig[:, 0]), rb.position(sig[:, 1]))
         np.testing.assert_allclose(geom.distance(sig), want, atol=1e-9, err_msg=f"plan {i}: {p.start} -> {p.goal}")
@@ -96,10 +99,7 @@ def test_cell_rows_bound_the_distance_and_are_exact_on_their_side(track: Track) 
 def test_chord_minimum_is_exact_on_independent_chords(track: Track) -> None:
     rng = np.random.default_rng(6)
     for i, p in enumerate(_plans(track, 30, 7)):
-        geom = _geometry(track, p)
-        ra, rb = p.routes
-        lo = np.array([ra.sigma_min, rb.sigma_min])
-        hi = np.array([ra.sigma_max, rb.sigma_max])
+        geom, (lo, hi) = _geometry(track, p), _sigma_box(p)
         a = lo + rng.uniform(size=(25, 2)) * (hi - lo)
         b = lo + rng.uniform(size=(25, 2)) * (hi - lo)
         b[0] = a[0]  # a chord of length 0
