@@ -101,3 +101,18 @@ def test_head_on_robots_are_caught_when_rounding_hides_the_meeting() -> None:
         if min(oa[0] - ob[0], oa[1] - ob[1]) < 0 < max(oa[0] - ob[0], oa[1] - ob[1]):
             assert chord[0] == 0.0, (s, d)
     assert tipped > 0  # the case the margin is for did occur
+
+
+def test_class_failures_only_tells_the_class_from_other_failures() -> None:
+    from trajopt.verify import VerificationReport, class_failures_only
+
+    def rep(*fails: str) -> VerificationReport:
+        return VerificationReport(not fails, fails, 0.1, 0.1, {}, ())
+
+    assert not class_failures_only(rep())
+    assert class_failures_only(rep("homotopy class +S1a differs from the plan's (trivial)"))
+    assert class_failures_only(rep("cannot compute the homotopy class: path jumps"))
+    assert not class_failures_only(
+        rep("homotopy class +S1a differs from the plan's (trivial)", "row 3: |v| of robot A")
+    )
+    assert not class_failures_only(rep("rows 4-5: separation between rows may drop to 0.01 < 0.05"))

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mpa.geometry import DirectedRoute, GraphGeometry
 from mpa.graph_track import GraphTrack
@@ -120,3 +122,37 @@ def test_route_with_origin_and_backward_moves() -> None:
     assert exact <= sampled + 1e-12
     assert exact >= sampled - 2 * 2.0 / 4000 - 1e-12
     assert ra.length == 3.0 and ra.positions(-1.0)[1] == 0.0
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    pts=st.lists(
+        st.tuples(st.floats(-50, 50, allow_nan=False), st.floats(-50, 50, allow_nan=False)), min_size=1, max_size=12
+    ),
+    step=st.floats(1e-3, 20.0),
+)
+def test_densify_polyline_keeps_the_vertices_and_the_step(pts: list[tuple[float, float]], step: float) -> None:
+    from mpa.geometry import densify_polyline
+
+    p = np.array(pts, dtype=float)
+    out = densify_polyline(p, step)
+    assert out.shape[1] == 2 and np.array_equal(out[0], p[0]) and np.array_equal(out[-1], p[-1])
+    if len(p) > 1:
+        gaps = np.max(np.abs(np.diff(out, axis=0)), axis=1)
+        assert np.all(gaps <= step * (1 + 1e-9) + 1e-12), float(gaps.max())
+        # every vertex of the polyline is a point of the output, in order, and the legs' points lie on the legs
+        n = np.maximum(1, np.ceil(np.max(np.abs(np.diff(p, axis=0)), axis=1) / step).astype(int))
+        assert len(out) == int(n.sum()) + 1
+        starts = np.concatenate([[0], np.cumsum(n)])
+        np.testing.assert_array_equal(out[starts[:-1]], p[:-1])
+
+
+def test_directed_routes_and_graph_forms_are_built_once() -> None:
+    from mpa import Lollipop, make_planner
+    from mpa.routes import directed_route
+
+    track = Lollipop(1.0, 1.0)
+    assert track.as_graph_track() is track.as_graph_track()
+    plan = make_planner(track, 0.05).plan((0.2, 0.5), (0.5, 0.2))
+    for route in plan.routes:
+        assert directed_route(route) is directed_route(route)
