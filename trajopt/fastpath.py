@@ -82,9 +82,10 @@ def straight_scaling(plan: Any, limits: Limits) -> TimeScaling:
     length = path.length
     if length <= 0:
         return TimeScaling(path, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), 0.0, np.zeros(2))
-    u = np.abs(ends[1] - ends[0]) / length
-    moving = u > 0
-    v_s, a_s, j_s = (float(np.min(lim[moving] / u[moving])) for lim in (limits.v, limits.a, limits.j))
+    u = (np.abs(ends[1] - ends[0]) / length).tolist()
+    v_s, a_s, j_s = (  # the binding robot's limit along the line (plain floats: the same divisions as numpy's)
+        min(x / ur for x, ur in zip(lim.tolist(), u) if ur > 0) for lim in (limits.v, limits.a, limits.j)
+    )
     prof = rest_to_rest_profile(length, v_s, a_s, j_s)
     keep = prof.dt > 0
     t0, p, v, a, j = prof.t0[keep], prof.p, prof.v, prof.a, prof.j
