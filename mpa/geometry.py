@@ -180,6 +180,18 @@ class DirectedRoute:
         """``breaks``, ``edges``, ``dirs``, ``entry`` as Python lists (for the scalar twins; built once)."""
         return self.breaks.tolist(), self.edges.tolist(), self.dirs.tolist(), self.entry.tolist()
 
+    def piece_index_scalar(self, r: float) -> int:
+        """:meth:`piece_index` of one route coordinate, in plain Python."""
+        br = self.pieces_list[0]
+        return min(max(bisect_right(br, r) - 1, 0), len(br) - 2)
+
+    def position_scalar(self, r: float) -> tuple[int, float]:
+        """:meth:`positions` of one route coordinate, in plain Python (the same clamping and piece choice)."""
+        br, edges, dirs, entry = self.pieces_list
+        r = min(max(r, br[0]), br[-1])
+        i = self.piece_index_scalar(r)
+        return edges[i], entry[i] + dirs[i] * (r - br[i])
+
     def to_list(self, names: Sequence[str] | None = None) -> list[dict[str, object]]:
         """JSON-friendly pieces ``{"edge", "dir", "entry", "from_s", "to_s"}``."""
         out: list[dict[str, object]] = []
@@ -404,8 +416,7 @@ class GraphGeometry:
         best = np.inf
         for l0, l1 in itertools.pairwise(lams):
             qa0, qb0, qa1, qb1 = a[0] + l0 * da, a[1] + l0 * db, a[0] + l1 * da, a[1] + l1 * db
-            ia = min(max(bisect_right(br_a, 0.5 * (qa0 + qa1)) - 1, 0), len(e_a) - 1)
-            ib = min(max(bisect_right(br_b, 0.5 * (qb0 + qb1)) - 1, 0), len(e_b) - 1)
+            ia, ib = route_a.piece_index_scalar(0.5 * (qa0 + qa1)), route_b.piece_index_scalar(0.5 * (qb0 + qb1))
             d = self.segment_min_scalar(
                 e_a[ia],
                 e_b[ib],

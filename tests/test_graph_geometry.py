@@ -156,3 +156,21 @@ def test_directed_routes_and_graph_forms_are_built_once() -> None:
     plan = make_planner(track, 0.05).plan((0.2, 0.5), (0.5, 0.2))
     for route in plan.routes:
         assert directed_route(route) is directed_route(route)
+
+
+def test_scalar_route_positions_equal_the_vectorized_ones() -> None:
+    # the gate's few cut points and the fast path's one-segment minimum use the plain-Python twins
+    from mpa import Circle, Lollipop, make_planner
+    from mpa.routes import directed_route
+
+    rng = np.random.default_rng(12)
+    for track in (Lollipop(1.0, 1.0), Lollipop(0.3, 1.2), Circle(1.0)):
+        for _ in range(20):
+            plan = make_planner(track, 0.0).plan(rng.uniform(0, track.total_length, 2), (0.05, 0.5))
+            for route in map(directed_route, plan.routes):
+                r = np.concatenate([rng.uniform(route.breaks[0] - 0.1, route.breaks[-1] + 0.1, 100), route.breaks])
+                edges, offsets = route.positions(r)
+                idx = route.piece_index(r)
+                for k, x in enumerate(r.tolist()):
+                    assert route.position_scalar(x) == (edges[k], offsets[k])
+                    assert route.piece_index_scalar(x) == idx[k]

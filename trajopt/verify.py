@@ -22,7 +22,6 @@ robots' routes and the limits; it does not use any of the generator's geometry. 
 from __future__ import annotations
 
 import itertools
-from bisect import bisect_right
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -228,13 +227,8 @@ _FEW = 16
 
 def _distance_at(geometry: GraphGeometry, droutes: Sequence[DirectedRoute], qa: float, qb: float) -> float:
     """The graph distance at route coordinates ``(qa, qb)``, in plain Python (as ``positions`` + ``distance``)."""
-    pos = []
-    for route, r in ((droutes[0], qa), (droutes[1], qb)):
-        br, edges, dirs, entry = route.pieces_list
-        r = min(max(r, br[0]), br[-1])
-        i = min(max(bisect_right(br, r) - 1, 0), len(edges) - 1)
-        pos.append((edges[i], entry[i] + dirs[i] * (r - br[i])))
-    return geometry.distance_scalar(pos[0][0], pos[0][1], pos[1][0], pos[1][1])
+    (ea, oa), (eb, ob) = droutes[0].position_scalar(qa), droutes[1].position_scalar(qb)
+    return geometry.distance_scalar(ea, oa, eb, ob)
 
 
 def _chords_cut_at_junctions(
