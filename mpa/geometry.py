@@ -169,11 +169,16 @@ class DirectedRoute:
         i = np.searchsorted(self.breaks, r, side="right") - 1
         return np.clip(i, 0, len(self.edges) - 1)
 
+    def offsets_on(self, i: IntArray, r: FloatArray) -> FloatArray:
+        """Offsets (m) at route coordinates ``r`` on the given pieces ``i`` (broadcast; no clamping)."""
+        out: FloatArray = self.entry[i] + self.dirs[i] * (r - self.breaks[i])
+        return out
+
     def positions(self, r: ArrayLike) -> tuple[IntArray, FloatArray]:
         """Positions ``(edge, offset)`` at route coordinates ``r`` (broadcast; clamped to the route)."""
         rr: FloatArray = np.clip(np.asarray(r, dtype=float), self.breaks[0], self.breaks[-1])
         i = self.piece_index(rr)
-        return self.edges[i], self.entry[i] + self.dirs[i] * (rr - self.breaks[i])
+        return self.edges[i], self.offsets_on(i, rr)
 
     @cached_property
     def pieces_list(self) -> tuple[list[float], list[int], list[int], list[float]]:
@@ -394,11 +399,9 @@ class GraphGeometry:
         ia = route_a.piece_index(mid[:, 0])
         ib = route_b.piece_index(mid[:, 1])
 
-        def offs(route: DirectedRoute, i: IntArray, r: FloatArray) -> FloatArray:
-            return route.entry[i] + route.dirs[i] * (r - route.breaks[i])
 
-        p0 = np.stack([offs(route_a, ia, q0[:, 0]), offs(route_b, ib, q0[:, 1])], axis=1)
-        p1 = np.stack([offs(route_a, ia, q1[:, 0]), offs(route_b, ib, q1[:, 1])], axis=1)
+        p0 = np.stack([route_a.offsets_on(ia, q0[:, 0]), route_b.offsets_on(ib, q0[:, 1])], axis=1)
+        p1 = np.stack([route_a.offsets_on(ia, q1[:, 0]), route_b.offsets_on(ib, q1[:, 1])], axis=1)
         return float(np.min(self.segment_min(route_a.edges[ia], route_b.edges[ib], p0, p1)))
 
     def _segment_route_min(

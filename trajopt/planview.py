@@ -108,10 +108,9 @@ class PlanView:
         offs = np.empty(S.shape)
         for r, route in enumerate(self.routes):
             x, i = _route_piece(route, S[:, r], V[:, r])
-            br = route.breaks
             edges[:, r] = route.edges[i]
             lengths = self.graph.lengths[route.edges[i]]
-            offs[:, r] = np.clip(route.entry[i] + route.dirs[i] * (x - br[i]), 0.0, lengths)
+            offs[:, r] = np.clip(route.offsets_on(i, x), 0.0, lengths)
         return edges, offs
 
     def directions(self, s: ArrayLike, v: ArrayLike) -> IntArray:

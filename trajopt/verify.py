@@ -142,7 +142,7 @@ def _chord_min(
         edges.append(route.edges[i])
         for q, off in ((q0, off0), (q1, off1)):
             x = np.clip(q[:, r], route.breaks[0], route.breaks[-1])
-            off.append(route.entry[i] + route.dirs[i] * (x - route.breaks[i]))
+            off.append(route.offsets_on(i, x))
     exact = geometry.segment_min(edges[0], edges[1], np.stack(off0, axis=1), np.stack(off1, axis=1))
     out[open_] = np.minimum(out[open_], exact)
     return out
