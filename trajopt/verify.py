@@ -421,12 +421,10 @@ def _word_check(
     """
     try:
         step = 0.004 * track.total_length
-        # rows close enough (densify_polyline would add no point: the same test as its own)
-        close = len(S) < 2 or float(np.ceil(np.abs(np.diff(S, axis=0)).max() / step)) <= 1.0
-        if P is not None and close:
+        dense = densify_polyline(S, step)
+        if P is not None and len(dense) == len(S):
             states = P
         else:
-            dense = densify_polyline(S, step)
             states = np.stack([routes[0].position(dense[:, 0]), routes[1].position(dense[:, 1])], axis=1)
         w = path_word(track, states)
     except MPAError as exc:
