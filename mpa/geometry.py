@@ -399,7 +399,6 @@ class GraphGeometry:
         ia = route_a.piece_index(mid[:, 0])
         ib = route_b.piece_index(mid[:, 1])
 
-
         p0 = np.stack([route_a.offsets_on(ia, q0[:, 0]), route_b.offsets_on(ib, q0[:, 1])], axis=1)
         p1 = np.stack([route_a.offsets_on(ia, q1[:, 0]), route_b.offsets_on(ib, q1[:, 1])], axis=1)
         return float(np.min(self.segment_min(route_a.edges[ia], route_b.edges[ib], p0, p1)))
