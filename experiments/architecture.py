@@ -42,7 +42,12 @@ class Layer:
 #: The layers, bottom first.
 LAYERS = (
     Layer("mpa — the paper (numpy only)", ("mpa", "mpa/planners", "mpa/topology"), "numpy", "#dbe9f6"),
-    Layer("trajopt — the pipeline", ("trajopt",), "casadi, toppra, ruckig (rosbags: ROS 2 bags only)", "#e2f0d9"),
+    Layer(
+        "trajopt — the pipeline",
+        ("trajopt",),
+        "casadi, toppra, ruckig, numba (the gate's kernels; rosbags: ROS 2 bags only)",
+        "#e2f0d9",
+    ),
     Layer("trajopt.cli and trajopt.viz", ("trajopt/cli", "trajopt/viz"), "matplotlib (viz only)", "#fde9d9"),
     Layer("experiments — figures, animations, benchmarks", ("experiments", "experiments/bench"), "ompl, dask", "#eee"),
 )
@@ -50,7 +55,7 @@ LAYERS = (
 #: Top-level imports each layer may use besides the standard library and the layers below.
 _ALLOWED = (
     {"numpy", "mpa"},
-    {"numpy", "mpa", "trajopt", "casadi", "toppra", "ruckig", "rosbags"},
+    {"numpy", "mpa", "trajopt", "casadi", "toppra", "ruckig", "rosbags", "numba"},
     {
         "numpy",
         "mpa",
@@ -59,6 +64,7 @@ _ALLOWED = (
         "toppra",
         "ruckig",
         "rosbags",
+        "numba",
         "matplotlib",
         "mpl_toolkits",
         "PIL",

@@ -10,9 +10,11 @@ import json
 import numbers
 from collections.abc import Hashable, Iterable, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError
 
@@ -83,6 +85,12 @@ class MetricGraph:
                 )
             if not np.isfinite(e.length) or e.length < 0:
                 raise InvalidInputError(f"length of edge {e.name!r} is {e.length!r}, expected a finite number >= 0")
+
+    @cached_property
+    def adjacent_edges(self) -> NDArray[np.bool_]:
+        """``[i, j]``: edges ``i`` and ``j`` share a vertex (an edge shares both of its own). Shape (E, E)."""
+        ends = [{e.tail, e.head} for e in self.edges]
+        return np.array([[bool(a & b) for b in ends] for a in ends], dtype=bool).reshape(len(ends), len(ends))
 
     @classmethod
     def from_edge_list(cls, edges: Iterable[Sequence[object]]) -> MetricGraph:

@@ -140,10 +140,8 @@ def skeleton_points(skeleton: Skeleton, states: ArrayLike) -> tuple[np.ndarray, 
 
 def _jumps(sk: Skeleton, edge: np.ndarray, t: np.ndarray) -> np.ndarray:
     """Indices i where samples i and i+1 lie on skeleton edges without a common vertex."""
-    E = sk.graph.edges
-    ends = [{E[i].tail, E[i].head} for i in range(len(E))]
     idx = np.flatnonzero(edge[1:] != edge[:-1])
-    return np.array([i for i in idx if not (ends[edge[i]] & ends[edge[i + 1]])], dtype=np.int64)
+    return idx[~sk.graph.adjacent_edges[edge[idx], edge[idx + 1]]]
 
 
 #: Where a gap between two samples is refined (16 inner points).

@@ -36,6 +36,7 @@ __all__ = [
     "LollipopSkeleton",
     "Skeleton",
     "SkeletonPoint",
+    "lollipop_point_index",
     "skeleton_of",
 ]
 
@@ -269,7 +270,10 @@ class LollipopSkeleton(Skeleton):
         return self.circle_point(2, a - ell)
 
     def points_of_model_states(self, states: ArrayLike) -> tuple[NDArray[np.int64], FloatArray]:
-        """Vectorized :meth:`point_of_model_state`: edge index into ``graph.edges`` and ``t``. Shape (N,)."""
+        """Vectorized :meth:`point_of_model_state`: edge index into ``graph.edges`` and ``t``. Shape (N,).
+
+        One state in plain Python: :func:`lollipop_point_index`.
+        """
         st = np.atleast_2d(np.asarray(states, dtype=float))
         a, b = st[:, 0], st[:, 1]
         h, ell = self.half, self.model.stick
@@ -320,6 +324,36 @@ class LollipopSkeleton(Skeleton):
                 "stick", ell - h + min(phi0, 2 * h - phi0), stick_sign * dt
             )
         return RobotMove("loop", ((phi0) % (2 * h)), dt), RobotMove("loop", ((phi0 + h) % (2 * h)), dt)
+
+
+def lollipop_point_index(h: float, ell: float, a: float, b: float) -> tuple[int, float]:
+    """Edge index (into :class:`LollipopSkeleton`'s graph) and ``t`` of a model state on the skeleton.
+
+    Scalar twin of :meth:`LollipopSkeleton.points_of_model_states` (the same cases, the same operations), in
+    plain Python on floats only, so that it can also be compiled (:mod:`trajopt.gate_kernels`).
+
+    Parameters
+    ----------
+    h, ell : float
+        The model's half loop and stick (model metres).
+    a, b : float
+        Model track coordinates of A and B, on the skeleton (``d = h`` up to rounding).
+    """
+    c = 2 * h
+    a_stick, b_stick = a <= ell + VERTEX_TOL, b <= ell + VERTEX_TOL
+    if a_stick and b_stick:  # I1 (B ahead) or I2, at the rear robot's depth
+        if b > a:
+            return 0, min(max(a, 0.0), ell - h)
+        return 7, min(max(b, 0.0), ell - h)
+    # circle S_j (j = 1: A on the stick, 3: B on the stick, 2: both on the loop) at the loop robot's φ
+    a_only = a_stick and not b_stick
+    j = 1 if a_only else (3 if b_stick else 2)
+    phi = ((b if a_only else a) - ell) % c
+    if phi >= c - VERTEX_TOL:
+        phi = 0.0
+    if phi >= h:
+        return 2 * j, phi - h
+    return 2 * j - 1, phi
 
 
 @lru_cache(maxsize=64)

@@ -10,9 +10,15 @@ import pytest
 from mpa import Circle, GraphTrack, Lollipop, MPAError, make_planner
 from trajopt import Limits, TrajectoryGenerator
 from trajopt.planview import plan_view
-from trajopt.verify import _deviation_from_chords, between_rows_separation
+from trajopt.verify import between_rows_separation
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "tracks"
+
+
+def _deviation_from_chords(a: np.ndarray, dt: float, lim: Limits) -> np.ndarray:
+    """The gate's bound of how far both robots leave the chord (module docstring of trajopt.verify)."""
+    a_int = np.minimum(lim.a, np.maximum(np.abs(a[:-1]), np.abs(a[1:])) + lim.j * dt / 2)
+    return np.sum(a_int, axis=1) * dt * dt / 8.0
 
 
 def _dense_chord_min(view, s: np.ndarray, n: int = 201) -> np.ndarray:  # type: ignore[no-untyped-def]

@@ -77,9 +77,9 @@ def test_other_gate_failures_on_the_fast_path_fall_back(monkeypatch: pytest.Monk
     real = verify._limit_check
     calls: list[int] = []
 
-    def once_over(V, A, J, limits):  # type: ignore[no-untyped-def]
+    def once_over(res, lims):  # type: ignore[no-untyped-def]
         calls.append(1)
-        peak, fails = real(V, A, J, limits)
+        peak, fails = real(res, lims)
         return (peak, [*fails, "row 0: |v| of robot A is 9, limit 0.5"]) if len(calls) == 1 else (peak, fails)
 
     monkeypatch.setattr(verify, "_limit_check", once_over)

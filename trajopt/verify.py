@@ -21,19 +21,27 @@ robots' routes and the limits; it does not use any of the generator's geometry. 
 
 from __future__ import annotations
 
-import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import MPAError, PlanningError
 from mpa.geometry import DirectedRoute, GraphGeometry, densify_polyline
-from mpa.homotopy import path_word
+from mpa.homotopy import END_TOL, path_word, word_from_samples
 from mpa.routes import Route, directed_route
+from mpa.skeleton import CircleSkeleton, LollipopSkeleton, skeleton_of
 from mpa.tracks import Track
+from trajopt.gate_kernels import (
+    RES,
+    between_rows,
+    check_rows,
+    circle_skeleton_points,
+    lollipop_skeleton_points,
+    needs_densify,
+    word_samples,
+)
 from trajopt.timing import Limits
 
 __all__ = [
@@ -108,46 +116,6 @@ class VerificationError(PlanningError):
         self.report = report
 
 
-def _chord_min(
-    geometry: GraphGeometry,
-    droutes: Sequence[DirectedRoute],
-    s0: FloatArray,
-    s1: FloatArray,
-    d0: FloatArray,
-    d1: FloatArray,
-) -> FloatArray:
-    """Exact minimum of the distance along chords ``s0 → s1`` (shape (M, 2)) on which each robot stays on one edge.
-
-    On such a chord each robot's offset is affine in the chord parameter, so the distance is the minimum of the
-    cell's affine terms (and ``|s − t|`` when both robots are on one edge): its minimum is at an end unless the
-    robots meet on one edge (:meth:`mpa.geometry.GraphGeometry.segment_min`, exact). Meeting is excluded at once
-    when ``d0 + d1 > |ΔsA| + |ΔsB|`` (the distance is 1-Lipschitz in each route coordinate) with a margin of
-    1e-9 relative and 1e-12 m (head-on robots that meet have ``d0 + d1 = |ΔsA| + |ΔsB|`` exactly, which
-    rounding can tip either way); the other chords (robots close together, heading at each other, or following
-    each other on one edge) get the exact cell minimum.
-    """
-    out = np.minimum(d0, d1)
-    span = np.abs(s1[:, 0] - s0[:, 0]) + np.abs(s1[:, 1] - s0[:, 1])
-    # robots heading straight at each other have d0 + d1 == span exactly, and meet: exclude only with a margin
-    open_ = np.flatnonzero(~(d0 + d1 > span * (1.0 + 1e-9) + 1e-12))
-    if len(open_) == 0:
-        return out
-    q0, q1 = s0[open_], s1[open_]
-    mid = 0.5 * (q0 + q1)
-    edges: list[IntArray] = []
-    off0: list[FloatArray] = []
-    off1: list[FloatArray] = []
-    for r, route in enumerate(droutes):
-        i = route.piece_index(np.clip(mid[:, r], route.breaks[0], route.breaks[-1]))
-        edges.append(route.edges[i])
-        for q, off in ((q0, off0), (q1, off1)):
-            x = np.clip(q[:, r], route.breaks[0], route.breaks[-1])
-            off.append(route.offsets_on(i, x))
-    exact = geometry.segment_min(edges[0], edges[1], np.stack(off0, axis=1), np.stack(off1, axis=1))
-    out[open_] = np.minimum(out[open_], exact)
-    return out
-
-
 def _graph_form(track: Track, routes: Sequence[Route]) -> tuple[GraphGeometry, tuple[DirectedRoute, DirectedRoute]]:
     """A paper track's metric and routes in the graph form the gate works in (edges ``stick``/``loop``)."""
     return track.as_graph_track().geometry, (directed_route(routes[0]), directed_route(routes[1]))
@@ -182,118 +150,40 @@ def between_rows_separation(
         geometry, droutes = _graph_form(track, routes)  # type: ignore[arg-type]
     else:
         geometry, droutes = track, (routes[0], routes[1])  # type: ignore[assignment]
-    if len(s) < 2:
+    S, A = _rows(s), _rows(a)
+    if len(S) < 2:
         return np.zeros(0)
-    (ea, oa), (eb, ob) = droutes[0].positions(s[:, 0]), droutes[1].positions(s[:, 1])
-    return _between_rows(geometry, droutes, s, geometry.distance(ea, oa, eb, ob), a, dt, limits)
+    out: FloatArray = between_rows(
+        *_graph_arrays(geometry),
+        _route_arrays(droutes[0]),
+        _route_arrays(droutes[1]),
+        S,
+        A,
+        float(dt),
+        np.ascontiguousarray(limits.a, dtype=float),
+        np.ascontiguousarray(limits.j, dtype=float),
+    )
+    return out
 
 
-def _between_rows(
-    geometry: GraphGeometry,
-    droutes: Sequence[DirectedRoute],
-    s: FloatArray,
-    d_rows: FloatArray,
-    a: FloatArray,
-    dt: float,
-    limits: Limits,
-) -> FloatArray:
-    """:func:`between_rows_separation` given the distances at the rows' route positions ``d_rows`` (shape (N,))."""
-    n = len(s)
-    kk, p0, p1, inner0, inner1 = _chords_cut_at_junctions(droutes, s)
-
-    def dist(q: FloatArray) -> FloatArray:
-        if len(q) <= _FEW:  # a few points (the cuts): plain Python, the same positions and distances
-            return np.array([_distance_at(geometry, droutes, qa, qb) for qa, qb in q.tolist()])
-        (ea, oa), (eb, ob) = droutes[0].positions(q[:, 0]), droutes[1].positions(q[:, 1])
-        return geometry.distance(ea, oa, eb, ob)
-
-    d0, d1 = d_rows[kk], d_rows[kk + 1]  # a piece that starts (ends) at a row: the row's distance
-    n0, n1 = int(np.count_nonzero(inner0)), int(np.count_nonzero(inner1))
-    if n0 + n1:  # ends at cuts, in one call
-        d_cut = dist(np.concatenate([p0[inner0], p1[inner1]]))
-        d0[inner0], d1[inner1] = d_cut[:n0], d_cut[n0:]
-    sub = _chord_min(geometry, droutes, p0, p1, d0, d1)
-    if len(kk) == n - 1:  # no cut: piece k is row step k
-        chord = sub
-    else:
-        chord = np.full(n - 1, np.inf)
-        np.minimum.at(chord, kk, sub)
-    return chord - _deviation_from_chords(a, dt, limits)
+def _rows(x: ArrayLike) -> FloatArray:
+    """``x`` as a C-contiguous float array (what the compiled kernels take; no copy when it already is)."""
+    return np.ascontiguousarray(x, dtype=float)
 
 
-#: Up to this many points the gate evaluates distances in plain Python (:func:`_distance_at`).
-_FEW = 16
+def _graph_arrays(geometry: GraphGeometry) -> tuple[IntArray, IntArray, FloatArray, FloatArray]:
+    """The graph as the kernels take it: ``tails``, ``heads``, ``lengths``, ``dv``."""
+    return geometry.tails, geometry.heads, geometry.lengths, geometry.dv
 
 
-def _distance_at(geometry: GraphGeometry, droutes: Sequence[DirectedRoute], qa: float, qb: float) -> float:
-    """The graph distance at route coordinates ``(qa, qb)``, in plain Python (as ``positions`` + ``distance``)."""
-    (ea, oa), (eb, ob) = droutes[0].position_scalar(qa), droutes[1].position_scalar(qb)
-    return geometry.distance_scalar(ea, oa, eb, ob)
-
-
-def _chords_cut_at_junctions(
-    droutes: Sequence[DirectedRoute], s: FloatArray
-) -> tuple[NDArray[np.int64], FloatArray, FloatArray, NDArray[np.bool_], NDArray[np.bool_]]:
-    """The chords between consecutive rows ``s`` (shape (N, 2)), cut where a robot changes edge.
-
-    Returns ``(kk, p0, p1, inner0, inner1)``: the row step ``k`` of each piece (shape (M,)), the piece's ends
-    (shape (M, 2)), and whether each end lies inside the step (a cut) rather than on a row; on a piece both
-    robots stay on one edge each. Rows without a cut are one chord (ends exactly the rows); without any cut the
-    pieces are the row steps in order (``kk = 0 … N−2``). The few cut rows are split in plain Python.
-    """
-    n = len(s)
-    cuts: dict[int, list[float]] = {}
-    for r in (0, 1):
-        junc = droutes[r].breaks[1:-1]
-        if len(junc) == 0:
-            continue
-        col = s[:, r]
-        lo, hi = np.minimum(col[:-1], col[1:]), np.maximum(col[:-1], col[1:])
-        rows = np.flatnonzero(np.searchsorted(junc, hi, side="left") - np.searchsorted(junc, lo, side="right"))
-        if len(rows) == 0:
-            continue
-        jl = junc.tolist()
-        for k in rows.tolist():
-            a, b = float(col[k]), float(col[k + 1])
-            low, high = min(a, b), max(a, b)
-            cuts.setdefault(k, []).extend((x - a) / (b - a) for x in jl if low < x < high)
-    if not cuts:
-        none = np.zeros(n - 1, dtype=bool)
-        return np.arange(n - 1), s[:-1], s[1:], none, none
-    # rows without a cut are one chord [0, 1]; a cut row is split at its cuts (ends as s_k + t·(s_k+1 − s_k))
-    ks: list[int] = []
-    ends0: list[list[float]] = []
-    ends1: list[list[float]] = []
-    in0: list[bool] = []
-    in1: list[bool] = []
-    for row in cuts:
-        a, b = s[row].tolist(), s[row + 1].tolist()
-        ds = (b[0] - a[0], b[1] - a[1])
-        ts = [0.0, *sorted(cuts[row]), 1.0]
-        for t0, t1 in itertools.pairwise(ts):
-            ks.append(row)
-            ends0.append(a if t0 == 0.0 else [a[0] + t0 * ds[0], a[1] + t0 * ds[1]])
-            ends1.append(b if t1 == 1.0 else [a[0] + t1 * ds[0], a[1] + t1 * ds[1]])
-            in0.append(t0 != 0.0)
-            in1.append(t1 != 1.0)
-    plain = np.ones(n - 1, dtype=bool)
-    plain[list(cuts)] = False
-    rows_plain = np.flatnonzero(plain)
-    kk = np.concatenate([rows_plain, np.asarray(ks, dtype=np.int64)])
-    p0 = np.concatenate([s[rows_plain], np.asarray(ends0)])
-    p1 = np.concatenate([s[rows_plain + 1], np.asarray(ends1)])
-    no = np.zeros(len(rows_plain), dtype=bool)
-    return kk, p0, p1, np.concatenate([no, in0]), np.concatenate([no, in1])
-
-
-def _deviation_from_chords(a: FloatArray, dt: float, limits: Limits) -> FloatArray:
-    """Bound (m) of how far both robots together leave the chord between consecutive rows. Shape (N−1,).
-
-    Per robot ``a_int·Δt²/8`` with ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)``.
-    """
-    amax, jmax = limits.a, limits.j
-    a_int = np.minimum(amax[None, :], np.maximum(np.abs(a[:-1]), np.abs(a[1:])) + jmax[None, :] * dt / 2)
-    return (a_int[:, 0] + a_int[:, 1]) * (dt * dt / 8.0)  # (a sum over a length-2 axis is slow in numpy)
+def _route_arrays(route: DirectedRoute) -> tuple[FloatArray, IntArray, IntArray, FloatArray]:
+    """A route as the kernels take it: ``breaks``, ``edges``, ``dirs``, ``entry``."""
+    return (
+        np.ascontiguousarray(route.breaks, dtype=float),
+        np.ascontiguousarray(route.edges, dtype=np.int64),
+        np.ascontiguousarray(route.dirs, dtype=np.int64),
+        np.ascontiguousarray(route.entry, dtype=float),
+    )
 
 
 def verify_setpoints(
@@ -421,18 +311,45 @@ def _word_check(
     """
     try:
         step = 0.004 * track.total_length
-        dense = densify_polyline(S, step)
-        if P is not None and len(dense) == len(S):
+        if P is not None and not needs_densify(_rows(S), step):
             states = P
         else:
+            dense = densify_polyline(S, step)
             states = np.stack([routes[0].position(dense[:, 0]), routes[1].position(dense[:, 1])], axis=1)
-        w = path_word(track, states)
+        w = skeleton_word(track, states)
     except MPAError as exc:
         return (), [f"cannot compute the homotopy class: {exc}"]
     if tuple(w) != tuple(word):
         got, want = " ".join(w) or "(trivial)", " ".join(word) or "(trivial)"
         return tuple(w), [f"homotopy class {got} differs from the plan's {want}"]
     return tuple(w), []
+
+
+def skeleton_word(track: Track, states: ArrayLike) -> tuple[str, ...]:
+    """:func:`mpa.homotopy.path_word` of densely sampled states (track coordinates, shape (N, 2)), compiled.
+
+    ``H₁`` of every state (:func:`trajopt.gate_kernels.lollipop_skeleton_points`, ``circle_skeleton_points``:
+    mpa's own steps, one state at a time), then the word of the samples around the edge changes
+    (:func:`mpa.homotopy.word_from_samples`). Where two consecutive samples retract to skeleton edges without a
+    common vertex (a gap to refine), at a collision, and on the interval: :func:`mpa.homotopy.path_word` itself.
+    """
+    sk = skeleton_of(track)
+    P = _rows(states)
+    if P.ndim != 2 or P.shape[1] != 2 or len(P) == 0 or not isinstance(sk, (LollipopSkeleton, CircleSkeleton)):
+        return path_word(track, P)
+    edge, t = np.empty(len(P), dtype=np.int64), np.empty(len(P))
+    try:
+        if isinstance(sk, LollipopSkeleton):
+            degenerate = sk.graph.edges[0].length <= END_TOL
+            lollipop_skeleton_points(P, sk.model.stick, sk.model.loop, sk.kappa, degenerate, edge, t)
+        else:
+            circle_skeleton_points(P, sk.circumference, edge, t)
+    except ZeroDivisionError:  # a state at a collision: the robots coincide
+        return path_word(track, P)
+    keep, jump = word_samples(edge, sk.graph.adjacent_edges)
+    if jump:
+        return path_word(track, P)
+    return word_from_samples(sk.graph, edge[keep].tolist(), t[keep].tolist())
 
 
 def verify_graph_setpoints(
@@ -479,130 +396,110 @@ def verify_graph_setpoints(
     VerificationReport
         Never raises for a failed check; ``ok`` is False and ``failures`` lists them; ``word`` is empty.
     """
-    tt = np.asarray(t, dtype=float)
+    tt = np.ascontiguousarray(t, dtype=float)
     E = np.asarray(edges)
-    arrs = {k: np.asarray(x, dtype=float) for k, x in (("offset", offsets), ("s", s), ("v", v), ("a", a), ("j", j))}
-    bad_input = _input_failure(tt, E, arrs, len(geometry.lengths))
-    if bad_input:
-        nan = float("nan")
-        return VerificationReport(False, (bad_input,), nan, nan, {}, ())
+    OFF, S, V, A, J = (_rows(x) for x in (offsets, s, v, a, j))
     n = len(tt)
+    nan = float("nan")
+    if n == 0 or tt.ndim != 1 or E.shape != (n, 2) or any(x.shape != (n, 2) for x in (OFF, S, V, A, J)):
+        return VerificationReport(False, ("arrays have inconsistent shapes",), nan, nan, {}, ())
+    if not np.issubdtype(E.dtype, np.integer):
+        return VerificationReport(False, ("edge indices out of range",), nan, nan, {}, ())
+    E = np.ascontiguousarray(E, dtype=np.int64)
     dt = 1.0 / float(rate)
+    lims = np.concatenate([limits.v, limits.a, limits.j]).astype(float)  # (6,): v, a, j of A and B
+    ends = np.array([*start[0], *start[1], *goal[0], *goal[1]], dtype=float)
+    between = np.empty(n - 1)
+    res = check_rows(
+        *_graph_arrays(geometry),
+        _route_arrays(routes[0]),
+        _route_arrays(routes[1]),
+        tt,
+        E,
+        OFF,
+        S,
+        V,
+        A,
+        J,
+        lims,
+        dt,
+        TIME_TOL,
+        ends,
+        between,
+    ).tolist()
+    if res[RES["bad"]]:
+        why = "non-finite values in the setpoints" if res[RES["bad"]] == 1.0 else "edge indices out of range"
+        return VerificationReport(False, (why,), nan, nan, {}, ())
     fails: list[str] = []
-    if abs(tt[0]) > TIME_TOL or np.any(np.abs(tt - dt * np.arange(n)) > TIME_TOL * max(1.0, n * dt)):
+    if not res[RES["grid_ok"]]:
         fails.append(f"time grid is not 0, 1/{rate:g}, 2/{rate:g}, …")
-    OFF, S, V, A, J = arrs["offset"], arrs["s"], arrs["v"], arrs["a"], arrs["j"]
-    # every graph distance of the gate in one call: the rows' separation, each robot's row against its route
-    # position (consistency), and the separation at the route positions (the chords' ends)
-    (ra_e, ra_o), (rb_e, rb_o) = routes[0].positions(S[:, 0]), routes[1].positions(S[:, 1])
-    all_d = geometry.distance(
-        np.concatenate([E[:, 0], ra_e, rb_e, ra_e]),
-        np.concatenate([OFF[:, 0], ra_o, rb_o, ra_o]),
-        np.concatenate([E[:, 1], E[:, 0], E[:, 1], rb_e]),
-        np.concatenate([OFF[:, 1], OFF[:, 0], OFF[:, 1], rb_o]),
-    )
-    d, err_a, err_b, d_route = all_d[:n], all_d[n : 2 * n], all_d[2 * n : 3 * n], all_d[3 * n :]
-    fails += _route_consistency_failures(E, OFF, S, ((ra_e, ra_o, err_a), (rb_e, rb_o, err_b)))
-    fails += _endpoint_failures(geometry, E, OFF, V, A, start, goal)
-    peak, limit_fails = _limit_check(V, A, J, limits)
+    fails += _route_consistency_failures(routes, E, OFF, S, res)
+    fails += _endpoint_failures(V, A, res)
+    peak, limit_fails = _limit_check(res, lims)
     fails += limit_fails
-    between = _between_rows(geometry, routes, S, d_route, A, dt, limits)
-    dmin, bmin, sep_fails = _separation_check(d, between, clearance)
-    fails += sep_fails
-    return VerificationReport(not fails, tuple(fails), dmin, bmin, peak, ())
-
-
-def _input_failure(tt: FloatArray, E: NDArray[Any], arrs: dict[str, FloatArray], n_edges: int) -> str:
-    """Why the arrays cannot be checked at all (shapes, non-finite values, edge indices), or ``""``."""
-    n = len(tt)
-    if n == 0 or tt.ndim != 1 or E.shape != (n, 2) or any(x.shape != (n, 2) for x in arrs.values()):
-        return "arrays have inconsistent shapes"
-    if not (np.isfinite(tt).all() and np.isfinite(np.stack(list(arrs.values()))).all()):
-        return "non-finite values in the setpoints"
-    if not np.issubdtype(E.dtype, np.integer) or E.min() < 0 or E.max() >= n_edges:
-        return "edge indices out of range"
-    return ""
+    fails += _separation_failures(res, between, clearance)
+    return VerificationReport(not fails, tuple(fails), res[RES["dmin"]], res[RES["bmin"]], peak, ())
 
 
 def _route_consistency_failures(
-    E: NDArray[Any],
-    OFF: FloatArray,
-    S: FloatArray,
-    at_route: tuple[tuple[NDArray[Any], FloatArray, FloatArray], tuple[NDArray[Any], FloatArray, FloatArray]],
+    routes: Sequence[DirectedRoute], E: IntArray, OFF: FloatArray, S: FloatArray, res: list[float]
 ) -> list[str]:
-    """Each row's position ``(E, OFF)`` is ``route.position(s)`` (graph distance ≤ :data:`POSITION_TOL`).
-
-    ``at_route``: per robot the route's edges and offsets at ``S`` and their graph distance to the rows' positions.
-    """
+    """Each row's position ``(E, OFF)`` is ``route.position(s)`` (graph distance ≤ :data:`POSITION_TOL`)."""
     fails = []
-    for r, (re_, ro, err) in enumerate(at_route):
-        if err.max() > POSITION_TOL:
-            k = int(np.argmax(err))
+    for r, name in enumerate(("err_a", "err_b")):
+        if res[RES[name]] > POSITION_TOL:
+            k = int(res[RES[name + "_row"]])
+            re_, ro = routes[r].position_scalar(float(S[k, r]))
             fails.append(
                 f"row {k}: robot {'AB'[r]} position (edge {int(E[k, r])}, {OFF[k, r]!r}) is not route.position(s) = "
-                f"(edge {int(re_[k])}, {float(ro[k])!r}) at s = {S[k, r]!r}"
+                f"(edge {re_}, {ro!r}) at s = {S[k, r]!r}"
             )
     return fails
 
 
-def _endpoint_failures(
-    geometry: GraphGeometry,
-    E: NDArray[Any],
-    OFF: FloatArray,
-    V: FloatArray,
-    A: FloatArray,
-    start: tuple[tuple[int, float], tuple[int, float]],
-    goal: tuple[tuple[int, float], tuple[int, float]],
-) -> list[str]:
+def _endpoint_failures(V: FloatArray, A: FloatArray, res: list[float]) -> list[str]:
     """The first row at the start and the last at the goal, both at rest."""
     fails = []
-    n = len(E)
-    for name, row, target in (("first", 0, start), ("last", n - 1, goal)):
-        gaps = [geometry.distance_scalar(int(E[row, r]), float(OFF[row, r]), *target[r]) for r in (0, 1)]
-        end_err = max(float(g) for g in gaps)
+    n = len(V)
+    for name, row, target in (("first", 0, "the start"), ("last", n - 1, "the goal")):
+        end_err = max(res[RES[f"{name}_a"]], res[RES[f"{name}_b"]])
         if end_err > POSITION_TOL:
-            fails.append(f"{name} row is {end_err:.3g} m from {'the start' if row == 0 else 'the goal'}")
+            fails.append(f"{name} row is {end_err:.3g} m from {target}")
         if max(abs(x) for x in (*V[row].tolist(), *A[row].tolist())) > POSITION_TOL:
             fails.append(f"{name} row is not at rest (v = {V[row].tolist()}, a = {A[row].tolist()})")
     return fails
 
 
-def _limit_check(
-    V: FloatArray, A: FloatArray, J: FloatArray, limits: Limits
-) -> tuple[dict[str, tuple[float, float]], list[str]]:
+def _limit_check(res: list[float], lims: FloatArray) -> tuple[dict[str, tuple[float, float]], list[str]]:
     """The peak ``|value| / limit`` of v, a, j per robot, and the failures where one exceeds ``1 + LIMIT_RTOL``."""
-    X = np.abs(np.concatenate([V.T, A.T, J.T]))  # (6, N): v, a, j of A and B (contiguous rows: fast maxima)
-    lims = np.concatenate([limits.v, limits.a, limits.j])  # (6,)
-    r6 = (X.max(axis=1) / lims).tolist()
-    ratios = [r6[0:2], r6[2:4], r6[4:6]]
     fails = []
     peak: dict[str, tuple[float, float]] = {}
+    lim = lims.tolist()
     for q, name in enumerate(("v", "a", "j")):
-        peak[name] = (float(ratios[q][0]), float(ratios[q][1]))
-        for r in (0, 1):
-            if ratios[q][r] > 1 + LIMIT_RTOL:
-                i = 2 * q + r
-                k = int(np.argmax(X[i]))
-                fails.append(f"row {k}: |{name}| of robot {'AB'[r]} is {X[i, k]:.9g}, limit {lims[i]:g}")
+        ratio = [res[RES[f"{name}_{ab}"]] / lim[2 * q + r] for r, ab in enumerate("ab")]
+        peak[name] = (ratio[0], ratio[1])
+        for r, ab in enumerate("ab"):
+            if ratio[r] > 1 + LIMIT_RTOL:
+                k = int(res[RES[f"{name}_{ab}_row"]])
+                fails.append(
+                    f"row {k}: |{name}| of robot {'AB'[r]} is {res[RES[f'{name}_{ab}']]:.9g}, limit {lim[2 * q + r]:g}"
+                )
     return peak, fails
 
 
-def _separation_check(d: FloatArray, between: FloatArray, clearance: float) -> tuple[float, float, list[str]]:
-    """Minimum separation at the rows ``d`` (shape (N,)) and between them (``between``, shape (N−1,)), with the
-    failures where either is below the clearance."""
+def _separation_failures(res: list[float], between: FloatArray, clearance: float) -> list[str]:
+    """The failures where the separation at a row or between rows is below the clearance."""
     fails = []
-    dmin = float(np.min(d))
+    dmin, bmin = res[RES["dmin"]], res[RES["bmin"]]
     if dmin < clearance - SEPARATION_TOL:
-        k = int(np.argmin(d))
         fails.append(
-            f"row {k}: separation {float(d[k])!r} below the clearance {float(clearance)!r} "
+            f"row {int(res[RES['dmin_row']])}: separation {dmin!r} below the clearance {float(clearance)!r} "
             f"(tolerance {SEPARATION_TOL:g} m)"
         )
-    bmin = float(np.min(between)) if len(between) else dmin
     if bmin < clearance - SEPARATION_TOL:
-        k = int(np.argmin(between))
+        k = int(res[RES["bmin_row"]])
         fails.append(
             f"rows {k}-{k + 1}: separation between rows may drop to {float(between[k])!r} < {float(clearance)!r} "
             f"(tolerance {SEPARATION_TOL:g} m)"
         )
-    return dmin, bmin, fails
+    return fails
