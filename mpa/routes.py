@@ -27,7 +27,7 @@ from mpa.errors import InvalidInputError, PlanningError
 from mpa.geometry import DirectedRoute
 from mpa.tracks import Circle, Interval, Lollipop, Track
 
-__all__ = ["Lift", "RobotMove", "Route", "directed_route", "lift_moves", "lift_position"]
+__all__ = ["Lift", "RobotMove", "Route", "affine_position", "directed_route", "lift_moves", "lift_position"]
 
 FloatArray = NDArray[np.float64]
 #: Tolerance (metres) for deciding that a lifted point sits on a junction.
@@ -308,8 +308,17 @@ class Route:
         )
         return out
 
+    def affine_form(self) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.bool_], bool, float, float]:
+        """The route as :func:`affine_position` takes it: ``breaks, A, B, is_line, interval, stick, loop``."""
+        tr = self.track
+        breaks, A, B, is_line = self._affine()
+        stick = float(tr.stick) if isinstance(tr, (Interval, Lollipop)) else 0.0
+        loop = float(tr.loop) if isinstance(tr, (Circle, Lollipop)) else 1.0
+        return breaks, A, B, is_line, isinstance(tr, Interval), stick, loop
+
     def position(self, sigma: ArrayLike) -> FloatArray:
-        """Track coordinate at route coordinate ``σ`` (vectorized; metres)."""
+        """Track coordinate at route coordinate ``σ`` (vectorized; metres). One in plain Python:
+        :func:`affine_position` of :meth:`affine_form`."""
         s = np.asarray(sigma, dtype=float)
         breaks, A, B, is_line = self._affine()
         tr = self.track
@@ -497,3 +506,38 @@ def _directed_route(route: Route) -> DirectedRoute:
     return DirectedRoute(
         np.asarray(edges, dtype=np.int64), np.asarray(dirs, dtype=np.int64), np.asarray(entry, dtype=float), breaks
     )
+
+
+def affine_position(
+    breaks: FloatArray,
+    A: FloatArray,
+    B: FloatArray,
+    is_line: NDArray[np.bool_],
+    interval: bool,
+    stick: float,
+    loop: float,
+    sigma: float,
+) -> float:
+    """Scalar twin of :meth:`Route.position`: the track coordinate at route coordinate ``sigma`` (metres).
+
+    The same cases and operations on one float, in plain Python, so that it can also be compiled
+    (:mod:`trajopt.sample_kernels`). The arguments are :meth:`Route.affine_form` (``stick = 0`` on a circle).
+    """
+    if len(A) == 1:
+        idx = 0
+    else:  # searchsorted(breaks, sigma, side="left")
+        lo, hi = 0, len(breaks)
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if breaks[mid] < sigma:
+                lo = mid + 1
+            else:
+                hi = mid
+        idx = lo
+    val = A[idx] + B[idx] * sigma
+    if interval or not is_line[idx]:
+        return min(max(val, 0.0), stick)
+    th = val % loop
+    if th >= loop - 1e-12:
+        th = 0.0
+    return stick + th

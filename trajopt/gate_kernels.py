@@ -8,37 +8,28 @@ consistency with their routes, the endpoints, the limits, and the exact minimum 
 between consecutive rows, cut where a robot changes edge (:meth:`mpa.geometry.GraphGeometry.segment_min`). The
 messages are written by :mod:`trajopt.verify` from the few numbers returned here.
 
-Without numba (an interpreter it does not support yet) the same functions run as plain Python: the same results,
-about a hundred times slower.
+Without numba (:mod:`trajopt._numba`) the same functions run as plain Python: the same results, about a hundred
+times slower.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from mpa.retraction import lollipop_trace_scalar
+from mpa.routes import affine_position
 from mpa.skeleton import lollipop_point_index
-
-try:
-    from numba import njit
-except ImportError:  # pragma: no cover - numba is a dependency; this keeps the gate working without it
-
-    def njit(*args: Any, **kwargs: Any) -> Any:  # type: ignore[no-redef]
-        """No-op stand-in for :func:`numba.njit`."""
-        if args and callable(args[0]):
-            return args[0]
-        return lambda f: f
-
+from trajopt._numba import njit
 
 __all__ = [
     "RES",
     "between_rows",
     "check_rows",
     "circle_skeleton_points",
+    "dense_track_states",
     "lollipop_skeleton_points",
     "needs_densify",
     "word_samples",
@@ -526,3 +517,50 @@ def needs_densify(S: FloatArray, step: float) -> bool:
         if math.ceil(size / step) > 1:
             return True
     return False
+
+
+_route_position = njit(cache=True)(affine_position)
+
+
+@njit(cache=True)
+def dense_track_states(
+    S: FloatArray,
+    step: float,
+    breaks_a: FloatArray,
+    A_a: FloatArray,
+    B_a: FloatArray,
+    line_a: NDArray[np.bool_],
+    breaks_b: FloatArray,
+    A_b: FloatArray,
+    B_b: FloatArray,
+    line_b: NDArray[np.bool_],
+    interval: bool,
+    stick: float,
+    loop: float,
+) -> FloatArray:
+    """Track coordinates along the polyline of route coordinates ``S`` (shape (N, 2)) refined to ``step``.
+
+    The points of :func:`mpa.geometry.densify_polyline` (every leg cut into ``max(1, ⌈|leg|_∞ / step⌉)`` equal
+    parts), each robot's mapped by :meth:`mpa.routes.Route.position` (:func:`mpa.routes.affine_position`, its
+    route given as :meth:`mpa.routes.Route.affine_form`). Shape (M, 2).
+    """
+    n = len(S)
+    counts = np.ones(max(n - 1, 0), dtype=np.int64)
+    total = 1
+    for k in range(n - 1):
+        size = max(abs(S[k + 1, 0] - S[k, 0]), abs(S[k + 1, 1] - S[k, 1]))
+        counts[k] = max(1, math.ceil(size / step))
+        total += counts[k]
+    out = np.empty((total, 2))
+    m = 0
+    for k in range(n - 1):
+        nk = counts[k]
+        la, lb = S[k + 1, 0] - S[k, 0], S[k + 1, 1] - S[k, 1]
+        for q in range(nk):
+            frac = q / nk
+            out[m, 0] = _route_position(breaks_a, A_a, B_a, line_a, interval, stick, loop, S[k, 0] + frac * la)
+            out[m, 1] = _route_position(breaks_b, A_b, B_b, line_b, interval, stick, loop, S[k, 1] + frac * lb)
+            m += 1
+    out[m, 0] = _route_position(breaks_a, A_a, B_a, line_a, interval, stick, loop, S[n - 1, 0])
+    out[m, 1] = _route_position(breaks_b, A_b, B_b, line_b, interval, stick, loop, S[n - 1, 1])
+    return out

@@ -15,6 +15,7 @@ in positions), and the columns of the exported rows.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -25,6 +26,7 @@ from mpa.graph_track import GraphTrack
 from mpa.homotopy import path_word
 from mpa.planners.graph import GraphPlan
 from mpa.routes import directed_route
+from trajopt.sample_kernels import track_positions
 from trajopt.timing import Limits
 from trajopt.verify import VerificationReport, verify_graph_setpoints, verify_setpoints
 
@@ -129,8 +131,23 @@ class PlanView:
         S = np.atleast_2d(np.asarray(s, dtype=float))
         if self.is_graph:
             return self.positions(S)[1]
-        routes = self.plan.routes
-        return np.stack([routes[0].position(S[:, 0]), routes[1].position(S[:, 1])], axis=1)
+        (br_a, A_a, B_a, line_a, interval, stick, loop), (br_b, A_b, B_b, line_b, *_) = self._affine_forms
+        out = np.empty(S.shape)
+        track_positions(
+            np.ascontiguousarray(S), br_a, A_a, B_a, line_a, br_b, A_b, B_b, line_b, interval, stick, loop, out
+        )
+        return out
+
+    @cached_property
+    def _affine_forms(self) -> tuple[tuple[Any, ...], tuple[Any, ...]]:
+        """Both routes as :meth:`mpa.routes.Route.affine_form` (C-contiguous; for the compiled positions)."""
+        forms = []
+        for route in self.plan.routes:
+            br, A, B, line, interval, stick, loop = route.affine_form()
+            f = np.ascontiguousarray
+            arrays = (f(br, dtype=float), f(A, dtype=float), f(B, dtype=float), f(line, dtype=bool))
+            forms.append((*arrays, interval, stick, loop))
+        return forms[0], forms[1]
 
     def endpoints(self) -> tuple[Pair, Pair]:
         """Start and goal as positions ``((edge, offset) of A, (edge, offset) of B)``."""

@@ -39,6 +39,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from mpa import defaults
 from mpa.errors import InvalidInputError, PlanningError
+from trajopt.sample_kernels import sample_rows
 
 __all__ = [
     "BlendedPath",
@@ -258,6 +259,7 @@ class BlendedPath:
 _FALLING = tuple(
     tuple(float(np.prod(np.arange(i - o + 1, i + 1))) if i >= o else 0.0 for i in range(6)) for o in range(4)
 )
+_FALLING_ARRAY = np.array(_FALLING)  # (4, 6), for the compiled sampler
 
 
 def _piece_bounds(coef: FloatArray, length: float) -> FloatArray:
@@ -700,24 +702,56 @@ class TimeScaling:
         return s, v, a, j
 
     def sample(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        """Route coordinates and their first three time derivatives at ``t``. Each shape ``t.shape + (2,)``."""
+        """Route coordinates and their first three time derivatives at ``t``. Each shape ``t.shape + (2,)``.
+
+        Row by row in one compiled call (:func:`trajopt.sample_kernels.sample_rows`): the phase's polynomial
+        (:meth:`param`), the path's derivatives at ``s`` (:meth:`BlendedPath.derivatives`, Horner's scheme) and
+        the chain rule.
+        """
         tt = np.asarray(t, dtype=float)
-        pc = None
-        if len(self.t0):
-            k = self._phase(tt)
-            s, sd, sdd, sddd = self._param(tt, k)
-            if len(self.piece) == len(self.t0):
-                pc = np.where(tt >= self.duration, len(self.path.coef) - 1, self.piece[k])
-        else:
+        shape = (*tt.shape, 2)
+        if len(self.t0) == 0:  # no motion: at rest at the end
             s, sd, sdd, sddd = self.param(tt)
-        q0, q1, q2, q3 = (x.reshape((*tt.shape, 2)) for x in self.path.derivatives(s, pc))
-        sd_, sdd_, sddd_ = sd[..., None], sdd[..., None], sddd[..., None]
-        vel = q1 * sd_
-        if self.path.degree <= 1:  # straight pieces: the second and third path derivatives are 0
-            return q0, vel, q1 * sdd_ + 0.0, q1 * sddd_ + 0.0
-        acc = q2 * sd_**2 + q1 * sdd_
-        jer = q3 * sd_**3 + 3 * q2 * sd_ * sdd_ + q1 * sddd_
-        return q0, vel, acc, jer
+            q0, q1, _, _ = (x.reshape(shape) for x in self.path.derivatives(s))
+            return q0, q1 * sd[..., None], q1 * sdd[..., None] + 0.0, q1 * sddd[..., None] + 0.0
+        flat = np.ascontiguousarray(tt.ravel())
+        n = len(flat)
+        S, V, A, J = np.empty((n, 2)), np.empty((n, 2)), np.empty((n, 2)), np.empty((n, 2))
+        path = self.path
+        t0, p, v, a, j, piece = self._phase_arrays
+        sample_rows(
+            flat,
+            t0,
+            p,
+            v,
+            a,
+            j,
+            float(self.duration),
+            float(path.length),
+            piece,
+            np.ascontiguousarray(path.breaks, dtype=float),
+            np.ascontiguousarray(path.coef, dtype=float),
+            path.degree,
+            _FALLING_ARRAY,
+            S,
+            V,
+            A,
+            J,
+        )
+        return S.reshape(shape), V.reshape(shape), A.reshape(shape), J.reshape(shape)
+
+    @cached_property
+    def _phase_arrays(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.intp]]:
+        """``t0, p, v, a, j, piece`` as the compiled sampler takes them (C-contiguous; built once)."""
+        f = np.ascontiguousarray
+        return (
+            f(self.t0, dtype=float),
+            f(self.p, dtype=float),
+            f(self.v, dtype=float),
+            f(self.a, dtype=float),
+            f(self.j, dtype=float),
+            f(self.piece, dtype=np.intp),
+        )
 
 
 def jerk_limited_scaling(

@@ -23,12 +23,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import MPAError, PlanningError
-from mpa.geometry import DirectedRoute, GraphGeometry, densify_polyline
+from mpa.geometry import DirectedRoute, GraphGeometry
 from mpa.homotopy import END_TOL, path_word, word_from_samples
 from mpa.routes import Route, directed_route
 from mpa.skeleton import CircleSkeleton, LollipopSkeleton, skeleton_of
@@ -38,6 +39,7 @@ from trajopt.gate_kernels import (
     between_rows,
     check_rows,
     circle_skeleton_points,
+    dense_track_states,
     lollipop_skeleton_points,
     needs_densify,
     word_samples,
@@ -311,11 +313,16 @@ def _word_check(
     """
     try:
         step = 0.004 * track.total_length
-        if P is not None and not needs_densify(_rows(S), step):
+        S = _rows(S)
+        if P is not None and not needs_densify(S, step):
             states = P
+        elif len(S):
+            (br_a, A_a, B_a, ln_a, interval, stick, loop), (br_b, A_b, B_b, ln_b, *_) = (
+                _affine_arrays(r) for r in routes
+            )
+            states = dense_track_states(S, step, br_a, A_a, B_a, ln_a, br_b, A_b, B_b, ln_b, interval, stick, loop)
         else:
-            dense = densify_polyline(S, step)
-            states = np.stack([routes[0].position(dense[:, 0]), routes[1].position(dense[:, 1])], axis=1)
+            states = np.zeros((0, 2))
         w = skeleton_word(track, states)
     except MPAError as exc:
         return (), [f"cannot compute the homotopy class: {exc}"]
@@ -323,6 +330,13 @@ def _word_check(
         got, want = " ".join(w) or "(trivial)", " ".join(word) or "(trivial)"
         return tuple(w), [f"homotopy class {got} differs from the plan's {want}"]
     return tuple(w), []
+
+
+def _affine_arrays(route: Route) -> tuple[Any, ...]:
+    """:meth:`mpa.routes.Route.affine_form` with C-contiguous arrays (what the compiled kernels take)."""
+    br, A, B, line, interval, stick, loop = route.affine_form()
+    f = np.ascontiguousarray
+    return f(br, dtype=float), f(A, dtype=float), f(B, dtype=float), f(line, dtype=bool), interval, stick, loop
 
 
 def skeleton_word(track: Track, states: ArrayLike) -> tuple[str, ...]:
