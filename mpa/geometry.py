@@ -181,6 +181,17 @@ class DirectedRoute:
         return self.edges[i], self.offsets_on(i, rr)
 
     @cached_property
+    def arrays(self) -> tuple[FloatArray, IntArray, IntArray, FloatArray]:
+        """``breaks``, ``edges``, ``dirs``, ``entry`` as C-contiguous float/int64 arrays (built once)."""
+        f = np.ascontiguousarray
+        return (
+            f(self.breaks, dtype=float),
+            f(self.edges, dtype=np.int64),
+            f(self.dirs, dtype=np.int64),
+            f(self.entry, dtype=float),
+        )
+
+    @cached_property
     def pieces_list(self) -> tuple[list[float], list[int], list[int], list[float]]:
         """``breaks``, ``edges``, ``dirs``, ``entry`` as Python lists (for the scalar twins; built once)."""
         return self.breaks.tolist(), self.edges.tolist(), self.dirs.tolist(), self.entry.tolist()

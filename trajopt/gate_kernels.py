@@ -69,6 +69,8 @@ RES = {
             "first_b",
             "last_a",
             "last_b",
+            "rest_first",  # max |v|, |a| of both robots at the first row
+            "rest_last",  # ... at the last row
         )
     )
 }
@@ -418,6 +420,8 @@ def check_rows(
     for i in range(6):
         res[10 + i] = peak[i]
         res[16 + i] = peak_k[i]
+    for row, slot in ((0, 26), (n - 1, 27)):
+        res[slot] = max(max(abs(V[row, 0]), abs(V[row, 1])), max(abs(A[row, 0]), abs(A[row, 1])))
     for r in range(2):
         res[22 + r] = _dist(tails, heads, lengths, dv, E[0, r], OFF[0, r], int(ends[2 * r]), ends[2 * r + 1])
         res[24 + r] = _dist(

@@ -180,12 +180,7 @@ def _graph_arrays(geometry: GraphGeometry) -> tuple[IntArray, IntArray, FloatArr
 
 def _route_arrays(route: DirectedRoute) -> tuple[FloatArray, IntArray, IntArray, FloatArray]:
     """A route as the kernels take it: ``breaks``, ``edges``, ``dirs``, ``entry``."""
-    return (
-        np.ascontiguousarray(route.breaks, dtype=float),
-        np.ascontiguousarray(route.edges, dtype=np.int64),
-        np.ascontiguousarray(route.dirs, dtype=np.int64),
-        np.ascontiguousarray(route.entry, dtype=float),
-    )
+    return route.arrays
 
 
 def verify_setpoints(
@@ -417,11 +412,11 @@ def verify_graph_setpoints(
     nan = float("nan")
     if n == 0 or tt.ndim != 1 or E.shape != (n, 2) or any(x.shape != (n, 2) for x in (OFF, S, V, A, J)):
         return VerificationReport(False, ("arrays have inconsistent shapes",), nan, nan, {}, ())
-    if not np.issubdtype(E.dtype, np.integer):
+    if E.dtype.kind not in "iu":  # not integers
         return VerificationReport(False, ("edge indices out of range",), nan, nan, {}, ())
     E = np.ascontiguousarray(E, dtype=np.int64)
     dt = 1.0 / float(rate)
-    lims = np.concatenate([limits.v, limits.a, limits.j]).astype(float)  # (6,): v, a, j of A and B
+    lims = np.array([*limits.vmax, *limits.amax, *limits.jmax], dtype=float)  # (6,): v, a, j of A and B
     ends = np.array([*start[0], *start[1], *goal[0], *goal[1]], dtype=float)
     between = np.empty(n - 1)
     res = check_rows(
@@ -449,7 +444,7 @@ def verify_graph_setpoints(
         fails.append(f"time grid is not 0, 1/{rate:g}, 2/{rate:g}, …")
     fails += _route_consistency_failures(routes, E, OFF, S, res)
     fails += _endpoint_failures(V, A, res)
-    peak, limit_fails = _limit_check(res, lims)
+    peak, limit_fails = _limit_check(res, lims.tolist())
     fails += limit_fails
     fails += _separation_failures(res, between, clearance)
     return VerificationReport(not fails, tuple(fails), res[RES["dmin"]], res[RES["bmin"]], peak, ())
@@ -474,29 +469,32 @@ def _route_consistency_failures(
 def _endpoint_failures(V: FloatArray, A: FloatArray, res: list[float]) -> list[str]:
     """The first row at the start and the last at the goal, both at rest."""
     fails = []
-    n = len(V)
-    for name, row, target in (("first", 0, "the start"), ("last", n - 1, "the goal")):
+    for name, row, target in (("first", 0, "the start"), ("last", len(V) - 1, "the goal")):
         end_err = max(res[RES[f"{name}_a"]], res[RES[f"{name}_b"]])
         if end_err > POSITION_TOL:
             fails.append(f"{name} row is {end_err:.3g} m from {target}")
-        if max(abs(x) for x in (*V[row].tolist(), *A[row].tolist())) > POSITION_TOL:
+        if res[RES[f"rest_{name}"]] > POSITION_TOL:
             fails.append(f"{name} row is not at rest (v = {V[row].tolist()}, a = {A[row].tolist()})")
     return fails
 
 
-def _limit_check(res: list[float], lims: FloatArray) -> tuple[dict[str, tuple[float, float]], list[str]]:
-    """The peak ``|value| / limit`` of v, a, j per robot, and the failures where one exceeds ``1 + LIMIT_RTOL``."""
+def _limit_check(res: list[float], lims: list[float]) -> tuple[dict[str, tuple[float, float]], list[str]]:
+    """The peak ``|value| / limit`` of v, a, j per robot, and the failures where one exceeds ``1 + LIMIT_RTOL``.
+
+    ``lims``: the six limits ``vA, vB, aA, aB, jA, jB``.
+    """
     fails = []
     peak: dict[str, tuple[float, float]] = {}
-    lim = lims.tolist()
+    first = RES["v_a"]
     for q, name in enumerate(("v", "a", "j")):
-        ratio = [res[RES[f"{name}_{ab}"]] / lim[2 * q + r] for r, ab in enumerate("ab")]
-        peak[name] = (ratio[0], ratio[1])
-        for r, ab in enumerate("ab"):
+        ratio = (res[first + 2 * q] / lims[2 * q], res[first + 2 * q + 1] / lims[2 * q + 1])
+        peak[name] = ratio
+        for r in (0, 1):
             if ratio[r] > 1 + LIMIT_RTOL:
-                k = int(res[RES[f"{name}_{ab}_row"]])
+                i = 2 * q + r
                 fails.append(
-                    f"row {k}: |{name}| of robot {'AB'[r]} is {res[RES[f'{name}_{ab}']]:.9g}, limit {lim[2 * q + r]:g}"
+                    f"row {int(res[first + 6 + i])}: |{name}| of robot {'AB'[r]} is {res[first + i]:.9g}, "
+                    f"limit {lims[i]:g}"
                 )
     return peak, fails
 
