@@ -45,7 +45,7 @@ LAYERS = (
     Layer(
         "trajopt — the pipeline",
         ("trajopt",),
-        "casadi, toppra, ruckig, numba (the gate's kernels; rosbags: ROS 2 bags only)",
+        "casadi, toppra, ruckig, numba (compiled kernels); rosbags: ROS 2 bags only",
         "#e2f0d9",
     ),
     Layer("trajopt.cli and trajopt.viz", ("trajopt/cli", "trajopt/viz"), "matplotlib (viz only)", "#fde9d9"),
