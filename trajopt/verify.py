@@ -349,10 +349,11 @@ def skeleton_word(track: Track, states: ArrayLike) -> tuple[str, ...]:
     edge, t = np.empty(len(P), dtype=np.int64), np.empty(len(P))
     try:
         if isinstance(sk, LollipopSkeleton):
-            degenerate = sk.graph.edges[0].length <= END_TOL
-            lollipop_skeleton_points(P, sk.model.stick, sk.model.loop, sk.kappa, degenerate, edge, t)
-        else:
-            circle_skeleton_points(P, sk.circumference, edge, t)
+            degenerate = bool(sk.graph.edges[0].length <= END_TOL)
+            ell, c_model, kappa = float(sk.model.stick), float(sk.model.loop), float(sk.kappa)
+            lollipop_skeleton_points(P, ell, c_model, kappa, degenerate, edge, t)
+        else:  # (scalars as floats: another argument type would compile another specialization)
+            circle_skeleton_points(P, float(sk.circumference), edge, t)
     except ZeroDivisionError:  # a state at a collision: the robots coincide
         return path_word(track, P)
     keep, jump = word_samples(edge, sk.graph.adjacent_edges)
