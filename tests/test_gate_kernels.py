@@ -14,6 +14,10 @@
 
 from __future__ import annotations
 
+import json
+import os
+import subprocess
+import sys
 from collections import Counter
 from pathlib import Path
 from typing import Any
@@ -26,11 +30,12 @@ from hypothesis import strategies as st
 from mpa import Circle, GraphTrack, Interval, Lollipop, MPAError, make_planner
 from mpa.geometry import DirectedRoute, GraphGeometry
 from mpa.homotopy import path_word, skeleton_points
+from mpa.routes import directed_route
 from mpa.skeleton import skeleton_of
 from mpa.tracks import Track
 from trajopt import Limits, TrajectoryGenerator
 from trajopt.planview import plan_view
-from trajopt.verify import between_rows_separation, skeleton_word
+from trajopt.verify import between_rows_separation, skeleton_word, verify_graph_setpoints, verify_setpoints
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples" / "tracks"
@@ -385,3 +390,282 @@ def _position(geo: GraphGeometry, rng: np.random.Generator) -> tuple[int, float]
     """A random position ``(edge, offset)``, sometimes at an end of the edge."""
     e = int(rng.integers(0, geo.n_edges))
     return e, float(rng.choice([0.0, geo.lengths[e], rng.uniform(0, geo.lengths[e])]))
+
+
+# ------------------------------------------------------------------------------------ numba or not
+#: Run in a subprocess with numba blocked: the gate on the cases of ``argv[1]`` (JSON) and ``argv[2]`` (.npz),
+#: each report's ``to_dict()`` as JSON (or the exception raised) into ``argv[3]``.
+_PLAIN_PYTHON_GATE = r"""
+import json, sys
+sys.modules["numba"] = None  # import numba fails: trajopt.gate_kernels runs as plain Python
+import numpy as np
+import trajopt.gate_kernels as gk
+from tests.test_gate_kernels import run_gate_cases
+assert not hasattr(gk.check_rows, "py_func"), "numba was not blocked"
+meta = json.loads(open(sys.argv[1]).read())
+with np.load(sys.argv[2]) as z:
+    arrays = {k: z[k] for k in z.files}
+open(sys.argv[3], "w").write(json.dumps(run_gate_cases(meta, arrays)))
+"""
+
+_PAPER_GATE_TRACKS = {"lollipop": Lollipop, "circle": Circle}
+_FIELDS = ("t", "track", "edges", "offsets", "s", "v", "a", "j")
+
+
+def _paper_track(spec: list[Any]) -> Track:
+    return _PAPER_GATE_TRACKS[spec[0]](*spec[1:])
+
+
+def run_gate_cases(meta: list[dict[str, Any]], arrays: dict[str, FloatArray]) -> list[list[Any]]:
+    """The gate on every case: ``[report.to_dict() as JSON or "raises …", the routes' fingerprint]``.
+
+    A paper case's plan is made again from its query (the planner is deterministic; the fingerprint, the routes'
+    pieces and the plan's word, shows it is the same plan); a layout case carries its routes.
+    """
+    out: list[list[Any]] = []
+    plans: dict[str, Any] = {}
+    for i, case in enumerate(meta):
+        x = {f: arrays[f"{i}_{f}"] for f in _FIELDS if f"{i}_{f}" in arrays}
+        lim = Limits(*case["limits"])
+        kw = {"limits": lim, "clearance": case["clearance"], "rate": case["rate"]}
+        if case["kind"] == "paper":
+            key = json.dumps([case["track"], case["plan_clearance"], case["query"]])
+            if key not in plans:
+                track = _paper_track(case["track"])
+                plans[key] = make_planner(track, case["plan_clearance"]).plan(*case["query"])
+            plan = plans[key]
+            finger = [[directed_route(r).pieces_list for r in plan.routes], list(plan.word)]
+            args: tuple[Any, ...] = (plan.track, plan.routes, x["t"], x["track"])
+            kw.update(start=plan.start, goal=plan.goal, word=case["word"])
+            gate: Any = verify_setpoints
+        else:
+            geo = GraphTrack.from_json(EXAMPLES / case["layout"]).geometry
+            routes = tuple(
+                DirectedRoute(*(arrays[f"{i}_route{r}_{k}"] for k in ("edges", "dirs", "entry", "breaks")))
+                for r in range(2)
+            )
+            finger = []
+            args = (geo, routes, x["t"], x["edges"], x["offsets"])
+            kw.update(start=tuple(map(tuple, case["start"])), goal=tuple(map(tuple, case["goal"])))
+            gate = verify_graph_setpoints
+        try:
+            rep = json.dumps(gate(*args, x["s"], x["v"], x["a"], x["j"], **kw).to_dict(), sort_keys=True)
+        except Exception as exc:  # the exception type itself is compared
+            rep = f"raises {type(exc).__name__}: {exc}"
+        out.append([rep, finger])
+    return json.loads(json.dumps(out))  # as the subprocess returns it
+
+
+def _gate_bases(rng: np.random.Generator) -> list[tuple[dict[str, Any], dict[str, FloatArray], Any]]:
+    """Good rows of real trajectories (25 Hz, a few hundred rows at most): ``(meta, arrays, trajectory)``."""
+    out = []
+    lim = Limits([0.5, 0.6], [1.0, 1.5], [5.0, 4.0])
+    for track, spec in (
+        (Lollipop(1.0, 1.0), ["lollipop", 1.0, 1.0]),
+        (Lollipop(0.3, 1.2), ["lollipop", 0.3, 1.2]),
+        (Lollipop(1.5, 0.8), ["lollipop", 1.5, 0.8]),
+        (Circle(1.0), ["circle", 1.0]),
+    ):
+        gen = TrajectoryGenerator(track, clearance=0.05, limits=lim, rate=25.0)
+        while sum(m["track"] == spec for m, _, _ in out) < 2:
+            query = _waypoints(track, rng, 2).tolist()
+            try:
+                traj = gen.generate(*query)
+            except MPAError:
+                continue
+            meta = {"kind": "paper", "track": spec, "plan_clearance": traj.clearance, "query": query}
+            meta["word"] = list(traj.plan.word)
+            arrays = {f: getattr(traj, f) for f in ("t", "track", "s", "v", "a", "j")}
+            out.append((meta, arrays, traj))
+    for layout in ("y_junction.json", "passing_loop.json", "theta.json", "warehouse.json"):
+        graph = GraphTrack.from_json(EXAMPLES / layout)
+        gen = TrajectoryGenerator(graph, clearance=0.05, limits=lim, rate=25.0)
+        n = 0
+        while n < 2:
+            try:
+                traj = gen.generate(*[[_position(graph.geometry, rng), _position(graph.geometry, rng)] for _ in "ab"])
+            except MPAError:
+                continue
+            plan = traj.plan
+            meta = {"kind": "graph", "layout": layout, "start": plan.start, "goal": plan.goal}
+            arrays = {f: getattr(traj, f) for f in ("t", "s", "v", "a", "j", "edges", "offsets")}
+            for r, route in enumerate((plan.route_a, plan.route_b)):
+                for k in ("edges", "dirs", "entry", "breaks"):
+                    arrays[f"route{r}_{k}"] = getattr(route, k)
+            out.append((meta, arrays, traj))
+            n += 1
+    for meta, _, traj in out:
+        meta.update(limits=[traj.limits.v.tolist(), traj.limits.a.tolist(), traj.limits.j.tolist()])
+        meta.update(clearance=traj.clearance, rate=traj.rate)
+    return out
+
+
+def _variants(
+    meta: dict[str, Any], arrays: dict[str, FloatArray], traj: Any, good: dict[str, Any], rng: np.random.Generator
+) -> list[tuple[str, dict[str, Any], dict[str, FloatArray], str | None]]:
+    """Copies of one good case, each broken in one way: ``(kind, meta, arrays, expected failure message part)``."""
+    out: list[tuple[str, dict[str, Any], dict[str, FloatArray], str | None]] = []
+    graph = meta["kind"] == "graph"
+    n = len(arrays["t"])
+    view = plan_view(traj.plan)
+    pos_field = "offsets" if graph else "track"
+
+    def add(kind: str, expect: str | None, meta_changes: dict[str, Any] | None = None, **changes: Any) -> None:
+        arr = {k: np.array(v, copy=True) for k, v in arrays.items()}
+        arr.update(changes)
+        out.append((kind, {**meta, **(meta_changes or {})}, arr, expect))
+
+    def row() -> tuple[int, int]:
+        return int(rng.integers(0, n)), int(rng.integers(0, 2))
+
+    def moved_row(k: int) -> dict[str, FloatArray]:
+        # row k moved along the routes (still consistent with them)
+        s = arrays["s"].copy()
+        mag = float(rng.choice([0.01, 0.1]))
+        s[k] = np.where(s[k] + mag <= view.upper, s[k] + mag, np.maximum(s[k] - mag, view.lower))
+        if graph:
+            e, o = view.positions(s, arrays["v"])
+            return {"s": s, "edges": e, "offsets": o}
+        return {"s": s, "track": view.track_coordinates(s)}
+
+    add("good", None)
+    for _ in range(2):
+        for kind, value in (("nan", np.nan), ("inf", float(rng.choice([np.inf, -np.inf])))):
+            field = str(rng.choice(["t", pos_field, "s", "v", "a", "j"]))
+            x = arrays[field].copy()
+            k, r = row()
+            x[(k, r) if x.ndim == 2 else k] = value
+            add(kind, "non-finite values in the setpoints", **{field: x})
+        for q in "vaj":
+            k, r = row()
+            x = arrays[q].copy()
+            lim = {"v": traj.limits.v, "a": traj.limits.a, "j": traj.limits.j}[q][r]
+            over = float(rng.choice([1e-7, 1e-4, 0.3]))
+            x[k, r] = float(rng.choice([-1.0, 1.0])) * lim * (1.0 + over)
+            add(f"limit {q}", f"|{q}| of robot {'AB'[r]}" if over > 1e-6 else None, **{q: x})
+        k, r = row()
+        x = arrays[pos_field].copy()
+        delta = float(rng.choice([-1.0, 1.0]) * rng.choice([1e-3, 0.05]))
+        if graph:
+            hi = float(traj.plan.track.lengths[arrays["edges"][k, r]])
+        else:
+            hi = traj.plan.track.total_length - 1e-6
+        if abs(np.clip(x[k, r] + delta, 0.0, hi) - x[k, r]) > 1e-6:
+            x[k, r] = np.clip(x[k, r] + delta, 0.0, hi)
+            add("off route", "is not route.position(s)", **{pos_field: x})
+        add("first row", "first row is", **moved_row(0))
+        add("last row", "last row is", **moved_row(n - 1))
+        k, r = row()
+        t = arrays["t"].copy()
+        t[k] += float(rng.choice([1e-4, -1e-6]))
+        add("time grid", "time grid is not", t=t)
+    for end, k in (("first", 0), ("last", n - 1)):
+        q = str(rng.choice(["v", "a"]))
+        x = arrays[q].copy()
+        x[k, int(rng.integers(0, 2))] = float(rng.choice([1e-3, -1e-6]))
+        add(f"{end} not at rest", f"{end} row is not at rest", **{q: x})
+    add("time grid", "time grid is not", t=arrays["t"] * 1.001)
+    add("rate", "time grid is not", {"rate": meta["rate"] * 2.0})
+    field = str(rng.choice(["t", pos_field, "s", "v", "a", "j"]))
+    add("shapes", "arrays have inconsistent shapes", **{field: arrays[field][:-1]})
+    dmin, bmin = good["min_separation"], good["min_separation_between"]
+    add("too close at the rows", "below the clearance", {"clearance": dmin * 1.01 + 1e-6})
+    if bmin < dmin - 1e-8:
+        add("too close between rows", "separation between rows may drop", {"clearance": 0.5 * (bmin + dmin)})
+    if graph:
+        k, r = row()
+        e = arrays["edges"].copy()
+        e[k, r] = int(rng.choice([-1, len(traj.plan.track.lengths), 10**6]))
+        add("edge index", "edge indices out of range", edges=e)
+        add("float edges", "edge indices out of range", edges=arrays["edges"].astype(float))
+    else:
+        add("word", "homotopy class", {"word": [*meta["word"], "+S1a"] if meta["word"] != ["+S1a"] else []})
+        k, r = row()
+        x = arrays["track"].copy()
+        x[k, r] = float(rng.choice([-0.1, traj.plan.track.total_length + 0.1]))
+        add("off the track", None, track=x)
+    return out
+
+
+def _gate_cases() -> tuple[list[dict[str, Any]], dict[str, FloatArray], list[tuple[str, str | None]], list[Any]]:
+    """Every case of the numba-or-not comparison: meta (JSON), arrays (.npz), ``(kind, expected)``, trajectories."""
+    rng = np.random.default_rng(600)
+    metas: list[dict[str, Any]] = []
+    arrays: dict[str, FloatArray] = {}
+    kinds: list[tuple[str, str | None]] = []
+    trajs: list[Any] = []
+
+    for meta, arr, traj in _gate_bases(rng):
+        good = json.loads(run_gate_cases([meta], {f"0_{k}": v for k, v in arr.items()})[0][0])
+        for kind, m, a, expect in _variants(meta, arr, traj, good, rng):
+            arrays.update({f"{len(metas)}_{k}": v for k, v in a.items()})
+            metas.append(m)
+            kinds.append((kind, expect))
+            trajs.append(traj)
+    return metas, arrays, kinds, trajs
+
+
+@pytest.fixture(scope="module")
+def gate_cases() -> tuple[list[dict[str, Any]], dict[str, FloatArray], list[tuple[str, str | None]], list[Any]]:
+    return _gate_cases()
+
+
+def test_gate_reports_are_the_same_with_and_without_numba(gate_cases: Any, tmp_path: Path) -> None:
+    pytest.importorskip("numba")
+    import trajopt.gate_kernels as gk
+
+    assert hasattr(gk.check_rows, "py_func")  # compiled here
+    metas, arrays, kinds, trajs = gate_cases
+    assert len(metas) >= 300
+    (tmp_path / "cases.json").write_text(json.dumps(metas))
+    np.savez(tmp_path / "cases.npz", **arrays)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
+    files = [str(tmp_path / x) for x in ("cases.json", "cases.npz", "reports.json")]
+    done = subprocess.run(
+        [sys.executable, "-c", _PLAIN_PYTHON_GATE, *files], env=env, capture_output=True, text=True, timeout=300
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    plain = json.loads((tmp_path / "reports.json").read_text())
+    compiled = run_gate_cases(metas, arrays)
+    assert len(plain) == len(compiled) == len(metas)
+    for i, (kind, _) in enumerate(kinds):
+        assert compiled[i] == plain[i], f"case {i} ({kind}, {metas[i]}): compiled {compiled[i]} != plain {plain[i]}"
+        if metas[i]["kind"] == "paper":  # the plan made again is the trajectory's
+            plan = trajs[i].plan
+            finger = [[list(directed_route(r).pieces_list) for r in plan.routes], list(plan.word)]
+            assert compiled[i][1] == finger, (i, kind)
+    outcomes = Counter(json.loads(c[0])["ok"] if c[0].startswith("{") else c[0] for c in compiled)
+    assert outcomes[True] >= 16 and outcomes[False] >= 250, outcomes
+
+
+def test_every_failure_kind_has_its_message(gate_cases: Any) -> None:
+    metas, arrays, kinds, _ = gate_cases
+    reports = run_gate_cases(metas, arrays)
+    seen: Counter[str] = Counter()
+    for i, (kind, expect) in enumerate(kinds):
+        rep = json.loads(reports[i][0])
+        if kind == "good":
+            assert rep["ok"], (i, rep)
+        if expect is not None:
+            assert not rep["ok"] and any(expect in f for f in rep["failures"]), (i, kind, expect, rep["failures"])
+            seen[kind] += 1
+    assert set(seen) >= {
+        "nan",
+        "inf",
+        "limit v",
+        "limit a",
+        "limit j",
+        "off route",
+        "first row",
+        "last row",
+        "time grid",
+        "first not at rest",
+        "last not at rest",
+        "rate",
+        "shapes",
+        "too close at the rows",
+        "too close between rows",
+        "edge index",
+        "float edges",
+        "word",
+    }, seen
