@@ -107,7 +107,7 @@ def _collision_free(track: Track, p: FloatArray) -> bool:
 
 
 def _random_path(track: Track, rng: np.random.Generator, near: float = 0.0) -> FloatArray:
-    """A dense random path (1-5 legs, samples 0.4 % of the track apart); with ``near`` one leg ends ``near`` m
+    """A dense random path (1-6 legs, samples 0.4 % of the track apart); with ``near`` one leg ends ``near`` m
     from a collision (both robots heading at each other), the next one leaves again."""
     w = _waypoints(track, rng, int(rng.integers(2, 7)))
     if near and len(w) >= 2:
