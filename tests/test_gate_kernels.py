@@ -669,3 +669,28 @@ def test_every_failure_kind_has_its_message(gate_cases: Any) -> None:
         "float edges",
         "word",
     }, seen
+
+
+def test_non_finite_values_are_reported_before_float_edge_indices() -> None:
+    # the kernel reports non-finite values before edge indices; float edges are caught before it: same order
+    from mpa.geometry import DirectedRoute, GraphGeometry
+    from trajopt import Limits
+    from trajopt.verify import verify_graph_setpoints
+
+    geo = GraphGeometry(2, [0], [1], [1.0])
+    route = DirectedRoute.from_pieces([0], [1], [0.0], [1.0])
+    z = np.zeros((3, 2))
+    s = np.array([[0.1, 0.8], [0.1, 0.8], [0.1, 0.8]])
+    args = dict(limits=Limits(), clearance=0.05, start=((0, 0.1), (0, 0.8)), goal=((0, 0.1), (0, 0.8)), rate=100.0)
+    t = np.arange(3) / 100.0
+    for edges, off, want in (
+        (np.zeros((3, 2)), s.copy(), "edge indices out of range"),
+        (np.zeros((3, 2)), np.where([[True, False], [False, False], [False, False]], np.nan, s), "non-finite"),
+        (
+            np.zeros((3, 2), dtype=np.int64),
+            np.where([[True, False], [False, False], [False, False]], np.nan, s),
+            "non-finite",
+        ),
+    ):
+        rep = verify_graph_setpoints(geo, (route, route), t, edges, off, s, z, z, z, **args)
+        assert not rep.ok and rep.failures[0].startswith(want), (edges.dtype, rep.failures)

@@ -413,8 +413,10 @@ def verify_graph_setpoints(
     nan = float("nan")
     if n == 0 or tt.ndim != 1 or E.shape != (n, 2) or any(x.shape != (n, 2) for x in (OFF, S, V, A, J)):
         return VerificationReport(False, ("arrays have inconsistent shapes",), nan, nan, {}, ())
-    if E.dtype.kind not in "iu":  # not integers
-        return VerificationReport(False, ("edge indices out of range",), nan, nan, {}, ())
+    if E.dtype.kind not in "iu":  # not integers (non-finite values are reported first, as by the kernel)
+        finite = bool(np.isfinite(tt).all()) and all(bool(np.isfinite(x).all()) for x in (OFF, S, V, A, J))
+        why = "edge indices out of range" if finite else "non-finite values in the setpoints"
+        return VerificationReport(False, (why,), nan, nan, {}, ())
     E = np.ascontiguousarray(E, dtype=np.int64)
     dt = 1.0 / float(rate)
     lims = np.array([*limits.vmax, *limits.amax, *limits.jmax], dtype=float)  # (6,): v, a, j of A and B
@@ -461,8 +463,8 @@ def _route_consistency_failures(
             k = int(res[RES[name + "_row"]])
             re_, ro = routes[r].position_scalar(float(S[k, r]))
             fails.append(
-                f"row {k}: robot {'AB'[r]} position (edge {int(E[k, r])}, {OFF[k, r]!r}) is not route.position(s) = "
-                f"(edge {re_}, {ro!r}) at s = {S[k, r]!r}"
+                f"row {k}: robot {'AB'[r]} position (edge {int(E[k, r])}, {float(OFF[k, r])!r}) is not "
+                f"route.position(s) = (edge {re_}, {ro!r}) at s = {float(S[k, r])!r}"
             )
     return fails
 
