@@ -25,6 +25,19 @@ _position = njit(cache=True)(affine_position)
 
 
 @njit(cache=True)
+def _bisect_right(x: FloatArray, v: float) -> int:
+    """``searchsorted(x, v, side="right")``: the number of entries of the sorted ``x`` that are ``<= v``."""
+    lo, hi = 0, len(x)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if v < x[mid]:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
+@njit(cache=True)
 def sample_rows(
     tt: FloatArray,
     t0: FloatArray,
@@ -65,15 +78,7 @@ def sample_rows(
     q = np.zeros(4)  # the path's derivatives of orders 0 to 3 for one robot at s
     for r in range(len(tt)):
         t = tt[r]
-        # the phase: searchsorted(t0, t, "right") − 1, at least 0
-        lo, hi = 0, len(t0)
-        while lo < hi:
-            mid = (lo + hi) // 2
-            if t < t0[mid]:
-                hi = mid
-            else:
-                lo = mid + 1
-        k = max(lo - 1, 0)
+        k = max(_bisect_right(t0, t) - 1, 0)  # the phase
         tau = max(t - t0[k], 0.0)
         jk = j[k]
         acc = a[k] + jk * tau
@@ -88,14 +93,7 @@ def sample_rows(
         if has_piece:
             pc = n_pieces - 1 if t >= duration else piece[k]
         else:
-            lo, hi = 0, len(breaks)
-            while lo < hi:
-                mid = (lo + hi) // 2
-                if sc < breaks[mid]:
-                    hi = mid
-                else:
-                    lo = mid + 1
-            pc = min(max(lo - 1, 0), n_pieces - 1)
+            pc = min(max(_bisect_right(breaks, sc) - 1, 0), n_pieces - 1)
         x = sc - breaks[pc]
         for col in range(2):
             for order in range(4):
