@@ -72,3 +72,19 @@ def test_each_kernel_is_compiled_for_one_argument_type() -> None:
         assert len(s) == 1, (name, s)
         # C-contiguous arrays of float64 / int64 / bool only (another layout or width is another compilation)
         assert "'A'" not in s[0] and "'F'" not in s[0] and "int32" not in s[0] and "float32" not in s[0], (name, s)
+
+
+@pytest.mark.skipif(not HAVE_NUMBA, reason="numba is not installed: the kernels run as plain Python")
+def test_without_a_place_for_numbas_cache_the_kernels_compile_in_memory() -> None:
+    # numba refuses cache=True where it finds no writable cache directory (a read-only install); an unknown
+    # locator class makes it refuse the same way. The import must not fail and the gate must still run.
+    script = (
+        "from mpa import Lollipop\n"
+        "from trajopt import TrajectoryGenerator, gate_kernels\n"
+        "t = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05).generate((0.1, 0.6), (0.3, 0.8))\n"
+        "print(t.verification['ok'], type(gate_kernels.check_rows._cache).__name__)\n"
+    )
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "NUMBA_CACHE_LOCATOR_CLASSES": "NoSuchLocator"}
+    res = subprocess.run([sys.executable, "-c", script], cwd=ROOT, env=env, capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.split() == ["True", "NullCache"]
