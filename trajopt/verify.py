@@ -15,8 +15,11 @@ robots' routes and the limits; it does not use any of the generator's geometry. 
   exclude meeting at once). The real motion deviates from the chord by at most ``a_int·Δt²/8`` per robot,
   ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)``; the distance is 1-Lipschitz in each robot's
   coordinate, so ``min_chord − Σ dev ≥ D − SEPARATION_TOL`` is required;
-- homotopy class: the reduced skeleton word of the motion (:func:`mpa.homotopy.path_word`, rows refined
-  along the chords) equals the plan's.
+- homotopy class: the reduced skeleton word of the motion (:func:`skeleton_word`, the compiled twin of
+  :func:`mpa.homotopy.path_word`; rows refined along the chords) equals the plan's.
+
+The checks over the rows run as one compiled pass (:func:`trajopt.gate_kernels.check_rows`, numba); this module
+validates the inputs, calls it and writes the messages from the numbers it returns.
 """
 
 from __future__ import annotations
