@@ -58,6 +58,7 @@ __all__ = [
     "VerificationReport",
     "between_rows_separation",
     "class_failures_only",
+    "skeleton_word",
     "verify_graph_setpoints",
     "verify_setpoints",
 ]
