@@ -37,6 +37,10 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
+#: A graph as the kernels take it: ``tails, heads, lengths, dv`` (:class:`mpa.geometry.GraphGeometry`).
+Graph = tuple[IntArray, IntArray, FloatArray, FloatArray]
+#: A route as the kernels take it: ``breaks, edges, dirs, entry`` (:class:`mpa.geometry.DirectedRoute`).
+Route = tuple[FloatArray, IntArray, IntArray, FloatArray]
 
 #: Slots of :func:`check_rows`'s result vector.
 RES = {
@@ -120,30 +124,15 @@ def _dist(
 
 
 @njit(cache=True)
-def _cell_min(
-    tails: IntArray,
-    heads: IntArray,
-    lengths: FloatArray,
-    dv: FloatArray,
-    ba: FloatArray,
-    ea_: IntArray,
-    da: IntArray,
-    na: FloatArray,
-    bb: FloatArray,
-    eb_: IntArray,
-    db: IntArray,
-    nb: FloatArray,
-    p0a: float,
-    p0b: float,
-    p1a: float,
-    p1b: float,
-) -> float:
+def _cell_min(graph: Graph, ra: Route, rb: Route, p0a: float, p0b: float, p1a: float, p1b: float) -> float:
     """Exact minimum of the distance along a chord ``p0 → p1`` on which each robot stays on one edge.
 
     On such a chord both offsets are affine, so the distance is the minimum of the cell's affine terms (and
     ``|s − t|`` on one edge): its minimum is at an end, or 0 where the robots meet on one edge
     (:meth:`mpa.geometry.GraphGeometry.segment_min`).
     """
+    tails, heads, lengths, dv = graph
+    (ba, ea_, da, na), (bb, eb_, db, nb) = ra, rb
     ia = _piece(ba, min(max(0.5 * (p0a + p1a), ba[0]), ba[-1]))
     ib = _piece(bb, min(max(0.5 * (p0b + p1b), bb[0]), bb[-1]))
     e, f = ea_[ia], eb_[ib]
@@ -179,30 +168,15 @@ def _crosses(breaks: FloatArray, a: float, b: float) -> bool:
 
 @njit(cache=True)
 def _cut_chord_min(
-    tails: IntArray,
-    heads: IntArray,
-    lengths: FloatArray,
-    dv: FloatArray,
-    ba: FloatArray,
-    ea_: IntArray,
-    da_: IntArray,
-    na: FloatArray,
-    bb: FloatArray,
-    eb_: IntArray,
-    db_: IntArray,
-    nb: FloatArray,
-    a0: float,
-    a1: float,
-    b0: float,
-    b1: float,
-    d0: float,
-    d1: float,
+    graph: Graph, ra: Route, rb: Route, a0: float, a1: float, b0: float, b1: float, d0: float, d1: float
 ) -> float:
     """Exact minimum of the distance along the chord ``(a0, a1) → (b0, b1)`` that a robot's junction cuts.
 
     The chord is cut at the parameters ``(x − a)/(b − a)`` of the junctions ``x`` strictly inside it; on each
     piece both robots stay on one edge (:func:`_cell_min`). ``d0``, ``d1``: the distance at the chord's ends.
     """
+    tails, heads, lengths, dv = graph
+    (ba, ea_, da_, na), (bb, eb_, db_, nb) = ra, rb
     cuts = np.empty(len(ba) + len(bb))
     m = 0
     for br, a, b in ((ba, a0, b0), (bb, a1, b1)):
@@ -228,27 +202,16 @@ def _cut_chord_min(
             p0a, p0b, dd0 = a0, a1, d0
         chord = min(chord, dd0, dd1)
         if not _excluded(p0a, p0b, p1a, p1b, dd0, dd1):
-            chord = min(
-                chord, _cell_min(tails, heads, lengths, dv, ba, ea_, da_, na, bb, eb_, db_, nb, p0a, p0b, p1a, p1b)
-            )
+            chord = min(chord, _cell_min(graph, ra, rb, p0a, p0b, p1a, p1b))
         t0, p0a, p0b, dd0 = t1, p1a, p1b, dd1
     return chord
 
 
 @njit(cache=True)
 def _between(
-    tails: IntArray,
-    heads: IntArray,
-    lengths: FloatArray,
-    dv: FloatArray,
-    ba: FloatArray,
-    ea_: IntArray,
-    da_: IntArray,
-    na: FloatArray,
-    bb: FloatArray,
-    eb_: IntArray,
-    db_: IntArray,
-    nb: FloatArray,
+    graph: Graph,
+    ra: Route,
+    rb: Route,
     S: FloatArray,
     A: FloatArray,
     d_route: FloatArray,
@@ -266,19 +229,16 @@ def _between(
     ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)``. (The rare cases are separate functions: a call
     that passes arrays costs more than the common case's arithmetic.)
     """
+    ba, bb = ra[0], rb[0]
     for k in range(len(S) - 1):
         a0, a1, b0, b1 = S[k, 0], S[k, 1], S[k + 1, 0], S[k + 1, 1]
         d0, d1 = d_route[k], d_route[k + 1]
         if _crosses(ba, a0, b0) or _crosses(bb, a1, b1):
-            chord = _cut_chord_min(
-                tails, heads, lengths, dv, ba, ea_, da_, na, bb, eb_, db_, nb, a0, a1, b0, b1, d0, d1
-            )
+            chord = _cut_chord_min(graph, ra, rb, a0, a1, b0, b1, d0, d1)
         else:
             chord = min(d0, d1)
             if not _excluded(a0, a1, b0, b1, d0, d1):
-                chord = min(
-                    chord, _cell_min(tails, heads, lengths, dv, ba, ea_, da_, na, bb, eb_, db_, nb, a0, a1, b0, b1)
-                )
+                chord = min(chord, _cell_min(graph, ra, rb, a0, a1, b0, b1))
         dev = 0.0
         for r in range(2):
             dev += min(amax[r], max(abs(A[k, r]), abs(A[k + 1, r])) + jmax[r] * dt / 2)
@@ -287,12 +247,9 @@ def _between(
 
 @njit(cache=True)
 def between_rows(
-    tails: IntArray,
-    heads: IntArray,
-    lengths: FloatArray,
-    dv: FloatArray,
-    ra: tuple[FloatArray, IntArray, IntArray, FloatArray],
-    rb: tuple[FloatArray, IntArray, IntArray, FloatArray],
+    graph: Graph,
+    ra: Route,
+    rb: Route,
     S: FloatArray,
     A: FloatArray,
     dt: float,
@@ -302,9 +259,10 @@ def between_rows(
     """Lower bound of the graph distance between consecutive rows (m). Shape (N−1,).
 
     ``ra``, ``rb``: each robot's route as ``(breaks, edges, dirs, entry)`` (:class:`mpa.geometry.DirectedRoute`);
-    ``tails``, ``heads``, ``lengths``, ``dv``: the graph (:class:`mpa.geometry.GraphGeometry`); ``S``, ``A``
+    ``graph``: ``(tails, heads, lengths, dv)`` (:class:`mpa.geometry.GraphGeometry`); ``S``, ``A``
     (shape (N, 2)): route coordinates (m) and accelerations (m/s²) at the rows; ``dt``: row step (s).
     """
+    tails, heads, lengths, dv = graph
     (ba, ea_, da_, na), (bb, eb_, db_, nb) = ra, rb
     n = len(S)
     d_route = np.empty(n)
@@ -313,18 +271,15 @@ def between_rows(
         eb, ob = _position(bb, eb_, db_, nb, S[k, 1])
         d_route[k] = _dist(tails, heads, lengths, dv, ea, oa, eb, ob)
     out = np.empty(max(n - 1, 0))
-    _between(tails, heads, lengths, dv, ba, ea_, da_, na, bb, eb_, db_, nb, S, A, d_route, dt, amax, jmax, out)
+    _between(graph, ra, rb, S, A, d_route, dt, amax, jmax, out)
     return out
 
 
 @njit(cache=True)
 def check_rows(
-    tails: IntArray,
-    heads: IntArray,
-    lengths: FloatArray,
-    dv: FloatArray,
-    ra: tuple[FloatArray, IntArray, IntArray, FloatArray],
-    rb: tuple[FloatArray, IntArray, IntArray, FloatArray],
+    graph: Graph,
+    ra: Route,
+    rb: Route,
     tt: FloatArray,
     E: IntArray,
     OFF: FloatArray,
@@ -355,6 +310,7 @@ def check_rows(
     between : shape (N−1,)
         Filled with the lower bound of the distance between rows (m), when the input is sound.
     """
+    tails, heads, lengths, dv = graph
     (ba, ea_, da_, na), (bb, eb_, db_, nb) = ra, rb
     res = np.zeros(_NRES)
     n, ne = len(tt), len(lengths)
@@ -408,9 +364,7 @@ def check_rows(
                 if x > peak[2 * q + r] or k == 0:
                     peak[2 * q + r], peak_k[2 * q + r] = x, k
     res[2], res[3] = dmin, dk
-    _between(
-        tails, heads, lengths, dv, ba, ea_, da_, na, bb, eb_, db_, nb, S, A, d_route, dt, lims[2:4], lims[4:6], between
-    )
+    _between(graph, ra, rb, S, A, d_route, dt, lims[2:4], lims[4:6], between)
     bmin, bk = dmin, 0
     for k in range(n - 1):
         if k == 0 or between[k] < bmin:

@@ -160,7 +160,7 @@ def between_rows_separation(
     if len(S) < 2:
         return np.zeros(0)
     out: FloatArray = between_rows(
-        *_graph_arrays(geometry),
+        _graph_arrays(geometry),
         _route_arrays(droutes[0]),
         _route_arrays(droutes[1]),
         S,
@@ -427,7 +427,7 @@ def verify_graph_setpoints(
     ends = np.array([*start[0], *start[1], *goal[0], *goal[1]], dtype=float)
     between = np.empty(n - 1)
     res = check_rows(
-        *_graph_arrays(geometry),
+        _graph_arrays(geometry),
         _route_arrays(routes[0]),
         _route_arrays(routes[1]),
         tt,
