@@ -301,15 +301,16 @@ class Route:
                 rows.append((min(s_a, s_b), alpha, beta, True))
         rows.sort(key=lambda r: r[0])
         out = (
-            np.array([r[0] for r in rows[1:]]),
-            np.array([r[1] for r in rows]),
-            np.array([r[2] for r in rows]),
-            np.array([r[3] for r in rows]),
+            np.array([r[0] for r in rows[1:]], dtype=float),
+            np.array([r[1] for r in rows], dtype=float),
+            np.array([r[2] for r in rows], dtype=float),
+            np.array([r[3] for r in rows], dtype=bool),
         )
         return out
 
     def affine_form(self) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.bool_], bool, float, float]:
-        """The route as :func:`affine_position` takes it: ``breaks, A, B, is_line, interval, stick, loop``."""
+        """The route as :func:`affine_position` takes it: ``breaks, A, B, is_line, interval, stick, loop``
+        (C-contiguous float and bool arrays, built once; plain Python ``bool`` and ``float``)."""
         tr = self.track
         breaks, A, B, is_line = self._affine()
         stick = float(tr.stick) if isinstance(tr, (Interval, Lollipop)) else 0.0

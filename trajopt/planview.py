@@ -15,7 +15,6 @@ in positions), and the columns of the exported rows.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -131,23 +130,14 @@ class PlanView:
         S = np.atleast_2d(np.asarray(s, dtype=float))
         if self.is_graph:
             return self.positions(S)[1]
-        (br_a, A_a, B_a, line_a, interval, stick, loop), (br_b, A_b, B_b, line_b, *_) = self._affine_forms
+        (br_a, A_a, B_a, line_a, interval, stick, loop), (br_b, A_b, B_b, line_b, *_) = (
+            r.affine_form() for r in self.plan.routes
+        )
         out = np.empty(S.shape)
         track_positions(
             np.ascontiguousarray(S), br_a, A_a, B_a, line_a, br_b, A_b, B_b, line_b, interval, stick, loop, out
         )
         return out
-
-    @cached_property
-    def _affine_forms(self) -> tuple[tuple[Any, ...], tuple[Any, ...]]:
-        """Both routes as :meth:`mpa.routes.Route.affine_form` (C-contiguous; for the compiled positions)."""
-        forms = []
-        for route in self.plan.routes:
-            br, A, B, line, interval, stick, loop = route.affine_form()
-            f = np.ascontiguousarray
-            arrays = (f(br, dtype=float), f(A, dtype=float), f(B, dtype=float), f(line, dtype=bool))
-            forms.append((*arrays, interval, stick, loop))
-        return forms[0], forms[1]
 
     def endpoints(self) -> tuple[Pair, Pair]:
         """Start and goal as positions ``((edge, offset) of A, (edge, offset) of B)``."""

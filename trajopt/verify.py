@@ -26,7 +26,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -161,8 +160,8 @@ def between_rows_separation(
         return np.zeros(0)
     out: FloatArray = between_rows(
         _graph_arrays(geometry),
-        _route_arrays(droutes[0]),
-        _route_arrays(droutes[1]),
+        droutes[0].arrays,
+        droutes[1].arrays,
         S,
         A,
         float(dt),
@@ -180,11 +179,6 @@ def _rows(x: ArrayLike) -> FloatArray:
 def _graph_arrays(geometry: GraphGeometry) -> tuple[IntArray, IntArray, FloatArray, FloatArray]:
     """The graph as the kernels take it: ``tails``, ``heads``, ``lengths``, ``dv``."""
     return geometry.tails, geometry.heads, geometry.lengths, geometry.dv
-
-
-def _route_arrays(route: DirectedRoute) -> tuple[FloatArray, IntArray, IntArray, FloatArray]:
-    """A route as the kernels take it: ``breaks``, ``edges``, ``dirs``, ``entry``."""
-    return route.arrays
 
 
 def verify_setpoints(
@@ -317,7 +311,7 @@ def _word_check(
             states = P
         elif len(S):
             (br_a, A_a, B_a, ln_a, interval, stick, loop), (br_b, A_b, B_b, ln_b, *_) = (
-                _affine_arrays(r) for r in routes
+                r.affine_form() for r in routes
             )
             states = dense_track_states(S, step, br_a, A_a, B_a, ln_a, br_b, A_b, B_b, ln_b, interval, stick, loop)
         else:
@@ -329,13 +323,6 @@ def _word_check(
         got, want = " ".join(w) or "(trivial)", " ".join(word) or "(trivial)"
         return tuple(w), [f"homotopy class {got} differs from the plan's {want}"]
     return tuple(w), []
-
-
-def _affine_arrays(route: Route) -> tuple[Any, ...]:
-    """:meth:`mpa.routes.Route.affine_form` with C-contiguous arrays (what the compiled kernels take)."""
-    br, A, B, line, interval, stick, loop = route.affine_form()
-    f = np.ascontiguousarray
-    return f(br, dtype=float), f(A, dtype=float), f(B, dtype=float), f(line, dtype=bool), interval, stick, loop
 
 
 def skeleton_word(track: Track, states: ArrayLike) -> tuple[str, ...]:
@@ -428,8 +415,8 @@ def verify_graph_setpoints(
     between = np.empty(n - 1)
     res = check_rows(
         _graph_arrays(geometry),
-        _route_arrays(routes[0]),
-        _route_arrays(routes[1]),
+        routes[0].arrays,
+        routes[1].arrays,
         tt,
         E,
         OFF,
