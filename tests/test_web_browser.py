@@ -119,9 +119,12 @@ def test_dragging_a_marker_changes_the_answer_and_matches_the_api(page: Any, ser
     _settle(page)
     before = page.text_content("#query")
     n0 = page.evaluate("window.mpa.latencies.length")
-    _drag(page, "a_start", page.evaluate("window.mpa.screenOf(1.3)"))
+    _drag(page, "a_goal", page.evaluate("window.mpa.screenOf(1.3, 'a_goal')"))
     body = page.evaluate("window.mpa.query()")
-    assert abs(body["start"][0] - 1.3) < 0.02, body
+    assert abs(body["goal"][0] - 1.3) < 0.02 and body["start"] == [0.2, 0.5], body
+    _drag(page, "a_start", page.evaluate("window.mpa.screenOf(0.35)"))
+    body = page.evaluate("window.mpa.query()")
+    assert abs(body["start"][0] - 0.35) < 0.02 and abs(body["goal"][0] - 1.3) < 0.02, body
     assert page.text_content("#query") != before
     status, want = _post(server, "/api/plan", body)
     assert status == 200 and page.evaluate("window.mpa.plan") == want
@@ -205,3 +208,29 @@ def test_an_example_layout_shows_routes(page: Any, server: str) -> None:
     else:
         assert page.text_content("#reason") != ""
     assert page.is_hidden("#cspace-panel")
+
+
+def test_an_uploaded_layout_is_drawn_and_planned_and_a_bad_file_is_reported(page: Any, tmp_path: Path) -> None:
+    layout = {
+        "vertices": {"W": [0, 0], "X": [2, 0], "E": [4, 0]},
+        "edges": [
+            {"name": "west", "from": "W", "to": "X", "length": 2.0},
+            {"name": "east", "from": "X", "to": "E", "length": 2.0},
+        ],
+    }
+    path = tmp_path / "line.json"
+    path.write_text(json.dumps(layout))
+    page.set_input_files("#upload", str(path))
+    page.wait_for_function("window.mpa.geometry && window.mpa.geometry.kind === 'graph'")
+    page.wait_for_function("window.mpa.planBody && window.mpa.planBody.layout !== undefined")
+    _settle(page)
+    assert [e["name"] for e in page.evaluate("window.mpa.geometry.edges")] == ["west", "east"]
+    body = page.evaluate("window.mpa.query()")
+    assert body["start"] == ["west:0.4000", "east:1.2000"], body
+    # on a path graph the robots cannot swap: the page shows the reason
+    assert page.text_content("#reason").startswith("no motion: ")
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"edges": [["A", "B", -1]]}')
+    page.set_input_files("#upload", str(bad))
+    page.wait_for_function("document.getElementById('reason').textContent.includes('length')")
+    assert page.text_content("#reason").startswith("error: ")

@@ -2,6 +2,10 @@
 "use strict";
 
 const SVGNS = "http://www.w3.org/2000/svg";
+// Start markers are drawn above their point on the track and goal markers below it (screen pixels), joined to it
+// by a tick, so that a start and a goal at the same place can both be grabbed.
+const LIFT = { start: -14, goal: 14 };
+const lift = (key) => LIFT[key.endsWith("start") ? "start" : "goal"];
 const COLORS = { a: "#1f5fbf", b: "#d0601a" };
 const DOMAIN_RGB = { "-1": [230, 150, 150], 0: [85, 85, 85], 1: [127, 167, 217], 2: [242, 166, 90], 3: [140, 201, 140] };
 
@@ -154,6 +158,11 @@ function setupView() {
     const grp = document.createElementNS(SVGNS, "g");
     grp.id = `marker-${key}`;
     grp.classList.add("marker");
+    const tick = document.createElementNS(SVGNS, "line");
+    tick.setAttribute("x1", 0); tick.setAttribute("y1", -lift(key)); tick.setAttribute("x2", 0); tick.setAttribute("y2", 0);
+    tick.setAttribute("stroke", COLORS[robot]); tick.setAttribute("stroke-width", 2);
+    const dot = document.createElementNS(SVGNS, "circle");
+    dot.setAttribute("cy", -lift(key)); dot.setAttribute("r", 2.5); dot.setAttribute("fill", COLORS[robot]);
     const c = document.createElementNS(SVGNS, "circle");
     c.setAttribute("r", key.endsWith("start") ? 9 : 11);
     c.setAttribute("fill", key.endsWith("start") ? COLORS[robot] : "white");
@@ -165,7 +174,7 @@ function setupView() {
     t.setAttribute("fill", key.endsWith("start") ? "white" : COLORS[robot]);
     t.setAttribute("pointer-events", "none");
     t.textContent = robot.toUpperCase();
-    grp.append(c, t);
+    grp.append(tick, dot, c, t);
     markersG.appendChild(grp);
     grp.addEventListener("pointerdown", (ev) => startDrag(ev, key));
   }
@@ -183,21 +192,22 @@ function markerXY(key) {
 
 // Client (screen) coordinates of a marker, or of a paper track coordinate p (used by the browser tests).
 state.markerScreen = (key) => {
-  const r = $(`marker-${key}`).getBoundingClientRect();
+  const r = $(`marker-${key}`).querySelector("circle:nth-of-type(2)").getBoundingClientRect();
   return [r.left + r.width / 2, r.top + r.height / 2];
 };
-state.screenOf = (p) => {
+// Where to drop marker `key` (default: a start) to put it at track coordinate p.
+state.screenOf = (p, key = "a_start") => {
   const m = fromCoordinate(p);
   const q = px(edgePoint(state.geometry.edges[m.edge], m.offset));
   const r = $("track-view").getBoundingClientRect();
-  return [r.left + q[0], r.top + q[1]];
+  return [r.left + q[0], r.top + q[1] + lift(key)];
 };
 
 function placeMarkers() {
   for (const key of Object.keys(state.markers)) {
     const q = markerXY(key);
     const el = $(`marker-${key}`);
-    if (el) el.setAttribute("transform", `translate(${q[0]},${q[1]})`);
+    if (el) el.setAttribute("transform", `translate(${q[0]},${q[1] + lift(key)})`);
   }
 }
 
@@ -218,7 +228,7 @@ function startDrag(ev, key) {
   const svg = $("track-view");
   const move = (e) => {
     const r = svg.getBoundingClientRect();
-    state.markers[key] = nearestPosition(e.clientX - r.left, e.clientY - r.top);
+    state.markers[key] = nearestPosition(e.clientX - r.left, e.clientY - r.top - lift(key));
     placeMarkers();
     requestPlan(key.endsWith("goal"));
   };
@@ -451,7 +461,8 @@ function drawPlots() {
     const X = (t) => 50 + ((W - 60) * t) / T, Y = (v) => y0 + h - 14 - ((h - 24) * (v - lo)) / (hi - lo);
     ctx.strokeStyle = "#ccc"; ctx.strokeRect(50, y0 + 6, W - 60, h - 18);
     ctx.fillStyle = "#333"; ctx.font = "11px sans-serif"; ctx.fillText(label, 54, y0 + 18);
-    ctx.fillText(hi.toPrecision(3), 2, y0 + 14); ctx.fillText(lo.toPrecision(3), 2, y0 + h - 12);
+    const tick = (v) => (Math.abs(v) < 1e-9 ? "0" : v.toPrecision(3));
+    ctx.fillText(tick(hi), 2, y0 + 14); ctx.fillText(tick(lo), 2, y0 + h - 12);
     [0, 1].forEach((r) => {
       ctx.strokeStyle = COLORS["ab"[r]]; ctx.lineWidth = 1.5; ctx.beginPath();
       tr.t.forEach((t, i) => (i ? ctx.lineTo(X(t), Y(tr[key][r][i])) : ctx.moveTo(X(t), Y(tr[key][r][i]))));
@@ -490,6 +501,7 @@ function play() {
 
 // ---------------------------------------------------------------------------------------------- tracks
 async function loadSource(source) {
+  const previous = state.source;
   state.source = source;
   state.traj = null;
   state.cspace = null;
@@ -499,7 +511,12 @@ async function loadSource(source) {
     $("loop").disabled = source.track === "interval";
   }
   const { status, data } = await api("/api/track", trackBody());
-  if (status !== 200) { $("reason").textContent = `error: ${data.error}`; return; }
+  if (status !== 200) {
+    $("reason").textContent = `error: ${data.error}`;
+    state.source = previous; // keep exploring the track shown
+    for (const el of document.querySelectorAll(".paper-only")) el.classList.toggle("hidden", !isPaper());
+    return;
+  }
   state.geometry = data;
   defaultMarkers();
   setupView();
