@@ -338,3 +338,19 @@ def _serve_session(proc: subprocess.Popen) -> tuple[int, str]:
         if proc.poll() is None:
             proc.kill()
     return rc, err
+
+
+def test_serve_with_a_layout_opens_on_it(tmp_path: Path) -> None:
+    import argparse
+
+    from trajopt.cli.serve import _initial
+
+    args = argparse.Namespace(graph=str(LAYOUT), track=None, stick=None, loop=None)
+    initial = _initial(args)
+    assert initial["name"] == "passing_loop"
+    cfg = TestClient(create_app(initial)).get("/api/config").json()
+    assert cfg["initial"]["layout"] == initial["layout"]
+    t = TestClient(create_app(initial)).post("/api/track", json={"layout": initial["layout"]}).json()
+    assert t["kind"] == "graph" and {e["name"] for e in t["edges"]} == {"west", "main", "siding", "east"}
+    rc, _, err = _cli(["serve", "--no-browser", "--graph", str(LAYOUT), "--track", "lollipop"])
+    assert rc == 2 and err.startswith("error: both --track lollipop and --graph")

@@ -112,6 +112,11 @@ def test_page_loads_without_console_errors_and_shows_the_plan(page: Any, server:
     assert page.text_content("#domain") == str(want["domain"])
     assert page.text_content("#word") == " ".join(want["word"])
     page.wait_for_function("window.mpa.cspace !== null")
+    # the makespan shown is the verified trajectory's (asked for once the answer settles)
+    page.wait_for_function("document.getElementById('makespan').textContent.includes('verified')")
+    status, traj = _post(server, "/api/trajectory", body)
+    assert status == 200
+    assert page.text_content("#makespan").startswith(f"{traj['summary']['makespan']:.3f} s")
     assert page.errors == []
 
 

@@ -254,6 +254,7 @@ function requestPlan(goalMoved) {
     showAnswer(status, data, body);
   }).catch((err) => showAnswer(0, { error: String(err) }, body)).finally(() => {
     state.inflight = false;
+    scheduleMakespan();
     if (state.pending) requestPlan(false);
     else if (goalChanged && isPaper()) { goalChanged = false; requestCspace(); }
     else drawCspace();
@@ -279,13 +280,29 @@ function showAnswer(status, data, body) {
     $("makespan").textContent = `${data.makespan.toFixed(3)} s at the speed limits (no acceleration limits)`;
   } else {
     $("routes").textContent = `A travels ${data.travel[0].toFixed(3)} m, B ${data.travel[1].toFixed(3)} m`;
-    $("makespan").textContent = state.traj ? `${state.traj.summary.makespan.toFixed(3)} s (trajectory)` : "press trajectory";
+    $("makespan").textContent = "… (verifying the trajectory)";
   }
 }
 
 function routeText(pieces) {
   if (!pieces || !pieces.length) return "stays";
   return pieces.map((p) => `${p.edge}${p.dir > 0 ? "+" : "-"}`).join(" → ");
+}
+
+// The makespan of a paper plan is the verified trajectory's: asked for once the answer settles (not per frame).
+let makespanTimer = null;
+let makespanSeq = 0;
+
+function scheduleMakespan() {
+  clearTimeout(makespanTimer);
+  if (state.pending || state.planStatus !== 200 || !state.plan || state.plan.planner === "graph") return;
+  const seq = ++makespanSeq;
+  makespanTimer = setTimeout(async () => {
+    const body = Object.assign(queryBody(), { vmax: number("vmax"), amax: number("amax"), jmax: number("jmax"), rate: number("rate") });
+    const { status, data } = await api("/api/trajectory", body);
+    if (seq !== makespanSeq || state.inflight || state.pending) return; // the query moved on meanwhile
+    $("makespan").textContent = status === 200 ? `${data.summary.makespan.toFixed(3)} s (verified trajectory)` : status === 422 ? `no motion: ${data.no_motion}` : `– (${data.error})`;
+  }, 400);
 }
 
 // ---------------------------------------------------------------------------------------------- configuration space
