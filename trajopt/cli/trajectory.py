@@ -156,12 +156,9 @@ def trajectory_files(
 
     Parameters
     ----------
-    track : Track or GraphTrack
-        A paper track (``--track``) or a layout (``--graph``).
-    start, goal : pair
-        Track coordinates (metres) on a paper track; positions ``(edge, offset)`` on a layout; robot A first.
-    clearance : float
-        ``--clearance`` D (metres).
+    track, start, goal, clearance
+        The query, as :func:`trajopt.cli.plan.plan_query` takes it (metres; positions ``(edge, offset)`` on a
+        layout).
     limits : Limits
         ``--vmax`` (m/s), ``--amax`` (m/s²), ``--jmax`` (m/s³) per robot.
     rate : float
