@@ -354,3 +354,10 @@ def test_serve_with_a_layout_opens_on_it(tmp_path: Path) -> None:
     assert t["kind"] == "graph" and {e["name"] for e in t["edges"]} == {"west", "main", "siding", "east"}
     rc, _, err = _cli(["serve", "--no-browser", "--graph", str(LAYOUT), "--track", "lollipop"])
     assert rc == 2 and err.startswith("error: both --track lollipop and --graph")
+
+
+def test_unknown_routes_and_methods_are_json_errors(client: TestClient) -> None:
+    r = client.get("/api/plan")
+    assert r.status_code == 405 and set(r.json()) == {"error"}
+    r = client.post("/api/nothing", json={})
+    assert r.status_code == 404 and "/api/nothing" in r.json()["error"]

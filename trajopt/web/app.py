@@ -16,7 +16,8 @@ route                       answer
 ==========================  ===============================================================================
 
 Errors: 400 ``{"error": ...}`` (bad input, a malformed body), 413 ``{"error": ...}`` (a body over
-:data:`trajopt.web.api.MAX_BODY_BYTES`), 422 ``{"no_motion": ...}``; never a traceback.
+:data:`trajopt.web.api.MAX_BODY_BYTES`), 422 ``{"no_motion": ...}``, 404/405 ``{"error": ...}`` (an unknown route,
+a wrong method); never a traceback.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from typing import Any
 
 from starlette.applications import Starlette
 from starlette.concurrency import run_in_threadpool
+from starlette.exceptions import HTTPException
 from starlette.requests import Request
 from starlette.responses import FileResponse, Response
 from starlette.routing import Mount, Route
@@ -150,4 +152,16 @@ def create_app(initial: dict[str, Any] | None = None, *, max_body_bytes: int = M
         Route("/api/cspace", _api(cspace_answer, max_body_bytes), methods=["POST"]),
         Mount("/static", app=StaticFiles(directory=STATIC_DIR), name="static"),
     ]
-    return Starlette(routes=routes)
+    return Starlette(routes=routes, exception_handlers={HTTPException: _http_error, Exception: _server_error})
+
+
+async def _http_error(request: Request, exc: Exception) -> Response:
+    """An unknown route or a wrong method: ``{"error": ...}`` with the HTTP status (404, 405)."""
+    status = exc.status_code if isinstance(exc, HTTPException) else 500
+    detail = exc.detail if isinstance(exc, HTTPException) else str(exc)
+    return _json_response(status, {"error": f"{request.method} {request.url.path}: {detail}"})
+
+
+async def _server_error(request: Request, exc: Exception) -> Response:
+    """A bug outside the API functions: one line, never a traceback."""
+    return _json_response(500, {"error": f"internal error: {type(exc).__name__}: {' '.join(str(exc).split())}"})
