@@ -361,3 +361,20 @@ def test_unknown_routes_and_methods_are_json_errors(client: TestClient) -> None:
     assert r.status_code == 405 and set(r.json()) == {"error"}
     r = client.post("/api/nothing", json={})
     assert r.status_code == 404 and "/api/nothing" in r.json()["error"]
+
+
+def test_no_browser_to_open_is_one_line_on_stdout(monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture) -> None:
+    import webbrowser
+
+    import trajopt.cli.serve as serve
+
+    def fail(url: str) -> bool:
+        raise webbrowser.Error("could not locate runnable browser")
+
+    monkeypatch.setattr(serve.webbrowser, "open", fail)
+    serve._open_browser("http://127.0.0.1:1/")
+    out, err = capsys.readouterr()
+    assert out == "mpa serve: no browser to open here, open http://127.0.0.1:1/ yourself\n" and err == ""
+    monkeypatch.setattr(serve.webbrowser, "open", lambda url: True)
+    serve._open_browser("http://127.0.0.1:1/")
+    assert capsys.readouterr() == ("", "")

@@ -67,6 +67,16 @@ def _listen(host: str, port: int) -> socket.socket:
     return sock
 
 
+def _open_browser(url: str) -> None:
+    """Open ``url`` in the default browser; without one (a headless machine) say so on stdout, one line."""
+    try:
+        opened = webbrowser.open(url)
+    except webbrowser.Error:
+        opened = False
+    if not opened:
+        print(f"mpa serve: no browser to open here, open {url} yourself", flush=True)
+
+
 def _cmd_serve(args: argparse.Namespace) -> int:
     check_serve_extra()
     initial = _initial(args)
@@ -82,7 +92,9 @@ def _cmd_serve(args: argparse.Namespace) -> int:
     server = uvicorn.Server(config)
     print(f"mpa serve: {url} (Ctrl-C stops)", flush=True)
     if not args.no_browser:
-        threading.Timer(0.5, webbrowser.open, args=(url,)).start()
+        opener = threading.Timer(0.5, _open_browser, args=(url,))
+        opener.daemon = True
+        opener.start()
     try:
         server.run(sockets=[sock])
     finally:
