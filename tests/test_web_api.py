@@ -363,7 +363,7 @@ def test_unknown_routes_and_methods_are_json_errors(client: TestClient) -> None:
     assert r.status_code == 404 and "/api/nothing" in r.json()["error"]
 
 
-def test_no_browser_to_open_is_one_line_on_stdout(monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture) -> None:
+def test_no_browser_is_one_line_on_stdout(monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture) -> None:
     import webbrowser
 
     import trajopt.cli.serve as serve
