@@ -239,3 +239,16 @@ def test_an_uploaded_layout_is_drawn_and_planned_and_a_bad_file_is_reported(page
     page.set_input_files("#upload", str(bad))
     page.wait_for_function("document.getElementById('reason').textContent.includes('length')")
     assert page.text_content("#reason").startswith("error: ")
+
+
+def test_clicking_the_configuration_space_sets_the_start(page: Any, server: str) -> None:
+    _settle(page)
+    page.wait_for_function("window.mpa.cspace !== null")
+    box = page.locator("#cspace").bounding_box()
+    a, b = 0.3, 1.6  # the paper's lollipop: both axes over [0, 2)
+    page.mouse.click(box["x"] + box["width"] * a / 2.0, box["y"] + box["height"] * (1 - b / 2.0))
+    _settle(page)
+    body = page.evaluate("window.mpa.query()")
+    assert abs(body["start"][0] - a) < 0.01 and abs(body["start"][1] - b) < 0.01, body
+    status, want = _post(server, "/api/plan", body)
+    assert status == 200 and page.text_content("#domain") == str(want["domain"])
