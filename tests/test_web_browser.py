@@ -252,3 +252,17 @@ def test_clicking_the_configuration_space_sets_the_start(page: Any, server: str)
     assert abs(body["start"][0] - a) < 0.01 and abs(body["start"][1] - b) < 0.01, body
     status, want = _post(server, "/api/plan", body)
     assert status == 200 and page.text_content("#domain") == str(want["domain"])
+
+
+@pytest.mark.parametrize(("track", "domain"), [("circle", "2"), ("interval", "1")])
+def test_the_other_paper_tracks(page: Any, server: str, track: str, domain: str) -> None:
+    page.select_option("#track-select", f"paper:{track}")
+    page.wait_for_function(f"window.mpa.geometry && window.mpa.geometry.kind === '{track}'")
+    page.wait_for_function(f"window.mpa.planBody && window.mpa.planBody.track === '{track}'")
+    _settle(page)
+    page.wait_for_function("window.mpa.cspace !== null")
+    body = page.evaluate("window.mpa.query()")
+    status, want = _post(server, "/api/plan", body)
+    assert status == 200 and str(want["domain"]) == domain
+    assert page.text_content("#domain") == domain
+    assert page.is_visible("#cspace-panel")
