@@ -30,6 +30,7 @@ from mpa.geometry import RouteGeometry
 from mpa.graph_track import GraphTrack
 from mpa.plan import Plan
 from mpa.planners import Planner, make_planner
+from mpa.planners.factory import OBJECTIVES
 from mpa.planners.graph import GraphPlan, plan_graph
 from mpa.tracks import Track
 from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
@@ -69,12 +70,15 @@ class GraphPlanner:
         Speed limits of A and B (m/s).
     margin : float
         Extra separation asked of the plan (m, >= 0).
+    objective : {"fastest", "shortest"}
+        The graph planner's objective (:func:`mpa.planners.graph.plan_graph`).
     """
 
     track: GraphTrack
     clearance: float
     speeds: tuple[float, float]
     margin: float = 0.0
+    objective: str = "fastest"
 
     def __post_init__(self) -> None:
         c = self.clearance
@@ -95,10 +99,10 @@ class GraphPlanner:
         """
         if self.margin > 0:
             try:
-                return plan_graph(self.track, start, goal, self.clearance + self.margin, "fastest", self.speeds)
+                return plan_graph(self.track, start, goal, self.clearance + self.margin, self.objective, self.speeds)
             except (InvalidInputError, NoMotionError):
                 pass  # the bare clearance decides (and names the error)
-        return plan_graph(self.track, start, goal, self.clearance, "fastest", self.speeds)
+        return plan_graph(self.track, start, goal, self.clearance, self.objective, self.speeds)
 
 
 @dataclass
@@ -118,6 +122,9 @@ class TrajectoryGenerator:
         Setpoint rate (Hz).
     optimize : bool
         False skips the optimisation and always returns the re-timed plan (the benchmark's baseline).
+    objective : {"fastest", "shortest"}
+        On a layout, the graph planner's objective (default ``"fastest"``: minimum time at the speed limits).
+        A paper track planned by the graph planner is its layout form, ``track.as_graph_track()``.
 
     Raises
     ------
@@ -138,6 +145,7 @@ class TrajectoryGenerator:
     limits: Limits = field(default_factory=Limits)
     rate: float = defaults.RATE
     optimize: bool = True
+    objective: str = "fastest"
     planner: Planner | GraphPlanner = field(init=False, repr=False)
     _corridor: CorridorProblem | None = field(default=None, init=False, repr=False)
 
@@ -145,6 +153,8 @@ class TrajectoryGenerator:
         if not isinstance(self.limits, Limits):
             raise InvalidInputError(f"limits is {self.limits!r}, expected a trajopt.Limits")
         self.rate = check_rate(self.rate)
+        if self.objective not in OBJECTIVES:
+            raise InvalidInputError(f"objective is {self.objective!r}, expected one of {', '.join(OBJECTIVES)}")
         self.planner = self._make_planner()
         self.clearance = self.planner.clearance
 
@@ -156,7 +166,8 @@ class TrajectoryGenerator:
     def _make_planner(self) -> Planner | GraphPlanner:
         if isinstance(self.track, GraphTrack):
             speeds = (float(self.limits.v[0]), float(self.limits.v[1]))
-            return GraphPlanner(self.track, self.clearance, speeds, separation_margin(self.limits, self.rate))
+            margin = separation_margin(self.limits, self.rate)
+            return GraphPlanner(self.track, self.clearance, speeds, margin, self.objective)
         return make_planner(self.track, self.clearance)
 
     # ---------------------------------------------------------------------------------------------
@@ -217,18 +228,20 @@ class TrajectoryGenerator:
     def at_rate(self, rate: float) -> TrajectoryGenerator:
         """The same generator at another setpoint rate (Hz; the planner is shared)."""
         gen = TrajectoryGenerator.__new__(TrajectoryGenerator)
-        gen.track, gen.clearance, gen.limits, gen.optimize, gen.planner = (
+        gen.track, gen.clearance, gen.limits, gen.optimize, gen.objective, gen.planner = (
             self.track,
             self.clearance,
             self.limits,
             self.optimize,
+            self.objective,
             self.planner,
         )
         gen.rate = check_rate(rate)
         gen._corridor = self._corridor
         if isinstance(self.planner, GraphPlanner):  # the plan's margin depends on the rate
             pl = self.planner
-            gen.planner = GraphPlanner(pl.track, pl.clearance, pl.speeds, separation_margin(self.limits, gen.rate))
+            margin = separation_margin(self.limits, gen.rate)
+            gen.planner = GraphPlanner(pl.track, pl.clearance, pl.speeds, margin, pl.objective)
         return gen
 
     def _attempt(self, plan: Plan | GraphPlan) -> Trajectory:

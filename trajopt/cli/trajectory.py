@@ -127,7 +127,8 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
     tolerance = None if args.delay_tolerance is None else check_delay_tolerance(args.delay_tolerance)
     check_output_dir(args.out)
     track, start, goal = query_from_args(args)
-    if not isinstance(track, Track):  # a layout (--graph)
+    track, start, goal = planner_query(track, start, goal, args.planner)
+    if not isinstance(track, Track):  # a layout (--graph), or a paper track's graph form (--planner graph)
         if opts.plot:
             raise InvalidInputError(
                 "--plot draws trajectories on the paper's tracks, expected no --plot with --graph "
@@ -136,7 +137,11 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
         if tolerance is not None:
             raise InvalidInputError("--delay-tolerance is implemented for the paper's tracks, expected no --graph")
     gen = TrajectoryGenerator(
-        track, clearance=args.clearance, limits=Limits(args.vmax, args.amax, args.jmax), rate=args.rate
+        track,
+        clearance=args.clearance,
+        limits=Limits(args.vmax, args.amax, args.jmax),
+        rate=args.rate,
+        objective=args.objective,
     )
     traj = gen.generate(start, goal, delay_tolerance=tolerance)
     if isinstance(track, Track):
@@ -178,6 +183,51 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def planner_query(track: Any, start: Any, goal: Any, planner: str | None) -> tuple[Any, Any, Any]:
+    """The track and query the generator gets for ``--planner``.
+
+    ``graph`` on a paper track: its graph form (:meth:`mpa.tracks.Track.as_graph_track`, edges ``stick`` and
+    ``loop``) with the track coordinates as positions ``(edge, offset)``, so the complete graph planner answers
+    and the files are written as for a layout. ``paper`` (or none) on a paper track: unchanged; ``paper`` on a
+    layout is an error.
+
+    Raises
+    ------
+    InvalidInputError
+        ``--planner paper`` with ``--graph``; a start or goal off the track.
+    """
+    if not isinstance(track, Track):
+        if planner == "paper":
+            raise InvalidInputError(
+                "--planner is 'paper' with --graph, expected --planner graph (the paper's algorithm plans the "
+                "paper's tracks only: --track interval|circle|lollipop)"
+            )
+        return track, start, goal
+    if planner != "graph":
+        return track, start, goal
+    from mpa.planners.factory import _paper_positions
+
+    return track.as_graph_track(), _paper_positions(track, start, "--start"), _paper_positions(track, goal, "--goal")
+
+
+def add_planner_arguments(p: argparse.ArgumentParser) -> None:
+    """``--planner paper|graph`` and ``--objective fastest|shortest`` (as ``mpa plan``)."""
+    p.add_argument(
+        "--planner",
+        choices=["paper", "graph"],
+        default=None,
+        help="paper: the paper's algorithm (paper tracks only; default there); graph: the complete graph planner "
+        "(always on --graph layouts; on a paper track the files are written as for its layout form, edges stick "
+        "and loop)",
+    )
+    p.add_argument(
+        "--objective",
+        choices=["fastest", "shortest"],
+        default="fastest",
+        help="graph planner: fastest (default: minimum time at --vmax) or shortest (minimum length)",
+    )
+
+
 def add_delay_tolerance_argument(p: argparse.ArgumentParser) -> None:
     """``--delay-tolerance T`` (see :mod:`trajopt.delay`)."""
     p.add_argument(
@@ -199,6 +249,7 @@ def register(subparsers: Any) -> None:
     )
     add_output_arguments(p)
     add_delay_tolerance_argument(p)
+    add_planner_arguments(p)
     p.set_defaults(func=_cmd_trajectory)
     d = subparsers.add_parser("demo", help="the embedded default job: a lollipop swap, files and a PNG")
     d.add_argument("--out", default="mpa-demo", help="output directory (default ./mpa-demo)")
