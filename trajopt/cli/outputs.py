@@ -58,7 +58,7 @@ class OutputOptions:
     """The checked output options (see :func:`check_output_options`)."""
 
     formats: tuple[str, ...] = ("csv",)
-    pvt_interval: float = 0.1
+    pvt_interval: float | str = "auto"
     pvt_stretch: float = 1.0
     joint_names: tuple[str, str] = ("cart_a", "cart_b")
     topic: str = "/joint_trajectory"
@@ -77,11 +77,11 @@ def add_output_arguments(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument(
         "--pvt-interval",
-        type=float,
-        default=0.1,
+        default="auto",
         metavar="S",
-        help="PVT row interval in s (default 0.1); refused if the drive's cubic interpolation would break the "
-        "clearance or a limit (the error names the largest interval that works)",
+        help="PVT row interval in s, or auto (default): the largest round interval <= 0.1 s whose cubic "
+        "reconstruction keeps the clearance and the limits (written in summary.json); an interval that would "
+        "break them is refused (the error names the largest interval that works)",
     )
     g.add_argument(
         "--pvt-stretch",
@@ -146,7 +146,8 @@ def check_output_options(args: argparse.Namespace) -> OutputOptions:
     names = check_joint_names(args.joint_names)
     topic = check_topic(args.topic, "--topic")
     try:
-        interval = check_interval(args.pvt_interval)
+        auto = isinstance(args.pvt_interval, str) and args.pvt_interval.strip().lower() == "auto"
+        interval: float | str = "auto" if auto else check_interval(args.pvt_interval)
     except InvalidInputError as exc:
         raise InvalidInputError(str(exc).replace("PVT interval", "--pvt-interval", 1)) from None
     k = float(args.pvt_stretch)
@@ -208,7 +209,8 @@ def output_files(traj: Trajectory, opts: OutputOptions, recipe: dict[str, Any]) 
             except InvalidInputError as exc:
                 raise InvalidInputError(str(exc).replace("PVT interval", "--pvt-interval", 1)) from None
             files[name] = tab.csv_text()
-            extra["pvt"] = {"interval": tab.interval, "stretch": tab.stretch, "rows": len(tab.t)}
+            auto = opts.pvt_interval == "auto"
+            extra["pvt"] = {"interval": tab.interval, "auto": auto, "stretch": tab.stretch, "rows": len(tab.t)}
     if opts.plot:
         from trajopt.viz.plotting import figure_png, plot_trajectory
 
