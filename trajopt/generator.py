@@ -358,17 +358,17 @@ class TrajectoryGenerator:
 
     def replan(self, trajectory: Trajectory, at_time: float, goal: ArrayLike) -> Trajectory:
         """A verified trajectory from both robots' state at ``at_time`` of ``trajectory`` to rest at ``goal``
-        (see :func:`trajopt.replan.replan`; paper tracks only).
+        (see :func:`trajopt.replan.replan`; on a layout :func:`trajopt.replan_graph.replan_graph`, goals as
+        positions ``(edge, offset)``, ``"EDGE:OFFSET"`` or vertex names).
 
         Raises
         ------
         InvalidInputError
-            Also on a layout (re-planning in motion is implemented for the paper's tracks only).
+            ``at_time`` outside ``[0, makespan]``, a bad goal, a trajectory of another track.
+        NoMotionError
+            Braking would break the clearance, or no motion reaches the goal.
         """
         from trajopt.replan import replan
-
-        if self.is_graph:
-            raise InvalidInputError("replan is implemented for the paper's tracks, not for a GraphTrack layout")
 
         return replan(self, trajectory, at_time, goal)
 

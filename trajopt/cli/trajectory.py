@@ -147,8 +147,14 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
     if isinstance(track, Track):
         recipe = {"start": list(start), "goal": list(goal), "delay_tolerance": tolerance, "replans": []}
     else:  # positions by name (EDGE:OFFSET or a vertex)
-        names = [[track.position_name(*p) for p in q] for q in (start, goal)]
-        recipe = {"start": names[0], "goal": names[1], "delay_tolerance": None, "replans": []}
+        names = [[track.position_name(*track.position(p)) for p in q] for q in (start, goal)]
+        recipe = {
+            "start": names[0],
+            "goal": names[1],
+            "delay_tolerance": tolerance,
+            "objective": args.objective,
+            "replans": [],
+        }
     files = output_files(traj, opts, recipe)
     write_outputs(args.out, files)
     print(summary_text(traj))
