@@ -175,7 +175,9 @@ class TrajectoryGenerator:
         """The plan of a query (validates it; see :meth:`mpa.planners.Planner.plan` and :class:`GraphPlanner`)."""
         return self.planner.plan(start, goal)
 
-    def generate(self, start: Any, goal: Any, *, delay_tolerance: float | None = None) -> Trajectory:
+    def generate(
+        self, start: Any, goal: Any, *, delay_tolerance: float | None = None, min_margin: float | None = None
+    ) -> Trajectory:
         """A verified trajectory from ``start`` to ``goal`` (robot A first).
 
         On a paper track ``start`` and ``goal`` are track coordinates; on a layout pairs of positions
@@ -183,22 +185,27 @@ class TrajectoryGenerator:
 
         With ``delay_tolerance`` (s), one whose delay tolerance (:meth:`Trajectory.margins`) is at least that
         (:func:`trajopt.delay.generate_with_delay_tolerance`: a larger effective clearance, then slower).
+        With ``min_margin`` (m), one whose tracking margin is at least that
+        (:func:`trajopt.min_margin.generate_with_min_margin`: the effective clearance ``D + 2·min_margin``).
 
         Raises
         ------
         InvalidInputError
-            Bad start or goal (off the track, closer than the clearance), bad ``delay_tolerance``.
+            Bad start or goal (off the track, closer than the clearance), bad ``delay_tolerance`` or
+            ``min_margin``.
         NoMotionError
             No collision-free motion exists (e.g. the order must change and ``D ≥ loop/2``), or none found
-            with the requested delay tolerance (the message states the best value found).
+            with the requested delay tolerance (the message states the best value found) or tracking margin
+            (the message names the largest that can be had).
         PlanningError
             Even the re-timed plan fails verification (never expected).
         """
+        if min_margin is not None:
+            from trajopt.min_margin import generate_with_min_margin
+
+            return generate_with_min_margin(self, start, goal, min_margin, delay_tolerance)
         if delay_tolerance is not None:
             from trajopt.delay import generate_with_delay_tolerance
-
-            if self.is_graph:
-                raise InvalidInputError("delay_tolerance is implemented for the paper's tracks, not for a GraphTrack")
 
             return generate_with_delay_tolerance(self, start, goal, delay_tolerance)
         t0 = time.perf_counter()
@@ -513,6 +520,7 @@ def generate_trajectory(
     jmax: Any = defaults.JMAX,
     rate: float = defaults.RATE,
     delay_tolerance: float | None = None,
+    min_margin: float | None = None,
 ) -> Trajectory:
     """One call from a query to a verified jerk-limited :class:`~trajopt.export.Trajectory`.
 
@@ -530,6 +538,8 @@ def generate_trajectory(
         Setpoint rate (Hz).
     delay_tolerance : float, optional
         Ask for a delay tolerance of at least this (s; see :mod:`trajopt.delay`).
+    min_margin : float, optional
+        Ask for a tracking margin of at least this (m; see :mod:`trajopt.min_margin`).
 
     Returns
     -------
@@ -538,9 +548,9 @@ def generate_trajectory(
     Raises
     ------
     InvalidInputError
-        Bad limits, rate, clearance, start, goal or delay tolerance.
+        Bad limits, rate, clearance, start, goal, delay tolerance or margin.
     NoMotionError
-        No collision-free motion exists (or none with the requested delay tolerance).
+        No collision-free motion exists (or none with the requested delay tolerance or tracking margin).
     PlanningError
         Not even the re-timed plan passes verification.
 
@@ -552,4 +562,4 @@ def generate_trajectory(
     (True, False)
     """
     gen = TrajectoryGenerator(track, clearance=clearance, limits=Limits(vmax, amax, jmax), rate=rate)
-    return gen.generate(start, goal, delay_tolerance=delay_tolerance)
+    return gen.generate(start, goal, delay_tolerance=delay_tolerance, min_margin=min_margin)

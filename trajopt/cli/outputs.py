@@ -258,4 +258,10 @@ def summary_text(traj: Trajectory) -> str:
             f"tolerance   asked {dt['requested']:g} s: effective clearance {dt['effective_clearance']:.4g} m, "
             f"slowdown {dt['slowdown']:g}",
         )
+    mm = traj.solver_stats.get("min_margin")
+    if mm:
+        lines.insert(
+            len(lines) - 4,
+            f"margin      asked {mm['requested']:g} m: effective clearance {mm['effective_clearance']:.4g} m",
+        )
     return "\n".join(lines)

@@ -132,7 +132,15 @@ def load_trajectory(directory: str | Path, option: str = "--from") -> tuple[Traj
             "mpa trajectory"
         ) from None
     try:
-        traj = gen.generate(recipe["start"], recipe["goal"], delay_tolerance=recipe["delay_tolerance"])
+        margin = (summary.get("recipe") or {}).get("min_margin")
+        if margin is not None:
+            recipe["min_margin"] = float(margin)
+        traj = gen.generate(
+            recipe["start"],
+            recipe["goal"],
+            delay_tolerance=recipe["delay_tolerance"],
+            min_margin=recipe.get("min_margin"),
+        )
         for r in recipe["replans"]:
             traj = gen.replan(traj, r["at"], r["goal"])
     except MPAError as exc:

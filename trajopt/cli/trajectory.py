@@ -125,6 +125,7 @@ def _json(obj: Any) -> str:
 def _cmd_trajectory(args: argparse.Namespace) -> int:
     opts = check_output_options(args)
     tolerance = None if args.delay_tolerance is None else check_delay_tolerance(args.delay_tolerance)
+    margin = None if args.min_margin is None else check_margin_option(args.min_margin)
     check_output_dir(args.out)
     track, start, goal = query_from_args(args)
     track, start, goal = planner_query(track, start, goal, args.planner)
@@ -134,8 +135,6 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
                 "--plot draws trajectories on the paper's tracks, expected no --plot with --graph "
                 "(draw a layout with mpa animate --graph or mpa plan --graph --plot)"
             )
-        if tolerance is not None:
-            raise InvalidInputError("--delay-tolerance is implemented for the paper's tracks, expected no --graph")
     gen = TrajectoryGenerator(
         track,
         clearance=args.clearance,
@@ -143,9 +142,11 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
         rate=args.rate,
         objective=args.objective,
     )
-    traj = gen.generate(start, goal, delay_tolerance=tolerance)
+    traj = gen.generate(start, goal, delay_tolerance=tolerance, min_margin=margin)
     if isinstance(track, Track):
         recipe = {"start": list(start), "goal": list(goal), "delay_tolerance": tolerance, "replans": []}
+        if margin is not None:
+            recipe["min_margin"] = margin
     else:  # positions by name (EDGE:OFFSET or a vertex)
         names = [[track.position_name(*track.position(p)) for p in q] for q in (start, goal)]
         recipe = {
@@ -155,6 +156,8 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
             "objective": args.objective,
             "replans": [],
         }
+        if margin is not None:
+            recipe["min_margin"] = margin
     files = output_files(traj, opts, recipe)
     write_outputs(args.out, files)
     print(summary_text(traj))
@@ -234,6 +237,28 @@ def add_planner_arguments(p: argparse.ArgumentParser) -> None:
     )
 
 
+def check_margin_option(value: float) -> float:
+    """``--min-margin``: a finite number of metres >= 0 (InvalidInputError naming the option otherwise)."""
+    from trajopt.min_margin import check_min_margin
+
+    try:
+        return check_min_margin(value)
+    except InvalidInputError as exc:
+        raise InvalidInputError(str(exc).replace("min_margin", "--min-margin", 1)) from None
+
+
+def add_min_margin_argument(p: argparse.ArgumentParser) -> None:
+    """``--min-margin M`` (see :mod:`trajopt.min_margin`)."""
+    p.add_argument(
+        "--min-margin",
+        type=float,
+        default=None,
+        metavar="M",
+        help="ask for a motion whose tracking margin is at least M metres (either cart may be M off its setpoint "
+        "along its route); exit 3 naming the largest margin that can be had if none is",
+    )
+
+
 def add_delay_tolerance_argument(p: argparse.ArgumentParser) -> None:
     """``--delay-tolerance T`` (see :mod:`trajopt.delay`)."""
     p.add_argument(
@@ -255,6 +280,7 @@ def register(subparsers: Any) -> None:
     )
     add_output_arguments(p)
     add_delay_tolerance_argument(p)
+    add_min_margin_argument(p)
     add_planner_arguments(p)
     p.set_defaults(func=_cmd_trajectory)
     d = subparsers.add_parser("demo", help="the embedded default job: a lollipop swap, files and a PNG")
