@@ -418,11 +418,7 @@ def test_cli_graph_formats_and_paper_only_options(tmp_path, capsys) -> None:  # 
     start_edge = {"A": "b_left", "B": "b_right"}[other]
     goal_edge = {"A": "b_right", "B": "b_left"}[other]
     assert f"{other}           back along {start_edge} to J, along {goal_edge} to " in stdout, stdout
-    for extra in (["--plot"],):
-        bad = tmp_path / "bad"
-        code, _, err = _run([*base, *extra, "--out", str(bad)], capsys)
-        assert code == 2 and err.startswith("error:") and len(err.strip().splitlines()) == 1, err
-        assert not bad.exists()
+    bad = tmp_path / "bad"
     code, _, err = _run(["replan", "--from", str(out), "--at", "1", "--goal", "0.1", "0.5", "--out", str(bad)], capsys)
     assert code == 2 and "--goal of robot A is '0.1'" in err and not bad.exists()  # a layout run takes positions
 

@@ -90,3 +90,17 @@ def test_positions_in_words_are_millimetres(tmp_path: Path, capsys: pytest.Captu
     words = json.loads((out / "summary.json").read_text())["words"]
     for w in (words["A"], words["B"], text):
         assert not re.search(r":\d+\.\d{4,}", w), w
+
+
+def test_auto_without_any_interval_says_so_and_the_stretch_helps() -> None:
+    """A layout motion at its acceleration limit: no interval keeps the limits strictly; auto says what would."""
+    from mpa import GraphTrack
+    from trajopt import TrajectoryGenerator
+
+    traj = TrajectoryGenerator(GraphTrack.from_json(str(EXAMPLES / "y_junction.json")), clearance=0.5).generate(
+        ("left", "right"), ("right", "left")
+    )
+    with pytest.raises(ValueError, match=r"PVT interval auto: no interval from 0.1 s down to 0.001 s .*slowed by"):
+        pvt_table(traj, "auto")
+    tab = pvt_table(traj, "auto", max_stretch=2.0)
+    assert tab.interval == 0.1 and 1.0 < tab.stretch <= 2.0 and check_pvt(traj, 0.1, tab.stretch).ok

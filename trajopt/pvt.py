@@ -478,7 +478,22 @@ def pvt_table(
         best = largest_pvt_interval(trajectory, DEFAULT_INTERVAL)
         if best is not None:
             return pvt_rows(trajectory, best)
-        interval = DEFAULT_INTERVAL
+        cap = _check_stretch(max_stretch, "max_stretch")
+        k = smallest_pvt_stretch(trajectory, DEFAULT_INTERVAL, cap) if cap > 1.0 else None
+        if k is not None:
+            return pvt_rows(trajectory, DEFAULT_INTERVAL, k)
+        chk = check_pvt(trajectory, DEFAULT_INTERVAL)
+        k2 = smallest_pvt_stretch(trajectory, DEFAULT_INTERVAL, STRETCHES[-1])
+        hint = (
+            f"; {DEFAULT_INTERVAL:g} s works with the motion slowed by a factor {k2:g} (max_stretch / --pvt-stretch)"
+            if k2 is not None
+            else ""
+        )
+        raise InvalidInputError(
+            f"PVT interval auto: no interval from {DEFAULT_INTERVAL:g} s down to {MIN_INTERVAL:g} s keeps the "
+            f"clearance and limits in the cubic reconstruction (at {DEFAULT_INTERVAL:g} s: {chk.failures[0]}), "
+            f"expected a motion a PVT drive can follow{hint}"
+        )
     dlt = check_interval(interval)
     cap = _check_stretch(max_stretch, "max_stretch")
     chk = check_pvt(trajectory, dlt)

@@ -12,7 +12,8 @@ mcap          ``trajectory.mcap``     the MCAP file of a rosbag2 bag (:func:`tra
 pvt           ``pvt.csv``             PVT rows every ``--pvt-interval`` s (:func:`trajopt.pvt.pvt_table`)
 ============  ======================  ===========================================================================
 
-``--plot`` adds ``trajectory.png`` (:func:`trajopt.viz.plotting.plot_trajectory`). Every option is checked before
+``--plot`` adds ``trajectory.png`` (:func:`trajopt.viz.layout_run.trajectory_figure`: a paper track's figure, or
+a layout run's). Every option is checked before
 any work (:func:`check_output_options`); every file is computed in memory (:func:`output_files`) and then
 written all or nothing (:func:`trajopt.cli.trajectory.write_outputs`).
 
@@ -97,7 +98,10 @@ def add_output_arguments(p: argparse.ArgumentParser) -> None:
         "--topic", default="/joint_trajectory", help="MCAP topic of the JointTrajectory (default /joint_trajectory)"
     )
     g.add_argument(
-        "--plot", action="store_true", help="also write trajectory.png (track, configuration space, s/v/a/j)"
+        "--plot",
+        action="store_true",
+        help="also write trajectory.png (paper tracks: track, configuration space, s/v/a/j; layouts: the layout with "
+        "both routes and the carts at a few times, speed, acceleration and distance over time)",
     )
 
 
@@ -212,9 +216,10 @@ def output_files(traj: Trajectory, opts: OutputOptions, recipe: dict[str, Any]) 
             auto = opts.pvt_interval == "auto"
             extra["pvt"] = {"interval": tab.interval, "auto": auto, "stretch": tab.stretch, "rows": len(tab.t)}
     if opts.plot:
-        from trajopt.viz.plotting import figure_png, plot_trajectory
+        from trajopt.viz.layout_run import trajectory_figure
+        from trajopt.viz.plotting import figure_png
 
-        files[PLOT_FILE] = figure_png(plot_trajectory(traj))
+        files[PLOT_FILE] = figure_png(trajectory_figure(traj))
     summary = traj.summary()
     summary.update(extra)
     summary["formats"] = list(opts.formats)

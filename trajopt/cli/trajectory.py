@@ -129,12 +129,6 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
     check_output_dir(args.out)
     track, start, goal = query_from_args(args)
     track, start, goal = planner_query(track, start, goal, args.planner)
-    if not isinstance(track, Track):  # a layout (--graph), or a paper track's graph form (--planner graph)
-        if opts.plot:
-            raise InvalidInputError(
-                "--plot draws trajectories on the paper's tracks, expected no --plot with --graph "
-                "(draw a layout with mpa animate --graph or mpa plan --graph --plot)"
-            )
     gen = TrajectoryGenerator(
         track,
         clearance=args.clearance,
