@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import textwrap
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -137,9 +137,9 @@ def domain_grid(
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 10:
         raise InvalidInputError(f"samples is {samples!r}, expected an integer >= 10")
     varies = "start" if goal is not None else "goal"
-    fixed_in = goal if goal is not None else start
+    fixed_in: Any = goal if goal is not None else start
     name = "goal" if goal is not None else "start"
-    fixed = np.asarray(track.validate(fixed_in, name), dtype=float).reshape(2)
+    fixed: FloatArray = np.asarray(track.validate(fixed_in, name), dtype=np.float64).reshape(2)
     make_planner(track, clearance, neighbourhood).plan(fixed, fixed)  # validates the fixed state (clearance too)
     from trajopt.viz.drawing import coordinate_extent
 
