@@ -92,7 +92,7 @@ def _route_class(traj, t0: float, n: int = 600):  # type: ignore[no-untyped-def]
     ("layout", "start", "goal", "clearance"),
     [
         (Y, ("left", "right"), ("right", "left"), 0.5),
-        (str(EXAMPLES / "passing_loop.json"), ("W", "E"), ("E", "W"), 0.2),
+        (str(EXAMPLES / "two_sidings.json"), ("north_end", "south_end"), ("south_end", "north_end"), 0.05),
     ],
 )
 def test_replanning_every_tenth_with_millimetre_goal_moves_is_stable(layout, start, goal, clearance) -> None:  # type: ignore[no-untyped-def]
