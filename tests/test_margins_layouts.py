@@ -96,3 +96,15 @@ def test_cli_min_margin_and_delay_tolerance_on_a_layout(tmp_path: Path, capsys: 
     assert "largest tracking margin that can be had is" in err
     rc, _, err = _run([*q, "--min-margin", "-1", "--out", str(bad)], capsys)
     assert rc == 2 and err.startswith("error: --min-margin is -1") and not bad.exists()
+
+
+def test_cli_min_margin_on_a_paper_track_replans(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out, again = tmp_path / "p", tmp_path / "r"
+    q = ["trajectory", "--track", "lollipop", "--start", "0.2", "0.5", "--goal", "0.5", "0.2", "--min-margin", "0.05"]
+    rc, _, err = _run([*q, "--out", str(out)], capsys)
+    assert rc == 0, err
+    js = json.loads((out / "summary.json").read_text())
+    assert js["recipe"]["min_margin"] == 0.05 and js["margins"]["tracking_margin"] >= 0.05
+    rc, _, err = _run(["replan", "--from", str(out), "--at", "1", "--goal", "0.6", "0.1", "--out", str(again)], capsys)
+    assert rc == 0, err  # the recipe (with its margin) rebuilds the same rows
+    assert json.loads((again / "summary.json").read_text())["recipe"]["min_margin"] == 0.05

@@ -31,7 +31,7 @@ from mpa.errors import InvalidInputError, MPAError
 from mpa.tracks import make_track
 from trajopt.cli.common import check_output_dir, parse_coordinates
 from trajopt.cli.outputs import add_output_arguments, check_output_options, output_files, summary_text
-from trajopt.cli.replan_layout import is_layout_summary, layout_goal, layout_of, load_layout_trajectory
+from trajopt.cli.replan_layout import is_layout_summary, layout_goal, layout_of, load_layout_trajectory, rebuild
 from trajopt.export import CSV_COLUMNS, Trajectory
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
@@ -135,14 +135,7 @@ def load_trajectory(directory: str | Path, option: str = "--from") -> tuple[Traj
         margin = (summary.get("recipe") or {}).get("min_margin")
         if margin is not None:
             recipe["min_margin"] = float(margin)
-        traj = gen.generate(
-            recipe["start"],
-            recipe["goal"],
-            delay_tolerance=recipe["delay_tolerance"],
-            min_margin=recipe.get("min_margin"),
-        )
-        for r in recipe["replans"]:
-            traj = gen.replan(traj, r["at"], r["goal"])
+        traj = rebuild(gen, recipe)
     except MPAError as exc:
         raise InvalidInputError(f"{option}: the motion of summary.json cannot be rebuilt ({exc})") from None
     ours = _csv_array(traj)

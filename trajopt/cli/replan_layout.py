@@ -22,7 +22,7 @@ from trajopt.export import GRAPH_CSV_COLUMNS, Trajectory
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
 
-__all__ = ["is_layout_summary", "layout_goal", "load_layout_trajectory"]
+__all__ = ["is_layout_summary", "layout_goal", "layout_of", "load_layout_trajectory", "rebuild"]
 
 #: Tolerance of the check of the rebuilt motion against ``setpoints.csv`` (absolute + relative).
 MATCH_TOL = 1e-9
