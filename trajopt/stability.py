@@ -20,7 +20,7 @@ from mpa.planners import Planner
 from mpa.tracks import Interval
 from trajopt.export import Trajectory
 
-__all__ = ["PerturbationPairs", "perturbation_pairs", "trajectory_gap"]
+__all__ = ["PerturbationPairs", "perturbation_pairs", "route_coordinate_gap", "trajectory_gap"]
 
 FloatArray = NDArray[np.float64]
 
@@ -123,3 +123,24 @@ def trajectory_gap(a: Trajectory, b: Trajectory, samples: int = 1001) -> tuple[f
     track: Any = a.plan.track
     gap = max(float(np.max(track.distance(pos[0][:, r], pos[1][:, r]))) for r in (0, 1))
     return gap, abs(a.motion_time - b.motion_time)
+
+
+def route_coordinate_gap(a: Trajectory, b: Trajectory, samples: int = 1001) -> tuple[float, float]:
+    """Sup over normalised time of the change of the exported route coordinates and of their speeds.
+
+    The exported ``*_s`` and ``*_v`` columns (CSV, ROS positions, PVT rows) of two trajectories compared at the same
+    normalised time ``τ·T`` (each at its own motion time ``T``), the larger robot's change: ``(m, m/s)``. Unlike
+    :func:`trajectory_gap` (positions on the track) it also sees a flip of a route's orientation, which moves no
+    cart but the columns a controller is fed.
+    """
+    tau = np.linspace(0.0, 1.0, samples)
+    cols = []
+    for tr in (a, b):
+        if tr.motion_time > 0:
+            s, v = tr.sampler(tau * tr.motion_time)[:2]
+        else:
+            s, v = np.tile(tr.s[0], (samples, 1)), np.zeros((samples, 2))
+        cols.append((np.asarray(s, dtype=float), np.asarray(v, dtype=float)))
+    ds = float(np.max(np.abs(cols[0][0] - cols[1][0])))
+    dv = float(np.max(np.abs(cols[0][1] - cols[1][1])))
+    return ds, dv
