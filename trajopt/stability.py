@@ -144,3 +144,119 @@ def route_coordinate_gap(a: Trajectory, b: Trajectory, samples: int = 1001) -> t
     ds = float(np.max(np.abs(cols[0][0] - cols[1][0])))
     dv = float(np.max(np.abs(cols[0][1] - cols[1][1])))
     return ds, dv
+
+
+@dataclass(frozen=True)
+class LayoutTwin:
+    """One δ-twin of a query on a layout (plan level, the graph planner's ``fastest`` plans).
+
+    Attributes
+    ----------
+    query : int
+        Index of the query.
+    clearance, delta : float
+        D and the move of every position along its edge (metres).
+    route_changed : bool
+        The robots' routes (each robot's edges and directions, in order) differ between the query and its twin.
+    gap : float
+        Sup over the plans' common parameter ``u ∈ [0, 1]`` of the larger robot's graph distance between the two
+        plans' positions (metres).
+    makespan_gap : float
+        Change of the plan's makespan (s).
+    """
+
+    query: int
+    clearance: float
+    delta: float
+    route_changed: bool
+    gap: float
+    makespan_gap: float
+
+
+def layout_queries(
+    track: Any, n: int, rng: np.random.Generator, clearances: tuple[float, ...]
+) -> list[tuple[float, tuple[Any, Any], tuple[Any, Any]]]:
+    """``n`` seeded queries ``(D, start, goal)`` on a layout: positions uniform by length, robots at least
+    ``D`` apart (plus 1e-6 m) at both ends, the clearances taken in turn; every fourth query a swap."""
+    lengths = np.asarray(track.lengths, dtype=float)
+    g = track.geometry
+    out: list[tuple[float, tuple[Any, Any], tuple[Any, Any]]] = []
+
+    def pos() -> tuple[int, float]:
+        e = int(rng.choice(len(lengths), p=lengths / lengths.sum()))
+        return e, float(rng.uniform(0.0, lengths[e]))
+
+    while len(out) < n:
+        D = float(clearances[len(out) % len(clearances)])
+        a, b = pos(), pos()
+        c, d = (b, a) if len(out) % 4 == 0 else (pos(), pos())
+        if min(g.distance_scalar(*a, *b), g.distance_scalar(*c, *d)) < D + 1e-6:
+            continue
+        out.append((D, (a, b), (c, d)))
+    return out
+
+
+def _route_key(plan: Any) -> tuple[tuple[int, ...], ...]:
+    ra, rb = plan.route_a, plan.route_b
+    return (
+        tuple(int(x) for x in ra.edges),
+        tuple(int(x) for x in ra.dirs),
+        tuple(int(x) for x in rb.edges),
+        tuple(int(x) for x in rb.dirs),
+    )
+
+
+def layout_twins(
+    track: Any,
+    queries: list[tuple[float, tuple[Any, Any], tuple[Any, Any]]],
+    deltas: tuple[float, ...],
+    rng: np.random.Generator,
+    speeds: tuple[float, float] = (1.0, 1.0),
+    samples: int = 401,
+) -> list[LayoutTwin]:
+    """δ-twins of layout queries: each position moved by ``δ`` along its edge (a random side, inwards at an end).
+
+    Queries without a motion, and twins whose ends come closer than the clearance, are skipped.
+    """
+    from mpa.errors import NoMotionError
+    from mpa.planners.graph import plan_graph
+
+    lengths = np.asarray(track.lengths, dtype=float)
+    g = track.geometry
+    u = np.linspace(0.0, 1.0, samples)
+    out: list[LayoutTwin] = []
+
+    def positions(p: Any) -> tuple[Any, Any, Any, Any]:
+        (ea, sa), (eb, sb) = p.positions(u)
+        return ea, sa, eb, sb
+
+    for qi, (D, st, gl) in enumerate(queries):
+        try:
+            base = plan_graph(track, st, gl, D, "fastest", speeds)
+        except NoMotionError:
+            continue
+        pb = positions(base)
+        for delta in deltas:
+
+            def nudge(p: tuple[int, float], delta: float = delta) -> tuple[int, float]:
+                e, s = p
+                t = s + (delta if rng.random() < 0.5 else -delta)
+                if t < 0.0 or t > lengths[e]:
+                    t = 2 * s - t
+                return e, float(min(max(t, 0.0), lengths[e]))
+
+            st2, gl2 = (nudge(st[0]), nudge(st[1])), (nudge(gl[0]), nudge(gl[1]))
+            if min(g.distance_scalar(*st2[0], *st2[1]), g.distance_scalar(*gl2[0], *gl2[1])) < D:
+                continue
+            try:
+                twin = plan_graph(track, st2, gl2, D, "fastest", speeds)
+            except NoMotionError:
+                continue
+            p2 = positions(twin)
+            gap = float(
+                np.max(np.maximum(g.distance(pb[0], pb[1], p2[0], p2[1]), g.distance(pb[2], pb[3], p2[2], p2[3])))
+            )
+            out.append(
+                LayoutTwin(qi, D, delta, _route_key(base) != _route_key(twin), gap, abs(base.makespan - twin.makespan))
+            )
+    return out
