@@ -20,7 +20,17 @@ from mpa.planners import Planner
 from mpa.tracks import Interval
 from trajopt.export import Trajectory
 
-__all__ = ["PerturbationPairs", "perturbation_pairs", "route_coordinate_gap", "trajectory_gap"]
+__all__ = [
+    "LayoutTwin",
+    "PerturbationPairs",
+    "SwitchPoint",
+    "layout_queries",
+    "layout_twins",
+    "perturbation_pairs",
+    "route_coordinate_gap",
+    "switch_points",
+    "trajectory_gap",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -259,4 +269,111 @@ def layout_twins(
             out.append(
                 LayoutTwin(qi, D, delta, _route_key(base) != _route_key(twin), gap, abs(base.makespan - twin.makespan))
             )
+    return out
+
+
+@dataclass(frozen=True)
+class SwitchPoint:
+    """A query on the fast/hard switch, bracketed to within ``width`` (metres, max-norm of the four coordinates).
+
+    Attributes
+    ----------
+    fast_start, fast_goal, hard_start, hard_goal : ndarray, shape (2,)
+        The queries on either side: the straight route-coordinate line keeps the separation (fast path), or not.
+    width : float
+        Max-norm distance between the two queries (metres).
+    gap : float
+        :func:`trajectory_gap` of their trajectories (metres).
+    time_gap : float
+        Change of the motion time (s).
+    paths : (str, str)
+        ``solver_stats["path"]`` of the two trajectories (``"fast"``, ``"hard"``; another value if one fell back).
+    """
+
+    fast_start: FloatArray
+    fast_goal: FloatArray
+    hard_start: FloatArray
+    hard_goal: FloatArray
+    width: float
+    gap: float
+    time_gap: float
+    paths: tuple[str, str]
+
+
+def switch_points(
+    gen: Any, n: int, rng: np.random.Generator, width: float = 1e-9, iterations: int = 80, reach: float = 0.1
+) -> list[SwitchPoint]:
+    """Bisection to the fast/hard switch on ``n`` seeded query pairs of a paper track, and the gap across it.
+
+    Each draw is a start, a goal and a second goal moved from it by a normal step of standard deviation ``reach``
+    (metres, per coordinate); when the straight line's clearance
+    (:func:`trajopt.fastpath.straight_line_clearance`) is at least the separation the generator asks of it at one
+    goal and below it at the other, with the same domain and word at both, the segment between the goals is bisected
+    until the two sides are ``width`` apart (every midpoint must keep the domain and word, else the pair is
+    dropped). The trajectories of the two sides are then generated and compared.
+
+    Parameters
+    ----------
+    gen : TrajectoryGenerator
+        Of a paper track.
+    n : int
+        Number of draws (each gives at most one switch point).
+    rng : numpy.random.Generator
+    width : float
+        Bracket width at which the bisection stops (metres).
+
+    Returns
+    -------
+    list of SwitchPoint
+    """
+    from trajopt.fastpath import straight_line_clearance
+    from trajopt.generator import separation_margin
+
+    track = gen.track
+    hi = np.nextafter(track.total_length, 0.0)
+    sep = gen.clearance + separation_margin(gen.limits, gen.rate)
+
+    def line(s: FloatArray, g: FloatArray) -> tuple[float, tuple[Any, ...]]:
+        p = gen.plan(s, g)
+        return straight_line_clearance(p), (p.domain, tuple(p.word))
+
+    out: list[SwitchPoint] = []
+    for _ in range(n):
+        s, g0 = rng.uniform(0.0, hi, 2), rng.uniform(0.0, hi, 2)
+        g1 = np.clip(g0 + rng.normal(scale=reach, size=2), 0.0, hi)
+        try:
+            (c0, k0), (c1, k1) = line(s, g0), line(s, g1)
+        except MPAError:
+            continue
+        if k0 != k1 or (c0 >= sep) == (c1 >= sep) or min(c0, c1) == float("-inf"):
+            continue
+        if c0 < sep:
+            g0, g1 = g1, g0
+        lo_g, hi_g = g0, g1  # lo: fast side, hi: hard side
+        ok = True
+        for _ in range(iterations):
+            if float(np.max(np.abs(hi_g - lo_g))) <= width:
+                break
+            mid = 0.5 * (lo_g + hi_g)
+            try:
+                c, k = line(s, mid)
+            except MPAError:
+                ok = False
+                break
+            if k != k0:
+                ok = False
+                break
+            if c >= sep:
+                lo_g = mid
+            else:
+                hi_g = mid
+        if not ok:
+            continue
+        try:
+            fast, hard = gen.generate(s, lo_g), gen.generate(s, hi_g)
+        except MPAError:
+            continue
+        gap, dt = trajectory_gap(fast, hard)
+        paths = (str(fast.solver_stats.get("path", "plan")), str(hard.solver_stats.get("path", "plan")))
+        out.append(SwitchPoint(s, lo_g, s, hi_g, float(np.max(np.abs(hi_g - lo_g))), gap, dt, paths))
     return out
