@@ -184,10 +184,11 @@ class LayoutTwin:
 
 
 def layout_queries(
-    track: Any, n: int, rng: np.random.Generator, clearances: tuple[float, ...]
+    track: Any, n: int, rng: np.random.Generator, clearances: tuple[float, ...], tries: int = 10_000
 ) -> list[tuple[float, tuple[Any, Any], tuple[Any, Any]]]:
-    """``n`` seeded queries ``(D, start, goal)`` on a layout: positions uniform by length, robots at least
-    ``D`` apart (plus 1e-6 m) at both ends, the clearances taken in turn; every fourth query a swap."""
+    """Up to ``n`` seeded queries ``(D, start, goal)`` on a layout: positions uniform by length, robots at least
+    ``D`` apart (plus 1e-6 m) at both ends, the clearances taken in turn; every fourth query a swap. A query whose
+    clearance admits no such ends within ``tries`` draws is left out."""
     lengths = np.asarray(track.lengths, dtype=float)
     g = track.geometry
     out: list[tuple[float, tuple[Any, Any], tuple[Any, Any]]] = []
@@ -196,13 +197,14 @@ def layout_queries(
         e = int(rng.choice(len(lengths), p=lengths / lengths.sum()))
         return e, float(rng.uniform(0.0, lengths[e]))
 
-    while len(out) < n:
-        D = float(clearances[len(out) % len(clearances)])
-        a, b = pos(), pos()
-        c, d = (b, a) if len(out) % 4 == 0 else (pos(), pos())
-        if min(g.distance_scalar(*a, *b), g.distance_scalar(*c, *d)) < D + 1e-6:
-            continue
-        out.append((D, (a, b), (c, d)))
+    for q in range(n):
+        D = float(clearances[q % len(clearances)])
+        for _ in range(tries):
+            a, b = pos(), pos()
+            c, d = (b, a) if q % 4 == 0 else (pos(), pos())
+            if min(g.distance_scalar(*a, *b), g.distance_scalar(*c, *d)) >= D + 1e-6:
+                out.append((D, (a, b), (c, d)))
+                break
     return out
 
 
