@@ -8,7 +8,7 @@
 (b) Layout twins (:func:`trajopt.stability.layout_twins`): per example layout ``--queries`` seeded queries (clearances
     0.05, 0.2, 0.5, 1 × the median edge length; every fourth a swap) and their twins with every position moved by
     δ = 1e-3, 1e-5, 1e-7 along its edge; counts the twins whose routes change and, among the others, the plans that
-    move by more than 1e-3 m (plan level, the graph planner's ``fastest`` plans, speeds 1 m/s).
+    move by more than max(1e-3 m, 10 δ) (plan level, the graph planner's ``fastest`` plans, speeds 1 m/s).
 
 Usage::
 
@@ -65,7 +65,8 @@ def switch_table(draws: int, seed: int) -> list[str]:
 def layout_table(queries: int, seed: int) -> list[str]:
     """Markdown rows of the layout twins (one per layout and δ)."""
     rows = [
-        "| layout | δ (m) | twins | routes changed | same route, moved > 1e-3 m | largest same-route move (m) |",
+        "| layout | δ (m) | twins | routes changed | same route, moved > max(1e-3 m, 10 δ) "
+        "| largest same-route move (m) |",
         "|---|---|---|---|---|---|",
     ]
     for name in LAYOUTS:
@@ -80,7 +81,7 @@ def layout_table(queries: int, seed: int) -> list[str]:
             same = [x.gap for x in r if not x.route_changed]
             rows.append(
                 f"| {name} | {d:g} | {len(r)} | {changed} ({100.0 * changed / max(len(r), 1):.1f} %) | "
-                f"{sum(g > JUMP_GOAL for g in same)} | {max(same, default=0.0):.3g} |"
+                f"{sum(g > max(JUMP_GOAL, 10.0 * d) for g in same)} | {max(same, default=0.0):.3g} |"
             )
             print(rows[-1], file=sys.stderr, flush=True)
     return rows
