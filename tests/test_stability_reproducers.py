@@ -30,7 +30,8 @@ def test_route_direction_does_not_flip_with_a_vanishing_displacement() -> None:
     """Lollipop 1/1, clearance 0.15: robot A's goal 1e-7 m either side of its start (same domain and word).
 
     A leaves its start by about 0.45 m and comes back; its route's orientation follows that excursion, not the
-    sign of the vanishing net displacement, so ``a_s`` moves by about 1e-7 m (it jumped by 0.2 m).
+    sign of the vanishing net displacement, so ``a_s`` moves by about 1e-7 m (orienting by the goal's sign moves
+    it by 0.2 m).
     """
     gen = _gen(Lollipop(1.0, 1.0), 0.15)
     s = (1.052036977910553, 0.414122724838889)
@@ -115,7 +116,7 @@ def test_plan_route_coordinates_of_twins(
 @pytest.mark.xfail(strict=True, reason="the fast/hard switch still jumps (measured in experiments/stability_sweeps.py)")
 def test_fast_hard_switch_reproducer() -> None:
     """Lollipop 1/1, clearance 0.05: the two sides of a switch point, same domain and word (hard path against fast
-    path: 0.057 m and 2.398 s against 2.205 s when found). Goal: gap <= 1e-4 m, motion time change <= 1e-3 s."""
+    path: 0.057 m and 2.398 s against 2.205 s). Goal: gap <= 1e-4 m, motion time change <= 1e-3 s."""
     gen = _gen(Lollipop(1.0, 1.0), 0.05)
     one = gen.generate((1.934012862928031, 1.0823599379948243), (0.9203486504460147, 0.32972931268485045))
     two = gen.generate((1.9340128628729087, 1.0823599379523496), (0.9203486504535163, 0.32972931265931066))
