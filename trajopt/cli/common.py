@@ -16,9 +16,11 @@ from mpa.tracks import Track, make_track
 
 __all__ = [
     "TRAJECTORY_DEFAULTS",
+    "add_map_arguments",
     "add_query_arguments",
     "add_trajectory_arguments",
     "check_output_dir",
+    "graph_from_args",
     "output_error",
     "parse_coordinates",
     "query_from_args",
@@ -32,7 +34,13 @@ def add_query_arguments(p: argparse.ArgumentParser, graph: bool = False) -> None
         "--track", required=not graph, choices=["interval", "circle", "lollipop"], help="one of the paper's tracks"
     )
     if graph:
-        p.add_argument("--graph", metavar="FILE", default=None, help="a track layout (JSON) instead of --track")
+        p.add_argument(
+            "--graph",
+            metavar="FILE",
+            default=None,
+            help="a track layout instead of --track: our JSON, an Open-RMF building map or navigation graph",
+        )
+        add_map_arguments(p)
     p.add_argument("--stick", type=float, default=None, help="stick length ℓ in metres (interval, lollipop; default 1)")
     p.add_argument(
         "--loop", type=float, default=None, help="loop circumference c in metres (circle, lollipop; default 1)"
@@ -44,6 +52,27 @@ def add_query_arguments(p: argparse.ArgumentParser, graph: bool = False) -> None
     )
     p.add_argument("--start", nargs=2, required=True, metavar=("A", "B"), help=f"start: {what}")
     p.add_argument("--goal", nargs=2, required=True, metavar=("A", "B"), help=f"goal: {what}")
+
+
+def add_map_arguments(p: argparse.ArgumentParser) -> None:
+    """``--level NAME`` and ``--nav-graph IDX``: which part of an Open-RMF map ``--graph`` reads."""
+    p.add_argument(
+        "--level", default=None, metavar="NAME", help="Open-RMF maps: the level (default: the reference level)"
+    )
+    p.add_argument(
+        "--nav-graph",
+        type=int,
+        default=None,
+        metavar="IDX",
+        help="Open-RMF building maps: the navigation graph, the lanes' graph_idx (default 0)",
+    )
+
+
+def graph_from_args(args: argparse.Namespace) -> GraphTrack:
+    """The layout of ``--graph FILE`` (with ``--level`` and ``--nav-graph`` for Open-RMF maps)."""
+    return GraphTrack.from_file(
+        args.graph, level=getattr(args, "level", None), nav_graph=getattr(args, "nav_graph", None)
+    )
 
 
 def parse_coordinates(values: list[str], option: str) -> tuple[float, float]:
@@ -64,12 +93,14 @@ def query_from_args(args: argparse.Namespace) -> tuple[Track | GraphTrack, Any, 
     names (robot A first).
     """
     graph = getattr(args, "graph", None)
+    if graph is None and (getattr(args, "level", None) is not None or getattr(args, "nav_graph", None) is not None):
+        raise InvalidInputError("--level and --nav-graph choose part of an Open-RMF map, expected them with --graph")
     if graph is not None and args.track is not None:
         raise InvalidInputError(f"both --track {args.track} and --graph {graph} given, expected one of them")
     if graph is None and args.track is None:
         raise InvalidInputError("no track given, expected --track {interval,circle,lollipop} or --graph FILE")
     if graph is not None:
-        track = GraphTrack.from_json(graph)
+        track = graph_from_args(args)
         start = tuple(track.position(v, f"--start of robot {r}") for v, r in zip(args.start, "AB"))
         goal = tuple(track.position(v, f"--goal of robot {r}") for v, r in zip(args.goal, "AB"))
         return track, start, goal
