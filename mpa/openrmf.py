@@ -295,7 +295,7 @@ def _fiducials(level: Mapping[str, Any]) -> dict[str, tuple[float, float]]:
 
 
 def _pixel_transform(levels: Mapping[str, Any], name: str, ref: str) -> tuple[float, float, float, float]:
-    """``(scale, rotation, tx, ty)``: a pixel ``p = (x, -y)`` of level ``name`` is at ``R(rotation) p · scale + t`` (m)."""
+    """``(scale, rotation, tx, ty)``: pixel ``p = (x, -y)`` of level ``name`` is at ``R(rotation) p · scale + t``."""
     ref_level = levels[ref]
     ref_vertices = _check_vertices(ref_level, ref, False)
     ref_scale = _reference_scale(ref_level, ref_vertices, ref)
