@@ -188,7 +188,7 @@ def test_wgs84_local_tangent_plane_distances_within_the_stated_error() -> None:
 
 def test_wgs84_vertex_outside_the_degree_ranges_is_an_error() -> None:
     data = _building([[200.0, 1.0, 0, "a"], [1.0, 1.0, 0, "b"]], [_lane(0, 1)], system="wgs84")
-    with pytest.raises(mpa.InvalidInputError, match="longitude 200.0"):
+    with pytest.raises(mpa.InvalidInputError, match=r"longitude 200\.0"):
         building_layout(data)
 
 
@@ -269,7 +269,7 @@ def test_nav_graph_two_one_way_lanes_are_one_two_way_edge(tmp_path: Path) -> Non
     ]
     with pytest.raises(mpa.InvalidInputError, match=r"level is 'L2'.*\['L1'\]"):
         read_layout_file(path, level="L2")
-    with pytest.raises(mpa.InvalidInputError, match="nav graph is 1"):
+    with pytest.raises(mpa.InvalidInputError, match=r"nav graph is 1"):
         read_layout_file(path, nav_graph=1)
 
 
