@@ -235,10 +235,8 @@ def test_cli_swap_on_a_hand_made_map_one_way_exit_3_two_way_verified(
     path = tmp_path / "y.building.yaml"
     path.write_text(yaml.safe_dump(_building_with_y(oneway)), encoding="utf-8")
     out = tmp_path / "out"
-    rc = main(
-        ["trajectory", "--graph", str(path), "--start", "left", "right", "--goal", "right", "left"]
-        + ["--clearance", "0.5", "--out", str(out)]
-    )
+    query = ["--start", "left", "right", "--goal", "right", "left", "--clearance", "0.5"]
+    rc = main(["trajectory", "--graph", str(path), *query, "--out", str(out)])
     _, err = capsys.readouterr()
     if oneway:
         assert rc == 3
