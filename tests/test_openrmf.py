@@ -359,3 +359,27 @@ def test_cli_plan_and_topology_on_a_building_map(capsys: pytest.CaptureFixture[s
     assert json.loads(text)["betti"] == [1, 5, 0]
     rc, _, err = _cli(capsys, "plan", "--graph", HOTEL, "--level", "nope", "--start", "a", "b", "--goal", "b", "a")
     assert rc == 2 and "['L1', 'L2', 'L3']" in err
+
+
+def test_cli_fleet_limits_unless_given_and_footprint_not_available(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    query = ["--graph", OFFICE, "--start", "pantry", "patrol_A1", "--goal", "patrol_A1", "pantry", "--clearance", "0.5"]
+    fleet = DATA / "office_tinyRobot_config.yaml"
+    out = tmp_path / "o"
+    rc, _, err = _cli(
+        capsys, "trajectory", *query, "--fleet", fleet, "--fleet-radius", "none", "--vmax", "0.4", "--out", out
+    )
+    assert rc == 0, err
+    limits = json.loads((out / "summary.json").read_text())["limits"]
+    assert limits["vmax"] == [0.4, 0.4] and limits["amax"] == [0.75, 0.75]  # --vmax given, amax from the fleet
+    for radius in ("footprint", "vicinity"):
+        out2 = tmp_path / radius
+        rc, _, err = _cli(capsys, "trajectory", *query, "--fleet", fleet, "--fleet-radius", radius, "--out", out2)
+        assert rc == 2 and err.startswith("error: ") and "footprints in the plane are not available" in err
+        assert "0.3 m" in err if radius == "footprint" else "0.5 m" in err
+        assert not out2.exists()
+    no_limits = tmp_path / "fleet.yaml"
+    no_limits.write_text("rmf_fleet:\n  name: x\n  profile: {footprint: 0.3}\n", encoding="utf-8")
+    rc, _, err = _cli(capsys, "trajectory", *query, "--fleet", no_limits, "--fleet-radius", "none", "--out", out / "x")
+    assert rc == 2 and "rmf_fleet.limits.linear" in err
