@@ -11,12 +11,12 @@ iff the straight one is monotone, and ``q ∈ C(r)`` implies ``C(q) ⊆ C(r)``. 
 stands on a vertex) the allowed part ``face ∩ C(r)`` is an interval whose ends are face ends or the projections
 ``y = r_s`` / ``y = r_t`` of ``r``.
 
-**Search.** Dijkstra over points: the start, and on every face reached from a point ``r`` the two ends of
-``face ∩ C(r)`` and the point of it nearest to ``r`` along the face; a point's key names it independently of the
-polygon (a corner, or a face and an offset), and it is expanded in every polygon holding it. The goal is reached
-from a point whose polygon holds it and whose cone contains it. Each coordinate is a face end, the start's, or a
-coordinate carried over from an earlier point while the same robot stays on the same edge, so the set of points is
-finite and the search ends.
+**Search.** A* over points: the start, and on every face reached from a point ``r`` the two ends of
+``face ∩ C(r)``; a point's key names it independently of the polygon (a corner, or a face and an offset), and it is
+expanded in every polygon holding it. The goal is reached from a point whose polygon holds it and whose cone contains
+it. Each coordinate is a face end, the start's, or a coordinate carried over from an earlier point while the same
+robot stays on the same edge, so the set of points is finite and the search ends. The bound is each robot's graph
+distance to its goal at its top speed (admissible: the rules only forbid and slow down).
 
 **Complete.** Let a motion respecting every one-way edge cross faces ``x1, x2, ...``. By induction the search holds,
 on the face of ``x_k``, the lower end ``y_k`` of ``face ∩ C(y_{k-1})``, which contains ``x_k`` (cones only shrink
@@ -25,11 +25,13 @@ equal in the other, so ``C(y_k) ⊇ C(x_k)`` in every polygon glued along that f
 hence in ``C(y_last)``: a motion is found whenever one exists.
 
 **Cost.** A straight move ``(Δs, Δt)`` in the cell ``e × f`` takes ``max(|Δs| / min(vA, v_e), |Δt| / min(vB, v_f))``
-seconds (``"fastest"``, exact for the path found, with the tie-breaks of :mod:`mpa.planners.graph`) or its length
-(``"shortest"``). The path found is the cheapest through the points above; it is not the optimum over all paths (an
-optimal path may bend elsewhere on a face). Its distance from the optimum is bounded per plan: the plan records as
-``lower_bound`` the optimum of the same query without the rules (:func:`mpa.planners.graph.plan_graph`'s exact
-search, at the speeds ``(vA, vB)``), which no motion under the rules can beat.
+seconds (``"fastest"``, with the tie-breaks of :mod:`mpa.planners.graph`) or its length (``"shortest"``). The path
+found bends only at the points above; it is then improved by sliding each face crossing along its face (coordinate
+descent, every rule kept, :func:`_smooth`), and replaced by the exact optimum without the rules (also smoothed) when
+that one keeps the one-way rule and costs less. The result is exact in its time at the speed limits but not proven
+optimal. Its distance from the optimum is bounded per plan: the plan records as ``lower_bound`` the optimum of the
+same query without the rules (:func:`mpa.planners.graph.plan_graph`'s exact search at the speeds ``(vA, vB)``),
+which no motion under the rules can beat.
 """
 
 from __future__ import annotations
@@ -67,7 +69,7 @@ def _search(
 ) -> list[list[Any]] | None:
     """Segments ``[polygon, from, to]`` (cell offsets) of the cheapest path through the candidate points, or None
     when the goal cannot be reached under the one-way rule."""
-    from mpa.planners.graph import TIE_BREAK, TIE_BREAK_2
+    from mpa.planners.graph import TIE_BREAK, TIE_BREAK_2, _goal_terms
 
     oneway = tr.oneway
     spa, spb = _cell_speeds(tr, va, vb)
@@ -77,6 +79,24 @@ def _search(
         if objective == "shortest":
             return math.hypot(ds, dt)
         ta, tb = abs(ds) / spa[pid[0]], abs(dt) / spb[pid[1]]
+        return max(ta, tb) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
+
+    (gea, gsa), (geb, gsb) = goal
+    cpa, cma, _ = _goal_terms(mesh.g, goal[0])
+    cpb, cmb, _ = _goal_terms(mesh.g, goal[1])
+
+    def bound(pid: PolygonId, p: Coords) -> float:
+        """Admissible: each robot's graph distance to its goal at its top speed (lanes two-way, no limits)."""
+        e, f, _ = pid
+        da = min(p[0] + cpa[e], cma[e] - p[0])
+        db = min(p[1] + cpb[f], cmb[f] - p[1])
+        if e == gea:
+            da = min(da, abs(p[0] - gsa))
+        if f == geb:
+            db = min(db, abs(p[1] - gsb))
+        if objective == "shortest":
+            return math.hypot(da, db)
+        ta, tb = da / va, db / vb
         return max(ta, tb) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
 
     def allowed(pid: PolygonId, p: Coords, q: Coords) -> bool:
@@ -97,12 +117,13 @@ def _search(
         if gval < best.get(key, math.inf):
             best[key] = gval
             back[key] = (src, pid, p, q)
-            heapq.heappush(heap, (gval, counter, key))
+            heapq.heappush(heap, (gval + (0.0 if key == ("G",) else bound(pid, q)), counter, key))
             counter += 1
 
     while heap:
-        gval, _, key = heapq.heappop(heap)
-        if key in done or gval > best[key]:
+        _, _, key = heapq.heappop(heap)
+        gval = best[key]
+        if key in done:
             continue
         done.add(key)
         if key == ("G",):
@@ -120,14 +141,14 @@ def _search(
                 if ax == 0:
                     if oneway[e] and a < rc[0]:
                         continue
-                    ylo, yhi, near = (max(lo, rc[1]) if oneway[f] else lo), hi, rc[1]
+                    ylo, yhi = (max(lo, rc[1]) if oneway[f] else lo), hi
                 else:
                     if oneway[f] and a < rc[1]:
                         continue
-                    ylo, yhi, near = (max(lo, rc[0]) if oneway[e] else lo), hi, rc[0]
+                    ylo, yhi = (max(lo, rc[0]) if oneway[e] else lo), hi
                 if ylo > yhi:
                     continue
-                for y in {ylo, yhi, min(max(near, ylo), yhi)}:
+                for y in (ylo, yhi) if yhi > ylo else (ylo,):
                     pt = (a, y) if ax == 0 else (y, a)
                     if pt == rc:
                         continue
@@ -144,6 +165,133 @@ def _search(
         segs.append([pid, p, q])
         key = src
     segs.reverse()
+    return segs
+
+
+def allowed_path(tr: GraphTrack, seg: list[Any]) -> bool:
+    """Whether a straight segment ``[polygon, from, to]`` keeps the one-way rule in its cell."""
+    (e, f, _), p, q = seg
+    return (not tr.oneway[e] or q[0] >= p[0]) and (not tr.oneway[f] or q[1] >= p[1])
+
+
+def _vertex_of(g: Any, e: int, x: float) -> int | None:
+    return int(g._t[e]) if x == 0.0 else (int(g._h[e]) if x == g._L[e] else None)
+
+
+def _relabel_standing(mesh: Any, segs: list[list[Any]]) -> None:
+    """A robot standing on a vertex during a segment belongs to every edge there: name it on the edge it uses in the
+    neighbouring segment, so that the junction becomes a face point (one robot changes edges) that may slide."""
+    g = mesh.g
+    index = mesh.fs._index
+    relabelled: set[tuple[int, int]] = set()
+    changed = True
+    while changed:
+        changed = False
+        for k in range(len(segs) - 1):
+            for i, j in ((k, k + 1), (k + 1, k)):
+                pid, p, q = segs[i]
+                other = segs[j][0]
+                for r in (0, 1):
+                    if p[r] != q[r] or pid[r] == other[r] or (i, r) in relabelled:
+                        continue
+                    w = _vertex_of(g, pid[r], p[r])
+                    e2 = other[r]
+                    x2 = 0.0 if g._t[e2] == w else (float(g._L[e2]) if g._h[e2] == w else None)
+                    if w is None or x2 is None:
+                        continue
+                    ea, eb = (e2, pid[1]) if r == 0 else (pid[0], e2)
+                    p2 = (x2, p[1]) if r == 0 else (p[0], x2)
+                    q2 = (x2, q[1]) if r == 0 else (q[0], x2)
+                    if ea == eb and (p2[0] - p2[1]) * (q2[0] - q2[1]) <= 0:
+                        continue
+                    new = (ea, eb, 0 if ea != eb or p2[0] > p2[1] else 1)
+                    if new in index:
+                        relabelled.add((i, r))
+                        segs[i] = [new, p2, q2]
+                        pid, p, q = segs[i]
+                        changed = True
+
+
+def _smooth(
+    mesh: Any,
+    tr: GraphTrack,
+    segs: list[list[Any]],
+    seg_cost: Any,
+    sweeps: int = 60,
+) -> list[list[Any]]:
+    """Slide the path's face crossings along their faces to lower its cost, keeping every rule.
+
+    A junction of two segments where exactly one robot changes frames (it stands on a vertex: a face point) may move
+    along the face's free interval ``[lo, hi]``, and, when the other robot's edge is one-way, between the other
+    robot's offsets at the neighbouring corners (monotone). Each segment stays in its convex polygon (its ends on the
+    polygon's sides), so the path stays free. Coordinate descent: each junction in turn at the minimum of the two
+    segments' costs (convex in its position; ternary search), sweeps until nothing improves by ``1e-12``.
+    """
+    g = mesh.g
+    segs = [[x[0], tuple(x[1]), tuple(x[2])] for x in segs]
+    _relabel_standing(mesh, segs)
+    movable = []
+    for k in range(len(segs) - 1):
+        (p1, _, q1), (p2, q2, _) = segs[k], segs[k + 1]
+        for ax in (0, 1):
+            o = 1 - ax
+            if p1[o] != p2[o] or q1[o] != q2[o]:
+                continue  # the other robot must stay on its edge, at one offset, through the junction
+            e1, e2 = p1[ax], p2[ax]
+            end1 = g._t[e1] if q1[ax] == 0.0 else (g._h[e1] if q1[ax] == g._L[e1] else None)
+            end2 = g._t[e2] if q2[ax] == 0.0 else (g._h[e2] if q2[ax] == g._L[e2] else None)
+            if end1 is None or end2 is None or end1 != end2:
+                continue
+            w, f = int(end1), int(p1[o])
+            if not mesh.ok[w][f]:
+                continue
+            movable.append((k, ax, mesh.lo[w][f], mesh.hi[w][f]))
+            break
+    if not movable:
+        return segs
+    oneway = tr.oneway
+
+    def total(k: int) -> float:
+        return seg_cost(segs[k][0], segs[k][1], segs[k][2]) + seg_cost(segs[k + 1][0], segs[k + 1][1], segs[k + 1][2])
+
+    def place(k: int, ax: int, y: float) -> None:
+        o = 1 - ax
+        q1, q2 = list(segs[k][2]), list(segs[k + 1][1])
+        q1[o] = q2[o] = y
+        segs[k][2], segs[k + 1][1] = tuple(q1), tuple(q2)
+
+    for _ in range(sweeps):
+        gain = 0.0
+        for k, ax, lo, hi in movable:
+            o = 1 - ax
+            lo_k, hi_k = lo, hi
+            if oneway[segs[k][0][o]]:
+                lo_k = max(lo_k, segs[k][1][o])
+                hi_k = min(hi_k, segs[k + 1][2][o])
+            y0 = segs[k][2][o]
+            if hi_k <= lo_k:
+                continue
+            before = total(k)
+            a, b = lo_k, hi_k
+            for _ in range(80):
+                m1, m2 = a + (b - a) / 3.0, b - (b - a) / 3.0
+                place(k, ax, m1)
+                c1 = total(k)
+                place(k, ax, m2)
+                c2 = total(k)
+                if c1 <= c2:
+                    b = m2
+                else:
+                    a = m1
+            y = 0.5 * (a + b)
+            place(k, ax, y)
+            after = total(k)
+            if after < before:
+                gain += before - after
+            else:
+                place(k, ax, y0)
+        if gain <= 1e-12:
+            break
     return segs
 
 
@@ -179,21 +327,37 @@ def plan_with_rules(
             f"the one-way lanes forbid it: start ({names}) and goal ({gnames}) are connected when every lane may be "
             f"driven both ways, but no motion drives the one-way lanes ({listed}) only from 'from' to 'to'"
         )
-    segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])
-    plan = _assemble(tr, fs, start, goal, objective, speeds, segs)
     spa, spb = _cell_speeds(tr, va, vb)
+
+    def seg_cost(pid: PolygonId, p: Coords, q: Coords) -> float:
+        ds, dt = q[0] - p[0], q[1] - p[1]
+        if objective == "shortest":
+            return math.hypot(ds, dt)
+        ta, tb = abs(ds) / spa[pid[0]], abs(dt) / spb[pid[1]]
+        return max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb)
+
+    def smoothed(path: list[list[Any]]) -> list[list[Any]]:
+        path = _merge_same_polygon([x for x in path if x[1] != x[2]])
+        return _merge_same_polygon([x for x in _smooth(mesh, tr, path, seg_cost) if x[1] != x[2]])
+
+    def path_cost(path: list[list[Any]]) -> float:
+        return sum(seg_cost(x[0], x[1], x[2]) for x in path)
+
+    raw = exact_search(mesh, start, goal, objective, va, vb)
+    if raw is None:  # pragma: no cover - the component check guarantees a path without the rules
+        raise PlanningError("the search without the rules found no path although it exists")
+    raw = _merge_same_polygon([x for x in raw if x[1] != x[2]])
+    free = _assemble(tr, fs, start, goal, objective, speeds, raw)
+    bound = free.makespan if objective == "fastest" else free.length
+    candidates = [smoothed(segs)]
+    if all(allowed_path(tr, x) for x in raw):  # the optimum without the rules keeps the one-way rule: start there
+        candidates.append(smoothed(raw))
+    segs = min(candidates, key=path_cost)
+    plan = _assemble(tr, fs, start, goal, objective, speeds, segs)
     offs = plan.segment_offsets
     d = np.abs(offs[:, 1] - offs[:, 0]) if len(offs) else np.zeros((0, 2))
     sa = np.array([spa[c[0]] for c in plan.segment_cells], dtype=float)
     sb = np.array([spb[c[1]] for c in plan.segment_cells], dtype=float)
     seg_t = np.maximum(d[:, 0] / sa, d[:, 1] / sb) if len(offs) else np.zeros(0)
     times = np.concatenate([[0.0], np.cumsum(seg_t)])
-    bound = None
-    raw = exact_search(mesh, start, goal, objective, va, vb)
-    if raw is not None:
-        raw = _merge_same_polygon([x for x in raw if x[1] != x[2]])
-        free = _assemble(tr, fs, start, goal, objective, speeds, raw)
-        bound = free.makespan if objective == "fastest" else free.length
-    if bound is None:  # pragma: no cover - the component check guarantees a path without the rules
-        raise PlanningError("the search without the rules found no path although it exists")
     return dataclasses.replace(plan, makespan=float(times[-1]), _times=times, lower_bound=bound)
