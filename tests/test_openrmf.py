@@ -320,6 +320,22 @@ def test_cli_convert_writes_our_json_and_show_draws(tmp_path: Path, capsys: pyte
     assert "16 edges" in text
     layout = json.loads(out.read_text())
     assert mpa.GraphTrack.from_layout(layout) == mpa.GraphTrack.from_file(HOTEL, level="L2", nav_graph=2)
+    assert all(e["oneway"] is False and e["speed_limit"] is None for e in layout["edges"])
+    ruled = _write(
+        tmp_path,
+        _building(
+            [[0, 0, 0, "a"], [4, 3, 0, "b"], [4, 0, 0, "c"]],
+            [_lane(0, 1, bidirectional=False), _lane(1, 2, speed=0.4)],
+            system="cartesian_meters",
+        ),
+    )
+    rc, _, err = _cli(capsys, "layout", "convert", ruled, "--out", tmp_path / "ruled.json")
+    assert rc == 0, err
+    edges = json.loads((tmp_path / "ruled.json").read_text())["edges"]
+    assert [(e["from"], e["to"], e["length"], e["oneway"], e["speed_limit"]) for e in edges] == [
+        ("a", "b", 5.0, True, None),
+        ("b", "c", 3.0, False, 0.4),
+    ]
     png = tmp_path / "office.png"
     rc, text, err = _cli(capsys, "layout", "show", OFFICE, "--plot", png)
     assert rc == 0, err

@@ -1,8 +1,9 @@
 """``mpa layout convert|show``: Open-RMF maps (and our layouts) converted to our JSON, or described and drawn.
 
 - ``mpa layout convert FILE [--level L] [--nav-graph IDX] --out layout.json`` writes our JSON layout (vertex names
-  and coordinates, edges with ``length``, ``oneway`` and ``speed_limit``) of a building map, a navigation graph or a
-  layout of ours, for users who want to edit it (:mod:`mpa.openrmf` states the conversion rules).
+  and coordinates, edges with ``length``, ``oneway`` (true/false) and ``speed_limit`` (m/s, null: none)) of a building
+  map, a navigation graph or a layout of ours, for users who want to edit it (:mod:`mpa.openrmf` states the
+  conversion rules).
 - ``mpa layout show FILE [--level L] [--nav-graph IDX] [--plot out.png] [--dpi N]`` prints the layout (vertices,
   edges, length, parts, one-way lanes, speed limits) and with ``--plot`` draws it with vertex names, one-way arrows
   and limits (:func:`trajopt.viz.layout_rules.layout_figure`).
@@ -82,7 +83,11 @@ def run_convert(args: argparse.Namespace) -> int:
     if not (out.parent if str(out.parent) else Path(".")).is_dir():
         raise InvalidInputError(f"--out folder {str(out.parent)!r} does not exist, expected an existing folder")
     track, info = _read(args)
-    text = json.dumps(track.to_dict(), indent=1) + "\n"
+    data = track.to_dict()
+    for edge in data["edges"]:  # every edge states its rules, also when it has none
+        edge.setdefault("oneway", False)
+        edge.setdefault("speed_limit", None)
+    text = json.dumps(data, indent=1) + "\n"
     GraphTrack.from_layout(json.loads(text))  # what is written reads back
     from trajopt.export import atomic_write_text
 
