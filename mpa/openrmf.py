@@ -87,14 +87,18 @@ def read_yaml_file(path: str | Path, what: str) -> object:
     InvalidInputError
         The file is missing, unreadable, or neither YAML nor JSON.
     """
+    return _load_yaml(_read_text(path, what, "a UTF-8 YAML file"), f"{what} file {str(path)!r}")
+
+
+def _read_text(path: str | Path, what: str, expected: str) -> str:
+    """The text of a UTF-8 file; InvalidInputError naming it (``what`` file) when missing or unreadable."""
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        return p.read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise InvalidInputError(f"{what} file {str(p)!r} does not exist, expected a file") from None
+        raise InvalidInputError(f"{what} file {str(p)!r} does not exist, expected {expected}") from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise InvalidInputError(f"{what} file {str(p)!r} cannot be read ({exc}), expected a UTF-8 text file") from None
-    return _load_yaml(text, f"{what} file {str(p)!r}")
+        raise InvalidInputError(f"{what} file {str(p)!r} cannot be read ({exc}), expected {expected}") from None
 
 
 # ------------------------------------------------------------------------------------------------ helpers
@@ -568,14 +572,7 @@ def read_layout_file(
         :func:`nav_graph_layout`.
     """
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InvalidInputError(f"layout file {str(p)!r} does not exist, expected a layout file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InvalidInputError(
-            f"layout file {str(p)!r} cannot be read ({exc}), expected a UTF-8 JSON or YAML file"
-        ) from None
+    text = _read_text(p, "layout", "a UTF-8 JSON or YAML layout file")
     try:
         data: object = json.loads(text)
     except json.JSONDecodeError as exc:

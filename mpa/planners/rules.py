@@ -58,6 +58,23 @@ def _cell_speeds(tr: GraphTrack, va: float, vb: float) -> tuple[list[float], lis
     return [min(va, x) for x in lim], [min(vb, x) for x in lim]
 
 
+def _cost_function(tr: GraphTrack, objective: str, va: float, vb: float) -> Any:
+    """``cost(polygon, p, q)`` of the straight move ``p -> q`` in the polygon's cell: seconds at the cell's speeds with
+    the tie-breaks of :mod:`mpa.planners.graph` (``"fastest"``), or metres (``"shortest"``)."""
+    from mpa.planners.graph import TIE_BREAK, TIE_BREAK_2
+
+    spa, spb = _cell_speeds(tr, va, vb)
+
+    def cost(pid: PolygonId, p: Coords, q: Coords) -> float:
+        ds, dt = q[0] - p[0], q[1] - p[1]
+        if objective == "shortest":
+            return math.hypot(ds, dt)
+        ta, tb = abs(ds) / spa[pid[0]], abs(dt) / spb[pid[1]]
+        return max(ta, tb) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
+
+    return cost
+
+
 def _search(
     mesh: Any,
     tr: GraphTrack,
@@ -72,14 +89,7 @@ def _search(
     from mpa.planners.graph import TIE_BREAK, TIE_BREAK_2, _goal_terms
 
     oneway = tr.oneway
-    spa, spb = _cell_speeds(tr, va, vb)
-
-    def cost(pid: PolygonId, p: Coords, q: Coords) -> float:
-        ds, dt = q[0] - p[0], q[1] - p[1]
-        if objective == "shortest":
-            return math.hypot(ds, dt)
-        ta, tb = abs(ds) / spa[pid[0]], abs(dt) / spb[pid[1]]
-        return max(ta, tb) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
+    cost = _cost_function(tr, objective, va, vb)
 
     (gea, gsa), (geb, gsb) = goal
     cpa, cma, _ = _goal_terms(mesh.g, goal[0])
@@ -328,13 +338,7 @@ def plan_with_rules(
             f"driven both ways, but no motion drives the one-way lanes ({listed}) only from 'from' to 'to'"
         )
     spa, spb = _cell_speeds(tr, va, vb)
-
-    def seg_cost(pid: PolygonId, p: Coords, q: Coords) -> float:
-        ds, dt = q[0] - p[0], q[1] - p[1]
-        if objective == "shortest":
-            return math.hypot(ds, dt)
-        ta, tb = abs(ds) / spa[pid[0]], abs(dt) / spb[pid[1]]
-        return max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb)
+    seg_cost = _cost_function(tr, objective, va, vb)
 
     def smoothed(path: list[list[Any]]) -> list[list[Any]]:
         path = _merge_same_polygon([x for x in path if x[1] != x[2]])
