@@ -41,7 +41,12 @@ class Layer:
 
 #: The layers, bottom first.
 LAYERS = (
-    Layer("mpa — the paper (numpy only)", ("mpa", "mpa/planners", "mpa/topology"), "numpy", "#dbe9f6"),
+    Layer(
+        "mpa — the paper (numpy only)",
+        ("mpa", "mpa/planners", "mpa/topology"),
+        "numpy; PyYAML: Open-RMF maps (openrmf) only",
+        "#dbe9f6",
+    ),
     Layer(
         "trajopt — the pipeline",
         ("trajopt",),
