@@ -576,7 +576,7 @@ def read_layout_file(
     try:
         data: object = json.loads(text)
     except json.JSONDecodeError as exc:
-        if text.lstrip().startswith(("{", "[")) and p.suffix.lower() == ".json":
+        if p.suffix.lower() == ".json":  # a .json file is JSON (a YAML reading would hide the mistake)
             raise InvalidInputError(
                 f"layout file {str(p)!r} is not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})"
             ) from None
