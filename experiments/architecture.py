@@ -53,7 +53,12 @@ LAYERS = (
         "casadi, toppra, ruckig, numba (compiled kernels); rosbags: ROS 2 bags only",
         "#e2f0d9",
     ),
-    Layer("trajopt.cli and trajopt.viz", ("trajopt/cli", "trajopt/viz"), "matplotlib (viz only)", "#fde9d9"),
+    Layer(
+        "trajopt.cli, trajopt.viz and trajopt.web",
+        ("trajopt/cli", "trajopt/viz", "trajopt/web"),
+        "matplotlib (viz only); starlette, uvicorn (web only)",
+        "#fde9d9",
+    ),
     Layer("experiments — figures, animations, benchmarks", ("experiments", "experiments/bench"), "ompl, dask", "#eee"),
 )
 
@@ -74,6 +79,8 @@ _ALLOWED = (
         "mpl_toolkits",
         "PIL",
         "imageio_ffmpeg",
+        "starlette",
+        "uvicorn",
     },
     None,  # experiments: anything
 )

@@ -130,7 +130,10 @@ def test_samples_below_2_is_an_error(n: str) -> None:
 def test_bare_mpa_prints_usage_and_exits_2() -> None:
     code, out, err = run([])
     assert code == 2 and out == ""
-    assert err.startswith("usage: mpa") and "{plan,trajectory,demo,animate,topology,replan,plot,layout}" in err
+    from trajopt.cli.main import SUBCOMMANDS
+
+    assert err.startswith("usage: mpa") and "{" + ",".join(SUBCOMMANDS) + "}" in err
+    assert "{plan,trajectory,demo,animate,topology,replan,plot,serve,layout}" in err
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     cp = subprocess.run([sys.executable, "-m", "trajopt.cli"], capture_output=True, text=True, env=env)
     assert cp.returncode == 2 and cp.stderr.startswith("usage: mpa") and "Traceback" not in cp.stderr

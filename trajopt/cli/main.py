@@ -2,8 +2,8 @@
 
 Subcommands: ``plan`` (the paper's planner), ``trajectory`` and ``demo`` (jerk-limited setpoints), ``animate``
 (animations), ``topology`` (topology of two robots on any graph), ``replan`` (re-plan a written trajectory from
-its moving state), ``plot`` (a PNG of written setpoints), ``layout`` (Open-RMF maps converted, layouts drawn);
-``mpa --version``.
+its moving state), ``plot`` (a PNG of written setpoints), ``serve`` (a local web explorer), ``layout`` (Open-RMF
+maps converted, layouts drawn); ``mpa --version``.
 
 Exit statuses (one line on stderr in every failing case, never a traceback, no output file left behind):
 
@@ -38,6 +38,7 @@ SUBCOMMAND_MODULES = (
     "trajopt.cli.topology",
     "trajopt.cli.replan",
     "trajopt.cli.plot",
+    "trajopt.cli.serve",
     "trajopt.cli.layout",
 )
 #: Every subcommand in help order: its module and its one-line help (equal to what the module registers; tested).
@@ -53,6 +54,7 @@ SUBCOMMANDS = {
         "re-plan a written trajectory from the carts' moving state at a time to a new goal",
     ),
     "plot": ("trajopt.cli.plot", "draw a setpoints file or an output directory of mpa into a PNG"),
+    "serve": ("trajopt.cli.serve", "a local web page to drag the robots and watch domains, plans and motions"),
     "layout": ("trajopt.cli.layout", "convert an Open-RMF map to a JSON layout, or describe and draw a layout"),
 }
 #: Exit status of bad input (``error:``).

@@ -12,10 +12,13 @@ import argparse
 import json
 import os
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from mpa.errors import InvalidInputError
+from mpa.graph_track import GraphTrack
+from mpa.plan import Plan
 from mpa.planners import make_planner
 from mpa.planners.factory import OBJECTIVES, PLANNERS, plan
 from mpa.planners.graph import GraphPlan
@@ -26,7 +29,7 @@ from trajopt.cli.common import add_clearance_argument, add_query_arguments, quer
 #: Fewest path samples in the JSON (the 1 % rule may ask for more).
 MIN_JSON_SAMPLES = 200
 
-__all__ = ["register"]
+__all__ = ["plan_json", "plan_query", "register"]
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
@@ -36,24 +39,74 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     graph_plan = args.planner == "graph" or not isinstance(track, Track)
     if args.plot is not None:
         _check_plot_path(args.plot, graph_plan, args.dpi)
-    if graph_plan or not isinstance(track, Track):
-        which = args.planner or "auto"
-        g = plan(track, start, goal, args.clearance, planner=which, objective=args.objective)
+    p = plan_query(track, start, goal, args.clearance, args.planner, args.objective, args.neighbourhood)
+    if isinstance(p, GraphPlan):
         if args.plot is not None:
-            _write_plot(g, args)  # type: ignore[arg-type]
-        rc = _print_graph_plan(g, args)  # type: ignore[arg-type]
+            _write_plot(p, args)
+        rc = _print_graph_plan(p, args)
         if args.plot is not None and not args.json:
             print(f"plot       {args.plot}")
         return rc
-    planner = make_planner(track, args.clearance, args.neighbourhood)
-    p = planner.plan(start, goal)
-    n = max(args.samples, MIN_JSON_SAMPLES, p.samples_needed(0.01))
     if args.json:
-        out = p.to_dict(samples=n)
-        out["samples"] = n
-        out["min_distance"] = float(np.min(track.distance(*np.asarray(out["path"]).T)))
-        print(json.dumps(out))
+        print(json.dumps(plan_json(p, args.samples)))
         return 0
+    _print_paper_plan(p)
+    return 0
+
+
+def plan_query(
+    track: Track | GraphTrack,
+    start: Any,
+    goal: Any,
+    clearance: float,
+    planner: str | None = None,
+    objective: str = "fastest",
+    neighbourhood: float = 0.1,
+) -> Plan | GraphPlan:
+    """The plan ``mpa plan`` prints for a query: the paper's planner on a paper track, else the graph planner.
+
+    Parameters
+    ----------
+    track : Track or GraphTrack
+        A paper track (``--track``) or a layout (``--graph``).
+    start, goal : pair
+        Track coordinates (metres) on a paper track; positions ``(edge, offset)`` on a layout; robot A first.
+    clearance : float
+        Required clearance D (metres).
+    planner : {None, "paper", "graph"}
+        ``--planner``: None picks the paper's planner on paper tracks and the graph planner on layouts.
+    objective : {"fastest", "shortest"}
+        ``--objective`` of the graph planner.
+    neighbourhood : float
+        ``--neighbourhood``: the domains' ε as a fraction of half the loop (paper planner).
+    """
+    if planner == "graph" or not isinstance(track, Track):
+        return plan(track, start, goal, clearance, planner=planner or "auto", objective=objective)
+    return make_planner(track, clearance, neighbourhood).plan(start, goal)
+
+
+def plan_json(p: Plan | GraphPlan, samples: int = 400) -> dict[str, Any]:
+    """The object ``mpa plan --json`` prints (``samples``: ``--samples``, any integer >= 2).
+
+    A paper plan: :meth:`mpa.plan.Plan.to_dict` with ``max(samples, 200, the 1 % rule)`` path points, ``samples``
+    and ``min_distance`` (metres). A graph plan: :meth:`GraphPlan.to_dict` with ``planner``, ``path`` (shape
+    (n, 2, 2): ``[edge name, offset]`` per robot), ``path_s`` (shape (n, 2), metres along each route),
+    ``samples`` and ``min_distance``.
+    """
+    if samples < 2:
+        raise InvalidInputError(f"--samples is {samples}, expected an integer >= 2")
+    if isinstance(p, GraphPlan):
+        return _graph_plan_json(p, max(samples, MIN_JSON_SAMPLES))
+    n = max(samples, MIN_JSON_SAMPLES, p.samples_needed(0.01))
+    out = p.to_dict(samples=n)
+    out["samples"] = n
+    out["min_distance"] = float(np.min(p.track.distance(*np.asarray(out["path"]).T)))
+    return out
+
+
+def _print_paper_plan(p: Plan) -> None:
+    """The text output of ``mpa plan`` for the paper's planner."""
+    track = p.track
     print(f"track      {track.kind} {json.dumps(track.to_dict())}")
     print(f"start      A = {p.start[0]:.6g}, B = {p.start[1]:.6g}")
     print(f"goal       A = {p.goal[0]:.6g}, B = {p.goal[1]:.6g}")
@@ -71,7 +124,6 @@ def _cmd_plan(args: argparse.Namespace) -> int:
             print(f"{'':<10} {'' if st.name == 'preliminary' else 'reversed trace of the goal: '}{info.text}")
         print(f"{'':<10} {pts}")
     print(f"travel     A {p.travel[0]:.4g} m, B {p.travel[1]:.4g} m; min distance {p.min_distance():.4g} m")
-    return 0
 
 
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
@@ -116,21 +168,27 @@ def _route_text(plan: GraphPlan, robot: int) -> str:
     return " -> ".join(parts) if parts else "stays"
 
 
+def _graph_plan_json(p: GraphPlan, n: int) -> dict[str, Any]:
+    """The JSON object of a graph plan with ``n`` path samples (see :func:`plan_json`)."""
+    tr = p.track
+    out = p.to_dict()
+    out["planner"] = "graph"
+    _, path_s = p.sample(n)
+    (ea, oa), (eb, ob) = p.route_a.positions(path_s[:, 0]), p.route_b.positions(path_s[:, 1])
+    names = tr.edge_names
+    out["path"] = [[[names[int(a)], float(x)], [names[int(b)], float(y)]] for a, x, b, y in zip(ea, oa, eb, ob)]
+    out["path_s"] = path_s.tolist()
+    out["samples"] = n
+    out["min_distance"] = p.min_distance()
+    return out
+
+
 def _print_graph_plan(p: GraphPlan, args: argparse.Namespace) -> int:
     """Output of ``mpa plan`` for the complete graph planner (text, or one JSON object with ``--json``)."""
     tr = p.track
     n = max(args.samples, MIN_JSON_SAMPLES)
     if args.json:
-        out = p.to_dict()
-        out["planner"] = "graph"
-        _, path_s = p.sample(n)
-        (ea, oa), (eb, ob) = p.route_a.positions(path_s[:, 0]), p.route_b.positions(path_s[:, 1])
-        names = tr.edge_names
-        out["path"] = [[[names[int(a)], float(x)], [names[int(b)], float(y)]] for a, x, b, y in zip(ea, oa, eb, ob)]
-        out["path_s"] = path_s.tolist()
-        out["samples"] = n
-        out["min_distance"] = p.min_distance()
-        print(json.dumps(out))
+        print(json.dumps(_graph_plan_json(p, n)))
         return 0
     print(f"track      graph: {tr.n_edges} edges, {tr.total_length:.6g} m")
     print(f"start      A = {tr.position_name(*p.start[0])}, B = {tr.position_name(*p.start[1])}")

@@ -18,6 +18,7 @@ from typing import Any
 
 from mpa import defaults
 from mpa.errors import InvalidInputError
+from mpa.graph_track import GraphTrack
 from mpa.tracks import Lollipop, Track
 from trajopt.cli.common import (
     TRAJECTORY_DEFAULTS,
@@ -26,13 +27,19 @@ from trajopt.cli.common import (
     output_error,
     query_from_args,
 )
-from trajopt.cli.outputs import add_output_arguments, check_output_options, output_files, summary_text
+from trajopt.cli.outputs import (
+    OutputOptions,
+    add_output_arguments,
+    check_output_options,
+    output_files,
+    summary_text,
+)
 from trajopt.delay import check_delay_tolerance
 from trajopt.export import Trajectory, atomic_write_bytes, atomic_write_text
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
 
-__all__ = ["DEMO_JOB", "output_lock", "register", "write_outputs"]
+__all__ = ["DEMO_JOB", "output_lock", "register", "trajectory_files", "write_outputs"]
 
 #: The embedded job of ``mpa demo``: the paper's lollipop, the robots swap order through the loop.
 DEMO_JOB: dict[str, Any] = {
@@ -127,6 +134,48 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
     tolerance = None if args.delay_tolerance is None else check_delay_tolerance(args.delay_tolerance)
     check_output_dir(args.out)
     track, start, goal = query_from_args(args)
+    limits = Limits(args.vmax, args.amax, args.jmax)
+    traj, files = trajectory_files(track, start, goal, args.clearance, limits, args.rate, opts, tolerance)
+    write_outputs(args.out, files)
+    print(summary_text(traj))
+    print(f"wrote       {', '.join(str(Path(args.out) / n) for n in files)}")
+    return 0
+
+
+def trajectory_files(
+    track: Track | GraphTrack,
+    start: Any,
+    goal: Any,
+    clearance: float,
+    limits: Limits,
+    rate: float,
+    opts: OutputOptions,
+    tolerance: float | None = None,
+) -> tuple[Trajectory, dict[str, str | bytes]]:
+    """The verified motion of ``mpa trajectory`` and its files, in memory (nothing is written).
+
+    Parameters
+    ----------
+    track, start, goal, clearance
+        The query, as :func:`trajopt.cli.plan.plan_query` takes it (metres; positions ``(edge, offset)`` on a
+        layout).
+    limits : Limits
+        ``--vmax`` (m/s), ``--amax`` (m/s²), ``--jmax`` (m/s³) per robot.
+    rate : float
+        ``--rate`` of the setpoints (Hz).
+    opts : OutputOptions
+        The checked output options (:func:`trajopt.cli.outputs.check_output_options`).
+    tolerance : float, optional
+        ``--delay-tolerance`` (s), already checked; paper tracks only.
+
+    Returns
+    -------
+    traj : Trajectory
+        The motion, through the verification gate.
+    files : dict
+        File name -> content, as :func:`trajopt.cli.outputs.output_files` gives them (``summary.json`` last,
+        with the ``recipe`` that rebuilds the motion).
+    """
     if not isinstance(track, Track):  # a layout (--graph)
         if opts.plot:
             raise InvalidInputError(
@@ -135,20 +184,15 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
             )
         if tolerance is not None:
             raise InvalidInputError("--delay-tolerance is implemented for the paper's tracks, expected no --graph")
-    gen = TrajectoryGenerator(
-        track, clearance=args.clearance, limits=Limits(args.vmax, args.amax, args.jmax), rate=args.rate
-    )
+    gen = TrajectoryGenerator(track, clearance=clearance, limits=limits, rate=rate)
     traj = gen.generate(start, goal, delay_tolerance=tolerance)
+    recipe: dict[str, Any]
     if isinstance(track, Track):
         recipe = {"start": list(start), "goal": list(goal), "delay_tolerance": tolerance, "replans": []}
     else:  # positions by name (EDGE:OFFSET or a vertex)
         names = [[track.position_name(*p) for p in q] for q in (start, goal)]
         recipe = {"start": names[0], "goal": names[1], "delay_tolerance": None, "replans": []}
-    files = output_files(traj, opts, recipe)
-    write_outputs(args.out, files)
-    print(summary_text(traj))
-    print(f"wrote       {', '.join(str(Path(args.out) / n) for n in files)}")
-    return 0
+    return traj, output_files(traj, opts, recipe)
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
