@@ -399,3 +399,14 @@ def test_cli_fleet_limits_unless_given_and_footprint_not_available(
     no_limits.write_text("rmf_fleet:\n  name: x\n  profile: {footprint: 0.3}\n", encoding="utf-8")
     rc, _, err = _cli(capsys, "trajectory", *query, "--fleet", no_limits, "--fleet-radius", "none", "--out", out / "x")
     assert rc == 2 and "rmf_fleet.limits.linear" in err
+
+
+def test_serve_opens_with_a_building_map() -> None:
+    import argparse
+
+    from trajopt.cli.serve import _initial
+
+    args = argparse.Namespace(graph=str(HOTEL), track=None, level="L2", nav_graph=2, stick=None, loop=None)
+    init = _initial(args)
+    assert init["name"] == "hotel.building" and len(init["layout"]["edges"]) == 16
+    assert mpa.GraphTrack.from_layout(init["layout"]) == mpa.GraphTrack.from_file(HOTEL, level="L2", nav_graph=2)
