@@ -53,9 +53,9 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 
 #: Sides of the polygon circumscribed about a disc (or a sum of discs) in the planner's free space: the polygon
-#: reaches at most ``R / cos(pi / DISC_SIDES) - R`` (0.12 % of R) beyond the disc of radius R, and exactly R across
+#: reaches at most ``R / cos(pi / DISC_SIDES) - R`` (0.48 % of R) beyond the disc of radius R, and exactly R across
 #: robot A's track (one side is normal to it), so thresholds across parallel tracks are exact.
-DISC_SIDES = 64
+DISC_SIDES = 32
 
 
 def _positive(value: object, what: str) -> float:
@@ -453,7 +453,9 @@ def body_gap(
     if isinstance(fa, Disc) and isinstance(fb, Disc):
         return max(0.0, float(np.hypot(*(pa - pb))) - fa.radius - fb.radius)
     if isinstance(fa, Disc) or isinstance(fb, Disc):
-        disc, centre, rect, rxy, rh = (fa, pa, fb, pb, heading_b) if isinstance(fa, Disc) else (fb, pb, fa, pa, heading_a)
+        disc, centre, rect, rxy, rh = (
+            (fa, pa, fb, pb, heading_b) if isinstance(fa, Disc) else (fb, pb, fa, pa, heading_a)
+        )
         assert isinstance(disc, Disc) and isinstance(rect, Rectangle)
         poly = body_polygon(rect, rxy, rh)
         if _point_in_convex(centre, poly):

@@ -8,7 +8,7 @@ affine map ``(s, t) ↦ q(t) − p(s)`` is convex: in each *sub-cell* (a piece o
 *obstacle* ``O`` is a convex polygon given by at most ``|Q|`` half-planes (a strip when the pieces are parallel, e.g.
 ``|s − t| < (L_A + L_B)/2`` on one straight piece). Discs use the polygon of :data:`mpa.footprint.DISC_SIDES` sides
 circumscribed about the disc of the summed radius, one side normal to A's piece (exact across parallel tracks,
-at most 0.12 % of the summed radius conservative elsewhere). Bodies that touch (distance 0, within 1e-9 m) count as
+at most 0.48 % of the summed radius conservative elsewhere). Bodies that touch (distance 0, within 1e-9 m) count as
 apart.
 
 **Free pieces.** The free part of a sub-cell is the along-track free polygon of :mod:`mpa.freespace` (the clearance D
@@ -208,6 +208,59 @@ class PlanarFreeSpace:
             out.append((cs, ct, rhs))
         return out
 
+    def _turns(self, p: int, q: int) -> bool:
+        """Whether a body passing from drawing piece ``p`` to ``q`` turns (orientation modulo pi)."""
+        d = self.drawing
+        x = abs(float(d.piece_heading[p] - d.piece_heading[q])) % math.pi
+        return min(x, math.pi - x) > 1e-12
+
+    def _turn_block(self, centre: FloatArray, reach: float, other: Any, pb: int) -> tuple[float, float] | None:
+        """Open interval of the other robot's offsets on piece ``pb`` where its body comes closer than ``reach`` to
+        ``centre`` (the turning body's sweep lies in that disc), None if it never does."""
+        d = self.drawing
+        hb = float(d.piece_heading[pb])
+        cb, sb = math.cos(hb), math.sin(hb)
+        kb = other.corners() @ np.array([[cb, sb], [-sb, cb]])
+        disc = Disc(reach).corners()
+        k = _hull((kb[:, None, :] + disc[None, :, :]).reshape(-1, 2))
+        # overlap iff centre - q(t) in int K; q(t) = q0 + t*u
+        u = d.piece_dir[pb]
+        q0 = d.piece_p0[pb] - d.piece_s0[pb] * u
+        lo, hi = -math.inf, math.inf
+        for a_, b_, c_ in _halfplanes([tuple(x) for x in k], 0.0):
+            # a·(centre - q0 - t u) > c + tol
+            alpha = -(a_ * u[0] + b_ * u[1])
+            beta = a_ * (centre[0] - q0[0]) + b_ * (centre[1] - q0[1]) - c_ - self.tol
+            if abs(alpha) <= 1e-15:
+                if beta <= 0.0:
+                    return None
+                continue
+            r = -beta / alpha
+            if alpha > 0:
+                lo = max(lo, r)
+            else:
+                hi = min(hi, r)
+        return (lo, hi) if lo < hi else None
+
+    def _turn_filter(self, ax: int, side: float, turner_piece: int, other_piece: int, ys: list[float]) -> list[float]:
+        """The portal values ``ys`` (the other robot's offsets) kept where the turning robot's sweep is clear."""
+        fp = self.footprints.a if ax == 0 else self.footprints.b
+        other = self.footprints.b if ax == 0 else self.footprints.a
+        if isinstance(fp, Disc):
+            return ys
+        d = self.drawing
+        centre = d.piece_p0[turner_piece] + (side - d.piece_s0[turner_piece]) * d.piece_dir[turner_piece]
+        blk = self._turn_block(centre, fp.reach, other, other_piece)
+        if blk is None or not ys:
+            return ys
+        y0, y1 = min(ys), max(ys)
+        parts = [(y0, min(y1, blk[0])), (max(y0, blk[1]), y1)]
+        out: list[float] = []
+        for a0, a1 in parts:
+            if a1 >= a0:
+                out.extend(_portal_values(a0, a1))
+        return out
+
     def _near_pairs(self) -> NDArray[np.bool_]:
         d = self.drawing
         e0 = d.piece_p0
@@ -292,13 +345,19 @@ class PlanarFreeSpace:
         for i, p in enumerate(self.pieces):
             by_cell.setdefault((p.cell[0], p.cell[1]), []).append(i)
         for idx in by_cell.values():
-            for x, i in enumerate(idx):
-                for j in idx[x + 1 :]:
-                    if np.any(lo[i] > hi[j] + tol) or np.any(lo[j] > hi[i] + tol):
-                        continue
-                    m = _meet(self.pieces[i].poly, self.pieces[j].poly, tol)
-                    if m:
-                        pts = _portal_points(m)
+            if len(idx) < 2:
+                continue
+            ix = np.array(idx)
+            l_, h_ = lo[ix], hi[ix]
+            ok = np.all(l_[:, None, :] <= h_[None, :, :] + tol, axis=-1) & np.all(
+                l_[None, :, :] <= h_[:, None, :] + tol, axis=-1
+            )
+            for x, y in zip(*np.nonzero(np.triu(ok, 1))):
+                i, j = idx[int(x)], idx[int(y)]
+                m = _meet(self.pieces[i].poly, self.pieces[j].poly, tol)
+                if m:
+                    pts = self._turn_points(i, j, _portal_points(m))
+                    if pts:
                         link(i, j, pts, pts)
         # faces: a robot on a vertex; key (axis, vertex, other edge) -> (piece, side value, lo, hi)
         faces: dict[tuple[Any, ...], list[tuple[int, float, float, float]]] = {}
@@ -325,6 +384,13 @@ class PlanarFreeSpace:
                     if a0 > a1:
                         a0 = a1 = 0.5 * (a0 + a1)
                     ys = _portal_values(a0, a1)
+                    sub_i, sub_j = self.pieces[i].sub, self.pieces[j].sub
+                    if self._turns(sub_i[ax], sub_j[ax]):
+                        ys = self._turn_filter(ax, si, sub_i[ax], sub_i[1 - ax], ys)
+                        if ys and sub_i[1 - ax] != sub_j[1 - ax]:
+                            ys = self._turn_filter(ax, sj, sub_j[ax], sub_j[1 - ax], ys)
+                    if not ys:
+                        continue
                     pi = [(si, y) if ax == 0 else (y, si) for y in ys]
                     pj = [(sj, y) if ax == 0 else (y, sj) for y in ys]
                     link(i, j, pi, pj)
@@ -339,12 +405,38 @@ class PlanarFreeSpace:
         for items in corners.values():
             for x, (i, ci) in enumerate(items):
                 for j, cj in items[x + 1 :]:
-                    if self.pieces[i].cell[:2] != self.pieces[j].cell[:2]:
+                    if self.pieces[i].cell[:2] != self.pieces[j].cell[:2] and self._corner_clear(i, j, ci):
                         link(i, j, [ci], [cj])
         roots = [find(i) for i in range(n)]
         labels: dict[int, int] = {}
         self.component = np.array([labels.setdefault(r, len(labels)) for r in roots], dtype=np.int64)
         self.n_components = len(labels)
+
+    def _turn_points(self, i: int, j: int, pts: list[Coords]) -> list[Coords]:
+        """Shared points of two pieces of one cell, kept where a robot that turns between them sweeps clear."""
+        si, sj = self.pieces[i].sub, self.pieces[j].sub
+        out = pts
+        for ax in (0, 1):
+            if si[ax] != sj[ax] and self._turns(si[ax], sj[ax]):
+                if si[1 - ax] != sj[1 - ax] and self._turns(si[1 - ax], sj[1 - ax]):
+                    return [c for c in out if self._corner_clear(i, j, c)]
+                side = out[0][ax] if out else 0.0
+                ys = self._turn_filter(ax, side, si[ax], si[1 - ax], [c[1 - ax] for c in out])
+                out = [(side, y) if ax == 0 else (y, side) for y in ys]
+        return out
+
+    def _corner_clear(self, i: int, j: int, c: Coords) -> bool:
+        """Both robots on corners: the discs of their reach (a turning body's sweep) apart, where they turn."""
+        si, sj = self.pieces[i].sub, self.pieces[j].sub
+        fa, fb = self.footprints.a, self.footprints.b
+        ta = self._turns(si[0], sj[0]) and not isinstance(fa, Disc)
+        tb = self._turns(si[1], sj[1]) and not isinstance(fb, Disc)
+        if not (ta or tb):
+            return True
+        d = self.drawing
+        pa = d.piece_p0[si[0]] + (c[0] - d.piece_s0[si[0]]) * d.piece_dir[si[0]]
+        pb = d.piece_p0[si[1]] + (c[1] - d.piece_s0[si[1]]) * d.piece_dir[si[1]]
+        return float(np.hypot(*(pa - pb))) >= fa.reach + fb.reach - self.tol
 
     # ---------------------------------------------------------------------------------------- queries
     def names(self, pos: Position) -> list[Position]:
@@ -481,6 +573,23 @@ def _search(
             return math.hypot(ds, dt)
         return max(ds / va, dt / vb) + 1e-6 * (ds / va + dt / vb) + 1e-9 * math.hypot(ds / va, dt / vb)
 
+    geo = space.track.geometry
+    (ga_e, ga_s), (gb_e, gb_s) = goal
+    pieces = space.pieces
+    hcache: dict[tuple[int, Coords], float] = {}
+
+    def bound(i: int, c: Coords) -> float:
+        key = (i, c)
+        h = hcache.get(key)
+        if h is None:
+            e, f, _ = pieces[i].cell
+            da = geo.distance_scalar(e, c[0], ga_e, ga_s)
+            db = geo.distance_scalar(f, c[1], gb_e, gb_s)
+            h = math.hypot(da, db) if objective == "shortest" else max(da / va, db / vb)
+            h *= 1.0 - 1e-12
+            hcache[key] = h
+        return h
+
     s_pl = space.placements(*start)
     g_pl = space.placements(*goal)
     goal_in: dict[int, list[Coords]] = {}
@@ -495,16 +604,17 @@ def _search(
         key = (i, c)
         best[key] = 0.0
         prev[key] = None
-        heap.append((0.0, counter, key))
+        heap.append((bound(i, c), counter, key))
         counter += 1
     heapq.heapify(heap)
     done: set[tuple[int, Coords]] = set()
     found: tuple[int, Coords] | None = None
     goal_key: dict[tuple[int, Coords], tuple[int, Coords]] = {}
     while heap:
-        g, _, key = heapq.heappop(heap)
-        if key in done or g > best.get(key, math.inf):
+        _, _, key = heapq.heappop(heap)
+        if key in done:
             continue
+        g = best[key]
         done.add(key)
         if key[0] < 0:
             found = key
@@ -517,7 +627,7 @@ def _search(
             if ng < best.get(gk, math.inf):
                 best[gk] = ng
                 prev[gk] = (key, i, c, gc)
-                heapq.heappush(heap, (ng, counter, gk))
+                heapq.heappush(heap, (ng, counter, gk))  # the goal's bound is 0
                 counter += 1
         for j, pts_i, pts_j in space.adjacent[i]:
             for pi, pj in zip(pts_i, pts_j):
@@ -526,7 +636,7 @@ def _search(
                 if ng < best.get(nk, math.inf) - 1e-15:
                     best[nk] = ng
                     prev[nk] = (key, i, c, pi)
-                    heapq.heappush(heap, (ng, counter, nk))
+                    heapq.heappush(heap, (ng + bound(j, pj), counter, nk))
                     counter += 1
     del goal_key
     if found is None:  # pragma: no cover - start and goal were checked to share a component
@@ -568,7 +678,9 @@ def _why_not(space: PlanarFreeSpace) -> str:
             if dist < best[0]:
                 best = (dist, e, f)
     need = fps.across()
-    what = "disc radii summed" if fps.a.__class__.__name__ == fps.b.__class__.__name__ == "Disc" else "half-widths summed"
+    what = (
+        "disc radii summed" if fps.a.__class__.__name__ == fps.b.__class__.__name__ == "Disc" else "half-widths summed"
+    )
     if best[1] >= 0 and best[0] < need:
         return (
             f"the bodies ({fps.spec()}) block each other in the plane: edges {tr.edge_names[best[1]]!r} and "
