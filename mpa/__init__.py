@@ -22,11 +22,11 @@ if TYPE_CHECKING:  # the names as type checkers see them
     from mpa.cspace import ConfigurationSpace
     from mpa.footprint import Disc, Footprints, Rectangle, parse_footprint
     from mpa.freespace import FreeSpace, free_space
-    from mpa.planar import PlanarFreeSpace, planar_free_space
     from mpa.graph import Edge, MetricGraph, farber_tc_of_graph
     from mpa.graph_track import GraphTrack
     from mpa.homotopy import path_word, reduce_word
     from mpa.plan import Plan, PlanStep
+    from mpa.planar import PlanarFreeSpace, planar_free_space
     from mpa.planners import CirclePlanner, IntervalPlanner, LollipopPlanner, Planner, make_planner, plan
     from mpa.planners.graph import GraphPlan, plan_graph
     from mpa.retraction import retract

@@ -28,7 +28,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -139,7 +138,7 @@ class Rectangle:
         return np.array([[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]])
 
 
-Footprint = Union[Disc, Rectangle]
+Footprint = Disc | Rectangle
 
 
 @dataclass(frozen=True)
@@ -320,7 +319,12 @@ class Drawing:
 
 
 def _build_drawing(tr: GraphTrack) -> Drawing:
-    edge_l, s0, s1, p0, dr, hd = [], [], [], [], [], []
+    edge_l: list[int] = []
+    s0: list[float] = []
+    s1: list[float] = []
+    p0: list[NDArray[np.float64]] = []
+    dr: list[NDArray[np.float64]] = []
+    hd: list[float] = []
     per_edge: list[NDArray[np.int64]] = []
     for e in range(tr.n_edges):
         a, b = tr.coords[tr.tails[e]], tr.coords[tr.heads[e]]

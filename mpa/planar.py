@@ -47,7 +47,7 @@ from mpa.footprint import Disc, Footprints, body_gap, drawing_of, footprints
 from mpa.freespace import FreeSpace, _clip, _dedupe, free_space
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 
-__all__ = ["PlanarFreeSpace", "bodies_gap", "planar_free_space", "plan_planar"]
+__all__ = ["PlanarFreeSpace", "bodies_gap", "plan_planar", "planar_free_space"]
 
 FloatArray = NDArray[np.float64]
 Coords = tuple[float, float]
@@ -122,7 +122,7 @@ def _meet(p: FloatArray, q: FloatArray, tol: float) -> list[Coords] | None:
     """Points of the intersection of two closed convex polygons (within ``tol``), None if they do not meet."""
     small, big = (p, q) if abs(_area([tuple(x) for x in p])) <= abs(_area([tuple(x) for x in q])) else (q, p)
     if len(big) >= 3 and abs(_area([tuple(x) for x in big])) > tol * tol:
-        out: list[Coords] = [tuple(x) for x in small]  # type: ignore[misc]
+        out: list[Coords] = [tuple(x) for x in small]
         for a, b, c in _halfplanes([tuple(x) for x in big], tol):
             out = _clip(out, a, b, c)
             if not out:
@@ -283,7 +283,7 @@ class PlanarFreeSpace:
             bpoly = [tuple(x) for x in base.vertices(pid)]
             for pa in d.edge_pieces[e]:
                 s0, s1 = float(d.piece_s0[pa]), float(d.piece_s1[pa])
-                ra = _clip(_clip(bpoly, 1.0, 0.0, s0), -1.0, 0.0, -s1)  # type: ignore[arg-type]
+                ra = _clip(_clip(bpoly, 1.0, 0.0, s0), -1.0, 0.0, -s1)
                 if not ra:
                     continue
                 for pb in d.edge_pieces[f]:
@@ -402,9 +402,9 @@ class PlanarFreeSpace:
                 for sb, wb in ((0.0, int(tr.tails[f])), (float(lengths[f]), int(tr.heads[f]))):
                     if np.any((np.abs(p.poly[:, 0] - sa) <= tol) & (np.abs(p.poly[:, 1] - sb) <= tol)):
                         corners.setdefault((wa, wb), []).append((i, (sa, sb)))
-        for items in corners.values():
-            for x, (i, ci) in enumerate(items):
-                for j, cj in items[x + 1 :]:
+        for citems in corners.values():
+            for x, (i, ci) in enumerate(citems):
+                for j, cj in citems[x + 1 :]:
                     if self.pieces[i].cell[:2] != self.pieces[j].cell[:2] and self._corner_clear(i, j, ci):
                         link(i, j, [ci], [cj])
         roots = [find(i) for i in range(n)]
@@ -520,11 +520,11 @@ def _portal_points(m: list[Coords]) -> list[Coords]:
     arr = np.asarray(m, dtype=float)
     c = tuple(arr.mean(axis=0))
     if len(arr) == 1:
-        return [c]  # type: ignore[list-item]
+        return [c]
     # the two points farthest apart (ends of a shared segment) and the centre
     dd = np.hypot(arr[:, None, 0] - arr[None, :, 0], arr[:, None, 1] - arr[None, :, 1])
     i, j = np.unravel_index(int(np.argmax(dd)), dd.shape)
-    return [tuple(arr[i]), c, tuple(arr[j])]  # type: ignore[list-item]
+    return [tuple(arr[i]), c, tuple(arr[j])]
 
 
 def bodies_gap(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Position) -> float:

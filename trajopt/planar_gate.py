@@ -13,8 +13,11 @@ normals (exact when the closest features are an edge and a vertex or two paralle
 rows ``i`` and ``i + 1`` (speeds at the rows, acceleration limit A); a point of its body moves at most that distance
 times the drawing's scale (drawn metres per metre of offset), plus, where the robot passes a corner, the rotation:
 ``reach · |turn|`` (``reach`` the largest distance of a body point from its centre: half the diagonal of a rectangle;
-a disc does not move by turning; the turn of a centrally symmetric body is taken modulo pi, at most pi/2). If ``m`` bounds both bodies' motion, the gap anywhere between the rows is at least
-``(gap_i + gap_{i+1} − m) / 2``; the check asks that of every interval (tolerance 1e-9 m).
+a disc does not move by turning; the turn of a centrally symmetric body is taken modulo pi, at most pi/2).
+If ``m`` bounds both bodies' motion, the gap anywhere between the rows is at least
+``(gap_i + gap_{i+1} − m) / 2``. Where a rectangle turns between two rows, its sweep lies in the disc of its reach
+about its centre (moved by its travel), which gives a second bound: the centres' distance minus both reaches and both
+travels; the larger of the two counts. The check asks a bound ``>= 0`` of every interval (tolerance 1e-9 m).
 """
 
 from __future__ import annotations
@@ -107,23 +110,23 @@ def row_gaps(track: GraphTrack, fps: Footprints, edges: ArrayLike, offsets: Arra
     """The gap between the bodies at every row (metres, every heading at a corner). Shape (N,)."""
     d = drawing_of(track)
     E = np.asarray(edges, dtype=np.int64)
-    O = np.asarray(offsets, dtype=float)
-    pa, ha = d.pose(E[:, 0], O[:, 0])
-    pb, hb = d.pose(E[:, 1], O[:, 1])
+    OFF = np.asarray(offsets, dtype=float)
+    pa, ha = d.pose(E[:, 0], OFF[:, 0])
+    pb, hb = d.pose(E[:, 1], OFF[:, 1])
     gaps = pair_gaps(fps, pa, ha, pb, hb)
-    for k in np.nonzero(_at_corner(d, E, O))[0]:
-        for hha in d.corner_headings(int(E[k, 0]), float(O[k, 0])):
-            for hhb in d.corner_headings(int(E[k, 1]), float(O[k, 1])):
+    for k in np.nonzero(_at_corner(d, E, OFF))[0]:
+        for hha in d.corner_headings(int(E[k, 0]), float(OFF[k, 0])):
+            for hhb in d.corner_headings(int(E[k, 1]), float(OFF[k, 1])):
                 g = pair_gaps(fps, pa[k : k + 1], np.array([hha]), pb[k : k + 1], np.array([hhb]))
                 gaps[k] = min(gaps[k], float(g[0]))
     return gaps
 
 
-def _at_corner(d: Drawing, E: NDArray[np.int64], O: FloatArray, tol: float = 1e-9) -> NDArray[np.bool_]:
+def _at_corner(d: Drawing, E: NDArray[np.int64], OFF: FloatArray, tol: float = 1e-9) -> NDArray[np.bool_]:
     out = np.zeros(len(E), dtype=bool)
     for r in (0, 1):
-        p = d.piece_at(E[:, r], O[:, r])
-        out |= (np.abs(O[:, r] - d.piece_s0[p]) <= tol) | (np.abs(O[:, r] - d.piece_s1[p]) <= tol)
+        p = d.piece_at(E[:, r], OFF[:, r])
+        out |= (np.abs(OFF[:, r] - d.piece_s0[p]) <= tol) | (np.abs(OFF[:, r] - d.piece_s1[p]) <= tol)
     return out
 
 
@@ -158,15 +161,15 @@ def _motion(
     return move
 
 
-def _turning(d: Drawing, fps: Footprints, E: NDArray[np.int64], O: FloatArray) -> NDArray[np.bool_]:
+def _turning(d: Drawing, fps: Footprints, E: NDArray[np.int64], OFF: FloatArray) -> NDArray[np.bool_]:
     """Per interval: whether a rectangle body turns (its piece's orientation changes, or a row is on a corner)."""
     out = np.zeros(len(E) - 1, dtype=bool)
     for r, fp in enumerate((fps.a, fps.b)):
         if isinstance(fp, Disc):
             continue
-        p = d.piece_at(E[:, r], O[:, r])
+        p = d.piece_at(E[:, r], OFF[:, r])
         h = d.piece_heading[p]
-        at = _at_corner_1(d, E[:, r], O[:, r])
+        at = _at_corner_1(d, E[:, r], OFF[:, r])
         out |= (_axis_turn(h[1:] - h[:-1]) > 1e-12) | at[:-1] | at[1:]
     return out
 
@@ -244,25 +247,25 @@ def verify_plane(
     """
     d = drawing_of(track)
     E = np.asarray(edges, dtype=np.int64)
-    O = np.asarray(offsets, dtype=float)
+    OFF = np.asarray(offsets, dtype=float)
     V = np.asarray(v, dtype=float)
     acc = np.broadcast_to(np.asarray(amax, dtype=float), (2,))
-    gaps = row_gaps(track, fps, E, O)
+    gaps = row_gaps(track, fps, E, OFF)
     fails: list[str] = []
     k = int(np.argmin(gaps))
     if gaps[k] < -PLANE_TOL:
         fails.append(f"row {k}: the bodies overlap in the plane (gap {float(gaps[k]):.6g} m)")
     if len(gaps) > 1:
         dt = 1.0 / float(rate)
-        m = _motion(d, fps.a, E[:, 0], O[:, 0], V[:, 0], float(acc[0]), dt) + _motion(
-            d, fps.b, E[:, 1], O[:, 1], V[:, 1], float(acc[1]), dt
+        m = _motion(d, fps.a, E[:, 0], OFF[:, 0], V[:, 0], float(acc[0]), dt) + _motion(
+            d, fps.b, E[:, 1], OFF[:, 1], V[:, 1], float(acc[1]), dt
         )
         between = 0.5 * (gaps[:-1] + gaps[1:] - m)
         # where a rectangle turns between two rows its sweep lies in the disc of its reach about its centre
-        turn = _turning(d, fps, E, O)
+        turn = _turning(d, fps, E, OFF)
         if np.any(turn):
-            pa, _ = d.pose(E[:, 0], O[:, 0])
-            pb, _ = d.pose(E[:, 1], O[:, 1])
+            pa, _ = d.pose(E[:, 0], OFF[:, 0])
+            pb, _ = d.pose(E[:, 1], OFF[:, 1])
             scale = float(np.max(np.hypot(*d.piece_dir.T)))
             ta = _travel(V[:-1, 0], V[1:, 0], float(acc[0]), dt) * scale
             tb = _travel(V[:-1, 1], V[1:, 1], float(acc[1]), dt) * scale
