@@ -34,6 +34,7 @@ segment), but it is free by construction.
 from __future__ import annotations
 
 import heapq
+import itertools
 import math
 from dataclasses import dataclass
 from functools import lru_cache
@@ -333,6 +334,10 @@ class PlanarFreeSpace:
             return x
 
         def link(i: int, j: int, pi: list[Coords], pj: list[Coords]) -> None:
+            pi = [self._clamp(i, j, c) for c in pi]
+            pj = [self._clamp(j, i, c) if self.pieces[i].cell[:2] != self.pieces[j].cell[:2] else c for c in pj]
+            if self.pieces[i].cell[:2] == self.pieces[j].cell[:2]:
+                pj = pi
             self.adjacent[i].append((j, pi, pj))
             self.adjacent[j].append((i, pj, pi))
             ri, rj = find(i), find(j)
@@ -411,6 +416,74 @@ class PlanarFreeSpace:
         labels: dict[int, int] = {}
         self.component = np.array([labels.setdefault(r, len(labels)) for r in roots], dtype=np.int64)
         self.n_components = len(labels)
+
+    def _box(self, i: int) -> tuple[float, float, float, float]:
+        d = self.drawing
+        pa, pb = self.pieces[i].sub
+        return float(d.piece_s0[pa]), float(d.piece_s1[pa]), float(d.piece_s0[pb]), float(d.piece_s1[pb])
+
+    def _clamp(self, i: int, j: int, c: Coords) -> Coords:
+        """A shared point moved exactly into piece ``i``'s sub-cell (and ``j``'s, in the same cell): no point of a
+        path lies on another drawing piece than the one its sub-cell says (tolerances never flip an orientation)."""
+        s0, s1, t0, t1 = self._box(i)
+        if self.pieces[i].cell[:2] == self.pieces[j].cell[:2]:
+            u0, u1, v0, v1 = self._box(j)
+            s0, s1, t0, t1 = max(s0, u0), min(s1, u1), max(t0, v0), min(t1, v1)
+            if s0 > s1:
+                s0 = s1 = 0.5 * (s0 + s1)
+            if t0 > t1:
+                t0 = t1 = 0.5 * (t0 + t1)
+        return (min(max(c[0], s0), s1), min(max(c[1], t0), t1))
+
+    def _corner_offsets(self) -> list[dict[float, float]]:
+        """Per edge: offsets where a body turns (polyline corners, ends at a vertex with several orientations)."""
+        co = getattr(self, "_co", None)
+        if co is None:
+            d = self.drawing
+            tr = self.track
+            co = []
+            for e in range(tr.n_edges):
+                out: dict[float, float] = {}
+                pcs = d.edge_pieces[e]
+                for p, q in itertools.pairwise(pcs):
+                    if self._turns(int(p), int(q)):
+                        out[float(d.piece_s1[p])] = 1.0
+                for off in (0.0, float(tr.lengths[e])):
+                    hs = d.corner_headings(e, off)
+                    if any(self._turns_h(hs[0], h) for h in hs[1:]):
+                        out[off] = 1.0
+                co.append(out)
+            self._co = co
+        return co
+
+    @staticmethod
+    def _turns_h(h1: float, h2: float) -> bool:
+        x = abs(h1 - h2) % math.pi
+        return min(x, math.pi - x) > 1e-12
+
+    def segment_ok(self, i: int, c0: Coords, c1: Coords) -> bool:
+        """Whether a straight move inside piece ``i`` is clear also where a robot stands still on a corner: there
+        it may have either orientation, so its reach disc must stay clear of the other body."""
+        e, f, _ = self.pieces[i].cell
+        co = self._corner_offsets()
+        d = self.drawing
+        for ax, edge in ((0, e), (1, f)):
+            if c0[ax] != c1[ax] or c0[ax] not in co[edge]:
+                continue
+            fp = self.footprints.a if ax == 0 else self.footprints.b
+            if isinstance(fp, Disc):
+                continue
+            other = self.footprints.b if ax == 0 else self.footprints.a
+            sub = self.pieces[i].sub
+            turner = sub[ax]
+            centre = d.piece_p0[turner] + (c0[ax] - d.piece_s0[turner]) * d.piece_dir[turner]
+            blk = self._turn_block(centre, fp.reach, other, sub[1 - ax])
+            if blk is None:
+                continue
+            y0, y1 = sorted((c0[1 - ax], c1[1 - ax]))
+            if y1 > blk[0] and y0 < blk[1]:
+                return False
+        return True
 
     def _turn_points(self, i: int, j: int, pts: list[Coords]) -> list[Coords]:
         """Shared points of two pieces of one cell, kept where a robot that turns between them sweeps clear."""
@@ -622,6 +695,8 @@ def _search(
         i, c = key
         # to the goal inside this piece
         for gc in goal_in.get(i, ()):
+            if not space.segment_ok(i, c, gc):
+                continue
             gk = (-1 - i, gc)
             ng = g + cost(c, gc)
             if ng < best.get(gk, math.inf):
@@ -631,6 +706,8 @@ def _search(
                 counter += 1
         for j, pts_i, pts_j in space.adjacent[i]:
             for pi, pj in zip(pts_i, pts_j):
+                if not space.segment_ok(i, c, pi):
+                    continue
                 ng = g + cost(c, pi)
                 nk = (j, pj)
                 if ng < best.get(nk, math.inf) - 1e-15:

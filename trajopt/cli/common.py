@@ -16,9 +16,11 @@ from mpa.tracks import Track, make_track
 
 __all__ = [
     "TRAJECTORY_DEFAULTS",
+    "add_footprint_argument",
     "add_query_arguments",
     "add_trajectory_arguments",
     "check_output_dir",
+    "footprint_query",
     "output_error",
     "parse_coordinates",
     "query_from_args",
@@ -151,3 +153,42 @@ def check_output_dir(out: str, option: str = "--out") -> Path:
             except OSError:
                 pass
     return d
+
+
+def add_footprint_argument(p: argparse.ArgumentParser) -> None:
+    """``--footprint SPEC``: the robots' bodies in the plane (:func:`mpa.footprint.parse_footprint`)."""
+    p.add_argument(
+        "--footprint",
+        default=None,
+        metavar="SPEC",
+        help="the robots' bodies in the plane: R (disc radius, m) or LxW (rectangle length x width along the "
+        "track, m), one for both or SPEC_A,SPEC_B; needs a layout with vertex coordinates",
+    )
+
+
+def footprint_query(args: argparse.Namespace, track: Any, start: Any, goal: Any) -> tuple[Any, Any, Any, Any]:
+    """``(track, start, goal, footprints)`` with ``--footprint``: the spec parsed and checked against the drawing.
+
+    A paper track (``--track``) is replaced by its graph form (:meth:`mpa.tracks.Track.as_graph_track`, which is
+    drawn) and the query by positions on it. Without ``--footprint`` the arguments come back unchanged, footprints
+    None.
+
+    Raises
+    ------
+    InvalidInputError
+        A malformed spec, a layout without vertex coordinates.
+    """
+    spec = getattr(args, "footprint", None)
+    if spec is None:
+        return track, start, goal, None
+    from mpa.footprint import drawing_of, parse_footprint
+
+    fps = parse_footprint(spec)
+    if isinstance(track, Track):
+        from mpa.planners.factory import _paper_positions
+
+        start = _paper_positions(track, start, "--start")
+        goal = _paper_positions(track, goal, "--goal")
+        track = track.as_graph_track()
+    drawing_of(track)
+    return track, start, goal, fps

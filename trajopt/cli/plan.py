@@ -21,7 +21,13 @@ from mpa.planners.factory import OBJECTIVES, PLANNERS, plan
 from mpa.planners.graph import GraphPlan
 from mpa.retraction import trace_info
 from mpa.tracks import Track
-from trajopt.cli.common import add_clearance_argument, add_query_arguments, query_from_args
+from trajopt.cli.common import (
+    add_clearance_argument,
+    add_footprint_argument,
+    add_query_arguments,
+    footprint_query,
+    query_from_args,
+)
 
 #: Fewest path samples in the JSON (the 1 % rule may ask for more).
 MIN_JSON_SAMPLES = 200
@@ -33,12 +39,13 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     if args.samples < 2:
         raise InvalidInputError(f"--samples is {args.samples}, expected an integer >= 2")
     track, start, goal = query_from_args(args)
+    track, start, goal, fps = footprint_query(args, track, start, goal)
     graph_plan = args.planner == "graph" or not isinstance(track, Track)
     if args.plot is not None:
         _check_plot_path(args.plot, graph_plan, args.dpi)
     if graph_plan or not isinstance(track, Track):
         which = args.planner or "auto"
-        g = plan(track, start, goal, args.clearance, planner=which, objective=args.objective)
+        g = plan(track, start, goal, args.clearance, planner=which, objective=args.objective, footprint=fps)
         if args.plot is not None:
             _write_plot(g, args)  # type: ignore[arg-type]
         rc = _print_graph_plan(g, args)  # type: ignore[arg-type]
@@ -158,6 +165,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--objective", choices=OBJECTIVES, default="fastest", help="graph planner: fastest (default) or shortest"
     )
     add_clearance_argument(p)
+    add_footprint_argument(p)
     p.add_argument("--neighbourhood", type=float, default=0.1, help="domain neighbourhood ε as a fraction of loop/2")
     p.add_argument(
         "--samples",

@@ -21,8 +21,10 @@ from mpa.errors import InvalidInputError
 from mpa.tracks import Lollipop, Track
 from trajopt.cli.common import (
     TRAJECTORY_DEFAULTS,
+    add_footprint_argument,
     add_trajectory_arguments,
     check_output_dir,
+    footprint_query,
     output_error,
     query_from_args,
 )
@@ -127,6 +129,7 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
     tolerance = None if args.delay_tolerance is None else check_delay_tolerance(args.delay_tolerance)
     check_output_dir(args.out)
     track, start, goal = query_from_args(args)
+    track, start, goal, fps = footprint_query(args, track, start, goal)
     if not isinstance(track, Track):  # a layout (--graph)
         if opts.plot:
             raise InvalidInputError(
@@ -136,7 +139,11 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
         if tolerance is not None:
             raise InvalidInputError("--delay-tolerance is implemented for the paper's tracks, expected no --graph")
     gen = TrajectoryGenerator(
-        track, clearance=args.clearance, limits=Limits(args.vmax, args.amax, args.jmax), rate=args.rate
+        track,
+        clearance=args.clearance,
+        limits=Limits(args.vmax, args.amax, args.jmax),
+        rate=args.rate,
+        footprint=fps,
     )
     traj = gen.generate(start, goal, delay_tolerance=tolerance)
     if isinstance(track, Track):
@@ -147,6 +154,12 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
     files = output_files(traj, opts, recipe)
     write_outputs(args.out, files)
     print(summary_text(traj))
+    if fps is not None:
+        sm = traj.summary()
+        print(
+            f"plane       bodies {fps.spec()}: closest {sm['min_gap_plane']:.4g} m apart in the drawing; "
+            f"tracking margin in the plane {sm['tracking_margin_plane']:.4g} m"
+        )
     print(f"wrote       {', '.join(str(Path(args.out) / n) for n in files)}")
     return 0
 
@@ -194,6 +207,7 @@ def register(subparsers: Any) -> None:
     """Add ``trajectory`` and ``demo`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
     p = subparsers.add_parser("trajectory", help="verified jerk-limited setpoints for a query (CSV, ROS 2, PVT, JSON)")
     add_trajectory_arguments(p)
+    add_footprint_argument(p)
     p.add_argument(
         "--out", required=True, help="output directory (setpoints.csv and the other --format files, summary.json)"
     )
