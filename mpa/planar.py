@@ -736,31 +736,27 @@ def _search(
 
 
 def _why_not(space: PlanarFreeSpace) -> str:
-    """Where the layout is too narrow for the bodies: the closest pair of edges that share no vertex."""
+    """Where the layout is too narrow for the bodies: the closest two pieces of the drawing that do not meet."""
     tr = space.track
     d = space.drawing
     fps = space.footprints
     best = (math.inf, -1, -1)
     n = len(d.piece_edge)
+    ends = [(d.piece_p0[p], d.piece_p0[p] + (d.piece_s1[p] - d.piece_s0[p]) * d.piece_dir[p]) for p in range(n)]
+    tol = 1e-9 * max(1.0, tr.total_length)
     for p in range(n):
         for q in range(p + 1, n):
-            e, f = int(d.piece_edge[p]), int(d.piece_edge[q])
-            if e == f or {int(tr.tails[e]), int(tr.heads[e])} & {int(tr.tails[f]), int(tr.heads[f])}:
-                continue
-            a0 = d.piece_p0[p]
-            a1 = a0 + (d.piece_s1[p] - d.piece_s0[p]) * d.piece_dir[p]
-            b0 = d.piece_p0[q]
-            b1 = b0 + (d.piece_s1[q] - d.piece_s0[q]) * d.piece_dir[q]
+            (a0, a1), (b0, b1) = ends[p], ends[q]
+            if min(float(np.hypot(*(x - y))) for x in (a0, a1) for y in (b0, b1)) <= tol:
+                continue  # pieces that meet (a corner or a switch)
             dist = _seg_seg(a0, a1, b0, b1)
             if dist < best[0]:
-                best = (dist, e, f)
+                best = (dist, int(d.piece_edge[p]), int(d.piece_edge[q]))
     need = fps.across()
-    what = (
-        "disc radii summed" if fps.a.__class__.__name__ == fps.b.__class__.__name__ == "Disc" else "half-widths summed"
-    )
+    what = "radii summed" if isinstance(fps.a, Disc) and isinstance(fps.b, Disc) else "half-widths summed"
     if best[1] >= 0 and best[0] < need:
         return (
-            f"the bodies ({fps.spec()}) block each other in the plane: edges {tr.edge_names[best[1]]!r} and "
+            f"the bodies ({fps.spec()}) cannot pass each other in the plane: edges {tr.edge_names[best[1]]!r} and "
             f"{tr.edge_names[best[2]]!r} run {best[0]:.4g} m apart in the drawing; bodies that need {need:.4g} m "
             f"side by side ({what}) cannot pass there"
         )
