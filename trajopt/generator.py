@@ -324,6 +324,10 @@ class TrajectoryGenerator:
 
     def _explain_rejection(self, plan: Plan | GraphPlan) -> str:
         """Why every candidate of ``plan`` fails the gate at this rate, if the caller can fix it ("" if not)."""
+        if self.footprint is not None and isinstance(plan, GraphPlan):
+            why = self._explain_plane(plan)
+            if why:
+                return why
         best = self.lowest_rate(plan)
         margin = separation_margin(self.limits, self.rate)
         if best is not None:
@@ -457,6 +461,25 @@ class TrajectoryGenerator:
             timings["blend"] = time.perf_counter() - t1
             stats.update(scaling.stats, path="blend", line_clearance=line, blends=int(np.sum(path.radii > 0)))
         return self._finish(plan, scaling, Source.OPTIMIZED, "", stats, timings)
+
+    def _explain_plane(self, plan: GraphPlan) -> str:
+        """The bodies pass closer than the gate's between-rows margin at this rate ("" if they do not)."""
+        from trajopt.planar_gate import row_gaps
+
+        assert self.footprint is not None
+        view = plan_view(plan)
+        e, o = view.positions(densify(view.waypoints, 0.01))
+        g = row_gaps(view.graph, self.footprint, e, o)
+        need = 0.5 * self._plane_margin(self.rate)
+        low = float(np.min(g))
+        if low >= need:
+            return ""
+        where = "at the start" if g[0] < need else ("at the goal" if g[-1] < need else "on the only way there")
+        return (
+            f"footprint {self.footprint.spec()}: the bodies come within {max(low, 0.0):.3g} m of each other {where}, "
+            f"and setpoints at {self.rate:g} Hz are verified between rows only with {need:.3g} m between them; "
+            "use smaller bodies, start or goal further apart, or a higher rate"
+        )
 
     def _plane_chord_slack(self, view: Any, pts: np.ndarray) -> float:
         """How far the bodies stay beyond the plane margin along a polyline in route coordinates, sampled every
