@@ -161,6 +161,23 @@ def _motion(
     return move
 
 
+def _point_gap(fp: Footprint, d: FloatArray, h: FloatArray) -> FloatArray:
+    """Distance from points ``d`` (relative to the body's centre) to a body of heading ``h`` (0 inside)."""
+    if isinstance(fp, Disc):
+        return np.maximum(np.hypot(*d.T) - fp.radius, 0.0)
+    return np.maximum(_local(fp, d, h), 0.0)
+
+
+def _turning_one(d: Drawing, fp: Footprint, e: NDArray[np.int64], o: FloatArray) -> NDArray[np.bool_]:
+    """Per interval: whether this robot's rectangle turns (its piece's orientation changes, or a row on a corner)."""
+    if isinstance(fp, Disc):
+        return np.zeros(len(e) - 1, dtype=bool)
+    p = d.piece_at(e, o)
+    h = d.piece_heading[p]
+    at = _at_corner_1(d, e, o)
+    return np.asarray((_axis_turn(h[1:] - h[:-1]) > 1e-12) | at[:-1] | at[1:])
+
+
 def _turning(d: Drawing, fps: Footprints, E: NDArray[np.int64], OFF: FloatArray) -> NDArray[np.bool_]:
     """Per interval: whether a rectangle body turns (its piece's orientation changes, or a row is on a corner)."""
     out = np.zeros(len(E) - 1, dtype=bool)
@@ -262,15 +279,23 @@ def verify_plane(
         )
         between = 0.5 * (gaps[:-1] + gaps[1:] - m)
         # where a rectangle turns between two rows its sweep lies in the disc of its reach about its centre
-        turn = _turning(d, fps, E, OFF)
+        turn_a = _turning_one(d, fps.a, E[:, 0], OFF[:, 0])
+        turn_b = _turning_one(d, fps.b, E[:, 1], OFF[:, 1])
+        turn = turn_a | turn_b
         if np.any(turn):
-            pa, _ = d.pose(E[:, 0], OFF[:, 0])
-            pb, _ = d.pose(E[:, 1], OFF[:, 1])
+            pa, ha = d.pose(E[:, 0], OFF[:, 0])
+            pb, hb = d.pose(E[:, 1], OFF[:, 1])
             scale = float(np.max(np.hypot(*d.piece_dir.T)))
             ta = _travel(V[:-1, 0], V[1:, 0], float(acc[0]), dt) * scale
             tb = _travel(V[:-1, 1], V[1:, 1], float(acc[1]), dt) * scale
-            centre = np.hypot(*(pa[:-1] - pb[:-1]).T)
-            disc_lb = centre - fps.a.reach - fps.b.reach - ta - tb
+            ma = _motion(d, fps.a, E[:, 0], OFF[:, 0], V[:, 0], float(acc[0]), dt)
+            mb = _motion(d, fps.b, E[:, 1], OFF[:, 1], V[:, 1], float(acc[1]), dt)
+            both = np.hypot(*(pa[:-1] - pb[:-1]).T) - fps.a.reach - fps.b.reach - ta - tb
+            # one body turns: the disc of its reach against the other body as it is (which moves at most m)
+            only_a = _point_gap(fps.b, pa[:-1] - pb[:-1], hb[:-1]) - fps.a.reach - ta - mb
+            only_b = _point_gap(fps.a, pb[:-1] - pa[:-1], ha[:-1]) - fps.b.reach - tb - ma
+            one = np.where(turn_a, np.maximum(only_a, both), np.maximum(only_b, both))
+            disc_lb = np.where(turn_a & turn_b, both, one)
             between = np.where(turn, np.maximum(between, disc_lb), between)
         i = int(np.argmin(between))
         bmin = float(between[i])
