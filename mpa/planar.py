@@ -563,14 +563,12 @@ class PlanarFreeSpace:
     def can_swap(self, pos_a: object | None = None, pos_b: object | None = None) -> bool:
         """Whether the robots can exchange places (two positions: these; none: some free configuration)."""
         if pos_a is None and pos_b is None:
-            tr = self.track
             for i, p in enumerate(self.pieces):
                 e, f, _ = p.cell
                 s, t = p.poly.mean(axis=0)
                 other = self.placements((f, float(t)), (e, float(s)))
                 if any(self.component[j] == self.component[i] for j, _ in other):
                     return True
-            del tr
             return False
         if pos_a is None or pos_b is None:
             raise InvalidInputError("can_swap takes two positions or none")
