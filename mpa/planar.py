@@ -476,8 +476,12 @@ class PlanarFreeSpace:
             other = self.footprints.b if ax == 0 else self.footprints.a
             sub = self.pieces[i].sub
             turner = sub[ax]
-            centre = d.piece_p0[turner] + (c0[ax] - d.piece_s0[turner]) * d.piece_dir[turner]
-            blk = self._turn_block(centre, fp.reach, other, sub[1 - ax])
+            key = (ax, turner, c0[ax], sub[1 - ax])
+            memo = self.__dict__.setdefault("_blocks", {})
+            if key not in memo:
+                centre = d.piece_p0[turner] + (c0[ax] - d.piece_s0[turner]) * d.piece_dir[turner]
+                memo[key] = self._turn_block(centre, fp.reach, other, sub[1 - ax])
+            blk = memo[key]
             if blk is None:
                 continue
             y0, y1 = sorted((c0[1 - ax], c1[1 - ax]))
