@@ -377,9 +377,7 @@ def test_cli_plan_and_topology_on_a_building_map(capsys: pytest.CaptureFixture[s
     assert rc == 2 and "['L1', 'L2', 'L3']" in err
 
 
-def test_cli_fleet_limits_unless_given_and_footprint_not_available(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_cli_fleet_limits_unless_given_and_disc_footprint(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     query = ["--graph", OFFICE, "--start", "pantry", "patrol_A1", "--goal", "patrol_A1", "pantry", "--clearance", "0.5"]
     fleet = DATA / "office_tinyRobot_config.yaml"
     out = tmp_path / "o"
@@ -387,14 +385,27 @@ def test_cli_fleet_limits_unless_given_and_footprint_not_available(
         capsys, "trajectory", *query, "--fleet", fleet, "--fleet-radius", "none", "--vmax", "0.4", "--out", out
     )
     assert rc == 0, err
-    limits = json.loads((out / "summary.json").read_text())["limits"]
+    summary = json.loads((out / "summary.json").read_text())
+    limits = summary["limits"]
     assert limits["vmax"] == [0.4, 0.4] and limits["amax"] == [0.75, 0.75]  # --vmax given, amax from the fleet
-    for radius in ("footprint", "vicinity"):
-        out2 = tmp_path / radius
-        rc, _, err = _cli(capsys, "trajectory", *query, "--fleet", fleet, "--fleet-radius", radius, "--out", out2)
-        assert rc == 2 and err.startswith("error: ") and "footprints in the plane are not available" in err
-        assert "0.3 m" in err if radius == "footprint" else "0.5 m" in err
-        assert not out2.exists()
+    assert summary.get("footprint") is None
+    # the fleet's disc (rmf_fleet.profile.footprint 0.3 m, vicinity 0.5 m) unless --footprint is given
+    for args, radius in (
+        (("--fleet-radius", "footprint"), 0.3),
+        (("--fleet-radius", "footprint", "--footprint", "0.2"), 0.2),
+    ):
+        out2 = tmp_path / f"r{radius}"
+        rc, _, err = _cli(capsys, "trajectory", *query, "--fleet", fleet, *args, "--out", out2)
+        assert rc == 0, err
+        fp = json.loads((out2 / "summary.json").read_text())["footprint"]
+        assert str(radius) in json.dumps(fp), fp
+    out3 = tmp_path / "vicinity"
+    rc, _, err = _cli(capsys, "trajectory", *query, "--fleet", fleet, "--fleet-radius", "vicinity", "--out", out3)
+    assert rc in (0, 3), err  # discs of 0.5 m may not pass on this map; either a verified motion or "no motion"
+    if rc == 0:
+        assert "0.5" in json.dumps(json.loads((out3 / "summary.json").read_text())["footprint"])
+    else:
+        assert err.startswith("no motion: ") and not out3.exists()
     no_limits = tmp_path / "fleet.yaml"
     no_limits.write_text("rmf_fleet:\n  name: x\n  profile: {footprint: 0.3}\n", encoding="utf-8")
     rc, _, err = _cli(capsys, "trajectory", *query, "--fleet", no_limits, "--fleet-radius", "none", "--out", out / "x")

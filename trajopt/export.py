@@ -44,6 +44,7 @@ from trajopt.verify import VerificationError, VerificationReport
 __all__ = [
     "CSV_COLUMNS",
     "GRAPH_CSV_COLUMNS",
+    "HEADING_COLUMNS",
     "XY_COLUMNS",
     "Source",
     "Trajectory",
@@ -95,6 +96,9 @@ GRAPH_CSV_COLUMNS = (
 )
 #: Appended to :data:`GRAPH_CSV_COLUMNS` when the layout has vertex coordinates: points on the drawn edges (m).
 XY_COLUMNS = ("a_x", "a_y", "b_x", "b_y")
+#: Columns after :data:`XY_COLUMNS` when the motion was made with a footprint: each robot's heading (radians, the
+#: direction of its piece of the drawing, :class:`mpa.footprint.Drawing`).
+HEADING_COLUMNS = ("a_heading", "b_heading")
 #: Largest number of rows a grid may have.
 MAX_ROWS = 20_000_000
 
@@ -299,6 +303,10 @@ class Trajectory:
     retimer : callable or None
         ``retimer(rate) -> Trajectory``: the plan re-timed for another rate by the generator that made this
         trajectory (used by :meth:`at_rate` when the resampled rows fail the gate).
+    footprint : Footprints or None
+        The robots' bodies in the plane (:mod:`mpa.footprint`), when the motion was made with them.
+    plane : dict or None
+        The gate's check in the plane (:meth:`trajopt.planar_gate.PlaneReport.to_dict`), with a footprint.
     """
 
     t: FloatArray
@@ -325,6 +333,8 @@ class Trajectory:
         repr=False, compare=False
     )
     retimer: Callable[[float], Trajectory] | None = field(default=None, repr=False, compare=False)
+    footprint: Any = None
+    plane: dict[str, Any] | None = None
 
     @property
     def fallback(self) -> bool:
@@ -356,8 +366,17 @@ class Trajectory:
         view = plan_view(self.plan)
         tr = view.track_coordinates(s)
         rep = view.verify(t, s, v, a, j, limits=self.limits, clearance=self.clearance, rate=r, track_pos=tr)
+        plane = self.plane
+        if rep.ok and self.footprint is not None:
+            from trajopt.planar_gate import verify_plane
+
+            e, o = view.positions(s, v)
+            prep = verify_plane(view.graph, self.footprint, e, o, v, amax=self.limits.a, rate=r)
+            plane = prep.to_dict()
+            if not prep.ok:
+                rep = replace(rep, ok=False, failures=rep.failures + prep.failures)
         if rep.ok:
-            return replace(self, rate=r, **verified_rows(t, tr, (s, v, a, j), rep))
+            return replace(self, rate=r, plane=plane, **verified_rows(t, tr, (s, v, a, j), rep))
         if self.retimer is None:
             raise VerificationError(rep)
         new = self.retimer(r)
@@ -419,7 +438,7 @@ class Trajectory:
         if not self.is_graph:
             return CSV_COLUMNS
         if plan_view(self.plan).graph.has_coordinates:
-            return GRAPH_CSV_COLUMNS + XY_COLUMNS
+            return GRAPH_CSV_COLUMNS + XY_COLUMNS + (HEADING_COLUMNS if self.footprint is not None else ())
         return GRAPH_CSV_COLUMNS
 
     def xy(self) -> FloatArray:
@@ -433,6 +452,15 @@ class Trajectory:
         g = plan_view(self.plan).graph
         e, o, _ = self._positions()
         return np.stack([g.embed(e[:, 0], o[:, 0]), g.embed(e[:, 1], o[:, 1])], axis=1)
+
+    def headings(self) -> FloatArray:
+        """Heading of each robot's piece of the drawing at every row (radians, the edge's tangent direction,
+        :class:`mpa.footprint.Drawing`), shape (N, 2)."""
+        from mpa.footprint import drawing_of
+
+        d = drawing_of(plan_view(self.plan).graph)
+        e, o, _ = self._positions()
+        return np.stack([d.pose(e[:, 0], o[:, 0])[1], d.pose(e[:, 1], o[:, 1])[1]], axis=1)
 
     def csv_text(self, rate: float | None = None) -> str:
         """The CSV file's content (see the module docstring), verified at ``rate`` (see :meth:`at_rate`)."""
@@ -457,9 +485,12 @@ class Trajectory:
                 }
             )
         columns = self.columns
-        if columns[-1] == "b_y":
+        if "b_y" in columns:
             p = self.xy()
             col.update({"a_x": p[:, 0, 0], "a_y": p[:, 0, 1], "b_x": p[:, 1, 0], "b_y": p[:, 1, 1]})
+        if "b_heading" in columns:
+            h = self.headings()
+            col.update({"a_heading": h[:, 0], "b_heading": h[:, 1]})
         text = []
         for name in columns:
             x = col[name]
@@ -522,9 +553,25 @@ class Trajectory:
         else:
             track, start, goal = plan.track.to_dict(), plan.start.tolist(), plan.goal.tolist()
             units = {"time": "s", "track": "m", "offset": "m", "s": "m", "v": "m/s", "a": "m/s^2", "j": "m/s^3"}
-        if self.columns[-1] == "b_y":
+        if "b_y" in self.columns:
             units["x"] = units["y"] = "m"
-        return {
+        extra: dict[str, Any] = {}
+        if self.footprint is not None:
+            units["heading"] = "rad"
+            plane = dict(self.plane or {})
+            gap = float(plane.get("min_gap_plane", float("nan")))
+            from mpa.footprint import drawing_of
+
+            scale = float(np.max(np.hypot(*drawing_of(plan_view(plan).graph).piece_dir.T)))
+            extra = {
+                "footprint": self.footprint.to_dict(),
+                "min_gap_plane": gap,
+                # each cart may lag or lead its setpoint by this much along its track (both at once) while the
+                # bodies stay apart in the plane (translation; turning at corners not included)
+                "tracking_margin_plane": max(0.0, gap) / (2.0 * scale),
+                "plane": plane,
+            }
+        return extra | {
             "makespan": self.makespan,
             "motion_time": self.motion_time,
             "min_separation": self.min_separation,

@@ -20,7 +20,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -28,6 +28,7 @@ from numpy.typing import ArrayLike
 
 from mpa import defaults
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
+from mpa.footprint import Footprints, drawing_of, footprints
 from mpa.geometry import RouteGeometry
 from mpa.graph_track import GraphTrack
 from mpa.plan import Plan
@@ -38,7 +39,7 @@ from mpa.tracks import Track
 from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
 from trajopt.export import Source, Trajectory, check_rate, time_grid, verified_rows
 from trajopt.fastpath import straight_scaling
-from trajopt.planview import plan_view
+from trajopt.planview import densify, plan_view
 from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling
 from trajopt.verify import VerificationError, VerificationReport, class_failures_only
 
@@ -81,6 +82,8 @@ class GraphPlanner:
     speeds: tuple[float, float]
     margin: float = 0.0
     objective: str = "fastest"
+    footprint: Footprints | None = None
+    plane_margin: float = 0.0
 
     def __post_init__(self) -> None:
         c = self.clearance
@@ -99,12 +102,28 @@ class GraphPlanner:
         NoMotionError
             No collision-free motion exists (the message says why).
         """
+        fp = self.footprint
+        if fp is not None and self.plane_margin > 0:  # the bodies grown by the gate's between-rows margin first
+            try:
+                return plan_graph(
+                    self.track,
+                    start,
+                    goal,
+                    self.clearance + self.margin,
+                    self.objective,
+                    self.speeds,
+                    fp.inflated(0.5 * self.plane_margin),
+                )
+            except (InvalidInputError, NoMotionError):
+                pass  # the bare footprint decides (and names the error)
         if self.margin > 0:
             try:
-                return plan_graph(self.track, start, goal, self.clearance + self.margin, self.objective, self.speeds)
+                return plan_graph(
+                    self.track, start, goal, self.clearance + self.margin, self.objective, self.speeds, fp
+                )
             except (InvalidInputError, NoMotionError):
                 pass  # the bare clearance decides (and names the error)
-        return plan_graph(self.track, start, goal, self.clearance, self.objective, self.speeds)
+        return plan_graph(self.track, start, goal, self.clearance, self.objective, self.speeds, fp)
 
 
 @dataclass
@@ -127,6 +146,9 @@ class TrajectoryGenerator:
     objective : {"fastest", "shortest"}
         On a layout, the graph planner's objective (default ``"fastest"``: minimum time at the speed limits).
         A paper track planned by the graph planner is its layout form, ``track.as_graph_track()``.
+    footprint : None, mpa.Disc, mpa.Rectangle, pair or spec string
+        The robots' bodies in the plane (layouts with coordinates): the plan keeps them apart in the drawing
+        (:mod:`mpa.planar`) and the gate checks it at and between rows (:mod:`trajopt.planar_gate`).
 
     Raises
     ------
@@ -148,6 +170,7 @@ class TrajectoryGenerator:
     rate: float = defaults.RATE
     optimize: bool = True
     objective: str = "fastest"
+    footprint: Any = None
     planner: Planner | GraphPlanner = field(init=False, repr=False)
     _corridor: CorridorProblem | None = field(default=None, init=False, repr=False)
 
@@ -157,6 +180,12 @@ class TrajectoryGenerator:
         self.rate = check_rate(self.rate)
         if self.objective not in OBJECTIVES:
             raise InvalidInputError(f"objective is {self.objective!r}, expected one of {', '.join(OBJECTIVES)}")
+        self.footprint = footprints(self.footprint)
+        if self.footprint is not None and not isinstance(self.track, GraphTrack):
+            raise InvalidInputError(
+                f"footprint is {self.footprint.spec()!r} on {self.track!r}, expected a layout (GraphTrack): pass "
+                "track.as_graph_track() and positions on it"
+            )
         self.planner = self._make_planner()
         self.clearance = self.planner.clearance
 
@@ -168,9 +197,25 @@ class TrajectoryGenerator:
     def _make_planner(self) -> Planner | GraphPlanner:
         if isinstance(self.track, GraphTrack):
             speeds = (float(self.limits.v[0]), float(self.limits.v[1]))
-            margin = separation_margin(self.limits, self.rate)
-            return GraphPlanner(self.track, self.clearance, speeds, margin, self.objective)
+            return GraphPlanner(
+                self.track,
+                self.clearance,
+                speeds,
+                separation_margin(self.limits, self.rate),
+                objective=self.objective,
+                footprint=self.footprint,
+                plane_margin=self._plane_margin(self.rate),
+            )
         return make_planner(self.track, self.clearance)
+
+    def _plane_margin(self, rate: float) -> float:
+        if self.footprint is None or not isinstance(self.track, GraphTrack):
+            return 0.0
+        from trajopt.planar_gate import plane_margin
+
+        d = drawing_of(self.track)
+        scale = float(np.max(np.hypot(*d.piece_dir.T)))
+        return plane_margin(self.footprint, self.limits.v, self.limits.a, rate, scale)
 
     # ---------------------------------------------------------------------------------------------
     def plan(self, start: Any, goal: Any) -> Plan | GraphPlan:
@@ -245,12 +290,20 @@ class TrajectoryGenerator:
             self.objective,
             self.planner,
         )
+        gen.footprint = self.footprint
         gen.rate = check_rate(rate)
         gen._corridor = self._corridor
         if isinstance(self.planner, GraphPlanner):  # the plan's margin depends on the rate
             pl = self.planner
-            margin = separation_margin(self.limits, gen.rate)
-            gen.planner = GraphPlanner(pl.track, pl.clearance, pl.speeds, margin, pl.objective)
+            gen.planner = GraphPlanner(
+                pl.track,
+                pl.clearance,
+                pl.speeds,
+                separation_margin(self.limits, gen.rate),
+                objective=pl.objective,
+                footprint=self.footprint,
+                plane_margin=self._plane_margin(gen.rate),
+            )
         return gen
 
     def _attempt(self, plan: Plan | GraphPlan) -> Trajectory:
@@ -295,6 +348,10 @@ class TrajectoryGenerator:
 
     def _explain_rejection(self, plan: Plan | GraphPlan) -> str:
         """Why every candidate of ``plan`` fails the gate at this rate, if the caller can fix it ("" if not)."""
+        if self.footprint is not None and isinstance(plan, GraphPlan):
+            why = self._explain_plane(plan)
+            if why:
+                return why
         best = self.lowest_rate(plan)
         margin = separation_margin(self.limits, self.rate)
         if best is not None:
@@ -394,6 +451,9 @@ class TrajectoryGenerator:
         t0 = time.perf_counter()
         view = plan_view(plan)
         line = geom.polyline_min_distance(view.waypoints[[0, -1]])
+        plane = self.footprint is not None and plan.length > 0
+        if plane:
+            line = min(line, sep + self._plane_chord_slack(view, view.waypoints[[0, -1]]))
         if line >= sep or plan.length <= 0:  # the fast path: one phase-synchronised profile along the straight line
             scaling = straight_scaling(plan, self.limits)
             timings["jerk"] = time.perf_counter() - t0
@@ -420,13 +480,46 @@ class TrajectoryGenerator:
             t1 = time.perf_counter()
 
             def chord_min(pts: np.ndarray) -> float:
-                return float(np.min(geom.segment_min_distances(pts)))
+                d = float(np.min(geom.segment_min_distances(pts)))
+                if self.footprint is not None:
+                    d = min(d, sep + self._plane_chord_slack(view, pts))
+                return d
 
             path = blend_polyline(_dedupe(view_waypoints(plan)), chord_min, sep)
             scaling = jerk_limited_scaling(path, self.limits)
             timings["blend"] = time.perf_counter() - t1
             stats.update(scaling.stats, path="blend", line_clearance=line, blends=int(np.sum(path.radii > 0)))
         return self._finish(plan, scaling, Source.OPTIMIZED, "", stats, timings)
+
+    def _explain_plane(self, plan: GraphPlan) -> str:
+        """The bodies pass closer than the gate's between-rows margin at this rate ("" if they do not)."""
+        from trajopt.planar_gate import row_gaps
+
+        assert self.footprint is not None
+        view = plan_view(plan)
+        e, o = view.positions(densify(view.waypoints, 0.01))
+        g = row_gaps(view.graph, self.footprint, e, o)
+        need = 0.5 * self._plane_margin(self.rate)
+        low = float(np.min(g))
+        if low >= need:
+            return ""
+        where = "at the start" if g[0] < need else ("at the goal" if g[-1] < need else "on the only way there")
+        return (
+            f"footprint {self.footprint.spec()}: the bodies come within {max(low, 0.0):.3g} m of each other {where}, "
+            f"and setpoints at {self.rate:g} Hz are verified between rows only with {need:.3g} m between them; "
+            "use smaller bodies, start or goal further apart, or a higher rate"
+        )
+
+    def _plane_chord_slack(self, view: Any, pts: np.ndarray) -> float:
+        """How far the bodies stay beyond the plane margin along a polyline in route coordinates, sampled every
+        1 cm (negative: closer; the gate decides exactly)."""
+        from trajopt.planar_gate import row_gaps
+
+        assert self.footprint is not None
+        dense = densify(pts, 0.01)
+        e, o = view.positions(dense)
+        gaps = row_gaps(view.graph, self.footprint, e, o)
+        return float(np.min(gaps)) - 0.5 * self._plane_margin(self.rate)
 
     def _finish(
         self,
@@ -458,6 +551,17 @@ class TrajectoryGenerator:
         timings["verify" if source is Source.OPTIMIZED else "fallback_verify"] = time.perf_counter() - t1
         if not rep.ok:
             raise VerificationError(rep)
+        plane = None
+        if self.footprint is not None:
+            from trajopt.planar_gate import verify_plane
+
+            e, o = view.positions(s, v)
+            t2 = time.perf_counter()
+            prep = verify_plane(view.graph, self.footprint, e, o, v, amax=self.limits.a, rate=self.rate)
+            timings["verify_plane"] = time.perf_counter() - t2
+            if not prep.ok:
+                raise VerificationError(replace(rep, ok=False, failures=rep.failures + prep.failures))
+            plane = prep.to_dict()
         return Trajectory(
             **verified_rows(t, tr, (s, v, a, j), rep),
             limits=self.limits,
@@ -473,6 +577,8 @@ class TrajectoryGenerator:
             plan=plan,
             sampler=scaling.sample,
             retimer=self._retimer(plan),
+            footprint=self.footprint,
+            plane=plane,
         )
 
     def _retimer(self, plan: Plan | GraphPlan) -> Any:
@@ -547,6 +653,7 @@ def generate_trajectory(
     rate: float = defaults.RATE,
     delay_tolerance: float | None = None,
     min_margin: float | None = None,
+    footprint: Any = None,
 ) -> Trajectory:
     """One call from a query to a verified jerk-limited :class:`~trajopt.export.Trajectory`.
 
@@ -566,6 +673,8 @@ def generate_trajectory(
         Ask for a delay tolerance of at least this (s; see :mod:`trajopt.delay`).
     min_margin : float, optional
         Ask for a tracking margin of at least this (m; see :mod:`trajopt.min_margin`).
+    footprint : None, mpa.Disc, mpa.Rectangle, pair or spec string
+        The robots' bodies in the plane (layouts with coordinates; see :class:`TrajectoryGenerator`).
 
     Returns
     -------
@@ -587,5 +696,7 @@ def generate_trajectory(
     >>> traj.t.shape[0] == traj.s.shape[0], traj.fallback
     (True, False)
     """
-    gen = TrajectoryGenerator(track, clearance=clearance, limits=Limits(vmax, amax, jmax), rate=rate)
+    gen = TrajectoryGenerator(
+        track, clearance=clearance, limits=Limits(vmax, amax, jmax), rate=rate, footprint=footprint
+    )
     return gen.generate(start, goal, delay_tolerance=delay_tolerance, min_margin=min_margin)

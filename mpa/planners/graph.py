@@ -65,6 +65,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError, NoMotionError, PlanningError
+from mpa.footprint import footprints
 from mpa.freespace import FreeSpace, PolygonId, free_space
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, Position, as_graph_track
@@ -797,6 +798,7 @@ def plan_graph(
     clearance: float = 0.0,
     objective: str = "fastest",
     speeds: object = (1.0, 1.0),
+    footprint: object = None,
 ) -> GraphPlan:
     """Plan a collision-free motion of two robots on a graph track (complete: finds one whenever one exists).
 
@@ -812,6 +814,10 @@ def plan_graph(
         Minimum time for the speed limits (weighted L∞), or minimum Euclidean length in offsets.
     speeds : (float, float)
         Speed limits ``(vA, vB)`` (m/s, > 0).
+    footprint : None, mpa.Disc, mpa.Rectangle, pair or spec string
+        The robots' bodies in the plane (:mod:`mpa.footprint`); the motion then also keeps the bodies apart in the
+        layout's drawing (:mod:`mpa.planar`: complete in that model; the path bends only at the free pieces' shared
+        points, so it is not the optimum of ``objective``). Needs vertex coordinates.
 
     Returns
     -------
@@ -848,6 +854,18 @@ def plan_graph(
             raise InvalidInputError(
                 f"{what} has the robots {d:.12g} m apart, expected at least the clearance {fs.clearance_used:.12g} m"
             )
+    fps = footprints(footprint)
+    if fps is not None:
+        if any(tr.oneway):
+            names = ", ".join(tr.edge_names[e] for e, ow in enumerate(tr.oneway) if ow)
+            raise InvalidInputError(
+                f"footprint is {fps.spec()!r} on a layout with one-way edges ({names}), expected a footprint on a "
+                "layout whose edges are all two-way: the planner in the plane does not yet honour one-way lanes "
+                "(plan without --footprint, or make the lanes two-way)"
+            )
+        from mpa.planar import plan_planar
+
+        return cast("GraphPlan", plan_planar(tr, s, gl, clearance, objective, (va, vb), fps))
     ca, cb = fs.component_of(*s), fs.component_of(*gl)
     if ca is None or ca != cb:
         raise NoMotionError(_why_no_motion(tr, fs, s, gl))

@@ -17,11 +17,13 @@ from mpa.tracks import Track, make_track
 __all__ = [
     "TRAJECTORY_DEFAULTS",
     "add_fleet_arguments",
+    "add_footprint_argument",
     "add_map_arguments",
     "add_query_arguments",
     "add_trajectory_arguments",
     "apply_fleet",
     "check_output_dir",
+    "footprint_query",
     "graph_from_args",
     "output_error",
     "parse_coordinates",
@@ -173,13 +175,13 @@ def add_fleet_arguments(p: argparse.ArgumentParser) -> None:
 
 def apply_fleet(args: argparse.Namespace) -> None:
     """Apply ``--fleet``: ``rmf_fleet.limits.linear`` to ``args.vmax``/``args.amax`` where not given on the command
-    line, and the disc radius of ``--fleet-radius``.
+    line, and the disc of ``--fleet-radius`` (``footprint`` or ``vicinity``) to ``args.footprint`` where
+    ``--footprint`` is not given (an explicit option wins, as ``--vmax`` does).
 
     Raises
     ------
     InvalidInputError
-        The fleet file is missing, unreadable or has no limits; or it asks for a disc footprint (footprints in the
-        plane are not available in this version: use ``--fleet-radius none`` for the limits only).
+        The fleet file is missing, unreadable or has no limits (or no radius of the kind asked for).
     """
     path = getattr(args, "fleet", None)
     if path is None:
@@ -193,14 +195,9 @@ def apply_fleet(args: argparse.Namespace) -> None:
     if "amax" not in given:
         args.amax = fleet.amax
     which = getattr(args, "fleet_radius", "footprint")
-    if which == "none":
+    if which == "none" or getattr(args, "footprint", None) is not None:
         return
-    radius = fleet.radius(which)
-    raise InvalidInputError(
-        f"--fleet {path} gives the robots a disc {which} of radius {radius:g} m (rmf_fleet.profile.{which}), "
-        "expected a layout without footprints: footprints in the plane are not available in this version "
-        "(--fleet-radius none uses the fleet's limits only)"
-    )
+    args.footprint = repr(float(fleet.radius(which)))  # a disc spec, parsed with --footprint's rules
 
 
 def add_clearance_argument(p: argparse.ArgumentParser) -> None:
@@ -257,3 +254,42 @@ def check_output_dir(out: str, option: str = "--out") -> Path:
             except OSError:
                 pass
     return d
+
+
+def add_footprint_argument(p: argparse.ArgumentParser) -> None:
+    """``--footprint SPEC``: the robots' bodies in the plane (:func:`mpa.footprint.parse_footprint`)."""
+    p.add_argument(
+        "--footprint",
+        default=None,
+        metavar="SPEC",
+        help="the robots' bodies in the plane: R (disc radius, m) or LxW (rectangle length x width along the "
+        "track, m), one for both or SPEC_A,SPEC_B; needs a layout with vertex coordinates",
+    )
+
+
+def footprint_query(args: argparse.Namespace, track: Any, start: Any, goal: Any) -> tuple[Any, Any, Any, Any]:
+    """``(track, start, goal, footprints)`` with ``--footprint``: the spec parsed and checked against the drawing.
+
+    A paper track (``--track``) is replaced by its graph form (:meth:`mpa.tracks.Track.as_graph_track`, which is
+    drawn) and the query by positions on it. Without ``--footprint`` the arguments come back unchanged, footprints
+    None.
+
+    Raises
+    ------
+    InvalidInputError
+        A malformed spec, a layout without vertex coordinates.
+    """
+    spec = getattr(args, "footprint", None)
+    if spec is None:
+        return track, start, goal, None
+    from mpa.footprint import drawing_of, parse_footprint
+
+    fps = parse_footprint(spec)
+    if isinstance(track, Track):
+        from mpa.planners.factory import _paper_positions
+
+        start = _paper_positions(track, start, "--start")
+        goal = _paper_positions(track, goal, "--goal")
+        track = track.as_graph_track()
+    drawing_of(track)
+    return track, start, goal, fps

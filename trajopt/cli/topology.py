@@ -81,13 +81,46 @@ def free_space_report(
     return {"clearance": fs.clearance, "free_components": fs.components(), "can_swap": fs.can_swap()}
 
 
+def planar_free_space_report(
+    path: str, clearance: float, footprint: str, level: str | None = None, nav_graph: int | None = None
+) -> dict[str, Any]:
+    """Like :func:`free_space_report` with the robots' bodies in the plane (:mod:`mpa.planar`): also ``footprint``.
+
+    Raises
+    ------
+    InvalidInputError
+        A malformed spec, a layout without vertex coordinates.
+    """
+    from mpa.footprint import parse_footprint
+    from mpa.planar import planar_free_space
+
+    fps = parse_footprint(footprint)
+    fs = planar_free_space(GraphTrack.from_file(path, level, nav_graph), clearance, fps)
+    return {
+        "clearance": fs.clearance,
+        "footprint": fps.to_dict(),
+        "free_components": fs.n_components,
+        "can_swap": fs.can_swap(),
+    }
+
+
 def run_topology(args: argparse.Namespace) -> int:
     """Handler of ``mpa topology``: print the report (or one JSON object with ``--json``); returns 0."""
+    footprint = getattr(args, "footprint", None)
+    if footprint is not None:
+        from mpa.footprint import parse_footprint
+
+        parse_footprint(footprint)  # a malformed spec is refused before any work
     level, nav_graph = getattr(args, "level", None), getattr(args, "nav_graph", None)
     layout, info = read_layout_file(args.graph, level, nav_graph)
     graph = graph_from_json_data(layout) if info["kind"] == "layout" else GraphTrack.from_layout(layout).as_graph()
     top = configuration_space_topology(graph)
-    free = None if args.clearance is None else free_space_report(args.graph, args.clearance, level, nav_graph)
+    free: dict[str, Any] | None
+    if footprint is not None:
+        clearance = 0.0 if args.clearance is None else args.clearance
+        free = planar_free_space_report(args.graph, clearance, footprint, level, nav_graph)
+    else:
+        free = None if args.clearance is None else free_space_report(args.graph, args.clearance, level, nav_graph)
     if args.json:
         out: dict[str, Any] = top.to_dict()
         if free is not None:
@@ -96,8 +129,10 @@ def run_topology(args: argparse.Namespace) -> int:
     else:
         print(format_topology(top))
         if free is not None:
+            bodies = f", bodies {free['footprint']['spec']} in the plane" if "footprint" in free else ""
             print(
-                f"free space D = {free['clearance']:g} m: {_count(free['free_components'], 'path component')}; "
+                f"free space D = {free['clearance']:g} m{bodies}: "
+                f"{_count(free['free_components'], 'path component')}; "
                 f"the robots can exchange places: {'yes' if free['can_swap'] else 'no'}"
             )
     return 0
@@ -135,6 +170,13 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
         default=None,
         metavar="D",
         help="also report the path components of the free space {d >= D} (m) and whether the robots can swap",
+    )
+    p.add_argument(
+        "--footprint",
+        default=None,
+        metavar="SPEC",
+        help="with the robots' bodies in the plane: R (disc radius, m) or LxW (rectangle, m), or SPEC_A,SPEC_B; "
+        "the free space then keeps them apart in the layout's drawing (needs vertex coordinates)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run_topology)

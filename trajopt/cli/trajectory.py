@@ -22,8 +22,10 @@ from mpa.graph_track import GraphTrack
 from mpa.tracks import Lollipop, Track
 from trajopt.cli.common import (
     TRAJECTORY_DEFAULTS,
+    add_footprint_argument,
     add_trajectory_arguments,
     check_output_dir,
+    footprint_query,
     output_error,
     query_from_args,
 )
@@ -135,6 +137,7 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
     margin = None if args.min_margin is None else check_margin_option(args.min_margin)
     check_output_dir(args.out)
     track, start, goal = query_from_args(args)
+    track, start, goal, fps = footprint_query(args, track, start, goal)
     limits = Limits(args.vmax, args.amax, args.jmax)
     traj, files = trajectory_files(
         track,
@@ -148,9 +151,16 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
         planner=args.planner,
         objective=args.objective,
         min_margin=margin,
+        footprint=fps,
     )
     write_outputs(args.out, files)
     print(summary_text(traj))
+    if fps is not None:
+        sm = traj.summary()
+        print(
+            f"plane       bodies {fps.spec()}: closest {sm['min_gap_plane']:.4g} m apart in the drawing; "
+            f"tracking margin in the plane {sm['tracking_margin_plane']:.4g} m"
+        )
     print(f"wrote       {', '.join(str(Path(args.out) / n) for n in files)}")
     return 0
 
@@ -167,6 +177,7 @@ def trajectory_files(
     planner: str | None = None,
     objective: str = "fastest",
     min_margin: float | None = None,
+    footprint: Any = None,
 ) -> tuple[Trajectory, dict[str, str | bytes]]:
     """The verified motion of ``mpa trajectory`` and its files, in memory (nothing is written).
 
@@ -189,6 +200,8 @@ def trajectory_files(
         ``--objective`` of the graph planner.
     min_margin : float, optional
         ``--min-margin`` (metres), already checked.
+    footprint : None, mpa.Footprints, spec
+        ``--footprint``: the bodies in the plane (a layout with coordinates).
 
     Returns
     -------
@@ -199,7 +212,9 @@ def trajectory_files(
         with the ``recipe`` that rebuilds the motion).
     """
     track, start, goal = planner_query(track, start, goal, planner)
-    gen = TrajectoryGenerator(track, clearance=clearance, limits=limits, rate=rate, objective=objective)
+    gen = TrajectoryGenerator(
+        track, clearance=clearance, limits=limits, rate=rate, objective=objective, footprint=footprint
+    )
     traj = gen.generate(start, goal, delay_tolerance=tolerance, min_margin=min_margin)
     recipe: dict[str, Any]
     if isinstance(track, Track):
@@ -330,6 +345,7 @@ def register(subparsers: Any) -> None:
     """Add ``trajectory`` and ``demo`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
     p = subparsers.add_parser("trajectory", help="verified jerk-limited setpoints for a query (CSV, ROS 2, PVT, JSON)")
     add_trajectory_arguments(p)
+    add_footprint_argument(p)
     p.add_argument(
         "--out", required=True, help="output directory (setpoints.csv and the other --format files, summary.json)"
     )
