@@ -380,6 +380,15 @@ class GraphTrack:
         """
         if isinstance(pos, str):
             if pos in self._vertex_index:
+                other = self._edge_reading(pos)
+                if other is not None:
+                    e, o = other
+                    raise InvalidInputError(
+                        f"{name} is {pos!r}, which names two places: vertex {pos!r} and {o:g} m along edge "
+                        f"{self.edge_names[e]!r}; expected one reading (write the vertex as an end of one of its "
+                        f"edges, EDGE:0 or EDGE:LENGTH, or the offset in another form, e.g. "
+                        f"{self.edge_names[e] + ':' + repr(float(o))!r})"
+                    )
                 return self.vertex_position(pos)
             if ":" not in pos:
                 raise InvalidInputError(
@@ -414,6 +423,22 @@ class GraphTrack:
             )
         return i, o
 
+    def _edge_reading(self, text: str) -> Position | None:
+        """``text`` read as ``EDGE:OFFSET`` on an edge of this track with the offset on it, else None."""
+        if ":" not in text:
+            return None
+        edge_text, off_text = text.rsplit(":", 1)
+        i = self._edge_index.get(edge_text)
+        if i is None:
+            return None
+        try:
+            o = float(off_text)
+        except ValueError:
+            return None
+        if not (math.isfinite(o) and 0.0 <= o <= float(self.lengths[i])):
+            return None
+        return i, o
+
     def parse_position(self, text: str) -> Position:
         """Parse ``"EDGE:OFFSET"`` or a vertex name (see :meth:`position`)."""
         return self.position(text)
@@ -422,8 +447,15 @@ class GraphTrack:
         """Canonical text of a position: the vertex name at an exact end of the edge, else ``EDGE:OFFSET``."""
         w = self.vertex_at(edge, offset)
         if w is not None:
-            return str(self.graph.vertices[w])
-        return f"{self.edge_names[edge]}:{offset:.12g}"
+            name = str(self.graph.vertices[w])
+            if self._edge_reading(name) is None:
+                return name
+            offset = float(offset)  # a vertex name that also reads as EDGE:OFFSET: name it by its edge
+            return f"{self.edge_names[edge]}:{offset!r}"
+        text = f"{self.edge_names[edge]}:{offset:.12g}"
+        if text in self._vertex_index:  # the short form is a vertex's name: all the digits, another spelling
+            text = f"{self.edge_names[edge]}:{float(offset)!r}"
+        return text
 
     # ----------------------------------------------------------------------------------------- drawing
     @cached_property
