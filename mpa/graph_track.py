@@ -45,7 +45,15 @@ _EDGE_KEYS = {"name", "from", "to", "length", "points"}
 
 
 def _is_number(x: object) -> TypeGuard[int | float]:
-    return isinstance(x, (int, float)) and not isinstance(x, bool)
+    """A real number (not a bool) that converts to a float (an integer beyond ±1.8e308 does not)."""
+    if isinstance(x, bool) or not isinstance(x, (int, float)):
+        return False
+    if isinstance(x, int):
+        try:
+            float(x)
+        except OverflowError:
+            return False
+    return True
 
 
 def _point(value: object, what: str) -> tuple[float, float]:

@@ -52,6 +52,7 @@ __all__ = [
     "Trajectory",
     "atomic_write_bytes",
     "atomic_write_text",
+    "check_output_path",
     "check_rate",
     "csv_field",
     "csv_line",
@@ -59,6 +60,7 @@ __all__ = [
     "time_grid",
     "verified_rows",
     "write_directory",
+    "write_output_file",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -378,7 +380,11 @@ def write_directory(
     if not str(out).strip():
         raise InvalidInputError(f"{option} is {str(out)!r}, expected a directory path")
     d = Path(os.path.realpath(out))
-    if d.exists() and not d.is_dir():
+    try:
+        exists, is_dir = d.exists(), d.is_dir()
+    except OSError as exc:  # e.g. a name too long for the file system
+        raise InvalidInputError(f"{option}: cannot write {str(out)!r}: {exc.strerror or type(exc).__name__}") from None
+    if exists and not is_dir:
         raise InvalidInputError(f"{option} is {str(out)!r}, which exists and is not a directory")
 
     def default_write(path: Path, content: str | bytes) -> None:
@@ -461,6 +467,47 @@ def directory_lock(directory: str | os.PathLike[str]) -> Iterator[None]:
         yield
     finally:
         os.close(fd)  # releases the lock
+
+
+def check_output_path(path: Any, what: str = "path") -> Path:
+    """Check an output file's path before any work: a non-empty ``str`` or path-like that is not a directory.
+
+    Raises
+    ------
+    InvalidInputError
+        The message names ``what``, the value and what was expected.
+    """
+    if isinstance(path, bytes) or not isinstance(path, (str, os.PathLike)):
+        raise InvalidInputError(f"{what} is {path!r}, expected a file path (str or os.PathLike)")
+    text = os.fspath(path)
+    if not isinstance(text, str) or not text.strip():
+        raise InvalidInputError(f"{what} is {text!r}, expected a file path")
+    p = Path(text)
+    try:
+        is_dir = p.is_dir()
+    except OSError as exc:  # e.g. a name too long for the file system
+        raise InvalidInputError(f"{what} {text!r}: cannot write: {exc.strerror or type(exc).__name__}") from None
+    if is_dir or text.endswith(os.sep):
+        raise InvalidInputError(f"{what} is {text!r}, which is a directory, expected a file path")
+    return p
+
+
+def write_output_file(path: Path, content: str | bytes, what: str = "path") -> None:
+    """Write one file atomically (:func:`atomic_write_text`/:func:`atomic_write_bytes`).
+
+    Raises
+    ------
+    InvalidInputError
+        The file cannot be written: ``{what} {path!r}: cannot write: reason`` (no ``[Errno ..]``).
+    """
+    try:
+        if isinstance(content, bytes):
+            atomic_write_bytes(path, content)
+        else:
+            atomic_write_text(path, content)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise InvalidInputError(f"{what} {str(path)!r}: cannot write: {reason}") from None
 
 
 def verified_rows(
@@ -747,9 +794,16 @@ class Trajectory:
 
         At another rate the rows are verified at that rate first (see :meth:`at_rate`); nothing is written
         if that fails.
+
+        Raises
+        ------
+        InvalidInputError
+            ``path`` is not a file path (empty, a directory, not a string or path), the file cannot be written
+            (the message names the path and the reason), or ``rate`` is invalid or too low.
         """
+        target = check_output_path(path)
         text = self.csv_text(rate)
-        atomic_write_text(path, text)
+        write_output_file(target, text)
 
     def margins(self) -> Any:
         """Tracking margin and delay tolerance (:func:`trajopt.margins.margins`; computed once)."""
@@ -824,5 +878,12 @@ class Trajectory:
         return plan_view(self.plan).route_lists(self.s)
 
     def to_json(self, path: str | os.PathLike[str]) -> None:
-        """Write :meth:`summary` as JSON (atomically)."""
-        atomic_write_text(path, json.dumps(self.summary(), indent=2, default=_json_default) + "\n")
+        """Write :meth:`summary` as JSON (atomically).
+
+        Raises
+        ------
+        InvalidInputError
+            ``path`` is not a file path, or the file cannot be written (the message names the path and the reason).
+        """
+        target = check_output_path(path)
+        write_output_file(target, json.dumps(self.summary(), indent=2, default=_json_default) + "\n")

@@ -279,10 +279,11 @@ class TrajectoryGenerator:
             slack = float(plan.min_distance()) - self.clearance
             tight = ""
             if slack < margin:  # the layout itself leaves (almost) no room: say so, and what clearance would do
+                lower = self.clearance + slack - 2.0 * margin
                 tight = (
                     f" (the motion's closest approach keeps only {max(slack, 0.0):.3g} m beyond the clearance, the "
-                    f"most this track allows here, and setpoints at {self.rate:g} Hz need {margin:.3g} m; or lower "
-                    f"the clearance to about {self.clearance + slack - 2.0 * margin:.6g} m)"
+                    f"most this track allows here, and setpoints at {self.rate:g} Hz need {margin:.3g} m"
+                    + (f"; or lower the clearance to about {lower:.6g} m)" if lower > 0.0 else ")")
                 )
             return (
                 f"rate is {self.rate!r} Hz, too low for this motion: between rows the robots could come closer "
@@ -366,7 +367,8 @@ class TrajectoryGenerator:
         sep = self.clearance + separation_margin(self.limits, self.rate)
         t0 = time.perf_counter()
         view = plan_view(plan)
-        line = geom.polyline_min_distance(view.waypoints[[0, -1]])
+        # start == goal: a motion of zero length (one row at rest); the straight "line" is a single point
+        line = float("inf") if plan.length <= 0 else geom.polyline_min_distance(view.waypoints[[0, -1]])
         if line >= sep or plan.length <= 0:  # the fast path: one phase-synchronised profile along the straight line
             scaling = straight_scaling(plan, self.limits)
             timings["jerk"] = time.perf_counter() - t0

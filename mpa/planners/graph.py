@@ -754,9 +754,11 @@ def _why_no_motion(track: GraphTrack, fs: FreeSpace, start: tuple[Position, ...]
         where = "the only loop"
     elif b1 == 0 and branch == 1:
         where = "the only siding"
+    digits = next((k for k in range(6, 18) if f"{lo:.{k}g}" != f"{fs.clearance:.{k}g}"), 17)
     return (
-        f"the clearance {fs.clearance:g} m does not fit {where}: start ({names}) and goal ({gnames}) are in "
-        f"different components of the free space; they are connected only for clearances up to about {lo:.6g} m"
+        f"the clearance {fs.clearance!r} m does not fit {where}: start ({names}) and goal ({gnames}) are in "
+        f"different components of the free space; they are connected only for clearances up to about "
+        f"{lo:.{digits}g} m"
     )
 
 
