@@ -163,11 +163,15 @@ class _CandidateSearch:
 
         gen, D, T = self.gen, self.gen.clearance, self.T
         limits = gen.limits
-        if slowdown != 1.0:
-            k = slowdown
-            limits = Limits(gen.limits.v / k, gen.limits.a / k**2, gen.limits.j / k**3)
         rec: dict[str, Any] = {"clearance": clearance, "slowdown": slowdown}
         self.tried.append(rec)
+        if slowdown != 1.0:
+            k = slowdown
+            try:
+                limits = Limits(gen.limits.v / k, gen.limits.a / k**2, gen.limits.j / k**3)
+            except InvalidInputError as exc:  # slowed below the supported range of the limits
+                rec["failed"] = str(exc)
+                return None
         try:
             if clearance == D and slowdown == 1.0:
                 raw = gen.generate(self.start, self.goal)

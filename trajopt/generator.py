@@ -42,6 +42,11 @@ from trajopt.verify import VerificationError, VerificationReport, class_failures
 __all__ = ["RATE_LADDER", "GraphPlanner", "TrajectoryGenerator", "generate_trajectory", "separation_margin"]
 
 
+#: Factor of :attr:`TrajectoryGenerator.motion_limits`: accelerations above ``LIMIT_CAP·vmax·rate`` and jerks above
+#: ``LIMIT_CAP·amax·rate`` are not used.
+LIMIT_CAP = 10.0
+
+
 def separation_margin(limits: Limits, rate: float) -> float:
     """Extra separation (m) the geometric path keeps so that the gate's between-rows bound holds.
 
@@ -149,6 +154,26 @@ class TrajectoryGenerator:
         self.clearance = self.planner.clearance
 
     @property
+    def motion_limits(self) -> Limits:
+        """The limits the motion is timed with: :attr:`limits`, with accelerations above ``CAP·vmax·rate`` and
+        jerks above ``CAP·amax·rate`` (``CAP`` = :data:`LIMIT_CAP`, per robot) lowered to those values.
+
+        A higher acceleration reaches the speed limit in less than a tenth of a row, so it cannot shorten the
+        motion by more than a row per start or stop; it would only widen the between-rows margin
+        (:func:`separation_margin`) and force slower detours. The motion keeps the lower values, so it also keeps
+        :attr:`limits`, which the gate checks; the makespan does not grow when a limit is loosened past them.
+        """
+        v, a, j = self.limits.v, self.limits.a, self.limits.j
+        a_eff = np.minimum(a, LIMIT_CAP * v * self.rate)
+        j_eff = np.minimum(j, LIMIT_CAP * a_eff * self.rate)
+        if np.array_equal(a_eff, a) and np.array_equal(j_eff, j):
+            return self.limits
+        capped = object.__new__(Limits)  # lower than valid limits, so valid (not checked against the range again)
+        for name, x in (("vmax", v), ("amax", a_eff), ("jmax", j_eff)):
+            object.__setattr__(capped, name, (float(x[0]), float(x[1])))
+        return capped
+
+    @property
     def is_graph(self) -> bool:
         """Whether the track is a layout (:class:`mpa.GraphTrack`) rather than one of the paper's tracks."""
         return isinstance(self.track, GraphTrack)
@@ -156,7 +181,7 @@ class TrajectoryGenerator:
     def _make_planner(self) -> Planner | GraphPlanner:
         if isinstance(self.track, GraphTrack):
             speeds = (float(self.limits.v[0]), float(self.limits.v[1]))
-            return GraphPlanner(self.track, self.clearance, speeds, separation_margin(self.limits, self.rate))
+            return GraphPlanner(self.track, self.clearance, speeds, separation_margin(self.motion_limits, self.rate))
         return make_planner(self.track, self.clearance)
 
     # ---------------------------------------------------------------------------------------------
@@ -228,7 +253,9 @@ class TrajectoryGenerator:
         gen._corridor = self._corridor
         if isinstance(self.planner, GraphPlanner):  # the plan's margin depends on the rate
             pl = self.planner
-            gen.planner = GraphPlanner(pl.track, pl.clearance, pl.speeds, separation_margin(self.limits, gen.rate))
+            gen.planner = GraphPlanner(
+                pl.track, pl.clearance, pl.speeds, separation_margin(gen.motion_limits, gen.rate)
+            )
         return gen
 
     def _attempt(self, plan: Plan | GraphPlan) -> Trajectory:
@@ -274,7 +301,7 @@ class TrajectoryGenerator:
     def _explain_rejection(self, plan: Plan | GraphPlan) -> str:
         """Why every candidate of ``plan`` fails the gate at this rate, if the caller can fix it ("" if not)."""
         best = self.lowest_rate(plan)
-        margin = separation_margin(self.limits, self.rate)
+        margin = separation_margin(self.motion_limits, self.rate)
         if best is not None:
             slack = float(plan.min_distance()) - self.clearance
             tight = ""
@@ -332,7 +359,7 @@ class TrajectoryGenerator:
         t1 = time.perf_counter()
         try:
             path = blend_polyline(_dedupe(view.waypoints))
-            scaling = jerk_limited_scaling(path, self.limits)
+            scaling = jerk_limited_scaling(path, self.motion_limits)
         except (MPAError, RuntimeError, ArithmeticError, ValueError) as exc:
             raise _RejectedError(f"the re-timed plan cannot be computed ({exc}); after: {reason}") from exc
         timings["fallback_jerk"] = time.perf_counter() - t1
@@ -364,13 +391,13 @@ class TrajectoryGenerator:
     def _optimized(
         self, plan: Plan | GraphPlan, geom: RouteGeometry, timings: dict[str, Any], stats: dict[str, Any]
     ) -> Trajectory:
-        sep = self.clearance + separation_margin(self.limits, self.rate)
+        sep = self.clearance + separation_margin(self.motion_limits, self.rate)
         t0 = time.perf_counter()
         view = plan_view(plan)
         # start == goal: a motion of zero length (one row at rest); the straight "line" is a single point
         line = float("inf") if plan.length <= 0 else geom.polyline_min_distance(view.waypoints[[0, -1]])
         if line >= sep or plan.length <= 0:  # the fast path: one phase-synchronised profile along the straight line
-            scaling = straight_scaling(plan, self.limits)
+            scaling = straight_scaling(plan, self.motion_limits)
             timings["jerk"] = time.perf_counter() - t0
             stats.update(scaling.stats, path="fast", line_clearance=line)
             try:
@@ -386,7 +413,7 @@ class TrajectoryGenerator:
         if not isinstance(plan, GraphPlan):
             if self._corridor is None:
                 self._corridor = CorridorProblem(CORRIDOR_SEGMENTS, self.limits.v)
-            scaling, st = hard_path_scaling(plan, geom, sep, self.limits, self._corridor, timings)
+            scaling, st = hard_path_scaling(plan, geom, sep, self.motion_limits, self._corridor, timings)
             stats.update(st, path="hard", line_clearance=line)
         else:
             # A graph plan is taut: it touches the clearance (plus the margin) at its corners, so the corridor has
@@ -398,7 +425,7 @@ class TrajectoryGenerator:
                 return float(np.min(geom.segment_min_distances(pts)))
 
             path = blend_polyline(_dedupe(view_waypoints(plan)), chord_min, sep)
-            scaling = jerk_limited_scaling(path, self.limits)
+            scaling = jerk_limited_scaling(path, self.motion_limits)
             timings["blend"] = time.perf_counter() - t1
             stats.update(scaling.stats, path="blend", line_clearance=line, blends=int(np.sum(path.radii > 0)))
         return self._finish(plan, scaling, Source.OPTIMIZED, "", stats, timings)
