@@ -234,10 +234,33 @@ class TrajectoryGenerator:
         try:
             return self._generate(plan, timings)
         except _RejectedError as exc:
-            why = self._explain_rejection(plan)
+            why = self._explain_rejection(plan) or self._explain_threshold(plan)
             if why:
                 raise InvalidInputError(why) from None
             raise PlanningError(str(exc)) from exc
+
+    def _explain_threshold(self, plan: Plan | GraphPlan) -> str:
+        """At a threshold clearance (the plan keeps exactly D somewhere while the robots move) no rate can be
+        verified: the gate's bound between rows loses ``a·Δt²/8``. Names a slightly lower clearance that gives
+        verified setpoints (tried here, at most three), or "" if the plan is not at a threshold or none works."""
+        margin = separation_margin(self.motion_limits, self.rate)
+        if self.clearance <= 0 or float(plan.min_distance()) - self.clearance >= margin:
+            return ""
+        for drop in (2.0 * margin, 1e-3 * self.clearance, 1e-2 * self.clearance):
+            lower = self.clearance - drop
+            if lower <= 0:
+                continue
+            try:
+                gen = TrajectoryGenerator(self.track, clearance=lower, limits=self.limits, rate=self.rate)
+                gen.generate(plan.start, plan.goal)
+            except MPAError:
+                continue
+            return (
+                f"clearance {self.clearance!r} m is at the threshold of this motion: the robots must pass exactly "
+                f"{self.clearance!r} m apart while moving, which setpoints at no rate can verify (between rows they "
+                f"may come closer); expected a clearance below it: {lower:.6g} m works at {self.rate:g} Hz"
+            )
+        return ""
 
     def at_rate(self, rate: float) -> TrajectoryGenerator:
         """The same generator at another setpoint rate (Hz; the planner is shared)."""

@@ -65,7 +65,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError, NoMotionError, PlanningError
-from mpa.freespace import FreeSpace, PolygonId, free_space
+from mpa.freespace import FreeSpace, PolygonId, check_size, free_space
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 
@@ -830,6 +830,7 @@ def plan_graph(
     True
     """
     tr = as_graph_track(track)
+    check_size(tr)  # before the distances and the free space are built
     if objective not in OBJECTIVES:
         raise InvalidInputError(f"objective is {objective!r}, expected one of {list(OBJECTIVES)}")
     va, vb = _speeds(speeds)
