@@ -42,6 +42,8 @@ __all__ = ["GraphTrack", "Position", "paper_from_graph_position", "paper_to_grap
 FloatArray = NDArray[np.float64]
 Position = tuple[int, float]
 _EDGE_KEYS = {"name", "from", "to", "length", "points"}
+#: Largest coordinate and edge length of a layout (m): sums of lengths and squared coordinates stay finite.
+MAX_EXTENT = 1e12
 
 
 def _is_number(x: object) -> TypeGuard[int | float]:
@@ -63,6 +65,8 @@ def _point(value: object, what: str) -> tuple[float, float]:
         or not all(_is_number(c) and math.isfinite(c) for c in value)
     ):
         raise InvalidInputError(f"{what} is {value!r}, expected [x, y] with two finite numbers (metres)")
+    if max(abs(float(value[0])), abs(float(value[1]))) > MAX_EXTENT:
+        raise InvalidInputError(f"{what} is {value!r}, expected coordinates within ±{MAX_EXTENT:g} m")
     return float(value[0]), float(value[1])
 
 
@@ -160,6 +164,8 @@ def _edge_length(length: object, name: str, a: tuple[float, float] | None, b: tu
         return length_f
     if not _is_number(length) or not math.isfinite(length) or float(length) <= 0:
         raise InvalidInputError(f"length of edge {name!r} is {length!r}, expected a finite number > 0")
+    if float(length) > MAX_EXTENT:
+        raise InvalidInputError(f"length of edge {name!r} is {length!r}, expected at most {MAX_EXTENT:g} m")
     return float(length)
 
 

@@ -74,6 +74,9 @@ __all__ = ["OBJECTIVES", "GraphPlan", "plan_graph"]
 FloatArray = NDArray[np.float64]
 OBJECTIVES = ("fastest", "shortest")
 TIE_BREAK = 1e-6
+#: Supported speeds (m/s) of the graph planner, and their largest ratio.
+SPEED_RANGE = (1e-6, 1e6)
+SPEED_RATIO = 1e8
 TIE_BREAK_2 = 1e-9  # then towards the straightest (Euclidean in time units): one timing among equally fast ones
 F_GRID = 1e-12  # relative resolution of the search's order (see _search)
 Key = tuple[Any, ...]
@@ -774,7 +777,17 @@ def _speeds(speeds: object) -> tuple[float, float]:
             raise InvalidInputError(f"{name} is {v!r}, expected a positive number (m/s)")
         if not math.isfinite(float(v)) or float(v) <= 0:
             raise InvalidInputError(f"{name} is {v!r}, expected a finite number > 0 (m/s)")
+        if not SPEED_RANGE[0] <= float(v) <= SPEED_RANGE[1]:
+            raise InvalidInputError(
+                f"{name} is {v!r}, expected a number in [{SPEED_RANGE[0]:g}, {SPEED_RANGE[1]:g}] m/s (the planner "
+                "works in times Δs/v, which overflow or lose all precision outside it)"
+            )
         out.append(float(v))
+    if max(out) / min(out) > SPEED_RATIO:
+        raise InvalidInputError(
+            f"speeds are {out[0]!r} and {out[1]!r} m/s, expected a ratio of at most {SPEED_RATIO:g} (the slower "
+            "robot's times would swamp the faster one's)"
+        )
     return out[0], out[1]
 
 
