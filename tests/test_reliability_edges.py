@@ -93,7 +93,7 @@ def test_limits_outside_the_supported_range_are_one_error_line(name: str, value:
     assert not (tmp_path / "o").exists()
 
 
-@pytest.mark.parametrize("args", [["--amax", "1e4"], ["--jmax", "0.005"], ["--vmax", "5000"], ["--vmax", "0.0005"]])
+@pytest.mark.parametrize("args", [["--amax", "1e4"], ["--jmax", "0.005"], ["--vmax", "5000"], ["--amax", "0.001"]])
 def test_extreme_limits_answer_within_10_s(args: list[str], tmp_path: Path) -> None:
     t0 = time.perf_counter()
     code, _, err = run(["trajectory", *QUERY, *args, "--out", str(tmp_path / "o")])
@@ -107,7 +107,7 @@ def test_extreme_limits_answer_within_10_s(args: list[str], tmp_path: Path) -> N
 SPAN = st.floats(min_value=-3.0, max_value=4.0)
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.tuples(SPAN, SPAN, SPAN), st.sampled_from([0, 1, 2]), st.floats(min_value=1.0, max_value=100.0))
 def test_makespan_never_grows_when_a_limit_is_loosened(exps: tuple[float, float, float], which: int, k: float) -> None:
     base = np.array([0.5, 1.0, 5.0]) * 10.0 ** np.array(exps)

@@ -155,8 +155,13 @@ class TrajectoryGenerator:
 
     @property
     def motion_limits(self) -> Limits:
-        """The limits the motion is timed with: :attr:`limits`, with accelerations above ``CAP·vmax·rate`` and
-        jerks above ``CAP·amax·rate`` (``CAP`` = :data:`LIMIT_CAP`, per robot) lowered to those values.
+        """The limits the motion is timed with: :attr:`limits`, with accelerations above ``CAP·vmax·rate`` or
+        ``sqrt(vmax·jmax)`` and jerks above ``CAP·amax·rate`` (``CAP`` = :data:`LIMIT_CAP`, per robot) lowered
+        to those values.
+
+        A time-optimal jerk-limited rest-to-rest profile never accelerates beyond ``sqrt(vmax·jmax)`` (the speed
+        limit is reached before), so that cap costs nothing and keeps the timing filters away from plateaus of
+        ``amax/jmax`` seconds (amax 1e4 with jmax 5 gave a 4 097 s motion).
 
         A higher acceleration reaches the speed limit in less than a tenth of a row, so it cannot shorten the
         motion by more than a row per start or stop; it would only widen the between-rows margin
@@ -164,7 +169,7 @@ class TrajectoryGenerator:
         :attr:`limits`, which the gate checks; the makespan does not grow when a limit is loosened past them.
         """
         v, a, j = self.limits.v, self.limits.a, self.limits.j
-        a_eff = np.minimum(a, LIMIT_CAP * v * self.rate)
+        a_eff = np.minimum(np.minimum(a, LIMIT_CAP * v * self.rate), np.sqrt(v * j))
         j_eff = np.minimum(j, LIMIT_CAP * a_eff * self.rate)
         if np.array_equal(a_eff, a) and np.array_equal(j_eff, j):
             return self.limits
