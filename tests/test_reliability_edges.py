@@ -7,8 +7,6 @@ large layouts (8), bad input that escaped the error family (9) and the messages 
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 import os
 import time
@@ -23,28 +21,14 @@ import mpa
 from mpa import GraphTrack, Lollipop, MPAError
 from mpa.errors import InvalidInputError
 from trajopt import generate_trajectory
-from trajopt.cli import main
 from trajopt.testing import check_trajectory
+
+from .test_reliability_cli import _one_error_line as one_line
+from .test_reliability_cli import run
 
 ROOT = Path(__file__).resolve().parents[1]
 Y = str(ROOT / "examples" / "tracks" / "y_junction.json")
 QUERY = ["--track", "lollipop", "--start", "0.2", "0.5", "--goal", "0.5", "0.2"]
-
-
-def run(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            code = main(argv)
-        except SystemExit as exc:
-            code = int(exc.code or 0)
-    return code, out.getvalue(), err.getvalue()
-
-
-def one_line(err: str, prefix: str = "error:") -> str:
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith(prefix) and "Traceback" not in err, err
-    return lines[0]
 
 
 # --- 3: ambiguous positions -----------------------------------------------------------------------------
