@@ -343,3 +343,77 @@ def test_layout_coordinates_of_1e308_one_line(tmp_path: Path) -> None:
     assert code in (0, 2, 3), err
     if code:
         one_line(err, "error:" if code == 2 else "no motion:")
+
+
+# --- 9: fuzzing with deep JSON, digit strings, extreme floats and non-path arguments ----------------------
+EXTREME = st.sampled_from(
+    [0.0, -0.0, 1e-308, 5e-324, 1e308, -1e308, float("inf"), float("-inf"), float("nan"), 10**400]
+)
+NUMBER_TEXT = st.one_of(
+    st.integers(min_value=1, max_value=6000).map(lambda n: "9" * n),
+    st.integers(min_value=1, max_value=400).map(lambda n: "1e" + "9" * n),
+    st.integers(min_value=1, max_value=400).map(lambda n: "0." + "0" * n + "1"),
+    st.sampled_from(["-1", "1e308", "1e309", "-0", "2.5e-324", "NaN", "Infinity"]),
+)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(min_value=1, max_value=200_000), NUMBER_TEXT, st.sampled_from(["[", '{"a":']))
+def test_fuzz_layout_text_deep_and_digits(
+    tmp_path_factory: pytest.TempPathFactory, depth: int, number: str, opener: str
+) -> None:
+    closer = "]" if opener == "[" else "}"
+    texts = [
+        '{"edges":' + opener * depth + closer * depth + "}",
+        '{"edges":[["a","b",' + number + "]]}",
+        '{"vertices":{"a":[0,' + number + '],"b":[1,0]},"edges":[["a","b"]]}',
+    ]
+    d = tmp_path_factory.mktemp("fuzz")
+    for k, text in enumerate(texts):
+        f = d / f"l{k}.json"
+        f.write_text(text)
+        try:
+            GraphTrack.from_json(f)
+        except MPAError:
+            pass
+        code, _, err = run(["plan", "--graph", str(f), "--start", "a", "b", "--goal", "b", "a"])
+        assert code in (0, 2, 3), (text[:80], err)
+        if code:
+            one_line(err, "error:" if code == 2 else "no motion:")
+
+
+@settings(max_examples=60, deadline=None)
+@given(EXTREME, EXTREME, st.sampled_from(["vmax", "amax", "jmax", "rate", "clearance"]))
+def test_fuzz_extreme_floats_into_the_api(x: float, y: float, name: str) -> None:
+    track = GraphTrack.from_layout({"edges": [["J", "a", 1.0], ["J", "b", 2.0], ["J", "c", 2.0]]})
+    try:
+        mpa.plan(track, ("b", "c"), ("c", "b"), clearance=0.5, speeds=(x, y))
+    except MPAError:
+        pass
+    try:
+        generate_trajectory(Lollipop(1, 1), (0.2, 0.5), (0.5, 0.2), **{name: x})
+    except MPAError:
+        pass
+
+
+NON_PATHS = st.one_of(
+    st.none(),
+    st.integers(),
+    st.floats(),
+    st.binary(max_size=5),
+    st.lists(st.text(max_size=3), max_size=2),
+    st.sampled_from(["", " ", "/", "/nonexistent/x.csv", "x" * 300, "/proc/x", "a\x00b"]),
+)
+
+
+@pytest.fixture(scope="module")
+def small_traj():  # type: ignore[no-untyped-def]
+    return generate_trajectory(Lollipop(1, 1), (0.2, 0.5), (0.5, 0.2))
+
+
+@settings(max_examples=60, deadline=None)
+@given(NON_PATHS)
+def test_fuzz_non_path_arguments_are_input_errors(small_traj, path: object) -> None:  # type: ignore[no-untyped-def]
+    for write in (small_traj.to_csv, small_traj.to_json):
+        with pytest.raises(InvalidInputError):
+            write(path)

@@ -64,7 +64,7 @@ def check_delay_tolerance(value: Any) -> float:
     """
     try:
         t = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(f"delay tolerance is {value!r}, expected a number of seconds >= 0") from None
     if not math.isfinite(t) or t < 0.0:
         raise InvalidInputError(f"delay tolerance is {value!r}, expected a finite number of seconds >= 0")

@@ -149,7 +149,7 @@ def check_rate(rate: Any, name: str = "rate") -> float:
     """
     try:
         r = float(rate)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(f"{name} is {rate!r}, expected a positive finite number (Hz)") from None
     if not np.isfinite(r) or r <= 0:
         raise InvalidInputError(f"{name} is {r!r}, expected a positive finite number (Hz)")
@@ -184,19 +184,21 @@ def time_grid(duration: float, rate: float) -> FloatArray:
     InvalidInputError
         Too many rows for the budget: the message names ``--rate`` and the largest rate that fits.
     """
-    n = int(np.ceil(duration * rate - 1e-9)) if duration > 0 else 0
+    with np.errstate(over="ignore"):
+        steps = float(np.ceil(duration * rate - 1e-9)) if duration > 0 else 0.0
     budget = memory_budget()
     fit = int(min(MAX_ROWS, budget // ROW_BYTES))
-    if n + 1 > fit:
+    if not steps + 1 <= fit:  # also an infinite count
+        n = steps
         best = (fit - 1) / duration
         digits = 10 ** np.floor(np.log10(best)) / 10 if best > 0 else 1.0
         best = float(np.floor(best / digits) * digits)
         raise InvalidInputError(
-            f"rate (--rate) {rate:g} Hz gives {n + 1} rows for the {duration:.6g} s motion, about "
+            f"rate (--rate) {rate:g} Hz gives {n + 1:.0f} rows for the {duration:.6g} s motion, about "
             f"{(n + 1) * ROW_BYTES / 2**30:.3g} GiB, above the memory budget of {budget / 2**30:.3g} GiB "
             f"({fit} rows; ${BUDGET_ENV} sets it); the largest rate that fits is {best:g} Hz"
         )
-    return np.arange(n + 1) / rate
+    return np.arange(int(steps) + 1) / rate
 
 
 def atomic_write_text(path: str | os.PathLike[str], text: str) -> None:
@@ -524,6 +526,8 @@ def check_output_path(path: Any, what: str = "path") -> Path:
     text = os.fspath(path)
     if not isinstance(text, str) or not text.strip():
         raise InvalidInputError(f"{what} is {text!r}, expected a file path")
+    if "\x00" in text:
+        raise InvalidInputError(f"{what} is {text!r}, expected a file path without a NUL character")
     p = Path(text)
     try:
         is_dir = p.is_dir()

@@ -169,8 +169,9 @@ class TrajectoryGenerator:
         :attr:`limits`, which the gate checks; the makespan does not grow when a limit is loosened past them.
         """
         v, a, j = self.limits.v, self.limits.a, self.limits.j
-        a_eff = np.minimum(np.minimum(a, LIMIT_CAP * v * self.rate), np.sqrt(v * j))
-        j_eff = np.minimum(j, LIMIT_CAP * a_eff * self.rate)
+        with np.errstate(over="ignore"):  # a huge rate: no cap (inf), the memory budget refuses it later
+            a_eff = np.minimum(np.minimum(a, LIMIT_CAP * v * self.rate), np.sqrt(v * j))
+            j_eff = np.minimum(j, LIMIT_CAP * a_eff * self.rate)
         if np.array_equal(a_eff, a) and np.array_equal(j_eff, j):
             return self.limits
         capped = object.__new__(Limits)  # lower than valid limits, so valid (not checked against the range again)

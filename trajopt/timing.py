@@ -66,7 +66,7 @@ BLEND_TRIES = 8
 def _pair(name: str, value: Any, unit: str, default: float) -> tuple[float, float]:
     try:
         arr = np.broadcast_to(np.asarray(value, dtype=float), (2,))
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(
             f"{name} is {value!r}, expected a positive finite number ({unit}) or one per robot"
         ) from None

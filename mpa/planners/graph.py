@@ -766,15 +766,27 @@ def _why_no_motion(track: GraphTrack, fs: FreeSpace, start: tuple[Position, ...]
 
 
 # ------------------------------------------------------------------------------------------------- API
+def _fits_float(x: int) -> bool:
+    try:
+        float(x)
+    except OverflowError:
+        return False
+    return True
+
+
 def _speeds(speeds: object) -> tuple[float, float]:
     try:
         va, vb = cast("tuple[object, object]", speeds)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(f"speeds is {speeds!r}, expected two positive numbers (vA, vB) in m/s") from None
     out = []
     for name, v in (("speed of robot A", va), ("speed of robot B", vb)):
         if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
             raise InvalidInputError(f"{name} is {v!r}, expected a positive number (m/s)")
+        if isinstance(v, int) and not _fits_float(v):
+            raise InvalidInputError(
+                f"{name} is an integer of {len(str(abs(v)))} digits, expected a finite number > 0 (m/s)"
+            )
         if not math.isfinite(float(v)) or float(v) <= 0:
             raise InvalidInputError(f"{name} is {v!r}, expected a finite number > 0 (m/s)")
         if not SPEED_RANGE[0] <= float(v) <= SPEED_RANGE[1]:
