@@ -214,3 +214,12 @@ def test_write_directory_through_a_symlink_keeps_the_link(tmp_path: Path) -> Non
     link.symlink_to(real)
     write_directory(link, {"summary.json": "2\n"})
     assert link.is_symlink() and (real / "summary.json").read_text() == "2\n"
+
+
+def test_the_working_directory_is_written_in_place(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    write_directory(".", {"setpoints.csv": "a\n", "pvt.csv": "p\n", "summary.json": "{}\n"})
+    (tmp_path / "mine.txt").write_text("keep")
+    write_directory(".", {"setpoints.csv": "b\n", "summary.json": "{}\n"})
+    assert Path("setpoints.csv").read_text() == "b\n"  # the working directory is still the directory
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["mine.txt", "setpoints.csv", "summary.json"]

@@ -394,7 +394,10 @@ def write_directory(
     swapped by one ``renameat2(RENAME_EXCHANGE)`` (a plain :func:`os.rename` when ``out`` does not exist yet), the
     commit point, and the previous set is removed. After any interruption (``kill -9``, ``SIGTERM``, Ctrl-C, a
     full disk) ``out`` holds exactly one run's complete set: this one or the previous one, untouched; files of
-    formats an older run wrote and this one does not are gone. Where ``renameat2`` is missing, ``out`` is renamed
+    formats an older run wrote and this one does not are gone. A directory that cannot be swapped (the working
+    directory or one holding it, a mount point, or one with subdirectories that are not a run's) is written in
+    place instead: each file atomically, ``summary.json`` last, stale run files removed, under the lock. Where
+    ``renameat2`` is missing, ``out`` is renamed
     aside first and the next write of ``out`` puts it back if the writer died in between. A dead writer's
     temporary directory is removed by the next write. Writers of directories in one parent hold an exclusive
     ``flock`` of the parent (:func:`directory_lock`).
@@ -440,6 +443,8 @@ def write_directory(
     writer = write or default_write
     target = Path(out)
     try:
+        if d.is_dir() and _in_place(d):
+            return _write_in_place(d, Path(out), files, writer, option)
         d.parent.mkdir(parents=True, exist_ok=True)
         with directory_lock(d):
             _recover_siblings(d)
@@ -482,6 +487,47 @@ def write_directory(
         reason = exc.strerror or type(exc).__name__
         raise InvalidInputError(f"{option}: cannot write {str(target)!r}: {reason}") from None
     return [Path(out) / name for name in files]
+
+
+def _in_place(d: Path) -> bool:
+    """Whether directory ``d`` must be written in place rather than swapped: it is (or holds) the working
+    directory, a mount point, or it holds subdirectories that are not a run's (they would have to be copied)."""
+    try:
+        cwd = Path(os.getcwd()).resolve()
+    except OSError:
+        cwd = None
+    if cwd is not None and (cwd == d or d in cwd.parents):
+        return True
+    if os.path.ismount(d):
+        return True
+    with os.scandir(d) as it:
+        return any(e.is_dir(follow_symlinks=False) and e.name not in RUN_FILES for e in it)
+
+
+def _write_in_place(
+    d: Path,
+    shown: Path,
+    files: dict[str, str | bytes],
+    writer: Callable[[Path, str | bytes], None],
+    option: str,
+) -> list[Path]:
+    """The fallback of :func:`write_directory` for a directory it cannot swap (see :func:`_in_place`): each file
+    replaced atomically, ``summary.json`` last, then the run files of formats not asked for removed; all under
+    :func:`directory_lock`. A reader that takes the lock sees one run's set."""
+    order = [n for n in files if n != "summary.json"] + [n for n in files if n == "summary.json"]
+    target = shown
+    try:
+        with directory_lock(d):
+            for name in order:
+                target = shown / name
+                writer(d / name, files[name])
+                _pause(f"wrote {name}")
+            for name in RUN_FILES - set(files):
+                (d / name).unlink(missing_ok=True)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise InvalidInputError(f"{option}: cannot write {str(target)!r}: {reason}") from None
+    return [shown / name for name in files]
 
 
 def _link_or_copy(src: str, dst: str) -> str:
