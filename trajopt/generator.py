@@ -258,8 +258,8 @@ class TrajectoryGenerator:
                 continue
             try:
                 gen = TrajectoryGenerator(self.track, clearance=lower, limits=self.limits, rate=self.rate)
-                gen.generate(plan.start, plan.goal)
-            except MPAError:
+                gen._generate(gen.plan(plan.start, plan.goal), None)  # no explanation of its own (no recursion)
+            except (MPAError, _RejectedError):
                 continue
             return (
                 f"clearance {self.clearance!r} m is at the threshold of this motion: the robots must pass exactly "
