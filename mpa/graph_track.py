@@ -45,10 +45,20 @@ __all__ = ["GraphTrack", "Position", "paper_from_graph_position", "paper_to_grap
 FloatArray = NDArray[np.float64]
 Position = tuple[int, float]
 _EDGE_KEYS = {"name", "from", "to", "length", "points", "oneway", "speed_limit"}
+#: Largest coordinate and edge length of a layout (m): sums of lengths and squared coordinates stay finite.
+MAX_EXTENT = 1e12
 
 
 def _is_number(x: object) -> TypeGuard[int | float]:
-    return isinstance(x, (int, float)) and not isinstance(x, bool)
+    """A real number (not a bool) that converts to a float (an integer beyond ±1.8e308 does not)."""
+    if isinstance(x, bool) or not isinstance(x, (int, float)):
+        return False
+    if isinstance(x, int):
+        try:
+            float(x)
+        except OverflowError:
+            return False
+    return True
 
 
 def _point(value: object, what: str) -> tuple[float, float]:
@@ -58,6 +68,8 @@ def _point(value: object, what: str) -> tuple[float, float]:
         or not all(_is_number(c) and math.isfinite(c) for c in value)
     ):
         raise InvalidInputError(f"{what} is {value!r}, expected [x, y] with two finite numbers (metres)")
+    if max(abs(float(value[0])), abs(float(value[1]))) > MAX_EXTENT:
+        raise InvalidInputError(f"{what} is {value!r}, expected coordinates within ±{MAX_EXTENT:g} m")
     return float(value[0]), float(value[1])
 
 
@@ -170,6 +182,8 @@ def _edge_length(length: object, name: str, a: tuple[float, float] | None, b: tu
         return length_f
     if not _is_number(length) or not math.isfinite(length) or float(length) <= 0:
         raise InvalidInputError(f"length of edge {name!r} is {length!r}, expected a finite number > 0")
+    if float(length) > MAX_EXTENT:
+        raise InvalidInputError(f"length of edge {name!r} is {length!r}, expected at most {MAX_EXTENT:g} m")
     return float(length)
 
 
@@ -454,6 +468,15 @@ class GraphTrack:
         """
         if isinstance(pos, str):
             if pos in self._vertex_index:
+                other = self._edge_reading(pos)
+                if other is not None:
+                    e, o = other
+                    raise InvalidInputError(
+                        f"{name} is {pos!r}, which names two places: vertex {pos!r} and {o:g} m along edge "
+                        f"{self.edge_names[e]!r}; expected one reading (write the vertex as an end of one of its "
+                        f"edges, EDGE:0 or EDGE:LENGTH, or the offset in another form, e.g. "
+                        f"{self.edge_names[e] + ':' + repr(float(o))!r})"
+                    )
                 return self.vertex_position(pos)
             if ":" not in pos:
                 raise InvalidInputError(
@@ -488,6 +511,22 @@ class GraphTrack:
             )
         return i, o
 
+    def _edge_reading(self, text: str) -> Position | None:
+        """``text`` read as ``EDGE:OFFSET`` on an edge of this track with the offset on it, else None."""
+        if ":" not in text:
+            return None
+        edge_text, off_text = text.rsplit(":", 1)
+        i = self._edge_index.get(edge_text)
+        if i is None:
+            return None
+        try:
+            o = float(off_text)
+        except ValueError:
+            return None
+        if not (math.isfinite(o) and 0.0 <= o <= float(self.lengths[i])):
+            return None
+        return i, o
+
     def parse_position(self, text: str) -> Position:
         """Parse ``"EDGE:OFFSET"`` or a vertex name (see :meth:`position`)."""
         return self.position(text)
@@ -496,8 +535,15 @@ class GraphTrack:
         """Canonical text of a position: the vertex name at an exact end of the edge, else ``EDGE:OFFSET``."""
         w = self.vertex_at(edge, offset)
         if w is not None:
-            return str(self.graph.vertices[w])
-        return f"{self.edge_names[edge]}:{offset:.12g}"
+            name = str(self.graph.vertices[w])
+            if self._edge_reading(name) is None:
+                return name
+            offset = float(offset)  # a vertex name that also reads as EDGE:OFFSET: name it by its edge
+            return f"{self.edge_names[edge]}:{offset!r}"
+        text = f"{self.edge_names[edge]}:{offset:.12g}"
+        if text in self._vertex_index:  # the short form is a vertex's name: all the digits, another spelling
+            text = f"{self.edge_names[edge]}:{float(offset)!r}"
+        return text
 
     # ----------------------------------------------------------------------------------------- drawing
     @cached_property

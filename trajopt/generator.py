@@ -46,6 +46,11 @@ from trajopt.verify import VerificationError, VerificationReport, class_failures
 __all__ = ["RATE_LADDER", "GraphPlanner", "TrajectoryGenerator", "generate_trajectory", "separation_margin"]
 
 
+#: Factor of :attr:`TrajectoryGenerator.motion_limits`: accelerations above ``LIMIT_CAP·vmax·rate`` and jerks above
+#: ``LIMIT_CAP·amax·rate`` are not used.
+LIMIT_CAP = 10.0
+
+
 def separation_margin(limits: Limits, rate: float) -> float:
     """Extra separation (m) the geometric path keeps so that the gate's between-rows bound holds.
 
@@ -190,6 +195,32 @@ class TrajectoryGenerator:
         self.clearance = self.planner.clearance
 
     @property
+    def motion_limits(self) -> Limits:
+        """The limits the motion is timed with: :attr:`limits`, with accelerations above ``CAP·vmax·rate`` or
+        ``sqrt(vmax·jmax)`` and jerks above ``CAP·amax·rate`` (``CAP`` = :data:`LIMIT_CAP`, per robot) lowered
+        to those values.
+
+        A time-optimal jerk-limited rest-to-rest profile never accelerates beyond ``sqrt(vmax·jmax)`` (the speed
+        limit is reached before), so that cap costs nothing and keeps the timing filters away from plateaus of
+        ``amax/jmax`` seconds (amax 1e4 with jmax 5 gave a 4 097 s motion).
+
+        A higher acceleration reaches the speed limit in less than a tenth of a row, so it cannot shorten the
+        motion by more than a row per start or stop; it would only widen the between-rows margin
+        (:func:`separation_margin`) and force slower detours. The motion keeps the lower values, so it also keeps
+        :attr:`limits`, which the gate checks; the makespan does not grow when a limit is loosened past them.
+        """
+        v, a, j = self.limits.v, self.limits.a, self.limits.j
+        with np.errstate(over="ignore"):  # a huge rate: no cap (inf), the memory budget refuses it later
+            a_eff = np.minimum(np.minimum(a, LIMIT_CAP * v * self.rate), np.sqrt(v * j))
+            j_eff = np.minimum(j, LIMIT_CAP * a_eff * self.rate)
+        if np.array_equal(a_eff, a) and np.array_equal(j_eff, j):
+            return self.limits
+        capped = object.__new__(Limits)  # lower than valid limits, so valid (not checked against the range again)
+        for name, x in (("vmax", v), ("amax", a_eff), ("jmax", j_eff)):
+            object.__setattr__(capped, name, (float(x[0]), float(x[1])))
+        return capped
+
+    @property
     def is_graph(self) -> bool:
         """Whether the track is a layout (:class:`mpa.GraphTrack`) rather than one of the paper's tracks."""
         return isinstance(self.track, GraphTrack)
@@ -201,7 +232,7 @@ class TrajectoryGenerator:
                 self.track,
                 self.clearance,
                 speeds,
-                separation_margin(self.limits, self.rate),
+                separation_margin(self.motion_limits, self.rate),
                 objective=self.objective,
                 footprint=self.footprint,
                 plane_margin=self._plane_margin(self.rate),
@@ -274,10 +305,33 @@ class TrajectoryGenerator:
         try:
             return self._generate(plan, timings)
         except _RejectedError as exc:
-            why = self._explain_rejection(plan)
+            why = self._explain_rejection(plan) or self._explain_threshold(plan)
             if why:
                 raise InvalidInputError(why) from None
             raise PlanningError(str(exc)) from exc
+
+    def _explain_threshold(self, plan: Plan | GraphPlan) -> str:
+        """At a threshold clearance (the plan keeps exactly D somewhere while the robots move) no rate can be
+        verified: the gate's bound between rows loses ``a·Δt²/8``. Names a slightly lower clearance that gives
+        verified setpoints (tried here, at most three), or "" if the plan is not at a threshold or none works."""
+        margin = separation_margin(self.motion_limits, self.rate)
+        if self.clearance <= 0 or float(plan.min_distance()) - self.clearance >= margin:
+            return ""
+        for drop in (2.0 * margin, 1e-3 * self.clearance, 1e-2 * self.clearance):
+            lower = self.clearance - drop
+            if lower <= 0:
+                continue
+            try:
+                gen = TrajectoryGenerator(self.track, clearance=lower, limits=self.limits, rate=self.rate)
+                gen._generate(gen.plan(plan.start, plan.goal), None)  # no explanation of its own (no recursion)
+            except (MPAError, _RejectedError):
+                continue
+            return (
+                f"clearance {self.clearance!r} m is at the threshold of this motion: the robots must pass exactly "
+                f"{self.clearance!r} m apart while moving, which setpoints at no rate can verify (between rows they "
+                f"may come closer); expected a clearance below it: {lower:.6g} m works at {self.rate:g} Hz"
+            )
+        return ""
 
     def at_rate(self, rate: float) -> TrajectoryGenerator:
         """The same generator at another setpoint rate (Hz; the planner is shared)."""
@@ -299,7 +353,7 @@ class TrajectoryGenerator:
                 pl.track,
                 pl.clearance,
                 pl.speeds,
-                separation_margin(self.limits, gen.rate),
+                separation_margin(gen.motion_limits, gen.rate),
                 objective=pl.objective,
                 footprint=self.footprint,
                 plane_margin=self._plane_margin(gen.rate),
@@ -353,15 +407,16 @@ class TrajectoryGenerator:
             if why:
                 return why
         best = self.lowest_rate(plan)
-        margin = separation_margin(self.limits, self.rate)
+        margin = separation_margin(self.motion_limits, self.rate)
         if best is not None:
             slack = float(plan.min_distance()) - self.clearance
             tight = ""
             if slack < margin:  # the layout itself leaves (almost) no room: say so, and what clearance would do
+                lower = self.clearance + slack - 2.0 * margin
                 tight = (
                     f" (the motion's closest approach keeps only {max(slack, 0.0):.3g} m beyond the clearance, the "
-                    f"most this track allows here, and setpoints at {self.rate:g} Hz need {margin:.3g} m; or lower "
-                    f"the clearance to about {self.clearance + slack - 2.0 * margin:.6g} m)"
+                    f"most this track allows here, and setpoints at {self.rate:g} Hz need {margin:.3g} m"
+                    + (f"; or lower the clearance to about {lower:.6g} m)" if lower > 0.0 else ")")
                 )
             return (
                 f"rate is {self.rate!r} Hz, too low for this motion: between rows the robots could come closer "
@@ -415,7 +470,7 @@ class TrajectoryGenerator:
         t1 = time.perf_counter()
         try:
             path = blend_polyline(_dedupe(view.waypoints))
-            scaling = jerk_limited_scaling(path, self.limits)
+            scaling = jerk_limited_scaling(path, self.motion_limits)
         except (MPAError, RuntimeError, ArithmeticError, ValueError) as exc:
             raise _RejectedError(f"the re-timed plan cannot be computed ({exc}); after: {reason}") from exc
         timings["fallback_jerk"] = time.perf_counter() - t1
@@ -447,15 +502,16 @@ class TrajectoryGenerator:
     def _optimized(
         self, plan: Plan | GraphPlan, geom: RouteGeometry, timings: dict[str, Any], stats: dict[str, Any]
     ) -> Trajectory:
-        sep = self.clearance + separation_margin(self.limits, self.rate)
+        sep = self.clearance + separation_margin(self.motion_limits, self.rate)
         t0 = time.perf_counter()
         view = plan_view(plan)
-        line = geom.polyline_min_distance(view.waypoints[[0, -1]])
+        # start == goal: a motion of zero length (one row at rest); the straight "line" is a single point
+        line = float("inf") if plan.length <= 0 else geom.polyline_min_distance(view.waypoints[[0, -1]])
         plane = self.footprint is not None and plan.length > 0
         if plane:
             line = min(line, sep + self._plane_chord_slack(view, view.waypoints[[0, -1]]))
         if line >= sep or plan.length <= 0:  # the fast path: one phase-synchronised profile along the straight line
-            scaling = straight_scaling(plan, self.limits)
+            scaling = straight_scaling(plan, self.motion_limits)
             timings["jerk"] = time.perf_counter() - t0
             stats.update(scaling.stats, path="fast", line_clearance=line)
             try:
@@ -471,7 +527,7 @@ class TrajectoryGenerator:
         if not isinstance(plan, GraphPlan):
             if self._corridor is None:
                 self._corridor = CorridorProblem(CORRIDOR_SEGMENTS, self.limits.v)
-            scaling, st = hard_path_scaling(plan, geom, sep, self.limits, self._corridor, timings)
+            scaling, st = hard_path_scaling(plan, geom, sep, self.motion_limits, self._corridor, timings)
             stats.update(st, path="hard", line_clearance=line)
         else:
             # A graph plan is taut: it touches the clearance (plus the margin) at its corners, so the corridor has
@@ -486,7 +542,7 @@ class TrajectoryGenerator:
                 return d
 
             path = blend_polyline(_dedupe(view_waypoints(plan)), chord_min, sep)
-            scaling = jerk_limited_scaling(path, self.limits)
+            scaling = jerk_limited_scaling(path, self.motion_limits)
             timings["blend"] = time.perf_counter() - t1
             stats.update(scaling.stats, path="blend", line_clearance=line, blends=int(np.sum(path.radii > 0)))
         return self._finish(plan, scaling, Source.OPTIMIZED, "", stats, timings)

@@ -64,6 +64,8 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 #: Rate of the dense grid (Hz).
 DENSE_RATE = 1000.0
+#: Largest number of rows of a dense grid: longer motions get a lower dense rate (a bounded cost).
+MAX_DENSE_ROWS = 20_000
 #: Precision of the minimum separation (m).
 MIN_PRECISION = 1e-9
 #: Resolution of the delay tolerance (s).
@@ -137,9 +139,12 @@ class _Motion:
             self.routes = plan.routes
         self.graph = view.is_graph
         self.T = float(trajectory.motion_time)
-        _, v, _, _ = trajectory.sampler(np.linspace(0.0, self.T, max(2, int(self.T * DENSE_RATE) + 1)))
+        # the dense grid's rate: DENSE_RATE, lowered for long motions so that a grid has at most MAX_DENSE_ROWS
+        # rows (the bounds stay lower bounds at any step, only looser): a bounded cost per search step
+        self.rate = min(DENSE_RATE, MAX_DENSE_ROWS / max(self.T, 1e-9))
+        _, v, _, _ = trajectory.sampler(np.linspace(0.0, self.T, max(2, int(self.T * self.rate) + 1)))
         lim = trajectory.limits
-        self.vpeak = np.minimum(np.max(np.abs(v), axis=0) + lim.a / DENSE_RATE, lim.v)
+        self.vpeak = np.minimum(np.max(np.abs(v), axis=0) + lim.a / self.rate, lim.v)
 
     def states(self, t: FloatArray, delay: FloatArray) -> tuple[FloatArray, FloatArray]:
         s0, _, a0, _ = self.traj.sampler(t - delay[0])
@@ -156,11 +161,11 @@ class _Motion:
     def grid(self, delay: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Times, separations at the rows, between-rows lower bounds for a motion with delays (s)."""
         end = self.T + float(np.max(delay))
-        n = int(np.ceil(end * DENSE_RATE - 1e-9)) + 1
-        t = np.arange(max(n, 2)) / DENSE_RATE
+        n = int(np.ceil(end * self.rate - 1e-9)) + 1
+        t = np.arange(max(n, 2)) / self.rate
         s, a = self.states(t, delay)
         d = self.dist(s)
-        lb = between_rows_separation(self.track, self.routes, s, a, 1.0 / DENSE_RATE, self.traj.limits)
+        lb = between_rows_separation(self.track, self.routes, s, a, 1.0 / self.rate, self.traj.limits)
         return t, d, lb
 
     def exact_min(self, delay: FloatArray) -> tuple[float, float]:
@@ -174,7 +179,7 @@ class _Motion:
         k = int(np.argmin(d))
         best, t_best = float(d[k]), float(t[k])
         lo = t[:-1][lb < best - MIN_PRECISION]
-        w = 1.0 / DENSE_RATE
+        w = 1.0 / self.rate
         u = np.arange(9) / 8.0
         for _ in range(4):
             if len(lo) == 0:
@@ -196,7 +201,7 @@ class _Motion:
         D = self.traj.clearance - SEPARATION_TOL
         if self.T <= 0.0 or float(self.vpeak[robot]) <= 0.0:
             return math.inf, True
-        dt = 1.0 / DENSE_RATE
+        dt = 1.0 / self.rate
         amax = float(self.traj.limits.a[robot])
         delta, h = 0.0, DELAY_STEP
         self.steps = 0
@@ -207,12 +212,12 @@ class _Motion:
             delay = np.zeros(2)
             delay[robot] = delta
             # rows until both motions have ended for every delay in [δ, δ + h]
-            t = np.arange(int(np.ceil((self.T + delta + h) * DENSE_RATE)) + 2) / DENSE_RATE
+            t = np.arange(int(np.ceil((self.T + delta + h) * self.rate)) + 2) / self.rate
             s, a = self.states(t, delay)
             speed = np.abs(self.traj.sampler(t - delta)[1][:, robot])
             lb = between_rows_separation(self.track, self.routes, s, a, dt, self.traj.limits)
             # peak speed of the delayed cart over u in [t_k − δ − h, t_k+1 − δ] (samples k−m … k+1)
-            m = int(np.ceil(h * DENSE_RATE))
+            m = int(np.ceil(h * self.rate))
             win = _window_max(np.concatenate([np.zeros(m), speed]), m + 2)
             u0, u1 = t[:-1] - delta - h, t[1:] - delta
             moving = (u1 > 0.0) & (u0 < self.T)

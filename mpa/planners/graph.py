@@ -66,7 +66,7 @@ from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError, NoMotionError, PlanningError
 from mpa.footprint import footprints
-from mpa.freespace import FreeSpace, PolygonId, free_space
+from mpa.freespace import FreeSpace, PolygonId, check_size, free_space
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 
@@ -75,6 +75,9 @@ __all__ = ["OBJECTIVES", "GraphPlan", "plan_graph"]
 FloatArray = NDArray[np.float64]
 OBJECTIVES = ("fastest", "shortest")
 TIE_BREAK = 1e-6
+#: Supported speeds (m/s) of the graph planner, and their largest ratio.
+SPEED_RANGE = (1e-6, 1e6)
+SPEED_RATIO = 1e8
 TIE_BREAK_2 = 1e-9  # then towards the straightest (Euclidean in time units): one timing among equally fast ones
 F_GRID = 1e-12  # relative resolution of the search's order (see _search)
 Key = tuple[Any, ...]
@@ -760,25 +763,49 @@ def _why_no_motion(track: GraphTrack, fs: FreeSpace, start: tuple[Position, ...]
         where = "the only loop"
     elif b1 == 0 and branch == 1:
         where = "the only siding"
+    digits = next((k for k in range(6, 18) if f"{lo:.{k}g}" != f"{fs.clearance:.{k}g}"), 17)
     return (
-        f"the clearance {fs.clearance:g} m does not fit {where}: start ({names}) and goal ({gnames}) are in "
-        f"different components of the free space; they are connected only for clearances up to about {lo:.6g} m"
+        f"the clearance {fs.clearance!r} m does not fit {where}: start ({names}) and goal ({gnames}) are in "
+        f"different components of the free space; they are connected only for clearances up to about "
+        f"{lo:.{digits}g} m"
     )
 
 
 # ------------------------------------------------------------------------------------------------- API
+def _fits_float(x: int) -> bool:
+    try:
+        float(x)
+    except OverflowError:
+        return False
+    return True
+
+
 def _speeds(speeds: object) -> tuple[float, float]:
     try:
         va, vb = cast("tuple[object, object]", speeds)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(f"speeds is {speeds!r}, expected two positive numbers (vA, vB) in m/s") from None
     out = []
     for name, v in (("speed of robot A", va), ("speed of robot B", vb)):
         if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
             raise InvalidInputError(f"{name} is {v!r}, expected a positive number (m/s)")
+        if isinstance(v, int) and not _fits_float(v):
+            raise InvalidInputError(
+                f"{name} is an integer of {len(str(abs(v)))} digits, expected a finite number > 0 (m/s)"
+            )
         if not math.isfinite(float(v)) or float(v) <= 0:
             raise InvalidInputError(f"{name} is {v!r}, expected a finite number > 0 (m/s)")
+        if not SPEED_RANGE[0] <= float(v) <= SPEED_RANGE[1]:
+            raise InvalidInputError(
+                f"{name} is {v!r}, expected a number in [{SPEED_RANGE[0]:g}, {SPEED_RANGE[1]:g}] m/s (the planner "
+                "works in times Δs/v, which overflow or lose all precision outside it)"
+            )
         out.append(float(v))
+    if max(out) / min(out) > SPEED_RATIO:
+        raise InvalidInputError(
+            f"speeds are {out[0]!r} and {out[1]!r} m/s, expected a ratio of at most {SPEED_RATIO:g} (the slower "
+            "robot's times would swamp the faster one's)"
+        )
     return out[0], out[1]
 
 
@@ -841,6 +868,7 @@ def plan_graph(
     True
     """
     tr = as_graph_track(track)
+    check_size(tr)  # before the distances and the free space are built
     if objective not in OBJECTIVES:
         raise InvalidInputError(f"objective is {objective!r}, expected one of {list(OBJECTIVES)}")
     va, vb = _speeds(speeds)

@@ -231,7 +231,11 @@ def check_output_dir(out: str, option: str = "--out") -> Path:
     if not isinstance(out, str) or not out.strip():
         raise InvalidInputError(f"{option} is {out!r}, expected a directory path")
     d = Path(out)
-    if d.exists() and not d.is_dir():
+    try:
+        exists, is_dir = d.exists(), d.is_dir()
+    except OSError as exc:  # e.g. a name too long for the file system
+        raise output_error(option, d, exc) from None
+    if exists and not is_dir:
         raise InvalidInputError(f"{option} is {out!r}, which exists and is not a directory")
     created: list[Path] = []
     try:
