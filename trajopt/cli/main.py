@@ -2,7 +2,8 @@
 
 Subcommands: ``plan`` (the paper's planner), ``trajectory`` and ``demo`` (jerk-limited setpoints), ``animate``
 (animations), ``topology`` (topology of two robots on any graph), ``replan`` (re-plan a written trajectory from
-its moving state), ``plot`` (a PNG of written setpoints), ``serve`` (a local web explorer); ``mpa --version``.
+its moving state), ``plot`` (a PNG of written setpoints), ``serve`` (a local web explorer), ``batch`` (many
+queries on a layout, locally or on a Dask cluster); ``mpa --version``.
 
 Exit statuses (one line on stderr in every failing case, never a traceback, no output file left behind):
 
@@ -38,6 +39,7 @@ SUBCOMMAND_MODULES = (
     "trajopt.cli.replan",
     "trajopt.cli.plot",
     "trajopt.cli.serve",
+    "trajopt.cli.batch",
 )
 #: Every subcommand in help order: its module and its one-line help (equal to what the module registers; tested).
 #: ``mpa --help`` lists them without importing the modules (and so numpy, the planners, CasADi, matplotlib).
@@ -53,6 +55,7 @@ SUBCOMMANDS = {
     ),
     "plot": ("trajopt.cli.plot", "draw a setpoints file or an output directory of mpa into a PNG"),
     "serve": ("trajopt.cli.serve", "a local web page to drag the robots and watch domains, plans and motions"),
+    "batch": ("trajopt.cli.batch", "plan and verify every query of a CSV file on a layout (local or Dask)"),
 }
 #: Exit status of bad input (``error:``).
 EXIT_USAGE = 2
