@@ -40,6 +40,7 @@ import argparse
 import csv
 import io
 import os
+import shutil
 import sys
 import time
 from collections.abc import Callable, Iterable, Sequence
@@ -48,7 +49,7 @@ from typing import Any
 
 from mpa.errors import InvalidInputError, MPAError, NoMotionError
 from mpa.graph_track import GraphTrack
-from trajopt.cli.common import TRAJECTORY_DEFAULTS, add_clearance_argument, check_output_dir
+from trajopt.cli.common import TRAJECTORY_DEFAULTS, add_clearance_argument, check_output_dir, output_error
 
 __all__ = [
     "QUERY_COLUMNS",
@@ -84,6 +85,9 @@ STATUSES = ("ok", "no motion", "bad input", "internal error")
 RESULTS_FILE = "results.csv"
 #: Name of the setpoints file in ``--out/<row>/``.
 SETPOINTS_FILE = "setpoints.csv"
+
+#: Seconds to wait for the Dask scheduler of ``--dask`` before giving up (exit 2).
+DASK_TIMEOUT = 10.0
 
 # A worker's generators, per configuration (layout, clearance, limits, rate): built once, reused by every query.
 _GENERATORS: dict[tuple[Any, ...], Any] = {}
@@ -309,7 +313,7 @@ def _run_dask(
             "pip install 'lollipop-mpa[dask]'"
         ) from None
     try:
-        client = Client(address, timeout=30)
+        client = Client(address, timeout=DASK_TIMEOUT)
     except (OSError, TimeoutError, ValueError) as exc:
         raise InvalidInputError(
             f"--dask is {address!r}, which cannot be reached ({_one_line(exc)}), "
@@ -386,6 +390,7 @@ def run_batch(
     layout = track.to_dict()
     jobs = list(enumerate(queries))
     d = Path(out)
+    created = not d.exists()
     d.mkdir(parents=True, exist_ok=True)
     records: list[dict[str, Any]] = []
     bar = _Bar(len(jobs), progress)
@@ -397,19 +402,24 @@ def run_batch(
         bar.update()
 
     try:
-        if dask_address:
-            _run_dask(jobs, layout, config, setpoints, dask_address, done)
-        else:
-            n = min(workers or os.cpu_count() or 1, max(len(jobs), 1))
-            _run_local(jobs, layout, config, setpoints, n, done)
-    finally:
-        bar.close()
-    try:
-        atomic_write_text(d / RESULTS_FILE, results_csv_text(records))
-    except OSError as exc:
-        from trajopt.cli.common import output_error
-
-        raise output_error("--out", d / RESULTS_FILE, exc) from None
+        try:
+            if dask_address:
+                _run_dask(jobs, layout, config, setpoints, dask_address, done)
+            else:
+                n = min(workers or os.cpu_count() or 1, max(len(jobs), 1))
+                _run_local(jobs, layout, config, setpoints, n, done)
+        finally:
+            bar.close()
+        try:
+            atomic_write_text(d / RESULTS_FILE, results_csv_text(records))
+        except OSError as exc:
+            raise output_error("--out", d / RESULTS_FILE, exc) from None
+    except BaseException:  # the batch itself failed (or was interrupted): leave nothing of this run behind
+        for rec in records:
+            shutil.rmtree(d / str(rec["row"]), ignore_errors=True)
+        if created:
+            shutil.rmtree(d, ignore_errors=True)
+        raise
     return sorted(records, key=lambda r: int(r["row"]))
 
 
