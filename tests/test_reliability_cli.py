@@ -133,7 +133,7 @@ def test_bare_mpa_prints_usage_and_exits_2() -> None:
     from trajopt.cli.main import SUBCOMMANDS
 
     assert err.startswith("usage: mpa") and "{" + ",".join(SUBCOMMANDS) + "}" in err
-    assert "{plan,trajectory,demo,animate,topology,replan,plot,serve}" in err
+    assert "{plan,trajectory,demo,animate,topology,replan,plot,serve,batch}" in err
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     cp = subprocess.run([sys.executable, "-m", "trajopt.cli"], capture_output=True, text=True, env=env)
     assert cp.returncode == 2 and cp.stderr.startswith("usage: mpa") and "Traceback" not in cp.stderr
