@@ -121,3 +121,37 @@ def test_cost_does_not_follow_the_length_of_the_motion() -> None:
     rows = int(traj.motion_time * DENSE_RATE)
     assert m.steps > 100  # one-second steps across the whole motion
     assert sum(calls) < rows, (sum(calls), rows, m.steps)  # fewer states in all than one direct step's rows
+
+
+def reference_exact_min(m: _Motion) -> tuple[float, float]:
+    """The minimum of the full 1 kHz grid refined as :meth:`_Motion.exact_min` does (every row bounded)."""
+    from trajopt.margins import MIN_PRECISION
+
+    delay = np.zeros(2)
+    t, d, lb = m.grid(delay)
+    k = int(np.argmin(d))
+    best, t_best = float(d[k]), float(t[k])
+    lo = t[:-1][lb < best - MIN_PRECISION]
+    w = 1.0 / DENSE_RATE
+    u = np.arange(9) / 8.0
+    for _ in range(4):
+        if len(lo) == 0:
+            break
+        tt = lo[:, None] + w * u[None, :]
+        s, a = m.states(tt.ravel(), delay)
+        dd = m.dist(s).reshape(tt.shape)
+        i = np.unravel_index(int(np.argmin(dd)), dd.shape)
+        if dd[i] < best:
+            best, t_best = float(dd[i]), float(tt[i])
+        w /= 8.0
+        sub = between_rows_separation(m.track, m.routes, s, a, w, m.traj.limits)
+        sub = np.append(sub, np.inf).reshape(tt.shape)[:, :8]
+        lo = tt[:, :8][sub < best - MIN_PRECISION]
+    return best, t_best
+
+
+@pytest.mark.parametrize("i", range(len(CASES)))
+def test_minimum_on_the_rows_near_contact_equals_the_full_grid(i: int) -> None:
+    m = _Motion(CASES[i])
+    got, ref = m.exact_min(np.zeros(2)), reference_exact_min(m)
+    assert got[0] == pytest.approx(ref[0], abs=1e-12), (i, got, ref)

@@ -163,6 +163,41 @@ class _Motion:
         lb = between_rows_separation(self.track, self.routes, s, a, 1.0 / DENSE_RATE, self.traj.limits)
         return t, d, lb
 
+    def _near_rows(self, delay: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """:meth:`grid` restricted to the rows that can hold the minimum: rows, separations, between-rows bounds.
+
+        Blocks of ``w`` rows from ``t_0`` whose bound ``d(t_0) − (V_A + V_B)·w·Δt`` is above the smallest
+        separation sampled so far cannot hold the minimum (each cart moves at most its peak speed ``V`` times the
+        time) and are dropped; the others are cut into 8, down to blocks of 8 steps, whose rows are returned with
+        the bounds between them (``inf`` across the gaps between blocks). Every row dropped has a separation
+        above the returned minimum, so the minimum and the rows to refine are those of the full grid.
+        """
+        end = self.T + float(np.max(delay))
+        n_rows = max(int(np.ceil(end * DENSE_RATE - 1e-9)) + 1, 2)
+        dt = 1.0 / DENSE_RATE
+        v = float(np.sum(self.vpeak))
+        w = 8
+        while w * 8 < n_rows:
+            w *= 8
+        starts = np.arange(0, n_rows - 1, w, dtype=np.int64)
+        best = math.inf
+        while w > 8:
+            s, _ = self.states(starts / DENSE_RATE, delay)
+            d = self.dist(s)
+            best = min(best, float(np.min(d)))
+            starts = starts[d - v * w * dt <= best]
+            w //= 8
+            starts = (starts[:, None] + w * np.arange(8)[None, :]).ravel()
+            starts = starts[starts < n_rows - 1]
+        k = np.minimum(starts[:, None] + np.arange(9)[None, :], n_rows - 1).ravel()
+        t = k / DENSE_RATE
+        s, a = self.states(t, delay)
+        d = self.dist(s)
+        lb = between_rows_separation(self.track, self.routes, s, a, dt, self.traj.limits)
+        lb = np.append(lb, np.inf).reshape(-1, 9)
+        lb[:, 8] = np.inf  # no step across the gap to the next block
+        return t, d, lb.ravel()[:-1]
+
     def exact_min(self, delay: FloatArray) -> tuple[float, float]:
         """Minimum separation of the continuous motion (m) and its time (s), to :data:`MIN_PRECISION`.
 
@@ -170,7 +205,7 @@ class _Motion:
         separation found minus :data:`MIN_PRECISION` are cut into 8 and bounded again, down to steps of
         ``Δt/8⁴``.
         """
-        t, d, lb = self.grid(delay)
+        t, d, lb = self._near_rows(delay)
         k = int(np.argmin(d))
         best, t_best = float(d[k]), float(t[k])
         lo = t[:-1][lb < best - MIN_PRECISION]
