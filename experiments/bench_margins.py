@@ -67,7 +67,8 @@ def main() -> None:
                 cmd += ["--start", *start, "--goal", *goal, "--clearance", str(CLEARANCE), "--vmax", str(vmax)]
                 cmd += ["--amax", "0.5", "--jmax", "1.0", "--out", str(Path(tmp) / "out")]
                 t0 = time.perf_counter()
-                subprocess.run(cmd, check=True, capture_output=True, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)})
+                env = {**os.environ, "PYTHONPATH": str(ROOT)}
+                subprocess.run(cmd, check=True, capture_output=True, cwd=ROOT, env=env)
                 wall = f"{time.perf_counter() - t0:.2f}"
             print(
                 f"| {name} | {traj.makespan:.1f} | {len(traj.t)} | {statistics.median(times):.3f} | "
