@@ -1,13 +1,13 @@
 """Scaling of the complete graph planner to large layouts: seeded warehouse aisle grids and planar road maps.
 
-- :func:`warehouse_layout`: parallel aisles (16–30 m, split at racks every 4–8 m) joined by cross aisles at both
-  ends and at random racks, trimmed to the asked number of edges while keeping it connected.
-- :func:`road_map_layout`: a random planar road map: seeded points in a square (density fixed, 60 m² per point),
-  the Delaunay triangulation's edges, a random spanning tree of them plus the shortest other edges up to the
-  asked number (planar: triangulation edges never cross).
-- :func:`run_scale`: per layout, the free space built uncached (time, peak memory by ``tracemalloc``, polygons),
-  the plan time with the free space cached (seeded queries, every fourth a swap: median, p95, max) and the
-  verified trajectory (plan, timing, gate: median) of the first queries.
+- :func:`warehouse_layout`: parallel aisles 3–6 m apart, racks every 4–8 m along them, joined by cross aisles at
+  both ends and at random racks, trimmed to the asked number of edges while keeping it connected.
+- :func:`road_map_layout`: a random planar road map: seeded points in a square (about 60 m² per point, jittered
+  lattice cells: at least 3.1 m apart), the Delaunay triangulation's edges, a random spanning tree of them plus
+  the shortest other edges up to the asked number (planar: triangulation edges never cross).
+- :func:`run_scale`: per layout, the free space built uncached (time; peak memory by ``tracemalloc`` in a second
+  build; polygons), the plan time with the free space cached (seeded queries, every fourth a swap: median, p95,
+  max) and the verified trajectory (plan, timing, gate: median) of the first queries.
 - :func:`scale_markdown`: the table, with the growth exponent fitted (least squares in log–log) per column.
 """
 
@@ -82,19 +82,31 @@ def warehouse_layout(n_edges: int, seed: int) -> GraphTrack:
     )
 
 
+def _jittered_points(n: int, rng: np.random.Generator, spacing: float = 7.75) -> np.ndarray:
+    """``n`` random points, one in each of the first ``n`` cells of a square lattice (``spacing`` m), moved by up to
+    30 % of the spacing: random, yet never closer than 40 % of the spacing (3.1 m). Shape (n, 2)."""
+    side = int(np.ceil(np.sqrt(n)))
+    cells = rng.permutation(side * side)[:n]
+    base = np.column_stack([cells % side, cells // side]).astype(float)
+    return (base + rng.uniform(-0.3, 0.3, size=(n, 2))) * spacing
+
+
 def road_map_layout(n_edges: int, seed: int) -> GraphTrack:
     """A seeded random planar road map of ``n_edges`` edges (Delaunay edges of random points; metres)."""
     from scipy.spatial import Delaunay
 
     rng = np.random.default_rng(seed)
     n_pts = max(4, round(n_edges / 1.6))  # a spanning tree plus ~60 % more edges
-    side = float(np.sqrt(60.0 * n_pts))
-    pts = rng.uniform(0.0, side, size=(n_pts, 2))
-    tri = Delaunay(pts)
-    cand_set: set[tuple[int, int]] = set()
-    for s in tri.simplices:
-        for u, v in ((s[0], s[1]), (s[1], s[2]), (s[0], s[2])):
-            cand_set.add((int(min(u, v)), int(max(u, v))))
+    while True:  # a small triangulation may have fewer edges than asked: add points
+        pts = _jittered_points(n_pts, rng)
+        tri = Delaunay(pts)
+        cand_set: set[tuple[int, int]] = set()
+        for s in tri.simplices:
+            for u, v in ((s[0], s[1]), (s[1], s[2]), (s[0], s[2])):
+                cand_set.add((int(min(u, v)), int(max(u, v))))
+        if len(cand_set) >= n_edges:
+            break
+        n_pts += 1
     cand = sorted(cand_set)
 
     def length(e: tuple[int, int]) -> float:
@@ -126,14 +138,15 @@ def run_scale(
     for kind in kinds:
         for n_e in sizes:
             track = KINDS[kind](n_e, seed * 100_003 + n_e)
-            tracemalloc.start()
             t0 = time.perf_counter()
             fs = FreeSpace(track, clearance)
             build = time.perf_counter() - t0
-            _, peak = tracemalloc.get_traced_memory()
-            tracemalloc.stop()
             polygons = len(fs.polygon_ids)
             del fs
+            tracemalloc.start()  # a second build for the memory (tracemalloc slows it down)
+            FreeSpace(track, clearance)
+            _, peak = tracemalloc.get_traced_memory()
+            tracemalloc.stop()
             free_space(track, clearance)
             qs = make_graph_queries(track, queries + 1, seed, [clearance])
             _plan(track, qs[0], (1.0, 1.0))  # warm
