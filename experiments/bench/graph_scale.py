@@ -182,9 +182,7 @@ def run_scale(
                 }
             )
             if progress:
-                progress(
-                    f"{kind} {track.n_edges} edges: build {build:.2f} s, plan median {np.median(times) * 1e3:.1f} ms"
-                )
+                progress(scale_markdown(out[-1:]).splitlines()[2])
     return out
 
 
