@@ -18,7 +18,8 @@ row per query is written to ``DIR/results.csv`` (:data:`RESULT_COLUMNS`), in the
 - ``makespan`` (s, empty unless ``ok``), ``min_separation`` (m);
 - ``route_a``, ``route_b``: each robot's edges in the order travelled, ``EDGE+`` along the edge's orientation,
   ``EDGE-`` against it, separated by spaces (empty for a robot that does not move);
-- ``compute_time`` (s): planning, timing and verification of that query in its worker (not the file writing).
+- ``compute_time`` (s): planning, timing and verification of that query in its worker (not the file writing;
+  the first query a worker runs also builds the layout's free space, which the others reuse).
 
 With ``--setpoints`` the verified setpoints of each ``ok`` query are written to ``DIR/<row>/setpoints.csv``
 (the columns of ``mpa trajectory --graph``). A bad row never stops the batch: its error is its result row.
