@@ -983,7 +983,11 @@ def _interval_and_circle_figures() -> list[_Entry]:
             "Physical and configuration spaces for two robots on $S^1$",
             fig_circle_spaces,
         ),
-        ("antipodal_circle", "The antipodal circle $\\A$ and its counterclockwise orientation", fig_antipodal_circle),
+        (
+            "antipodal_circle",
+            "The antipodal circle $\\mathcal{A}$ and its counterclockwise orientation",
+            fig_antipodal_circle,
+        ),
         ("circle_initial_final_antipodal_states", "Initial and final antipodal states", fig_circle_antipodal_states),
         ("circle_steps_in_X", "The steps of the MPA in $X$", fig_circle_steps_in_x),
         ("circle_swapped_physical", "Swapped states in the physical space", fig_swapped_physical),

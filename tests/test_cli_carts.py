@@ -81,7 +81,8 @@ def test_all_formats_written(full) -> None:  # type: ignore[no-untyped-def]
     assert set(js["files"]) == ALL
     assert js["recipe"] == {"start": [0.1, 0.6], "goal": [0.8, 0.3], "delay_tolerance": None, "replans": []}
     assert js["words"]["A"] and js["words"]["B"] and js["margins"]["tracking_margin"] > 0
-    assert js["pvt"] == {"interval": 0.1, "stretch": 1.0, "rows": len(read_csv(full / "pvt.csv")["time"])}
+    rows = len(read_csv(full / "pvt.csv")["time"])
+    assert js["pvt"] == {"interval": 0.1, "auto": True, "stretch": 1.0, "rows": rows}  # the default: auto
     assert js["ros"] == {"joint_names": ["cart_a", "cart_b"], "topic": "/joint_trajectory"}
 
 

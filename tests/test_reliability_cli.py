@@ -132,8 +132,7 @@ def test_bare_mpa_prints_usage_and_exits_2() -> None:
     assert code == 2 and out == ""
     from trajopt.cli.main import SUBCOMMANDS
 
-    assert err.startswith("usage: mpa") and "{" + ",".join(SUBCOMMANDS) + "}" in err
-    assert "{plan,trajectory,demo,animate,topology,replan,plot,serve,batch}" in err
+    assert err.startswith("usage: mpa") and "{" + ",".join(SUBCOMMANDS) + "}" in err  # every subcommand listed
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     cp = subprocess.run([sys.executable, "-m", "trajopt.cli"], capture_output=True, text=True, env=env)
     assert cp.returncode == 2 and cp.stderr.startswith("usage: mpa") and "Traceback" not in cp.stderr

@@ -25,6 +25,9 @@ Mechanism
     the value reached, the effective clearance, the slowdown and every candidate tried. If none reaches ``T``,
     :class:`~mpa.errors.NoMotionError` states the best value found.
 
+On a layout (:class:`mpa.GraphTrack`) the same stages run with the complete graph planner (its objective kept)
+and the exact graph distance; start and goal are positions.
+
 Cost: one margins computation per candidate (0.4–2 s each), at most 5 candidates.
 """
 
@@ -32,13 +35,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from mpa.errors import InvalidInputError, MPAError, NoMotionError
-from mpa.plan import Plan
+from mpa.graph_track import GraphTrack
 from mpa.tracks import Track
 from trajopt.export import Trajectory
 from trajopt.planview import plan_view
@@ -47,7 +50,13 @@ from trajopt.timing import Limits
 if TYPE_CHECKING:
     from trajopt.generator import TrajectoryGenerator
 
-__all__ = ["CLEARANCE_STEPS", "MAX_SLOWDOWN", "check_delay_tolerance", "generate_with_delay_tolerance"]
+__all__ = [
+    "CLEARANCE_STEPS",
+    "MAX_SLOWDOWN",
+    "check_delay_tolerance",
+    "generate_with_delay_tolerance",
+    "rest_separation",
+]
 
 #: Fractions f of ``max(vmax)·T`` added to the clearance, in order (f = 1 guarantees T when feasible).
 CLEARANCE_STEPS = (0.25, 0.5, 1.0)
@@ -74,8 +83,7 @@ def check_delay_tolerance(value: Any) -> float:
 def _as_caller(traj: Trajectory, gen: TrajectoryGenerator) -> Trajectory:
     """``traj`` (made with a larger clearance or lower limits) reported with ``gen``'s clearance and limits,
     re-verified at them (a gate pass at D' and lower limits implies one at D and the caller's limits)."""
-    plan = cast(Plan, traj.plan)  # delay tolerance runs on the paper's tracks only
-    rep = plan_view(plan).verify(
+    rep = plan_view(traj.plan).verify(
         traj.t,
         traj.s,
         traj.v,
@@ -108,10 +116,24 @@ def _feasible_cap(gen: TrajectoryGenerator, start: ArrayLike, goal: ArrayLike) -
     """The largest effective clearance the carts' rest states allow (a little below their separations)."""
     from trajopt.generator import separation_margin
 
-    track = cast(Track, gen.track)
-    st, gl = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
-    d = min(track.distance_scalar(float(st[0]), float(st[1])), track.distance_scalar(float(gl[0]), float(gl[1])))
+    d = min(rest_separation(gen.track, start), rest_separation(gen.track, goal))
     return d - 2.0 * separation_margin(gen.limits, gen.rate) - 1e-6
+
+
+def rest_separation(track: Track | GraphTrack, pair: Any) -> float:
+    """Graph distance (m) between the carts at ``pair``: track coordinates on a paper track, positions
+    (``(edge, offset)``, ``"EDGE:OFFSET"`` or vertex names) on a layout.
+
+    Raises
+    ------
+    InvalidInputError
+        A position off the track.
+    """
+    if isinstance(track, GraphTrack):
+        (ea, oa), (eb, ob) = (track.position(x, f"robot {r}") for x, r in zip(pair, "AB"))
+        return float(track.geometry.distance_scalar(ea, oa, eb, ob))
+    p = np.asarray(pair, dtype=float)
+    return float(track.distance_scalar(float(p[0]), float(p[1])))
 
 
 def generate_with_delay_tolerance(
@@ -172,7 +194,9 @@ class _CandidateSearch:
             if clearance == D and slowdown == 1.0:
                 raw = gen.generate(self.start, self.goal)
             else:
-                g2 = TrajectoryGenerator(gen.track, clearance=clearance, limits=limits, rate=gen.rate)
+                g2 = TrajectoryGenerator(
+                    gen.track, clearance=clearance, limits=limits, rate=gen.rate, objective=gen.objective
+                )
                 raw = g2.generate(self.start, self.goal)
         except (NoMotionError, InvalidInputError) as exc:
             if clearance == D and slowdown == 1.0:

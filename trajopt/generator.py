@@ -30,6 +30,7 @@ from mpa.geometry import RouteGeometry
 from mpa.graph_track import GraphTrack
 from mpa.plan import Plan
 from mpa.planners import Planner, make_planner
+from mpa.planners.factory import OBJECTIVES
 from mpa.planners.graph import GraphPlan, plan_graph
 from mpa.tracks import Track
 from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
@@ -69,12 +70,15 @@ class GraphPlanner:
         Speed limits of A and B (m/s).
     margin : float
         Extra separation asked of the plan (m, >= 0).
+    objective : {"fastest", "shortest"}
+        The graph planner's objective (:func:`mpa.planners.graph.plan_graph`).
     """
 
     track: GraphTrack
     clearance: float
     speeds: tuple[float, float]
     margin: float = 0.0
+    objective: str = "fastest"
 
     def __post_init__(self) -> None:
         c = self.clearance
@@ -95,10 +99,10 @@ class GraphPlanner:
         """
         if self.margin > 0:
             try:
-                return plan_graph(self.track, start, goal, self.clearance + self.margin, "fastest", self.speeds)
+                return plan_graph(self.track, start, goal, self.clearance + self.margin, self.objective, self.speeds)
             except (InvalidInputError, NoMotionError):
                 pass  # the bare clearance decides (and names the error)
-        return plan_graph(self.track, start, goal, self.clearance, "fastest", self.speeds)
+        return plan_graph(self.track, start, goal, self.clearance, self.objective, self.speeds)
 
 
 @dataclass
@@ -118,6 +122,9 @@ class TrajectoryGenerator:
         Setpoint rate (Hz).
     optimize : bool
         False skips the optimisation and always returns the re-timed plan (the benchmark's baseline).
+    objective : {"fastest", "shortest"}
+        On a layout, the graph planner's objective (default ``"fastest"``: minimum time at the speed limits).
+        A paper track planned by the graph planner is its layout form, ``track.as_graph_track()``.
 
     Raises
     ------
@@ -138,6 +145,7 @@ class TrajectoryGenerator:
     limits: Limits = field(default_factory=Limits)
     rate: float = defaults.RATE
     optimize: bool = True
+    objective: str = "fastest"
     planner: Planner | GraphPlanner = field(init=False, repr=False)
     _corridor: CorridorProblem | None = field(default=None, init=False, repr=False)
 
@@ -145,6 +153,8 @@ class TrajectoryGenerator:
         if not isinstance(self.limits, Limits):
             raise InvalidInputError(f"limits is {self.limits!r}, expected a trajopt.Limits")
         self.rate = check_rate(self.rate)
+        if self.objective not in OBJECTIVES:
+            raise InvalidInputError(f"objective is {self.objective!r}, expected one of {', '.join(OBJECTIVES)}")
         self.planner = self._make_planner()
         self.clearance = self.planner.clearance
 
@@ -156,7 +166,8 @@ class TrajectoryGenerator:
     def _make_planner(self) -> Planner | GraphPlanner:
         if isinstance(self.track, GraphTrack):
             speeds = (float(self.limits.v[0]), float(self.limits.v[1]))
-            return GraphPlanner(self.track, self.clearance, speeds, separation_margin(self.limits, self.rate))
+            margin = separation_margin(self.limits, self.rate)
+            return GraphPlanner(self.track, self.clearance, speeds, margin, self.objective)
         return make_planner(self.track, self.clearance)
 
     # ---------------------------------------------------------------------------------------------
@@ -164,7 +175,9 @@ class TrajectoryGenerator:
         """The plan of a query (validates it; see :meth:`mpa.planners.Planner.plan` and :class:`GraphPlanner`)."""
         return self.planner.plan(start, goal)
 
-    def generate(self, start: Any, goal: Any, *, delay_tolerance: float | None = None) -> Trajectory:
+    def generate(
+        self, start: Any, goal: Any, *, delay_tolerance: float | None = None, min_margin: float | None = None
+    ) -> Trajectory:
         """A verified trajectory from ``start`` to ``goal`` (robot A first).
 
         On a paper track ``start`` and ``goal`` are track coordinates; on a layout pairs of positions
@@ -172,22 +185,27 @@ class TrajectoryGenerator:
 
         With ``delay_tolerance`` (s), one whose delay tolerance (:meth:`Trajectory.margins`) is at least that
         (:func:`trajopt.delay.generate_with_delay_tolerance`: a larger effective clearance, then slower).
+        With ``min_margin`` (m), one whose tracking margin is at least that
+        (:func:`trajopt.min_margin.generate_with_min_margin`: the effective clearance ``D + 2·min_margin``).
 
         Raises
         ------
         InvalidInputError
-            Bad start or goal (off the track, closer than the clearance), bad ``delay_tolerance``.
+            Bad start or goal (off the track, closer than the clearance), bad ``delay_tolerance`` or
+            ``min_margin``.
         NoMotionError
             No collision-free motion exists (e.g. the order must change and ``D ≥ loop/2``), or none found
-            with the requested delay tolerance (the message states the best value found).
+            with the requested delay tolerance (the message states the best value found) or tracking margin
+            (the message names the largest that can be had).
         PlanningError
             Even the re-timed plan fails verification (never expected).
         """
+        if min_margin is not None:
+            from trajopt.min_margin import generate_with_min_margin
+
+            return generate_with_min_margin(self, start, goal, min_margin, delay_tolerance)
         if delay_tolerance is not None:
             from trajopt.delay import generate_with_delay_tolerance
-
-            if self.is_graph:
-                raise InvalidInputError("delay_tolerance is implemented for the paper's tracks, not for a GraphTrack")
 
             return generate_with_delay_tolerance(self, start, goal, delay_tolerance)
         t0 = time.perf_counter()
@@ -217,18 +235,20 @@ class TrajectoryGenerator:
     def at_rate(self, rate: float) -> TrajectoryGenerator:
         """The same generator at another setpoint rate (Hz; the planner is shared)."""
         gen = TrajectoryGenerator.__new__(TrajectoryGenerator)
-        gen.track, gen.clearance, gen.limits, gen.optimize, gen.planner = (
+        gen.track, gen.clearance, gen.limits, gen.optimize, gen.objective, gen.planner = (
             self.track,
             self.clearance,
             self.limits,
             self.optimize,
+            self.objective,
             self.planner,
         )
         gen.rate = check_rate(rate)
         gen._corridor = self._corridor
         if isinstance(self.planner, GraphPlanner):  # the plan's margin depends on the rate
             pl = self.planner
-            gen.planner = GraphPlanner(pl.track, pl.clearance, pl.speeds, separation_margin(self.limits, gen.rate))
+            margin = separation_margin(self.limits, gen.rate)
+            gen.planner = GraphPlanner(pl.track, pl.clearance, pl.speeds, margin, pl.objective)
         return gen
 
     def _attempt(self, plan: Plan | GraphPlan) -> Trajectory:
@@ -345,17 +365,17 @@ class TrajectoryGenerator:
 
     def replan(self, trajectory: Trajectory, at_time: float, goal: ArrayLike) -> Trajectory:
         """A verified trajectory from both robots' state at ``at_time`` of ``trajectory`` to rest at ``goal``
-        (see :func:`trajopt.replan.replan`; paper tracks only).
+        (see :func:`trajopt.replan.replan`; on a layout :func:`trajopt.replan_graph.replan_graph`, goals as
+        positions ``(edge, offset)``, ``"EDGE:OFFSET"`` or vertex names).
 
         Raises
         ------
         InvalidInputError
-            Also on a layout (re-planning in motion is implemented for the paper's tracks only).
+            ``at_time`` outside ``[0, makespan]``, a bad goal, a trajectory of another track.
+        NoMotionError
+            Braking would break the clearance, or no motion reaches the goal.
         """
         from trajopt.replan import replan
-
-        if self.is_graph:
-            raise InvalidInputError("replan is implemented for the paper's tracks, not for a GraphTrack layout")
 
         return replan(self, trajectory, at_time, goal)
 
@@ -500,6 +520,7 @@ def generate_trajectory(
     jmax: Any = defaults.JMAX,
     rate: float = defaults.RATE,
     delay_tolerance: float | None = None,
+    min_margin: float | None = None,
 ) -> Trajectory:
     """One call from a query to a verified jerk-limited :class:`~trajopt.export.Trajectory`.
 
@@ -517,6 +538,8 @@ def generate_trajectory(
         Setpoint rate (Hz).
     delay_tolerance : float, optional
         Ask for a delay tolerance of at least this (s; see :mod:`trajopt.delay`).
+    min_margin : float, optional
+        Ask for a tracking margin of at least this (m; see :mod:`trajopt.min_margin`).
 
     Returns
     -------
@@ -525,9 +548,9 @@ def generate_trajectory(
     Raises
     ------
     InvalidInputError
-        Bad limits, rate, clearance, start, goal or delay tolerance.
+        Bad limits, rate, clearance, start, goal, delay tolerance or margin.
     NoMotionError
-        No collision-free motion exists (or none with the requested delay tolerance).
+        No collision-free motion exists (or none with the requested delay tolerance or tracking margin).
     PlanningError
         Not even the re-timed plan passes verification.
 
@@ -539,4 +562,4 @@ def generate_trajectory(
     (True, False)
     """
     gen = TrajectoryGenerator(track, clearance=clearance, limits=Limits(vmax, amax, jmax), rate=rate)
-    return gen.generate(start, goal, delay_tolerance=delay_tolerance)
+    return gen.generate(start, goal, delay_tolerance=delay_tolerance, min_margin=min_margin)

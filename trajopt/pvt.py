@@ -32,10 +32,11 @@ The check (:func:`check_pvt`)
     deviation, so the gate's separation bound stays a bound.
 
 Largest interval
-    If the interval fails, :func:`largest_pvt_interval` scans the 1-2-5 series (…, 1, 0.5, 0.2, 0.1, 0.05, …,
-    0.001 s) downwards from the largest value not above the requested interval and returns the first that
-    passes (the series is preferred over bisection: drives take round periods, and passing is not monotone in
-    Δ in general); the error names it.
+    If the interval fails, :func:`largest_pvt_interval` scans the round intervals (…, 0.1, 0.08, 0.05, 0.04,
+    0.025, 0.02, 0.01, …, 0.001 s) downwards from the largest value not above the requested interval and
+    returns the first that passes (round values are preferred over bisection: drives take round periods, and
+    passing is not monotone in Δ in general); the error names it. ``interval="auto"`` (:func:`pvt_table`,
+    the command line's default) takes that interval below :data:`DEFAULT_INTERVAL`.
 
 Time stretch (optional)
     A Hermite cubic through exact samples overshoots the motion's peak velocity and acceleration by O(jmax·Δ)
@@ -64,6 +65,7 @@ from trajopt.timing import Limits
 from trajopt.verify import LIMIT_RTOL, VerificationReport, verify_setpoints
 
 __all__ = [
+    "AUTO",
     "PVT_COLUMNS",
     "PVTCheck",
     "PVTTable",
@@ -74,14 +76,17 @@ __all__ = [
     "pvt_rows",
     "pvt_table",
     "smallest_pvt_stretch",
+    "time_text",
     "write_pvt",
 ]
 
 FloatArray = NDArray[np.float64]
 #: Columns of the PVT file.
 PVT_COLUMNS = ("time", "a_s", "a_v", "b_s", "b_v")
-#: Default interval (s).
+#: Default interval (s); the largest ``"auto"`` takes.
 DEFAULT_INTERVAL = 0.1
+#: The interval value that asks for the largest round interval that works (:func:`pvt_table`).
+AUTO = "auto"
 #: Smallest interval tried by :func:`largest_pvt_interval` (s).
 MIN_INTERVAL = 1e-3
 #: Smallest dense-grid rate of the check (Hz).
@@ -107,11 +112,17 @@ class PVTTable:
         return float(self.t[-1])
 
     def csv_text(self) -> str:
-        """The file's content: header ``time,a_s,a_v,b_s,b_v``, 12 significant digits (17 for the time)."""
+        """The file's content: header ``time,a_s,a_v,b_s,b_v``; times as the shortest decimals that read back
+        exactly (:func:`time_text`: ``0.3``, not ``0.30000000000000004``), the rest 12 significant digits."""
         buf = io.StringIO()
         buf.write(",".join(PVT_COLUMNS) + "\n")
-        data = np.column_stack([self.t, self.s[:, 0], self.v[:, 0], self.s[:, 1], self.v[:, 1]])
-        np.savetxt(buf, data, delimiter=",", fmt=["%.17g", "%.12g", "%.12g", "%.12g", "%.12g"])
+        data = np.column_stack([self.s[:, 0], self.v[:, 0], self.s[:, 1], self.v[:, 1]])
+        cols = [np.char.mod("%.12g", data[:, i]).astype(object) for i in range(4)]
+        rows = np.asarray(time_text(self.t), dtype=object)
+        for c in cols:
+            rows = rows + "," + c
+        if len(rows):
+            buf.write("\n".join(rows.tolist()) + "\n")
         return buf.getvalue()
 
 
@@ -137,6 +148,13 @@ class PVTCheck:
     peak_ratio: dict[str, tuple[float, float]]
     report: VerificationReport
     dense_rate: float
+
+
+def time_text(t: Any) -> list[str]:
+    """Times (s, shape (M,)) as the shortest decimals that read back to the same floats (no exponent): the row
+    times ``k·Δ`` of :func:`pvt_knots` print as the decimal the step names (``0.3``, never
+    ``0.30000000000000004``)."""
+    return [np.format_float_positional(x, unique=True, trim="-") for x in np.asarray(t, dtype=float)]
 
 
 def _to_float(x: object) -> float:
@@ -165,11 +183,14 @@ def check_interval(interval: object) -> float:
 
 
 def pvt_knots(motion_time: float, interval: float) -> FloatArray:
-    """Row times: ``k·Δ`` below ``T − Δ/100``, then ``T`` (see the module docstring). Shape (M,)."""
+    """Row times: ``k·Δ`` below ``T − Δ/100``, then ``T`` (see the module docstring). Shape (M,).
+
+    ``k·Δ`` is rounded to 12 decimals (the float nearest the decimal multiple: ``3 × 0.1`` is 0.3, not
+    0.30000000000000004), so the rows print as the multiples they are."""
     if motion_time <= 0:
         return np.zeros(1)
     k = np.arange(int(np.ceil(motion_time / interval)) + 1)
-    t = k * interval
+    t = np.round(k * interval, 12)
     t = t[t < motion_time - interval / 100.0]
     return np.append(t, motion_time)
 
@@ -294,7 +315,13 @@ def _gate_on_reconstruction(
         from trajopt.planview import plan_view
 
         rep = plan_view(plan).verify(tg, s, v, a_rows, j_rows, limits=lim, clearance=trajectory.clearance, rate=rate)
-        return rep, [f for f in rep.failures if not f.startswith("row ") or "separation" in f]
+        moving = _starts_moving(trajectory)
+        return rep, [
+            f
+            for f in rep.failures
+            if (not f.startswith("row ") or "separation" in f)
+            and not (moving and f.startswith("first row is not at rest"))
+        ]
     routes = plan.routes
     tr = np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1)
     tr[0], tr[-1] = plan.start, plan.goal
@@ -382,10 +409,14 @@ def _check_stretch(stretch: object, name: str = "stretch") -> float:
     return k
 
 
+#: Mantissas of the round intervals tried by :func:`largest_pvt_interval` (1, 2, 2.5, 4, 5, 8 per decade).
+ROUND_MANTISSAS = (8.0, 5.0, 4.0, 2.5, 2.0, 1.0)
+
+
 def _series(upto: float) -> list[float]:
     out: list[float] = []
     for e in range(3, -4, -1):
-        for m in (5.0, 2.0, 1.0):
+        for m in ROUND_MANTISSAS:
             x = m * 10.0**e
             if MIN_INTERVAL - 1e-12 <= x <= upto + 1e-12:
                 out.append(round(x, 6))
@@ -393,8 +424,9 @@ def _series(upto: float) -> list[float]:
 
 
 def largest_pvt_interval(trajectory: Trajectory, upto: float = DEFAULT_INTERVAL, stretch: float = 1.0) -> float | None:
-    """The largest interval of the 1-2-5 series (1 ms … 1000 s) not above ``upto`` that passes
-    :func:`check_pvt` (at time-stretch ``stretch``), or None if none does."""
+    """The largest round interval (mantissas :data:`ROUND_MANTISSAS`: …, 0.1, 0.08, 0.05, 0.04, 0.025, 0.02,
+    0.01, …, 1 ms) not above ``upto`` that passes :func:`check_pvt` (at time-stretch ``stretch``), or None if none
+    does."""
     for x in _series(check_interval(upto)):
         if check_pvt(trajectory, x, stretch).ok:
             return x
@@ -410,14 +442,18 @@ def smallest_pvt_stretch(trajectory: Trajectory, interval: float, max_stretch: f
     return None
 
 
-def pvt_table(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, *, max_stretch: float = 1.0) -> PVTTable:
+def pvt_table(
+    trajectory: Trajectory, interval: float | str = DEFAULT_INTERVAL, *, max_stretch: float = 1.0
+) -> PVTTable:
     """The PVT rows of ``trajectory`` every ``interval`` seconds, if their Hermite reconstruction passes.
 
     Parameters
     ----------
     trajectory : Trajectory
-    interval : float
-        Row interval Δ (s), >= 1 ms.
+    interval : float or "auto"
+        Row interval Δ (s), >= 1 ms; ``"auto"``: the largest round interval <= :data:`DEFAULT_INTERVAL` that
+        passes (:func:`largest_pvt_interval`; if none down to 1 ms does, :data:`DEFAULT_INTERVAL` with the
+        stretch allowed by ``max_stretch``, else the error).
     max_stretch : float
         Largest time-stretch factor allowed (>= 1; 1 = the motion as it is). When the motion itself fails, the
         smallest factor of :data:`STRETCHES` up to this one that passes is used (``PVTTable.stretch``): the same
@@ -438,6 +474,26 @@ def pvt_table(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, *, max
     >>> float(tab.t[1]), bool(tab.v[-1, 0] == 0.0), tab.stretch
     (0.1, True, 1.0)
     """
+    if isinstance(interval, str) and interval.strip().lower() == AUTO:
+        best = largest_pvt_interval(trajectory, DEFAULT_INTERVAL)
+        if best is not None:
+            return pvt_rows(trajectory, best)
+        cap = _check_stretch(max_stretch, "max_stretch")
+        k = smallest_pvt_stretch(trajectory, DEFAULT_INTERVAL, cap) if cap > 1.0 else None
+        if k is not None:
+            return pvt_rows(trajectory, DEFAULT_INTERVAL, k)
+        chk = check_pvt(trajectory, DEFAULT_INTERVAL)
+        k2 = smallest_pvt_stretch(trajectory, DEFAULT_INTERVAL, STRETCHES[-1])
+        hint = (
+            f"; {DEFAULT_INTERVAL:g} s works with the motion slowed by a factor {k2:g} (max_stretch / --pvt-stretch)"
+            if k2 is not None
+            else ""
+        )
+        raise InvalidInputError(
+            f"PVT interval auto: no interval from {DEFAULT_INTERVAL:g} s down to {MIN_INTERVAL:g} s keeps the "
+            f"clearance and limits in the cubic reconstruction (at {DEFAULT_INTERVAL:g} s: {chk.failures[0]}), "
+            f"expected a motion a PVT drive can follow{hint}"
+        )
     dlt = check_interval(interval)
     cap = _check_stretch(max_stretch, "max_stretch")
     chk = check_pvt(trajectory, dlt)
@@ -460,7 +516,7 @@ def pvt_table(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, *, max
 def write_pvt(
     trajectory: Trajectory,
     path: str | os.PathLike[str],
-    interval: float = DEFAULT_INTERVAL,
+    interval: float | str = DEFAULT_INTERVAL,
     *,
     max_stretch: float = 1.0,
 ) -> PVTTable:

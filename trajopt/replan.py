@@ -236,7 +236,8 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
     at_time : float
         Time of ``trajectory`` (s), in ``[0, makespan]``.
     goal : array_like, shape (2,)
-        New goal (track coordinates of A and B).
+        New goal (track coordinates of A and B); on a layout positions ``(edge, offset)``, ``"EDGE:OFFSET"`` or
+        vertex names (:func:`trajopt.replan_graph.replan_graph`).
 
     Returns
     -------
@@ -253,6 +254,10 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
     PlanningError
         A cart's path would branch at P (no single route), or the spliced rows fail the gate (never observed).
     """
+    if not isinstance(trajectory.plan, Plan):  # a layout's GraphPlan
+        from trajopt.replan_graph import replan_graph
+
+        return replan_graph(generator, trajectory, at_time, goal)
     t_start = time.perf_counter()
     at = _check_at_time(at_time, trajectory)
     old = _paper_plan_for(generator, trajectory)

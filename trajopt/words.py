@@ -22,7 +22,8 @@ project writes. For each cart:
 
 On a layout (:class:`mpa.GraphTrack`) the words follow the route's pieces (:func:`describe_graph_rows`): legs and
 waits as above, each leg cut at the route's pieces, one phrase per piece ``along e1 to J`` (with the edge's
-orientation) or ``back along e1 to e1:0.40`` (against it), positions as vertex names or ``EDGE:OFFSET``.
+orientation) or ``back along e1 to e1:0.4`` (against it), positions as vertex names or ``EDGE:OFFSET`` (offsets in
+metres to the millimetre).
 """
 
 from __future__ import annotations
@@ -195,15 +196,18 @@ def describe(trajectory: Any) -> dict[str, str]:
 
 
 def _graph_where(track: Any, route: Any, r: float) -> str:
-    """The position at route coordinate ``r`` by name (a vertex within :data:`_TOL` of an edge end)."""
+    """The position at route coordinate ``r`` by name: a vertex within half a millimetre of an edge end, else
+    ``EDGE:OFFSET`` with the offset in metres rounded to the millimetre (``spur:0.8``, not ``spur:0.80010000095``)."""
     e, o = route.positions(r)
     e, o = int(e), float(o)
     length = float(track.lengths[e])
-    if abs(o - length) <= _TOL:
+    if abs(o - length) < 5e-4:
         o = length
-    elif abs(o) <= _TOL:
+    elif abs(o) < 5e-4:
         o = 0.0
-    return str(track.position_name(e, o))
+    if track.vertex_at(e, o) is not None:
+        return str(track.position_name(e, o))
+    return f"{track.edge_names[e]}:{np.format_float_positional(round(o, 3), precision=3, trim='-')}"
 
 
 def describe_graph_rows(track: Any, routes: Sequence[Any], t: ArrayLike, s: ArrayLike) -> dict[str, str]:

@@ -2,8 +2,9 @@
 
 Subcommands: ``plan`` (the paper's planner), ``trajectory`` and ``demo`` (jerk-limited setpoints), ``animate``
 (animations), ``topology`` (topology of two robots on any graph), ``replan`` (re-plan a written trajectory from
-its moving state), ``plot`` (a PNG of written setpoints), ``serve`` (a local web explorer), ``batch`` (many
-queries on a layout, locally or on a Dask cluster); ``mpa --version``.
+its moving state), ``plot`` (a PNG of written setpoints), ``domains`` (the domain of every start or goal of a
+paper track), ``serve`` (a local web explorer), ``batch`` (many queries on a layout, locally or on a Dask
+cluster); ``mpa --version``.
 
 Exit statuses (one line on stderr in every failing case, never a traceback, no output file left behind):
 
@@ -38,6 +39,7 @@ SUBCOMMAND_MODULES = (
     "trajopt.cli.topology",
     "trajopt.cli.replan",
     "trajopt.cli.plot",
+    "trajopt.cli.domains",
     "trajopt.cli.serve",
     "trajopt.cli.batch",
 )
@@ -54,6 +56,10 @@ SUBCOMMANDS = {
         "re-plan a written trajectory from the carts' moving state at a time to a new goal",
     ),
     "plot": ("trajopt.cli.plot", "draw a setpoints file or an output directory of mpa into a PNG"),
+    "domains": (
+        "trajopt.cli.domains",
+        "which domain every start (for a fixed goal) or goal (for a fixed start) falls in",
+    ),
     "serve": ("trajopt.cli.serve", "a local web page to drag the robots and watch domains, plans and motions"),
     "batch": ("trajopt.cli.batch", "plan and verify every query of a CSV file on a layout (local or Dask)"),
 }

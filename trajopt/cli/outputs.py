@@ -12,7 +12,8 @@ mcap          ``trajectory.mcap``     the MCAP file of a rosbag2 bag (:func:`tra
 pvt           ``pvt.csv``             PVT rows every ``--pvt-interval`` s (:func:`trajopt.pvt.pvt_table`)
 ============  ======================  ===========================================================================
 
-``--plot`` adds ``trajectory.png`` (:func:`trajopt.viz.plotting.plot_trajectory`). Every option is checked before
+``--plot`` adds ``trajectory.png`` (:func:`trajopt.viz.layout_run.trajectory_figure`: a paper track's figure, or
+a layout run's). Every option is checked before
 any work (:func:`check_output_options`); every file is computed in memory (:func:`output_files`) and then
 written all or nothing (:func:`trajopt.cli.trajectory.write_outputs`).
 
@@ -58,7 +59,7 @@ class OutputOptions:
     """The checked output options (see :func:`check_output_options`)."""
 
     formats: tuple[str, ...] = ("csv",)
-    pvt_interval: float = 0.1
+    pvt_interval: float | str = "auto"
     pvt_stretch: float = 1.0
     joint_names: tuple[str, str] = ("cart_a", "cart_b")
     topic: str = "/joint_trajectory"
@@ -77,11 +78,11 @@ def add_output_arguments(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument(
         "--pvt-interval",
-        type=float,
-        default=0.1,
+        default="auto",
         metavar="S",
-        help="PVT row interval in s (default 0.1); refused if the drive's cubic interpolation would break the "
-        "clearance or a limit (the error names the largest interval that works)",
+        help="PVT row interval in s, or auto (default): the largest round interval <= 0.1 s whose cubic "
+        "reconstruction keeps the clearance and the limits (written in summary.json); an interval that would "
+        "break them is refused (the error names the largest interval that works)",
     )
     g.add_argument(
         "--pvt-stretch",
@@ -97,7 +98,10 @@ def add_output_arguments(p: argparse.ArgumentParser) -> None:
         "--topic", default="/joint_trajectory", help="MCAP topic of the JointTrajectory (default /joint_trajectory)"
     )
     g.add_argument(
-        "--plot", action="store_true", help="also write trajectory.png (track, configuration space, s/v/a/j)"
+        "--plot",
+        action="store_true",
+        help="also write trajectory.png (paper tracks: track, configuration space, s/v/a/j; layouts: the layout with "
+        "both routes and the carts at a few times, speed, acceleration and distance over time)",
     )
 
 
@@ -146,7 +150,8 @@ def check_output_options(args: argparse.Namespace) -> OutputOptions:
     names = check_joint_names(args.joint_names)
     topic = check_topic(args.topic, "--topic")
     try:
-        interval = check_interval(args.pvt_interval)
+        auto = isinstance(args.pvt_interval, str) and args.pvt_interval.strip().lower() == "auto"
+        interval: float | str = "auto" if auto else check_interval(args.pvt_interval)
     except InvalidInputError as exc:
         raise InvalidInputError(str(exc).replace("PVT interval", "--pvt-interval", 1)) from None
     k = float(args.pvt_stretch)
@@ -208,11 +213,13 @@ def output_files(traj: Trajectory, opts: OutputOptions, recipe: dict[str, Any]) 
             except InvalidInputError as exc:
                 raise InvalidInputError(str(exc).replace("PVT interval", "--pvt-interval", 1)) from None
             files[name] = tab.csv_text()
-            extra["pvt"] = {"interval": tab.interval, "stretch": tab.stretch, "rows": len(tab.t)}
+            auto = opts.pvt_interval == "auto"
+            extra["pvt"] = {"interval": tab.interval, "auto": auto, "stretch": tab.stretch, "rows": len(tab.t)}
     if opts.plot:
-        from trajopt.viz.plotting import figure_png, plot_trajectory
+        from trajopt.viz.layout_run import trajectory_figure
+        from trajopt.viz.plotting import figure_png
 
-        files[PLOT_FILE] = figure_png(plot_trajectory(traj))
+        files[PLOT_FILE] = figure_png(trajectory_figure(traj))
     summary = traj.summary()
     summary.update(extra)
     summary["formats"] = list(opts.formats)
@@ -255,5 +262,11 @@ def summary_text(traj: Trajectory) -> str:
             6,
             f"tolerance   asked {dt['requested']:g} s: effective clearance {dt['effective_clearance']:.4g} m, "
             f"slowdown {dt['slowdown']:g}",
+        )
+    mm = traj.solver_stats.get("min_margin")
+    if mm:
+        lines.insert(
+            len(lines) - 4,
+            f"margin      asked {mm['requested']:g} m: effective clearance {mm['effective_clearance']:.4g} m",
         )
     return "\n".join(lines)

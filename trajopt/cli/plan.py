@@ -47,10 +47,14 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         if args.plot is not None and not args.json:
             print(f"plot       {args.plot}")
         return rc
+    if args.plot is not None:
+        _write_paper_plot(p, args)
     if args.json:
         print(json.dumps(plan_json(p, args.samples)))
         return 0
     _print_paper_plan(p)
+    if args.plot is not None:
+        print(f"plot       {args.plot}")
     return 0
 
 
@@ -126,15 +130,23 @@ def _print_paper_plan(p: Plan) -> None:
     print(f"travel     A {p.travel[0]:.4g} m, B {p.travel[1]:.4g} m; min distance {p.min_distance():.4g} m")
 
 
+def _write_paper_plot(p: Any, args: argparse.Namespace) -> None:
+    """Draw a paper plan (track, configuration space with the path, the domain map of its goal) into ``--plot``."""
+    from trajopt.viz.domains import plan_figure
+    from trajopt.viz.plotting import save_figure
+
+    save_figure(plan_figure(p, neighbourhood=args.neighbourhood), args.plot, args.dpi, facecolor="white")
+
+
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 
 
 def _check_plot_path(path: str, graph_plan: bool, dpi: float) -> None:
-    """Fail before planning if ``--plot`` cannot be honoured (not a graph plan, bad suffix, folder not writable)."""
+    """Fail before planning if ``--plot`` cannot be honoured (bad suffix or resolution, folder not writable).
+
+    ``graph_plan``: whether a graph plan is drawn (a paper plan is drawn as well; kept for the callers)."""
     from mpa.errors import InvalidInputError
 
-    if not graph_plan:
-        raise InvalidInputError("--plot draws graph plans, expected --graph FILE or --planner graph")
     if not (np.isfinite(dpi) and dpi >= 10):
         raise InvalidInputError(f"--dpi is {dpi!r}, expected a finite number >= 10")
     out = Path(path)
@@ -226,7 +238,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument(
-        "--plot", metavar="FILE", default=None, help="graph plans: draw layout, routes and switches (.png/.pdf/.svg)"
+        "--plot",
+        metavar="FILE",
+        default=None,
+        help="draw the plan (.png/.pdf/.svg): graph plans as layout, routes and switches; paper plans as track, "
+        "configuration space with the path, and the domain of every start for this goal",
     )
     p.add_argument("--dpi", type=float, default=110.0, help="resolution of --plot (default 110)")
     p.set_defaults(func=_cmd_plan)

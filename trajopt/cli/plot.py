@@ -36,6 +36,16 @@ def _source(path: Path) -> tuple[Path, Path]:
     raise InvalidInputError(f"PATH {str(path)!r} does not exist, expected a setpoints file or an output directory")
 
 
+def _mm(name: object) -> str:
+    """A position name with its offset to the millimetre (``b_left:0.523367558163`` -> ``b_left:0.523``)."""
+    text = str(name)
+    edge, sep, off = text.rpartition(":")
+    try:
+        return f"{edge}:{round(float(off), 3):g}" if sep else text
+    except ValueError:
+        return text
+
+
 def _context(csv_path: Path) -> dict[str, Any]:
     """Track, clearance, title and words from ``summary.json`` beside the file (empty if none or unreadable)."""
     p = csv_path.parent / "summary.json"
@@ -56,17 +66,59 @@ def _context(csv_path: Path) -> dict[str, Any]:
                 pass
         elif "edges" in tr:
             out["layout"] = tr
+            if isinstance(s.get("routes"), dict):
+                out["routes"] = s["routes"]
+            if isinstance(s.get("limits"), dict):
+                out["limits"] = s["limits"]
     if isinstance(s.get("clearance"), (int, float)):
         out["clearance"] = float(s["clearance"])
     if isinstance(s.get("words"), dict):
         out["words"] = {str(k): str(v) for k, v in s["words"].items()}
     parts = [csv_path.name]
-    if "domain" in s and "word" in s:
+    if "layout" in out and isinstance(s.get("start"), list) and isinstance(s.get("goal"), list):
+        (a0, b0), (a1, b1) = (_mm(x) for x in s["start"][:2]), (_mm(x) for x in s["goal"][:2])
+        parts.append(f"A {a0} → {a1}, B {b0} → {b1}")  # a layout has no domains
+    elif "domain" in s and "word" in s:
         parts.append(f"domain {s['domain']}, class {' '.join(s['word']) or '(trivial)'}")
     if isinstance(s.get("makespan"), (int, float)):
         parts.append(f"makespan {s['makespan']:.2f} s")
     out["title"] = " · ".join(parts)
     return out
+
+
+def _layout_run(rows: dict[str, Any], ctx: dict[str, Any]) -> Any:
+    """The figure of a layout run (:func:`trajopt.viz.layout_run.layout_run_figure`) when the rows have route
+    coordinates and ``summary.json`` the layout and routes; else None."""
+    if "layout" not in ctx or "routes" not in ctx or "a_s" not in rows or "b_s" not in rows:
+        return None
+    import numpy as np
+
+    from mpa.graph_track import GraphTrack
+    from trajopt.viz.layout_run import layout_run_figure, routes_from_summary
+
+    try:
+        track = GraphTrack.from_layout(dict(ctx["layout"]))
+        routes = routes_from_summary(track, ctx["routes"])
+    except InvalidInputError:
+        return None
+
+    def pair(k: str) -> Any:
+        return np.column_stack([rows[f"a_{k}"], rows[f"b_{k}"]]) if f"a_{k}" in rows and f"b_{k}" in rows else None
+
+    lim = ctx.get("limits") or {}
+    limits = {k: lim[k] for k in ("vmax", "amax") if isinstance(lim.get(k), list) and len(lim[k]) == 2}
+    return layout_run_figure(
+        track,
+        routes,
+        rows["time"],
+        pair("s"),
+        v=pair("v"),
+        a=pair("a"),
+        clearance=ctx.get("clearance"),
+        limits=limits,
+        title=ctx.get("title", ""),
+        words=ctx.get("words"),
+    )
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
@@ -81,7 +133,12 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
     rows = read_rows(src)
     ctx = _context(src)
-    png = figure_png(plot_rows(rows, **ctx))
+    fig = _layout_run(rows, ctx)
+    if fig is None:
+        ctx.pop("routes", None)
+        ctx.pop("limits", None)
+        fig = plot_rows(rows, **ctx)
+    png = figure_png(fig)
     try:
         atomic_write_bytes(out, png)
     except OSError as exc:

@@ -8,6 +8,10 @@ significant digits); a mismatch is an error. Then :meth:`TrajectoryGenerator.rep
 ``mpa trajectory`` (same ``--format``/``--plot`` options), with the recipe extended by ``{at, goal}`` so that the
 result can be re-planned again.
 
+A layout run (``mpa trajectory --graph``, or ``--planner graph``) is rebuilt by
+:func:`trajopt.cli.replan_layout.load_layout_trajectory`; its ``--goal`` is two positions ``EDGE:OFFSET`` or
+vertex names (the run's kind is read from ``summary.json`` before the goal is parsed).
+
 Errors (exit 2, one ``error:`` line, nothing written): ``--from`` without ``summary.json`` or ``setpoints.csv``
 (or with files that do not describe the same motion), ``--at`` outside ``[0, makespan]``, a goal off the track or
 closer than the clearance; a goal without motion: exit 3.
@@ -27,6 +31,7 @@ from mpa.errors import InvalidInputError, MPAError
 from mpa.tracks import make_track
 from trajopt.cli.common import check_output_dir, parse_coordinates
 from trajopt.cli.outputs import add_output_arguments, check_output_options, output_files, summary_text
+from trajopt.cli.replan_layout import is_layout_summary, layout_goal, layout_of, load_layout_trajectory, rebuild
 from trajopt.export import CSV_COLUMNS, Trajectory
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
@@ -95,8 +100,8 @@ def load_trajectory(directory: str | Path, option: str = "--from") -> tuple[Traj
     if not d.is_dir():
         raise InvalidInputError(f"{option} is {str(d)!r}, expected a directory written by mpa trajectory")
     summary = _read_summary(d, option)
-    if isinstance(summary.get("track"), dict) and "edges" in summary["track"]:
-        raise InvalidInputError(f"{option}: mpa replan is implemented for the paper's tracks, not for a layout")
+    if is_layout_summary(summary):  # a layout run (mpa trajectory --graph, or --planner graph)
+        return load_layout_trajectory(d, summary, option)
     rows = _read_setpoints(d, option)
     try:
         tr = dict(summary["track"])
@@ -127,9 +132,10 @@ def load_trajectory(directory: str | Path, option: str = "--from") -> tuple[Traj
             "mpa trajectory"
         ) from None
     try:
-        traj = gen.generate(recipe["start"], recipe["goal"], delay_tolerance=recipe["delay_tolerance"])
-        for r in recipe["replans"]:
-            traj = gen.replan(traj, r["at"], r["goal"])
+        margin = (summary.get("recipe") or {}).get("min_margin")
+        if margin is not None:
+            recipe["min_margin"] = float(margin)
+        traj = rebuild(gen, recipe)
     except MPAError as exc:
         raise InvalidInputError(f"{option}: the motion of summary.json cannot be rebuilt ({exc})") from None
     ours = _csv_array(traj)
@@ -150,7 +156,7 @@ def load_trajectory(directory: str | Path, option: str = "--from") -> tuple[Traj
 
 def _cmd_replan(args: argparse.Namespace) -> int:
     opts = check_output_options(args)
-    goal = parse_coordinates(args.goal, "--goal")
+    goal: Any = _goal_for_run(args.from_dir, args.goal)
     at = float(args.at)
     if not math.isfinite(at):
         raise InvalidInputError(f"--at is {args.at!r}, expected a time in seconds")
@@ -171,6 +177,16 @@ def _cmd_replan(args: argparse.Namespace) -> int:
     return 0
 
 
+def _goal_for_run(from_dir: str, values: list[str]) -> Any:
+    """``--goal`` parsed for the kind of run in ``from_dir``: positions by name on a layout run (``EDGE:OFFSET``
+    or vertex names), track coordinates on a paper track's run."""
+    d = Path(from_dir)
+    summary = _read_summary(d, "--from") if d.is_dir() else {}
+    if is_layout_summary(summary):
+        return layout_goal(layout_of(summary), values)
+    return parse_coordinates(values, "--goal")
+
+
 def register(subparsers: Any) -> None:
     """Add ``replan`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
     p = subparsers.add_parser(
@@ -178,7 +194,13 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument("--from", dest="from_dir", required=True, metavar="DIR", help="output directory of mpa trajectory")
     p.add_argument("--at", type=float, required=True, metavar="T", help="time of that motion (s) to re-plan from")
-    p.add_argument("--goal", nargs=2, required=True, metavar=("A", "B"), help="new goal: track coordinates")
+    p.add_argument(
+        "--goal",
+        nargs=2,
+        required=True,
+        metavar=("A", "B"),
+        help="new goal: track coordinates (a paper track's run) or positions EDGE:OFFSET / vertex names (a layout's)",
+    )
     p.add_argument("--out", required=True, help="output directory (the files of mpa trajectory)")
     add_output_arguments(p)
     p.set_defaults(func=_cmd_replan)

@@ -132,10 +132,23 @@ def _json(obj: Any) -> str:
 def _cmd_trajectory(args: argparse.Namespace) -> int:
     opts = check_output_options(args)
     tolerance = None if args.delay_tolerance is None else check_delay_tolerance(args.delay_tolerance)
+    margin = None if args.min_margin is None else check_margin_option(args.min_margin)
     check_output_dir(args.out)
     track, start, goal = query_from_args(args)
     limits = Limits(args.vmax, args.amax, args.jmax)
-    traj, files = trajectory_files(track, start, goal, args.clearance, limits, args.rate, opts, tolerance)
+    traj, files = trajectory_files(
+        track,
+        start,
+        goal,
+        args.clearance,
+        limits,
+        args.rate,
+        opts,
+        tolerance,
+        planner=args.planner,
+        objective=args.objective,
+        min_margin=margin,
+    )
     write_outputs(args.out, files)
     print(summary_text(traj))
     print(f"wrote       {', '.join(str(Path(args.out) / n) for n in files)}")
@@ -151,6 +164,9 @@ def trajectory_files(
     rate: float,
     opts: OutputOptions,
     tolerance: float | None = None,
+    planner: str | None = None,
+    objective: str = "fastest",
+    min_margin: float | None = None,
 ) -> tuple[Trajectory, dict[str, str | bytes]]:
     """The verified motion of ``mpa trajectory`` and its files, in memory (nothing is written).
 
@@ -166,7 +182,13 @@ def trajectory_files(
     opts : OutputOptions
         The checked output options (:func:`trajopt.cli.outputs.check_output_options`).
     tolerance : float, optional
-        ``--delay-tolerance`` (s), already checked; paper tracks only.
+        ``--delay-tolerance`` (s), already checked.
+    planner : {None, "paper", "graph"}
+        ``--planner``: ``graph`` on a paper track plans its layout form (:func:`planner_query`).
+    objective : {"fastest", "shortest"}
+        ``--objective`` of the graph planner.
+    min_margin : float, optional
+        ``--min-margin`` (metres), already checked.
 
     Returns
     -------
@@ -176,22 +198,25 @@ def trajectory_files(
         File name -> content, as :func:`trajopt.cli.outputs.output_files` gives them (``summary.json`` last,
         with the ``recipe`` that rebuilds the motion).
     """
-    if not isinstance(track, Track):  # a layout (--graph)
-        if opts.plot:
-            raise InvalidInputError(
-                "--plot draws trajectories on the paper's tracks, expected no --plot with --graph "
-                "(draw a layout with mpa animate --graph or mpa plan --graph --plot)"
-            )
-        if tolerance is not None:
-            raise InvalidInputError("--delay-tolerance is implemented for the paper's tracks, expected no --graph")
-    gen = TrajectoryGenerator(track, clearance=clearance, limits=limits, rate=rate)
-    traj = gen.generate(start, goal, delay_tolerance=tolerance)
+    track, start, goal = planner_query(track, start, goal, planner)
+    gen = TrajectoryGenerator(track, clearance=clearance, limits=limits, rate=rate, objective=objective)
+    traj = gen.generate(start, goal, delay_tolerance=tolerance, min_margin=min_margin)
     recipe: dict[str, Any]
     if isinstance(track, Track):
         recipe = {"start": list(start), "goal": list(goal), "delay_tolerance": tolerance, "replans": []}
+        if min_margin is not None:
+            recipe["min_margin"] = min_margin
     else:  # positions by name (EDGE:OFFSET or a vertex)
-        names = [[track.position_name(*p) for p in q] for q in (start, goal)]
-        recipe = {"start": names[0], "goal": names[1], "delay_tolerance": None, "replans": []}
+        names = [[track.position_name(*track.position(p)) for p in q] for q in (start, goal)]
+        recipe = {
+            "start": names[0],
+            "goal": names[1],
+            "delay_tolerance": tolerance,
+            "objective": objective,
+            "replans": [],
+        }
+        if min_margin is not None:
+            recipe["min_margin"] = min_margin
     return traj, output_files(traj, opts, recipe)
 
 
@@ -222,6 +247,73 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def planner_query(track: Any, start: Any, goal: Any, planner: str | None) -> tuple[Any, Any, Any]:
+    """The track and query the generator gets for ``--planner``.
+
+    ``graph`` on a paper track: its graph form (:meth:`mpa.tracks.Track.as_graph_track`, edges ``stick`` and
+    ``loop``) with the track coordinates as positions ``(edge, offset)``, so the complete graph planner answers
+    and the files are written as for a layout. ``paper`` (or none) on a paper track: unchanged; ``paper`` on a
+    layout is an error.
+
+    Raises
+    ------
+    InvalidInputError
+        ``--planner paper`` with ``--graph``; a start or goal off the track.
+    """
+    if not isinstance(track, Track):
+        if planner == "paper":
+            raise InvalidInputError(
+                "--planner is 'paper' with --graph, expected --planner graph (the paper's algorithm plans the "
+                "paper's tracks only: --track interval|circle|lollipop)"
+            )
+        return track, start, goal
+    if planner != "graph":
+        return track, start, goal
+    from mpa.planners.factory import _paper_positions
+
+    return track.as_graph_track(), _paper_positions(track, start, "--start"), _paper_positions(track, goal, "--goal")
+
+
+def add_planner_arguments(p: argparse.ArgumentParser) -> None:
+    """``--planner paper|graph`` and ``--objective fastest|shortest`` (as ``mpa plan``)."""
+    p.add_argument(
+        "--planner",
+        choices=["paper", "graph"],
+        default=None,
+        help="paper: the paper's algorithm (paper tracks only; default there); graph: the complete graph planner "
+        "(always on --graph layouts; on a paper track the files are written as for its layout form, edges stick "
+        "and loop)",
+    )
+    p.add_argument(
+        "--objective",
+        choices=["fastest", "shortest"],
+        default="fastest",
+        help="graph planner: fastest (default: minimum time at --vmax) or shortest (minimum length)",
+    )
+
+
+def check_margin_option(value: float) -> float:
+    """``--min-margin``: a finite number of metres >= 0 (InvalidInputError naming the option otherwise)."""
+    from trajopt.min_margin import check_min_margin
+
+    try:
+        return check_min_margin(value)
+    except InvalidInputError as exc:
+        raise InvalidInputError(str(exc).replace("min_margin", "--min-margin", 1)) from None
+
+
+def add_min_margin_argument(p: argparse.ArgumentParser) -> None:
+    """``--min-margin M`` (see :mod:`trajopt.min_margin`)."""
+    p.add_argument(
+        "--min-margin",
+        type=float,
+        default=None,
+        metavar="M",
+        help="ask for a motion whose tracking margin is at least M metres (either cart may be M off its setpoint "
+        "along its route); exit 3 naming the largest margin that can be had if none is",
+    )
+
+
 def add_delay_tolerance_argument(p: argparse.ArgumentParser) -> None:
     """``--delay-tolerance T`` (see :mod:`trajopt.delay`)."""
     p.add_argument(
@@ -243,6 +335,8 @@ def register(subparsers: Any) -> None:
     )
     add_output_arguments(p)
     add_delay_tolerance_argument(p)
+    add_min_margin_argument(p)
+    add_planner_arguments(p)
     p.set_defaults(func=_cmd_trajectory)
     d = subparsers.add_parser("demo", help="the embedded default job: a lollipop swap, files and a PNG")
     d.add_argument("--out", default="mpa-demo", help="output directory (default ./mpa-demo)")

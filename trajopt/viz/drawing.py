@@ -35,6 +35,7 @@ from mpa.tracks import Circle, Interval, Lollipop, Track
 __all__ = [
     "BLOCK_COLORS",
     "ROBOT_COLORS",
+    "TRAJECTORY_COLOR",
     "StepStyle",
     "arrow_along",
     "block_of_edge",
@@ -82,6 +83,8 @@ BLOCK_COLORS = {
 #: Colours of the three steps of the algorithm.
 STEP_COLORS = {"preliminary": "#e6ab02", "main": "#000000", "final": "#7f7f7f"}
 COLLISION_COLOR = "#d62728"
+#: Colour of a trajectory's path in the configuration space: far from the collision band's red.
+TRAJECTORY_COLOR = "#1a237e"
 #: Line styles of robots A and B where their curves share axes (speed over time): B dashed on top of A.
 ROBOT_LINESTYLES = {"A": "-", "B": (0, (4, 2))}
 TRACK_COLOR = "0.35"

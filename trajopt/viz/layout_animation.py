@@ -4,19 +4,21 @@ A motion is given as times ``t`` (shape (N,)) and route coordinates ``s`` (shape
 distance each robot has travelled along its route (:class:`mpa.geometry.DirectedRoute`), so plans of the complete
 graph planner (:func:`plan_motion`) and jerk-limited trajectories on graph tracks animate the same way.
 
-The figure is laid out once (the layout, both routes faintly, start and goal), then only the moving artists (each
-robot's body and label, the time readout) are updated in place and every frame is streamed to the writer: memory does
-not grow with the number of frames. GIF files are written by :class:`StreamingGifWriter` (frame by frame, one shared
-256-colour palette taken from the first frame); MP4 files by matplotlib's ``FFMpegWriter``, which needs an ffmpeg
-executable (:func:`trajopt.viz.animation.ffmpeg_executable`). Files are written under a temporary name and renamed,
-so a failed run leaves no file behind.
+The figure is laid out once (the layout, both routes faintly, start and goal; labels that would overlap moved
+apart, :func:`trajopt.viz.labels.separate_labels`) and drawn once as a background; each frame restores that
+background and draws only the moving artists (each robot's body and label, the time readout) on it (blitting), and
+is streamed to the writer: memory does not grow with the number of frames, and a frame costs a few milliseconds
+plus the encoder's time. A progress bar goes to stderr when it is a terminal. GIF files are written by
+:class:`StreamingGifWriter` (frame by frame, one shared 256-colour palette taken from the first frame); MP4 files
+by matplotlib's ``FFMpegWriter``, which needs an ffmpeg executable
+(:func:`trajopt.viz.animation.ffmpeg_executable`). Files are written under a temporary name and renamed, so a failed
+run leaves no file behind.
 """
 
 from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -24,6 +26,7 @@ import numpy as np
 from matplotlib.animation import AbstractMovieWriter
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from numpy.typing import ArrayLike, NDArray
 from PIL import GifImagePlugin, Image
 
@@ -31,8 +34,9 @@ from mpa.errors import InvalidInputError
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, as_graph_track
 from mpa.planners.graph import GraphPlan
-from trajopt.viz.animation import FORMATS, animation_format, movie_writer
+from trajopt.viz.animation import _Progress, _save_streaming, animation_format, movie_writer
 from trajopt.viz.drawing import ROBOT_COLORS
+from trajopt.viz.labels import separate_labels
 from trajopt.viz.layout import ROUTE_STYLES, LayoutGeometry, draw_layout, draw_routes, layout_geometry
 
 __all__ = ["StreamingGifWriter", "animate_graph_plan", "animate_layout", "plan_motion"]
@@ -40,6 +44,14 @@ __all__ = ["StreamingGifWriter", "animate_graph_plan", "animate_layout", "plan_m
 FloatArray = NDArray[np.float64]
 #: Points along a robot's body.
 BODY_POINTS = 15
+#: Default figure width (inches): 800 px at the default 80 dpi.
+DEFAULT_WIDTH = 10.0
+#: Legend font size (points): 10.5 px at 80 dpi.
+LEGEND_SIZE = 9.5
+#: Vertex label size (points; edge labels one point smaller).
+LABEL_SIZE = 10.0
+#: Space kept free along the figure's border (inches).
+BORDER_PAD = 0.15
 
 
 class StreamingGifWriter(AbstractMovieWriter):
@@ -188,6 +200,7 @@ def animate_layout(
     title: str | None = None,
     bodies: bool = True,
     size: tuple[float, float] | None = None,
+    progress: bool | None = None,
 ) -> Path:
     """Write an animation of two robots moving along their routes on a graph track.
 
@@ -218,7 +231,10 @@ def animate_layout(
     bodies : bool
         Draw bodies (needs ``clearance`` > 0); otherwise only a dot per robot.
     size : (float, float), optional
-        Figure size in inches (default from the layout's aspect ratio).
+        Figure size in inches (default: 10 inches wide, the height from the layout's aspect ratio; at the default
+        dpi the legend's text is 10.5 px high).
+    progress : bool, optional
+        A progress bar on stderr (default: when stderr is a terminal; silent otherwise).
 
     Returns
     -------
@@ -248,38 +264,60 @@ def animate_layout(
     fig = _static_figure(tr, geo, route_a, route_b, title, speedup, size)
     ax = fig.axes[0]
     moving = _moving_artists(ax)
-    fig.canvas.draw()
-    fig.set_layout_engine("none")  # freeze the layout: frames differ only in the moving artists
+    artists = [a for name in ("A", "B") for a in moving[name]] + [moving["clock"]]
+    canvas, background = _freeze_background(fig, dpi, artists)
+    bar = _Progress(len(times), "animate", progress)
+    routes = (route_a, route_b)
+    r_all = np.stack([np.interp(times, tt, ss[:, 0]), np.interp(times, tt, ss[:, 1])], axis=1)
 
-    def draw_frame(now: float) -> None:
-        r = np.array([np.interp(now, tt, ss[:, 0]), np.interp(now, tt, ss[:, 1])])
-        _update(tr, geo, (route_a, route_b), moving, r, half if bodies else 0.0, now - tt[0], tt[-1] - tt[0])
+    def frames() -> Any:
+        for k, now in enumerate(times):
+            canvas.restore_region(background)
+            _update(tr, geo, routes, moving, r_all[k], half if bodies else 0.0, now - tt[0], tt[-1] - tt[0])
+            for a in artists:
+                fig.draw_artist(a)
+            yield k
 
-    _write_frames(fig, writer, out, fmt, dpi, times, draw_frame)
+    try:
+        _save_streaming(fig, frames(), out, fmt, writer, dpi, bar)
+    finally:
+        bar.close()
     return out
 
 
-def _write_frames(
-    fig: Figure,
-    writer: AbstractMovieWriter,
-    out: Path,
-    fmt: str,
-    dpi: float,
-    times: FloatArray,
-    draw_frame: Callable[[float], None],
-) -> None:
-    """Draw (``draw_frame(now)``) and grab one frame per time into a temporary file, then move it to ``out``
-    (nothing is left at ``out`` on failure)."""
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.stem}.tmp{FORMATS[fmt]}")
-    try:
-        with writer.saving(fig, str(tmp), dpi):
-            for now in times:
-                draw_frame(now)
-                writer.grab_frame(facecolor="white")
-        os.replace(tmp, out)
-    finally:
-        tmp.unlink(missing_ok=True)
+def _freeze_background(fig: Figure, dpi: float, artists: list[Any]) -> tuple[FigureCanvasAgg, Any]:
+    """Fix the figure's pixel size (even, as h264 needs) and layout, move overlapping labels apart, and draw
+    everything but the moving ``artists`` once: returns the canvas and that background (restored every frame)."""
+    fig.set_dpi(dpi)
+    w, h = (np.asarray(fig.get_size_inches()) * dpi).astype(int) // 2 * 2
+    fig.set_size_inches(w / dpi, h / dpi)
+    canvas = FigureCanvasAgg(fig)
+    for a in artists:
+        a.set_animated(True)  # left out of the background
+    canvas.draw()
+    fig.set_layout_engine("none")  # freeze the layout: frames differ only in the moving artists
+    _fit_inside(fig, fig.axes[0], BORDER_PAD)
+    if separate_labels(fig.axes[0]):
+        canvas.draw()
+    return canvas, canvas.copy_from_bbox(fig.bbox)
+
+
+def _fit_inside(fig: Figure, ax: Any, pad: float) -> None:
+    """Move and shrink ``ax`` until everything drawn keeps ``pad`` inches from the figure's border (the layout
+    engine does not always manage with an equal-aspect axes and a legend beside it). Draws the figure."""
+    w, h = fig.get_size_inches()
+    for _ in range(3):
+        fig.canvas.draw()
+        bb = fig.get_tightbbox(fig.canvas.get_renderer())  # type: ignore[attr-defined]
+        if bb.x0 >= pad - 1e-3 and bb.y0 >= pad - 1e-3 and bb.x1 <= w - pad + 1e-3 and bb.y1 <= h - pad + 1e-3:
+            return
+        pos = ax.get_position()
+        sx = (w - 2 * pad) / max(bb.width, 1e-9)
+        sy = (h - 2 * pad) / max(bb.height, 1e-9)
+        s = min(sx, sy, 1.0)
+        x0 = (pad + (pos.x0 * w - bb.x0) * s) / w
+        y0 = (pad + (pos.y0 * h - bb.y0) * s) / h
+        ax.set_position([x0, y0, pos.width * s, pos.height * s])
 
 
 def _static_figure(
@@ -294,13 +332,27 @@ def _static_figure(
     pts = np.vstack(geo.polylines)
     span = np.maximum(pts.max(axis=0) - pts.min(axis=0), 1e-9 * geo.size)
     aspect = float(np.clip(span[1] / span[0], 0.3, 1.5))
-    figsize = size if size is not None else (8.0, 5.2 * aspect + 1.4)
+    figsize = size if size is not None else (DEFAULT_WIDTH, 0.62 * DEFAULT_WIDTH * aspect + 1.6)
     fig = Figure(figsize=figsize, layout="constrained", facecolor="white")
     FigureCanvasAgg(fig)  # frames are rendered with Agg
     ax = fig.subplots()
-    draw_layout(ax, tr, geometry=geo)
+    draw_layout(ax, tr, geometry=geo, label_size=LABEL_SIZE)
     draw_routes(ax, tr, route_a, route_b, geometry=geo, alpha=0.35, lw=1.6)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False, borderaxespad=0.0)
+    handles, labels = ax.get_legend_handles_labels()
+    rows = max(int((figsize[1] - 1.0) * 72.0 / (LEGEND_SIZE * 2.0)), 3)  # legend rows that fit the height
+    if len(handles) > rows:  # the routes, the first switches, and how many more
+        more = len(handles) - (rows - 1)
+        handles = [*handles[: rows - 1], Line2D([], [], ls="none")]
+        labels = [*labels[: rows - 1], f"… and {more} more switches"]
+    ax.legend(
+        handles,
+        labels,
+        loc="upper left",
+        bbox_to_anchor=(1.01, 1.0),
+        fontsize=LEGEND_SIZE,
+        frameon=False,
+        borderaxespad=0.0,
+    )
     m = 0.08 * geo.size
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     ax.set_xlim(lo[0] - m, hi[0] + m)
@@ -318,20 +370,10 @@ def _moving_artists(ax: Any) -> dict[str, Any]:
         color = ROBOT_COLORS[name]
         (body,) = ax.plot([], [], color=color, lw=7.0, alpha=0.75, solid_capstyle="butt", zorder=9)
         (dot,) = ax.plot([], [], "o", color=color, mec="white", mew=1.5, ms=9, zorder=10)
-        label = ax.annotate(
-            name,
-            xy=(0.0, 0.0),
-            xytext=(0.0, 0.0),
-            textcoords="offset points",
-            ha="center",
-            va="center",
-            fontsize=10,
-            fontweight="bold",
-            color="white",
-            bbox={"boxstyle": "circle,pad=0.2", "fc": color, "ec": "none"},
-            zorder=11,
-        )
-        art[name] = (body, dot, label)
+        # the name in a disc beside the robot: two markers (drawn much faster than a text with a box)
+        (disc,) = ax.plot([], [], "o", color=color, mec="none", ms=15, zorder=11)
+        (letter,) = ax.plot([], [], marker=f"$\\mathbf{{{name}}}$", color="white", mec="none", ms=8, zorder=12)
+        art[name] = (body, dot, disc, letter)
     art["clock"] = ax.text(
         0.01, 0.99, "", transform=ax.transAxes, ha="left", va="top", fontsize=10, family="monospace", zorder=12
     )
@@ -350,7 +392,7 @@ def _update(
 ) -> None:
     for k, name in enumerate(("A", "B")):
         route = routes[k]
-        body, dot, label = art[name]
+        body, dot, disc, letter = art[name]
         e, o = route.positions(np.array([r[k]]))
         p = geo.embed(e, o, tr.lengths)[0]
         n = geo.normal(e, o, tr.lengths)[0]
@@ -360,8 +402,11 @@ def _update(
             bp = geo.embed(be, bo, tr.lengths)
             body.set_data(bp[:, 0], bp[:, 1])
         side = ROUTE_STYLES[name]["side"]
-        label.xy = (float(p[0]), float(p[1]))
-        label.set_position((side * float(n[0]) * 16.0, side * float(n[1]) * 16.0))
+        to_px = dot.axes.transData
+        px = to_px.transform(p) + side * n * 16.0 * dot.figure.dpi / 72.0  # 16 points beside the robot
+        q = to_px.inverted().transform(px)
+        disc.set_data([q[0]], [q[1]])
+        letter.set_data([q[0]], [q[1]])
     art["clock"].set_text(f"t = {now:6.2f} s / {duration:.2f} s")
 
 

@@ -53,14 +53,15 @@ def draw_track(ax: Axes, track: Track, track_pos: NDArray[np.float64] | None = N
 def draw_cspace(ax: Axes, track: Track, clearance: float, paths: dict[str, NDArray[np.float64]]) -> None:
     """The flat configuration space ``(a, b)`` with the band ``d < D``, the skeleton and some paths.
 
-    The first path is drawn dashed black, the second solid red; the start (filled) and goal (empty) are labelled.
+    The first path is drawn dashed black, the second solid in :data:`trajopt.viz.drawing.TRAJECTORY_COLOR` (dark
+    indigo, apart from the band's red); the start (filled) and goal (empty) are labelled.
     """
     from trajopt.viz import drawing as dr
 
     dr.draw_flat_cspace(ax, track, clearance=clearance, axis_labels=False)
     dr.draw_skeleton(ax, skeleton_of(track), labels=False, arrows=False, lw=1.2, alpha=0.6, vertices=False)
     ax.plot([], [], color=dr.BLOCK_COLORS["S1"], lw=1.2, alpha=0.6, label="skeleton")
-    styles = (("k", "--", 1.2, 7.0), ("tab:red", "-", 1.8, 6.0))  # colour, line style, width, zorder
+    styles = (("k", "--", 1.2, 7.0), (dr.TRAJECTORY_COLOR, "-", 1.8, 6.0))  # colour, line style, width, zorder
     for (name, pts), (color, ls, lw, zorder) in zip(paths.items(), styles):
         dr.draw_flat_path(ax, track, pts, arrows=(), color=color, ls=ls, lw=lw, zorder=zorder)
         ax.plot([], [], label=name, color=color, ls=ls, lw=lw)

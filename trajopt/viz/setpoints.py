@@ -145,7 +145,9 @@ def _draw_cspace_panel(
     if track is not None and pos is not None and clearance is not None:
         pl.draw_cspace(ax, track, clearance, {"setpoints": pos})
     elif path is not None:
-        ax.plot(path[:, 0], path[:, 1], color="tab:red", lw=1.6)
+        from trajopt.viz.drawing import TRAJECTORY_COLOR
+
+        ax.plot(path[:, 0], path[:, 1], color=TRAJECTORY_COLOR, lw=1.6)
         ax.plot(*path[0], "o", color="k")
         ax.plot(*path[-1], "o", mfc="none", color="k")
         which = "track" if pos is not None else "route"

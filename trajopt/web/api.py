@@ -264,7 +264,15 @@ def trajectory_answer(body: Any) -> dict[str, Any]:
     if "csv" not in formats:
         formats = ("csv", *formats)
     _, files = trajectory_files(
-        q.track, q.start, q.goal, q.clearance, Limits(vmax, amax, jmax), rate, OutputOptions(formats=formats)
+        q.track,
+        q.start,
+        q.goal,
+        q.clearance,
+        Limits(vmax, amax, jmax),
+        rate,
+        OutputOptions(formats=formats),
+        planner=q.planner,
+        objective=q.objective,
     )
     out: dict[str, Any] = {"summary": json.loads(files["summary.json"]), "csv": files[FORMAT_FILES["csv"]]}
     for f, key in _FORMAT_KEYS.items():
