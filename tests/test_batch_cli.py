@@ -11,6 +11,7 @@ import pytest
 from mpa.graph_track import GraphTrack
 from trajopt import GRAPH_CSV_COLUMNS
 from trajopt.cli.batch import RESULT_COLUMNS, read_queries, run_batch
+from trajopt.cli.common import TRAJECTORY_DEFAULTS
 from trajopt.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -197,3 +198,52 @@ def test_batch_unreachable_dask_scheduler_is_exit_2(tmp_path: Path, capsys) -> N
     err = capsys.readouterr().err
     assert code == 2 and err.startswith("error: --dask is 'tcp://127.0.0.1:9'"), err
     assert not (out / "results.csv").exists()
+
+
+def test_batch_rows_equal_single_runs_on_seeded_random_layouts(tmp_path: Path) -> None:
+    """Each row is what TrajectoryGenerator.generate gives for that query alone (status, makespan, routes)."""
+    from mpa.errors import InvalidInputError, NoMotionError
+    from tests.graph_helpers import random_layout, random_position
+    from trajopt.generator import TrajectoryGenerator
+    from trajopt.timing import Limits
+
+    rng = np.random.default_rng(25)
+    seen: list[str] = []
+    for k in range(3):
+        track = random_layout(rng)
+        names = track.edge_names
+        queries = []
+        for _ in range(4):
+            ps = [random_position(track, rng) for _ in range(4)]
+            queries.append(
+                {c: f"{names[e]}:{o:.6f}" for c, (e, o) in zip(("a_start", "b_start", "a_goal", "b_goal"), ps)}
+            )
+        res = run_batch(track, queries, tmp_path / f"out{k}", clearance=CLEARANCE, workers=1)
+        d = TRAJECTORY_DEFAULTS
+        gen = TrajectoryGenerator(
+            track, clearance=CLEARANCE, limits=Limits(d["vmax"], d["amax"], d["jmax"]), rate=d["rate"]
+        )
+        seen += [str(r["status"]) for r in res]
+        for q, r in zip(queries, res):
+            start = (track.position(q["a_start"]), track.position(q["b_start"]))
+            goal = (track.position(q["a_goal"]), track.position(q["b_goal"]))
+            try:
+                traj = gen.generate(start, goal)
+            except NoMotionError:
+                assert r["status"] == "no motion", (k, q, r)
+                continue
+            except InvalidInputError:
+                assert r["status"] == "bad input", (k, q, r)
+                continue
+            assert r["status"] == "ok", (k, q, r)
+            assert r["makespan"] == pytest.approx(traj.makespan, abs=1e-9), (k, q, r)
+    assert seen.count("ok") >= 3, seen  # the check is not vacuous
+
+
+def test_progress_bar_counts_every_query(tmp_path: Path, capsys) -> None:
+    qfile = _write_queries(tmp_path / "q.csv", QUERIES[2:])
+    run_batch(
+        GraphTrack.from_json(Y), read_queries(qfile), tmp_path / "out", clearance=CLEARANCE, workers=1, progress=True
+    )
+    err = capsys.readouterr().err
+    assert "3/3" in err, err
