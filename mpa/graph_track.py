@@ -13,6 +13,9 @@ Layout (a superset of what ``mpa topology --graph`` reads)::
   vertex value is ``[x, y]`` or ``null`` (no coordinates). Vertex names are strings (integers in ``[u, v]`` lists
   are turned into strings).
 - ``points`` is an optional polyline between the end coordinates, for drawing only.
+- ``"oneway": true`` (optional): the edge may be driven from ``from`` to ``to`` only (a robot may stand on it);
+  ``"speed_limit": v`` (optional, m/s, > 0): no robot moves faster than ``v`` on the edge.
+- :meth:`GraphTrack.from_file` also reads Open-RMF building maps and navigation graphs (:mod:`mpa.openrmf`).
 
 A position is ``(edge, offset)``: metres from the edge's ``from`` vertex, ``0 <= offset <= length``. As text it is
 ``EDGE:OFFSET`` or a vertex name. *Canonical name* of a position (used on output): the vertex name when the offset is
@@ -41,7 +44,7 @@ __all__ = ["GraphTrack", "Position", "paper_from_graph_position", "paper_to_grap
 
 FloatArray = NDArray[np.float64]
 Position = tuple[int, float]
-_EDGE_KEYS = {"name", "from", "to", "length", "points"}
+_EDGE_KEYS = {"name", "from", "to", "length", "points", "oneway", "speed_limit"}
 
 
 def _is_number(x: object) -> TypeGuard[int | float]:
@@ -120,6 +123,21 @@ def _edge_fields(i: int, item: object) -> tuple[object, object, object, object, 
     raise InvalidInputError(f"edge {i} is {item!r}, expected [u, v], [u, v, length] or an object")
 
 
+def _edge_rules(i: int, item: object, name: str) -> tuple[bool, float | None]:
+    """Edge ``i``'s one-way flag and speed limit (m/s, None: no limit), checked."""
+    if not isinstance(item, Mapping):
+        return False, None
+    oneway = item.get("oneway", False)
+    if not isinstance(oneway, bool):
+        raise InvalidInputError(f"oneway of edge {name!r} is {oneway!r}, expected true or false")
+    limit = item.get("speed_limit")
+    if limit is None:
+        return oneway, None
+    if not _is_number(limit) or not math.isfinite(limit) or float(limit) <= 0:
+        raise InvalidInputError(f"speed_limit of edge {name!r} is {limit!r}, expected a finite number > 0 (m/s)")
+    return oneway, float(limit)
+
+
 def _edge_name(i: int, name: object, used: set[str]) -> str:
     """Edge ``i``'s name, checked: a non-empty string without ':' not in ``used``."""
     if not isinstance(name, str) or not name:
@@ -167,6 +185,10 @@ class GraphTrack:
         One entry per vertex of ``graph.vertices``: ``(x, y)`` in metres or ``None``.
     points : tuple
         One entry per edge: a tuple of interior polyline points ``(x, y)`` (metres) or ``()``.
+    oneway : tuple of bool
+        One entry per edge (default all False): the edge may be driven from its tail to its head only.
+    speed_limits : tuple of (float or None)
+        One entry per edge (default all None): the speed limit on the edge (m/s, > 0), None for none.
 
     Notes
     -----
@@ -176,6 +198,8 @@ class GraphTrack:
     graph: MetricGraph
     coords: tuple[tuple[float, float] | None, ...] = ()
     points: tuple[tuple[tuple[float, float], ...], ...] = ()
+    oneway: tuple[bool, ...] = ()
+    speed_limits: tuple[float | None, ...] = ()
     kind = "graph"
 
     def __post_init__(self) -> None:
@@ -191,8 +215,17 @@ class GraphTrack:
             object.__setattr__(self, "coords", (None,) * g.n_vertices)
         if not self.points:
             object.__setattr__(self, "points", ((),) * g.n_edges)
+        if not self.oneway:
+            object.__setattr__(self, "oneway", (False,) * g.n_edges)
+        if not self.speed_limits:
+            object.__setattr__(self, "speed_limits", (None,) * g.n_edges)
         if len(self.coords) != g.n_vertices or len(self.points) != g.n_edges:
             raise InvalidInputError("coords must have one entry per vertex and points one per edge")
+        if len(self.oneway) != g.n_edges or len(self.speed_limits) != g.n_edges:
+            raise InvalidInputError("oneway and speed_limits must have one entry per edge")
+        for e, v in zip(g.edges, self.speed_limits):
+            if v is not None and not (math.isfinite(v) and v > 0):
+                raise InvalidInputError(f"speed_limit of edge {e.name!r} is {v!r}, expected a finite number > 0 (m/s)")
 
     # ----------------------------------------------------------------------------------------- parse
     @classmethod
@@ -226,6 +259,7 @@ class GraphTrack:
         order: list[str] = list(vertex_xy)
         out_edges: list[Edge] = []
         out_points: list[tuple[tuple[float, float], ...]] = []
+        rules: list[tuple[bool, float | None]] = []
         names: set[str] = set()
         for i, item in enumerate(edges):
             raw_name, u_raw, v_raw, length, pts = _edge_fields(i, item)
@@ -245,14 +279,49 @@ class GraphTrack:
             poly = _edge_points(pts, name)
             out_edges.append(Edge(name, u, v, _edge_length(length, name, vertex_xy[u], vertex_xy[v])))
             out_points.append(poly)
+            rules.append(_edge_rules(i, item, name))
         graph = MetricGraph(tuple(order), tuple(out_edges))
-        return cls(graph, tuple(vertex_xy[w] for w in order), tuple(out_points))
+        return cls(
+            graph,
+            tuple(vertex_xy[w] for w in order),
+            tuple(out_points),
+            tuple(r[0] for r in rules),
+            tuple(r[1] for r in rules),
+        )
 
     @classmethod
     def from_json(cls, path: str | Path) -> GraphTrack:
         """Read a layout file (UTF-8 JSON); errors as :meth:`from_layout`, plus missing or unreadable files."""
         data = read_json_file(path, "layout")
         return cls.from_layout(data)
+
+    @classmethod
+    def from_file(cls, path: str | Path, level: str | None = None, nav_graph: int | None = None) -> GraphTrack:
+        """Read a layout file: our JSON layout, an Open-RMF building map or a navigation graph (:mod:`mpa.openrmf`).
+
+        Parameters
+        ----------
+        path : str or Path
+        level : str, optional
+            Open-RMF maps: the level (default: the building's reference level, the navigation graph's first).
+        nav_graph : int, optional
+            Building maps: the navigation graph, the lanes' ``graph_idx`` (default 0).
+
+        Raises
+        ------
+        InvalidInputError
+            As :meth:`from_layout` and :func:`mpa.openrmf.read_layout_file` (a file of none of the three kinds, a
+            level or graph index that does not exist, a lane naming a missing vertex, a negative speed limit).
+        """
+        from mpa.openrmf import read_layout_file
+
+        layout, _ = read_layout_file(path, level, nav_graph)
+        return cls.from_layout(layout)
+
+    @property
+    def has_rules(self) -> bool:
+        """Whether some edge is one-way or has a speed limit."""
+        return any(self.oneway) or any(v is not None for v in self.speed_limits)
 
     def to_dict(self) -> dict[str, Any]:
         """The layout as a JSON-friendly dict (round-trips through :meth:`from_layout`)."""
@@ -266,6 +335,11 @@ class GraphTrack:
             if pts:
                 item["points"] = [list(p) for p in pts]
             edges.append(item)
+        for item, ow, lim in zip(edges, self.oneway, self.speed_limits):
+            if ow:
+                item["oneway"] = True
+            if lim is not None:
+                item["speed_limit"] = lim
         out["edges"] = edges
         return out
 

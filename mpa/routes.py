@@ -8,7 +8,10 @@ depth ``x`` below ``P_k`` (``x = ℓ − p``).
 
 Every robot of a plan moves along a single geodesic line of ``T``: its :class:`Route`. The route coordinate
 ``σ`` (metres) is the signed distance along that line from the robot's start (``σ = 0``), continuous through P
-and round the loop; the goal has ``σ ≥ 0``. Trajectory optimisation works in these coordinates.
+and round the loop. Its sign is fixed by the robot's farthest excursion: the corner of the plan farthest from the
+start along the line has ``σ > 0`` (usually the goal). It never depends on the sign of a displacement that can
+vanish inside a domain (a robot that leaves and comes back to almost its start keeps its orientation), so the
+exported route coordinates move continuously with the query. Trajectory optimisation works in these coordinates.
 """
 
 from __future__ import annotations
@@ -180,7 +183,10 @@ class Route:
     sigma_min, sigma_max : float
         The extent of the line in route coordinates (sticks extended to the free end, the loop by one turn).
     length : float
-        ``σ`` of the goal (>= 0).
+        Distance of the goal from the start along the route (``|σ|`` of the goal; the goal's ``σ`` is negative
+        when the robot's farthest excursion is on the other side of its start).
+    goal_sigma : float
+        ``σ`` of the goal (metres; ``±length``).
     """
 
     track: Track
@@ -190,6 +196,7 @@ class Route:
     sigma_min: float
     sigma_max: float
     length: float
+    goal_sigma: float = 0.0
 
     # -------------------------------------------------------------------------------------------
     @classmethod
@@ -202,7 +209,7 @@ class Route:
         lifts : sequence of Lift
             The robot's corner points (start first).
         goal_index : int
-            Which point is the goal (orients the route so that its ``σ >= 0``).
+            Which point is the goal (``length`` is its distance from the start).
 
         Returns
         -------
@@ -232,20 +239,16 @@ class Route:
         r: FloatArray,
         goal_index: int,
     ) -> tuple[Route, FloatArray]:
-        """The route through corner points at line arc lengths ``r``, oriented so that the goal has ``σ >= 0``."""
+        """The route through corner points at line arc lengths ``r``, oriented by :func:`_direction`."""
         rs = [float(v) for v in r]
         r_start = rs[0]
         diffs = [v - r_start for v in rs]
         goal = diffs[goal_index]
-        if abs(goal) > 1e-12:
-            direction = 1 if goal > 0 else -1
-        else:
-            nz = [d for d in diffs if abs(d) > 1e-12]
-            direction = 1 if (not nz or nz[0] > 0) else -1
+        direction = _direction(diffs)
         r_lo, r_hi = pieces[0][4], pieces[-1][5]
         s_a, s_b = direction * (r_lo - r_start), direction * (r_hi - r_start)
         sigma = np.array(diffs) * direction
-        route = cls(track, tuple(pieces), r_start, direction, min(s_a, s_b), max(s_a, s_b), abs(goal))
+        route = cls(track, tuple(pieces), r_start, direction, min(s_a, s_b), max(s_a, s_b), abs(goal), direction * goal)
         return route, sigma
 
     @functools.cached_property
@@ -358,6 +361,20 @@ class Route:
 
 
 _Piece = tuple[str, int, float, float, float, float]  # (kind, k, v_from, v_to, r_from, r_to), see Route
+
+
+def _direction(diffs: Sequence[float]) -> int:
+    """Orientation (+1 or -1) of a route from its corners' arc lengths relative to the start (metres, along ``r``).
+
+    The corner farthest from the start gets ``σ > 0`` (the first of equally far ones): a continuous rule
+    except where two corners on opposite sides are exactly equally far, a set of measure zero (the goal's own
+    displacement, which may vanish, decides only when it is the farthest). A robot that does not move: +1.
+    """
+    best = 0.0
+    for d in diffs:
+        if abs(d) > abs(best):
+            best = d
+    return -1 if best < 0 else 1
 
 
 def _at_junctions_on_the_line(track: Track, lifts: Sequence[Lift], ends: set[int], tol: float) -> list[Lift]:

@@ -68,7 +68,7 @@ def test_plan_endpoints_exact_near_vertices(track: Track, clearance: float) -> N
         tol = 2 * WRAP_TOL * max(1.0, track.total_length)
         assert np.all(track.distance(p.start, st) <= tol) and np.all(track.distance(p.goal, gl) <= tol)
         # and the routes themselves reproduce the ends (no snapping to P): a few ulps
-        ends = np.stack([p.routes[r].position(np.array([0.0, p.routes[r].length])) for r in (0, 1)], axis=1)
+        ends = np.stack([p.routes[r].position(np.array([0.0, p.routes[r].goal_sigma])) for r in (0, 1)], axis=1)
         assert np.all(track.distance(ends[0], p.start) <= 1e-13), (st.tolist(), gl.tolist(), ends[0] - p.start)
         assert np.all(track.distance(ends[1], p.goal) <= 1e-13), (st.tolist(), gl.tolist(), ends[1] - p.goal)
         # the path leaves the start continuously

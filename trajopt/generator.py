@@ -17,6 +17,8 @@ clearance used (it then passes the gate only at a higher rate, which the error n
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import time
 from dataclasses import dataclass, field
 from typing import Any
@@ -327,6 +329,11 @@ class TrajectoryGenerator:
         return ""
 
     def _generate(self, plan: Plan | GraphPlan, timings: dict[str, Any] | None = None) -> Trajectory:
+        capped = route_speed_limits(plan, self.limits)
+        if capped is not self.limits:  # lanes with speed limits: each robot at most its route's lowest limit
+            gen = copy.copy(self)
+            gen.limits = capped
+            return gen._generate(plan, timings)
         timings = dict(timings or {})
         t_all = time.perf_counter()
         view = plan_view(plan)
@@ -477,6 +484,25 @@ class TrajectoryGenerator:
 
 class _RejectedError(PlanningError):
     """Neither the optimised motion nor the re-timed plan passes the gate (the caller may be told why)."""
+
+
+def route_speed_limits(plan: Plan | GraphPlan, limits: Limits) -> Limits:
+    """``limits`` with each robot's speed capped by the lowest speed limit of the edges its route travels.
+
+    The setpoints then keep every lane's limit on every row (checked by the gate); on a route whose edges have
+    different limits the robot drives its whole route at the lowest one (conservative, not time-optimal). Returns
+    ``limits`` itself when no edge of the routes has a limit.
+    """
+    if not isinstance(plan, GraphPlan) or not plan.track.has_rules:
+        return limits
+    caps = []
+    for route, v in zip((plan.route_a, plan.route_b), limits.vmax):
+        lengths = np.diff(route.breaks)
+        lims = [plan.track.speed_limits[int(e)] for e, ln in zip(route.edges, lengths) if ln > 0]
+        caps.append(min([v, *[x for x in lims if x is not None]]))
+    if tuple(caps) == tuple(limits.vmax):
+        return limits
+    return dataclasses.replace(limits, vmax=tuple(caps))
 
 
 def _ladder(lo: float, hi: float) -> list[float]:

@@ -110,6 +110,9 @@ class GraphPlan:
         Estimate (seconds): ``sum of max(|Δs|/vA, |Δt|/vB)`` over the segments (speed limits only).
     length : float
         Euclidean length in the plane of offsets (metres).
+    lower_bound : float or None
+        On a track with lane rules (:mod:`mpa.planners.rules`): the optimum of the query without the rules (seconds
+        for ``"fastest"``, metres for ``"shortest"``), a lower bound of the optimum under them; None otherwise.
     """
 
     track: GraphTrack
@@ -128,6 +131,7 @@ class GraphPlan:
     makespan: float
     length: float
     _times: FloatArray = field(repr=False, default_factory=lambda: np.zeros(1))
+    lower_bound: float | None = None
 
     @property
     def n_corners(self) -> int:
@@ -195,6 +199,7 @@ class GraphPlan:
                 for c, o in zip(self.segment_cells, self.segment_offsets)
             ],
             "routes": {"a": self.route_a.to_list(names), "b": self.route_b.to_list(names)},
+            **({} if self.lower_bound is None else {"lower_bound": self.lower_bound}),
         }
 
 
@@ -818,7 +823,9 @@ def plan_graph(
         Bad track, position, clearance, objective or speeds; robots closer than D at start or goal.
     NoMotionError
         Start and goal are in different path components of the free space; the message says why (different
-        components, order on a path-like layout, clearance too large for the only siding or loop).
+        components, order on a path-like layout, clearance too large for the only siding or loop, the one-way
+        lanes). On a track with one-way edges or speed limits the planner of :mod:`mpa.planners.rules` answers
+        (complete under the one-way rule; time exact at the edges' speed limits).
 
     Examples
     --------
@@ -844,6 +851,10 @@ def plan_graph(
     ca, cb = fs.component_of(*s), fs.component_of(*gl)
     if ca is None or ca != cb:
         raise NoMotionError(_why_no_motion(tr, fs, s, gl))
+    if tr.has_rules:  # one-way edges or speed limits: the planner of mpa.planners.rules
+        from mpa.planners.rules import plan_with_rules
+
+        return cast("GraphPlan", plan_with_rules(tr, fs, s, gl, objective, (va, vb)))
     mesh = _mesh(fs)
     segs = _search(mesh, s, gl, objective, va, vb)
     if segs is None:  # pragma: no cover - no budget given

@@ -50,7 +50,14 @@ from typing import Any
 
 from mpa.errors import InvalidInputError, MPAError, NoMotionError
 from mpa.graph_track import GraphTrack
-from trajopt.cli.common import TRAJECTORY_DEFAULTS, add_clearance_argument, check_output_dir, output_error
+from trajopt.cli.common import (
+    TRAJECTORY_DEFAULTS,
+    add_clearance_argument,
+    add_map_arguments,
+    check_output_dir,
+    graph_from_args,
+    output_error,
+)
 
 __all__ = [
     "QUERY_COLUMNS",
@@ -426,7 +433,7 @@ def run_batch(
 
 def _cmd_batch(args: argparse.Namespace) -> int:
     check_output_dir(args.out)
-    track = GraphTrack.from_json(args.graph)
+    track = graph_from_args(args)
     queries = read_queries(args.queries)
     progress = not args.no_progress and sys.stderr.isatty()
     records = run_batch(
@@ -452,7 +459,8 @@ def _cmd_batch(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add ``batch`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
     p = subparsers.add_parser("batch", help="plan and verify every query of a CSV file on a layout (local or Dask)")
-    p.add_argument("--graph", metavar="FILE", required=True, help="the track layout (JSON)")
+    p.add_argument("--graph", metavar="FILE", required=True, help="the track layout (JSON, or an Open-RMF map)")
+    add_map_arguments(p)
     p.add_argument(
         "--queries",
         metavar="QUERIES.csv",

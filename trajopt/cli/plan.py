@@ -211,6 +211,14 @@ def _print_graph_plan(p: GraphPlan, args: argparse.Namespace) -> int:
     print(f"route B    {_route_text(p, 1)}")
     print(f"makespan   {p.makespan:.4g} s at speeds {p.speeds[0]:g}, {p.speeds[1]:g} m/s (no acceleration limits)")
     print(f"travel     A {p.route_a.length:.4g} m, B {p.route_b.length:.4g} m; min distance {p.min_distance():.4g} m")
+    if p.lower_bound is not None:  # a layout with one-way lanes or speed limits
+        unit = "s" if p.objective == "fastest" else "m"
+        value = p.makespan if p.objective == "fastest" else p.length
+        print(
+            f"rules      {sum(tr.oneway)} one-way, {sum(v is not None for v in tr.speed_limits)} speed-limited edges; "
+            f"without them the optimum is {p.lower_bound:.4g} {unit} (this plan at most "
+            f"{max(0.0, value - p.lower_bound):.4g} {unit} above the optimum)"
+        )
     return 0
 
 

@@ -13,7 +13,10 @@ from typing import Any
 
 from mpa.freespace import free_space
 from mpa.graph_track import GraphTrack
-from mpa.topology import ConfigurationSpaceTopology, configuration_space_topology, load_graph_json
+from mpa.openrmf import read_layout_file
+from mpa.topology import ConfigurationSpaceTopology, configuration_space_topology
+from mpa.topology.graph_json import graph_from_json_data
+from trajopt.cli.common import add_map_arguments
 
 __all__ = ["format_topology", "free_space_report", "register", "run_topology"]
 
@@ -62,7 +65,9 @@ def format_topology(top: ConfigurationSpaceTopology) -> str:
     return "\n".join(lines)
 
 
-def free_space_report(path: str, clearance: float) -> dict[str, Any]:
+def free_space_report(
+    path: str, clearance: float, level: str | None = None, nav_graph: int | None = None
+) -> dict[str, Any]:
     """Path components of the free space ``{d >= D}`` of the layout in ``path`` and whether the robots can swap.
 
     Returns
@@ -72,14 +77,17 @@ def free_space_report(path: str, clearance: float) -> dict[str, Any]:
         ``can_swap`` (bool: some configuration ``(x, y)`` lies in one component with ``(y, x)``, i.e. the two robots
         can exchange places somewhere on the layout).
     """
-    fs = free_space(GraphTrack.from_json(path), clearance)
+    fs = free_space(GraphTrack.from_file(path, level, nav_graph), clearance)
     return {"clearance": fs.clearance, "free_components": fs.components(), "can_swap": fs.can_swap()}
 
 
 def run_topology(args: argparse.Namespace) -> int:
     """Handler of ``mpa topology``: print the report (or one JSON object with ``--json``); returns 0."""
-    top = configuration_space_topology(load_graph_json(args.graph))
-    free = None if args.clearance is None else free_space_report(args.graph, args.clearance)
+    level, nav_graph = getattr(args, "level", None), getattr(args, "nav_graph", None)
+    layout, info = read_layout_file(args.graph, level, nav_graph)
+    graph = graph_from_json_data(layout) if info["kind"] == "layout" else GraphTrack.from_layout(layout).as_graph()
+    top = configuration_space_topology(graph)
+    free = None if args.clearance is None else free_space_report(args.graph, args.clearance, level, nav_graph)
     if args.json:
         out: dict[str, Any] = top.to_dict()
         if free is not None:
@@ -114,7 +122,13 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
         description="Topology of the configuration space F(G, 2) of two ordered robots on the graph G given as "
         'JSON {"edges": [[u, v], [u, v, length], ...]}.',
     )
-    p.add_argument("--graph", required=True, metavar="FILE", help="JSON file with the graph's edge list")
+    p.add_argument(
+        "--graph",
+        required=True,
+        metavar="FILE",
+        help="JSON file with the graph's edge list (or a layout, an Open-RMF building map or navigation graph)",
+    )
+    add_map_arguments(p)
     p.add_argument(
         "--clearance",
         type=float,

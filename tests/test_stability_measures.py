@@ -1,0 +1,41 @@
+"""The measuring tools of :mod:`trajopt.stability`: the bisection to the fast/hard switch and the layout δ-twins."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from mpa import Lollipop
+from mpa.graph_track import GraphTrack
+from trajopt import TrajectoryGenerator
+from trajopt.stability import layout_queries, layout_twins, switch_points
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_switch_points_bracket_the_switch() -> None:
+    """Every switch point found has the fast path on one side and the hard path on the other, 1e-9 m apart."""
+    gen = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.15)
+    pts = switch_points(gen, 150, np.random.default_rng(3))
+    assert pts, "no switch point in 150 draws"
+    for p in pts:
+        assert p.paths == ("fast", "hard"), p
+        assert 0.0 < p.width <= 1e-9
+        assert np.array_equal(p.fast_start, p.hard_start)
+        assert p.gap >= 0.0 and p.time_gap >= 0.0
+
+
+def test_layout_twins_on_theta() -> None:
+    """Theta: queries for every clearance that fits, twins at three δ; with unchanged routes the plans move by about
+    δ (theta measured 0 same-route moves above 1e-3 m at δ = 1e-5 and 1e-7)."""
+    track = GraphTrack.from_json(ROOT / "examples" / "tracks" / "theta.json")
+    med = float(np.median(track.lengths))
+    qs = layout_queries(track, 8, np.random.default_rng(1), (0.05 * med, 0.2 * med, 0.5 * med, 10.0 * med))
+    assert 0 < len(qs) < 8  # the last clearance fits nowhere: its queries are left out
+    twins = layout_twins(track, qs, (1e-5, 1e-7), np.random.default_rng(2))
+    assert twins
+    for t in twins:
+        assert t.makespan_gap <= 10 * t.delta + 1e-9, t
+        if not t.route_changed:
+            assert t.gap <= 1e-3, t
