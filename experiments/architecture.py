@@ -56,7 +56,7 @@ LAYERS = (
     Layer(
         "trajopt.cli, trajopt.viz and trajopt.web",
         ("trajopt/cli", "trajopt/viz", "trajopt/web"),
-        "matplotlib (viz only); starlette, uvicorn (web only)",
+        "matplotlib (viz only); starlette, uvicorn (web only); dask, tqdm (mpa batch only, optional)",
         "#fde9d9",
     ),
     Layer("experiments — figures, animations, benchmarks", ("experiments", "experiments/bench"), "ompl, dask", "#eee"),
@@ -81,6 +81,8 @@ _ALLOWED = (
         "imageio_ffmpeg",
         "starlette",
         "uvicorn",
+        "dask",
+        "tqdm",
     },
     None,  # experiments: anything
 )
