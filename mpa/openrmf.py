@@ -50,6 +50,7 @@ from pathlib import Path
 from typing import Any
 
 from mpa.errors import InvalidInputError
+from mpa.graph import _json_int
 
 __all__ = [
     "FleetConfig",
@@ -73,6 +74,8 @@ def _load_yaml(text: str, what: str) -> object:
 
     try:
         return yaml.safe_load(text)
+    except RecursionError:
+        raise InvalidInputError(f"{what} is nested too deeply, expected at most a few hundred levels") from None
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1} column {mark.column + 1}" if mark is not None else ""
@@ -574,7 +577,11 @@ def read_layout_file(
     p = Path(path)
     text = _read_text(p, "layout", "a UTF-8 JSON or YAML layout file")
     try:
-        data: object = json.loads(text)
+        data: object = json.loads(text, parse_int=_json_int)
+    except RecursionError:
+        raise InvalidInputError(
+            f"layout file {str(p)!r} is nested too deeply, expected JSON nested at most a few hundred levels"
+        ) from None
     except json.JSONDecodeError as exc:
         if p.suffix.lower() == ".json":  # a .json file is JSON (a YAML reading would hide the mistake)
             raise InvalidInputError(
