@@ -247,3 +247,21 @@ def test_progress_bar_counts_every_query(tmp_path: Path, capsys) -> None:
     )
     err = capsys.readouterr().err
     assert "3/3" in err, err
+
+
+def test_batch_with_footprints_in_the_plane(tmp_path: Path, capsys) -> None:
+    """``--footprint``: discs of radius 0.55 m pass on the passing loop's siding (1.2 m apart), 0.65 m do not."""
+    loop = ROOT / "examples" / "tracks" / "passing_loop.json"
+    qfile = _write_queries(tmp_path / "q.csv", [(("W", "E", "E", "W"), "")])
+    for radius, status in (("0.55", "ok"), ("0.65", "no motion")):
+        out = tmp_path / radius
+        args = ["batch", "--graph", str(loop), "--queries", str(qfile), "--out", str(out), "--clearance", "1.5"]
+        code = main([*args, "--footprint", radius, "--workers", "1"])
+        assert code == 0, capsys.readouterr().err
+        (row,) = _results(out)
+        assert row["status"] == status, row
+    bad = tmp_path / "bad"
+    args = ["batch", "--graph", str(loop), "--queries", str(qfile), "--out", str(bad), "--footprint", "2x"]
+    code = main(args)
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("error: ") and err.count("\n") == 1 and not bad.exists()

@@ -53,6 +53,7 @@ from mpa.graph_track import GraphTrack
 from trajopt.cli.common import (
     TRAJECTORY_DEFAULTS,
     add_clearance_argument,
+    add_footprint_argument,
     add_map_arguments,
     check_output_dir,
     graph_from_args,
@@ -153,26 +154,32 @@ def _route_text(route: Sequence[dict[str, Any]]) -> str:
     return " ".join(f"{piece['edge']}{'+' if int(piece['dir']) > 0 else '-'}" for piece in route)
 
 
-def _generator(layout: dict[str, Any], config: dict[str, float]) -> Any:
+def _generator(layout: dict[str, Any], config: dict[str, Any]) -> Any:
     """The worker's :class:`TrajectoryGenerator` for ``layout`` and ``config`` (built on first use)."""
     import json
 
     from trajopt.generator import TrajectoryGenerator
     from trajopt.timing import Limits
 
-    key = (json.dumps(layout, sort_keys=True), *sorted(config.items()))
+    key = (json.dumps(layout, sort_keys=True), json.dumps(config, sort_keys=True))
     gen = _GENERATORS.get(key)
     if gen is None:
         track = GraphTrack.from_layout(layout)
         limits = Limits(config["vmax"], config["amax"], config["jmax"])
-        gen = TrajectoryGenerator(track, clearance=config["clearance"], limits=limits, rate=config["rate"])
+        gen = TrajectoryGenerator(
+            track,
+            clearance=config["clearance"],
+            limits=limits,
+            rate=config["rate"],
+            footprint=config.get("footprint"),
+        )
         _GENERATORS.clear()  # one configuration per batch: keep only the current one
         _GENERATORS[key] = gen
     return gen
 
 
 def run_query(
-    layout: dict[str, Any], config: dict[str, float], row: int, query: dict[str, str], setpoints: bool
+    layout: dict[str, Any], config: dict[str, Any], row: int, query: dict[str, str], setpoints: bool
 ) -> tuple[dict[str, Any], str | None]:
     """Plan, time and verify one query; never raises for a bad or unsolvable query.
 
@@ -285,7 +292,7 @@ def results_csv_text(records: Iterable[dict[str, Any]]) -> str:
 def _run_local(
     jobs: list[tuple[int, dict[str, str]]],
     layout: dict[str, Any],
-    config: dict[str, float],
+    config: dict[str, Any],
     setpoints: bool,
     workers: int,
     done: Callable[[dict[str, Any], str | None], None],
@@ -307,7 +314,7 @@ def _run_local(
 def _run_dask(
     jobs: list[tuple[int, dict[str, str]]],
     layout: dict[str, Any],
-    config: dict[str, float],
+    config: dict[str, Any],
     setpoints: bool,
     address: str,
     done: Callable[[dict[str, Any], str | None], None],
@@ -352,6 +359,7 @@ def run_batch(
     amax: float = TRAJECTORY_DEFAULTS["amax"],
     jmax: float = TRAJECTORY_DEFAULTS["jmax"],
     rate: float = TRAJECTORY_DEFAULTS["rate"],
+    footprint: str | None = None,
     setpoints: bool = False,
     workers: int | None = None,
     dask_address: str | None = None,
@@ -369,6 +377,8 @@ def run_batch(
         Output directory (created if needed).
     clearance, vmax, amax, jmax, rate : float
         As ``mpa trajectory``: m, m/s, m/s², m/s³, Hz.
+    footprint : str, optional
+        ``--footprint``: the robots' bodies in the plane (a spec as :func:`mpa.footprint.parse_footprint` reads).
     setpoints : bool
         Write each ``ok`` query's setpoints to ``out/<row>/setpoints.csv``.
     workers : int, optional
@@ -393,7 +403,14 @@ def run_batch(
 
     if workers is not None and workers < 1:
         raise InvalidInputError(f"--workers is {workers}, expected a number of processes >= 1")
-    config = {"clearance": float(clearance), "vmax": vmax, "amax": amax, "jmax": jmax, "rate": rate}
+    config = {
+        "clearance": float(clearance),
+        "vmax": vmax,
+        "amax": amax,
+        "jmax": jmax,
+        "rate": rate,
+        "footprint": footprint,
+    }
     _generator(track.to_dict(), config)  # bad clearance, limits or rate: one error before any work
     layout = track.to_dict()
     jobs = list(enumerate(queries))
@@ -445,6 +462,7 @@ def _cmd_batch(args: argparse.Namespace) -> int:
         amax=args.amax,
         jmax=args.jmax,
         rate=args.rate,
+        footprint=args.footprint,
         setpoints=args.setpoints,
         workers=args.workers,
         dask_address=args.dask,
@@ -469,6 +487,7 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument("--out", metavar="DIR", required=True, help="output directory (results.csv, <row>/setpoints.csv)")
     add_clearance_argument(p)
+    add_footprint_argument(p)
     d = TRAJECTORY_DEFAULTS
     p.add_argument("--vmax", type=float, default=d["vmax"], help=f"speed limit per robot, m/s (default {d['vmax']:g})")
     p.add_argument("--amax", type=float, default=d["amax"], help=f"acceleration limit, m/s^2 (default {d['amax']:g})")
