@@ -216,12 +216,12 @@ def _draw_run_bodies(
         hd = np.asarray(poses[1], dtype=float).reshape(-1, 2)
     else:
         e_a, o_a, e_b, o_b = pos
-        k = np.asarray(rows)
-        xa, ha = body_poses(track, e_a[k], o_a[k])
-        xb, hb = body_poses(track, e_b[k], o_b[k])
+        at = np.asarray(rows)
+        xa, ha = body_poses(track, e_a[at], o_a[at])
+        xb, hb = body_poses(track, e_b[at], o_b[at])
         xy = np.full((len(e_a), 2, 2), np.nan)
         hd = np.full((len(e_a), 2), np.nan)
-        xy[k, 0], xy[k, 1], hd[k, 0], hd[k, 1] = xa, xb, ha, hb
+        xy[at, 0], xy[at, 1], hd[at, 0], hd[at, 1] = xa, xb, ha, hb
     colors = (ROBOT_COLORS["A"], ROBOT_COLORS["B"])
     last = rows[-1]
     for k in rows:
