@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 from pathlib import Path
 from typing import Any
@@ -15,7 +13,7 @@ pytest.importorskip("httpx")
 
 from starlette.testclient import TestClient
 
-from trajopt.cli.main import main
+from tests.test_web_api import _cli, _timeless
 from trajopt.web.app import create_app
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -26,20 +24,6 @@ LOOP = ROOT / "examples" / "tracks" / "passing_loop.json"
 @pytest.fixture(scope="module")
 def client() -> TestClient:
     return TestClient(create_app())
-
-
-def _cli(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        rc = main(argv)
-    return rc, out.getvalue(), err.getvalue()
-
-
-def _timeless(summary: dict[str, Any]) -> dict[str, Any]:
-    s = json.loads(json.dumps(summary))
-    s.pop("timings", None)
-    s.get("solver", {}).pop("jerk_time", None)
-    return s
 
 
 @pytest.mark.parametrize("spec", ["0.3", "2.0x0.8", "0.3,2x0.8"])
