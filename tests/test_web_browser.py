@@ -266,3 +266,50 @@ def test_the_other_paper_tracks(page: Any, server: str, track: str, domain: str)
     assert status == 200 and str(want["domain"]) == domain
     assert page.text_content("#domain") == domain
     assert page.is_visible("#cspace-panel")
+
+
+def _polygon_sides(points: str) -> list[float]:
+    """Side lengths (pixels) of an SVG polygon's ``points`` attribute."""
+    xy = np.array([[float(v) for v in p.split(",")] for p in points.split()])
+    return np.hypot(*np.diff(np.vstack([xy, xy[:1]]), axis=0).T).tolist()
+
+
+def test_footprints_are_an_input_and_the_bodies_are_drawn_to_scale(page: Any, server: str) -> None:
+    page.select_option("#track-select", "example:rail_yard")
+    page.wait_for_function("window.mpa.geometry && window.mpa.geometry.kind === 'graph'")
+    _settle(page)
+    assert page.query_selector("#body-a_start") is None  # no footprint: no bodies
+    page.fill("#footprint", "2.0x0.8,0.5")
+    page.dispatch_event("#footprint", "change")
+    page.wait_for_function("window.mpa.planBody && window.mpa.planBody.footprint === '2.0x0.8,0.5'")
+    _settle(page)
+    body = page.evaluate("window.mpa.query()")
+    assert body["footprint"] == "2.0x0.8,0.5"
+    status, want = _post(server, "/api/plan", body)
+    assert status == 200, want
+    assert page.evaluate("window.mpa.plan") == want
+    scale = page.evaluate("window.mpa.viewScale()")  # pixels per metre
+    for key in ("a_start", "a_goal"):
+        sides = _polygon_sides(page.get_attribute(f"#body-{key}", "points"))
+        assert np.allclose(sorted(sides), sorted([2.0 * scale, 0.8 * scale] * 2), rtol=1e-3), (key, sides, scale)
+    for key in ("b_start", "b_goal"):
+        r = float(page.get_attribute(f"#body-{key}", "r"))
+        assert abs(r - 0.5 * scale) < 1e-3 * scale, (key, r, scale)
+    # a malformed spec: the page shows the command line's message and draws no bodies
+    page.fill("#footprint", "2x")
+    page.dispatch_event("#footprint", "change")
+    page.wait_for_function("document.getElementById('reason').textContent.startsWith('error: footprint')")
+    assert page.query_selector("#body-a_start") is None
+    # the trajectory's bodies move with the carts
+    page.fill("#footprint", "2.0x0.8,0.5")
+    page.dispatch_event("#footprint", "change")
+    page.wait_for_function("window.mpa.planBody && window.mpa.planBody.footprint === '2.0x0.8,0.5'")
+    _settle(page)
+    page.fill("#rate", "20")
+    page.click("#trajectory-btn")
+    page.wait_for_function("window.mpa.traj !== null", timeout=120_000)
+    page.wait_for_selector("#body-a", timeout=10_000)
+    assert page.evaluate("window.mpa.traj.footprint") == "2x0.8,0.5"
+    sides = _polygon_sides(page.get_attribute("#body-a", "points"))
+    assert np.allclose(sorted(sides), sorted([2.0 * scale, 0.8 * scale] * 2), rtol=1e-3), sides
+    assert abs(float(page.get_attribute("#body-b", "r")) - 0.5 * scale) < 1e-3 * scale

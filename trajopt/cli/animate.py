@@ -93,14 +93,26 @@ def _animate_graph(track: Any, start: Any, goal: Any, target: Path, args: argpar
     kw = {"fps": args.fps, "dpi": args.dpi, "max_frames": args.max_frames, "fmt": args.format}
     if args.raw_only:
         raw: Any = gen.plan(start, goal)
-        return animate_graph_plan(raw, target, name=name, **kw)
+        return animate_graph_plan(raw, target, name=name, footprint=getattr(args, "footprints", None), **kw)
     traj = gen.generate(start, goal)
     plan: Any = traj.plan
     title = plan_title(plan, name).split("\n")[0] + (
         f"\nD = {traj.clearance:g} m, verified jerk-limited trajectory, {traj.makespan:.3g} s"
     )
+    fps = getattr(args, "footprints", None)
+    if fps is not None:
+        title += f", bodies {fps.spec()} m to scale"
     return animate_layout(
-        plan.track, plan.route_a, plan.route_b, traj.t, traj.s, target, clearance=traj.clearance, title=title, **kw
+        plan.track,
+        plan.route_a,
+        plan.route_b,
+        traj.t,
+        traj.s,
+        target,
+        clearance=traj.clearance,
+        title=title,
+        footprint=fps,
+        **kw,
     )
 
 

@@ -175,7 +175,9 @@ def _write_plot(p: GraphPlan, args: argparse.Namespace) -> None:
     from trajopt.viz.layout import graph_plan_figure
     from trajopt.viz.plotting import save_figure
 
-    fig = graph_plan_figure(p, name=Path(args.graph).stem if args.graph else args.track)
+    fig = graph_plan_figure(
+        p, name=Path(args.graph).stem if args.graph else args.track, footprint=getattr(args, "footprint", None)
+    )
     save_figure(fig, args.plot, args.dpi, facecolor="white")
 
 

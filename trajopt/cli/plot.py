@@ -75,6 +75,9 @@ def _context(csv_path: Path) -> dict[str, Any]:
                 out["routes"] = s["routes"]
             if isinstance(s.get("limits"), dict):
                 out["limits"] = s["limits"]
+            body = _footprint(s.get("footprint"))
+            if body is not None:
+                out["footprint"] = body
     if isinstance(s.get("clearance"), (int, float)):
         out["clearance"] = float(s["clearance"])
     if isinstance(s.get("words"), dict):
@@ -89,6 +92,22 @@ def _context(csv_path: Path) -> dict[str, Any]:
         parts.append(f"makespan {s['makespan']:.2f} s")
     out["title"] = " · ".join(parts)
     return out
+
+
+def _footprint(value: Any) -> Any:
+    """The bodies of ``summary.json``'s ``footprint`` (``{"spec", "a", "b"}``, exact sizes), or None."""
+    from mpa.footprint import Disc, Footprints, Rectangle
+
+    if not isinstance(value, dict):
+        return None
+    try:
+        bodies = []
+        for r in ("a", "b"):
+            d = value[r]
+            bodies.append(Disc(d["radius"]) if d["shape"] == "disc" else Rectangle(d["length"], d["width"]))
+        return Footprints(bodies[0], bodies[1])
+    except (KeyError, TypeError, InvalidInputError):
+        return None
 
 
 def _layout_run(rows: dict[str, Any], ctx: dict[str, Any]) -> Any:
@@ -112,6 +131,11 @@ def _layout_run(rows: dict[str, Any], ctx: dict[str, Any]) -> Any:
 
     lim = ctx.get("limits") or {}
     limits = {k: lim[k] for k in ("vmax", "amax") if isinstance(lim.get(k), list) and len(lim[k]) == 2}
+    fp = ctx.get("footprint")
+    poses = None
+    if fp is not None and all(f"{r}_{k}" in rows for r in "ab" for k in ("x", "y", "heading")):
+        xy = np.stack([np.column_stack([rows[f"{r}_x"], rows[f"{r}_y"]]) for r in "ab"], axis=1)
+        poses = (xy, np.column_stack([rows["a_heading"], rows["b_heading"]]))
     return layout_run_figure(
         track,
         routes,
@@ -123,6 +147,8 @@ def _layout_run(rows: dict[str, Any], ctx: dict[str, Any]) -> Any:
         limits=limits,
         title=ctx.get("title", ""),
         words=ctx.get("words"),
+        footprint=fp,
+        poses=poses,
     )
 
 

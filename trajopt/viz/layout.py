@@ -633,6 +633,7 @@ def draw_graph_plan(
     edge_labels: bool | None = None,
     legend: bool = True,
     title: bool = True,
+    footprint: object = None,
 ) -> list[Switch]:
     """Draw a plan of the complete graph planner on its layout.
 
@@ -649,6 +650,9 @@ def draw_graph_plan(
         A legend outside the axes on the right: the routes and every switch used.
     title : bool
         Title with the query, clearance, objective and makespan (:func:`plan_title`).
+    footprint : None, Footprints, Disc, Rectangle, pair or spec
+        The robots' bodies, drawn to scale at start (filled) and goal (outlined) in the layout's drawing
+        (:mod:`trajopt.viz.bodies`); needs vertex coordinates.
 
     Returns
     -------
@@ -664,6 +668,8 @@ def draw_graph_plan(
     for robot, k in (("A", 0), ("B", 1)):
         _marker(ax, geo, tr, plan.start[k], robot, "start", lane)
         _marker(ax, geo, tr, plan.goal[k], robot, "goal", lane)
+    if footprint is not None:
+        _draw_end_bodies(ax, tr, plan.start, plan.goal, footprint)
     if legend:
         h = [
             Line2D([], [], marker="^", ls="none", color="0.3", ms=8, label="start"),
@@ -680,9 +686,29 @@ def draw_graph_plan(
             borderaxespad=0.0,
         )
     if title:
-        ax.set_title(plan_title(plan, name), fontsize=10)
+        text = plan_title(plan, name)
+        if footprint is not None:
+            from mpa.footprint import footprints
+
+            fps = footprints(footprint)
+            assert fps is not None
+            text += f", bodies {fps.spec()} m to scale"
+        ax.set_title(text, fontsize=10)
     _pad(ax, geo)
     return sw
+
+
+def _draw_end_bodies(ax: Axes, tr: GraphTrack, start: Any, goal: Any, footprint: object) -> None:
+    """The bodies at the start (filled) and at the goal (outlined, dashed), to scale."""
+    from trajopt.viz.bodies import body_poses, draw_bodies
+
+    colors = (ROBOT_COLORS["A"], ROBOT_COLORS["B"])
+    for ends, style in (
+        (start, {}),
+        (goal, {"alpha": 0.8, "facecolor": "none", "ls": "--"}),
+    ):
+        xy, hd = body_poses(tr, [ends[0][0], ends[1][0]], [ends[0][1], ends[1][1]])
+        draw_bodies(ax, footprint, xy, hd, colors, **style)
 
 
 def _pad(ax: Axes, geo: LayoutGeometry) -> None:
@@ -694,7 +720,13 @@ def _pad(ax: Axes, geo: LayoutGeometry) -> None:
 
 
 def graph_plan_figure(
-    plan: GraphPlan, *, name: str | None = None, cells: bool = True, max_cells: int = 6, width: float = 9.0
+    plan: GraphPlan,
+    *,
+    name: str | None = None,
+    cells: bool = True,
+    max_cells: int = 6,
+    width: float = 9.0,
+    footprint: object = None,
 ) -> Figure:
     """A figure of a plan: the layout with the routes, and (``cells``) the configuration cells it crosses below.
 
@@ -709,6 +741,8 @@ def graph_plan_figure(
         At most this many cells in that panel.
     width : float
         Figure width (inches).
+    footprint : None, Footprints, Disc, Rectangle, pair or spec
+        The robots' bodies drawn to scale at start and goal (:func:`draw_graph_plan`).
 
     Returns
     -------
@@ -725,7 +759,7 @@ def graph_plan_figure(
         ax_top, ax_cells = fig.subplots(2, 1, height_ratios=[top, 2.6])
     else:
         ax_top, ax_cells = fig.subplots(1, 1), None
-    draw_graph_plan(ax_top, plan, name=name, geometry=geo)
+    draw_graph_plan(ax_top, plan, name=name, geometry=geo, footprint=footprint)
     if ax_cells is not None:
         draw_configuration_cells(ax_cells, free_space(plan.track, plan.clearance), plan, max_cells=max_cells)
     return fig

@@ -201,6 +201,7 @@ def animate_layout(
     bodies: bool = True,
     size: tuple[float, float] | None = None,
     progress: bool | None = None,
+    footprint: object = None,
 ) -> Path:
     """Write an animation of two robots moving along their routes on a graph track.
 
@@ -235,6 +236,10 @@ def animate_layout(
         dpi the legend's text is 10.5 px high).
     progress : bool, optional
         A progress bar on stderr (default: when stderr is a terminal; silent otherwise).
+    footprint : None, Footprints, Disc, Rectangle, pair or spec
+        The robots' bodies in the plane, drawn to scale in every frame (:mod:`trajopt.viz.bodies`: a disc as a
+        circle, a rectangle turned along the track's tangent), at the poses the gate checks; needs vertex
+        coordinates.
 
     Returns
     -------
@@ -265,6 +270,17 @@ def animate_layout(
     ax = fig.axes[0]
     moving = _moving_artists(ax)
     artists = [a for name in ("A", "B") for a in moving[name]] + [moving["clock"]]
+    fps_ = None
+    if footprint is not None:
+        from mpa.footprint import drawing_of, footprints
+        from trajopt.viz.bodies import draw_bodies
+
+        fps_ = footprints(footprint)
+        drawing = drawing_of(tr)
+        moving["plane"] = draw_bodies(
+            ax, fps_, np.zeros((2, 2)), np.zeros(2), (ROBOT_COLORS["A"], ROBOT_COLORS["B"]), alpha=0.45, zorder=8
+        )
+        artists = moving["plane"] + artists
     canvas, background = _freeze_background(fig, dpi, artists)
     bar = _Progress(len(times), "animate", progress)
     routes = (route_a, route_b)
@@ -274,6 +290,8 @@ def animate_layout(
         for k, now in enumerate(times):
             canvas.restore_region(background)
             _update(tr, geo, routes, moving, r_all[k], half if bodies else 0.0, now - tt[0], tt[-1] - tt[0])
+            if fps_ is not None:
+                _place_bodies(drawing, routes, moving["plane"], fps_, r_all[k])
             for a in artists:
                 fig.draw_artist(a)
             yield k
@@ -378,6 +396,18 @@ def _moving_artists(ax: Any) -> dict[str, Any]:
         0.01, 0.99, "", transform=ax.transAxes, ha="left", va="top", fontsize=10, family="monospace", zorder=12
     )
     return art
+
+
+def _place_bodies(
+    drawing: Any, routes: tuple[DirectedRoute, DirectedRoute], patches: list[Any], fps: Any, r: Any
+) -> None:
+    """Move the bodies' patches to the robots' poses at route coordinates ``r`` (shape (2,), metres)."""
+    from trajopt.viz.bodies import move_body
+
+    for k, fp in enumerate((fps.a, fps.b)):
+        e, o = routes[k].positions(np.array([r[k]]))
+        xy, hd = drawing.pose(e, o)
+        move_body(patches[k], fp, xy[0], float(hd[0]))
 
 
 def _update(

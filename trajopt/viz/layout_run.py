@@ -80,6 +80,8 @@ def layout_run_figure(
     title: str = "",
     words: Mapping[str, str] | None = None,
     snapshots: int = SNAPSHOTS,
+    footprint: object = None,
+    poses: tuple[ArrayLike, ArrayLike] | None = None,
 ) -> Figure:
     """The figure of a layout run (see the module docstring).
 
@@ -103,6 +105,13 @@ def layout_run_figure(
         Each cart's motion in words (``{"A": ..., "B": ...}``).
     snapshots : int
         Number of times inside the motion the carts are drawn at (>= 1).
+    footprint : None, Footprints, Disc, Rectangle, pair or spec
+        The robots' bodies, drawn to scale (:mod:`trajopt.viz.bodies`) at the start, the goal and the snapshot
+        times; needs vertex coordinates.
+    poses : (array_like, array_like), optional
+        With ``footprint``: the bodies' centres, shape (N, 2, 2) (row, robot, x/y; metres), and headings, shape
+        (N, 2) (radians), e.g. the CSV's ``a_x, a_y, b_x, b_y, a_heading, b_heading``; by default computed from
+        the routes (:meth:`mpa.footprint.Drawing.pose`).
 
     Returns
     -------
@@ -149,6 +158,8 @@ def layout_run_figure(
             xy = (float(p[0]), float(p[1]))
             ax.annotate(str(j + 1), xy, ha="center", va="center", fontsize=7.5, color=ROBOT_COLORS[robot], zorder=10)
         handles.append(Line2D([], [], ls="none", marker=f"${j + 1}$", color="0.2", label=f"t = {tt[k]:.2f} s"))
+    if footprint is not None:
+        _draw_run_bodies(ax, track, footprint, poses, (e_a, o_a, e_b, o_b), [0, *idx.tolist(), len(tt) - 1])
     h0: list[Any]
     h0, l0 = ax.get_legend_handles_labels()
     ax.legend(
@@ -193,6 +204,31 @@ def layout_run_figure(
     return fig
 
 
+def _draw_run_bodies(
+    ax: Any, track: GraphTrack, footprint: object, poses: Any, pos: tuple[Any, ...], rows: list[int]
+) -> None:
+    """The bodies to scale at the given rows: filled at the start and the snapshots, outlined at the goal."""
+    from trajopt.viz.bodies import body_poses, draw_bodies
+    from trajopt.viz.drawing import ROBOT_COLORS
+
+    if poses is not None:
+        xy = np.asarray(poses[0], dtype=float).reshape(-1, 2, 2)
+        hd = np.asarray(poses[1], dtype=float).reshape(-1, 2)
+    else:
+        e_a, o_a, e_b, o_b = pos
+        at = np.asarray(rows)
+        xa, ha = body_poses(track, e_a[at], o_a[at])
+        xb, hb = body_poses(track, e_b[at], o_b[at])
+        xy = np.full((len(e_a), 2, 2), np.nan)
+        hd = np.full((len(e_a), 2), np.nan)
+        xy[at, 0], xy[at, 1], hd[at, 0], hd[at, 1] = xa, xb, ha, hb
+    colors = (ROBOT_COLORS["A"], ROBOT_COLORS["B"])
+    last = rows[-1]
+    for k in rows:
+        style = {"alpha": 0.8, "facecolor": "none", "ls": "--"} if k == last else {"alpha": 0.25}
+        draw_bodies(ax, footprint, xy[k], hd[k], colors, **style)
+
+
 def trajectory_figure(traj: Any, name: str | None = None) -> Figure:
     """The figure of any trajectory: a layout run (:func:`layout_run_figure`) or a paper track's
     (:func:`trajopt.viz.plotting.plot_trajectory`)."""
@@ -224,4 +260,5 @@ def trajectory_figure(traj: Any, name: str | None = None) -> Figure:
         limits={"vmax": tuple(lim.v), "amax": tuple(lim.a)},
         title=title,
         words=traj.words(),
+        footprint=getattr(traj, "footprint", None),
     )

@@ -10,9 +10,10 @@ Request body of a query (pinned)::
 
 Track coordinates (metres) on the paper's tracks; positions ``"EDGE:OFFSET"`` or vertex names on a layout (robot A
 first). Optional: ``planner`` (``"paper"``/``"graph"``), ``objective`` (``"fastest"``/``"shortest"``),
-``neighbourhood`` and ``samples`` as ``mpa plan`` takes them; ``vmax``, ``amax``, ``jmax``, ``rate`` and
-``formats`` (a list of ``csv``, ``ros2-yaml``, ``pvt``) for a trajectory. A layout is checked with the validation
-of layout files (:meth:`mpa.graph_track.GraphTrack.from_layout`); nothing reads the file system.
+``neighbourhood`` and ``samples`` as ``mpa plan`` takes them; ``footprint`` (the spec string of ``--footprint``,
+e.g. ``"0.3"``, ``"2.0x0.8"``, ``"0.3,2x0.8"``: the robots' bodies in the plane); ``vmax``, ``amax``, ``jmax``,
+``rate`` and ``formats`` (a list of ``csv``, ``ros2-yaml``, ``pvt``) for a trajectory. A layout is checked with the
+validation of layout files (:meth:`mpa.graph_track.GraphTrack.from_layout`); nothing reads the file system.
 
 =========================  ==================================================================================
 function                   answer
@@ -27,6 +28,7 @@ function                   answer
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 from collections.abc import Callable, Mapping
@@ -42,6 +44,7 @@ from mpa.graph_track import GraphTrack
 from mpa.planners.base import DEFAULT_NEIGHBOURHOOD
 from mpa.planners.factory import OBJECTIVES
 from mpa.tracks import Track, make_track
+from trajopt.cli.common import footprint_query
 from trajopt.cli.outputs import FORMAT_FILES, OutputOptions, parse_formats
 from trajopt.cli.plan import plan_json, plan_query
 from trajopt.cli.trajectory import trajectory_files
@@ -59,6 +62,7 @@ __all__ = [
     "plan_answer",
     "track_answer",
     "trajectory_answer",
+    "with_footprint",
 ]
 
 #: Largest request body accepted (bytes); a larger one is refused with HTTP 413.
@@ -70,7 +74,7 @@ EXAMPLES_DIR = Path(__file__).resolve().parents[2] / "examples" / "tracks"
 #: Keys of a plan request; a trajectory request also takes :data:`_TRAJECTORY_KEYS`.
 _PLAN_KEYS = frozenset(
     {"track", "stick", "loop", "layout", "start", "goal", "clearance", "planner", "objective", "neighbourhood"}
-    | {"samples"}
+    | {"samples", "footprint"}
 )
 _TRAJECTORY_KEYS = frozenset({"vmax", "amax", "jmax", "rate", "formats"})
 #: Formats a trajectory request may ask for (text files; the MCAP bag is binary: use ``mpa trajectory``).
@@ -101,6 +105,9 @@ class Query:
         The domains' ε as a fraction of half the loop.
     samples : int
         ``mpa plan --samples``.
+    footprint : Footprints or None
+        ``--footprint``: the robots' bodies in the plane; with it a paper track is replaced by its drawn graph form
+        and ``start``, ``goal`` by positions on it, as the command line does (:func:`with_footprint`).
     """
 
     track: Track | GraphTrack
@@ -111,6 +118,7 @@ class Query:
     objective: str = "fastest"
     neighbourhood: float = DEFAULT_NEIGHBOURHOOD
     samples: int = 400
+    footprint: Any = None
 
 
 def _number(body: Mapping[str, Any], key: str, default: float | None, what: str) -> float | None:
@@ -213,7 +221,31 @@ def parse_query(body: Any, trajectory: bool = False) -> Query:
     if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
         raise InvalidInputError(f"samples is {samples!r}, expected an integer >= 2")
     assert clearance is not None and eps is not None
-    return Query(track, start, goal, clearance, planner, objective, eps, samples)
+    track, start, goal, fps = with_footprint(body.get("footprint"), track, start, goal)
+    return Query(track, start, goal, clearance, planner, objective, eps, samples, fps)
+
+
+def with_footprint(spec: Any, track: Track | GraphTrack, start: Any, goal: Any) -> tuple[Any, Any, Any, Any]:
+    """``(track, start, goal, footprints)`` of a request's ``footprint`` (``mpa plan --footprint SPEC``).
+
+    Parameters
+    ----------
+    spec : str or None
+        The command line's spec: ``R`` (disc radius, metres), ``LxW`` (rectangle, metres) or ``SPEC_A,SPEC_B``;
+        None (or absent): no bodies, the arguments come back unchanged.
+    track, start, goal
+        The checked query (track coordinates on a paper track, ``(edge, offset)`` on a layout).
+
+    Raises
+    ------
+    InvalidInputError
+        A spec that is not a string or is malformed (the command line's message), a layout without coordinates.
+    """
+    if spec is None:
+        return track, start, goal, None
+    if not isinstance(spec, str):
+        raise InvalidInputError(f"footprint is {spec!r}, expected a spec string such as '0.5' or '2.0x0.8'")
+    return footprint_query(argparse.Namespace(footprint=spec), track, start, goal)
 
 
 def plan_answer(body: Any) -> dict[str, Any]:
@@ -225,7 +257,9 @@ def plan_answer(body: Any) -> dict[str, Any]:
         As ``mpa plan`` (exit 2, exit 3).
     """
     q = parse_query(body)
-    p = plan_query(q.track, q.start, q.goal, q.clearance, q.planner, q.objective, q.neighbourhood)
+    p = plan_query(
+        q.track, q.start, q.goal, q.clearance, q.planner, q.objective, q.neighbourhood, footprint=q.footprint
+    )
     return plan_json(p, q.samples)
 
 
@@ -273,6 +307,7 @@ def trajectory_answer(body: Any) -> dict[str, Any]:
         OutputOptions(formats=formats),
         planner=q.planner,
         objective=q.objective,
+        footprint=q.footprint,
     )
     out: dict[str, Any] = {"summary": json.loads(files["summary.json"]), "csv": files[FORMAT_FILES["csv"]]}
     for f, key in _FORMAT_KEYS.items():

@@ -101,6 +101,8 @@ function queryBody() {
   });
   if ($("planner").value) body.planner = $("planner").value;
   body.objective = $("objective").value;
+  const fp = $("footprint").value.trim();
+  if (fp) body.footprint = fp;
   return body;
 }
 state.query = queryBody;
@@ -151,6 +153,7 @@ function setupView() {
   sb.innerHTML = `<line x1="10" y1="${H - 12}" x2="${10 + bar * scale}" y2="${H - 12}" stroke="#000" stroke-width="2"/>` +
     `<text x="10" y="${H - 16}" font-size="11">${bar} m</text>`;
   svg.appendChild(sb);
+  layer("bodies");
   layer("robots");
   const markersG = layer("markers");
   for (const key of ["a_goal", "b_goal", "a_start", "b_start"]) {
@@ -181,6 +184,71 @@ function setupView() {
   placeMarkers();
 }
 
+// ---------------------------------------------------------------------------------------------- bodies to scale
+// The bodies of a footprint spec as mpa --footprint reads it ("0.3", "2.0x0.8", "0.3,2x0.8"), for drawing only (the
+// server checks the spec): [A, B], each {radius} or {length, width} in metres; null when empty or malformed.
+function parseFootprint(spec) {
+  const text = (spec || "").trim().toLowerCase();
+  if (!text) return null;
+  const parts = text.split(",");
+  if (parts.length > 2) return null;
+  const bodies = parts.map((p) => {
+    const v = p.split("x").map((x) => Number(x.trim()));
+    if (v.length > 2 || v.some((x) => !Number.isFinite(x) || x <= 0) || p.trim() === "") return null;
+    return v.length === 1 ? { radius: v[0] } : { length: v[0], width: v[1] };
+  });
+  if (bodies.some((b) => b === null)) return null;
+  return [bodies[0], bodies[1] || bodies[0]];
+}
+
+// Point (metres) and heading (radians) of a position: the drawn polyline's piece there, as the planner's drawing.
+function edgePose(e, offset) {
+  const pts = e.points;
+  const n = pts.length - 1;
+  const f = Math.min(Math.max(offset / e.length, 0), 1) * n;
+  const i = Math.min(Math.floor(f), n - 1);
+  const heading = Math.atan2(pts[i + 1][2] - pts[i][2], pts[i + 1][1] - pts[i][1]);
+  return { xy: edgePoint(e, offset), heading };
+}
+
+// An SVG element of one body centred at a position, to scale (view.scale pixels per metre).
+function bodyElement(body, m, robot, filled, id) {
+  const { xy, heading } = edgePose(state.geometry.edges[m.edge], m.offset);
+  let el;
+  if (body.radius !== undefined) {
+    el = document.createElementNS(SVGNS, "circle");
+    const q = px(xy);
+    el.setAttribute("cx", q[0]); el.setAttribute("cy", q[1]); el.setAttribute("r", body.radius * view.scale);
+  } else {
+    const c = Math.cos(heading), s = Math.sin(heading), hx = body.length / 2, hy = body.width / 2;
+    const corners = [[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]].map(([u, v]) => px([xy[0] + c * u - s * v, xy[1] + s * u + c * v]));
+    el = document.createElementNS(SVGNS, "polygon");
+    el.setAttribute("points", corners.map((q) => q.join(",")).join(" "));
+  }
+  el.setAttribute("id", id);
+  el.setAttribute("fill", filled ? COLORS[robot] : "none");
+  el.setAttribute("fill-opacity", 0.3);
+  el.setAttribute("stroke", COLORS[robot]);
+  el.setAttribute("stroke-width", 1.5);
+  if (!filled) el.setAttribute("stroke-dasharray", "4 3");
+  el.setAttribute("pointer-events", "none");
+  return el;
+}
+
+// The bodies at the four markers (start filled, goal dashed), or nothing without a footprint.
+function drawBodies() {
+  const g = $("bodies");
+  if (!g) return;
+  g.replaceChildren();
+  const fp = parseFootprint($("footprint").value);
+  if (!fp || !view) return;
+  for (const key of ["a_start", "b_start", "a_goal", "b_goal"]) {
+    const k = key[0] === "a" ? 0 : 1;
+    g.appendChild(bodyElement(fp[k], state.markers[key], key[0], key.endsWith("start"), `body-${key}`));
+  }
+}
+state.viewScale = () => view.scale; // pixels per metre (read by the browser tests)
+
 function px(xy) {
   return [view.ox + view.scale * xy[0], view.oy - view.scale * xy[1]];
 }
@@ -209,6 +277,7 @@ function placeMarkers() {
     const el = $(`marker-${key}`);
     if (el) el.setAttribute("transform", `translate(${q[0]},${q[1] + lift(key)})`);
   }
+  drawBodies();
 }
 
 function nearestPosition(x, y) {
@@ -406,6 +475,7 @@ async function requestTrajectory() {
     s: [num("a_s"), num("b_s")], v: [num("a_v"), num("b_v")], a: [num("a_a"), num("b_a")], j: [num("a_j"), num("b_j")],
     pos: ["a", "b"].map((r) => rows.map((row) => ({ edge: edgeIndex(row[col(`${r}_edge`)]), offset: parseFloat(row[col(`${r}_offset`)]) }))),
   };
+  tr.footprint = data.summary.footprint ? data.summary.footprint.spec : null; // the bodies of this motion
   if (col("a_track") >= 0) tr.coords = t.map((_, i) => [parseFloat(rows[i][col("a_track")]), parseFloat(rows[i][col("b_track")])]);
   state.traj = tr;
   setDownloads(data);
@@ -451,9 +521,11 @@ function drawRobots() {
   g.replaceChildren();
   if (!state.traj) return;
   const st = trajStateAt(state.animT);
+  const fp = parseFootprint(state.traj.footprint);
   ["a", "b"].forEach((r, k) => {
     const m = st.pos[k];
     if (m.edge < 0) return;
+    if (fp) g.appendChild(bodyElement(fp[k], m, r, true, `body-${r}`));
     const q = px(edgePoint(state.geometry.edges[m.edge], m.offset));
     const c = document.createElementNS(SVGNS, "rect");
     c.setAttribute("x", q[0] - 8); c.setAttribute("y", q[1] - 8); c.setAttribute("width", 16); c.setAttribute("height", 16);
@@ -583,7 +655,8 @@ async function init() {
     } else loadSource(sourceFromSelect());
   });
   for (const id of ["stick", "loop"]) $(id).addEventListener("change", () => loadSource(state.source));
-  for (const id of ["clearance", "planner", "objective"]) $(id).addEventListener("change", () => requestPlan(true));
+  for (const id of ["clearance", "planner", "objective", "footprint"]) $(id).addEventListener("change", () => requestPlan(true));
+  $("footprint").addEventListener("input", drawBodies);
   $("cspace-mode").addEventListener("change", drawCspace);
   $("upload").addEventListener("change", () => {
     const f = $("upload").files[0];
