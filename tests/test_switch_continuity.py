@@ -156,3 +156,32 @@ def test_blended_time_law_keeps_the_limits(length: float, w: float, angle: float
         excess = float(np.max(np.abs(got) - cap * (1 + tol)))
         assert excess <= 0.0, (name, length, w, angle, excess)
     assert np.allclose(s[-1], d, atol=1e-9) and np.allclose(v[-1], 0.0, atol=1e-9)
+
+
+def test_queries_in_the_bands_take_the_switch_path() -> None:
+    """Seeded random queries (lollipop 1/1, clearance 0.15): every one whose line keeps the separation by less than
+    two bands takes the switch path (its blended nodes keep the separation: none goes to the hard path or the
+    fallback), and every one beyond them the bare fast path."""
+    track = Lollipop(1.0, 1.0)
+    gen = _gen(track, 0.15)
+    sep = gen.clearance + separation_margin(gen.limits, gen.rate)
+    band = switch_band(track)
+    rng = np.random.default_rng(3)
+    hi = np.nextafter(track.total_length, 0.0)
+    seen = 0
+    for _ in range(400):
+        s, g = rng.uniform(0.0, hi, 2), rng.uniform(0.0, hi, 2)
+        try:
+            tr = gen.generate(s, g)
+        except MPAError:
+            continue
+        st = tr.solver_stats
+        m = st["line_clearance"] - sep if "line_clearance" in st else float("nan")
+        case = (s.tolist(), g.tolist(), m, st.get("path"))
+        assert not tr.fallback and "switch_failed" not in st, case
+        if 0.0 <= m < 2 * band:
+            assert st["path"] == "switch", case
+            seen += 1
+        elif m >= 2 * band:
+            assert st["path"] == "fast", case
+    assert seen >= 5, seen
