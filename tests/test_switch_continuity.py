@@ -11,23 +11,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mpa import Circle, Lollipop, MPAError
+from mpa import Lollipop, MPAError
+from tests.test_stability_reproducers import _gen
 from trajopt import Limits, TrajectoryGenerator
-from trajopt.fastpath import straight_line_clearance
+from trajopt.fastpath import _line_path, straight_line_clearance
 from trajopt.generator import separation_margin
 from trajopt.stability import switch_points, trajectory_gap
 from trajopt.switch import blended_time_law, switch_band
-from trajopt.timing import filtered_scaling, rest_to_rest_profile, spline_path
+from trajopt.timing import TimeScaling, filtered_scaling, rest_to_rest_profile, spline_path
 
 DELTAS = (1e-3, 1e-5, 1e-7, 1e-9)
-_GENS: dict[tuple[str, float], TrajectoryGenerator] = {}
-
-
-def _gen(track: Lollipop | Circle, clearance: float) -> TrajectoryGenerator:
-    key = (repr(track), clearance)
-    if key not in _GENS:
-        _GENS[key] = TrajectoryGenerator(track, clearance=clearance)
-    return _GENS[key]
 
 
 def _shrinking_gaps(gen: TrajectoryGenerator, s: Any, g_left: Any, g_right: Any) -> list[tuple[float, float, float]]:
@@ -132,9 +125,6 @@ def test_blended_time_law_keeps_the_limits(length: float, w: float, angle: float
     u = np.abs(d) / length
     lim = [min(x / ur for x, ur in zip(q.tolist(), u.tolist()) if ur > 1e-12) for q in (limits.v, limits.a, limits.j)]
     prof = rest_to_rest_profile(length, *lim)
-    from trajopt.fastpath import _line_path
-    from trajopt.timing import TimeScaling
-
     keep = prof.dt > 0
     second = TimeScaling(
         _line_path(np.stack([np.zeros(2), d])),
