@@ -39,7 +39,12 @@ def _shrinking_gaps(gen: TrajectoryGenerator, s: Any, g_left: Any, g_right: Any)
 
 @pytest.mark.parametrize(
     ("track", "clearance"),
-    [(Lollipop(1.0, 1.0), 0.05), (Lollipop(1.0, 1.0), 0.15), (Lollipop(1.3, 0.9), 0.15), (Lollipop(1.3, 0.9), 0.05)],
+    [
+        (Lollipop(1.0, 1.0), 0.05),
+        (Lollipop(1.0, 1.0), 0.15),
+        pytest.param(Lollipop(1.3, 0.9), 0.15, marks=pytest.mark.slow),
+        pytest.param(Lollipop(1.3, 0.9), 0.05, marks=pytest.mark.slow),
+    ],
 )
 def test_switch_points_shrinking_delta(track: Lollipop, clearance: float) -> None:
     """Seeded switch points (bisected to 1e-9 m): the gap across each is at most 1e-4 m and 1e-3 s, and twins
