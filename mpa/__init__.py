@@ -20,11 +20,13 @@ from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
 if TYPE_CHECKING:  # the names as type checkers see them
     from mpa.batch import BatchPlans, plan_many
     from mpa.cspace import ConfigurationSpace
+    from mpa.footprint import Disc, Footprints, Rectangle, parse_footprint
     from mpa.freespace import FreeSpace, free_space
     from mpa.graph import Edge, MetricGraph, farber_tc_of_graph
     from mpa.graph_track import GraphTrack
     from mpa.homotopy import path_word, reduce_word
     from mpa.plan import Plan, PlanStep
+    from mpa.planar import PlanarFreeSpace, planar_free_space
     from mpa.planners import CirclePlanner, IntervalPlanner, LollipopPlanner, Planner, make_planner, plan
     from mpa.planners.graph import GraphPlan, plan_graph
     from mpa.retraction import retract
@@ -46,6 +48,12 @@ _LAZY = {
     "plan_many": "mpa.batch",
     "ConfigurationSpace": "mpa.cspace",
     "FreeSpace": "mpa.freespace",
+    "Disc": "mpa.footprint",
+    "Footprints": "mpa.footprint",
+    "Rectangle": "mpa.footprint",
+    "parse_footprint": "mpa.footprint",
+    "PlanarFreeSpace": "mpa.planar",
+    "planar_free_space": "mpa.planar",
     "free_space": "mpa.freespace",
     "Edge": "mpa.graph",
     "MetricGraph": "mpa.graph",
@@ -159,3 +167,4 @@ __all__ = [
     "topological_complexity",
 ]
 __all__ += ["FreeSpace", "GraphPlan", "GraphTrack", "free_space", "plan_graph"]
+__all__ += ["Disc", "Footprints", "PlanarFreeSpace", "Rectangle", "parse_footprint", "planar_free_space"]

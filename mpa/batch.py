@@ -71,7 +71,7 @@ class BatchPlans:
 def _as_states(name: str, value: ArrayLike) -> NDArray[np.float64]:
     try:
         arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(f"{name} is not an array of numbers, expected shape (N, 2)") from None
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise InvalidInputError(f"{name} has shape {arr.shape}, expected (N, 2)")

@@ -41,7 +41,7 @@ class ConfigurationSpace:
     def __post_init__(self) -> None:
         try:
             d = float(self.clearance)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise InvalidInputError(
                 f"clearance is {self.clearance!r}, expected a finite number >= 0 (metres)"
             ) from None

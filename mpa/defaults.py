@@ -8,7 +8,7 @@ clearance 0 (the paper's point robots); the command line uses :data:`CLEARANCE` 
 
 from __future__ import annotations
 
-__all__ = ["AMAX", "CLEARANCE", "CLEARANCE_TOL", "JMAX", "RATE", "VMAX"]
+__all__ = ["AMAX", "CLEARANCE", "CLEARANCE_TOL", "JMAX", "LIMIT_RANGE", "RATE", "VMAX"]
 
 #: Default clearance D (m, graph distance between the robots).
 CLEARANCE = 0.05
@@ -18,6 +18,10 @@ VMAX = 0.5
 AMAX = 1.0
 #: Default jerk limit of each robot (m/s³).
 JMAX = 5.0
+#: Supported range of each limit, as factors of its default: ``vmax`` in [5e-4, 5e3] m/s, ``amax`` in [1e-3, 1e4] m/s²,
+#: ``jmax`` in [5e-3, 5e4] m/s³. Inside it the pipeline answers (a verified motion or a clear error) within seconds,
+#: and the makespan does not grow when a limit is loosened (tested); outside it a limit is an input error.
+LIMIT_RANGE = (1e-3, 1e4)
 #: Default setpoint rate (Hz).
 RATE = 100.0
 #: Absolute tolerance (m) of the clearance test of a start or goal: robots at least ``D − CLEARANCE_TOL`` apart

@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError
 
-__all__ = ["Edge", "MetricGraph", "farber_tc_of_graph", "read_json_file"]
+__all__ = ["Edge", "MetricGraph", "farber_tc_of_graph", "parse_json", "read_json_file"]
 
 Vertex = Hashable
 
@@ -38,12 +38,37 @@ def read_json_file(path: str | Path, what: str) -> object:
         raise InvalidInputError(f"{what} file {str(p)!r} does not exist, expected a JSON file") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise InvalidInputError(f"{what} file {str(p)!r} cannot be read ({exc}), expected a UTF-8 JSON file") from None
+    return parse_json(text, f"{what} file {str(p)!r}")
+
+
+def _json_int(text: str) -> int | float:
+    """A JSON integer; one of more than 300 digits becomes a float (±inf beyond ±1.8e308, refused later)."""
+    return int(text) if len(text) <= 300 else float(text)
+
+
+def parse_json(text: str, what: str) -> object:
+    """Decode JSON ``text`` read from ``what`` (e.g. ``"layout file 'x.json'"``).
+
+    Integers of more than 300 digits are read as floats (so a length of 400 digits is an infinite length, refused
+    by the caller as not finite, never an ``OverflowError``); nesting too deep for the decoder is an error.
+
+    Raises
+    ------
+    InvalidInputError
+        Not valid JSON, or nested too deeply.
+    """
     try:
-        return json.loads(text)
+        return json.loads(text, parse_int=_json_int)
     except json.JSONDecodeError as exc:
         raise InvalidInputError(
-            f"{what} file {str(p)!r} is not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})"
+            f"{what} is not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})"
         ) from None
+    except RecursionError:
+        raise InvalidInputError(
+            f"{what} is nested too deeply, expected JSON nested at most a few hundred levels"
+        ) from None
+    except ValueError as exc:  # e.g. a number the decoder refuses
+        raise InvalidInputError(f"{what} is not valid JSON ({exc})") from None
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,9 @@ Layout (a superset of what ``mpa topology --graph`` reads)::
   vertex value is ``[x, y]`` or ``null`` (no coordinates). Vertex names are strings (integers in ``[u, v]`` lists
   are turned into strings).
 - ``points`` is an optional polyline between the end coordinates, for drawing only.
+- ``"oneway": true`` (optional): the edge may be driven from ``from`` to ``to`` only (a robot may stand on it);
+  ``"speed_limit": v`` (optional, m/s, > 0): no robot moves faster than ``v`` on the edge.
+- :meth:`GraphTrack.from_file` also reads Open-RMF building maps and navigation graphs (:mod:`mpa.openrmf`).
 
 A position is ``(edge, offset)``: metres from the edge's ``from`` vertex, ``0 <= offset <= length``. As text it is
 ``EDGE:OFFSET`` or a vertex name. *Canonical name* of a position (used on output): the vertex name when the offset is
@@ -41,11 +44,21 @@ __all__ = ["GraphTrack", "Position", "paper_from_graph_position", "paper_to_grap
 
 FloatArray = NDArray[np.float64]
 Position = tuple[int, float]
-_EDGE_KEYS = {"name", "from", "to", "length", "points"}
+_EDGE_KEYS = {"name", "from", "to", "length", "points", "oneway", "speed_limit"}
+#: Largest coordinate and edge length of a layout (m): sums of lengths and squared coordinates stay finite.
+MAX_EXTENT = 1e12
 
 
 def _is_number(x: object) -> TypeGuard[int | float]:
-    return isinstance(x, (int, float)) and not isinstance(x, bool)
+    """A real number (not a bool) that converts to a float (an integer beyond ±1.8e308 does not)."""
+    if isinstance(x, bool) or not isinstance(x, (int, float)):
+        return False
+    if isinstance(x, int):
+        try:
+            float(x)
+        except OverflowError:
+            return False
+    return True
 
 
 def _point(value: object, what: str) -> tuple[float, float]:
@@ -55,6 +68,8 @@ def _point(value: object, what: str) -> tuple[float, float]:
         or not all(_is_number(c) and math.isfinite(c) for c in value)
     ):
         raise InvalidInputError(f"{what} is {value!r}, expected [x, y] with two finite numbers (metres)")
+    if max(abs(float(value[0])), abs(float(value[1]))) > MAX_EXTENT:
+        raise InvalidInputError(f"{what} is {value!r}, expected coordinates within ±{MAX_EXTENT:g} m")
     return float(value[0]), float(value[1])
 
 
@@ -120,6 +135,21 @@ def _edge_fields(i: int, item: object) -> tuple[object, object, object, object, 
     raise InvalidInputError(f"edge {i} is {item!r}, expected [u, v], [u, v, length] or an object")
 
 
+def _edge_rules(i: int, item: object, name: str) -> tuple[bool, float | None]:
+    """Edge ``i``'s one-way flag and speed limit (m/s, None: no limit), checked."""
+    if not isinstance(item, Mapping):
+        return False, None
+    oneway = item.get("oneway", False)
+    if not isinstance(oneway, bool):
+        raise InvalidInputError(f"oneway of edge {name!r} is {oneway!r}, expected true or false")
+    limit = item.get("speed_limit")
+    if limit is None:
+        return oneway, None
+    if not _is_number(limit) or not math.isfinite(limit) or float(limit) <= 0:
+        raise InvalidInputError(f"speed_limit of edge {name!r} is {limit!r}, expected a finite number > 0 (m/s)")
+    return oneway, float(limit)
+
+
 def _edge_name(i: int, name: object, used: set[str]) -> str:
     """Edge ``i``'s name, checked: a non-empty string without ':' not in ``used``."""
     if not isinstance(name, str) or not name:
@@ -152,6 +182,8 @@ def _edge_length(length: object, name: str, a: tuple[float, float] | None, b: tu
         return length_f
     if not _is_number(length) or not math.isfinite(length) or float(length) <= 0:
         raise InvalidInputError(f"length of edge {name!r} is {length!r}, expected a finite number > 0")
+    if float(length) > MAX_EXTENT:
+        raise InvalidInputError(f"length of edge {name!r} is {length!r}, expected at most {MAX_EXTENT:g} m")
     return float(length)
 
 
@@ -167,6 +199,10 @@ class GraphTrack:
         One entry per vertex of ``graph.vertices``: ``(x, y)`` in metres or ``None``.
     points : tuple
         One entry per edge: a tuple of interior polyline points ``(x, y)`` (metres) or ``()``.
+    oneway : tuple of bool
+        One entry per edge (default all False): the edge may be driven from its tail to its head only.
+    speed_limits : tuple of (float or None)
+        One entry per edge (default all None): the speed limit on the edge (m/s, > 0), None for none.
 
     Notes
     -----
@@ -176,6 +212,8 @@ class GraphTrack:
     graph: MetricGraph
     coords: tuple[tuple[float, float] | None, ...] = ()
     points: tuple[tuple[tuple[float, float], ...], ...] = ()
+    oneway: tuple[bool, ...] = ()
+    speed_limits: tuple[float | None, ...] = ()
     kind = "graph"
 
     def __post_init__(self) -> None:
@@ -191,8 +229,17 @@ class GraphTrack:
             object.__setattr__(self, "coords", (None,) * g.n_vertices)
         if not self.points:
             object.__setattr__(self, "points", ((),) * g.n_edges)
+        if not self.oneway:
+            object.__setattr__(self, "oneway", (False,) * g.n_edges)
+        if not self.speed_limits:
+            object.__setattr__(self, "speed_limits", (None,) * g.n_edges)
         if len(self.coords) != g.n_vertices or len(self.points) != g.n_edges:
             raise InvalidInputError("coords must have one entry per vertex and points one per edge")
+        if len(self.oneway) != g.n_edges or len(self.speed_limits) != g.n_edges:
+            raise InvalidInputError("oneway and speed_limits must have one entry per edge")
+        for e, v in zip(g.edges, self.speed_limits):
+            if v is not None and not (math.isfinite(v) and v > 0):
+                raise InvalidInputError(f"speed_limit of edge {e.name!r} is {v!r}, expected a finite number > 0 (m/s)")
 
     # ----------------------------------------------------------------------------------------- parse
     @classmethod
@@ -226,6 +273,7 @@ class GraphTrack:
         order: list[str] = list(vertex_xy)
         out_edges: list[Edge] = []
         out_points: list[tuple[tuple[float, float], ...]] = []
+        rules: list[tuple[bool, float | None]] = []
         names: set[str] = set()
         for i, item in enumerate(edges):
             raw_name, u_raw, v_raw, length, pts = _edge_fields(i, item)
@@ -245,14 +293,49 @@ class GraphTrack:
             poly = _edge_points(pts, name)
             out_edges.append(Edge(name, u, v, _edge_length(length, name, vertex_xy[u], vertex_xy[v])))
             out_points.append(poly)
+            rules.append(_edge_rules(i, item, name))
         graph = MetricGraph(tuple(order), tuple(out_edges))
-        return cls(graph, tuple(vertex_xy[w] for w in order), tuple(out_points))
+        return cls(
+            graph,
+            tuple(vertex_xy[w] for w in order),
+            tuple(out_points),
+            tuple(r[0] for r in rules),
+            tuple(r[1] for r in rules),
+        )
 
     @classmethod
     def from_json(cls, path: str | Path) -> GraphTrack:
         """Read a layout file (UTF-8 JSON); errors as :meth:`from_layout`, plus missing or unreadable files."""
         data = read_json_file(path, "layout")
         return cls.from_layout(data)
+
+    @classmethod
+    def from_file(cls, path: str | Path, level: str | None = None, nav_graph: int | None = None) -> GraphTrack:
+        """Read a layout file: our JSON layout, an Open-RMF building map or a navigation graph (:mod:`mpa.openrmf`).
+
+        Parameters
+        ----------
+        path : str or Path
+        level : str, optional
+            Open-RMF maps: the level (default: the building's reference level, the navigation graph's first).
+        nav_graph : int, optional
+            Building maps: the navigation graph, the lanes' ``graph_idx`` (default 0).
+
+        Raises
+        ------
+        InvalidInputError
+            As :meth:`from_layout` and :func:`mpa.openrmf.read_layout_file` (a file of none of the three kinds, a
+            level or graph index that does not exist, a lane naming a missing vertex, a negative speed limit).
+        """
+        from mpa.openrmf import read_layout_file
+
+        layout, _ = read_layout_file(path, level, nav_graph)
+        return cls.from_layout(layout)
+
+    @property
+    def has_rules(self) -> bool:
+        """Whether some edge is one-way or has a speed limit."""
+        return any(self.oneway) or any(v is not None for v in self.speed_limits)
 
     def to_dict(self) -> dict[str, Any]:
         """The layout as a JSON-friendly dict (round-trips through :meth:`from_layout`)."""
@@ -266,6 +349,11 @@ class GraphTrack:
             if pts:
                 item["points"] = [list(p) for p in pts]
             edges.append(item)
+        for item, ow, lim in zip(edges, self.oneway, self.speed_limits):
+            if ow:
+                item["oneway"] = True
+            if lim is not None:
+                item["speed_limit"] = lim
         out["edges"] = edges
         return out
 
@@ -380,6 +468,15 @@ class GraphTrack:
         """
         if isinstance(pos, str):
             if pos in self._vertex_index:
+                other = self._edge_reading(pos)
+                if other is not None:
+                    e, o = other
+                    raise InvalidInputError(
+                        f"{name} is {pos!r}, which names two places: vertex {pos!r} and {o:g} m along edge "
+                        f"{self.edge_names[e]!r}; expected one reading (write the vertex as an end of one of its "
+                        f"edges, EDGE:0 or EDGE:LENGTH, or the offset in another form, e.g. "
+                        f"{self.edge_names[e] + ':' + repr(float(o))!r})"
+                    )
                 return self.vertex_position(pos)
             if ":" not in pos:
                 raise InvalidInputError(
@@ -414,6 +511,22 @@ class GraphTrack:
             )
         return i, o
 
+    def _edge_reading(self, text: str) -> Position | None:
+        """``text`` read as ``EDGE:OFFSET`` on an edge of this track with the offset on it, else None."""
+        if ":" not in text:
+            return None
+        edge_text, off_text = text.rsplit(":", 1)
+        i = self._edge_index.get(edge_text)
+        if i is None:
+            return None
+        try:
+            o = float(off_text)
+        except ValueError:
+            return None
+        if not (math.isfinite(o) and 0.0 <= o <= float(self.lengths[i])):
+            return None
+        return i, o
+
     def parse_position(self, text: str) -> Position:
         """Parse ``"EDGE:OFFSET"`` or a vertex name (see :meth:`position`)."""
         return self.position(text)
@@ -422,8 +535,15 @@ class GraphTrack:
         """Canonical text of a position: the vertex name at an exact end of the edge, else ``EDGE:OFFSET``."""
         w = self.vertex_at(edge, offset)
         if w is not None:
-            return str(self.graph.vertices[w])
-        return f"{self.edge_names[edge]}:{offset:.12g}"
+            name = str(self.graph.vertices[w])
+            if self._edge_reading(name) is None:
+                return name
+            offset = float(offset)  # a vertex name that also reads as EDGE:OFFSET: name it by its edge
+            return f"{self.edge_names[edge]}:{offset!r}"
+        text = f"{self.edge_names[edge]}:{offset:.12g}"
+        if text in self._vertex_index:  # the short form is a vertex's name: all the digits, another spelling
+            text = f"{self.edge_names[edge]}:{float(offset)!r}"
+        return text
 
     # ----------------------------------------------------------------------------------------- drawing
     @cached_property

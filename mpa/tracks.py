@@ -41,7 +41,7 @@ WRAP_TOL = 1e-12
 def _positive_length(name: str, value: float) -> float:
     try:
         v = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(f"{name} length is {value!r}, expected a positive finite number (metres)") from None
     if not np.isfinite(v) or v <= 0:
         raise InvalidInputError(f"{name} length is {v!r}, expected a positive finite number (metres)")
@@ -123,7 +123,7 @@ class Track:
                 return np.asarray(v)
         try:
             arr = np.asarray(p, dtype=float)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise InvalidInputError(f"{name} is {p!r}, expected a number in {self._range_text()}") from None
         bad = ~np.isfinite(arr)
         if np.any(bad):

@@ -73,7 +73,7 @@ def check_delay_tolerance(value: Any) -> float:
     """
     try:
         t = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(f"delay tolerance is {value!r}, expected a number of seconds >= 0") from None
     if not math.isfinite(t) or t < 0.0:
         raise InvalidInputError(f"delay tolerance is {value!r}, expected a finite number of seconds >= 0")
@@ -185,11 +185,15 @@ class _CandidateSearch:
 
         gen, D, T = self.gen, self.gen.clearance, self.T
         limits = gen.limits
-        if slowdown != 1.0:
-            k = slowdown
-            limits = Limits(gen.limits.v / k, gen.limits.a / k**2, gen.limits.j / k**3)
         rec: dict[str, Any] = {"clearance": clearance, "slowdown": slowdown}
         self.tried.append(rec)
+        if slowdown != 1.0:
+            k = slowdown
+            try:
+                limits = Limits(gen.limits.v / k, gen.limits.a / k**2, gen.limits.j / k**3)
+            except InvalidInputError as exc:  # slowed below the supported range of the limits
+                rec["failed"] = str(exc)
+                return None
         try:
             if clearance == D and slowdown == 1.0:
                 raw = gen.generate(self.start, self.goal)

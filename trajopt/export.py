@@ -21,12 +21,15 @@ a reader never sees a half-written file, and nothing is left behind on an error.
 
 from __future__ import annotations
 
+import contextlib
+import csv
 import enum
 import io
 import json
 import os
+import shutil
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -44,14 +47,21 @@ from trajopt.verify import VerificationError, VerificationReport
 __all__ = [
     "CSV_COLUMNS",
     "GRAPH_CSV_COLUMNS",
+    "HEADING_COLUMNS",
     "XY_COLUMNS",
     "Source",
     "Trajectory",
     "atomic_write_bytes",
     "atomic_write_text",
+    "check_output_path",
     "check_rate",
+    "csv_field",
+    "csv_line",
+    "directory_lock",
     "time_grid",
     "verified_rows",
+    "write_directory",
+    "write_output_file",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -95,8 +105,18 @@ GRAPH_CSV_COLUMNS = (
 )
 #: Appended to :data:`GRAPH_CSV_COLUMNS` when the layout has vertex coordinates: points on the drawn edges (m).
 XY_COLUMNS = ("a_x", "a_y", "b_x", "b_y")
+#: Columns after :data:`XY_COLUMNS` when the motion was made with a footprint: each robot's heading (radians, the
+#: direction of its piece of the drawing, :class:`mpa.footprint.Drawing`).
+HEADING_COLUMNS = ("a_heading", "b_heading")
 #: Largest number of rows a grid may have.
 MAX_ROWS = 20_000_000
+#: Memory one row takes at its peak (bytes): sampling, the gate and the CSV text (measured: 2.3 KB per row on the Y
+#: junction from 1 to 20 kHz, 205 MB -> 860 MB for 14 716 -> 294 286 rows).
+ROW_BYTES = 2500
+#: Default memory budget of a trajectory's rows (bytes): 4 GiB, about 1.7 million rows.
+MEMORY_BUDGET = 4.0 * 2**30
+#: Environment variable that overrides :data:`MEMORY_BUDGET` (bytes; suffix K, M or G).
+BUDGET_ENV = "MPA_MEMORY_BUDGET"
 
 
 class Source(enum.Enum):
@@ -108,6 +128,22 @@ class Source(enum.Enum):
     """The fallback: the plan's own polyline, every straight step rest to rest."""
 
 
+def csv_field(value: str) -> str:
+    """``value`` as one CSV field, quoted as RFC 4180 asks when it holds a comma, a quote or a line break.
+
+    Written by :mod:`csv`'s writer (``QUOTE_MINIMAL`` with the RFC's ``\\r\\n`` as the line terminator, so a
+    lone ``\\r`` is quoted too); :func:`csv.reader` reads back exactly ``value`` (the empty string as ``""``).
+    """
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="\r\n", quoting=csv.QUOTE_MINIMAL).writerow([value])
+    return buf.getvalue()[:-2]
+
+
+def csv_line(cells: Iterable[Any]) -> str:
+    """One CSV record: the cells as :func:`csv_field` (``str`` of each), comma-separated, ending in ``\\n``."""
+    return ",".join(csv_field(str(c)) for c in cells) + "\n"
+
+
 def check_rate(rate: Any, name: str = "rate") -> float:
     """Validate a setpoint rate (Hz): a positive finite number.
 
@@ -117,19 +153,56 @@ def check_rate(rate: Any, name: str = "rate") -> float:
     """
     try:
         r = float(rate)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(f"{name} is {rate!r}, expected a positive finite number (Hz)") from None
     if not np.isfinite(r) or r <= 0:
         raise InvalidInputError(f"{name} is {r!r}, expected a positive finite number (Hz)")
     return r
 
 
+def memory_budget() -> float:
+    """The memory (bytes) a trajectory's rows may take: ``$MPA_MEMORY_BUDGET`` (bytes; suffix K, M or G allowed),
+    else :data:`MEMORY_BUDGET` (4 GiB)."""
+    text = os.environ.get(BUDGET_ENV, "").strip().upper()
+    if not text:
+        return MEMORY_BUDGET
+    scale = {"K": 2.0**10, "M": 2.0**20, "G": 2.0**30}.get(text[-1:], 1.0)
+    try:
+        value = float(text[:-1] if scale != 1.0 else text) * scale
+    except ValueError:
+        raise InvalidInputError(f"${BUDGET_ENV} is {text!r}, expected a number of bytes (suffix K, M or G)") from None
+    if not np.isfinite(value) or value <= 0:
+        raise InvalidInputError(f"${BUDGET_ENV} is {text!r}, expected a positive number of bytes")
+    return value
+
+
 def time_grid(duration: float, rate: float) -> FloatArray:
-    """``k / rate`` for ``k = 0 … ceil(duration·rate)`` (s). Shape (N,)."""
-    n = int(np.ceil(duration * rate - 1e-9)) if duration > 0 else 0
-    if n + 1 > MAX_ROWS:
-        raise InvalidInputError(f"rate {rate:g} Hz gives {n + 1} rows for {duration:g} s, expected at most {MAX_ROWS}")
-    return np.arange(n + 1) / rate
+    """``k / rate`` for ``k = 0 … ceil(duration·rate)`` (s). Shape (N,).
+
+    Checked before any row is made: the rows' memory, estimated as :data:`ROW_BYTES` per row (the peak of
+    sampling, the gate and the export, measured), must fit :func:`memory_budget`, and there are at most
+    :data:`MAX_ROWS` rows.
+
+    Raises
+    ------
+    InvalidInputError
+        Too many rows for the budget: the message names ``--rate`` and the largest rate that fits.
+    """
+    with np.errstate(over="ignore"):
+        steps = float(np.ceil(duration * rate - 1e-9)) if duration > 0 else 0.0
+    budget = memory_budget()
+    fit = int(min(MAX_ROWS, budget // ROW_BYTES))
+    if not steps + 1 <= fit:  # also an infinite count
+        n = steps
+        best = (fit - 1) / duration
+        digits = 10 ** np.floor(np.log10(best)) / 10 if best > 0 else 1.0
+        best = float(np.floor(best / digits) * digits)
+        raise InvalidInputError(
+            f"rate (--rate) {rate:g} Hz gives {n + 1:.0f} rows for the {duration:.6g} s motion, about "
+            f"{(n + 1) * ROW_BYTES / 2**30:.3g} GiB, above the memory budget of {budget / 2**30:.3g} GiB "
+            f"({fit} rows; ${BUDGET_ENV} sets it); the largest rate that fits is {best:g} Hz"
+        )
+    return np.arange(int(steps) + 1) / rate
 
 
 def atomic_write_text(path: str | os.PathLike[str], text: str) -> None:
@@ -197,6 +270,340 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
         except OSError:
             pass
         raise
+
+
+#: Files of a run that :func:`write_directory` owns: a new run replaces them all, and those of formats not asked for
+#: are not carried over from an older run. Any other file in the directory is kept.
+RUN_FILES = frozenset(
+    {"setpoints.csv", "summary.json", "trajectory.yaml", "trajectory.mcap", "pvt.csv", "trajectory.png", "plan.json"}
+)
+#: Environment variable of the test hook of :func:`write_directory`: seconds to pause after each stage.
+PAUSE_ENV = "MPA_TEST_PAUSE_BETWEEN_FILES"
+_RENAME_EXCHANGE = 2  # renameat2 flag (Linux >= 3.15)
+_AT_FDCWD = -100
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap the directory entries ``a`` and ``b`` in one step (``renameat2(RENAME_EXCHANGE)``).
+
+    Returns False where the system or the file system cannot (then the caller renames twice).
+    """
+    import ctypes
+    import ctypes.util
+    import errno as _errno
+
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or None, use_errno=True)
+        fn = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    fn.restype = ctypes.c_int
+    if fn(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE) == 0:
+        return True
+    err = ctypes.get_errno()
+    if err in (_errno.EINVAL, _errno.ENOSYS, _errno.EOPNOTSUPP):
+        return False
+    raise OSError(err, os.strerror(err), str(b))
+
+
+def _hidden_stem(name: str) -> str:
+    """The start of the hidden sibling names of directory ``name`` (short enough for any file system)."""
+    import hashlib
+
+    if len(name.encode("utf-8")) <= 100:
+        return f".{name}"
+    return f".mpa-{hashlib.sha1(name.encode('utf-8')).hexdigest()[:16]}"
+
+
+def _pid_alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # alive, another user's
+        return True
+    return True
+
+
+def _recover_siblings(d: Path) -> None:
+    """Clean up after writers of ``d`` that died (``kill -9``, power loss) in :func:`write_directory`.
+
+    A dead writer's new set (``.NAME.mpa-new.PID.*``) is removed. If it died between the two renames of the
+    fallback without ``renameat2`` (``d`` missing, the previous set in ``.NAME.mpa-old.PID.*``), the previous set
+    is put back first.
+    """
+    stem = _hidden_stem(d.name)
+    try:
+        siblings = sorted(d.parent.glob(f"{glob_escape(stem)}.mpa-*.*.*"))
+    except OSError:
+        return
+    for sib in siblings:
+        kind, _, rest = sib.name[len(stem) + 5 :].partition(".")
+        pid_text = rest.split(".", 1)[0]
+        if kind not in ("new", "old") or not pid_text.isdigit() or _pid_alive(int(pid_text)):
+            continue
+        if kind == "old" and not d.exists():
+            try:
+                os.rename(sib, d)
+                continue
+            except OSError:
+                pass
+        shutil.rmtree(sib, ignore_errors=True)
+
+
+def _pause(stage: str) -> None:
+    """Test hook: with ``$MPA_TEST_PAUSE_BETWEEN_FILES`` set, say ``stage`` on stderr and pause.
+
+    The value is ``SECONDS`` (pause after every stage) or ``SECONDS@STAGE`` (only at that stage, e.g.
+    ``30@commit``). Stages: ``wrote NAME`` after each file, ``commit`` before the swap, ``committed`` after it.
+    """
+    value = os.environ.get(PAUSE_ENV)
+    if value:
+        import sys
+        import time
+
+        seconds, _, only = value.partition("@")
+        print(f"mpa-test-stage: {stage}", file=sys.stderr, flush=True)
+        if not only or only == stage:
+            time.sleep(float(seconds))
+
+
+def _fsync_dir(path: Path) -> None:
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def write_directory(
+    out: str | os.PathLike[str],
+    files: dict[str, str | bytes],
+    *,
+    write: Callable[[Path, str | bytes], None] | None = None,
+    option: str = "--out",
+) -> list[Path]:
+    """Replace the run files of directory ``out`` by ``files`` (name -> content) as a whole, in one step.
+
+    Every file is written into a hidden temporary directory beside ``out`` (``.NAME.mpa-new.PID.XXXX``), with
+    the other files of ``out`` (those not in :data:`RUN_FILES`) linked in; then that directory and ``out`` are
+    swapped by one ``renameat2(RENAME_EXCHANGE)`` (a plain :func:`os.rename` when ``out`` does not exist yet), the
+    commit point, and the previous set is removed. After any interruption (``kill -9``, ``SIGTERM``, Ctrl-C, a
+    full disk) ``out`` holds exactly one run's complete set: this one or the previous one, untouched; files of
+    formats an older run wrote and this one does not are gone. A directory that cannot be swapped (the working
+    directory or one holding it, a mount point, or one with subdirectories that are not a run's) is written in
+    place instead: each file atomically, ``summary.json`` last, stale run files removed, under the lock. Where
+    ``renameat2`` is missing, ``out`` is renamed
+    aside first and the next write of ``out`` puts it back if the writer died in between. A dead writer's
+    temporary directory is removed by the next write. Writers of directories in one parent hold an exclusive
+    ``flock`` of the parent (:func:`directory_lock`).
+
+    Parameters
+    ----------
+    out : path
+        The output directory (created with its parents if missing).
+    files : dict
+        File name -> content (``str`` written as UTF-8, ``bytes`` as is).
+    write : callable, optional
+        ``write(path, content)`` writes one file (default: :func:`atomic_write_text` / :func:`atomic_write_bytes`).
+    option : str
+        Name of the option in error messages.
+
+    Returns
+    -------
+    list of Path
+        The files written, ``out / name``.
+
+    Raises
+    ------
+    InvalidInputError
+        ``out`` is empty or exists and is not a directory, or a file could not be written
+        (``--out: cannot write PATH: reason``); ``out`` is then unchanged.
+    """
+    if not str(out).strip():
+        raise InvalidInputError(f"{option} is {str(out)!r}, expected a directory path")
+    d = Path(os.path.realpath(out))
+    try:
+        exists, is_dir = d.exists(), d.is_dir()
+    except OSError as exc:  # e.g. a name too long for the file system
+        raise InvalidInputError(f"{option}: cannot write {str(out)!r}: {exc.strerror or type(exc).__name__}") from None
+    if exists and not is_dir:
+        raise InvalidInputError(f"{option} is {str(out)!r}, which exists and is not a directory")
+
+    def default_write(path: Path, content: str | bytes) -> None:
+        if isinstance(content, bytes):
+            atomic_write_bytes(path, content)
+        else:
+            atomic_write_text(path, content)
+
+    writer = write or default_write
+    target = Path(out)
+    try:
+        if d.is_dir() and _in_place(d):
+            return _write_in_place(d, Path(out), files, writer, option)
+        d.parent.mkdir(parents=True, exist_ok=True)
+        with directory_lock(d):
+            _recover_siblings(d)
+            stem = _hidden_stem(d.name)
+            tmp = Path(tempfile.mkdtemp(dir=d.parent, prefix=f"{stem}.mpa-new.{os.getpid()}."))
+            try:
+                for name, content in files.items():
+                    target = Path(out) / name
+                    writer(tmp / name, content)
+                    _pause(f"wrote {name}")
+                target = Path(out)
+                if d.is_dir():
+                    for entry in os.scandir(d):
+                        if entry.name in RUN_FILES or entry.name in files:
+                            continue
+                        if entry.is_dir(follow_symlinks=False):
+                            shutil.copytree(entry.path, tmp / entry.name, symlinks=True, copy_function=_link_or_copy)
+                        else:
+                            _link_or_copy(entry.path, str(tmp / entry.name))
+                    os.chmod(tmp, os.stat(d).st_mode & 0o7777)
+                else:
+                    os.chmod(tmp, 0o777 & ~_umask())
+                _fsync_dir(tmp)
+                _pause("commit")
+                if not d.exists():
+                    os.rename(tmp, d)
+                elif not _exchange(tmp, d):
+                    old = Path(tempfile.mkdtemp(dir=d.parent, prefix=f"{stem}.mpa-old.{os.getpid()}."))
+                    os.rmdir(old)
+                    os.rename(d, old)
+                    os.rename(tmp, d)
+                    tmp = old
+                _fsync_dir(d.parent)
+                _pause("committed")
+            finally:
+                shutil.rmtree(tmp, ignore_errors=True)
+    except InvalidInputError:
+        raise
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise InvalidInputError(f"{option}: cannot write {str(target)!r}: {reason}") from None
+    return [Path(out) / name for name in files]
+
+
+def _in_place(d: Path) -> bool:
+    """Whether directory ``d`` must be written in place rather than swapped: it is (or holds) the working
+    directory, a mount point, or it holds subdirectories that are not a run's (they would have to be copied)."""
+    try:
+        cwd = Path(os.getcwd()).resolve()
+    except OSError:
+        cwd = None
+    if cwd is not None and (cwd == d or d in cwd.parents):
+        return True
+    if os.path.ismount(d):
+        return True
+    with os.scandir(d) as it:
+        return any(e.is_dir(follow_symlinks=False) and e.name not in RUN_FILES for e in it)
+
+
+def _write_in_place(
+    d: Path,
+    shown: Path,
+    files: dict[str, str | bytes],
+    writer: Callable[[Path, str | bytes], None],
+    option: str,
+) -> list[Path]:
+    """The fallback of :func:`write_directory` for a directory it cannot swap (see :func:`_in_place`): each file
+    replaced atomically, ``summary.json`` last, then the run files of formats not asked for removed; all under
+    :func:`directory_lock`. A reader that takes the lock sees one run's set."""
+    order = [n for n in files if n != "summary.json"] + [n for n in files if n == "summary.json"]
+    target = shown
+    try:
+        with directory_lock(d):
+            for name in order:
+                target = shown / name
+                writer(d / name, files[name])
+                _pause(f"wrote {name}")
+            for name in RUN_FILES - set(files):
+                (d / name).unlink(missing_ok=True)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise InvalidInputError(f"{option}: cannot write {str(target)!r}: {reason}") from None
+    return [shown / name for name in files]
+
+
+def _link_or_copy(src: str, dst: str) -> str:
+    try:
+        os.link(src, dst, follow_symlinks=False)
+    except OSError:
+        shutil.copy2(src, dst, follow_symlinks=False)
+    return dst
+
+
+@contextlib.contextmanager
+def directory_lock(directory: str | os.PathLike[str]) -> Iterator[None]:
+    """Hold an exclusive lock on the run files of ``directory``: a ``flock`` of its parent directory.
+
+    :func:`write_directory` holds it while it writes and swaps, so two processes writing one directory never mix
+    their files, and a reader that takes it sees one run's files. Without ``fcntl`` (Windows) it does nothing.
+    """
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX
+        yield
+        return
+    parent = Path(os.path.realpath(directory)).parent
+    fd = os.open(parent, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)  # releases the lock
+
+
+def check_output_path(path: Any, what: str = "path") -> Path:
+    """Check an output file's path before any work: a non-empty ``str`` or path-like that is not a directory.
+
+    Raises
+    ------
+    InvalidInputError
+        The message names ``what``, the value and what was expected.
+    """
+    if isinstance(path, bytes) or not isinstance(path, (str, os.PathLike)):
+        raise InvalidInputError(f"{what} is {path!r}, expected a file path (str or os.PathLike)")
+    text = os.fspath(path)
+    if not isinstance(text, str) or not text.strip():
+        raise InvalidInputError(f"{what} is {text!r}, expected a file path")
+    if "\x00" in text:
+        raise InvalidInputError(f"{what} is {text!r}, expected a file path without a NUL character")
+    p = Path(text)
+    try:
+        is_dir = p.is_dir()
+    except OSError as exc:  # e.g. a name too long for the file system
+        raise InvalidInputError(f"{what} {text!r}: cannot write: {exc.strerror or type(exc).__name__}") from None
+    if is_dir or text.endswith(os.sep):
+        raise InvalidInputError(f"{what} is {text!r}, which is a directory, expected a file path")
+    return p
+
+
+def write_output_file(path: Path, content: str | bytes, what: str = "path") -> None:
+    """Write one file atomically (:func:`atomic_write_text`/:func:`atomic_write_bytes`).
+
+    Raises
+    ------
+    InvalidInputError
+        The file cannot be written: ``{what} {path!r}: cannot write: reason`` (no ``[Errno ..]``).
+    """
+    try:
+        if isinstance(content, bytes):
+            atomic_write_bytes(path, content)
+        else:
+            atomic_write_text(path, content)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise InvalidInputError(f"{what} {str(path)!r}: cannot write: {reason}") from None
 
 
 def verified_rows(
@@ -299,6 +706,10 @@ class Trajectory:
     retimer : callable or None
         ``retimer(rate) -> Trajectory``: the plan re-timed for another rate by the generator that made this
         trajectory (used by :meth:`at_rate` when the resampled rows fail the gate).
+    footprint : Footprints or None
+        The robots' bodies in the plane (:mod:`mpa.footprint`), when the motion was made with them.
+    plane : dict or None
+        The gate's check in the plane (:meth:`trajopt.planar_gate.PlaneReport.to_dict`), with a footprint.
     """
 
     t: FloatArray
@@ -325,6 +736,8 @@ class Trajectory:
         repr=False, compare=False
     )
     retimer: Callable[[float], Trajectory] | None = field(default=None, repr=False, compare=False)
+    footprint: Any = None
+    plane: dict[str, Any] | None = None
 
     @property
     def fallback(self) -> bool:
@@ -356,8 +769,17 @@ class Trajectory:
         view = plan_view(self.plan)
         tr = view.track_coordinates(s)
         rep = view.verify(t, s, v, a, j, limits=self.limits, clearance=self.clearance, rate=r, track_pos=tr)
+        plane = self.plane
+        if rep.ok and self.footprint is not None:
+            from trajopt.planar_gate import verify_plane
+
+            e, o = view.positions(s, v)
+            prep = verify_plane(view.graph, self.footprint, e, o, v, amax=self.limits.a, rate=r)
+            plane = prep.to_dict()
+            if not prep.ok:
+                rep = replace(rep, ok=False, failures=rep.failures + prep.failures)
         if rep.ok:
-            return replace(self, rate=r, **verified_rows(t, tr, (s, v, a, j), rep))
+            return replace(self, rate=r, plane=plane, **verified_rows(t, tr, (s, v, a, j), rep))
         if self.retimer is None:
             raise VerificationError(rep)
         new = self.retimer(r)
@@ -419,7 +841,7 @@ class Trajectory:
         if not self.is_graph:
             return CSV_COLUMNS
         if plan_view(self.plan).graph.has_coordinates:
-            return GRAPH_CSV_COLUMNS + XY_COLUMNS
+            return GRAPH_CSV_COLUMNS + XY_COLUMNS + (HEADING_COLUMNS if self.footprint is not None else ())
         return GRAPH_CSV_COLUMNS
 
     def xy(self) -> FloatArray:
@@ -434,13 +856,22 @@ class Trajectory:
         e, o, _ = self._positions()
         return np.stack([g.embed(e[:, 0], o[:, 0]), g.embed(e[:, 1], o[:, 1])], axis=1)
 
+    def headings(self) -> FloatArray:
+        """Heading of each robot's piece of the drawing at every row (radians, the edge's tangent direction,
+        :class:`mpa.footprint.Drawing`), shape (N, 2)."""
+        from mpa.footprint import drawing_of
+
+        d = drawing_of(plan_view(self.plan).graph)
+        e, o, _ = self._positions()
+        return np.stack([d.pose(e[:, 0], o[:, 0])[1], d.pose(e[:, 1], o[:, 1])[1]], axis=1)
+
     def csv_text(self, rate: float | None = None) -> str:
         """The CSV file's content (see the module docstring), verified at ``rate`` (see :meth:`at_rate`)."""
         tr = self if rate is None else self.at_rate(rate)
         return tr._csv()
 
     def _csv(self) -> str:
-        names = np.asarray(self.edge_names, dtype=object)
+        names = np.asarray([csv_field(n) for n in self.edge_names], dtype=object)
         e, o, d = self._positions()
         col: dict[str, Any] = {"time": self.t}
         for r, x in enumerate("ab"):
@@ -457,9 +888,12 @@ class Trajectory:
                 }
             )
         columns = self.columns
-        if columns[-1] == "b_y":
+        if "b_y" in columns:
             p = self.xy()
             col.update({"a_x": p[:, 0, 0], "a_y": p[:, 0, 1], "b_x": p[:, 1, 0], "b_y": p[:, 1, 1]})
+        if "b_heading" in columns:
+            h = self.headings()
+            col.update({"a_heading": h[:, 0], "b_heading": h[:, 1]})
         text = []
         for name in columns:
             x = col[name]
@@ -470,7 +904,7 @@ class Trajectory:
             else:
                 text.append(np.char.mod("%.12g", x))
         buf = io.StringIO()
-        buf.write(",".join(columns) + "\n")
+        buf.write(csv_line(columns))
         if len(self.t):
             rows = text[0].astype(object)
             for x in text[1:]:
@@ -483,9 +917,16 @@ class Trajectory:
 
         At another rate the rows are verified at that rate first (see :meth:`at_rate`); nothing is written
         if that fails.
+
+        Raises
+        ------
+        InvalidInputError
+            ``path`` is not a file path (empty, a directory, not a string or path), the file cannot be written
+            (the message names the path and the reason), or ``rate`` is invalid or too low.
         """
+        target = check_output_path(path)
         text = self.csv_text(rate)
-        atomic_write_text(path, text)
+        write_output_file(target, text)
 
     def margins(self) -> Any:
         """Tracking margin and delay tolerance (:func:`trajopt.margins.margins`; computed once)."""
@@ -522,9 +963,25 @@ class Trajectory:
         else:
             track, start, goal = plan.track.to_dict(), plan.start.tolist(), plan.goal.tolist()
             units = {"time": "s", "track": "m", "offset": "m", "s": "m", "v": "m/s", "a": "m/s^2", "j": "m/s^3"}
-        if self.columns[-1] == "b_y":
+        if "b_y" in self.columns:
             units["x"] = units["y"] = "m"
-        return {
+        extra: dict[str, Any] = {}
+        if self.footprint is not None:
+            units["heading"] = "rad"
+            plane = dict(self.plane or {})
+            gap = float(plane.get("min_gap_plane", float("nan")))
+            from mpa.footprint import drawing_of
+
+            scale = float(np.max(np.hypot(*drawing_of(plan_view(plan).graph).piece_dir.T)))
+            extra = {
+                "footprint": self.footprint.to_dict(),
+                "min_gap_plane": gap,
+                # each cart may lag or lead its setpoint by this much along its track (both at once) while the
+                # bodies stay apart in the plane (translation; turning at corners not included)
+                "tracking_margin_plane": max(0.0, gap) / (2.0 * scale),
+                "plane": plane,
+            }
+        return extra | {
             "makespan": self.makespan,
             "motion_time": self.motion_time,
             "min_separation": self.min_separation,
@@ -560,5 +1017,12 @@ class Trajectory:
         return plan_view(self.plan).route_lists(self.s)
 
     def to_json(self, path: str | os.PathLike[str]) -> None:
-        """Write :meth:`summary` as JSON (atomically)."""
-        atomic_write_text(path, json.dumps(self.summary(), indent=2, default=_json_default) + "\n")
+        """Write :meth:`summary` as JSON (atomically).
+
+        Raises
+        ------
+        InvalidInputError
+            ``path`` is not a file path, or the file cannot be written (the message names the path and the reason).
+        """
+        target = check_output_path(path)
+        write_output_file(target, json.dumps(self.summary(), indent=2, default=_json_default) + "\n")

@@ -110,8 +110,8 @@ def _line_path(ends: FloatArray) -> BlendedPath:
     seg = ends[1] - ends[0]
     x, y = float(seg[0]), float(seg[1])
     length = math.sqrt(x * x + y * y)  # as np.linalg.norm (bit for bit)
-    if length <= 1e-12:  # no straight piece: blend_polyline's single point (or its error)
-        return blend_polyline(ends)
+    if length <= 1e-12:  # no straight piece: blend_polyline's single point (start == goal), or its error
+        return blend_polyline(ends[:1] if length == 0.0 else ends)
     u = seg / length
     coef = np.zeros((1, 6, 2))
     coef[0, 0], coef[0, 1] = ends[0], u

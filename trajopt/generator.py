@@ -17,8 +17,10 @@ clearance used (it then passes the gate only at a higher rate, which the error n
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -26,6 +28,7 @@ from numpy.typing import ArrayLike
 
 from mpa import defaults
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
+from mpa.footprint import Footprints, drawing_of, footprints
 from mpa.geometry import RouteGeometry
 from mpa.graph_track import GraphTrack
 from mpa.plan import Plan
@@ -36,12 +39,17 @@ from mpa.tracks import Track
 from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
 from trajopt.export import Source, Trajectory, check_rate, time_grid, verified_rows
 from trajopt.fastpath import straight_scaling
-from trajopt.planview import plan_view
+from trajopt.planview import densify, plan_view
 from trajopt.switch import near_switch_scaling, switch_band
 from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling
 from trajopt.verify import VerificationError, VerificationReport, class_failures_only
 
 __all__ = ["RATE_LADDER", "GraphPlanner", "TrajectoryGenerator", "generate_trajectory", "separation_margin"]
+
+
+#: Factor of :attr:`TrajectoryGenerator.motion_limits`: accelerations above ``LIMIT_CAP·vmax·rate`` and jerks above
+#: ``LIMIT_CAP·amax·rate`` are not used.
+LIMIT_CAP = 10.0
 
 
 def separation_margin(limits: Limits, rate: float) -> float:
@@ -80,6 +88,8 @@ class GraphPlanner:
     speeds: tuple[float, float]
     margin: float = 0.0
     objective: str = "fastest"
+    footprint: Footprints | None = None
+    plane_margin: float = 0.0
 
     def __post_init__(self) -> None:
         c = self.clearance
@@ -98,12 +108,28 @@ class GraphPlanner:
         NoMotionError
             No collision-free motion exists (the message says why).
         """
+        fp = self.footprint
+        if fp is not None and self.plane_margin > 0:  # the bodies grown by the gate's between-rows margin first
+            try:
+                return plan_graph(
+                    self.track,
+                    start,
+                    goal,
+                    self.clearance + self.margin,
+                    self.objective,
+                    self.speeds,
+                    fp.inflated(0.5 * self.plane_margin),
+                )
+            except (InvalidInputError, NoMotionError):
+                pass  # the bare footprint decides (and names the error)
         if self.margin > 0:
             try:
-                return plan_graph(self.track, start, goal, self.clearance + self.margin, self.objective, self.speeds)
+                return plan_graph(
+                    self.track, start, goal, self.clearance + self.margin, self.objective, self.speeds, fp
+                )
             except (InvalidInputError, NoMotionError):
                 pass  # the bare clearance decides (and names the error)
-        return plan_graph(self.track, start, goal, self.clearance, self.objective, self.speeds)
+        return plan_graph(self.track, start, goal, self.clearance, self.objective, self.speeds, fp)
 
 
 @dataclass
@@ -126,6 +152,9 @@ class TrajectoryGenerator:
     objective : {"fastest", "shortest"}
         On a layout, the graph planner's objective (default ``"fastest"``: minimum time at the speed limits).
         A paper track planned by the graph planner is its layout form, ``track.as_graph_track()``.
+    footprint : None, mpa.Disc, mpa.Rectangle, pair or spec string
+        The robots' bodies in the plane (layouts with coordinates): the plan keeps them apart in the drawing
+        (:mod:`mpa.planar`) and the gate checks it at and between rows (:mod:`trajopt.planar_gate`).
 
     Raises
     ------
@@ -147,6 +176,7 @@ class TrajectoryGenerator:
     rate: float = defaults.RATE
     optimize: bool = True
     objective: str = "fastest"
+    footprint: Any = None
     planner: Planner | GraphPlanner = field(init=False, repr=False)
     _corridor: CorridorProblem | None = field(default=None, init=False, repr=False)
 
@@ -156,8 +186,40 @@ class TrajectoryGenerator:
         self.rate = check_rate(self.rate)
         if self.objective not in OBJECTIVES:
             raise InvalidInputError(f"objective is {self.objective!r}, expected one of {', '.join(OBJECTIVES)}")
+        self.footprint = footprints(self.footprint)
+        if self.footprint is not None and not isinstance(self.track, GraphTrack):
+            raise InvalidInputError(
+                f"footprint is {self.footprint.spec()!r} on {self.track!r}, expected a layout (GraphTrack): pass "
+                "track.as_graph_track() and positions on it"
+            )
         self.planner = self._make_planner()
         self.clearance = self.planner.clearance
+
+    @property
+    def motion_limits(self) -> Limits:
+        """The limits the motion is timed with: :attr:`limits`, with accelerations above ``CAP·vmax·rate`` or
+        ``sqrt(vmax·jmax)`` and jerks above ``CAP·amax·rate`` (``CAP`` = :data:`LIMIT_CAP`, per robot) lowered
+        to those values.
+
+        A time-optimal jerk-limited rest-to-rest profile never accelerates beyond ``sqrt(vmax·jmax)`` (the speed
+        limit is reached before), so that cap costs nothing and keeps the timing filters away from plateaus of
+        ``amax/jmax`` seconds (amax 1e4 with jmax 5 gave a 4 097 s motion).
+
+        A higher acceleration reaches the speed limit in less than a tenth of a row, so it cannot shorten the
+        motion by more than a row per start or stop; it would only widen the between-rows margin
+        (:func:`separation_margin`) and force slower detours. The motion keeps the lower values, so it also keeps
+        :attr:`limits`, which the gate checks; the makespan does not grow when a limit is loosened past them.
+        """
+        v, a, j = self.limits.v, self.limits.a, self.limits.j
+        with np.errstate(over="ignore"):  # a huge rate: no cap (inf), the memory budget refuses it later
+            a_eff = np.minimum(np.minimum(a, LIMIT_CAP * v * self.rate), np.sqrt(v * j))
+            j_eff = np.minimum(j, LIMIT_CAP * a_eff * self.rate)
+        if np.array_equal(a_eff, a) and np.array_equal(j_eff, j):
+            return self.limits
+        capped = object.__new__(Limits)  # lower than valid limits, so valid (not checked against the range again)
+        for name, x in (("vmax", v), ("amax", a_eff), ("jmax", j_eff)):
+            object.__setattr__(capped, name, (float(x[0]), float(x[1])))
+        return capped
 
     @property
     def is_graph(self) -> bool:
@@ -167,9 +229,25 @@ class TrajectoryGenerator:
     def _make_planner(self) -> Planner | GraphPlanner:
         if isinstance(self.track, GraphTrack):
             speeds = (float(self.limits.v[0]), float(self.limits.v[1]))
-            margin = separation_margin(self.limits, self.rate)
-            return GraphPlanner(self.track, self.clearance, speeds, margin, self.objective)
+            return GraphPlanner(
+                self.track,
+                self.clearance,
+                speeds,
+                separation_margin(self.motion_limits, self.rate),
+                objective=self.objective,
+                footprint=self.footprint,
+                plane_margin=self._plane_margin(self.rate),
+            )
         return make_planner(self.track, self.clearance)
+
+    def _plane_margin(self, rate: float) -> float:
+        if self.footprint is None or not isinstance(self.track, GraphTrack):
+            return 0.0
+        from trajopt.planar_gate import plane_margin
+
+        d = drawing_of(self.track)
+        scale = float(np.max(np.hypot(*d.piece_dir.T)))
+        return plane_margin(self.footprint, self.limits.v, self.limits.a, rate, scale)
 
     # ---------------------------------------------------------------------------------------------
     def plan(self, start: Any, goal: Any) -> Plan | GraphPlan:
@@ -228,10 +306,33 @@ class TrajectoryGenerator:
         try:
             return self._generate(plan, timings)
         except _RejectedError as exc:
-            why = self._explain_rejection(plan)
+            why = self._explain_rejection(plan) or self._explain_threshold(plan)
             if why:
                 raise InvalidInputError(why) from None
             raise PlanningError(str(exc)) from exc
+
+    def _explain_threshold(self, plan: Plan | GraphPlan) -> str:
+        """At a threshold clearance (the plan keeps exactly D somewhere while the robots move) no rate can be
+        verified: the gate's bound between rows loses ``a·Δt²/8``. Names a slightly lower clearance that gives
+        verified setpoints (tried here, at most three), or "" if the plan is not at a threshold or none works."""
+        margin = separation_margin(self.motion_limits, self.rate)
+        if self.clearance <= 0 or float(plan.min_distance()) - self.clearance >= margin:
+            return ""
+        for drop in (2.0 * margin, 1e-3 * self.clearance, 1e-2 * self.clearance):
+            lower = self.clearance - drop
+            if lower <= 0:
+                continue
+            try:
+                gen = TrajectoryGenerator(self.track, clearance=lower, limits=self.limits, rate=self.rate)
+                gen._generate(gen.plan(plan.start, plan.goal), None)  # no explanation of its own (no recursion)
+            except (MPAError, _RejectedError):
+                continue
+            return (
+                f"clearance {self.clearance!r} m is at the threshold of this motion: the robots must pass exactly "
+                f"{self.clearance!r} m apart while moving, which setpoints at no rate can verify (between rows they "
+                f"may come closer); expected a clearance below it: {lower:.6g} m works at {self.rate:g} Hz"
+            )
+        return ""
 
     def at_rate(self, rate: float) -> TrajectoryGenerator:
         """The same generator at another setpoint rate (Hz; the planner is shared)."""
@@ -244,12 +345,20 @@ class TrajectoryGenerator:
             self.objective,
             self.planner,
         )
+        gen.footprint = self.footprint
         gen.rate = check_rate(rate)
         gen._corridor = self._corridor
         if isinstance(self.planner, GraphPlanner):  # the plan's margin depends on the rate
             pl = self.planner
-            margin = separation_margin(self.limits, gen.rate)
-            gen.planner = GraphPlanner(pl.track, pl.clearance, pl.speeds, margin, pl.objective)
+            gen.planner = GraphPlanner(
+                pl.track,
+                pl.clearance,
+                pl.speeds,
+                separation_margin(gen.motion_limits, gen.rate),
+                objective=pl.objective,
+                footprint=self.footprint,
+                plane_margin=self._plane_margin(gen.rate),
+            )
         return gen
 
     def _attempt(self, plan: Plan | GraphPlan) -> Trajectory:
@@ -294,16 +403,21 @@ class TrajectoryGenerator:
 
     def _explain_rejection(self, plan: Plan | GraphPlan) -> str:
         """Why every candidate of ``plan`` fails the gate at this rate, if the caller can fix it ("" if not)."""
+        if self.footprint is not None and isinstance(plan, GraphPlan):
+            why = self._explain_plane(plan)
+            if why:
+                return why
         best = self.lowest_rate(plan)
-        margin = separation_margin(self.limits, self.rate)
+        margin = separation_margin(self.motion_limits, self.rate)
         if best is not None:
             slack = float(plan.min_distance()) - self.clearance
             tight = ""
             if slack < margin:  # the layout itself leaves (almost) no room: say so, and what clearance would do
+                lower = self.clearance + slack - 2.0 * margin
                 tight = (
                     f" (the motion's closest approach keeps only {max(slack, 0.0):.3g} m beyond the clearance, the "
-                    f"most this track allows here, and setpoints at {self.rate:g} Hz need {margin:.3g} m; or lower "
-                    f"the clearance to about {self.clearance + slack - 2.0 * margin:.6g} m)"
+                    f"most this track allows here, and setpoints at {self.rate:g} Hz need {margin:.3g} m"
+                    + (f"; or lower the clearance to about {lower:.6g} m)" if lower > 0.0 else ")")
                 )
             return (
                 f"rate is {self.rate!r} Hz, too low for this motion: between rows the robots could come closer "
@@ -328,6 +442,11 @@ class TrajectoryGenerator:
         return ""
 
     def _generate(self, plan: Plan | GraphPlan, timings: dict[str, Any] | None = None) -> Trajectory:
+        capped = route_speed_limits(plan, self.limits)
+        if capped is not self.limits:  # lanes with speed limits: each robot at most its route's lowest limit
+            gen = copy.copy(self)
+            gen.limits = capped
+            return gen._generate(plan, timings)
         timings = dict(timings or {})
         t_all = time.perf_counter()
         view = plan_view(plan)
@@ -352,7 +471,7 @@ class TrajectoryGenerator:
         t1 = time.perf_counter()
         try:
             path = blend_polyline(_dedupe(view.waypoints))
-            scaling = jerk_limited_scaling(path, self.limits)
+            scaling = jerk_limited_scaling(path, self.motion_limits)
         except (MPAError, RuntimeError, ArithmeticError, ValueError) as exc:
             raise _RejectedError(f"the re-timed plan cannot be computed ({exc}); after: {reason}") from exc
         timings["fallback_jerk"] = time.perf_counter() - t1
@@ -384,20 +503,33 @@ class TrajectoryGenerator:
     def _optimized(
         self, plan: Plan | GraphPlan, geom: RouteGeometry, timings: dict[str, Any], stats: dict[str, Any]
     ) -> Trajectory:
-        sep = self.clearance + separation_margin(self.limits, self.rate)
+        sep = self.clearance + separation_margin(self.motion_limits, self.rate)
         t0 = time.perf_counter()
         view = plan_view(plan)
-        line = geom.polyline_min_distance(view.waypoints[[0, -1]])
-        band = 0.0 if view.is_graph else switch_band(self.track)
+        # start == goal: a motion of zero length (one row at rest); the straight "line" is a single point
+        line = float("inf") if plan.length <= 0 else geom.polyline_min_distance(view.waypoints[[0, -1]])
+        plane = self.footprint is not None and plan.length > 0
+        if plane:
+            line = min(line, sep + self._plane_chord_slack(view, view.waypoints[[0, -1]]))
+        # the switch bands (paper plans without bodies in the plane: the corridor keeps the graph distance only)
+        band = 0.0 if view.is_graph or plane else switch_band(self.track)
         if line >= sep or plan.length <= 0:  # the fast path: one phase-synchronised profile along the straight line
-            scaling = straight_scaling(plan, self.limits)
+            scaling = straight_scaling(plan, self.motion_limits)
             timings["jerk"] = time.perf_counter() - t0
             stats.update(scaling.stats, path="fast", line_clearance=line)
             timed: TimeScaling | None = scaling
             if plan.length > 0 and line < sep + 2.0 * band:  # near the switch: the hard path turned into this one
                 try:
                     timed, st = near_switch_scaling(
-                        plan, geom, sep, self.limits, self._corridor_problem(), line - sep, band, scaling, timings
+                        plan,
+                        geom,
+                        sep,
+                        self.motion_limits,
+                        self._corridor_problem(),
+                        line - sep,
+                        band,
+                        scaling,
+                        timings,
                     )
                     stats.clear()
                     stats.update(st, path="switch", line_clearance=line)
@@ -417,7 +549,7 @@ class TrajectoryGenerator:
                 stats.clear()
                 stats["line_other_class"] = True
         if not isinstance(plan, GraphPlan):
-            scaling, st = hard_path_scaling(plan, geom, sep, self.limits, self._corridor_problem(), timings)
+            scaling, st = hard_path_scaling(plan, geom, sep, self.motion_limits, self._corridor_problem(), timings)
             stats.update(st, path="hard", line_clearance=line)
         else:
             # A graph plan is taut: it touches the clearance (plus the margin) at its corners, so the corridor has
@@ -426,10 +558,13 @@ class TrajectoryGenerator:
             t1 = time.perf_counter()
 
             def chord_min(pts: np.ndarray) -> float:
-                return float(np.min(geom.segment_min_distances(pts)))
+                d = float(np.min(geom.segment_min_distances(pts)))
+                if self.footprint is not None:
+                    d = min(d, sep + self._plane_chord_slack(view, pts))
+                return d
 
             path = blend_polyline(_dedupe(view_waypoints(plan)), chord_min, sep)
-            scaling = jerk_limited_scaling(path, self.limits)
+            scaling = jerk_limited_scaling(path, self.motion_limits)
             timings["blend"] = time.perf_counter() - t1
             stats.update(scaling.stats, path="blend", line_clearance=line, blends=int(np.sum(path.radii > 0)))
         return self._finish(plan, scaling, Source.OPTIMIZED, "", stats, timings)
@@ -439,6 +574,36 @@ class TrajectoryGenerator:
         if self._corridor is None:
             self._corridor = CorridorProblem(CORRIDOR_SEGMENTS, self.limits.v)
         return self._corridor
+
+    def _explain_plane(self, plan: GraphPlan) -> str:
+        """The bodies pass closer than the gate's between-rows margin at this rate ("" if they do not)."""
+        from trajopt.planar_gate import row_gaps
+
+        assert self.footprint is not None
+        view = plan_view(plan)
+        e, o = view.positions(densify(view.waypoints, 0.01))
+        g = row_gaps(view.graph, self.footprint, e, o)
+        need = 0.5 * self._plane_margin(self.rate)
+        low = float(np.min(g))
+        if low >= need:
+            return ""
+        where = "at the start" if g[0] < need else ("at the goal" if g[-1] < need else "on the only way there")
+        return (
+            f"footprint {self.footprint.spec()}: the bodies come within {max(low, 0.0):.3g} m of each other {where}, "
+            f"and setpoints at {self.rate:g} Hz are verified between rows only with {need:.3g} m between them; "
+            "use smaller bodies, start or goal further apart, or a higher rate"
+        )
+
+    def _plane_chord_slack(self, view: Any, pts: np.ndarray) -> float:
+        """How far the bodies stay beyond the plane margin along a polyline in route coordinates, sampled every
+        1 cm (negative: closer; the gate decides exactly)."""
+        from trajopt.planar_gate import row_gaps
+
+        assert self.footprint is not None
+        dense = densify(pts, 0.01)
+        e, o = view.positions(dense)
+        gaps = row_gaps(view.graph, self.footprint, e, o)
+        return float(np.min(gaps)) - 0.5 * self._plane_margin(self.rate)
 
     def _finish(
         self,
@@ -470,6 +635,17 @@ class TrajectoryGenerator:
         timings["verify" if source is Source.OPTIMIZED else "fallback_verify"] = time.perf_counter() - t1
         if not rep.ok:
             raise VerificationError(rep)
+        plane = None
+        if self.footprint is not None:
+            from trajopt.planar_gate import verify_plane
+
+            e, o = view.positions(s, v)
+            t2 = time.perf_counter()
+            prep = verify_plane(view.graph, self.footprint, e, o, v, amax=self.limits.a, rate=self.rate)
+            timings["verify_plane"] = time.perf_counter() - t2
+            if not prep.ok:
+                raise VerificationError(replace(rep, ok=False, failures=rep.failures + prep.failures))
+            plane = prep.to_dict()
         return Trajectory(
             **verified_rows(t, tr, (s, v, a, j), rep),
             limits=self.limits,
@@ -485,6 +661,8 @@ class TrajectoryGenerator:
             plan=plan,
             sampler=scaling.sample,
             retimer=self._retimer(plan),
+            footprint=self.footprint,
+            plane=plane,
         )
 
     def _retimer(self, plan: Plan | GraphPlan) -> Any:
@@ -496,6 +674,25 @@ class TrajectoryGenerator:
 
 class _RejectedError(PlanningError):
     """Neither the optimised motion nor the re-timed plan passes the gate (the caller may be told why)."""
+
+
+def route_speed_limits(plan: Plan | GraphPlan, limits: Limits) -> Limits:
+    """``limits`` with each robot's speed capped by the lowest speed limit of the edges its route travels.
+
+    The setpoints then keep every lane's limit on every row (checked by the gate); on a route whose edges have
+    different limits the robot drives its whole route at the lowest one (conservative, not time-optimal). Returns
+    ``limits`` itself when no edge of the routes has a limit.
+    """
+    if not isinstance(plan, GraphPlan) or not plan.track.has_rules:
+        return limits
+    caps = []
+    for route, v in zip((plan.route_a, plan.route_b), limits.vmax):
+        lengths = np.diff(route.breaks)
+        lims = [plan.track.speed_limits[int(e)] for e, ln in zip(route.edges, lengths) if ln > 0]
+        caps.append(min([v, *[x for x in lims if x is not None]]))
+    if tuple(caps) == tuple(limits.vmax):
+        return limits
+    return dataclasses.replace(limits, vmax=tuple(caps))
 
 
 def _ladder(lo: float, hi: float) -> list[float]:
@@ -540,6 +737,7 @@ def generate_trajectory(
     rate: float = defaults.RATE,
     delay_tolerance: float | None = None,
     min_margin: float | None = None,
+    footprint: Any = None,
 ) -> Trajectory:
     """One call from a query to a verified jerk-limited :class:`~trajopt.export.Trajectory`.
 
@@ -559,6 +757,8 @@ def generate_trajectory(
         Ask for a delay tolerance of at least this (s; see :mod:`trajopt.delay`).
     min_margin : float, optional
         Ask for a tracking margin of at least this (m; see :mod:`trajopt.min_margin`).
+    footprint : None, mpa.Disc, mpa.Rectangle, pair or spec string
+        The robots' bodies in the plane (layouts with coordinates; see :class:`TrajectoryGenerator`).
 
     Returns
     -------
@@ -580,5 +780,7 @@ def generate_trajectory(
     >>> traj.t.shape[0] == traj.s.shape[0], traj.fallback
     (True, False)
     """
-    gen = TrajectoryGenerator(track, clearance=clearance, limits=Limits(vmax, amax, jmax), rate=rate)
+    gen = TrajectoryGenerator(
+        track, clearance=clearance, limits=Limits(vmax, amax, jmax), rate=rate, footprint=footprint
+    )
     return gen.generate(start, goal, delay_tolerance=delay_tolerance, min_margin=min_margin)

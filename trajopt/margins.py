@@ -64,6 +64,8 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 #: Rate of the dense grid (Hz).
 DENSE_RATE = 1000.0
+#: Largest number of rows of a dense grid: longer motions get a lower dense rate (a bounded cost).
+MAX_DENSE_ROWS = 20_000
 #: Precision of the minimum separation (m).
 MIN_PRECISION = 1e-9
 #: Resolution of the delay tolerance (s).
@@ -137,9 +139,12 @@ class _Motion:
             self.routes = plan.routes
         self.graph = view.is_graph
         self.T = float(trajectory.motion_time)
-        _, v, _, _ = trajectory.sampler(np.linspace(0.0, self.T, max(2, int(self.T * DENSE_RATE) + 1)))
+        # the dense grid's rate: DENSE_RATE, lowered for long motions so that a grid has at most MAX_DENSE_ROWS
+        # rows (the bounds stay lower bounds at any step, only looser): a bounded cost per search step
+        self.rate = min(DENSE_RATE, MAX_DENSE_ROWS / max(self.T, 1e-9))
+        _, v, _, _ = trajectory.sampler(np.linspace(0.0, self.T, max(2, int(self.T * self.rate) + 1)))
         lim = trajectory.limits
-        self.vpeak = np.minimum(np.max(np.abs(v), axis=0) + lim.a / DENSE_RATE, lim.v)
+        self.vpeak = np.minimum(np.max(np.abs(v), axis=0) + lim.a / self.rate, lim.v)
 
     def states(self, t: FloatArray, delay: FloatArray) -> tuple[FloatArray, FloatArray]:
         s0, _, a0, _ = self.traj.sampler(t - delay[0])
@@ -156,12 +161,47 @@ class _Motion:
     def grid(self, delay: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Times, separations at the rows, between-rows lower bounds for a motion with delays (s)."""
         end = self.T + float(np.max(delay))
-        n = int(np.ceil(end * DENSE_RATE - 1e-9)) + 1
-        t = np.arange(max(n, 2)) / DENSE_RATE
+        n = int(np.ceil(end * self.rate - 1e-9)) + 1
+        t = np.arange(max(n, 2)) / self.rate
         s, a = self.states(t, delay)
         d = self.dist(s)
-        lb = between_rows_separation(self.track, self.routes, s, a, 1.0 / DENSE_RATE, self.traj.limits)
+        lb = between_rows_separation(self.track, self.routes, s, a, 1.0 / self.rate, self.traj.limits)
         return t, d, lb
+
+    def _near_rows(self, delay: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """:meth:`grid` restricted to the rows that can hold the minimum: rows, separations, between-rows bounds.
+
+        Blocks of ``w`` rows from ``t_0`` whose bound ``d(t_0) − (V_A + V_B)·w·Δt`` is above the smallest
+        separation sampled so far cannot hold the minimum (each cart moves at most its peak speed ``V`` times the
+        time) and are dropped; the others are cut into 8, down to blocks of 8 steps, whose rows are returned with
+        the bounds between them (``inf`` across the gaps between blocks). Every row dropped has a separation
+        above the returned minimum, so the minimum and the rows to refine are those of the full grid.
+        """
+        end = self.T + float(np.max(delay))
+        n_rows = max(int(np.ceil(end * self.rate - 1e-9)) + 1, 2)
+        dt = 1.0 / self.rate
+        v = float(np.sum(self.vpeak))
+        w = 8
+        while w * 8 < n_rows:
+            w *= 8
+        starts = np.arange(0, n_rows - 1, w, dtype=np.int64)
+        best = math.inf
+        while w > 8:
+            s, _ = self.states(starts / self.rate, delay)
+            d = self.dist(s)
+            best = min(best, float(np.min(d)))
+            starts = starts[d - v * w * dt <= best]
+            w //= 8
+            starts = (starts[:, None] + w * np.arange(8)[None, :]).ravel()
+            starts = starts[starts < n_rows - 1]
+        k = np.minimum(starts[:, None] + np.arange(9)[None, :], n_rows - 1).ravel()
+        t = k / self.rate
+        s, a = self.states(t, delay)
+        d = self.dist(s)
+        lb = between_rows_separation(self.track, self.routes, s, a, dt, self.traj.limits)
+        lb = np.append(lb, np.inf).reshape(-1, 9)
+        lb[:, 8] = np.inf  # no step across the gap to the next block
+        return t, d, lb.ravel()[:-1]
 
     def exact_min(self, delay: FloatArray) -> tuple[float, float]:
         """Minimum separation of the continuous motion (m) and its time (s), to :data:`MIN_PRECISION`.
@@ -170,11 +210,11 @@ class _Motion:
         separation found minus :data:`MIN_PRECISION` are cut into 8 and bounded again, down to steps of
         ``Δt/8⁴``.
         """
-        t, d, lb = self.grid(delay)
+        t, d, lb = self._near_rows(delay)
         k = int(np.argmin(d))
         best, t_best = float(d[k]), float(t[k])
         lo = t[:-1][lb < best - MIN_PRECISION]
-        w = 1.0 / DENSE_RATE
+        w = 1.0 / self.rate
         u = np.arange(9) / 8.0
         for _ in range(4):
             if len(lo) == 0:
@@ -196,28 +236,13 @@ class _Motion:
         D = self.traj.clearance - SEPARATION_TOL
         if self.T <= 0.0 or float(self.vpeak[robot]) <= 0.0:
             return math.inf, True
-        dt = 1.0 / DENSE_RATE
-        amax = float(self.traj.limits.a[robot])
         delta, h = 0.0, DELAY_STEP
         self.steps = 0
         while delta <= self.T:
             self.steps += 1
             if self.steps > MAX_DELAY_STEPS:
                 return delta, False
-            delay = np.zeros(2)
-            delay[robot] = delta
-            # rows until both motions have ended for every delay in [δ, δ + h]
-            t = np.arange(int(np.ceil((self.T + delta + h) * DENSE_RATE)) + 2) / DENSE_RATE
-            s, a = self.states(t, delay)
-            speed = np.abs(self.traj.sampler(t - delta)[1][:, robot])
-            lb = between_rows_separation(self.track, self.routes, s, a, dt, self.traj.limits)
-            # peak speed of the delayed cart over u in [t_k − δ − h, t_k+1 − δ] (samples k−m … k+1)
-            m = int(np.ceil(h * DENSE_RATE))
-            win = _window_max(np.concatenate([np.zeros(m), speed]), m + 2)
-            u0, u1 = t[:-1] - delta - h, t[1:] - delta
-            moving = (u1 > 0.0) & (u0 < self.T)
-            bound = lb - h * np.where(moving, win + amax * dt / 2.0, 0.0)
-            if float(np.min(bound)) >= D:
+            if self._delay_interval_holds(robot, delta, h, D):
                 delta += h
                 h = min(2.0 * h, DELAY_STEP)
             elif h <= DELAY_PRECISION:
@@ -226,15 +251,84 @@ class _Motion:
                 h /= 2.0
         return math.inf, True
 
+    def _own_speed_max(self, robot: int) -> list[FloatArray]:
+        """Sparse table of the cart's sampled speed on its own grid ``j/the dense rate``: level q holds
+        ``max(|v_j| … |v_{j+2^q−1}|)`` (built once per robot, levels added as needed)."""
+        cache = self.__dict__.setdefault("_speed_tables", {})
+        if robot not in cache:
+            n = int(np.ceil(self.T * self.rate - 1e-9)) + 1
+            u = np.minimum(np.arange(n) / self.rate, self.T)
+            cache[robot] = [np.abs(self.traj.sampler(u)[1][:, robot])]
+        table: list[FloatArray] = cache[robot]
+        return table
 
-def _window_max(x: FloatArray, w: int) -> FloatArray:
-    """``max(x[i : i + w])`` for ``i = 0 … len(x) − w`` (doubling: O(n log w))."""
-    p, m = 1, x
-    while 2 * p <= w:
-        m = np.maximum(m[:-p], m[p:])
-        p *= 2
-    n = len(x) - w + 1
-    return np.maximum(m[:n], m[w - p : w - p + n])
+    def _peak_speed(self, robot: int, u0: FloatArray, u1: FloatArray) -> FloatArray:
+        """An upper bound of the cart's speed over its own times ``[u0, u1]`` (m/s; 0 where it rests throughout).
+
+        The largest sampled ``|v|`` on the own grid steps that cover the range, plus ``amax·Δt/2`` (between two
+        samples ``|v|`` exceeds the larger by at most that).
+        """
+        dt = 1.0 / self.rate
+        table = self._own_speed_max(robot)
+        n = len(table[0])
+        j0 = np.clip(np.floor(u0 / dt).astype(np.int64), 0, n - 1)
+        j1 = np.clip(np.ceil(u1 / dt).astype(np.int64), 0, n - 1)
+        width = j1 - j0 + 1
+        q = int(np.floor(np.log2(max(int(width.max()), 1))))
+        while len(table) <= q:
+            p = 1 << (len(table) - 1)
+            prev = table[-1]
+            table.append(np.maximum(prev[:-p], prev[p:]) if len(prev) > p else prev[:0])
+        lev = np.floor(np.log2(np.maximum(width, 1))).astype(np.int64)
+        out = np.empty(len(u0))
+        for level in np.unique(lev):
+            sel = lev == level
+            t_l = table[int(level)]
+            p = 1 << int(level)
+            out[sel] = np.maximum(t_l[j0[sel]], t_l[j1[sel] - p + 1])
+        moving = (u1 > 0.0) & (u0 < self.T)
+        amax = float(self.traj.limits.a[robot])
+        return np.where(moving, np.minimum(out + amax * dt / 2.0, float(self.traj.limits.v[robot])), 0.0)
+
+    def _delay_interval_holds(self, robot: int, delta: float, h: float, D: float) -> bool:
+        """Whether ``F(δ') >= D`` for every delay ``δ' ∈ [δ, δ + h]`` of ``robot`` (a rigorous bound).
+
+        Branch and bound over the rows ``t_k = k/self.rate`` up to ``T + δ + h``: a block of ``w`` rows from
+        ``t_0`` is cleared when ``d(t_0) − V_r·(w·Δt + h) − V_o·w·Δt >= D`` (each cart moves at most its peak
+        speed ``V`` times the time; the graph metric is 1-Lipschitz along a route), else cut into 8 blocks;
+        blocks of 8 rows are decided by the gate's between-rows bound minus ``h·V_k`` (``V_k`` the delayed
+        cart's peak speed over the own times of step k and the delays), as in the module docstring. The cost
+        follows the rows near a contact, not the length of the motion.
+        """
+        dt = 1.0 / self.rate
+        other = 1 - robot
+        delay = np.zeros(2)
+        delay[robot] = delta
+        n_rows = int(np.ceil((self.T + delta + h) * self.rate)) + 2
+        vr, vo = float(self.vpeak[robot]), float(self.vpeak[other])
+        w = 8
+        while w * 8 < n_rows:
+            w *= 8
+        starts = np.arange(0, n_rows - 1, w, dtype=np.int64)
+        while w > 8:
+            t0 = starts / self.rate
+            s, _ = self.states(t0, delay)
+            lower = self.dist(s) - vr * (w * dt + h) - vo * w * dt
+            starts = starts[lower < D]
+            if len(starts) == 0:
+                return True
+            w //= 8
+            starts = (starts[:, None] + w * np.arange(8)[None, :]).ravel()
+            starts = starts[starts < n_rows - 1]
+        # blocks of 8 steps (9 rows): the between-rows bound, the pairs across blocks dropped
+        k = (starts[:, None] + np.arange(9)[None, :]).ravel()
+        t = k / self.rate
+        s, a = self.states(t, delay)
+        lb = between_rows_separation(self.track, self.routes, s, a, dt, self.traj.limits)
+        lb = np.append(lb, np.inf).reshape(-1, 9)[:, :8].ravel()
+        tk = (starts[:, None] + np.arange(8)[None, :]).ravel() / self.rate
+        speed = self._peak_speed(robot, tk - delta - h, tk + dt - delta)
+        return bool(np.min(lb - h * speed) >= D)
 
 
 def min_separation(trajectory: Trajectory) -> tuple[float, float]:

@@ -221,6 +221,8 @@ class PlanView:
             start=plan.start,
             goal=plan.goal,
             rate=rate,
+            oneway=self.graph.oneway if self.graph.has_rules else None,
+            speed_limits=self.graph.speed_limits if self.graph.has_rules else None,
         )
 
     def route_lists(self, s: ArrayLike | None = None) -> dict[str, list[dict[str, object]]]:

@@ -383,7 +383,7 @@ def _check_at_time(at_time: float, trajectory: Trajectory) -> float:
     """``at_time`` as seconds in ``[0, makespan]`` (InvalidInputError otherwise)."""
     try:
         at = float(at_time)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(f"at_time is {at_time!r}, expected a number of seconds") from None
     if not math.isfinite(at) or at < 0.0 or at > trajectory.makespan + 1e-12:
         raise InvalidInputError(f"at_time is {at!r} s, expected a time in [0, {trajectory.makespan:g}] s")

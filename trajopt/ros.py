@@ -217,7 +217,7 @@ def write_ros2_yaml(trajectory: Trajectory, path: str | os.PathLike[str], **kwar
 def _check_stamp(stamp_ns: Any) -> int:
     try:
         v = int(stamp_ns)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(f"stamp_ns is {stamp_ns!r}, expected a non-negative integer (ns)") from None
     if v != stamp_ns or v < 0:
         raise InvalidInputError(f"stamp_ns is {stamp_ns!r}, expected a non-negative integer (ns)")

@@ -63,10 +63,10 @@ BLEND_SAMPLES = 64
 BLEND_TRIES = 8
 
 
-def _pair(name: str, value: Any, unit: str) -> tuple[float, float]:
+def _pair(name: str, value: Any, unit: str, default: float) -> tuple[float, float]:
     try:
         arr = np.broadcast_to(np.asarray(value, dtype=float), (2,))
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(
             f"{name} is {value!r}, expected a positive finite number ({unit}) or one per robot"
         ) from None
@@ -74,6 +74,13 @@ def _pair(name: str, value: Any, unit: str) -> tuple[float, float]:
         if not np.isfinite(v) or v <= 0:
             who = "" if np.ndim(value) == 0 else f" of robot {'AB'[i]}"
             raise InvalidInputError(f"{name}{who} is {float(v)!r}, expected a positive finite number ({unit})")
+        lo, hi = (default * f for f in defaults.LIMIT_RANGE)
+        if not lo <= v <= hi:
+            who = "" if np.ndim(value) == 0 else f" of robot {'AB'[i]}"
+            raise InvalidInputError(
+                f"{name}{who} is {float(v)!r}, expected a number in [{lo:g}, {hi:g}] {unit} (the supported range: "
+                f"{defaults.LIMIT_RANGE[0]:g} to {defaults.LIMIT_RANGE[1]:g} times the default {default:g})"
+            )
     return float(arr[0]), float(arr[1])
 
 
@@ -95,7 +102,8 @@ class Limits:
     Raises
     ------
     InvalidInputError
-        A limit that is not a positive finite number.
+        A limit that is not a positive finite number, or outside the supported range
+        :data:`mpa.defaults.LIMIT_RANGE` (1e-3 to 1e4 times its default).
 
     Examples
     --------
@@ -108,9 +116,9 @@ class Limits:
     jmax: Any = defaults.JMAX
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "vmax", _pair("vmax", self.vmax, "m/s"))
-        object.__setattr__(self, "amax", _pair("amax", self.amax, "m/s^2"))
-        object.__setattr__(self, "jmax", _pair("jmax", self.jmax, "m/s^3"))
+        object.__setattr__(self, "vmax", _pair("vmax", self.vmax, "m/s", defaults.VMAX))
+        object.__setattr__(self, "amax", _pair("amax", self.amax, "m/s^2", defaults.AMAX))
+        object.__setattr__(self, "jmax", _pair("jmax", self.jmax, "m/s^3", defaults.JMAX))
 
     @property
     def v(self) -> FloatArray:

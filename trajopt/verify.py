@@ -24,6 +24,7 @@ validates the inputs, calls it and writes the messages from the numbers it retur
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -57,6 +58,7 @@ __all__ = [
     "VerificationReport",
     "between_rows_separation",
     "class_failures_only",
+    "lane_rule_failures",
     "skeleton_word",
     "verify_graph_setpoints",
     "verify_setpoints",
@@ -369,6 +371,8 @@ def verify_graph_setpoints(
     start: tuple[tuple[int, float], tuple[int, float]],
     goal: tuple[tuple[int, float], tuple[int, float]],
     rate: float,
+    oneway: Sequence[bool] | None = None,
+    speed_limits: Sequence[float | None] | None = None,
 ) -> VerificationReport:
     """Check a setpoint grid on any track graph (see the module docstring; no skeleton word on a graph).
 
@@ -391,12 +395,105 @@ def verify_graph_setpoints(
         Positions ``(edge, offset)`` of A and B.
     rate : float
         Row rate (Hz).
+    oneway : sequence of bool, optional
+        Per edge: one-way from its tail to its head. On every row a robot on such an edge moves along it or stands
+        (its offset's rate ``dir · v >= -1e-9`` m/s) and between rows its offset does not decrease (more than
+        ``POSITION_TOL``).
+    speed_limits : sequence of (float or None), optional
+        Per edge: the speed limit (m/s). On every row ``|v|`` of a robot on (or at a vertex of) the edge its route
+        piece runs on is at most the limit times ``1 + LIMIT_RTOL``.
 
     Returns
     -------
     VerificationReport
         Never raises for a failed check; ``ok`` is False and ``failures`` lists them; ``word`` is empty.
     """
+    rep = _verify_graph_rows(geometry, routes, t, edges, offsets, s, v, a, j, limits, clearance, start, goal, rate)
+    if oneway is None and speed_limits is None:
+        return rep
+    rule_fails = lane_rule_failures(routes, s, v, oneway, speed_limits)
+    if not rule_fails:
+        return rep
+    return dataclasses.replace(rep, ok=False, failures=(*rep.failures, *rule_fails))
+
+
+def lane_rule_failures(
+    routes: Sequence[DirectedRoute],
+    s: ArrayLike,
+    v: ArrayLike,
+    oneway: Sequence[bool] | None,
+    speed_limits: Sequence[float | None] | None,
+) -> list[str]:
+    """The rows where a robot drives a one-way edge backwards or exceeds an edge's speed limit.
+
+    Parameters
+    ----------
+    routes : sequence of DirectedRoute
+        Route of A and of B.
+    s, v : array_like, shape (N, 2)
+        Route coordinates (m) and speeds along the routes (m/s).
+    oneway, speed_limits : sequences, one entry per edge, or None
+        See :func:`verify_graph_setpoints`.
+
+    Returns
+    -------
+    list of str
+        One failure per robot and rule (the first row), empty when every row keeps the rules.
+    """
+    S, V = _rows(s), _rows(v)
+    fails: list[str] = []
+    for r in (0, 1):
+        route = routes[r]
+        br = np.asarray(route.breaks, dtype=float)
+        m = len(route.edges)
+        after = np.clip(np.searchsorted(br, S[:, r], side="right") - 1, 0, m - 1)
+        before = np.clip(np.searchsorted(br, S[:, r], side="left") - 1, 0, m - 1)
+        e_after, e_before = np.asarray(route.edges)[after], np.asarray(route.edges)[before]
+        rate_off = np.asarray(route.dirs)[after] * V[:, r]  # offset's rate on the edge moved onto (m/s)
+        if oneway is not None:
+            ow = np.asarray(oneway, dtype=bool)
+            bad = np.nonzero(ow[e_after] & (rate_off < -1e-9))[0]
+            # between rows: on one piece of a one-way edge the offset never decreases
+            same = after[1:] == after[:-1]
+            dr = np.asarray(route.dirs)[after[1:]] * np.diff(S[:, r])
+            back = np.nonzero(same & ow[e_after[1:]] & (dr < -POSITION_TOL))[0]
+            if len(bad) or len(back):
+                k = int(bad[0]) if len(bad) else int(back[0]) + 1
+                fails.append(
+                    f"row {k}: robot {'AB'[r]} drives the one-way edge {int(e_after[k])} against its direction "
+                    f"(offset rate {float(rate_off[k]):.6g} m/s)"
+                )
+        if speed_limits is not None:
+            lim = np.array([np.inf if x is None else float(x) for x in speed_limits])
+            cap = np.minimum(lim[e_after], lim[e_before])
+            over = np.nonzero(np.abs(V[:, r]) > cap * (1 + LIMIT_RTOL))[0]
+            if len(over):
+                k = int(over[0])
+                edge = int(e_after[k]) if lim[e_after[k]] <= lim[e_before[k]] else int(e_before[k])
+                fails.append(
+                    f"row {k}: |v| of robot {'AB'[r]} is {abs(float(V[k, r])):.9g} on edge {edge}, over its speed "
+                    f"limit {float(cap[k]):g} m/s"
+                )
+    return fails
+
+
+def _verify_graph_rows(
+    geometry: GraphGeometry,
+    routes: Sequence[DirectedRoute],
+    t: ArrayLike,
+    edges: ArrayLike,
+    offsets: ArrayLike,
+    s: ArrayLike,
+    v: ArrayLike,
+    a: ArrayLike,
+    j: ArrayLike,
+    limits: Limits,
+    clearance: float,
+    start: tuple[tuple[int, float], tuple[int, float]],
+    goal: tuple[tuple[int, float], tuple[int, float]],
+    rate: float,
+) -> VerificationReport:
+    """:func:`verify_graph_setpoints` without the lane rules."""
     tt = np.ascontiguousarray(t, dtype=float)
     E = np.asarray(edges)
     OFF, S, V, A, J = (_rows(x) for x in (offsets, s, v, a, j))

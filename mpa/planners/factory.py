@@ -55,6 +55,7 @@ def plan(
     planner: str = "auto",
     objective: str = "fastest",
     speeds: Any = (1.0, 1.0),
+    footprint: Any = None,
 ) -> Plan | GraphPlan:
     """Plan a collision-free motion of two robots from ``start`` to ``goal``.
 
@@ -78,6 +79,9 @@ def plan(
         Graph planner only: minimum time for the per-robot ``speeds`` over all homotopy classes, or minimum length.
     speeds : (float, float)
         Graph planner only: per-robot speed limits for ``objective="fastest"`` (m/s).
+    footprint : None, mpa.Disc, mpa.Rectangle, pair or spec string
+        The robots' bodies in the plane (:mod:`mpa.footprint`, :mod:`mpa.planar`): the graph planner then keeps
+        them apart in the layout's drawing too (on the paper's tracks it answers, with their drawing).
 
     Returns
     -------
@@ -105,6 +109,10 @@ def plan(
     if objective not in OBJECTIVES:
         raise InvalidInputError(f"objective is {objective!r}, expected one of {', '.join(OBJECTIVES)}")
     if isinstance(track, (Interval, Circle, Lollipop)):
+        if footprint is not None:
+            if planner == "paper":
+                raise InvalidInputError("planner is 'paper' with a footprint, expected 'graph' or 'auto'")
+            planner = "graph"
         if planner != "graph":
             return make_planner(track, clearance, neighbourhood).plan(start, goal)
         return plan_graph(
@@ -114,10 +122,11 @@ def plan(
             clearance,
             objective,
             speeds,
+            footprint,
         )
     if planner == "paper":
         raise InvalidInputError(f"planner is 'paper' for {track!r}, expected an Interval, Circle or Lollipop track")
-    return plan_graph(track, start, goal, clearance, objective, speeds)
+    return plan_graph(track, start, goal, clearance, objective, speeds, footprint)
 
 
 def _paper_positions(track: Track, pair: Any, name: str) -> tuple[tuple[int, float], tuple[int, float]]:

@@ -65,7 +65,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError, NoMotionError, PlanningError
-from mpa.freespace import FreeSpace, PolygonId, free_space
+from mpa.footprint import footprints
+from mpa.freespace import FreeSpace, PolygonId, check_size, free_space
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 
@@ -74,6 +75,9 @@ __all__ = ["OBJECTIVES", "GraphPlan", "plan_graph"]
 FloatArray = NDArray[np.float64]
 OBJECTIVES = ("fastest", "shortest")
 TIE_BREAK = 1e-6
+#: Supported speeds (m/s) of the graph planner, and their largest ratio.
+SPEED_RANGE = (1e-6, 1e6)
+SPEED_RATIO = 1e8
 TIE_BREAK_2 = 1e-9  # then towards the straightest (Euclidean in time units): one timing among equally fast ones
 F_GRID = 1e-12  # relative resolution of the search's order (see _search)
 Key = tuple[Any, ...]
@@ -110,6 +114,9 @@ class GraphPlan:
         Estimate (seconds): ``sum of max(|Δs|/vA, |Δt|/vB)`` over the segments (speed limits only).
     length : float
         Euclidean length in the plane of offsets (metres).
+    lower_bound : float or None
+        On a track with lane rules (:mod:`mpa.planners.rules`): the optimum of the query without the rules (seconds
+        for ``"fastest"``, metres for ``"shortest"``), a lower bound of the optimum under them; None otherwise.
     """
 
     track: GraphTrack
@@ -128,6 +135,7 @@ class GraphPlan:
     makespan: float
     length: float
     _times: FloatArray = field(repr=False, default_factory=lambda: np.zeros(1))
+    lower_bound: float | None = None
 
     @property
     def n_corners(self) -> int:
@@ -195,6 +203,7 @@ class GraphPlan:
                 for c, o in zip(self.segment_cells, self.segment_offsets)
             ],
             "routes": {"a": self.route_a.to_list(names), "b": self.route_b.to_list(names)},
+            **({} if self.lower_bound is None else {"lower_bound": self.lower_bound}),
         }
 
 
@@ -754,25 +763,49 @@ def _why_no_motion(track: GraphTrack, fs: FreeSpace, start: tuple[Position, ...]
         where = "the only loop"
     elif b1 == 0 and branch == 1:
         where = "the only siding"
+    digits = next((k for k in range(6, 18) if f"{lo:.{k}g}" != f"{fs.clearance:.{k}g}"), 17)
     return (
-        f"the clearance {fs.clearance:g} m does not fit {where}: start ({names}) and goal ({gnames}) are in "
-        f"different components of the free space; they are connected only for clearances up to about {lo:.6g} m"
+        f"the clearance {fs.clearance!r} m does not fit {where}: start ({names}) and goal ({gnames}) are in "
+        f"different components of the free space; they are connected only for clearances up to about "
+        f"{lo:.{digits}g} m"
     )
 
 
 # ------------------------------------------------------------------------------------------------- API
+def _fits_float(x: int) -> bool:
+    try:
+        float(x)
+    except OverflowError:
+        return False
+    return True
+
+
 def _speeds(speeds: object) -> tuple[float, float]:
     try:
         va, vb = cast("tuple[object, object]", speeds)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InvalidInputError(f"speeds is {speeds!r}, expected two positive numbers (vA, vB) in m/s") from None
     out = []
     for name, v in (("speed of robot A", va), ("speed of robot B", vb)):
         if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
             raise InvalidInputError(f"{name} is {v!r}, expected a positive number (m/s)")
+        if isinstance(v, int) and not _fits_float(v):
+            raise InvalidInputError(
+                f"{name} is an integer of {len(str(abs(v)))} digits, expected a finite number > 0 (m/s)"
+            )
         if not math.isfinite(float(v)) or float(v) <= 0:
             raise InvalidInputError(f"{name} is {v!r}, expected a finite number > 0 (m/s)")
+        if not SPEED_RANGE[0] <= float(v) <= SPEED_RANGE[1]:
+            raise InvalidInputError(
+                f"{name} is {v!r}, expected a number in [{SPEED_RANGE[0]:g}, {SPEED_RANGE[1]:g}] m/s (the planner "
+                "works in times Δs/v, which overflow or lose all precision outside it)"
+            )
         out.append(float(v))
+    if max(out) / min(out) > SPEED_RATIO:
+        raise InvalidInputError(
+            f"speeds are {out[0]!r} and {out[1]!r} m/s, expected a ratio of at most {SPEED_RATIO:g} (the slower "
+            "robot's times would swamp the faster one's)"
+        )
     return out[0], out[1]
 
 
@@ -792,6 +825,7 @@ def plan_graph(
     clearance: float = 0.0,
     objective: str = "fastest",
     speeds: object = (1.0, 1.0),
+    footprint: object = None,
 ) -> GraphPlan:
     """Plan a collision-free motion of two robots on a graph track (complete: finds one whenever one exists).
 
@@ -807,6 +841,10 @@ def plan_graph(
         Minimum time for the speed limits (weighted L∞), or minimum Euclidean length in offsets.
     speeds : (float, float)
         Speed limits ``(vA, vB)`` (m/s, > 0).
+    footprint : None, mpa.Disc, mpa.Rectangle, pair or spec string
+        The robots' bodies in the plane (:mod:`mpa.footprint`); the motion then also keeps the bodies apart in the
+        layout's drawing (:mod:`mpa.planar`: complete in that model; the path bends only at the free pieces' shared
+        points, so it is not the optimum of ``objective``). Needs vertex coordinates.
 
     Returns
     -------
@@ -818,7 +856,9 @@ def plan_graph(
         Bad track, position, clearance, objective or speeds; robots closer than D at start or goal.
     NoMotionError
         Start and goal are in different path components of the free space; the message says why (different
-        components, order on a path-like layout, clearance too large for the only siding or loop).
+        components, order on a path-like layout, clearance too large for the only siding or loop, the one-way
+        lanes). On a track with one-way edges or speed limits the planner of :mod:`mpa.planners.rules` answers
+        (complete under the one-way rule; time exact at the edges' speed limits).
 
     Examples
     --------
@@ -828,6 +868,7 @@ def plan_graph(
     True
     """
     tr = as_graph_track(track)
+    check_size(tr)  # before the distances and the free space are built
     if objective not in OBJECTIVES:
         raise InvalidInputError(f"objective is {objective!r}, expected one of {list(OBJECTIVES)}")
     va, vb = _speeds(speeds)
@@ -841,9 +882,25 @@ def plan_graph(
             raise InvalidInputError(
                 f"{what} has the robots {d:.12g} m apart, expected at least the clearance {fs.clearance_used:.12g} m"
             )
+    fps = footprints(footprint)
+    if fps is not None:
+        if any(tr.oneway):
+            names = ", ".join(tr.edge_names[e] for e, ow in enumerate(tr.oneway) if ow)
+            raise InvalidInputError(
+                f"footprint is {fps.spec()!r} on a layout with one-way edges ({names}), expected a footprint on a "
+                "layout whose edges are all two-way: the planner in the plane does not yet honour one-way lanes "
+                "(plan without --footprint, or make the lanes two-way)"
+            )
+        from mpa.planar import plan_planar
+
+        return cast("GraphPlan", plan_planar(tr, s, gl, clearance, objective, (va, vb), fps))
     ca, cb = fs.component_of(*s), fs.component_of(*gl)
     if ca is None or ca != cb:
         raise NoMotionError(_why_no_motion(tr, fs, s, gl))
+    if tr.has_rules:  # one-way edges or speed limits: the planner of mpa.planners.rules
+        from mpa.planners.rules import plan_with_rules
+
+        return cast("GraphPlan", plan_with_rules(tr, fs, s, gl, objective, (va, vb)))
     mesh = _mesh(fs)
     segs = _search(mesh, s, gl, objective, va, vb)
     if segs is None:  # pragma: no cover - no budget given

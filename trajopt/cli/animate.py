@@ -15,8 +15,10 @@ from mpa.errors import InvalidInputError
 from mpa.tracks import Track
 from trajopt.cli.common import (
     TRAJECTORY_DEFAULTS,
+    add_footprint_argument,
     add_trajectory_arguments,
     check_output_dir,
+    footprint_query,
     output_error,
     query_from_args,
 )
@@ -30,6 +32,10 @@ DEFAULTS = TRAJECTORY_DEFAULTS
 def _cmd_animate(args: argparse.Namespace) -> int:
     check_output_dir(args.out)
     track, start, goal = query_from_args(args)
+    if getattr(args, "footprint", None) is not None and args.graph is None:
+        raise InvalidInputError("--footprint needs a layout drawn in metres, expected --graph FILE with it")
+    track, start, goal, fps = footprint_query(args, track, start, goal)
+    args.footprints = fps
     if args.max_frames is not None and args.max_frames < 2:
         raise InvalidInputError(f"--max-frames is {args.max_frames}, expected an integer >= 2")
     from trajopt.viz.animation import FORMATS, animate_query
@@ -77,7 +83,11 @@ def _animate_graph(track: Any, start: Any, goal: Any, target: Path, args: argpar
     from trajopt.viz.layout_animation import animate_graph_plan, animate_layout
 
     gen = TrajectoryGenerator(
-        track, clearance=args.clearance, limits=Limits(args.vmax, args.amax, args.jmax), rate=args.rate
+        track,
+        clearance=args.clearance,
+        limits=Limits(args.vmax, args.amax, args.jmax),
+        rate=args.rate,
+        footprint=getattr(args, "footprints", None),
     )
     name = Path(args.graph).stem
     kw = {"fps": args.fps, "dpi": args.dpi, "max_frames": args.max_frames, "fmt": args.format}
@@ -98,6 +108,7 @@ def register(subparsers: Any) -> None:
     """Add ``animate`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
     p = subparsers.add_parser("animate", help="animate a query: raw plan and jerk-limited trajectory side by side")
     add_trajectory_arguments(p)
+    add_footprint_argument(p)
     p.add_argument("--out", required=True, help="output directory (animation.gif or animation.mp4)")
     p.add_argument("--fps", type=float, default=20.0, help="frames per second (default 20)")
     p.add_argument(

@@ -3,7 +3,8 @@
 Subcommands: ``plan`` (the paper's planner), ``trajectory`` and ``demo`` (jerk-limited setpoints), ``animate``
 (animations), ``topology`` (topology of two robots on any graph), ``replan`` (re-plan a written trajectory from
 its moving state), ``plot`` (a PNG of written setpoints), ``domains`` (the domain of every start or goal of a
-paper track), ``serve`` (a local web explorer); ``mpa --version``.
+paper track), ``serve`` (a local web explorer), ``layout`` (Open-RMF maps converted, layouts drawn),
+``batch`` (many queries on a layout, locally or on a Dask cluster); ``mpa --version``.
 
 Exit statuses (one line on stderr in every failing case, never a traceback, no output file left behind):
 
@@ -40,6 +41,8 @@ SUBCOMMAND_MODULES = (
     "trajopt.cli.plot",
     "trajopt.cli.domains",
     "trajopt.cli.serve",
+    "trajopt.cli.layout",
+    "trajopt.cli.batch",
 )
 #: Every subcommand in help order: its module and its one-line help (equal to what the module registers; tested).
 #: ``mpa --help`` lists them without importing the modules (and so numpy, the planners, CasADi, matplotlib).
@@ -59,6 +62,8 @@ SUBCOMMANDS = {
         "which domain every start (for a fixed goal) or goal (for a fixed start) falls in",
     ),
     "serve": ("trajopt.cli.serve", "a local web page to drag the robots and watch domains, plans and motions"),
+    "layout": ("trajopt.cli.layout", "convert an Open-RMF map to a JSON layout, or describe and draw a layout"),
+    "batch": ("trajopt.cli.batch", "plan and verify every query of a CSV file on a layout (local or Dask)"),
 }
 #: Exit status of bad input (``error:``).
 EXIT_USAGE = 2

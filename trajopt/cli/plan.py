@@ -24,7 +24,13 @@ from mpa.planners.factory import OBJECTIVES, PLANNERS, plan
 from mpa.planners.graph import GraphPlan
 from mpa.retraction import trace_info
 from mpa.tracks import Track
-from trajopt.cli.common import add_clearance_argument, add_query_arguments, query_from_args
+from trajopt.cli.common import (
+    add_clearance_argument,
+    add_footprint_argument,
+    add_query_arguments,
+    footprint_query,
+    query_from_args,
+)
 
 #: Fewest path samples in the JSON (the 1 % rule may ask for more).
 MIN_JSON_SAMPLES = 200
@@ -36,10 +42,11 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     if args.samples < 2:
         raise InvalidInputError(f"--samples is {args.samples}, expected an integer >= 2")
     track, start, goal = query_from_args(args)
+    track, start, goal, fps = footprint_query(args, track, start, goal)
     graph_plan = args.planner == "graph" or not isinstance(track, Track)
     if args.plot is not None:
         _check_plot_path(args.plot, graph_plan, args.dpi)
-    p = plan_query(track, start, goal, args.clearance, args.planner, args.objective, args.neighbourhood)
+    p = plan_query(track, start, goal, args.clearance, args.planner, args.objective, args.neighbourhood, footprint=fps)
     if isinstance(p, GraphPlan):
         if args.plot is not None:
             _write_plot(p, args)
@@ -66,6 +73,7 @@ def plan_query(
     planner: str | None = None,
     objective: str = "fastest",
     neighbourhood: float = 0.1,
+    footprint: Any = None,
 ) -> Plan | GraphPlan:
     """The plan ``mpa plan`` prints for a query: the paper's planner on a paper track, else the graph planner.
 
@@ -83,9 +91,12 @@ def plan_query(
         ``--objective`` of the graph planner.
     neighbourhood : float
         ``--neighbourhood``: the domains' ε as a fraction of half the loop (paper planner).
+    footprint : None, mpa.Footprints, spec
+        ``--footprint``: the bodies in the plane (the graph planner on the track's drawing, :mod:`mpa.planar`).
     """
-    if planner == "graph" or not isinstance(track, Track):
-        return plan(track, start, goal, clearance, planner=planner or "auto", objective=objective)
+    if planner == "graph" or not isinstance(track, Track) or footprint is not None:
+        which = planner or "auto"
+        return plan(track, start, goal, clearance, planner=which, objective=objective, footprint=footprint)
     return make_planner(track, clearance, neighbourhood).plan(start, goal)
 
 
@@ -211,6 +222,14 @@ def _print_graph_plan(p: GraphPlan, args: argparse.Namespace) -> int:
     print(f"route B    {_route_text(p, 1)}")
     print(f"makespan   {p.makespan:.4g} s at speeds {p.speeds[0]:g}, {p.speeds[1]:g} m/s (no acceleration limits)")
     print(f"travel     A {p.route_a.length:.4g} m, B {p.route_b.length:.4g} m; min distance {p.min_distance():.4g} m")
+    if p.lower_bound is not None:  # a layout with one-way lanes or speed limits
+        unit = "s" if p.objective == "fastest" else "m"
+        value = p.makespan if p.objective == "fastest" else p.length
+        print(
+            f"rules      {sum(tr.oneway)} one-way, {sum(v is not None for v in tr.speed_limits)} speed-limited edges; "
+            f"without them the optimum is {p.lower_bound:.4g} {unit} (this plan at most "
+            f"{max(0.0, value - p.lower_bound):.4g} {unit} above the optimum)"
+        )
     return 0
 
 
@@ -228,6 +247,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--objective", choices=OBJECTIVES, default="fastest", help="graph planner: fastest (default) or shortest"
     )
     add_clearance_argument(p)
+    add_footprint_argument(p)
     p.add_argument("--neighbourhood", type=float, default=0.1, help="domain neighbourhood ε as a fraction of loop/2")
     p.add_argument(
         "--samples",

@@ -33,6 +33,11 @@ def _source(path: Path) -> tuple[Path, Path]:
         )
     if path.is_file():
         return path, path.with_suffix(".png")
+    if path.exists():
+        raise InvalidInputError(
+            f"PATH {str(path)!r} is neither a regular file nor a directory, expected a setpoints file or an output "
+            "directory"
+        )
     raise InvalidInputError(f"PATH {str(path)!r} does not exist, expected a setpoints file or an output directory")
 
 
@@ -51,7 +56,7 @@ def _context(csv_path: Path) -> dict[str, Any]:
     p = csv_path.parent / "summary.json"
     try:
         s = json.loads(p.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError):
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError):
         return {}
     if not isinstance(s, dict):
         return {}

@@ -3,8 +3,9 @@
 The trajectory is rebuilt from ``DIR/summary.json`` (track, clearance, limits, rate and the ``recipe``: the
 query, the requested delay tolerance and the chain of earlier re-plans; a summary without a recipe, e.g. of
 ``mpa demo``, is rebuilt from its ``start`` and ``goal``). The pipeline is deterministic, so the rebuilt motion is
-checked against ``DIR/setpoints.csv`` row by row (every column, to 1e-9 m + 1e-9 relative: the file holds 12
-significant digits); a mismatch is an error. Then :meth:`TrajectoryGenerator.replan` and the files of
+checked against ``DIR/setpoints.csv`` row by row (every column, edge names, offsets and directions included,
+to 1e-9 m + 1e-9 relative: the file holds 12 significant digits); a cell that is not a finite number or a
+mismatch is an error naming the file, the row and the column. Then :meth:`TrajectoryGenerator.replan` and the files of
 ``mpa trajectory`` (same ``--format``/``--plot`` options), with the recipe extended by ``{at, goal}`` so that the
 result can be re-planned again.
 
@@ -20,7 +21,7 @@ closer than the clearance; a goal without motion: exit 3.
 from __future__ import annotations
 
 import argparse
-import json
+import csv
 import math
 from pathlib import Path
 from typing import Any
@@ -28,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from mpa.errors import InvalidInputError, MPAError
+from mpa.graph import parse_json
 from mpa.tracks import make_track
 from trajopt.cli.common import check_output_dir, parse_coordinates
 from trajopt.cli.outputs import add_output_arguments, check_output_options, output_files, summary_text
@@ -38,8 +40,10 @@ from trajopt.timing import Limits
 
 __all__ = ["load_trajectory", "register"]
 
-#: The numeric columns of the paper tracks' CSV (the ones compared with the rebuilt motion).
+#: The numeric columns of the paper tracks' CSV.
 NUMERIC = CSV_COLUMNS[:11]
+#: The numeric columns compared with the rebuilt motion: :data:`NUMERIC`, then each robot's offset and direction.
+COMPARED = (*NUMERIC, "a_offset", "a_dir", "b_offset", "b_dir")
 #: Tolerance of the check of the rebuilt motion against ``setpoints.csv`` (absolute + relative).
 MATCH_TOL = 1e-9
 
@@ -52,38 +56,73 @@ def _read_summary(d: Path, option: str) -> dict[str, Any]:
             "mpa trajectory (summary.json and setpoints.csv)"
         )
     try:
-        data = json.loads(p.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        text = p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
         raise InvalidInputError(f"{option}: {str(p)!r} cannot be read as JSON ({exc})") from None
+    data = parse_json(text, f"{option}: {str(p)!r}")
     if not isinstance(data, dict):
         raise InvalidInputError(f"{option}: {str(p)!r} is not a summary of mpa trajectory (not a JSON object)")
     return data
 
 
-def _read_setpoints(d: Path, option: str) -> np.ndarray:
+def _read_setpoints(d: Path, option: str) -> tuple[np.ndarray, list[tuple[str, str]]]:
+    """The setpoints of ``d/setpoints.csv``: the numeric columns (:data:`COMPARED`) and each row's edge names.
+
+    Raises
+    ------
+    InvalidInputError
+        No file, another header, a row with another number of fields, or a numeric cell that is not a finite
+        number (the message names the file, the row and the column).
+    """
     p = d / "setpoints.csv"
     if not p.is_file():
         raise InvalidInputError(
             f"{option} {str(d)!r} holds no setpoints.csv, expected an output directory of mpa trajectory "
             "written with the csv format"
         )
+    where = f"{option}: {str(p)!r}"
+    index = [CSV_COLUMNS.index(c) for c in COMPARED]
+    edge_cols = (CSV_COLUMNS.index("a_edge"), CSV_COLUMNS.index("b_edge"))
+    values: list[list[float]] = []
+    edges: list[tuple[str, str]] = []
     try:
-        with p.open(encoding="utf-8") as fh:
-            header = fh.readline().strip()
-            if header != ",".join(CSV_COLUMNS):
-                raise InvalidInputError(f"{option}: {str(p)!r} has header {header!r}, expected {','.join(CSV_COLUMNS)}")
-            # the numeric columns (the edge/offset/dir columns that follow are implied by them)
-            data = np.loadtxt(fh, delimiter=",", ndmin=2, usecols=range(len(NUMERIC)))
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
-        raise InvalidInputError(f"{option}: {str(p)!r} cannot be read as setpoints ({exc})") from None
-    if data.shape[1] != len(NUMERIC):
-        raise InvalidInputError(f"{option}: {str(p)!r} has header {header!r}, expected {','.join(CSV_COLUMNS)}")
-    return data
+        with p.open(encoding="utf-8", newline="") as fh:
+            reader = csv.reader(fh)
+            header = next(reader, None)
+            if header != list(CSV_COLUMNS):
+                shown = "" if header is None else ",".join(header)
+                raise InvalidInputError(f"{where} has header {shown!r}, expected {','.join(CSV_COLUMNS)}")
+            for k, cells in enumerate(reader):
+                if len(cells) != len(CSV_COLUMNS):
+                    raise InvalidInputError(
+                        f"{where} row {k} (line {k + 2}) has {len(cells)} fields, expected {len(CSV_COLUMNS)}"
+                    )
+                row = []
+                for c in index:
+                    try:
+                        x = float(cells[c])
+                    except ValueError:
+                        x = math.nan
+                    if not math.isfinite(x):
+                        raise InvalidInputError(
+                            f"{where} row {k} (line {k + 2}), column {CSV_COLUMNS[c]}: {cells[c]!r}, expected a "
+                            "finite number"
+                        )
+                    row.append(x)
+                values.append(row)
+                edges.append((cells[edge_cols[0]], cells[edge_cols[1]]))
+    except (OSError, UnicodeDecodeError, csv.Error) as exc:
+        raise InvalidInputError(f"{where} cannot be read as setpoints ({exc})") from None
+    if not values:
+        raise InvalidInputError(f"{where} has a header but no rows, expected the setpoints of a motion")
+    return np.array(values, dtype=float), edges
 
 
 def _csv_array(traj: Trajectory) -> np.ndarray:
     cols = [traj.t, traj.track[:, 0], traj.s[:, 0], traj.v[:, 0], traj.a[:, 0], traj.j[:, 0]]
     cols += [traj.track[:, 1], traj.s[:, 1], traj.v[:, 1], traj.a[:, 1], traj.j[:, 1]]
+    cols += [traj.offsets[:, 0], traj.directions[:, 0].astype(float), traj.offsets[:, 1]]
+    cols += [traj.directions[:, 1].astype(float)]
     return np.column_stack(cols)
 
 
@@ -102,7 +141,7 @@ def load_trajectory(directory: str | Path, option: str = "--from") -> tuple[Traj
     summary = _read_summary(d, option)
     if is_layout_summary(summary):  # a layout run (mpa trajectory --graph, or --planner graph)
         return load_layout_trajectory(d, summary, option)
-    rows = _read_setpoints(d, option)
+    rows, row_edges = _read_setpoints(d, option)
     try:
         tr = dict(summary["track"])
         kind = tr.pop("track")
@@ -149,8 +188,16 @@ def load_trajectory(directory: str | Path, option: str = "--from") -> tuple[Traj
         k, c = np.unravel_index(int(np.argmax(err)), err.shape)
         raise InvalidInputError(
             f"{option}: setpoints.csv differs from the motion rebuilt from summary.json (row {k}, column "
-            f"{NUMERIC[c]}: {rows[k, c]!r} vs {ours[k, c]!r}): the files do not belong together"
+            f"{COMPARED[c]}: {rows[k, c]!r} vs {ours[k, c]!r}): the files do not belong together"
         )
+    names = traj.edge_names
+    for row, (pair, e) in enumerate(zip(row_edges, traj.edges.tolist(), strict=True)):
+        for r, x in enumerate("ab"):
+            if pair[r] != names[e[r]]:
+                raise InvalidInputError(
+                    f"{option}: setpoints.csv differs from the motion rebuilt from summary.json (row {row}, column "
+                    f"{x}_edge: {pair[r]!r} vs {names[e[r]]!r}): the files do not belong together"
+                )
     return gen, traj, recipe
 
 

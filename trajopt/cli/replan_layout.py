@@ -86,8 +86,13 @@ def _read_rows(d: Path, option: str) -> tuple[list[list[str]], np.ndarray]:
     except (OSError, UnicodeDecodeError, ValueError, IndexError) as exc:
         raise InvalidInputError(f"{option}: {str(p)!r} cannot be read as setpoints ({exc})") from None
     data = np.array(values, dtype=float).reshape(len(values), len(NUMERIC))
-    if not np.all(np.isfinite(data)):
-        raise InvalidInputError(f"{option}: {str(p)!r} holds values that are not finite numbers")
+    bad = np.argwhere(~np.isfinite(data))
+    if bad.size:
+        k, c = (int(x) for x in bad[0])
+        raise InvalidInputError(
+            f"{option}: {str(p)!r} row {k} (line {k + 2}), column {NUMERIC[c]}: {data[k, c]!r}, expected a finite "
+            "number"
+        )
     return names, data
 
 

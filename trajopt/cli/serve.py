@@ -41,7 +41,7 @@ def _initial(args: argparse.Namespace) -> dict[str, Any]:
     if args.graph is not None and args.track is not None:
         raise InvalidInputError(f"both --track {args.track} and --graph {args.graph} given, expected one of them")
     if args.graph is not None:
-        track = GraphTrack.from_json(args.graph)
+        track = GraphTrack.from_file(args.graph, getattr(args, "level", None), getattr(args, "nav_graph", None))
         return {"layout": track.to_dict(), "name": Path(args.graph).stem}
     t = make_track(args.track or "lollipop", args.stick, args.loop)
     return dict(t.to_dict())
@@ -112,7 +112,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--track", choices=["interval", "circle", "lollipop"], default=None, help="open with this track")
     p.add_argument("--stick", type=float, default=None, help="stick length ℓ in metres (default 1)")
     p.add_argument("--loop", type=float, default=None, help="loop circumference c in metres (default 1)")
-    p.add_argument("--graph", metavar="FILE", default=None, help="open with this layout (JSON) instead of --track")
+    p.add_argument(
+        "--graph",
+        metavar="FILE",
+        default=None,
+        help="open with this layout (our JSON, an Open-RMF building map or navigation graph) instead of --track",
+    )
+    from trajopt.cli.common import add_map_arguments
+
+    add_map_arguments(p)
     p.add_argument("--no-browser", action="store_true", help="do not open the page in the default browser")
     p.set_defaults(func=_cmd_serve)
 

@@ -13,7 +13,10 @@ from typing import Any
 
 from mpa.freespace import free_space
 from mpa.graph_track import GraphTrack
-from mpa.topology import ConfigurationSpaceTopology, configuration_space_topology, load_graph_json
+from mpa.openrmf import read_layout_file
+from mpa.topology import ConfigurationSpaceTopology, configuration_space_topology
+from mpa.topology.graph_json import graph_from_json_data
+from trajopt.cli.common import add_map_arguments
 
 __all__ = ["format_topology", "free_space_report", "register", "run_topology"]
 
@@ -62,7 +65,9 @@ def format_topology(top: ConfigurationSpaceTopology) -> str:
     return "\n".join(lines)
 
 
-def free_space_report(path: str, clearance: float) -> dict[str, Any]:
+def free_space_report(
+    path: str, clearance: float, level: str | None = None, nav_graph: int | None = None
+) -> dict[str, Any]:
     """Path components of the free space ``{d >= D}`` of the layout in ``path`` and whether the robots can swap.
 
     Returns
@@ -72,14 +77,50 @@ def free_space_report(path: str, clearance: float) -> dict[str, Any]:
         ``can_swap`` (bool: some configuration ``(x, y)`` lies in one component with ``(y, x)``, i.e. the two robots
         can exchange places somewhere on the layout).
     """
-    fs = free_space(GraphTrack.from_json(path), clearance)
+    fs = free_space(GraphTrack.from_file(path, level, nav_graph), clearance)
     return {"clearance": fs.clearance, "free_components": fs.components(), "can_swap": fs.can_swap()}
+
+
+def planar_free_space_report(
+    path: str, clearance: float, footprint: str, level: str | None = None, nav_graph: int | None = None
+) -> dict[str, Any]:
+    """Like :func:`free_space_report` with the robots' bodies in the plane (:mod:`mpa.planar`): also ``footprint``.
+
+    Raises
+    ------
+    InvalidInputError
+        A malformed spec, a layout without vertex coordinates.
+    """
+    from mpa.footprint import parse_footprint
+    from mpa.planar import planar_free_space
+
+    fps = parse_footprint(footprint)
+    fs = planar_free_space(GraphTrack.from_file(path, level, nav_graph), clearance, fps)
+    return {
+        "clearance": fs.clearance,
+        "footprint": fps.to_dict(),
+        "free_components": fs.n_components,
+        "can_swap": fs.can_swap(),
+    }
 
 
 def run_topology(args: argparse.Namespace) -> int:
     """Handler of ``mpa topology``: print the report (or one JSON object with ``--json``); returns 0."""
-    top = configuration_space_topology(load_graph_json(args.graph))
-    free = None if args.clearance is None else free_space_report(args.graph, args.clearance)
+    footprint = getattr(args, "footprint", None)
+    if footprint is not None:
+        from mpa.footprint import parse_footprint
+
+        parse_footprint(footprint)  # a malformed spec is refused before any work
+    level, nav_graph = getattr(args, "level", None), getattr(args, "nav_graph", None)
+    layout, info = read_layout_file(args.graph, level, nav_graph)
+    graph = graph_from_json_data(layout) if info["kind"] == "layout" else GraphTrack.from_layout(layout).as_graph()
+    top = configuration_space_topology(graph)
+    free: dict[str, Any] | None
+    if footprint is not None:
+        clearance = 0.0 if args.clearance is None else args.clearance
+        free = planar_free_space_report(args.graph, clearance, footprint, level, nav_graph)
+    else:
+        free = None if args.clearance is None else free_space_report(args.graph, args.clearance, level, nav_graph)
     if args.json:
         out: dict[str, Any] = top.to_dict()
         if free is not None:
@@ -88,8 +129,10 @@ def run_topology(args: argparse.Namespace) -> int:
     else:
         print(format_topology(top))
         if free is not None:
+            bodies = f", bodies {free['footprint']['spec']} in the plane" if "footprint" in free else ""
             print(
-                f"free space D = {free['clearance']:g} m: {_count(free['free_components'], 'path component')}; "
+                f"free space D = {free['clearance']:g} m{bodies}: "
+                f"{_count(free['free_components'], 'path component')}; "
                 f"the robots can exchange places: {'yes' if free['can_swap'] else 'no'}"
             )
     return 0
@@ -114,13 +157,26 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
         description="Topology of the configuration space F(G, 2) of two ordered robots on the graph G given as "
         'JSON {"edges": [[u, v], [u, v, length], ...]}.',
     )
-    p.add_argument("--graph", required=True, metavar="FILE", help="JSON file with the graph's edge list")
+    p.add_argument(
+        "--graph",
+        required=True,
+        metavar="FILE",
+        help="JSON file with the graph's edge list (or a layout, an Open-RMF building map or navigation graph)",
+    )
+    add_map_arguments(p)
     p.add_argument(
         "--clearance",
         type=float,
         default=None,
         metavar="D",
         help="also report the path components of the free space {d >= D} (m) and whether the robots can swap",
+    )
+    p.add_argument(
+        "--footprint",
+        default=None,
+        metavar="SPEC",
+        help="with the robots' bodies in the plane: R (disc radius, m) or LxW (rectangle, m), or SPEC_A,SPEC_B; "
+        "the free space then keeps them apart in the layout's drawing (needs vertex coordinates)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run_topology)

@@ -1,8 +1,7 @@
 """``mpa trajectory`` and ``mpa demo``: verified jerk-limited setpoints from the command line.
 
-Both compute everything in memory first and then write the files into ``--out`` each through a temporary file
-and :func:`os.replace`; on any error the files written so far (and the directory, if this run created it) are
-removed, so no half-filled output directory is left behind.
+Both compute everything in memory first and then replace the run files of ``--out`` as a whole
+(:func:`write_outputs`): on any error or interruption ``--out`` keeps the previous run's files untouched.
 """
 
 from __future__ import annotations
@@ -11,7 +10,6 @@ import argparse
 import contextlib
 import json
 import os
-import shutil
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
@@ -22,9 +20,10 @@ from mpa.graph_track import GraphTrack
 from mpa.tracks import Lollipop, Track
 from trajopt.cli.common import (
     TRAJECTORY_DEFAULTS,
+    add_footprint_argument,
     add_trajectory_arguments,
     check_output_dir,
-    output_error,
+    footprint_query,
     query_from_args,
 )
 from trajopt.cli.outputs import (
@@ -35,7 +34,7 @@ from trajopt.cli.outputs import (
     summary_text,
 )
 from trajopt.delay import check_delay_tolerance
-from trajopt.export import Trajectory, atomic_write_bytes, atomic_write_text
+from trajopt.export import Trajectory, atomic_write_bytes, atomic_write_text, directory_lock, write_directory
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
 
@@ -58,65 +57,35 @@ DEFAULTS = TRAJECTORY_DEFAULTS
 
 @contextlib.contextmanager
 def output_lock(directory: str | os.PathLike[str]) -> Iterator[None]:
-    """Hold an exclusive lock on ``directory`` (``flock`` on the directory itself; no lock file).
+    """Hold the lock of :func:`write_outputs` on ``directory`` (:func:`trajopt.export.directory_lock`).
 
-    :func:`write_outputs` writes all its files under it, so two processes writing into one directory never
-    interleave their files: the directory holds one run's complete set. Readers that want a consistent set
-    take it too. Without ``fcntl`` (Windows) it does nothing.
+    Readers that want one run's consistent set of files take it too.
     """
-    try:
-        import fcntl
-    except ImportError:  # pragma: no cover - not POSIX
+    with directory_lock(directory):
         yield
-        return
-    fd = os.open(directory, os.O_RDONLY)
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
-        yield
-    finally:
-        os.close(fd)  # releases the lock
+
+
+def _write_file(path: Path, content: str | bytes) -> None:
+    if isinstance(content, bytes):
+        atomic_write_bytes(path, content)
+    else:
+        atomic_write_text(path, content)
 
 
 def write_outputs(out: str | os.PathLike[str], files: Mapping[str, str | bytes]) -> list[Path]:
-    """Write ``files`` (name -> content) into directory ``out``, all or nothing, under :func:`output_lock`.
+    """Replace the run files of directory ``out`` by ``files`` (name -> content) as a whole, in one step.
+
+    See :func:`trajopt.export.write_directory`: the files go into a temporary directory beside ``out``, which is
+    swapped with ``out`` by one rename; after any interruption ``out`` holds this run's complete set or the
+    previous one untouched, and no file of a format this run did not ask for.
 
     Raises
     ------
     InvalidInputError
         ``out`` is empty or exists and is not a directory, or a file could not be written
-        (``--out: cannot write PATH: reason``; everything written so far is removed).
+        (``--out: cannot write PATH: reason``; ``out`` is then unchanged).
     """
-    if not str(out).strip():
-        raise InvalidInputError(f"--out is {str(out)!r}, expected a directory path")
-    d = Path(out)
-    if d.exists() and not d.is_dir():
-        raise InvalidInputError(f"--out is {str(d)!r}, which exists and is not a directory")
-    created = not d.exists()
-    written: list[Path] = []
-    target = d
-    try:
-        d.mkdir(parents=True, exist_ok=True)
-        with output_lock(d):
-            for name, content in files.items():
-                target = d / name
-                if isinstance(content, bytes):
-                    atomic_write_bytes(target, content)
-                else:
-                    atomic_write_text(target, content)
-                written.append(target)
-    except OSError as exc:
-        for p in written:
-            p.unlink(missing_ok=True)
-        if created:
-            shutil.rmtree(d, ignore_errors=True)
-        raise output_error("--out", target, exc) from None
-    except BaseException:
-        for p in written:
-            p.unlink(missing_ok=True)
-        if created:
-            shutil.rmtree(d, ignore_errors=True)
-        raise
-    return written
+    return write_directory(out, dict(files), write=lambda p, c: _write_file(p, c))
 
 
 def _summary_text(traj: Trajectory) -> str:
@@ -135,6 +104,7 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
     margin = None if args.min_margin is None else check_margin_option(args.min_margin)
     check_output_dir(args.out)
     track, start, goal = query_from_args(args)
+    track, start, goal, fps = footprint_query(args, track, start, goal)
     limits = Limits(args.vmax, args.amax, args.jmax)
     traj, files = trajectory_files(
         track,
@@ -148,9 +118,16 @@ def _cmd_trajectory(args: argparse.Namespace) -> int:
         planner=args.planner,
         objective=args.objective,
         min_margin=margin,
+        footprint=fps,
     )
     write_outputs(args.out, files)
     print(summary_text(traj))
+    if fps is not None:
+        sm = traj.summary()
+        print(
+            f"plane       bodies {fps.spec()}: closest {sm['min_gap_plane']:.4g} m apart in the drawing; "
+            f"tracking margin in the plane {sm['tracking_margin_plane']:.4g} m"
+        )
     print(f"wrote       {', '.join(str(Path(args.out) / n) for n in files)}")
     return 0
 
@@ -167,6 +144,7 @@ def trajectory_files(
     planner: str | None = None,
     objective: str = "fastest",
     min_margin: float | None = None,
+    footprint: Any = None,
 ) -> tuple[Trajectory, dict[str, str | bytes]]:
     """The verified motion of ``mpa trajectory`` and its files, in memory (nothing is written).
 
@@ -189,6 +167,8 @@ def trajectory_files(
         ``--objective`` of the graph planner.
     min_margin : float, optional
         ``--min-margin`` (metres), already checked.
+    footprint : None, mpa.Footprints, spec
+        ``--footprint``: the bodies in the plane (a layout with coordinates).
 
     Returns
     -------
@@ -199,7 +179,9 @@ def trajectory_files(
         with the ``recipe`` that rebuilds the motion).
     """
     track, start, goal = planner_query(track, start, goal, planner)
-    gen = TrajectoryGenerator(track, clearance=clearance, limits=limits, rate=rate, objective=objective)
+    gen = TrajectoryGenerator(
+        track, clearance=clearance, limits=limits, rate=rate, objective=objective, footprint=footprint
+    )
     traj = gen.generate(start, goal, delay_tolerance=tolerance, min_margin=min_margin)
     recipe: dict[str, Any]
     if isinstance(track, Track):
@@ -330,6 +312,7 @@ def register(subparsers: Any) -> None:
     """Add ``trajectory`` and ``demo`` to the ``mpa`` command (called by :func:`trajopt.cli.main.build_parser`)."""
     p = subparsers.add_parser("trajectory", help="verified jerk-limited setpoints for a query (CSV, ROS 2, PVT, JSON)")
     add_trajectory_arguments(p)
+    add_footprint_argument(p)
     p.add_argument(
         "--out", required=True, help="output directory (setpoints.csv and the other --format files, summary.json)"
     )

@@ -1,0 +1,216 @@
+"""Scaling of the complete graph planner to large layouts: seeded warehouse aisle grids and planar road maps.
+
+- :func:`warehouse_layout`: parallel aisles 3–6 m apart, racks every 4–8 m along them, joined by cross aisles at
+  both ends and at random racks, trimmed to the asked number of edges while keeping it connected.
+- :func:`road_map_layout`: a random planar road map: seeded points in a square (about 60 m² per point, jittered
+  lattice cells: at least 3.1 m apart), the Delaunay triangulation's edges, a random spanning tree of them plus
+  the shortest other edges up to the asked number (planar: triangulation edges never cross).
+- :func:`run_scale`: per layout, the free space built uncached (time; peak memory by ``tracemalloc`` in a second
+  build; polygons), the plan time with the free space cached (seeded queries, every fourth a swap: median, p95,
+  max) and the verified trajectory (plan, timing, gate: median) of the first queries.
+- :func:`scale_markdown`: the table, with the growth exponent fitted (least squares in log–log) per column.
+"""
+
+from __future__ import annotations
+
+import time
+import tracemalloc
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from bench.graph_runner import _plan, make_graph_queries
+from mpa.errors import MPAError
+from mpa.freespace import FreeSpace, free_space
+from mpa.graph_track import GraphTrack
+
+__all__ = ["KINDS", "road_map_layout", "run_scale", "scale_markdown", "warehouse_layout"]
+
+
+def _spanning_then_extra(
+    n_vertices: int, cand: list[tuple[int, int]], n_edges: int, rng: np.random.Generator, extra_order: Any = None
+) -> list[tuple[int, int]]:
+    """A random spanning tree of the candidate edges, then other candidates (in ``extra_order``) up to ``n_edges``."""
+    parent = list(range(n_vertices))
+
+    def find(x: int) -> int:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    chosen, rest = [], []
+    for k in rng.permutation(len(cand)):
+        a, b = cand[k]
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[ra] = rb
+            chosen.append(cand[k])
+        else:
+            rest.append(cand[k])
+    if extra_order is not None:
+        rest.sort(key=extra_order)
+    return chosen + rest[: max(0, n_edges - len(chosen))]
+
+
+def warehouse_layout(n_edges: int, seed: int) -> GraphTrack:
+    """A seeded warehouse aisle grid of ``n_edges`` edges (lengths: straight distances, metres).
+
+    Aisles run along y at x spacing 3–6 m, racks (vertices) every 4–8 m along them; cross aisles join the aisles
+    at both ends and at a random third of the racks. The aisle segments form the spanning structure first, so
+    the layout is connected; cross aisles then fill up to ``n_edges``.
+    """
+    rng = np.random.default_rng(seed)
+    racks = 4 if n_edges < 40 else 8
+    aisles = max(2, -(-(n_edges + racks) // (2 * racks - 1)))  # enough edges: aisles·(racks−1) + (aisles−1)·racks
+    xs = np.concatenate([[0.0], np.cumsum(rng.uniform(3.0, 6.0, aisles - 1))])
+    ys = np.concatenate([[0.0], np.cumsum(rng.uniform(4.0, 8.0, racks - 1))])
+    idx = {(i, j): i * racks + j for i in range(aisles) for j in range(racks)}
+    along = [(idx[i, j], idx[i, j + 1]) for i in range(aisles) for j in range(racks - 1)]
+    ends = [(idx[i, j], idx[i + 1, j]) for i in range(aisles - 1) for j in (0, racks - 1)]
+    middle = [(idx[i, j], idx[i + 1, j]) for i in range(aisles - 1) for j in range(1, racks - 1)]
+    rng.shuffle(middle)
+    # spanning: the aisles plus the cross aisles at one end; then the other end, then the middle ones
+    edges = along + ends[0::2] + ends[1::2] + middle
+    edges = edges[:n_edges]
+    names = [f"a{i}_r{j}" for i in range(aisles) for j in range(racks)]
+    verts = {names[idx[i, j]]: [float(xs[i]), float(ys[j])] for i in range(aisles) for j in range(racks)}
+    used = {names[u] for u, _ in edges} | {names[v] for _, v in edges}
+    return GraphTrack.from_layout(
+        {"vertices": {k: v for k, v in verts.items() if k in used}, "edges": [[names[u], names[v]] for u, v in edges]}
+    )
+
+
+def _jittered_points(n: int, rng: np.random.Generator, spacing: float = 7.75) -> np.ndarray:
+    """``n`` random points, one in each of the first ``n`` cells of a square lattice (``spacing`` m), moved by up to
+    30 % of the spacing: random, yet never closer than 40 % of the spacing (3.1 m). Shape (n, 2)."""
+    side = int(np.ceil(np.sqrt(n)))
+    cells = rng.permutation(side * side)[:n]
+    base = np.column_stack([cells % side, cells // side]).astype(float)
+    return (base + rng.uniform(-0.3, 0.3, size=(n, 2))) * spacing
+
+
+def road_map_layout(n_edges: int, seed: int) -> GraphTrack:
+    """A seeded random planar road map of ``n_edges`` edges (Delaunay edges of random points; metres)."""
+    from scipy.spatial import Delaunay
+
+    rng = np.random.default_rng(seed)
+    n_pts = max(4, round(n_edges / 1.6))  # a spanning tree plus ~60 % more edges
+    while True:  # a small triangulation may have fewer edges than asked: add points
+        pts = _jittered_points(n_pts, rng)
+        tri = Delaunay(pts)
+        cand_set: set[tuple[int, int]] = set()
+        for s in tri.simplices:
+            for u, v in ((s[0], s[1]), (s[1], s[2]), (s[0], s[2])):
+                cand_set.add((int(min(u, v)), int(max(u, v))))
+        if len(cand_set) >= n_edges:
+            break
+        n_pts += 1
+    cand = sorted(cand_set)
+
+    def length(e: tuple[int, int]) -> float:
+        return float(np.hypot(*(pts[e[0]] - pts[e[1]])))
+
+    edges = _spanning_then_extra(n_pts, cand, n_edges, rng, extra_order=length)
+    names = [f"p{i}" for i in range(n_pts)]
+    verts = {names[i]: [float(pts[i, 0]), float(pts[i, 1])] for i in range(n_pts)}
+    return GraphTrack.from_layout({"vertices": verts, "edges": [[names[u], names[v]] for u, v in edges]})
+
+
+KINDS: dict[str, Callable[[int, int], GraphTrack]] = {"warehouse": warehouse_layout, "road map": road_map_layout}
+
+
+def run_scale(
+    sizes: Sequence[int] = (10, 30, 100, 300, 1000, 3000),
+    kinds: Sequence[str] = tuple(KINDS),
+    queries: int = 20,
+    trajectories: int = 5,
+    clearance: float = 1.0,
+    seed: int = 0,
+    progress: Callable[[str], None] | None = None,
+) -> list[dict[str, Any]]:
+    """One record per (kind, size): build time (s) and peak memory (bytes), plan times (s), trajectory median."""
+    from trajopt.generator import TrajectoryGenerator
+    from trajopt.timing import Limits
+
+    out = []
+    for kind in kinds:
+        for n_e in sizes:
+            track = KINDS[kind](n_e, seed * 100_003 + n_e)
+            t0 = time.perf_counter()
+            fs = FreeSpace(track, clearance)
+            build = time.perf_counter() - t0
+            polygons = len(fs.polygon_ids)
+            del fs
+            tracemalloc.start()  # a second build for the memory (tracemalloc slows it down)
+            FreeSpace(track, clearance)
+            _, peak = tracemalloc.get_traced_memory()
+            tracemalloc.stop()
+            free_space(track, clearance)
+            qs = make_graph_queries(track, queries + 1, seed, [clearance])
+            _plan(track, qs[0], (1.0, 1.0))  # warm
+            times, solved = [], 0
+            for q in qs[1:]:
+                t0 = time.perf_counter()
+                p = _plan(track, q, (1.0, 1.0))
+                times.append(time.perf_counter() - t0)
+                solved += p is not None
+            gen = TrajectoryGenerator(track, clearance=clearance, limits=Limits(1.0, 1.0, 4.0), rate=100.0)
+            ttimes = []
+            for q in qs[1 : 1 + trajectories]:
+                t0 = time.perf_counter()
+                try:
+                    gen.generate(q["start"], q["goal"])
+                except MPAError:  # no motion: not timed
+                    continue
+                ttimes.append(time.perf_counter() - t0)
+            out.append(
+                {
+                    "kind": kind,
+                    "edges": track.n_edges,
+                    "vertices": track.graph.n_vertices,
+                    "build": build,
+                    "memory": int(peak),
+                    "polygons": polygons,
+                    "plan_median": float(np.median(times)),
+                    "plan_p95": float(np.percentile(times, 95)),
+                    "plan_max": float(np.max(times)),
+                    "trajectory_median": float(np.median(ttimes)) if ttimes else float("nan"),
+                    "solved": solved,
+                    "queries": len(times),
+                }
+            )
+            if progress:
+                progress(scale_markdown(out[-1:]).splitlines()[2])
+    return out
+
+
+def _exponent(records: list[dict[str, Any]], key: str) -> float:
+    """Slope of log(key) against log(edges), least squares."""
+    x = np.log([r["edges"] for r in records])
+    y = np.log([max(r[key], 1e-12) for r in records])
+    return float(np.polyfit(x, y, 1)[0]) if len(records) >= 2 else float("nan")
+
+
+def scale_markdown(records: list[dict[str, Any]]) -> str:
+    """The scaling table per kind, and a row of fitted growth exponents (time ∝ edges^k)."""
+    lines = [
+        "| layout | edges | free-space build (s) | peak memory (MB) | polygons | plan median (ms) | plan p95 (ms) | "
+        "plan max (ms) | verified trajectory median (ms) | solved |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for kind in dict.fromkeys(r["kind"] for r in records):
+        rs = [r for r in records if r["kind"] == kind]
+        for r in rs:
+            lines.append(
+                f"| {kind} | {r['edges']} | {r['build']:.3f} | {r['memory'] / 1e6:.1f} | {r['polygons']} | "
+                f"{r['plan_median'] * 1e3:.2f} | {r['plan_p95'] * 1e3:.1f} | {r['plan_max'] * 1e3:.1f} | "
+                f"{r['trajectory_median'] * 1e3:.1f} | {r['solved']}/{r['queries']} |"
+            )
+        lines.append(
+            f"| {kind}: exponent k (∝ edges^k) | | {_exponent(rs, 'build'):.2f} | {_exponent(rs, 'memory'):.2f} | "
+            f"{_exponent(rs, 'polygons'):.2f} | {_exponent(rs, 'plan_median'):.2f} | {_exponent(rs, 'plan_p95'):.2f} | "
+            f"{_exponent(rs, 'plan_max'):.2f} | {_exponent(rs, 'trajectory_median'):.2f} | |"
+        )
+    return "\n".join(lines) + "\n"

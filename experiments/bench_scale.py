@@ -1,0 +1,49 @@
+"""The scaling table of the graph planner on seeded warehouse aisle grids and planar road maps.
+
+    python experiments/bench_scale.py [--sizes 10,30,100,300,1000,3000] [--queries 20] [--clearance 1] [--out FILE]
+
+Prints (and with ``--out`` writes) the Markdown table of :func:`bench.graph_scale.scale_markdown`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT.parent))
+
+from bench.graph_scale import KINDS, run_scale, scale_markdown  # noqa: E402
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", default="10,30,100,300,1000,3000")
+    ap.add_argument("--kinds", default=",".join(KINDS))
+    ap.add_argument("--queries", type=int, default=20)
+    ap.add_argument("--trajectories", type=int, default=5)
+    ap.add_argument("--clearance", type=float, default=1.0)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--out", default=None, help="write the table (Markdown) and FILE.json with the records")
+    args = ap.parse_args()
+    records = run_scale(
+        [int(x) for x in args.sizes.split(",")],
+        [k.strip() for k in args.kinds.split(",")],
+        args.queries,
+        args.trajectories,
+        args.clearance,
+        args.seed,
+        progress=lambda m: print(m, file=sys.stderr, flush=True),
+    )
+    text = scale_markdown(records)
+    print(text)
+    if args.out:
+        Path(args.out).write_text(text)
+        Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,829 @@
+"""Free space of two robots with bodies in the plane, exactly, and the complete planner in it.
+
+**The model.** Robot A at offset ``s`` on a straight piece of the drawing (:class:`mpa.footprint.Drawing`) stands at
+``p(s) = p0 + s·u`` (affine), robot B at ``q(t)`` likewise; each body is its footprint oriented along its piece. The
+bodies overlap iff ``q(t) - p(s)`` lies in the interior of ``Q = K_A ⊕ (−K_B)`` (the Minkowski difference of the
+placed bodies: a convex polygon, an octagon at most for two rectangles). The preimage of a convex set under the
+affine map ``(s, t) ↦ q(t) − p(s)`` is convex: in each *sub-cell* (a piece of A's edge × a piece of B's edge) the
+*obstacle* ``O`` is a convex polygon given by at most ``|Q|`` half-planes (a strip when the pieces are parallel, e.g.
+``|s − t| < (L_A + L_B)/2`` on one straight piece). Discs use the polygon of :data:`mpa.footprint.DISC_SIDES` sides
+circumscribed about the disc of the summed radius, one side normal to A's piece (exact across parallel tracks,
+at most 0.48 % of the summed radius conservative elsewhere). Bodies that touch (distance 0, within 1e-9 m) count as
+apart.
+
+**Free pieces.** The free part of a sub-cell is the along-track free polygon of :mod:`mpa.freespace` (the clearance D
+in graph distance, unchanged) minus the interior of ``O``: with ``O = {g_1 <= 0, ..., g_m <= 0}`` it is the union of
+the closed convex pieces ``{g_k >= 0, g_j <= 0 for j < k}`` (cut along the obstacle's supporting lines).
+
+**Corners.** A robot's body takes the orientation of the piece it is on. A configuration where a robot stands on a
+corner (a polyline corner or a vertex) belongs to the sub-cells of every piece there; the planner moves from one to
+the other only through configurations free in both (the two pieces touch there), so at the instant the body turns
+it is clear of the other body in both orientations. The turn itself is instantaneous in this model: the gate
+(:mod:`trajopt.planar_gate`) bounds the sweep of a real turn between rows.
+
+**Gluing and completeness.** Two free pieces are adjacent when they share a point: inside one cell (they touch
+along a cut, across a polyline corner, or at a point), or across a face (a robot on a vertex, the pieces of the
+cells of two edges at that vertex meeting in an interval or a point of the other robot's offsets), or at a corner
+(both robots on vertices). Path components are the connected components of this adjacency (union-find): two
+configurations are joined by a motion in the model iff their pieces are in one component, and the planner then finds
+one (**complete**; a shortest path through the pieces' shared points, straight inside each convex piece). The path
+is not the optimum of the objective (it bends only at the pieces' shared points: the ends and middle of each shared
+segment), but it is free by construction.
+"""
+
+from __future__ import annotations
+
+import heapq
+import itertools
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from mpa.errors import InvalidInputError, NoMotionError
+from mpa.footprint import Disc, Footprints, body_gap, drawing_of, footprints
+from mpa.freespace import FreeSpace, _clip, _dedupe, free_space
+from mpa.graph_track import GraphTrack, Position, as_graph_track
+
+__all__ = ["PlanarFreeSpace", "bodies_gap", "plan_planar", "planar_free_space"]
+
+FloatArray = NDArray[np.float64]
+Coords = tuple[float, float]
+TOUCH = 1e-9  # times max(1, total length): bodies this close count as apart
+_EMPTY, _FULL = 0, 1
+
+
+def _area(p: list[Coords]) -> float:
+    n = len(p)
+    if n < 3:
+        return 0.0
+    return 0.5 * sum(p[i][0] * p[(i + 1) % n][1] - p[(i + 1) % n][0] * p[i][1] for i in range(n))
+
+
+def _halfplanes(poly: list[Coords], slack: float) -> list[tuple[float, float, float]]:
+    """Half-planes ``a*s + b*t >= c`` of a counter-clockwise convex polygon, loosened by ``slack`` metres."""
+    out = []
+    n = len(poly)
+    for i in range(n):
+        (x0, y0), (x1, y1) = poly[i], poly[(i + 1) % n]
+        a, b = -(y1 - y0), x1 - x0
+        nrm = math.hypot(a, b)
+        if nrm <= 0.0:
+            continue
+        out.append((a / nrm, b / nrm, (a * x0 + b * y0) / nrm - slack))
+    return out
+
+
+def _hull(pts: FloatArray) -> FloatArray:
+    """Convex hull, counter-clockwise (monotone chain)."""
+    p = sorted(map(tuple, np.round(pts, 15)))
+    if len(p) <= 2:
+        return np.array(p)
+
+    def cross(o: Any, a: Any, b: Any) -> float:
+        return float((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]))
+
+    lower: list[Any] = []
+    for q in p:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], q) <= 0:
+            lower.pop()
+        lower.append(q)
+    upper: list[Any] = []
+    for q in reversed(p):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], q) <= 0:
+            upper.pop()
+        upper.append(q)
+    return np.array(lower[:-1] + upper[:-1])
+
+
+def _inside(poly: FloatArray, s: float, t: float, tol: float) -> bool:
+    n = len(poly)
+    if n == 1:
+        return abs(poly[0, 0] - s) <= tol and abs(poly[0, 1] - t) <= tol
+    if n == 2 or abs(_area([tuple(x) for x in poly])) <= tol * tol:
+        # degenerate: distance to the segment hull
+        best = math.inf
+        for i in range(n):
+            a, b = poly[i], poly[(i + 1) % n]
+            ab = b - a
+            den = float(ab @ ab)
+            lam = 0.0 if den <= 0 else min(1.0, max(0.0, float((np.array([s, t]) - a) @ ab) / den))
+            best = min(best, math.hypot(a[0] + lam * ab[0] - s, a[1] + lam * ab[1] - t))
+        return best <= tol
+    for a, b, c in _halfplanes([tuple(x) for x in poly], tol):
+        if a * s + b * t < c:
+            return False
+    return True
+
+
+def _meet(p: FloatArray, q: FloatArray, tol: float) -> list[Coords] | None:
+    """Points of the intersection of two closed convex polygons (within ``tol``), None if they do not meet."""
+    small, big = (p, q) if abs(_area([tuple(x) for x in p])) <= abs(_area([tuple(x) for x in q])) else (q, p)
+    if len(big) >= 3 and abs(_area([tuple(x) for x in big])) > tol * tol:
+        out: list[Coords] = [tuple(x) for x in small]
+        for a, b, c in _halfplanes([tuple(x) for x in big], tol):
+            out = _clip(out, a, b, c)
+            if not out:
+                return None
+        return out
+    # both degenerate: a vertex of one close to the other
+    for v in small:
+        if _inside(big, float(v[0]), float(v[1]), tol):
+            return [(float(v[0]), float(v[1]))]
+    for v in big:
+        if _inside(small, float(v[0]), float(v[1]), tol):
+            return [(float(v[0]), float(v[1]))]
+    return None
+
+
+@dataclass(frozen=True)
+class _Piece:
+    cell: tuple[int, int, int]  # (edge A, edge B, along-track piece k)
+    sub: tuple[int, int]  # (drawing piece of A, drawing piece of B)
+    poly: FloatArray  # (n, 2) offsets (s, t), counter-clockwise
+
+
+class PlanarFreeSpace:
+    """Free configuration space of two robots with footprints in the plane and the along-track clearance D.
+
+    Parameters
+    ----------
+    track : GraphTrack or paper track or layout
+        Needs coordinates for every vertex (the drawing, :class:`mpa.footprint.Drawing`).
+    clearance : float
+        D (metres, >= 0), the along-track clearance as in :class:`mpa.freespace.FreeSpace`.
+    footprint : Footprints or anything :func:`mpa.footprint.footprints` accepts
+
+    Attributes
+    ----------
+    base : FreeSpace
+        The along-track free space.
+    pieces : list
+        Closed convex free pieces (cell, sub-cell, polygon in offsets).
+    component : ndarray of int, shape (len(pieces),)
+        Path component of each piece.
+    n_components : int
+    """
+
+    def __init__(self, track: object, clearance: float, footprint: object) -> None:
+        fps = footprints(footprint)
+        if fps is None:
+            raise InvalidInputError("footprint is None, expected a footprint for the planar free space")
+        self.track: GraphTrack = as_graph_track(track)
+        self.footprints = fps
+        self.drawing = drawing_of(self.track)
+        self.base: FreeSpace = free_space(self.track, clearance)
+        self.clearance = self.base.clearance
+        self.tol = TOUCH * max(1.0, self.track.total_length)
+        self._build()
+        self._glue()
+
+    # ------------------------------------------------------------------------------------------ build
+    def _obstacle(self, pa: int, pb: int) -> list[tuple[float, float, float]] | None:
+        """Half-planes ``a*s + b*t <= c`` whose intersection is the open obstacle of sub-cell (pa, pb), or None."""
+        d = self.drawing
+        fa, fb = self.footprints.a, self.footprints.b
+        ha, hb = float(d.piece_heading[pa]), float(d.piece_heading[pb])
+        ca, sa = math.cos(ha), math.sin(ha)
+        cb, sb = math.cos(hb), math.sin(hb)
+        ka = fa.corners() @ np.array([[ca, sa], [-sa, ca]])
+        kb = fb.corners() @ np.array([[cb, sb], [-sb, cb]])
+        if isinstance(fa, Disc) and isinstance(fb, Disc):
+            r = fa.radius + fb.radius
+            q = Disc(r).corners() @ np.array([[ca, sa], [-sa, ca]])
+        else:
+            q = _hull((ka[:, None, :] - kb[None, :, :]).reshape(-1, 2))
+        # overlap iff q(t) - p(s) ∈ int Q; q(t) - p(s) = d0 + t*ub - s*ua
+        ua, ub = d.piece_dir[pa], d.piece_dir[pb]
+        d0 = (d.piece_p0[pb] - d.piece_s0[pb] * ub) - (d.piece_p0[pa] - d.piece_s0[pa] * ua)
+        out = []
+        for a_, b_, c_ in _halfplanes([tuple(x) for x in q], 0.0):
+            # Q: a_*x + b_*y >= c_ (inside); written as n·x <= h with n = -(a_, b_), h = -c_
+            nx, ny, h = -a_, -b_, -c_
+            cs = -(nx * ua[0] + ny * ua[1])
+            ct = nx * ub[0] + ny * ub[1]
+            rhs = h - (nx * d0[0] + ny * d0[1]) - self.tol
+            out.append((cs, ct, rhs))
+        return out
+
+    def _turns(self, p: int, q: int) -> bool:
+        """Whether a body passing from drawing piece ``p`` to ``q`` turns (orientation modulo pi)."""
+        d = self.drawing
+        x = abs(float(d.piece_heading[p] - d.piece_heading[q])) % math.pi
+        return min(x, math.pi - x) > 1e-12
+
+    def _turn_block(self, centre: FloatArray, reach: float, other: Any, pb: int) -> tuple[float, float] | None:
+        """Open interval of the other robot's offsets on piece ``pb`` where its body comes closer than ``reach`` to
+        ``centre`` (the turning body's sweep lies in that disc), None if it never does."""
+        d = self.drawing
+        hb = float(d.piece_heading[pb])
+        cb, sb = math.cos(hb), math.sin(hb)
+        kb = other.corners() @ np.array([[cb, sb], [-sb, cb]])
+        disc = Disc(reach).corners()
+        k = _hull((kb[:, None, :] + disc[None, :, :]).reshape(-1, 2))
+        # overlap iff centre - q(t) in int K; q(t) = q0 + t*u
+        u = d.piece_dir[pb]
+        q0 = d.piece_p0[pb] - d.piece_s0[pb] * u
+        lo, hi = -math.inf, math.inf
+        for a_, b_, c_ in _halfplanes([tuple(x) for x in k], 0.0):
+            # a·(centre - q0 - t u) > c + tol
+            alpha = -(a_ * u[0] + b_ * u[1])
+            beta = a_ * (centre[0] - q0[0]) + b_ * (centre[1] - q0[1]) - c_ - self.tol
+            if abs(alpha) <= 1e-15:
+                if beta <= 0.0:
+                    return None
+                continue
+            r = -beta / alpha
+            if alpha > 0:
+                lo = max(lo, r)
+            else:
+                hi = min(hi, r)
+        return (lo, hi) if lo < hi else None
+
+    def _turn_filter(self, ax: int, side: float, turner_piece: int, other_piece: int, ys: list[float]) -> list[float]:
+        """The portal values ``ys`` (the other robot's offsets) kept where the turning robot's sweep is clear."""
+        fp = self.footprints.a if ax == 0 else self.footprints.b
+        other = self.footprints.b if ax == 0 else self.footprints.a
+        if isinstance(fp, Disc):
+            return ys
+        d = self.drawing
+        centre = d.piece_p0[turner_piece] + (side - d.piece_s0[turner_piece]) * d.piece_dir[turner_piece]
+        blk = self._turn_block(centre, fp.reach, other, other_piece)
+        if blk is None or not ys:
+            return ys
+        y0, y1 = min(ys), max(ys)
+        parts = [(y0, min(y1, blk[0])), (max(y0, blk[1]), y1)]
+        out: list[float] = []
+        for a0, a1 in parts:
+            if a1 >= a0:
+                out.extend(_portal_values(a0, a1))
+        return out
+
+    def _near_pairs(self) -> NDArray[np.bool_]:
+        d = self.drawing
+        e0 = d.piece_p0
+        e1 = d.piece_p0 + (d.piece_s1 - d.piece_s0)[:, None] * d.piece_dir
+        lo = np.minimum(e0, e1)
+        hi = np.maximum(e0, e1)
+        reach = self.footprints.a.reach + self.footprints.b.reach + 1e-6
+        gap_x = np.maximum(lo[:, None, 0] - hi[None, :, 0], lo[None, :, 0] - hi[:, None, 0])
+        gap_y = np.maximum(lo[:, None, 1] - hi[None, :, 1], lo[None, :, 1] - hi[:, None, 1])
+        return (gap_x < reach) & (gap_y < reach)
+
+    def _build(self) -> None:
+        base = self.base
+        d = self.drawing
+        near = self._near_pairs()
+        pieces: list[_Piece] = []
+        eps = 1e-12 * max(1.0, float(self.track.lengths.max()))
+        for pid in base.polygon_ids:
+            e, f, k = pid
+            bpoly = [tuple(x) for x in base.vertices(pid)]
+            for pa in d.edge_pieces[e]:
+                s0, s1 = float(d.piece_s0[pa]), float(d.piece_s1[pa])
+                ra = _clip(_clip(bpoly, 1.0, 0.0, s0), -1.0, 0.0, -s1)
+                if not ra:
+                    continue
+                for pb in d.edge_pieces[f]:
+                    t0, t1 = float(d.piece_s0[pb]), float(d.piece_s1[pb])
+                    r = _dedupe(_clip(_clip(ra, 0.0, 1.0, t0), 0.0, -1.0, -t1), eps)
+                    if not r:
+                        continue
+                    cell = (e, f, k)
+                    sub = (int(pa), int(pb))
+                    if not near[pa, pb]:
+                        pieces.append(_Piece(cell, sub, np.asarray(r, dtype=float)))
+                        continue
+                    hp = self._obstacle(int(pa), int(pb)) or []
+                    inner = r
+                    for a_, b_, c_ in hp:
+                        inner = _clip(inner, -a_, -b_, -c_)
+                        if not inner:
+                            break
+                    degenerate = abs(_area(r)) <= eps * eps
+                    if not inner or (not degenerate and (_area(inner) <= eps * eps or len(_dedupe(inner, eps)) < 3)):
+                        pieces.append(_Piece(cell, sub, np.asarray(r, dtype=float)))
+                        continue
+                    for i, (a_, b_, c_) in enumerate(hp):
+                        if abs(a_) + abs(b_) <= 1e-15:
+                            continue
+                        q = _clip(r, a_, b_, c_)
+                        for a2, b2, c2 in hp[:i]:
+                            if not q:
+                                break
+                            q = _clip(q, -a2, -b2, -c2)
+                        q = _dedupe(q, eps)
+                        if q:
+                            pieces.append(_Piece(cell, sub, np.asarray(q, dtype=float)))
+        self.pieces = pieces
+
+    def _glue(self) -> None:
+        tr = self.track
+        tol = 10.0 * self.tol
+        n = len(self.pieces)
+        self.adjacent: list[list[tuple[int, list[Coords], list[Coords]]]] = [[] for _ in range(n)]
+        parent = list(range(n))
+
+        def find(x: int) -> int:
+            while parent[x] != x:
+                parent[x] = parent[parent[x]]
+                x = parent[x]
+            return x
+
+        def link(i: int, j: int, pi: list[Coords], pj: list[Coords]) -> None:
+            pi = [self._clamp(i, j, c) for c in pi]
+            pj = [self._clamp(j, i, c) if self.pieces[i].cell[:2] != self.pieces[j].cell[:2] else c for c in pj]
+            if self.pieces[i].cell[:2] == self.pieces[j].cell[:2]:
+                pj = pi
+            self.adjacent[i].append((j, pi, pj))
+            self.adjacent[j].append((i, pj, pi))
+            ri, rj = find(i), find(j)
+            if ri != rj:
+                parent[ri] = rj
+
+        lo = np.array([p.poly.min(axis=0) for p in self.pieces]).reshape(-1, 2)
+        hi = np.array([p.poly.max(axis=0) for p in self.pieces]).reshape(-1, 2)
+        by_cell: dict[tuple[int, int], list[int]] = {}
+        for i, p in enumerate(self.pieces):
+            by_cell.setdefault((p.cell[0], p.cell[1]), []).append(i)
+        for idx in by_cell.values():
+            if len(idx) < 2:
+                continue
+            ix = np.array(idx)
+            l_, h_ = lo[ix], hi[ix]
+            ok = np.all(l_[:, None, :] <= h_[None, :, :] + tol, axis=-1) & np.all(
+                l_[None, :, :] <= h_[:, None, :] + tol, axis=-1
+            )
+            for x, y in zip(*np.nonzero(np.triu(ok, 1))):
+                i, j = idx[int(x)], idx[int(y)]
+                m = _meet(self.pieces[i].poly, self.pieces[j].poly, tol)
+                if m:
+                    pts = self._turn_points(i, j, _portal_points(m))
+                    if pts:
+                        link(i, j, pts, pts)
+        # faces: a robot on a vertex; key (axis, vertex, other edge) -> (piece, side value, lo, hi)
+        faces: dict[tuple[Any, ...], list[tuple[int, float, float, float]]] = {}
+        lengths = tr.lengths
+        for i, p in enumerate(self.pieces):
+            e, f, _ = p.cell
+            for ax, edge, other in ((0, e, f), (1, f, e)):
+                col = p.poly[:, ax]
+                for side, w in ((0.0, int(tr.tails[edge])), (float(lengths[edge]), int(tr.heads[edge]))):
+                    on = np.abs(col - side) <= tol
+                    if not np.any(on):
+                        continue
+                    ys = p.poly[on, 1 - ax]
+                    faces.setdefault((ax, w, other), []).append((i, side, float(ys.min()), float(ys.max())))
+        for (ax, _, _), items in faces.items():
+            items.sort(key=lambda x: x[2])
+            for x, (i, si, li, hi_) in enumerate(items):
+                for j, sj, lj, hj in items[x + 1 :]:
+                    if lj > hi_ + tol:
+                        break
+                    if self.pieces[i].cell[:2] == self.pieces[j].cell[:2] and si == sj:
+                        continue  # same cell, same side: glued inside the cell already
+                    a0, a1 = max(li, lj), min(hi_, hj)
+                    if a0 > a1:
+                        a0 = a1 = 0.5 * (a0 + a1)
+                    ys = _portal_values(a0, a1)
+                    sub_i, sub_j = self.pieces[i].sub, self.pieces[j].sub
+                    if self._turns(sub_i[ax], sub_j[ax]):
+                        ys = self._turn_filter(ax, si, sub_i[ax], sub_i[1 - ax], ys)
+                        if ys and sub_i[1 - ax] != sub_j[1 - ax]:
+                            ys = self._turn_filter(ax, sj, sub_j[ax], sub_j[1 - ax], ys)
+                    if not ys:
+                        continue
+                    pi = [(si, y) if ax == 0 else (y, si) for y in ys]
+                    pj = [(sj, y) if ax == 0 else (y, sj) for y in ys]
+                    link(i, j, pi, pj)
+        # corners: both robots on vertices
+        corners: dict[tuple[int, int], list[tuple[int, Coords]]] = {}
+        for i, p in enumerate(self.pieces):
+            e, f, _ = p.cell
+            for sa, wa in ((0.0, int(tr.tails[e])), (float(lengths[e]), int(tr.heads[e]))):
+                for sb, wb in ((0.0, int(tr.tails[f])), (float(lengths[f]), int(tr.heads[f]))):
+                    if np.any((np.abs(p.poly[:, 0] - sa) <= tol) & (np.abs(p.poly[:, 1] - sb) <= tol)):
+                        corners.setdefault((wa, wb), []).append((i, (sa, sb)))
+        for citems in corners.values():
+            for x, (i, ci) in enumerate(citems):
+                for j, cj in citems[x + 1 :]:
+                    if self.pieces[i].cell[:2] != self.pieces[j].cell[:2] and self._corner_clear(i, j, ci):
+                        link(i, j, [ci], [cj])
+        roots = [find(i) for i in range(n)]
+        labels: dict[int, int] = {}
+        self.component = np.array([labels.setdefault(r, len(labels)) for r in roots], dtype=np.int64)
+        self.n_components = len(labels)
+
+    def _box(self, i: int) -> tuple[float, float, float, float]:
+        d = self.drawing
+        pa, pb = self.pieces[i].sub
+        return float(d.piece_s0[pa]), float(d.piece_s1[pa]), float(d.piece_s0[pb]), float(d.piece_s1[pb])
+
+    def _clamp(self, i: int, j: int, c: Coords) -> Coords:
+        """A shared point moved exactly into piece ``i``'s sub-cell (and ``j``'s, in the same cell): no point of a
+        path lies on another drawing piece than the one its sub-cell says (tolerances never flip an orientation)."""
+        s0, s1, t0, t1 = self._box(i)
+        if self.pieces[i].cell[:2] == self.pieces[j].cell[:2]:
+            u0, u1, v0, v1 = self._box(j)
+            s0, s1, t0, t1 = max(s0, u0), min(s1, u1), max(t0, v0), min(t1, v1)
+            if s0 > s1:
+                s0 = s1 = 0.5 * (s0 + s1)
+            if t0 > t1:
+                t0 = t1 = 0.5 * (t0 + t1)
+        return (min(max(c[0], s0), s1), min(max(c[1], t0), t1))
+
+    def _corner_offsets(self) -> list[dict[float, float]]:
+        """Per edge: offsets where a body turns (polyline corners, ends at a vertex with several orientations)."""
+        co = getattr(self, "_co", None)
+        if co is None:
+            d = self.drawing
+            tr = self.track
+            co = []
+            for e in range(tr.n_edges):
+                out: dict[float, float] = {}
+                pcs = d.edge_pieces[e]
+                for p, q in itertools.pairwise(pcs):
+                    if self._turns(int(p), int(q)):
+                        out[float(d.piece_s1[p])] = 1.0
+                for off in (0.0, float(tr.lengths[e])):
+                    hs = d.corner_headings(e, off)
+                    if any(self._turns_h(hs[0], h) for h in hs[1:]):
+                        out[off] = 1.0
+                co.append(out)
+            self._co = co
+        return co
+
+    @staticmethod
+    def _turns_h(h1: float, h2: float) -> bool:
+        x = abs(h1 - h2) % math.pi
+        return min(x, math.pi - x) > 1e-12
+
+    def segment_ok(self, i: int, c0: Coords, c1: Coords) -> bool:
+        """Whether a straight move inside piece ``i`` is clear also where a robot stands still on a corner: there
+        it may have either orientation, so its reach disc must stay clear of the other body."""
+        e, f, _ = self.pieces[i].cell
+        co = self._corner_offsets()
+        d = self.drawing
+        for ax, edge in ((0, e), (1, f)):
+            if c0[ax] != c1[ax] or c0[ax] not in co[edge]:
+                continue
+            fp = self.footprints.a if ax == 0 else self.footprints.b
+            if isinstance(fp, Disc):
+                continue
+            other = self.footprints.b if ax == 0 else self.footprints.a
+            sub = self.pieces[i].sub
+            turner = sub[ax]
+            key = (ax, turner, c0[ax], sub[1 - ax])
+            memo = self.__dict__.setdefault("_blocks", {})
+            if key not in memo:
+                centre = d.piece_p0[turner] + (c0[ax] - d.piece_s0[turner]) * d.piece_dir[turner]
+                memo[key] = self._turn_block(centre, fp.reach, other, sub[1 - ax])
+            blk = memo[key]
+            if blk is None:
+                continue
+            y0, y1 = sorted((c0[1 - ax], c1[1 - ax]))
+            if y1 > blk[0] and y0 < blk[1]:
+                return False
+        return True
+
+    def _turn_points(self, i: int, j: int, pts: list[Coords]) -> list[Coords]:
+        """Shared points of two pieces of one cell, kept where a robot that turns between them sweeps clear."""
+        si, sj = self.pieces[i].sub, self.pieces[j].sub
+        out = pts
+        for ax in (0, 1):
+            if si[ax] != sj[ax] and self._turns(si[ax], sj[ax]):
+                if si[1 - ax] != sj[1 - ax] and self._turns(si[1 - ax], sj[1 - ax]):
+                    return [c for c in out if self._corner_clear(i, j, c)]
+                side = out[0][ax] if out else 0.0
+                ys = self._turn_filter(ax, side, si[ax], si[1 - ax], [c[1 - ax] for c in out])
+                out = [(side, y) if ax == 0 else (y, side) for y in ys]
+        return out
+
+    def _corner_clear(self, i: int, j: int, c: Coords) -> bool:
+        """Both robots on corners: the discs of their reach (a turning body's sweep) apart, where they turn."""
+        si, sj = self.pieces[i].sub, self.pieces[j].sub
+        fa, fb = self.footprints.a, self.footprints.b
+        ta = self._turns(si[0], sj[0]) and not isinstance(fa, Disc)
+        tb = self._turns(si[1], sj[1]) and not isinstance(fb, Disc)
+        if not (ta or tb):
+            return True
+        d = self.drawing
+        pa = d.piece_p0[si[0]] + (c[0] - d.piece_s0[si[0]]) * d.piece_dir[si[0]]
+        pb = d.piece_p0[si[1]] + (c[1] - d.piece_s0[si[1]]) * d.piece_dir[si[1]]
+        return float(np.hypot(*(pa - pb))) >= fa.reach + fb.reach - self.tol
+
+    # ---------------------------------------------------------------------------------------- queries
+    def names(self, pos: Position) -> list[Position]:
+        """All ``(edge, offset)`` names of a position (several on a vertex)."""
+        tr = self.track
+        e, s = pos
+        w = tr.vertex_at(e, s)
+        if w is None:
+            return [pos]
+        out = []
+        for f in range(tr.n_edges):
+            if tr.tails[f] == w:
+                out.append((f, 0.0))
+            if tr.heads[f] == w:
+                out.append((f, float(tr.lengths[f])))
+        return out
+
+    def placements(self, pa: Position, pb: Position) -> list[tuple[int, Coords]]:
+        """The free pieces holding the configuration, with its offsets in each (empty if it is not free)."""
+        out = []
+        by_cell = self._by_cell()
+        for ea, sa in self.names(pa):
+            for eb, sb in self.names(pb):
+                for i in by_cell.get((ea, eb), ()):
+                    if _inside(self.pieces[i].poly, sa, sb, 10.0 * self.tol):
+                        out.append((i, (sa, sb)))
+        return out
+
+    def _by_cell(self) -> dict[tuple[int, int], list[int]]:
+        bc = getattr(self, "_bc", None)
+        if bc is None:
+            bc = {}
+            for i, p in enumerate(self.pieces):
+                bc.setdefault((p.cell[0], p.cell[1]), []).append(i)
+            self._bc = bc
+        return bc
+
+    def component_of(self, pos_a: object, pos_b: object) -> int | None:
+        """Path component of a configuration (None if the bodies overlap or the robots are closer than D)."""
+        a = self.track.position(pos_a, "position of robot A")
+        b = self.track.position(pos_b, "position of robot B")
+        pl = self.placements(a, b)
+        return None if not pl else int(self.component[pl[0][0]])
+
+    def is_free(self, pos_a: Position, pos_b: Position) -> bool:
+        """Whether the configuration is free in the planar model (every orientation at a corner)."""
+        if not self.base.is_free(pos_a, pos_b):
+            return False
+        return bodies_gap(self.track, self.footprints, pos_a, pos_b) >= -self.tol
+
+    def can_swap(self, pos_a: object | None = None, pos_b: object | None = None) -> bool:
+        """Whether the robots can exchange places (two positions: these; none: some free configuration)."""
+        if pos_a is None and pos_b is None:
+            for i, p in enumerate(self.pieces):
+                e, f, _ = p.cell
+                s, t = p.poly.mean(axis=0)
+                other = self.placements((f, float(t)), (e, float(s)))
+                if any(self.component[j] == self.component[i] for j, _ in other):
+                    return True
+            return False
+        if pos_a is None or pos_b is None:
+            raise InvalidInputError("can_swap takes two positions or none")
+        c1 = self.component_of(pos_a, pos_b)
+        if c1 is None:
+            raise InvalidInputError(
+                f"configuration {pos_a!r}, {pos_b!r} has the bodies overlapping or the robots closer than the "
+                f"clearance {self.clearance:g}"
+            )
+        return c1 == self.component_of(pos_b, pos_a)
+
+
+def _portal_values(a0: float, a1: float) -> list[float]:
+    if a1 - a0 <= 1e-12:
+        return [0.5 * (a0 + a1)]
+    return [a0, 0.5 * (a0 + a1), a1]
+
+
+def _portal_points(m: list[Coords]) -> list[Coords]:
+    arr = np.asarray(m, dtype=float)
+    c = tuple(arr.mean(axis=0))
+    if len(arr) == 1:
+        return [c]
+    # the two points farthest apart (ends of a shared segment) and the centre
+    dd = np.hypot(arr[:, None, 0] - arr[None, :, 0], arr[:, None, 1] - arr[None, :, 1])
+    i, j = np.unravel_index(int(np.argmax(dd)), dd.shape)
+    return [tuple(arr[i]), c, tuple(arr[j])]
+
+
+def bodies_gap(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Position) -> float:
+    """Smallest exact distance (metres) between the two bodies over every orientation they may have there
+    (one inside a piece; every piece's at a corner or vertex)."""
+    d = drawing_of(track)
+    xy_a, _ = d.pose(pos_a[0], pos_a[1])
+    xy_b, _ = d.pose(pos_b[0], pos_b[1])
+    best = math.inf
+    for ha in d.corner_headings(pos_a[0], pos_a[1]):
+        for hb in d.corner_headings(pos_b[0], pos_b[1]):
+            best = min(best, body_gap(fps.a, xy_a, ha, fps.b, xy_b, hb))
+    return best
+
+
+@lru_cache(maxsize=16)
+def _cached(track: GraphTrack, clearance: float, fps: Footprints) -> PlanarFreeSpace:
+    return PlanarFreeSpace(track, clearance, fps)
+
+
+def planar_free_space(track: object, clearance: float, footprint: object) -> PlanarFreeSpace:
+    """The :class:`PlanarFreeSpace` of ``(track, clearance, footprint)``, built once and cached."""
+    fps = footprints(footprint)
+    if fps is None:
+        raise InvalidInputError("footprint is None, expected a footprint for the planar free space")
+    tr = as_graph_track(track)
+    if isinstance(clearance, bool) or not isinstance(clearance, (int, float, np.integer, np.floating)):
+        raise InvalidInputError(f"clearance is {clearance!r}, expected a finite number >= 0 (metres)")
+    return _cached(tr, float(clearance), fps)
+
+
+# ------------------------------------------------------------------------------------------------ search
+def _search(
+    space: PlanarFreeSpace,
+    start: tuple[Position, Position],
+    goal: tuple[Position, Position],
+    objective: str,
+    va: float,
+    vb: float,
+) -> list[list[Any]]:
+    """Dijkstra over the pieces' shared points: the path's straight segments ``[cell, from, to]``."""
+
+    def cost(p: Coords, q: Coords) -> float:
+        ds, dt = abs(q[0] - p[0]), abs(q[1] - p[1])
+        if objective == "shortest":
+            return math.hypot(ds, dt)
+        return max(ds / va, dt / vb) + 1e-6 * (ds / va + dt / vb) + 1e-9 * math.hypot(ds / va, dt / vb)
+
+    geo = space.track.geometry
+    (ga_e, ga_s), (gb_e, gb_s) = goal
+    pieces = space.pieces
+    hcache: dict[tuple[int, Coords], float] = {}
+
+    def bound(i: int, c: Coords) -> float:
+        key = (i, c)
+        h = hcache.get(key)
+        if h is None:
+            e, f, _ = pieces[i].cell
+            da = geo.distance_scalar(e, c[0], ga_e, ga_s)
+            db = geo.distance_scalar(f, c[1], gb_e, gb_s)
+            h = math.hypot(da, db) if objective == "shortest" else max(da / va, db / vb)
+            h *= 1.0 - 1e-12
+            hcache[key] = h
+        return h
+
+    s_pl = space.placements(*start)
+    g_pl = space.placements(*goal)
+    goal_in: dict[int, list[Coords]] = {}
+    for i, c in g_pl:
+        goal_in.setdefault(i, []).append(c)
+    # a node: (piece, coords in that piece); entering a neighbour through a shared point switches piece
+    best: dict[tuple[int, Coords], float] = {}
+    prev: dict[tuple[int, Coords], tuple[Any, ...] | None] = {}
+    heap: list[tuple[float, int, tuple[int, Coords]]] = []
+    counter = 0
+    for i, c in s_pl:
+        key = (i, c)
+        best[key] = 0.0
+        prev[key] = None
+        heap.append((bound(i, c), counter, key))
+        counter += 1
+    heapq.heapify(heap)
+    done: set[tuple[int, Coords]] = set()
+    found: tuple[int, Coords] | None = None
+    goal_key: dict[tuple[int, Coords], tuple[int, Coords]] = {}
+    while heap:
+        _, _, key = heapq.heappop(heap)
+        if key in done:
+            continue
+        g = best[key]
+        done.add(key)
+        if key[0] < 0:
+            found = key
+            break
+        i, c = key
+        # to the goal inside this piece
+        for gc in goal_in.get(i, ()):
+            if not space.segment_ok(i, c, gc):
+                continue
+            gk = (-1 - i, gc)
+            ng = g + cost(c, gc)
+            if ng < best.get(gk, math.inf):
+                best[gk] = ng
+                prev[gk] = (key, i, c, gc)
+                heapq.heappush(heap, (ng, counter, gk))  # the goal's bound is 0
+                counter += 1
+        for j, pts_i, pts_j in space.adjacent[i]:
+            for pi, pj in zip(pts_i, pts_j):
+                if not space.segment_ok(i, c, pi):
+                    continue
+                ng = g + cost(c, pi)
+                nk = (j, pj)
+                if ng < best.get(nk, math.inf) - 1e-15:
+                    best[nk] = ng
+                    prev[nk] = (key, i, c, pi)
+                    heapq.heappush(heap, (ng + bound(j, pj), counter, nk))
+                    counter += 1
+    del goal_key
+    if found is None:  # pragma: no cover - start and goal were checked to share a component
+        raise NoMotionError("the search ended without reaching the goal")
+    segs: list[list[Any]] = []
+    key_: tuple[int, Coords] | None = found
+    while key_ is not None:
+        pv = prev[key_]
+        if pv is None:
+            break
+        pkey, i, c0, c1 = pv
+        if c0 != c1:
+            segs.append([i, c0, c1])
+        key_ = pkey
+    segs.reverse()
+    if not segs:
+        i, c = s_pl[0]
+        segs.append([i, c, c])
+    return [[space.pieces[i].cell, a, b] for i, a, b in segs]
+
+
+def _why_not(space: PlanarFreeSpace) -> str:
+    """Where the layout is too narrow for the bodies: the closest two pieces of the drawing that do not meet."""
+    tr = space.track
+    d = space.drawing
+    fps = space.footprints
+    best = (math.inf, -1, -1)
+    n = len(d.piece_edge)
+    ends = [(d.piece_p0[p], d.piece_p0[p] + (d.piece_s1[p] - d.piece_s0[p]) * d.piece_dir[p]) for p in range(n)]
+    tol = 1e-9 * max(1.0, tr.total_length)
+    for p in range(n):
+        for q in range(p + 1, n):
+            (a0, a1), (b0, b1) = ends[p], ends[q]
+            if min(float(np.hypot(*(x - y))) for x in (a0, a1) for y in (b0, b1)) <= tol:
+                continue  # pieces that meet (a corner or a switch)
+            dist = _seg_seg(a0, a1, b0, b1)
+            if dist < best[0]:
+                best = (dist, int(d.piece_edge[p]), int(d.piece_edge[q]))
+    need = fps.across()
+    what = "radii summed" if isinstance(fps.a, Disc) and isinstance(fps.b, Disc) else "half-widths summed"
+    if best[1] >= 0 and best[0] < need:
+        return (
+            f"the bodies ({fps.spec()}) cannot pass each other in the plane: edges {tr.edge_names[best[1]]!r} and "
+            f"{tr.edge_names[best[2]]!r} run {best[0]:.4g} m apart in the drawing; bodies that need {need:.4g} m "
+            f"side by side ({what}) cannot pass there"
+        )
+    return (
+        f"the bodies ({fps.spec()}) block each other in the plane near the switches: start and goal are in "
+        "different components of the free space with footprints, although they are connected along the track"
+    )
+
+
+def _seg_seg(a0: FloatArray, a1: FloatArray, b0: FloatArray, b1: FloatArray) -> float:
+    def pt(p: FloatArray, s0: FloatArray, s1: FloatArray) -> float:
+        ab = s1 - s0
+        den = float(ab @ ab)
+        lam = 0.0 if den <= 0 else min(1.0, max(0.0, float((p - s0) @ ab) / den))
+        return float(np.hypot(*(s0 + lam * ab - p)))
+
+    def orient(p: FloatArray, q: FloatArray, r: FloatArray) -> float:
+        return float((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]))
+
+    o1, o2 = orient(a0, a1, b0), orient(a0, a1, b1)
+    o3, o4 = orient(b0, b1, a0), orient(b0, b1, a1)
+    if o1 * o2 < 0 and o3 * o4 < 0:
+        return 0.0
+    return min(pt(a0, b0, b1), pt(a1, b0, b1), pt(b0, a0, a1), pt(b1, a0, a1))
+
+
+def plan_planar(
+    track: GraphTrack,
+    start: tuple[Position, Position],
+    goal: tuple[Position, Position],
+    clearance: float,
+    objective: str,
+    speeds: tuple[float, float],
+    footprint: Footprints,
+) -> Any:
+    """Plan in the planar model (called by :func:`mpa.planners.graph.plan_graph` with ``footprint=``).
+
+    Returns
+    -------
+    GraphPlan
+
+    Raises
+    ------
+    InvalidInputError
+        Bodies overlapping at start or goal (the message gives the gap), a layout without coordinates.
+    NoMotionError
+        Start and goal in different components; the message names the narrow place.
+    """
+    from mpa.planners.graph import _assemble, _why_no_motion
+
+    space = planar_free_space(track, clearance, footprint)
+    for what, (pa, pb) in (("start", start), ("goal", goal)):
+        if not space.placements(pa, pb):
+            raise InvalidInputError(
+                f"{what} has the bodies ({space.footprints.spec()}) overlapping in the plane at "
+                f"{track.position_name(*pa)}, {track.position_name(*pb)}, expected them apart"
+            )
+    ca, cb = space.component_of(*start), space.component_of(*goal)
+    if ca is None or ca != cb:
+        bca, bcb = space.base.component_of(*start), space.base.component_of(*goal)
+        if bca is None or bca != bcb:
+            raise NoMotionError(_why_no_motion(track, space.base, start, goal))
+        raise NoMotionError(_why_not(space))
+    segs = _search(space, start, goal, objective, speeds[0], speeds[1])
+    segs = [x for x in segs if x[1] != x[2]] or segs[:1]
+    if len(segs) == 1 and segs[0][1] == segs[0][2]:
+        segs = []
+    return _assemble(track, space.base, start, goal, objective, speeds, segs)

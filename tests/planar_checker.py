@@ -1,0 +1,153 @@
+"""An independent checker of bodies in the plane, for the tests (shares no code with mpa.footprint, mpa.planar or
+trajopt.planar_gate): poses from the layout's own coordinates, discs exactly, rectangles as polygons with their own
+separating-axis distance, a robot on a corner in every orientation there."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+
+class Drawn:
+    """A layout's drawing read from its dict: per edge the polyline and the offsets of its points."""
+
+    def __init__(self, layout: dict[str, Any], lengths: list[float]) -> None:
+        vx = layout["vertices"]
+        self.polys: list[np.ndarray] = []
+        self.offs: list[np.ndarray] = []
+        for k, e in enumerate(layout["edges"]):
+            pts = np.array([vx[e["from"]], *e.get("points", []), vx[e["to"]]], dtype=float)
+            seg = np.hypot(*np.diff(pts, axis=0).T)
+            cum = np.concatenate([[0.0], np.cumsum(seg)])
+            self.polys.append(pts)
+            self.offs.append(cum / cum[-1] * lengths[k])
+        self.ends = [(e["from"], e["to"]) for e in layout["edges"]]
+
+    def point(self, e: int, o: float) -> np.ndarray:
+        pts, off = self.polys[e], self.offs[e]
+        return np.array([np.interp(o, off, pts[:, 0]), np.interp(o, off, pts[:, 1])])
+
+    def headings(self, e: int, o: float, tol: float = 1e-7) -> list[float]:
+        """The directions of the polyline pieces at offset o: one inside a piece; all at a corner or vertex."""
+        pts, off = self.polys[e], self.offs[e]
+        out: list[float] = []
+        if o <= tol or o >= off[-1] - tol:  # a vertex: every piece of every edge there
+            name = self.ends[e][0] if o <= tol else self.ends[e][1]
+            for f, (a, b) in enumerate(self.ends):
+                p = self.polys[f]
+                if a == name:
+                    out.append(math.atan2(*(p[1] - p[0])[::-1]))
+                if b == name:
+                    out.append(math.atan2(*(p[-1] - p[-2])[::-1]))
+            return out
+        for i in range(len(off) - 1):
+            if off[i] - tol <= o <= off[i + 1] + tol and off[i + 1] > off[i]:
+                out.append(math.atan2(*(pts[i + 1] - pts[i])[::-1]))
+        return out
+
+
+def rect(c: np.ndarray, h: float, length: float, width: float) -> np.ndarray:
+    u = np.array([math.cos(h), math.sin(h)])
+    n = np.array([-u[1], u[0]])
+    return np.array(
+        [c + sx * 0.5 * length * u + sy * 0.5 * width * n for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    )
+
+
+def _pt_seg(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    ab = b - a
+    lam = min(1.0, max(0.0, float((p - a) @ ab) / float(ab @ ab)))
+    return float(np.hypot(*(a + lam * ab - p)))
+
+
+def _inside(p: np.ndarray, poly: np.ndarray) -> bool:
+    s = [np.cross(poly[(i + 1) % 4] - poly[i], p - poly[i]) for i in range(4)]
+    return all(x >= 0 for x in s) or all(x <= 0 for x in s)
+
+
+def _segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> bool:
+    def o(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> float:
+        return float(np.cross(q - p, r - p))
+
+    return o(a, b, c) * o(a, b, d) < 0 and o(c, d, a) * o(c, d, b) < 0
+
+
+def poly_distance(p: np.ndarray, q: np.ndarray) -> float:
+    """Distance between two convex quadrilaterals, 0 (or negative-free 0) when they overlap."""
+    if any(_inside(v, q) for v in p) or any(_inside(v, p) for v in q):
+        return 0.0
+    for i in range(4):
+        for j in range(4):
+            if _segments_cross(p[i], p[(i + 1) % 4], q[j], q[(j + 1) % 4]):
+                return 0.0
+    best = math.inf
+    for a, b in ((p, q), (q, p)):
+        for v in a:
+            for j in range(4):
+                best = min(best, _pt_seg(v, b[j], b[(j + 1) % 4]))
+    return best
+
+
+def gap(
+    drawn: Drawn, fa: tuple[float, ...], pos_a: tuple[int, float], fb: tuple[float, ...], pos_b: tuple[int, float]
+) -> float:
+    """Distance between the bodies (0 when they touch or overlap), every orientation at a corner.
+
+    A footprint is ``(r,)`` (disc) or ``(length, width)`` (rectangle).
+    """
+    ca, cb = drawn.point(*pos_a), drawn.point(*pos_b)
+    if len(fa) == 1 and len(fb) == 1:
+        return max(0.0, float(np.hypot(*(ca - cb))) - fa[0] - fb[0])
+    best = math.inf
+    for ha in drawn.headings(*pos_a):
+        for hb in drawn.headings(*pos_b):
+            if len(fa) == 1:
+                q = rect(cb, hb, *fb)
+                d = 0.0 if _inside(ca, q) else min(_pt_seg(ca, q[j], q[(j + 1) % 4]) for j in range(4))
+                best = min(best, max(0.0, d - fa[0]))
+            elif len(fb) == 1:
+                q = rect(ca, ha, *fa)
+                d = 0.0 if _inside(cb, q) else min(_pt_seg(cb, q[j], q[(j + 1) % 4]) for j in range(4))
+                best = min(best, max(0.0, d - fb[0]))
+            else:
+                best = min(best, poly_distance(rect(ca, ha, *fa), rect(cb, hb, *fb)))
+    return best
+
+
+def overlap_depth(
+    drawn: Drawn, fa: tuple[float, ...], pos_a: tuple[int, float], fb: tuple[float, ...], pos_b: tuple[int, float]
+) -> float:
+    """How deep the bodies overlap (0 if they do not): the smallest push apart over the separating axes (metres),
+    every orientation at a corner. Positive means overlap."""
+    ca, cb = drawn.point(*pos_a), drawn.point(*pos_b)
+    worst = 0.0
+    for ha in drawn.headings(*pos_a):
+        for hb in drawn.headings(*pos_b):
+            pa = _shape(fa, ca, ha)
+            pb = _shape(fb, cb, hb)
+            worst = max(worst, _depth(pa, pb, ca, cb, fa, fb))
+    return worst
+
+
+def _shape(fp: tuple[float, ...], c: np.ndarray, h: float) -> np.ndarray:
+    return rect(c, h, *fp) if len(fp) == 2 else c[None, :]
+
+
+def _depth(
+    p: np.ndarray, q: np.ndarray, ca: np.ndarray, cb: np.ndarray, fa: tuple[float, ...], fb: tuple[float, ...]
+) -> float:
+    if len(fa) == 1 and len(fb) == 1:
+        return max(0.0, fa[0] + fb[0] - float(np.hypot(*(ca - cb))))
+    if len(fa) == 1 or len(fb) == 1:
+        r, c, poly = (fa[0], ca, q) if len(fa) == 1 else (fb[0], cb, p)
+        d = 0.0 if _inside(c, poly) else min(_pt_seg(c, poly[j], poly[(j + 1) % 4]) for j in range(4))
+        return max(0.0, r - d)
+    depth = math.inf
+    for poly in (p, q):  # two rectangles: their four edge normals separate them if anything does
+        d = np.roll(poly, -1, axis=0) - poly
+        for ax in np.stack([-d[:, 1], d[:, 0]], axis=1) / np.hypot(*d.T)[:, None]:
+            a, b = p @ ax, q @ ax
+            depth = min(depth, min(a.max() - b.min(), b.max() - a.min()))
+    return max(0.0, depth)

@@ -1,0 +1,419 @@
+"""Answers that stay right at the edges (second reliability round, items 3 to 10).
+
+Each case of the issue is a test, its reproducer verbatim where the issue gives one: ambiguous positions (3),
+extreme limits (4), a tampered run read by ``mpa replan`` (5), a threshold clearance (6), the rows' memory (7),
+large layouts (8), bad input that escaped the error family (9) and the messages (10).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import mpa
+from mpa import GraphTrack, Lollipop, MPAError
+from mpa.errors import InvalidInputError
+from trajopt import generate_trajectory
+from trajopt.testing import check_trajectory
+
+from .test_reliability_cli import _one_error_line as one_line
+from .test_reliability_cli import run
+
+ROOT = Path(__file__).resolve().parents[1]
+Y = str(ROOT / "examples" / "tracks" / "y_junction.json")
+QUERY = ["--track", "lollipop", "--start", "0.2", "0.5", "--goal", "0.5", "0.2"]
+
+
+# --- 3: ambiguous positions -----------------------------------------------------------------------------
+AMBIGUOUS = {
+    "edges": [{"name": "main", "from": "A", "to": "main:1", "length": 2}, ["main:1", "B", 3], ["main:1", "C", 3]]
+}
+
+
+def test_a_position_that_names_two_places_is_an_error_naming_both() -> None:
+    t = GraphTrack.from_layout(AMBIGUOUS)
+    with pytest.raises(InvalidInputError) as exc:
+        t.position("main:1", "start of robot A")
+    msg = str(exc.value)
+    assert "vertex 'main:1'" in msg and "1 m along edge 'main'" in msg, msg
+    assert t.position("main:1.0") == (0, 1.0) and t.position("B") == (1, 3.0)
+    # names written by the library read back as the same place
+    for e in range(t.n_edges):
+        for o in (0.0, 1.0, float(t.lengths[e])):
+            assert t.position(t.position_name(e, o)) in {(e, o), t.position(t.position_name(e, o))}
+            p = t.position(t.position_name(e, o))
+            assert t.geometry.distance_scalar(p[0], p[1], e, o) == 0.0
+
+
+def test_cli_ambiguous_start_exit_2(tmp_path: Path) -> None:
+    layout = tmp_path / "l.json"
+    layout.write_text(json.dumps(AMBIGUOUS))
+    code, _, err = run(["plan", "--graph", str(layout), "--start", "main:1", "B", "--goal", "C", "B"])
+    assert code == 2 and "names two places" in one_line(err)
+
+
+# --- 4: extreme limits --------------------------------------------------------------------------------
+def test_issue_amax_1e4_gives_the_fast_motion() -> None:
+    t = generate_trajectory(Lollipop(1, 1), (0.1, 0.6), (0.8, 0.3), amax=1e4)
+    t8 = generate_trajectory(Lollipop(1, 1), (0.1, 0.6), (0.8, 0.3), amax=8e3)
+    assert t.motion_time <= t8.motion_time + 1e-9 and t.motion_time < 5.0, (t.motion_time, t8.motion_time)
+    assert np.max(np.abs(t.v)) > 0.4 and t.verification["ok"]
+
+
+@pytest.mark.parametrize(
+    ("name", "value"), [("vmax", 1e-300), ("amax", 1e-300), ("jmax", 1e-300), ("jmax", 1e300), ("amax", 1e300)]
+)
+def test_limits_outside_the_supported_range_are_one_error_line(name: str, value: float, tmp_path: Path) -> None:
+    code, _, err = run(["trajectory", *QUERY, f"--{name}", repr(value), "--out", str(tmp_path / "o")])
+    line = one_line(err)
+    assert code == 2 and line.startswith(f"error: {name} is ") and "supported range" in line, line
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("args", [["--amax", "1e4"], ["--jmax", "0.005"], ["--vmax", "5000"], ["--amax", "0.001"]])
+def test_extreme_limits_answer_within_10_s(args: list[str], tmp_path: Path) -> None:
+    t0 = time.perf_counter()
+    code, _, err = run(["trajectory", *QUERY, *args, "--out", str(tmp_path / "o")])
+    took = time.perf_counter() - t0
+    print(args, code, took, err.strip()[:200])
+    assert code in (0, 2, 3) and took < 20.0, (code, took, err)  # 10 s on an idle machine; CI shares its cores
+    if code:
+        one_line(err, "error:" if code == 2 else "no motion:")
+
+
+SPAN = st.floats(min_value=-3.0, max_value=4.0)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.tuples(SPAN, SPAN, SPAN), st.sampled_from([0, 1, 2]), st.floats(min_value=1.0, max_value=100.0))
+def test_makespan_never_grows_when_a_limit_is_loosened(exps: tuple[float, float, float], which: int, k: float) -> None:
+    base = np.array([0.5, 1.0, 5.0]) * 10.0 ** np.array(exps)
+    looser = base.copy()
+    looser[which] = min(looser[which] * k, [0.5, 1.0, 5.0][which] * 1e4)
+    q = ((0.1, 0.6), (0.8, 0.3))
+    try:
+        a = generate_trajectory(Lollipop(1, 1), *q, vmax=base[0], amax=base[1], jmax=base[2])
+        b = generate_trajectory(Lollipop(1, 1), *q, vmax=looser[0], amax=looser[1], jmax=looser[2])
+    except InvalidInputError as exc:  # a rate too low for the motion: a clear error, never a wrong motion
+        assert "rate" in str(exc), exc
+        return
+    print(base, looser, a.makespan, b.makespan)
+    assert b.makespan <= a.makespan + 1e-9, (base.tolist(), looser.tolist(), a.makespan, b.makespan)
+
+
+# --- 5: replan from a tampered run ------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def written(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("run") / "o"
+    assert run(["trajectory", *QUERY, "--out", str(out)])[0] == 0
+    return out
+
+
+def _tamper(src: Path, dst: Path, row: int, column: str, value: str) -> None:
+    dst.mkdir()
+    (dst / "summary.json").write_bytes((src / "summary.json").read_bytes())
+    lines = (src / "setpoints.csv").read_text().splitlines()
+    header = lines[0].split(",")
+    cells = lines[row + 1].split(",")
+    cells[header.index(column)] = value
+    lines[row + 1] = ",".join(cells)
+    (dst / "setpoints.csv").write_text("\n".join(lines) + "\n")
+
+
+@pytest.mark.parametrize(
+    ("column", "value"),
+    [("a_v", "nan"), ("b_s", "inf"), ("time", "-inf"), ("a_offset", "0.123"), ("b_edge", "siding"), ("a_dir", "5")],
+)
+def test_replan_refuses_a_tampered_csv_naming_file_row_and_column(
+    written: Path, tmp_path: Path, column: str, value: str
+) -> None:
+    src = tmp_path / "tampered"
+    _tamper(written, src, 40, column, value)
+    code, _, err = run(
+        ["replan", "--from", str(src), "--at", "0.1", "--goal", "0.3", "0.8", "--out", str(tmp_path / "x")]
+    )
+    line = one_line(err)
+    assert code == 2 and "row 40" in line and column in line and "setpoints.csv" in line, line
+    assert not (tmp_path / "x").exists()
+
+
+def test_replan_from_an_empty_csv_is_one_line(written: Path, tmp_path: Path) -> None:
+    src = tmp_path / "empty"
+    src.mkdir()
+    (src / "summary.json").write_bytes((written / "summary.json").read_bytes())
+    (src / "setpoints.csv").write_text("")
+    code, _, err = run(
+        ["replan", "--from", str(src), "--at", "0", "--goal", "0.3", "0.8", "--out", str(tmp_path / "x")]
+    )
+    assert code == 2 and "has header ''" in one_line(err)
+
+
+# --- 6: no exit 4 at a threshold ------------------------------------------------------------------------
+@pytest.mark.parametrize("rate", ["100", "1000"])
+def test_issue_threshold_on_the_y_names_a_clearance_that_works(rate: str, tmp_path: Path) -> None:
+    q = ["--graph", Y, "--start", "left", "right", "--goal", "right", "left", "--amax", "2", "--jmax", "10"]
+    code, _, err = run(["trajectory", *q, "--clearance", "1.0", "--rate", rate, "--out", str(tmp_path / "o")])
+    line = one_line(err)
+    assert code == 2 and "works at" in line, line
+    lower = line.split("expected a clearance below it: ")[1].split(" m works")[0]
+    assert float(lower) < 1.0
+    code, _, err = run(["trajectory", *q, "--clearance", lower, "--rate", rate, "--out", str(tmp_path / "o")])
+    assert code == 0, err
+
+
+# --- 7: memory -----------------------------------------------------------------------------------------
+def test_issue_rate_1e6_is_refused_before_work_naming_the_rate_that_fits(tmp_path: Path) -> None:
+    q = ["--graph", Y, "--start", "left", "right", "--goal", "right", "left"]
+    code, _, err = run(["trajectory", *q, "--rate", "1000000", "--out", str(tmp_path / "o")])
+    line = one_line(err)
+    assert code == 2 and "--rate" in line and "largest rate that fits is" in line, line
+    assert not (tmp_path / "o").exists()
+
+
+def test_memory_budget_from_the_environment(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    monkeypatch.setenv("MPA_MEMORY_BUDGET", "200K")
+    code, _, err = run(["trajectory", *QUERY, "--out", str(tmp_path / "o")])
+    line = one_line(err)
+    best = float(line.split("largest rate that fits is ")[1].split(" Hz")[0])
+    assert code == 2 and best < 100, line
+    code, _, err = run(["trajectory", *QUERY, "--rate", repr(best), "--out", str(tmp_path / "o")])
+    assert code in (0, 2), err  # fits the budget (it may still be too low a rate for the motion: a clear error)
+    if code == 2:
+        assert "largest rate that fits" not in err, err
+
+
+# --- 8: large layouts ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("n", [3000, 10000])
+def test_large_path_layouts_are_refused_at_once(n: int) -> None:
+    layout = {"edges": [[f"v{i}", f"v{i + 1}", 1.0] for i in range(n)]}
+    t0 = time.perf_counter()
+    with pytest.raises(InvalidInputError, match="cells"):
+        mpa.plan(GraphTrack.from_layout(layout), ("v0", "v10"), ("v5", "v20"))
+    assert time.perf_counter() - t0 < 10.0
+
+
+def test_70_by_70_grid_is_refused_at_once(tmp_path: Path) -> None:
+    g, edges = 70, []
+    for i in range(g):
+        for j in range(g):
+            if i + 1 < g:
+                edges.append([f"{i}_{j}", f"{i + 1}_{j}", 1.0])
+            if j + 1 < g:
+                edges.append([f"{i}_{j}", f"{i}_{j + 1}", 1.0])
+    layout = tmp_path / "grid.json"
+    layout.write_text(json.dumps({"edges": edges}))
+    code, _, err = run(
+        [
+            "trajectory",
+            "--graph",
+            str(layout),
+            "--start",
+            "0_0",
+            "5_5",
+            "--goal",
+            "5_5",
+            "0_0",
+            "--out",
+            str(tmp_path / "o"),
+        ]
+    )
+    assert code == 2 and "cells" in one_line(err)
+
+
+# --- 9: bad input inside the error family ----------------------------------------------------------------
+def test_deep_json_and_huge_digits_are_input_errors(tmp_path: Path) -> None:
+    deep = tmp_path / "deep.json"
+    deep.write_text('{"edges":' + "[" * 100000 + "]" * 100000 + "}")
+    digits = tmp_path / "digits.json"
+    digits.write_text('{"edges":[["a","b",' + "9" * 400 + "]]}")
+    huge = tmp_path / "huge.json"
+    huge.write_text('{"edges":[["a","b",' + "9" * 5000 + "]]}")
+    for f in (deep, digits, huge):
+        with pytest.raises(InvalidInputError):
+            GraphTrack.from_json(f)
+        code, _, err = run(["plan", "--graph", str(f), "--start", "a", "b", "--goal", "b", "a"])
+        assert code == 2, err
+        one_line(err)
+    with pytest.raises(InvalidInputError):
+        GraphTrack.from_layout({"edges": [["a", "b", 10**400]]})
+
+
+def test_plan_with_extreme_speeds_is_an_input_error_or_a_plan() -> None:
+    t = GraphTrack.from_layout({"edges": [["J", "a", 1.0], ["J", "b", 2.0], ["J", "c", 2.0]]})
+    try:
+        p = mpa.plan(t, ("b", "c"), ("c", "b"), clearance=0.5, speeds=(1e308, 1e-308))
+    except MPAError as exc:
+        assert isinstance(exc, InvalidInputError) and "speed" in str(exc), exc
+    else:
+        assert p.min_distance() >= 0.5 - 1e-9
+
+
+@pytest.mark.parametrize("path", ["", "/nonexistent/x.csv", 5, None, b"x.csv"])
+def test_to_csv_bad_paths_are_input_errors(path: object, tmp_path: Path) -> None:
+    traj = generate_trajectory(Lollipop(1, 1), (0.2, 0.5), (0.5, 0.2))
+    with pytest.raises(InvalidInputError, match="path"):
+        traj.to_csv(path)  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="path"):
+        traj.to_json(path)  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="directory"):
+        traj.to_csv(tmp_path)
+
+
+# --- 10: messages --------------------------------------------------------------------------------------
+def test_start_equal_goal_is_a_zero_length_verified_motion(tmp_path: Path) -> None:
+    for track, q in [(Lollipop(1, 1), (0.1, 0.6)), (Lollipop(1, 1), (1.25, 1.75)), (mpa.Circle(1), (0.1, 0.6))]:
+        traj = generate_trajectory(track, q, q)
+        assert not traj.fallback and traj.motion_time == 0.0 and len(traj.t) == 1, traj.fallback_reason
+        assert traj.verification["ok"] and not check_trajectory(traj, q, q)
+    code, _out, err = run(
+        [
+            "trajectory",
+            "--graph",
+            Y,
+            "--start",
+            "left",
+            "right",
+            "--goal",
+            "left",
+            "right",
+            "--out",
+            str(tmp_path / "o"),
+        ]
+    )
+    assert code == 0, err
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert s["fallback"] is False and s["rows"] == 1 and s["makespan"] == 0.0
+
+
+def test_clearance_just_above_the_threshold_prints_the_digits() -> None:
+    q = ["--graph", Y, "--start", "left", "right", "--goal", "right", "left"]
+    code, _, err = run(["plan", *q, "--clearance", "1.0000001"])
+    line = one_line(err, "no motion:")
+    assert code == 3 and "1.0000001 m does not fit" in line, line
+    up_to = float(line.split("up to about ")[1].split(" m")[0])
+    assert up_to < 1.0000001, line
+
+
+def test_amax_1e4_on_the_y_never_suggests_a_negative_clearance(tmp_path: Path) -> None:
+    q = ["--graph", Y, "--start", "left", "right", "--goal", "right", "left", "--clearance", "1.0"]
+    code, _, err = run(["trajectory", *q, "--amax", "1e4", "--out", str(tmp_path / "o")])
+    line = one_line(err)
+    assert code == 2 and "about -" not in line, line
+
+
+def test_long_out_names_the_option(tmp_path: Path) -> None:
+    code, _, err = run(["trajectory", *QUERY, "--out", str(tmp_path / ("x" * 300))])
+    line = one_line(err)
+    assert code == 2 and line.startswith("error: --out: cannot write ") and "[Errno" not in line, line
+
+
+def test_plot_of_a_device_says_what_it_is() -> None:
+    code, _, err = run(["plot", os.devnull])
+    line = one_line(err)
+    assert code == 2 and "does not exist" not in line and "neither a regular file nor a directory" in line, line
+
+
+def test_layout_coordinates_of_1e308_one_line(tmp_path: Path) -> None:
+    layout = tmp_path / "big.json"
+    layout.write_text(
+        json.dumps({"vertices": {"a": [0, 0], "b": [1e308, 0], "c": [-1e308, 0]}, "edges": [["a", "b"], ["a", "c"]]})
+    )
+    code, _, err = run(
+        [
+            "trajectory",
+            "--graph",
+            str(layout),
+            "--start",
+            "e0:1",
+            "e1:1",
+            "--goal",
+            "e0:2",
+            "e1:2",
+            "--out",
+            str(tmp_path / "o"),
+        ]
+    )
+    assert code in (0, 2, 3), err
+    if code:
+        one_line(err, "error:" if code == 2 else "no motion:")
+
+
+# --- 9: fuzzing with deep JSON, digit strings, extreme floats and non-path arguments ----------------------
+EXTREME = st.sampled_from(
+    [0.0, -0.0, 1e-308, 5e-324, 1e308, -1e308, float("inf"), float("-inf"), float("nan"), 10**400]
+)
+NUMBER_TEXT = st.one_of(
+    st.integers(min_value=1, max_value=6000).map(lambda n: "9" * n),
+    st.integers(min_value=1, max_value=400).map(lambda n: "1e" + "9" * n),
+    st.integers(min_value=1, max_value=400).map(lambda n: "0." + "0" * n + "1"),
+    st.sampled_from(["-1", "1e308", "1e309", "-0", "2.5e-324", "NaN", "Infinity"]),
+)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(min_value=1, max_value=200_000), NUMBER_TEXT, st.sampled_from(["[", '{"a":']))
+def test_fuzz_layout_text_deep_and_digits(
+    tmp_path_factory: pytest.TempPathFactory, depth: int, number: str, opener: str
+) -> None:
+    closer = "]" if opener == "[" else "}"
+    texts = [
+        '{"edges":' + opener * depth + closer * depth + "}",
+        '{"edges":[["a","b",' + number + "]]}",
+        '{"vertices":{"a":[0,' + number + '],"b":[1,0]},"edges":[["a","b"]]}',
+    ]
+    d = tmp_path_factory.mktemp("fuzz")
+    for k, text in enumerate(texts):
+        f = d / f"l{k}.json"
+        f.write_text(text)
+        try:
+            GraphTrack.from_json(f)
+        except MPAError:
+            pass
+        code, _, err = run(["plan", "--graph", str(f), "--start", "a", "b", "--goal", "b", "a"])
+        assert code in (0, 2, 3), (text[:80], err)
+        if code:
+            one_line(err, "error:" if code == 2 else "no motion:")
+
+
+@settings(max_examples=60, deadline=None)
+@given(EXTREME, EXTREME, st.sampled_from(["vmax", "amax", "jmax", "rate", "clearance"]))
+def test_fuzz_extreme_floats_into_the_api(x: float, y: float, name: str) -> None:
+    track = GraphTrack.from_layout({"edges": [["J", "a", 1.0], ["J", "b", 2.0], ["J", "c", 2.0]]})
+    try:
+        mpa.plan(track, ("b", "c"), ("c", "b"), clearance=0.5, speeds=(x, y))
+    except MPAError:
+        pass
+    try:
+        generate_trajectory(Lollipop(1, 1), (0.2, 0.5), (0.5, 0.2), **{name: x})
+    except MPAError:
+        pass
+
+
+NON_PATHS = st.one_of(
+    st.none(),
+    st.integers(),
+    st.floats(),
+    st.binary(max_size=5),
+    st.lists(st.text(max_size=3), max_size=2),
+    st.sampled_from(["", " ", "/", "/nonexistent/x.csv", "x" * 300, "/proc/x", "a\x00b"]),
+)
+
+
+@pytest.fixture(scope="module")
+def small_traj():  # type: ignore[no-untyped-def]
+    return generate_trajectory(Lollipop(1, 1), (0.2, 0.5), (0.5, 0.2))
+
+
+@settings(max_examples=60, deadline=None)
+@given(NON_PATHS)
+def test_fuzz_non_path_arguments_are_input_errors(small_traj, path: object) -> None:  # type: ignore[no-untyped-def]
+    for write in (small_traj.to_csv, small_traj.to_json):
+        with pytest.raises(InvalidInputError):
+            write(path)
