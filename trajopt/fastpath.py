@@ -8,8 +8,9 @@ must also have the plan's homotopy class (paper plans; on a graph plan any motio
 qualifies): the generator leaves that to the gate, which checks the class of the rows (they lie on the line) and
 sends a line of another class to the hard path (:meth:`trajopt.TrajectoryGenerator.generate`);
 :func:`straight_line_clearance` checks both at once.
-The line and the phase-synchronised profile move continuously with the query. On the other side of the switch,
-the hard path (:mod:`trajopt.corridor`) converges to the same line; its timing costs ``a/j`` more (its filter).
+The line and the phase-synchronised profile move continuously with the query. Where the line keeps the separation
+by less than two bands (:func:`trajopt.switch.switch_band`), :mod:`trajopt.switch` turns the hard path
+(:mod:`trajopt.corridor`) into this one, so the motion is continuous across the switch.
 """
 
 from __future__ import annotations

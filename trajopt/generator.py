@@ -40,6 +40,7 @@ from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scali
 from trajopt.export import Source, Trajectory, check_rate, time_grid, verified_rows
 from trajopt.fastpath import straight_scaling
 from trajopt.planview import densify, plan_view
+from trajopt.switch import near_switch_scaling, switch_band
 from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling
 from trajopt.verify import VerificationError, VerificationReport, class_failures_only
 
@@ -510,12 +511,35 @@ class TrajectoryGenerator:
         plane = self.footprint is not None and plan.length > 0
         if plane:
             line = min(line, sep + self._plane_chord_slack(view, view.waypoints[[0, -1]]))
+        # the switch bands (paper plans without bodies in the plane: the corridor keeps the graph distance only)
+        band = 0.0 if view.is_graph or plane else switch_band(self.track)
         if line >= sep or plan.length <= 0:  # the fast path: one phase-synchronised profile along the straight line
             scaling = straight_scaling(plan, self.motion_limits)
             timings["jerk"] = time.perf_counter() - t0
             stats.update(scaling.stats, path="fast", line_clearance=line)
+            timed: TimeScaling | None = scaling
+            if plan.length > 0 and line < sep + 2.0 * band:  # near the switch: the hard path turned into this one
+                try:
+                    timed, st = near_switch_scaling(
+                        plan,
+                        geom,
+                        sep,
+                        self.motion_limits,
+                        self._corridor_problem(),
+                        line - sep,
+                        band,
+                        scaling,
+                        timings,
+                    )
+                    stats.clear()
+                    stats.update(st, path="switch", line_clearance=line)
+                except PlanningError as exc:  # the blended nodes leave the separation: the hard path
+                    stats.clear()
+                    stats["switch_failed"] = str(exc)
+                    timed = None
             try:
-                return self._finish(plan, scaling, Source.OPTIMIZED, "", stats, timings)
+                if timed is not None:
+                    return self._finish(plan, timed, Source.OPTIMIZED, "", stats, timings)
             except VerificationError as exc:
                 # The line keeps the separation but the gate finds another homotopy class than the plan's (the
                 # rows lie on the line: the line's class): not a motion of this plan, so the hard path. Never seen
@@ -525,9 +549,7 @@ class TrajectoryGenerator:
                 stats.clear()
                 stats["line_other_class"] = True
         if not isinstance(plan, GraphPlan):
-            if self._corridor is None:
-                self._corridor = CorridorProblem(CORRIDOR_SEGMENTS, self.limits.v)
-            scaling, st = hard_path_scaling(plan, geom, sep, self.motion_limits, self._corridor, timings)
+            scaling, st = hard_path_scaling(plan, geom, sep, self.motion_limits, self._corridor_problem(), timings)
             stats.update(st, path="hard", line_clearance=line)
         else:
             # A graph plan is taut: it touches the clearance (plus the margin) at its corners, so the corridor has
@@ -546,6 +568,12 @@ class TrajectoryGenerator:
             timings["blend"] = time.perf_counter() - t1
             stats.update(scaling.stats, path="blend", line_clearance=line, blends=int(np.sum(path.radii > 0)))
         return self._finish(plan, scaling, Source.OPTIMIZED, "", stats, timings)
+
+    def _corridor_problem(self) -> CorridorProblem:
+        """The corridor QP of this generator's speed limits (built at its first use)."""
+        if self._corridor is None:
+            self._corridor = CorridorProblem(CORRIDOR_SEGMENTS, self.limits.v)
+        return self._corridor
 
     def _explain_plane(self, plan: GraphPlan) -> str:
         """The bodies pass closer than the gate's between-rows margin at this rate ("" if they do not)."""

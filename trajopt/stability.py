@@ -281,7 +281,7 @@ class SwitchPoint:
     Attributes
     ----------
     fast_start, fast_goal, hard_start, hard_goal : ndarray, shape (2,)
-        The queries on either side: the straight route-coordinate line keeps the separation (fast path), or not.
+        The queries on either side: the straight route-coordinate line keeps the separation (the line's side), or not.
     width : float
         Max-norm distance between the two queries (metres).
     gap : float
@@ -289,7 +289,8 @@ class SwitchPoint:
     time_gap : float
         Change of the motion time (s).
     paths : (str, str)
-        ``solver_stats["path"]`` of the two trajectories (``"fast"``, ``"hard"``; another value if one fell back).
+        ``solver_stats["path"]`` of the two trajectories (``"switch"``: the line's side, within the switch bands of
+        :mod:`trajopt.switch`; ``"hard"``; another value if one fell back).
     """
 
     fast_start: FloatArray
