@@ -128,7 +128,9 @@ def test_fastest_never_above_a_fine_grid_on_random_graphs(seed: int) -> None:
     names, _ = _grid(track, h)
     keys = sorted(names, key=str)
     checked = 0
-    for _ in range(4):
+    for draw in range(16):  # four queries, more while none has met the grid (no motion, or off the grid's reach)
+        if draw >= 4 and checked:
+            break
         a, b, c, d = (keys[int(i)] for i in rng.integers(0, len(keys), 4))
         if seed % 2:
             c, d = b, a  # swaps
@@ -144,7 +146,7 @@ def test_fastest_never_above_a_fine_grid_on_random_graphs(seed: int) -> None:
             continue
         checked += 1
         assert p.makespan <= gt + 1e-9, (seed, D, s, t, p.makespan, gt)
-    assert checked >= 0
+    assert checked >= 1, (seed, "no query of this seed was checked against the grid")
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -326,8 +326,11 @@ def test_fastest_on_lollipops_is_never_slower_than_the_paper_plan(stick: float, 
     assert checked >= 20
 
 
-def test_report_completeness_counts() -> None:
-    print(f"completeness cases: {COUNTS}")
+def test_completeness_cases_were_exercised() -> None:
+    """The seeded completeness cases above ran, planned and met the grid (skipped when they were deselected)."""
+    if COUNTS["cases"] == 0:
+        pytest.skip("the completeness tests did not run in this session (deselected)")
+    assert COUNTS["planned"] > 0 and COUNTS["grid_found"] > 0, COUNTS
 
 
 def test_disconnected_layout_and_isolated_vertex() -> None:
