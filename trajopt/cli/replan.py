@@ -33,7 +33,14 @@ from mpa.graph import parse_json
 from mpa.tracks import make_track
 from trajopt.cli.common import check_output_dir, parse_coordinates
 from trajopt.cli.outputs import add_output_arguments, check_output_options, output_files, summary_text
-from trajopt.cli.replan_layout import is_layout_summary, layout_goal, layout_of, load_layout_trajectory, rebuild
+from trajopt.cli.replan_layout import (
+    is_layout_summary,
+    layout_goal,
+    layout_of,
+    load_layout_trajectory,
+    query_error,
+    rebuild,
+)
 from trajopt.export import CSV_COLUMNS, Trajectory
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
@@ -166,10 +173,7 @@ def load_trajectory(directory: str | Path, option: str = "--from") -> tuple[Traj
     except InvalidInputError:
         raise
     except (KeyError, TypeError, ValueError, AttributeError) as exc:
-        raise InvalidInputError(
-            f"{option}: summary.json lacks the query ({type(exc).__name__}: {exc}), expected one written by "
-            "mpa trajectory"
-        ) from None
+        raise query_error(option, exc) from None
     try:
         margin = (summary.get("recipe") or {}).get("min_margin")
         if margin is not None:

@@ -22,12 +22,19 @@ from trajopt.export import GRAPH_CSV_COLUMNS, Trajectory
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
 
-__all__ = ["is_layout_summary", "layout_goal", "layout_of", "load_layout_trajectory", "rebuild"]
+__all__ = ["is_layout_summary", "layout_goal", "layout_of", "load_layout_trajectory", "query_error", "rebuild"]
 
 #: Tolerance of the check of the rebuilt motion against ``setpoints.csv`` (absolute + relative).
 MATCH_TOL = 1e-9
 #: The numeric columns compared (every column of :data:`GRAPH_CSV_COLUMNS` but the edge names).
 NUMERIC = tuple(c for c in GRAPH_CSV_COLUMNS if not c.endswith("_edge"))
+
+
+def query_error(option: str, exc: Exception) -> InvalidInputError:
+    """The error of a ``summary.json`` whose query (the ``recipe``) cannot be read: names ``option`` and why."""
+    return InvalidInputError(
+        f"{option}: summary.json lacks the query ({type(exc).__name__}: {exc}), expected one written by mpa trajectory"
+    )
 
 
 def is_layout_summary(summary: dict[str, Any]) -> bool:
@@ -134,16 +141,12 @@ def load_layout_trajectory(
             "objective": objective,
             "replans": [{"at": float(r["at"]), "goal": [str(x) for x in r["goal"]]} for r in src["replans"]],
         }
-        for key in ("min_margin",):
-            if src.get(key) is not None:
-                recipe[key] = float(src[key])
+        if src.get("min_margin") is not None:
+            recipe["min_margin"] = float(src["min_margin"])
     except InvalidInputError:
         raise
     except (KeyError, TypeError, ValueError, AttributeError) as exc:
-        raise InvalidInputError(
-            f"{option}: summary.json lacks the query ({type(exc).__name__}: {exc}), expected one written by "
-            "mpa trajectory"
-        ) from None
+        raise query_error(option, exc) from None
     try:
         traj = rebuild(gen, recipe)
     except MPAError as exc:
