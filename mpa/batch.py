@@ -42,7 +42,7 @@ class BatchPlans:
     starts, goals : ndarray, shape (N, 2)
         The queries, normalized (track coordinates, metres).
     domain : ndarray of int, shape (N,)
-        Domain of continuity of every query (SPEC §4 numbering), equal to ``plan(...).domain``.
+        Domain of continuity of every query (the numbering of docs/conventions.md), equal to ``plan(...).domain``.
     word : tuple of tuple of str
         Reduced skeleton word of every query, equal to ``plan(...).word``.
     """

@@ -4,7 +4,7 @@ A metric graph has ``V`` vertices (indices ``0..V-1``) and ``E`` edges ``i = (ta
 loops (``tail == head``) and parallel edges are allowed. A *position* is ``(edge, offset)``: the edge index and the
 offset in metres from the edge's tail, ``0 <= offset <= length``.
 
-Facts used everywhere (see ``/work/shared/GRAPHS.md``):
+Facts used everywhere (docs/graphs.md, "The free space, exactly"):
 
 - ``DV`` is the all-pairs shortest vertex distance; a loop or the longer of two parallel edges never shortens it.
 - For ``x = (e, s)`` and ``y = (f, t)``, ``d(x, y) = min(|s - t| if e == f, min over the four affine terms

@@ -57,8 +57,6 @@ CORRIDOR_ITERATIONS = 8
 KKT_TOL = 1e-12
 #: Repairs of a wrong active-set guess tried before DAQP is called.
 ACTIVE_SET_REPAIRS = 5
-#: Share of the free ball a node may use.
-NODE_SHARE = 1.0
 #: Control points of one span of the cubic B-spline.
 SPAN_POINTS = 4
 #: Weight of the bending term relative to the elastic band.
@@ -456,10 +454,9 @@ def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: C
         free = corridor_radii(geom, centers, separation)
         if it == 0:
             min_free = float(free[1:-1].min())
-        share = free if NODE_SHARE == 1.0 else NODE_SHARE * free
         # the previous solve's active set (at first the empty set: the greedy repairs find most first active sets)
         # is tried first (exact if its KKT conditions hold, else DAQP)
-        nodes, st = problem.solve(centers, share, lower, upper, active, query)
+        nodes, st = problem.solve(centers, free, lower, upper, active, query)
         active = st.get("active")
         qp_time += st["qp_time"]
         known_sets += st["qp_status"] == "KKT_VERIFIED"
@@ -468,7 +465,7 @@ def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: C
         nodes[0], nodes[-1] = centers[0], centers[-1]
         nodes = np.minimum(np.maximum(nodes, lower), upper)  # (np.clip, without its overhead)
         dev = np.abs(nodes - centers)
-        excess = dev[:, 0] + dev[:, 1] - share
+        excess = dev[:, 0] + dev[:, 1] - free
         if excess.max() > 1e-9:
             k = int(np.argmax(excess))
             raise PlanningError(f"corridor QP node {k} leaves its ball by {excess[k]:.3g} m")
@@ -513,7 +510,7 @@ def hard_path_scaling(
     problem : CorridorProblem
         Built for ``limits.v``.
     timings : dict, optional
-        Filled with the stage times ``smooth``, ``blend``, ``retime``, ``jerk`` (s).
+        Filled with the stage times ``smooth``, ``blend``, ``jerk`` (s).
 
     Returns
     -------
@@ -532,7 +529,6 @@ def hard_path_scaling(
     t2 = time.perf_counter()
     timings["blend"] = t2 - t1
     scaling = filtered_scaling(path, limits)
-    timings["retime"] = 0.0
     timings["jerk"] = time.perf_counter() - t2
     stats.update(scaling.stats)
     return scaling, stats

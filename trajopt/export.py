@@ -693,7 +693,7 @@ class Trajectory:
     fallback_reason : str
         Why the optimized trajectory was not used ("" if it was).
     solver_stats : dict
-        IPOPT iterations and status, node counts, toppra duration, pieces and blends.
+        Corridor QP statistics (segments, iterations, QP time and status), pieces and blends.
     timings : dict
         Wall time of every stage (s).
     verification : dict

@@ -282,9 +282,9 @@ def _trajopt_outcome(gen: TrajectoryGenerator, start: FloatArray, goal: FloatArr
         rests = int(np.sum(radii[1:-1] <= 0.0))
     stats = {
         "fallback": traj.fallback,
-        "ipopt_segments": int(st.get("n_segments", 0)),
-        "ipopt_iterations": int(st.get("ipopt_iterations", 0)),
-        "ipopt_solve": float(st.get("solve_time", 0.0)),
+        "corridor_segments": int(st.get("n_segments", 0)),
+        "corridor_iterations": int(st.get("corridor_iterations", 0)),
+        "qp_time": float(st.get("qp_time", 0.0)),
         "timings": {k: float(v) for k, v in traj.timings.items()},
         "domain": traj.domain,
         "path": str(st.get("path", "")),
