@@ -1,4 +1,4 @@
-"""Start-up wall time of the ``mpa`` command in fresh processes (issue 12, point 4).
+"""Start-up wall time of the ``mpa`` command in fresh processes.
 
 Usage::
 

@@ -233,7 +233,7 @@ def format_table(res: dict[str, object]) -> str:
 
 
 def leaks(n: int, seed: int, kind: str, clearance: float) -> dict[str, float]:
-    """Resident memory, log handlers and warnings filters over ``n`` trajectories in this process (issue 12, 6)."""
+    """Resident memory, log handlers and warnings filters over ``n`` trajectories in this process."""
     import logging
     import resource
     import warnings

@@ -244,7 +244,7 @@ def run_graphs(
 
 
 def run_compute(config: BenchConfig, n: int, out: Path, *, command: str = "") -> list[dict[str, Any]]:
-    """Ours against the lean OMPL pipeline (:mod:`bench.compute`) on the five tracks of issue 12, in this process.
+    """Ours against the lean OMPL pipeline (:mod:`bench.compute`) on the five compute tracks, in this process.
 
     Writes ``out/compute.json`` and ``out/compute.md``; returns the per-track results.
     """
@@ -325,8 +325,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument(
         "--compute",
         action="store_true",
-        help="compute time of ours against the lean OMPL pipeline, one process, interleaved, on the five tracks "
-        "of issue 12 (--queries per track)",
+        help="compute time of ours against the lean OMPL pipeline, one process, interleaved, on the five "
+        "compute tracks (--queries per track)",
     )
     ap.add_argument("--scales", default="0.5,1,2,4", help="track scales of --scaling")
     ap.add_argument("--grid-sweep", default="0.04,0.02,0.01,0.005", help="grid spacings of --scaling (m)")

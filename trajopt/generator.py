@@ -543,7 +543,7 @@ class TrajectoryGenerator:
             except VerificationError as exc:
                 # The line keeps the separation but the gate finds another homotopy class than the plan's (the
                 # rows lie on the line: the line's class): not a motion of this plan, so the hard path. Never seen
-                # on 10 000 random queries of the benchmark's tracks; any other failure falls back as before.
+                # on 10 000 random queries of the benchmark's tracks; any other failure falls back to the re-timed plan.
                 if view.is_graph or not class_failures_only(exc.report):
                     raise
                 stats.clear()

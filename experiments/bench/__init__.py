@@ -1,4 +1,4 @@
-"""bench: the side-by-side benchmark of ``experiments/benchmark.py`` (issue 5).
+"""bench: the side-by-side benchmark of ``experiments/benchmark.py``.
 
 Modules: :mod:`bench.geometry` (exact separation along joint straight moves; joint paths cut into single-route
 segments), :mod:`bench.motion` (timing and verification of those segments with ``trajopt``'s own stages),

@@ -1,4 +1,4 @@
-"""Compute time against the lean OMPL pipeline, in one process, interleaved, warm (issue 12, point 1).
+"""Compute time against the lean OMPL pipeline, in one process, interleaved, warm.
 
 For each track, the same seeded queries (:func:`bench.runner.make_queries`, with their δ-twins) go through
 
@@ -31,7 +31,7 @@ from trajopt.generator import separation_margin
 
 __all__ = ["compare_compute", "compute_markdown"]
 
-#: Tracks of issue 12's point 1: (label, track kind, stick, loop).
+#: Tracks of the compute comparison: (label, track kind, stick, loop).
 TRACKS = (
     ("lollipop 1/1", "lollipop", 1.0, 1.0),
     ("circle 1", "circle", None, 1.0),

@@ -1,4 +1,4 @@
-"""The lean OMPL pipeline: what a careful user writes to get verified setpoints from OMPL (issue 12, point 1).
+"""The lean OMPL pipeline: what a careful user writes to get verified setpoints from OMPL.
 
 :class:`LeanOmpl` builds its OMPL objects once (state space, ``SimpleSetup``, validity checker, motion validator,
 ``RRTConnect``, ``PathSimplifier``) and per query only clears the planner's tree and sets the start and goal:
