@@ -190,8 +190,11 @@ def test_batch_on_a_dask_local_cluster(tmp_path: Path) -> None:
     _check(out, QUERIES, setpoints=True)
 
 
-def test_batch_unreachable_dask_scheduler_is_exit_2(tmp_path: Path, capsys) -> None:
+def test_batch_unreachable_dask_scheduler_is_exit_2(tmp_path: Path, capsys, monkeypatch) -> None:
     pytest.importorskip("dask.distributed")
+    import trajopt.cli.batch as batch_cli
+
+    monkeypatch.setattr(batch_cli, "DASK_TIMEOUT", 1.0)  # nothing listens on port 9: waiting longer changes nothing
     qfile = _write_queries(tmp_path / "q.csv", QUERIES[:1])
     out = tmp_path / "out"
     code = main(["batch", "--graph", str(Y), "--queries", str(qfile), "--out", str(out), "--dask", "tcp://127.0.0.1:9"])
