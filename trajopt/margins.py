@@ -77,6 +77,9 @@ MIN_PRECISION = 1e-9
 DELAY_PRECISION = 1e-6
 #: Largest δ step of the delay search (s).
 DELAY_STEP = 1.0
+#: Cap on the rows the delay search of one cart samples (a bounded cost for long motions; the value reached is
+#: returned, a lower bound, as at :data:`MAX_DELAY_STEPS`).
+MAX_DELAY_ROWS = 4_000_000
 #: Cap on the steps of the delay search (the value reached is returned: a lower bound).
 MAX_DELAY_STEPS = 400
 
@@ -150,8 +153,10 @@ class _Motion:
         _, v, _, _ = trajectory.sampler(np.linspace(0.0, self.T, max(2, int(self.T * self.rate) + 1)))
         lim = trajectory.limits
         self.vpeak = np.minimum(np.max(np.abs(v), axis=0) + lim.a / self.rate, lim.v)
+        self.sampled = 0  # rows sampled by :meth:`states` (the delay search's budget, MAX_DELAY_ROWS)
 
     def states(self, t: FloatArray, delay: FloatArray) -> tuple[FloatArray, FloatArray]:
+        self.sampled += len(t)
         s0, _, a0, _ = self.traj.sampler(t - delay[0])
         s1, _, a1, _ = self.traj.sampler(t - delay[1])
         return np.column_stack([s0[:, 0], s1[:, 1]]), np.column_stack([a0[:, 0], a1[:, 1]])
@@ -250,9 +255,10 @@ class _Motion:
             return math.inf, True
         delta, h = 0.0, DELAY_STEP
         self.steps = 0
+        first = self.sampled
         while delta <= self.T:
             self.steps += 1
-            if self.steps > MAX_DELAY_STEPS:
+            if self.steps > MAX_DELAY_STEPS or self.sampled - first > MAX_DELAY_ROWS:
                 return delta, False
             if self._delay_interval_holds(robot, delta, h, D):
                 delta += h
