@@ -116,9 +116,10 @@ HEADING_COLUMNS = ("a_heading", "b_heading")
 MAX_ROWS = 20_000_000
 #: Memory one row takes at its peak (bytes): sampling and the gate (the CSV text is formatted and written in pieces
 #: of :data:`CSV_CHUNK_ROWS` rows, :class:`Streamed`). Measured on the Y junction at 200 kHz (2 933 598 rows, 19
-#: columns): peak resident memory 797 MB, 272 B per row with the interpreter; 600 leaves room for the other formats.
-ROW_BYTES = 600
-#: Default memory budget of a trajectory's rows (bytes): 4 GiB, about 7.2 million rows.
+#: columns): peak resident memory 797 MB, 272 B per row with the interpreter; ``--format csv,ros2-yaml`` adds about
+#: 400 B per row (20 kHz: 351 -> 470 MB for 294 286 rows), which 1 000 leaves room for.
+ROW_BYTES = 1000
+#: Default memory budget of a trajectory's rows (bytes): 4 GiB, about 4.3 million rows.
 MEMORY_BUDGET = 4.0 * 2**30
 #: Environment variable that overrides :data:`MEMORY_BUDGET` (bytes; suffix K, M or G).
 BUDGET_ENV = "MPA_MEMORY_BUDGET"
