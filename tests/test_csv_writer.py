@@ -160,3 +160,42 @@ def test_rows_join_cells_with_commas_and_end_in_newlines() -> None:
     cols = [format_g12(np.array([1.5, -0.0, 1e-7])), text_column(names, np.array([2, 0, 1]))]
     assert csv_rows(cols) == b'1.5,"x,y"\n-0,a\n1e-07,"q"""\n'
     assert csv_rows([format_g12(np.zeros(0))]) == b""
+
+
+def reference_points_yaml(tr: Trajectory) -> str:
+    """The ``points`` of the ROS 2 YAML as the point-by-point writer made them."""
+    from trajopt.ros import _f, joint_points, split_ns
+
+    pts = joint_points(tr)
+    out = []
+    for k in range(len(pts.t)):
+        sec, nsec = split_ns(int(pts.ns[k]))
+        out += [
+            f"- positions: [{', '.join(_f(v) for v in pts.positions[k])}]",
+            f"  velocities: [{', '.join(_f(v) for v in pts.velocities[k])}]",
+            f"  accelerations: [{', '.join(_f(v) for v in pts.accelerations[k])}]",
+            "  effort: []",
+            "  time_from_start:",
+            f"    sec: {sec}",
+            f"    nanosec: {nsec}",
+        ]
+    return "\n".join(out) + "\n"
+
+
+@pytest.mark.parametrize("case", ["lollipop 1 kHz", "y junction", "start equals goal"])
+def test_ros2_yaml_points_are_byte_identical_to_the_point_by_point_writer(
+    case: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import trajopt.ros as ros
+
+    tr = CASES[case]()
+    monkeypatch.setattr(ros, "_POINTS_PER_PIECE", 5)
+    text = ros.ros2_yaml_text(tr)
+    assert text.split("points:\n", 1)[1] == reference_points_yaml(tr)
+
+
+def test_ros2_yaml_floats_are_reprs_with_a_point_before_the_exponent() -> None:
+    from trajopt.ros import _f, _floats_yaml
+
+    x = np.array([0.0, -0.0, 1e-4, 9.9e-5, 1e16, 9999999999999998.0, -3e-300, 5e-324, 2.5, np.inf, -np.inf, np.nan])
+    assert _floats_yaml(x) == [_f(v) for v in x.tolist()]
