@@ -344,6 +344,7 @@ def summarize(records: list[dict[str, Any]], extra: dict[str, Any] | None = None
             "p95": float(np.percentile(times, 95)),
             "max": float(np.max(times)),
             "total": float(np.sum(times)),
+            "slowest": sorted(((r["time"], r["index"]) for r in records), reverse=True)[:5],
         },
         **(extra or {}),
         "problems": [r for r in records if r["outcome"] in (*BAD, "fallback")],

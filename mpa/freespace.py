@@ -32,6 +32,7 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
+from mpa import tolerance
 from mpa.errors import InvalidInputError
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 
@@ -42,7 +43,7 @@ FloatArray = NDArray[np.float64]
 PolygonId = tuple[int, int, int]
 
 ZERO_CLEARANCE = 1e-9  # times max(1, total length): the clearance used for D = 0
-TOL = 1e-12  # times max(1, total length): membership tolerance
+TOL = tolerance.PLAN_REL  # times max(1, total length): membership tolerance (mpa.tolerance)
 
 _EMPTY, _FULL, _PARTIAL = 0, 1, 2
 _SLOPES = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))
@@ -126,8 +127,8 @@ class FreeSpace:
             raise InvalidInputError(f"clearance is {clearance!r}, expected a finite number >= 0 (metres)")
         self.track: GraphTrack = tr
         self.clearance = dd
-        scale = max(1.0, tr.total_length)
-        self.tol = TOL * scale
+        scale = tolerance.layout_scale(tr.lengths)
+        self.tol = tolerance.membership_tol(scale)
         # below the membership tolerance a clearance would let the robots pass through each other (d >= D - tol
         # holds at d = 0): every clearance is at least the one that stands for 0
         self.clearance_used = max(dd, ZERO_CLEARANCE * scale)

@@ -78,6 +78,7 @@ def test_write_error_after_work_names_the_option(tmp_path, monkeypatch) -> None:
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr(ct, "atomic_write_text", full)
+    monkeypatch.setattr(ct, "atomic_write_bytes", full)  # setpoints.csv is written piece by piece, as bytes
     code, _out, err = run(["trajectory", *QUERY, "--out", str(tmp_path / "o")])
     assert code == 2
     assert (

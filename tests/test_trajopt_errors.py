@@ -128,19 +128,22 @@ def test_cli_write_failure_leaves_nothing(tmp_path, capsys, monkeypatch) -> None
     import trajopt.cli.trajectory as ct
 
     calls = {"n": 0}
-    real = ct.atomic_write_text
 
-    def flaky(path, text):  # type: ignore[no-untyped-def]
-        calls["n"] += 1
-        if calls["n"] == 2:
-            raise OSError(28, "No space left on device")
-        real(path, text)
+    def flaky(real):  # type: ignore[no-untyped-def]
+        def write(path, content):  # type: ignore[no-untyped-def]
+            calls["n"] += 1  # the second file of the run (text or bytes: setpoints.csv is written in pieces) fails
+            if calls["n"] == 2:
+                raise OSError(28, "No space left on device")
+            real(path, content)
 
-    monkeypatch.setattr(ct, "atomic_write_text", flaky)
+        return write
+
+    monkeypatch.setattr(ct, "atomic_write_text", flaky(ct.atomic_write_text))
+    monkeypatch.setattr(ct, "atomic_write_bytes", flaky(ct.atomic_write_bytes))
     out = tmp_path / "o"
     code = main(["trajectory", *QUERY, "--out", str(out)])
     assert code == 2 and capsys.readouterr().err.startswith("error:")
-    assert not out.exists()
+    assert not out.exists() and calls["n"] == 2
 
 
 def test_invalid_input_is_value_error() -> None:

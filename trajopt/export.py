@@ -45,16 +45,20 @@ from trajopt.timing import Limits
 from trajopt.verify import VerificationError, VerificationReport
 
 __all__ = [
+    "CSV_CHUNK_ROWS",
     "CSV_COLUMNS",
     "GRAPH_CSV_COLUMNS",
     "HEADING_COLUMNS",
     "XY_COLUMNS",
+    "Content",
     "Source",
+    "Streamed",
     "Trajectory",
     "atomic_write_bytes",
     "atomic_write_text",
     "check_output_path",
     "check_rate",
+    "content_text",
     "csv_field",
     "csv_line",
     "directory_lock",
@@ -110,13 +114,47 @@ XY_COLUMNS = ("a_x", "a_y", "b_x", "b_y")
 HEADING_COLUMNS = ("a_heading", "b_heading")
 #: Largest number of rows a grid may have.
 MAX_ROWS = 20_000_000
-#: Memory one row takes at its peak (bytes): sampling, the gate and the CSV text (measured: 2.3 KB per row on the Y
-#: junction from 1 to 20 kHz, 205 MB -> 860 MB for 14 716 -> 294 286 rows).
-ROW_BYTES = 2500
-#: Default memory budget of a trajectory's rows (bytes): 4 GiB, about 1.7 million rows.
+#: Memory one row takes at its peak (bytes): sampling and the gate (the CSV text is formatted and written in pieces
+#: of :data:`CSV_CHUNK_ROWS` rows, :class:`Streamed`). Measured on the Y junction at 200 kHz (2 933 598 rows, 19
+#: columns): peak resident memory 797 MB, 272 B per row with the interpreter; ``--format csv,ros2-yaml`` adds about
+#: 400 B per row (20 kHz: 351 -> 470 MB for 294 286 rows), which 1 000 leaves room for.
+ROW_BYTES = 1000
+#: Default memory budget of a trajectory's rows (bytes): 4 GiB, about 4.3 million rows.
 MEMORY_BUDGET = 4.0 * 2**30
 #: Environment variable that overrides :data:`MEMORY_BUDGET` (bytes; suffix K, M or G).
 BUDGET_ENV = "MPA_MEMORY_BUDGET"
+
+
+#: Rows of one piece of :meth:`Trajectory.csv_chunks` (about 12 MB of text on a layout with coordinates).
+CSV_CHUNK_ROWS = 65536
+
+
+class Streamed:
+    """A file's content made piece by piece while it is written, so the whole of it is never in memory.
+
+    Parameters
+    ----------
+    chunks : callable
+        ``chunks()`` yields the file's bytes in order (called once per write).
+    """
+
+    def __init__(self, chunks: Callable[[], Iterable[bytes]]) -> None:
+        self.chunks = chunks
+
+    def data(self) -> bytes:
+        """The whole content (for callers that need it in memory)."""
+        return b"".join(self.chunks())
+
+
+#: A file's content: text (written as UTF-8), bytes, or :class:`Streamed` pieces.
+Content = str | bytes | Streamed
+
+
+def content_text(content: Content) -> str:
+    """``content`` as text (UTF-8)."""
+    if isinstance(content, str):
+        return content
+    return (content.data() if isinstance(content, Streamed) else content).decode("utf-8")
 
 
 class Source(enum.Enum):
@@ -245,8 +283,10 @@ def glob_escape(name: str) -> str:
     return glob.escape(name)
 
 
-def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
+def atomic_write_bytes(path: str | os.PathLike[str], data: bytes | Streamed) -> None:
     """Write ``data`` to ``path`` through a temporary file in the same directory and :func:`os.replace`.
+
+    ``data`` may be :class:`Streamed`: its pieces are written as they are made.
 
     The file gets the usual permissions (``0o666`` less the umask); on any error the temporary file is removed.
     A reader never sees a partial file, even if the writer is killed (``kill -9``): then only the hidden
@@ -259,7 +299,11 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
     )
     try:
         with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
+            if isinstance(data, Streamed):
+                for piece in data.chunks():
+                    fh.write(piece)
+            else:
+                fh.write(data)
             fh.flush()
             os.fsync(fh.fileno())
         os.chmod(tmp, 0o666 & ~_umask())
@@ -386,9 +430,9 @@ def _fsync_dir(path: Path) -> None:
 
 def write_directory(
     out: str | os.PathLike[str],
-    files: dict[str, str | bytes],
+    files: dict[str, Content],
     *,
-    write: Callable[[Path, str | bytes], None] | None = None,
+    write: Callable[[Path, Content], None] | None = None,
     option: str = "--out",
 ) -> list[Path]:
     """Replace the run files of directory ``out`` by ``files`` (name -> content) as a whole, in one step.
@@ -411,7 +455,7 @@ def write_directory(
     out : path
         The output directory (created with its parents if missing).
     files : dict
-        File name -> content (``str`` written as UTF-8, ``bytes`` as is).
+        File name -> content (``str`` written as UTF-8, ``bytes`` as is, :class:`Streamed` piece by piece).
     write : callable, optional
         ``write(path, content)`` writes one file (default: :func:`atomic_write_text` / :func:`atomic_write_bytes`).
     option : str
@@ -438,11 +482,11 @@ def write_directory(
     if exists and not is_dir:
         raise InvalidInputError(f"{option} is {str(out)!r}, which exists and is not a directory")
 
-    def default_write(path: Path, content: str | bytes) -> None:
-        if isinstance(content, bytes):
-            atomic_write_bytes(path, content)
-        else:
+    def default_write(path: Path, content: Content) -> None:
+        if isinstance(content, str):
             atomic_write_text(path, content)
+        else:
+            atomic_write_bytes(path, content)
 
     writer = write or default_write
     target = Path(out)
@@ -511,8 +555,8 @@ def _in_place(d: Path) -> bool:
 def _write_in_place(
     d: Path,
     shown: Path,
-    files: dict[str, str | bytes],
-    writer: Callable[[Path, str | bytes], None],
+    files: dict[str, Content],
+    writer: Callable[[Path, Content], None],
     option: str,
 ) -> list[Path]:
     """The fallback of :func:`write_directory` for a directory it cannot swap (see :func:`_in_place`): each file
@@ -588,7 +632,7 @@ def check_output_path(path: Any, what: str = "path") -> Path:
     return p
 
 
-def write_output_file(path: Path, content: str | bytes, what: str = "path") -> None:
+def write_output_file(path: Path, content: Content, what: str = "path") -> None:
     """Write one file atomically (:func:`atomic_write_text`/:func:`atomic_write_bytes`).
 
     Raises
@@ -597,10 +641,10 @@ def write_output_file(path: Path, content: str | bytes, what: str = "path") -> N
         The file cannot be written: ``{what} {path!r}: cannot write: reason`` (no ``[Errno ..]``).
     """
     try:
-        if isinstance(content, bytes):
-            atomic_write_bytes(path, content)
-        else:
+        if isinstance(content, str):
             atomic_write_text(path, content)
+        else:
+            atomic_write_bytes(path, content)
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__
         raise InvalidInputError(f"{what} {str(path)!r}: cannot write: {reason}") from None
@@ -867,50 +911,60 @@ class Trajectory:
 
     def csv_text(self, rate: float | None = None) -> str:
         """The CSV file's content (see the module docstring), verified at ``rate`` (see :meth:`at_rate`)."""
-        tr = self if rate is None else self.at_rate(rate)
-        return tr._csv()
+        return b"".join(self.csv_chunks(rate)).decode("utf-8")
 
-    def _csv(self) -> str:
-        names = np.asarray([csv_field(n) for n in self.edge_names], dtype=object)
+    def csv_chunks(self, rate: float | None = None) -> Iterator[bytes]:
+        """The CSV file's content (UTF-8) in pieces of at most :data:`CSV_CHUNK_ROWS` rows, the header first.
+
+        The rows are verified at ``rate`` (see :meth:`at_rate`) before the first piece; each piece is formatted
+        when it is asked for, so writing them one by one keeps the text of only one piece in memory. Numbers are
+        ``"%.12g"``, the edge names RFC 4180 fields (:func:`csv_field`), ``*_dir`` integers
+        (:mod:`trajopt.csv_kernels`).
+        """
+        tr = self if rate is None else self.at_rate(rate)
+        return tr._csv_chunks()
+
+    def _csv_chunks(self) -> Iterator[bytes]:
+        from trajopt.csv_kernels import csv_rows, format_g12, text_column
+
+        columns = self.columns
+        names = [csv_field(n) for n in self.edge_names]
         e, o, d = self._positions()
-        col: dict[str, Any] = {"time": self.t}
+        col: dict[str, tuple[str, Any]] = {"time": ("f", self.t)}
         for r, x in enumerate("ab"):
             col.update(
                 {
-                    f"{x}_track": self.track[:, r],
-                    f"{x}_s": self.s[:, r],
-                    f"{x}_v": self.v[:, r],
-                    f"{x}_a": self.a[:, r],
-                    f"{x}_j": self.j[:, r],
-                    f"{x}_edge": names[e[:, r]],
-                    f"{x}_offset": o[:, r],
-                    f"{x}_dir": d[:, r],
+                    f"{x}_track": ("f", self.track[:, r]),
+                    f"{x}_s": ("f", self.s[:, r]),
+                    f"{x}_v": ("f", self.v[:, r]),
+                    f"{x}_a": ("f", self.a[:, r]),
+                    f"{x}_j": ("f", self.j[:, r]),
+                    f"{x}_edge": ("name", e[:, r]),
+                    f"{x}_offset": ("f", o[:, r]),
+                    f"{x}_dir": ("int", d[:, r]),
                 }
             )
-        columns = self.columns
         if "b_y" in columns:
             p = self.xy()
-            col.update({"a_x": p[:, 0, 0], "a_y": p[:, 0, 1], "b_x": p[:, 1, 0], "b_y": p[:, 1, 1]})
+            col.update({"a_x": ("f", p[:, 0, 0]), "a_y": ("f", p[:, 0, 1]), "b_x": ("f", p[:, 1, 0])})
+            col["b_y"] = ("f", p[:, 1, 1])
         if "b_heading" in columns:
             h = self.headings()
-            col.update({"a_heading": h[:, 0], "b_heading": h[:, 1]})
-        text = []
-        for name in columns:
-            x = col[name]
-            if x.dtype == object:
-                text.append(x.astype(str))
-            elif np.issubdtype(x.dtype, np.integer):
-                text.append(x.astype(str))
-            else:
-                text.append(np.char.mod("%.12g", x))
-        buf = io.StringIO()
-        buf.write(csv_line(columns))
-        if len(self.t):
-            rows = text[0].astype(object)
-            for x in text[1:]:
-                rows = rows + "," + x.astype(object)
-            buf.write("\n".join(rows.tolist()) + "\n")
-        return buf.getvalue()
+            col.update({"a_heading": ("f", h[:, 0]), "b_heading": ("f", h[:, 1])})
+        yield csv_line(columns).encode("utf-8")
+        for i in range(0, len(self.t), CSV_CHUNK_ROWS):
+            cells = []
+            for name in columns:
+                kind, x = col[name]
+                x = x[i : i + CSV_CHUNK_ROWS]
+                if kind == "f":
+                    cells.append(format_g12(x))
+                elif kind == "name":
+                    cells.append(text_column(names, x))
+                else:
+                    values, index = np.unique(x, return_inverse=True)
+                    cells.append(text_column([str(int(v)) for v in values], index.reshape(-1)))
+            yield csv_rows(cells)
 
     def to_csv(self, path: str | os.PathLike[str], rate: float | None = None) -> None:
         """Write the setpoints as CSV (atomically); ``rate`` (Hz) defaults to the trajectory's own.
@@ -925,8 +979,8 @@ class Trajectory:
             (the message names the path and the reason), or ``rate`` is invalid or too low.
         """
         target = check_output_path(path)
-        text = self.csv_text(rate)
-        write_output_file(target, text)
+        chunks = self.csv_chunks(rate)  # verified at the rate before anything is written
+        write_output_file(target, Streamed(lambda: chunks))
 
     def margins(self) -> Any:
         """Tracking margin and delay tolerance (:func:`trajopt.margins.margins`; computed once)."""
@@ -939,10 +993,14 @@ class Trajectory:
         return cached
 
     def words(self) -> dict[str, str]:
-        """The motion in plain words per cart (:func:`trajopt.words.describe`)."""
-        from trajopt.words import describe
+        """The motion in plain words per cart (:func:`trajopt.words.describe`; computed once)."""
+        cached = self.__dict__.get("_words")
+        if cached is None:
+            from trajopt.words import describe
 
-        return describe(self)
+            cached = describe(self)
+            object.__setattr__(self, "_words", cached)
+        return dict(cached)
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready summary (everything but the arrays).

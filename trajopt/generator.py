@@ -319,8 +319,9 @@ class TrajectoryGenerator:
         if self.clearance <= 0 or float(plan.min_distance()) - self.clearance >= margin:
             return ""
         for drop in (2.0 * margin, 1e-3 * self.clearance, 1e-2 * self.clearance):
-            lower = self.clearance - drop
-            if lower <= 0:
+            text = _decimal_at_most(self.clearance - drop)
+            lower = float(text)
+            if lower <= 0 or lower >= self.clearance:
                 continue
             try:
                 gen = TrajectoryGenerator(self.track, clearance=lower, limits=self.limits, rate=self.rate)
@@ -330,7 +331,7 @@ class TrajectoryGenerator:
             return (
                 f"clearance {self.clearance!r} m is at the threshold of this motion: the robots must pass exactly "
                 f"{self.clearance!r} m apart while moving, which setpoints at no rate can verify (between rows they "
-                f"may come closer); expected a clearance below it: {lower:.6g} m works at {self.rate:g} Hz"
+                f"may come closer); expected a clearance below it: {text} m works at {self.rate:g} Hz"
             )
         return ""
 
@@ -784,3 +785,13 @@ def generate_trajectory(
         track, clearance=clearance, limits=Limits(vmax, amax, jmax), rate=rate, footprint=footprint
     )
     return gen.generate(start, goal, delay_tolerance=delay_tolerance, min_margin=min_margin)
+
+
+def _decimal_at_most(x: float) -> str:
+    """The shortest decimal (6 to 17 significant digits) whose value is at most ``x``: the number a message names
+    is the number that was tried, and reading it back never gives more than ``x``."""
+    for digits in range(6, 18):
+        text = f"{x:.{digits}g}"
+        if float(text) <= x:
+            return text
+    return repr(x)

@@ -15,8 +15,11 @@ Tracking margin ``r`` (m)
 
     ``d_min`` is the minimum of the continuous motion, by branch and bound: grid steps whose lower bound is below
     the best value found are cut into 8 and bounded again (four levels), so ``d_min`` is exact to
-    :data:`MIN_PRECISION` (1e-9 m) wherever the bound allows it, and always an upper bound of the true minimum
-    (it is a sampled value) within the gate's slack (``Σ amax·(Δt/8⁴)²/8``) of it.
+    :data:`MIN_PRECISION` (1e-9 m) wherever the bound allows it, and an upper bound of the true minimum
+    (it is a sampled value) within the gate's slack (``Σ amax·(Δt/8⁴)²/8``) of it. Where more than
+    :data:`MAX_REFINE_STEPS` steps would have to be cut at one level (carts moving in step at their closest for
+    a long time, e.g. a 4 600 s motion), ``d_min`` is the smallest lower bound of those steps instead: below the
+    true minimum by at most that level's slack, so the tracking margin is never overstated.
 
 Delay tolerance ``τ`` (s)
     The largest ``τ`` such that delaying either cart's whole motion by any ``δ ∈ [0, τ]`` (the other on time,
@@ -66,12 +69,17 @@ FloatArray = NDArray[np.float64]
 DENSE_RATE = 1000.0
 #: Largest number of rows of a dense grid: longer motions get a lower dense rate (a bounded cost).
 MAX_DENSE_ROWS = 20_000
+#: Most grid steps :meth:`_Motion.exact_min` cuts at one level (a bounded cost; beyond it the result is a lower bound).
+MAX_REFINE_STEPS = 20_000
 #: Precision of the minimum separation (m).
 MIN_PRECISION = 1e-9
 #: Resolution of the delay tolerance (s).
 DELAY_PRECISION = 1e-6
 #: Largest δ step of the delay search (s).
 DELAY_STEP = 1.0
+#: Cap on the rows the delay search of one cart samples (a bounded cost for long motions; the value reached is
+#: returned, a lower bound, as at :data:`MAX_DELAY_STEPS`).
+MAX_DELAY_ROWS = 4_000_000
 #: Cap on the steps of the delay search (the value reached is returned: a lower bound).
 MAX_DELAY_STEPS = 400
 
@@ -145,8 +153,10 @@ class _Motion:
         _, v, _, _ = trajectory.sampler(np.linspace(0.0, self.T, max(2, int(self.T * self.rate) + 1)))
         lim = trajectory.limits
         self.vpeak = np.minimum(np.max(np.abs(v), axis=0) + lim.a / self.rate, lim.v)
+        self.sampled = 0  # rows sampled by :meth:`states` (the delay search's budget, MAX_DELAY_ROWS)
 
     def states(self, t: FloatArray, delay: FloatArray) -> tuple[FloatArray, FloatArray]:
+        self.sampled += len(t)
         s0, _, a0, _ = self.traj.sampler(t - delay[0])
         s1, _, a1, _ = self.traj.sampler(t - delay[1])
         return np.column_stack([s0[:, 0], s1[:, 1]]), np.column_stack([a0[:, 0], a1[:, 1]])
@@ -208,17 +218,23 @@ class _Motion:
 
         Branch and bound: grid steps whose lower bound (the gate's between-rows bound) is below the best
         separation found minus :data:`MIN_PRECISION` are cut into 8 and bounded again, down to steps of
-        ``Δt/8⁴``.
+        ``Δt/8⁴``. When more than :data:`MAX_REFINE_STEPS` steps are left to cut (the carts moving in step at
+        the minimum for a long time), the smallest of their lower bounds is returned instead, with its step's
+        time: below the true minimum by at most the between-rows slack of that level (conservative).
         """
         t, d, lb = self._near_rows(delay)
         k = int(np.argmin(d))
         best, t_best = float(d[k]), float(t[k])
-        lo = t[:-1][lb < best - MIN_PRECISION]
+        keep = lb < best - MIN_PRECISION
+        lo, bound = t[:-1][keep], lb[keep]
         w = 1.0 / self.rate
         u = np.arange(9) / 8.0
         for _ in range(4):
             if len(lo) == 0:
                 break
+            if len(lo) > MAX_REFINE_STEPS:
+                m0 = int(np.argmin(bound))
+                return min(best, float(bound[m0])), float(lo[m0])
             tt = lo[:, None] + w * u[None, :]
             s, a = self.states(tt.ravel(), delay)
             dd = self.dist(s).reshape(tt.shape)
@@ -228,7 +244,8 @@ class _Motion:
             w /= 8.0
             sub = between_rows_separation(self.track, self.routes, s, a, w, self.traj.limits)
             sub = np.append(sub, np.inf).reshape(tt.shape)[:, :8]  # drop the pairs across candidates
-            lo = tt[:, :8][sub < best - MIN_PRECISION]
+            keep = sub < best - MIN_PRECISION
+            lo, bound = tt[:, :8][keep], sub[keep]
         return best, t_best
 
     def delay_limit(self, robot: int) -> tuple[float, bool]:
@@ -238,9 +255,10 @@ class _Motion:
             return math.inf, True
         delta, h = 0.0, DELAY_STEP
         self.steps = 0
+        first = self.sampled
         while delta <= self.T:
             self.steps += 1
-            if self.steps > MAX_DELAY_STEPS:
+            if self.steps > MAX_DELAY_STEPS or self.sampled - first > MAX_DELAY_ROWS:
                 return delta, False
             if self._delay_interval_holds(robot, delta, h, D):
                 delta += h

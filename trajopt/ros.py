@@ -28,7 +28,7 @@ import os
 import re
 import shutil
 import tempfile
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -144,10 +144,6 @@ def _f(x: float) -> str:
     return r
 
 
-def _flow(values: Sequence[float]) -> str:
-    return "[" + ", ".join(_f(v) for v in values) + "]"
-
-
 def _quote(s: str) -> str:
     return "'" + s.replace("'", "''") + "'"
 
@@ -194,18 +190,40 @@ def ros2_yaml_text(
         sec, nsec = split_ns(stamp)
         out += ["header:", "  stamp:", f"    sec: {sec}", f"    nanosec: {nsec}", f"  frame_id: {_quote(frame_id)}"]
     out += ["joint_names:", *(f"- {n}" for n in names), "points:"]
-    for k in range(len(pts.t)):
-        sec, nsec = split_ns(int(pts.ns[k]))
-        out += [
-            f"- positions: {_flow(pts.positions[k])}",
-            f"  velocities: {_flow(pts.velocities[k])}",
-            f"  accelerations: {_flow(pts.accelerations[k])}",
-            "  effort: []",
-            "  time_from_start:",
-            f"    sec: {sec}",
-            f"    nanosec: {nsec}",
+    return "\n".join(out) + "\n" + "".join(_points_yaml(pts))
+
+
+#: One point of :func:`ros2_yaml_text`: positions, velocities, accelerations (two each, :func:`_f`), sec, nanosec.
+_POINT = (
+    "- positions: [%s, %s]\n  velocities: [%s, %s]\n  accelerations: [%s, %s]\n  effort: []\n"
+    "  time_from_start:\n    sec: %d\n    nanosec: %d\n"
+)
+#: Points formatted at once by :func:`_points_yaml`.
+_POINTS_PER_PIECE = 20000
+
+
+def _floats_yaml(x: FloatArray) -> list[str]:
+    """:func:`_f` of every value: ``repr`` (mapped in C), fixed where it has an exponent or is not finite."""
+    v = np.asarray(x, dtype=float).ravel()
+    out = list(map(repr, v.tolist()))
+    ax = np.abs(v)
+    for i in np.flatnonzero(~((ax == 0.0) | ((ax >= 1e-4) & (ax < 1e16)))).tolist():
+        out[i] = _f(float(v[i]))  # repr has an exponent (or is inf/nan) here
+    return out
+
+
+def _points_yaml(pts: JointPoints) -> Iterator[str]:
+    """The ``points`` of :func:`ros2_yaml_text`, in pieces of :data:`_POINTS_PER_PIECE` points (one ``%`` each)."""
+    for i in range(0, len(pts.t), _POINTS_PER_PIECE):
+        sl = slice(i, i + _POINTS_PER_PIECE)
+        cols = [
+            _floats_yaml(np.asarray(x)[sl, r])
+            for x in (pts.positions, pts.velocities, pts.accelerations)
+            for r in (0, 1)
         ]
-    return "\n".join(out) + "\n"
+        sec, nsec = np.divmod(pts.ns[sl], 1_000_000_000)
+        cells = [*cols, sec.tolist(), nsec.tolist()]
+        yield (_POINT * len(cells[-1])) % tuple(v for row in zip(*cells, strict=True) for v in row)
 
 
 def write_ros2_yaml(trajectory: Trajectory, path: str | os.PathLike[str], **kwargs: Any) -> None:

@@ -7,14 +7,15 @@ robots' routes and the limits; it does not use any of the generator's geometry. 
 - consistency: ``track == route.position(s)`` for both robots (graph distance ≤ :data:`POSITION_TOL`);
 - endpoints: first row at the start and last row at the goal, both at rest (``v = a = 0``);
 - limits: ``|v|, |a|, |j| ≤ limit·(1 + LIMIT_RTOL)`` per robot at every row;
-- separation at every row: ``d ≥ D − SEPARATION_TOL``;
+- separation at every row: ``d ≥ D − ε``, ``ε`` the tolerance of the layout's scale
+  (:func:`mpa.tolerance.separation_tol`: 1e-9 m up to 125 m of track, ``8e-12·L`` beyond, shared with the planner);
 - separation between rows: the chord between two rows (both robots linear in ``s``) is cut where a robot passes a
   junction of its route; on each piece both robots stay on one edge, the distance is the minimum of the cell's
   affine terms (and ``|s − t|`` on one edge), and its minimum is at an end unless the robots meet there
   (:meth:`mpa.geometry.GraphGeometry.segment_min`, exact; pieces where ``d_k + d_{k+1} > |Δs_A| + |Δs_B|``
   exclude meeting at once). The real motion deviates from the chord by at most ``a_int·Δt²/8`` per robot,
   ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)``; the distance is 1-Lipschitz in each robot's
-  coordinate, so ``min_chord − Σ dev ≥ D − SEPARATION_TOL`` is required;
+  coordinate, so ``min_chord − Σ dev ≥ D − ε`` is required;
 - homotopy class: the reduced skeleton word of the motion (:func:`skeleton_word`, the compiled twin of
   :func:`mpa.homotopy.path_word`; rows refined along the chords) equals the plan's.
 
@@ -31,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa import tolerance
 from mpa.errors import MPAError, PlanningError
 from mpa.geometry import DirectedRoute, GraphGeometry
 from mpa.homotopy import END_TOL, path_word, word_from_samples
@@ -68,8 +70,9 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 #: Relative tolerance of the limit checks.
 LIMIT_RTOL = 1e-6
-#: Absolute tolerance (metres) of the separation checks.
-SEPARATION_TOL = 1e-9
+#: Tolerance (metres) of the separation checks on layouts up to 125 m; on larger ones
+#: :func:`mpa.tolerance.separation_tol` of the layout's scale (the model the planner shares).
+SEPARATION_TOL = tolerance.GATE_FLOOR
 #: Absolute tolerance (metres, m/s, m/s²) of positions, endpoints and rest.
 POSITION_TOL = 1e-9
 #: Time grid tolerance (s).
@@ -537,7 +540,8 @@ def _verify_graph_rows(
     fails += _endpoint_failures(V, A, res)
     peak, limit_fails = _limit_check(res, lims.tolist())
     fails += limit_fails
-    fails += _separation_failures(res, between, clearance)
+    tol = tolerance.separation_tol(tolerance.layout_scale(geometry.lengths))
+    fails += _separation_failures(res, between, clearance, tol)
     return VerificationReport(not fails, tuple(fails), res[RES["dmin"]], res[RES["bmin"]], peak, ())
 
 
@@ -590,19 +594,22 @@ def _limit_check(res: list[float], lims: list[float]) -> tuple[dict[str, tuple[f
     return peak, fails
 
 
-def _separation_failures(res: list[float], between: FloatArray, clearance: float) -> list[str]:
-    """The failures where the separation at a row or between rows is below the clearance."""
+def _separation_failures(
+    res: list[float], between: FloatArray, clearance: float, tol: float = SEPARATION_TOL
+) -> list[str]:
+    """The failures where the separation at a row or between rows is below the clearance by more than ``tol``
+    (m, :func:`mpa.tolerance.separation_tol`)."""
     fails = []
     dmin, bmin = res[RES["dmin"]], res[RES["bmin"]]
-    if dmin < clearance - SEPARATION_TOL:
+    if dmin < clearance - tol:
         fails.append(
             f"row {int(res[RES['dmin_row']])}: separation {dmin!r} below the clearance {float(clearance)!r} "
-            f"(tolerance {SEPARATION_TOL:g} m)"
+            f"(tolerance {tol:g} m)"
         )
-    if bmin < clearance - SEPARATION_TOL:
+    if bmin < clearance - tol:
         k = int(res[RES["bmin_row"]])
         fails.append(
             f"rows {k}-{k + 1}: separation between rows may drop to {float(between[k])!r} < {float(clearance)!r} "
-            f"(tolerance {SEPARATION_TOL:g} m)"
+            f"(tolerance {tol:g} m)"
         )
     return fails

@@ -14,8 +14,9 @@ pvt           ``pvt.csv``             PVT rows every ``--pvt-interval`` s (:func
 
 ``--plot`` adds ``trajectory.png`` (:func:`trajopt.viz.layout_run.trajectory_figure`: a paper track's figure, or
 a layout run's). Every option is checked before
-any work (:func:`check_output_options`); every file is computed in memory (:func:`output_files`) and then
-written all or nothing (:func:`trajopt.cli.trajectory.write_outputs`).
+any work (:func:`check_output_options`); every file is computed (:func:`output_files`; ``setpoints.csv`` is
+:class:`trajopt.export.Streamed`, formatted piece by piece while it is written) and then written all or nothing
+(:func:`trajopt.cli.trajectory.write_outputs`).
 
 ``summary.json`` is :meth:`Trajectory.summary` plus ``files`` (what was written), ``pvt`` (interval, stretch,
 rows) and ``recipe``: the query that rebuilds the motion deterministically (``start``, ``goal``,
@@ -35,7 +36,7 @@ from pathlib import Path
 from typing import Any
 
 from mpa.errors import InvalidInputError
-from trajopt.export import Trajectory
+from trajopt.export import Content, Streamed, Trajectory
 
 __all__ = [
     "FORMAT_FILES",
@@ -184,7 +185,7 @@ def json_text(obj: Any) -> str:
     return json.dumps(obj, indent=2, default=_json_default) + "\n"
 
 
-def output_files(traj: Trajectory, opts: OutputOptions, recipe: dict[str, Any]) -> dict[str, str | bytes]:
+def output_files(traj: Trajectory, opts: OutputOptions, recipe: dict[str, Any]) -> dict[str, Content]:
     """Every file of the run, in memory: name -> content (``summary.json`` last).
 
     Raises
@@ -193,12 +194,12 @@ def output_files(traj: Trajectory, opts: OutputOptions, recipe: dict[str, Any]) 
         The PVT interval does not keep the clearance and limits (``--pvt-interval ...``: the message names the
         largest interval that works), or another writer refuses its input.
     """
-    files: dict[str, str | bytes] = {}
+    files: dict[str, Content] = {}
     extra: dict[str, Any] = {}
     for fmt in opts.formats:
         name = FORMAT_FILES[fmt]
         if fmt == "csv":
-            files[name] = traj.csv_text()
+            files[name] = Streamed(traj.csv_chunks)  # formatted piece by piece as it is written
         elif fmt == "ros2-yaml":
             from trajopt.ros import ros2_yaml_text
 

@@ -34,7 +34,15 @@ from trajopt.cli.outputs import (
     summary_text,
 )
 from trajopt.delay import check_delay_tolerance
-from trajopt.export import Trajectory, atomic_write_bytes, atomic_write_text, directory_lock, write_directory
+from trajopt.export import (
+    Content,
+    Streamed,
+    Trajectory,
+    atomic_write_bytes,
+    atomic_write_text,
+    directory_lock,
+    write_directory,
+)
 from trajopt.generator import TrajectoryGenerator
 from trajopt.timing import Limits
 
@@ -65,14 +73,14 @@ def output_lock(directory: str | os.PathLike[str]) -> Iterator[None]:
         yield
 
 
-def _write_file(path: Path, content: str | bytes) -> None:
-    if isinstance(content, bytes):
-        atomic_write_bytes(path, content)
-    else:
+def _write_file(path: Path, content: Content) -> None:
+    if isinstance(content, str):
         atomic_write_text(path, content)
+    else:
+        atomic_write_bytes(path, content)
 
 
-def write_outputs(out: str | os.PathLike[str], files: Mapping[str, str | bytes]) -> list[Path]:
+def write_outputs(out: str | os.PathLike[str], files: Mapping[str, Content]) -> list[Path]:
     """Replace the run files of directory ``out`` by ``files`` (name -> content) as a whole, in one step.
 
     See :func:`trajopt.export.write_directory`: the files go into a temporary directory beside ``out``, which is
@@ -145,7 +153,7 @@ def trajectory_files(
     objective: str = "fastest",
     min_margin: float | None = None,
     footprint: Any = None,
-) -> tuple[Trajectory, dict[str, str | bytes]]:
+) -> tuple[Trajectory, dict[str, Content]]:
     """The verified motion of ``mpa trajectory`` and its files, in memory (nothing is written).
 
     Parameters
@@ -214,8 +222,8 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     traj = gen.generate(job["start"], job["goal"])
     png = figure_png(plot_trajectory(traj))
     plan: Any = traj.plan  # a paper Plan (the demo's lollipop)
-    files: dict[str, str | bytes] = {
-        "setpoints.csv": traj.csv_text(),
+    files: dict[str, Content] = {
+        "setpoints.csv": Streamed(traj.csv_chunks),
         "summary.json": _json(traj.summary()),
         "plan.json": _json(plan.to_dict(samples=max(400, plan.samples_needed(0.01)))),
         "trajectory.png": png,

@@ -48,6 +48,7 @@ from trajopt.cli.common import footprint_query
 from trajopt.cli.outputs import FORMAT_FILES, OutputOptions, parse_formats
 from trajopt.cli.plan import plan_json, plan_query
 from trajopt.cli.trajectory import trajectory_files
+from trajopt.export import content_text
 from trajopt.timing import Limits
 
 __all__ = [
@@ -309,10 +310,13 @@ def trajectory_answer(body: Any) -> dict[str, Any]:
         objective=q.objective,
         footprint=q.footprint,
     )
-    out: dict[str, Any] = {"summary": json.loads(files["summary.json"]), "csv": files[FORMAT_FILES["csv"]]}
+    out: dict[str, Any] = {
+        "summary": json.loads(content_text(files["summary.json"])),
+        "csv": content_text(files[FORMAT_FILES["csv"]]),
+    }
     for f, key in _FORMAT_KEYS.items():
         if f in formats:
-            out[key] = files[FORMAT_FILES[f]]
+            out[key] = content_text(files[FORMAT_FILES[f]])
     return out
 
 
