@@ -27,7 +27,7 @@ i.e. some component is mapped to itself by the swap ``(x, y) -> (y, x)``.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
@@ -78,6 +78,77 @@ def _dedupe(poly: list[tuple[float, float]], eps: float) -> list[tuple[float, fl
     while len(out) > 1 and abs(out[0][0] - out[-1][0]) <= eps and abs(out[0][1] - out[-1][1]) <= eps:
         out.pop()
     return out
+
+
+#: Up to this many polygons the components are found by a union-find in Python, above it by scipy's csgraph.
+SMALL_POLYGONS = 20_000
+
+
+def _union_find(n: int, rows: list[int], cols: list[int]) -> list[int]:
+    """The root of each of ``n`` nodes after joining ``rows[i]`` with ``cols[i]`` for every ``i``."""
+    parent = list(range(n))
+
+    def find(x: int) -> int:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for a, b in zip(rows, cols):
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[ra] = rb
+    return [find(i) for i in range(n)]
+
+
+class _PolygonIndex:
+    """The number of each free polygon ``(e, f, k)`` (a read-only mapping), from the polygons' arrays sorted by
+    ``(e, f, k)``: one int32 per cell (its first polygon, -1 when empty) instead of a dictionary of E² entries."""
+
+    def __init__(self, pe: NDArray[np.int64], pf: NDArray[np.int64], pk: NDArray[np.int64], n_e: int) -> None:
+        first = np.full((n_e, n_e), -1, dtype=np.int32)
+        n = len(pe)
+        head = np.ones(n, dtype=bool)
+        if n > 1:
+            head[1:] = (pe[1:] != pe[:-1]) | (pf[1:] != pf[:-1])
+        idx = np.nonzero(head)[0]
+        first[pe[idx], pf[idx]] = idx
+        self._first = first
+        self._pk = pk
+        self._pe = pe
+        self._pf = pf
+        self._n = n
+        self._n_e = n_e
+
+    def get(self, pid: PolygonId, default: int | None = None) -> int | None:
+        """The polygon's number, ``default`` when it is not a free polygon."""
+        try:
+            e, f, k = pid
+        except (TypeError, ValueError):
+            return default
+        if not (0 <= e < self._n_e and 0 <= f < self._n_e):
+            return default
+        i = int(self._first[e, f])
+        if i < 0:
+            return default
+        if int(self._pk[i]) == k:
+            return i
+        j = i + 1
+        if k == 1 and j < self._n and self._pe[j] == e and self._pf[j] == f and int(self._pk[j]) == 1:
+            return j
+        return default
+
+    def __contains__(self, pid: object) -> bool:
+        return self.get(pid) is not None  # type: ignore[arg-type]
+
+    def __getitem__(self, pid: PolygonId) -> int:
+        i = self.get(pid)
+        if i is None:
+            raise KeyError(pid)
+        return i
+
+    def __len__(self) -> int:
+        return self._n
 
 
 @dataclass(frozen=True)
@@ -161,8 +232,6 @@ class FreeSpace:
         status[full] = _FULL
         status[empty] = _EMPTY
         self.status = status
-        self._c0 = c0
-        self._tmin = tmin
         # clip the partial cells
         self._vertices: dict[PolygonId, FloatArray] = {}
         eps = 1e-12 * max(1.0, float(lengths.max()))
@@ -184,50 +253,60 @@ class FreeSpace:
                     self._vertices[(e, f, k)] = np.asarray(q, dtype=float)
             if not any((e, f, k) in self._vertices for k in (0, 1)):
                 status[e, f] = _EMPTY
-        ids: list[PolygonId] = []
-        for e, f in zip(*np.nonzero(status != _EMPTY)):
-            e, f = int(e), int(f)
-            if status[e, f] == _FULL:
-                ids.append((e, f, 0))
-            else:
-                ids.extend((e, f, k) for k in (0, 1) if (e, f, k) in self._vertices)
-        self.polygon_ids: list[PolygonId] = ids
-        self._index = {pid: i for i, pid in enumerate(ids)}
+        # the polygons in the order of their cells (row-major), pieces 0 then 1: entirely free cells and clipped
+        # cells of two edges hold piece 0; a clipped cell of one edge the pieces that survived clipping
+        ee_f, ff_f = np.nonzero(status == _FULL)
+        clipped = sorted(self._vertices)
+        pe = np.concatenate([ee_f, np.array([p[0] for p in clipped], dtype=np.int64)])
+        pf = np.concatenate([ff_f, np.array([p[1] for p in clipped], dtype=np.int64)])
+        pk = np.concatenate([np.zeros(len(ee_f), dtype=np.int64), np.array([p[2] for p in clipped], dtype=np.int64)])
+        order = np.lexsort((pk, pf, pe))
+        self._pe, self._pf, self._pk = pe[order], pf[order], pk[order]
+        self._index = _PolygonIndex(self._pe, self._pf, self._pk, n_e)
         self._components()
 
+    @cached_property
+    def polygon_ids(self) -> list[PolygonId]:
+        """The non-empty free polygons ``(e, f, k)``; the index in this list is the polygon's number."""
+        return list(zip(self._pe.tolist(), self._pf.tolist(), self._pk.tolist()))
+
     def _components(self) -> None:
+        """Path components: connected components of the graph of polygons and the faces on their sides."""
         g = self.geometry
         n_e, n_v = g.n_edges, g.n_vertices
-        n_poly = len(self.polygon_ids)
-        # nodes: polygons 0..P-1, A-faces P + w*E + f, B-faces P + V*E + e*V + w
-        parent = list(range(n_poly + 2 * n_v * n_e))
+        pe, pf, pk = self._pe, self._pf, self._pk
+        n_poly = len(pe)
+        tails, heads = g.tails, g.heads
+        ok = self.faces.ok
+        same = pe == pf
+        rows, cols = [], []
+        # A on a vertex: the tail of e (two edges, or piece 1 of one edge) and the head of e (two edges, or piece 0)
+        for w, use in ((tails[pe], ~same | (pk == 1)), (heads[pe], ~same | (pk == 0))):
+            m = use & ok[w, pf]
+            rows.append(np.nonzero(m)[0])
+            cols.append(n_poly + w[m] * n_e + pf[m])
+        # B on a vertex: the tail of f (two edges, or piece 0 of one edge) and the head of f (or piece 1)
+        for w, use in ((tails[pf], ~same | (pk == 0)), (heads[pf], ~same | (pk == 1))):
+            m = use & ok[w, pe]
+            rows.append(np.nonzero(m)[0])
+            cols.append(n_poly + n_v * n_e + pe[m] * n_v + w[m])
+        r = np.concatenate(rows)
+        c = np.concatenate(cols)
+        n_nodes = n_poly + 2 * n_v * n_e
+        if n_poly <= SMALL_POLYGONS:  # union-find in Python: no scipy import for small layouts (start-up time)
+            lab = np.asarray(_union_find(n_nodes, r.tolist(), c.tolist()), dtype=np.int64)[:n_poly]
+        else:
+            from scipy.sparse import coo_matrix
+            from scipy.sparse.csgraph import connected_components
 
-        def find(x: int) -> int:
-            while parent[x] != x:
-                parent[x] = parent[parent[x]]
-                x = parent[x]
-            return x
-
-        ok = self.faces.ok.tolist()
-        base_a, base_b = n_poly, n_poly + n_v * n_e
-        for i, (e, f, k) in enumerate(self.polygon_ids):
-            for _, w in self._sides_a(e, f, k):
-                if ok[w][f]:
-                    r1, r2 = find(i), find(base_a + w * n_e + f)
-                    if r1 != r2:
-                        parent[r1] = r2
-            for _, w in self._sides_b(e, f, k):
-                if ok[w][e]:
-                    r1, r2 = find(i), find(base_b + e * n_v + w)
-                    if r1 != r2:
-                        parent[r1] = r2
-        roots = [find(i) for i in range(n_poly)]
-        labels: dict[int, int] = {}
-        comp = np.empty(n_poly, dtype=np.int64)
-        for i, r in enumerate(roots):
-            comp[i] = labels.setdefault(r, len(labels))
-        self.polygon_component = comp
-        self.n_components = len(labels)
+            adj = coo_matrix((np.ones(len(r), dtype=np.int8), (r, c)), shape=(n_nodes, n_nodes))
+            lab = connected_components(adj, directed=False)[1][:n_poly]
+        # number the components in the order of their first polygon
+        uniq, first = np.unique(lab, return_index=True)
+        rank = np.empty(len(uniq), dtype=np.int64)
+        rank[np.argsort(first)] = np.arange(len(uniq))
+        self.polygon_component = rank[np.searchsorted(uniq, lab)].astype(np.int64)
+        self.n_components = len(uniq)
 
     def _sides_a(self, e: int, f: int, k: int) -> list[tuple[float, int]]:
         """Sides of polygon ``(e, f, k)`` where robot A stands on a vertex: list of (s of the side, vertex)."""

@@ -558,6 +558,13 @@ def _search(
             v = min(v, abs(y - r) + abs(y - gs))
         return v
 
+    def queue_key(f: float, depth: float, nid: int) -> tuple[int, float, int]:
+        """The search's order, in one place: the bound ``f`` on a grid of ``F_GRID`` of the start's bound (so that
+        near-equal bounds count as ties), then deeper first (larger cost from the start, ``depth``): on the plateaus
+        of equally fast motions (a robot with slack may take any of many routes) the search dives to the goal
+        instead of widening; the plan is optimal up to that grid."""
+        return (math.floor(f * fq), -depth, nid)
+
     goal_at: dict[PolygonId, list[Coords]] = {}
     for pid, c in mesh.placements(*goal):
         goal_at.setdefault(pid, []).append(c)
@@ -581,13 +588,13 @@ def _search(
             best[key] = gval
             nodes.append([0, key, gval, seg])
             f = gval + comb(dist_a(pid[0], pt[0]), dist_b(pid[1], pt[1]))
-            heapq.heappush(heap, (math.floor(f * fq), -gval, len(nodes) - 1))
+            heapq.heappush(heap, queue_key(f, gval, len(nodes) - 1))
 
     def push_goal(gval: float, seg: tuple[Any, ...]) -> None:
         if gval < best.get(("G",), math.inf):
             best[("G",)] = gval
             nodes.append([2, ("G",), gval, seg])
-            heapq.heappush(heap, (math.floor(gval * fq), -gval, len(nodes) - 1))
+            heapq.heappush(heap, queue_key(gval, gval, len(nodes) - 1))
 
     def push_intervals(
         rid: int,
@@ -617,7 +624,12 @@ def _search(
             xb = abs(r[1] - a) + vdb[w]
             xa = min_along(face[2], y0, y1, r[0], 0)
         nodes.append([3, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin])
-        heapq.heappush(heap, (math.floor((groot + comb(xa, xb)) * fq), -groot, len(nodes) - 1))
+        # depth: the cost to the face's point nearest the root's other coordinate (only orders ties of the bound)
+        if ax == 0:
+            depth = groot + cost(a - r[0], min(max(r[1], y0), y1) - r[1])
+        else:
+            depth = groot + cost(min(max(r[0], y0), y1) - r[0], a - r[1])
+        heapq.heappush(heap, queue_key(groot + comb(xa, xb), depth, len(nodes) - 1))
 
     def open_face(nd: list[Any]) -> None:
         """Interval nodes of a queued face entry into each other page (unfolding the root), expanded at once."""
