@@ -80,6 +80,9 @@ def _dedupe(poly: list[tuple[float, float]], eps: float) -> list[tuple[float, fl
     return out
 
 
+#: Cells classified at once when the free space is built (a block of rows of the E × E cells).
+CELL_BLOCK = 1 << 18
+
 #: Up to this many polygons the components are found by a union-find in Python, above it by scipy's csgraph.
 SMALL_POLYGONS = 20_000
 
@@ -216,43 +219,30 @@ class FreeSpace:
         lo = np.maximum(0.0, dmin - g.dv[:, g.tails])
         hi = np.minimum(lengths[None, :], lengths[None, :] + g.dv[:, g.heads] - dmin)
         self.faces = _Faces(lo, hi, lo <= hi)
-        # classify cells
-        ee, ff = np.meshgrid(np.arange(n_e), np.arange(n_e), indexing="ij")
-        c0 = g.cell_terms_array(ee, ff)  # (E, E, 4)
-        le = lengths[ee][..., None]
-        lf = lengths[ff][..., None]
-        ca = np.array([s[0] for s in _SLOPES])
-        cb = np.array([s[1] for s in _SLOPES])
-        tmin = c0 + np.minimum(0.0, ca * le) + np.minimum(0.0, cb * lf)
-        tmax = c0 + np.maximum(0.0, ca * le) + np.maximum(0.0, cb * lf)
-        with np.errstate(invalid="ignore"):
-            empty = np.any(tmax < dmin, axis=-1)
-            full = np.all(tmin >= dmin, axis=-1) & (ee != ff)
+        # classify the cells, a block of rows at a time (memory: about 100 bytes per cell of a block, not per cell)
         status = np.full((n_e, n_e), _PARTIAL, dtype=np.int8)
-        status[full] = _FULL
-        status[empty] = _EMPTY
         self.status = status
-        # clip the partial cells
+        self._eps = 1e-12 * max(1.0, float(lengths.max()))
         self._vertices: dict[PolygonId, FloatArray] = {}
-        eps = 1e-12 * max(1.0, float(lengths.max()))
-        for e, f in zip(*np.nonzero(status == _PARTIAL)):
-            e, f = int(e), int(f)
-            le_, lf_ = float(lengths[e]), float(lengths[f])
-            box = [(0.0, 0.0), (le_, 0.0), (le_, lf_), (0.0, lf_)]
-            poly = box
-            for j, (a, b) in enumerate(_SLOPES):
-                if tmin[e, f, j] < dmin:
-                    poly = _clip(poly, a, b, dmin - float(c0[e, f, j]))
-                    if not poly:
-                        break
-            pieces = ((0, 1.0, -1.0), (1, -1.0, 1.0)) if e == f else ((0, 0.0, 0.0),)
-            for k, a, b in pieces:
-                q = _clip(poly, a, b, dmin) if e == f else poly
-                q = _dedupe(q, eps)
-                if q:
-                    self._vertices[(e, f, k)] = np.asarray(q, dtype=float)
-            if not any((e, f, k) in self._vertices for k in (0, 1)):
-                status[e, f] = _EMPTY
+        ca = np.array([sl[0] for sl in _SLOPES])
+        cb = np.array([sl[1] for sl in _SLOPES])
+        lf = lengths[None, :, None]
+        rows = max(1, CELL_BLOCK // max(1, n_e))
+        for i0 in range(0, n_e, rows):
+            i1 = min(n_e, i0 + rows)
+            ee, ff = np.meshgrid(np.arange(i0, i1), np.arange(n_e), indexing="ij")
+            c0 = g.cell_terms_array(ee, ff)  # (rows, E, 4)
+            le = lengths[i0:i1, None, None]
+            tmin = c0 + np.minimum(0.0, ca * le) + np.minimum(0.0, cb * lf)
+            tmax = c0 + np.maximum(0.0, ca * le) + np.maximum(0.0, cb * lf)
+            with np.errstate(invalid="ignore"):
+                empty = np.any(tmax < dmin, axis=-1)
+                full = np.all(tmin >= dmin, axis=-1) & (ee != ff)
+            block = status[i0:i1]
+            block[full] = _FULL
+            block[empty] = _EMPTY
+            for r, f in zip(*np.nonzero(block == _PARTIAL)):
+                self._clip_cell(i0 + int(r), int(f), c0[r, f].tolist(), tmin[r, f].tolist())
         # the polygons in the order of their cells (row-major), pieces 0 then 1: entirely free cells and clipped
         # cells of two edges hold piece 0; a clipped cell of one edge the pieces that survived clipping
         ee_f, ff_f = np.nonzero(status == _FULL)
@@ -269,6 +259,30 @@ class FreeSpace:
     def polygon_ids(self) -> list[PolygonId]:
         """The non-empty free polygons ``(e, f, k)``; the index in this list is the polygon's number."""
         return list(zip(self._pe.tolist(), self._pf.tolist(), self._pk.tolist()))
+
+    def _clip_cell(self, e: int, f: int, c0: list[float], tmin: list[float]) -> None:
+        """The free polygons of a clipped cell ``e × f`` (into ``_vertices``); the cell is empty if none is left.
+
+        ``c0`` and ``tmin``: the four terms' constants and their least values over the cell's box (metres).
+        """
+        dmin = self._dmin
+        lengths = self.geometry._L
+        le_, lf_ = float(lengths[e]), float(lengths[f])
+        poly = [(0.0, 0.0), (le_, 0.0), (le_, lf_), (0.0, lf_)]
+        for j, (a, b) in enumerate(_SLOPES):
+            if tmin[j] < dmin:
+                poly = _clip(poly, a, b, dmin - c0[j])
+                if not poly:
+                    break
+        eps = self._eps
+        pieces = ((0, 1.0, -1.0), (1, -1.0, 1.0)) if e == f else ((0, 0.0, 0.0),)
+        for k, a, b in pieces:
+            q = _clip(poly, a, b, dmin) if e == f else poly
+            q = _dedupe(q, eps)
+            if q:
+                self._vertices[(e, f, k)] = np.asarray(q, dtype=float)
+        if not any((e, f, k) in self._vertices for k in (0, 1)):
+            self.status[e, f] = _EMPTY
 
     def _components(self) -> None:
         """Path components: connected components of the graph of polygons and the faces on their sides."""
