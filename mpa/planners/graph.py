@@ -26,6 +26,13 @@ Every face end and corner is a root and every face is opened from them, so the s
 start's component: it finds a path whenever one exists (**complete**), and :func:`plan_graph` raises
 :class:`~mpa.errors.NoMotionError` otherwise, naming the reason.
 
+**The independent motion first.** Before searching, each robot's shortest route to its goal is taken from the
+vertex distances; when both are unique (no other route within ``1e-9 · max(1, longest edge)`` metres) the two
+robots' individually fastest motions, started together (a straight line in route coordinates), cost exactly the
+search's bound at the start and are the only motion of that cost. If they keep the clearance (checked exactly in every
+cell they cross, :meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`) they are the answer and the search is
+skipped (:func:`_independent_motion`); otherwise, or when a route is not unique, the search answers.
+
 **Costs.** A straight move ``(Δs, Δt)`` costs ``hypot(Δs, Δt)`` (metres) for ``"shortest"`` and
 ``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the least travel
 (``+ 1e-6 · (|Δs|/vA + |Δt|/vB)``: exact for the bound below, so the search does not widen over the many equally
@@ -33,7 +40,8 @@ fast routes of a robot with time to spare) and then towards the straightest (``+
 timing among equally fast ones, e.g. both robots moving all the time rather than one after the other). The A* bound
 is ``max(dA/vA, dB/vB)`` (plus the same tie-break terms) resp. ``hypot(dA, dB)`` of each robot's graph distance to
 its goal (for an interval: minimised exactly over it, with the unfolded distance from the root); it is admissible.
-The queue orders by that bound on a grid of ``1e-12`` of the start's bound, then deeper roots first.
+The queue orders by that bound on a grid of ``1e-12`` of the start's bound, then deeper first (the cost from the
+start of a root, of a face's point nearest the root for a queued face), all in one place (``queue_key``).
 
 **Why this is optimal.** For a fixed sequence of polygons the taut (Euclidean shortest) path through them is also of
 least weighted-L∞ time and of least travel: in a simply connected chain of polygons the taut path minimises the
@@ -397,8 +405,8 @@ def _independent_motion(
     (``max(dA/vA, dB/vB)`` plus the tie-break terms, resp. ``hypot(dA, dB)``), which no motion undercuts, and it is
     the only motion of that cost; so when it keeps the clearance it is the search's answer. Returns the segments
     ``[polygon, (s, t) from, (s, t) to]`` (offsets in metres), or None when a robot's shortest route is not unique
-    (within ``1e-9 · max(1, longest edge)`` metres) or a segment leaves the free polygons; the caller checks the
-    clearance exactly along the whole motion.
+    (within ``1e-9 · max(1, longest edge)`` metres), a segment leaves the free polygons or the robots come closer
+    than the clearance on a segment (exact minimum per cell, :meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`).
     """
     tol = 1e-9 * mesh.scale
     ra = _fastest_alone(mesh, start[0], goal[0], tol)
@@ -452,6 +460,8 @@ def _independent_motion(
         if pid not in index:
             return None
         if (sa0, sb0) != (sa1, sb1):
+            if mesh.g.segment_min_scalar(ea, eb, sa0, sb0, sa1, sb1) < mesh.fs._dmin:
+                return None  # the robots come closer than the clearance: they must negotiate
             segs.append([pid, (sa0, sb0), (sa1, sb1)])
     return segs or None
 
@@ -1046,9 +1056,7 @@ def plan_graph(
     mesh = _mesh(fs)
     quick = _independent_motion(mesh, s, gl)
     if quick is not None:
-        plan = _assemble(tr, fs, s, gl, objective, (va, vb), quick)
-        if plan.min_distance() >= fs._dmin:
-            return plan
+        return _assemble(tr, fs, s, gl, objective, (va, vb), quick)
     segs = _search(mesh, s, gl, objective, va, vb)
     if segs is None:  # pragma: no cover - no budget given
         raise PlanningError("search gave up")
