@@ -26,6 +26,7 @@ i.e. some component is mapped to itself by the swap ``(x, y) -> (y, x)``.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 
@@ -252,7 +253,12 @@ class FreeSpace:
         pk = np.concatenate([np.zeros(len(ee_f), dtype=np.int64), np.array([p[2] for p in clipped], dtype=np.int64)])
         order = np.lexsort((pk, pf, pe))
         self._pe, self._pf, self._pk = pe[order], pf[order], pk[order]
-        self._index = _PolygonIndex(self._pe, self._pf, self._pk, n_e)
+        # the number of each polygon: a dictionary when small (fastest to look up), else one int32 per cell
+        self._index: Mapping[PolygonId, int] | _PolygonIndex
+        if len(self._pe) <= SMALL_POLYGONS:
+            self._index = {pid: i for i, pid in enumerate(self.polygon_ids)}
+        else:
+            self._index = _PolygonIndex(self._pe, self._pf, self._pk, n_e)
         self._components()
 
     @cached_property

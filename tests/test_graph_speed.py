@@ -99,13 +99,15 @@ def test_polygon_index_and_components_match_a_dictionary_and_a_union_find(monkey
         assert np.array_equal(small.polygon_component, large.polygon_component), (track.to_dict(), d)
         ref = {pid: i for i, pid in enumerate(small.polygon_ids)}
         n_e = track.n_edges
+        assert dict(small._index) == ref and isinstance(large._index, fsmod._PolygonIndex)
+        index = large._index
         for e in range(n_e):
             for f in range(n_e):
                 for k in (0, 1):
-                    assert ((e, f, k) in small._index) == ((e, f, k) in ref)
-                    assert small._index.get((e, f, k)) == ref.get((e, f, k))
-        assert (n_e, 0, 0) not in small._index and (0, -1, 0) not in small._index
-        assert len(small._index) == len(ref)
+                    assert ((e, f, k) in index) == ((e, f, k) in ref)
+                    assert index.get((e, f, k)) == ref.get((e, f, k))
+        assert (n_e, 0, 0) not in index and (0, -1, 0) not in index
+        assert len(index) == len(ref)
         # components: the swap's image of every component is a component
         for c in range(small.n_components):
             assert 0 <= small.swap_component(c) < small.n_components
