@@ -81,6 +81,9 @@ def _dedupe(poly: list[tuple[float, float]], eps: float) -> list[tuple[float, fl
     return out
 
 
+#: Up to this many polygons their numbers are kept in a dictionary (about 150 bytes each), above it in nested lists.
+INDEX_DICT_POLYGONS = 250_000
+
 #: Cells classified at once when the free space is built (a block of rows of the E × E cells).
 CELL_BLOCK = 1 << 18
 
@@ -107,20 +110,22 @@ def _union_find(n: int, rows: list[int], cols: list[int]) -> list[int]:
 
 class _PolygonIndex:
     """The number of each free polygon ``(e, f, k)`` (a read-only mapping), from the polygons' arrays sorted by
-    ``(e, f, k)``: one int32 per cell (its first polygon, -1 when empty) instead of a dictionary of E² entries."""
+    ``(e, f, k)``: per cell its first polygon (-1 when empty), per edge the second piece of its own cell, instead of a
+    dictionary of E² entries (nested lists: a look-up is two list indexings)."""
 
     def __init__(self, pe: NDArray[np.int64], pf: NDArray[np.int64], pk: NDArray[np.int64], n_e: int) -> None:
-        first = np.full((n_e, n_e), -1, dtype=np.int32)
+        first = np.full((n_e, n_e), -1, dtype=np.int64)
         n = len(pe)
         head = np.ones(n, dtype=bool)
         if n > 1:
             head[1:] = (pe[1:] != pe[:-1]) | (pf[1:] != pf[:-1])
         idx = np.nonzero(head)[0]
         first[pe[idx], pf[idx]] = idx
-        self._first = first
-        self._pk = pk
-        self._pe = pe
-        self._pf = pf
+        self._first: list[list[int]] = first.tolist()
+        self._k0: list[bool] = (pk[idx] == 0).tolist()  # whether a cell's first polygon is piece 0, by head number
+        self._head_of = {int(i): j for j, i in enumerate(idx.tolist())}
+        second = np.nonzero(~head)[0]  # (e, e, 1) after (e, e, 0)
+        self._second = {int(pe[i]): int(i) for i in second}
         self._n = n
         self._n_e = n_e
 
@@ -132,14 +137,14 @@ class _PolygonIndex:
             return default
         if not (0 <= e < self._n_e and 0 <= f < self._n_e):
             return default
-        i = int(self._first[e, f])
+        i = self._first[e][f]
         if i < 0:
             return default
-        if int(self._pk[i]) == k:
+        k0 = self._k0[self._head_of[i]]
+        if (k == 0) == k0:
             return i
-        j = i + 1
-        if k == 1 and j < self._n and self._pe[j] == e and self._pf[j] == f and int(self._pk[j]) == 1:
-            return j
+        if k == 1 and e == f:
+            return self._second.get(e, default)
         return default
 
     def __contains__(self, pid: object) -> bool:
@@ -255,7 +260,7 @@ class FreeSpace:
         self._pe, self._pf, self._pk = pe[order], pf[order], pk[order]
         # the number of each polygon: a dictionary when small (fastest to look up), else one int32 per cell
         self._index: Mapping[PolygonId, int] | _PolygonIndex
-        if len(self._pe) <= SMALL_POLYGONS:
+        if len(self._pe) <= INDEX_DICT_POLYGONS:
             self._index = {pid: i for i, pid in enumerate(self.polygon_ids)}
         else:
             self._index = _PolygonIndex(self._pe, self._pf, self._pk, n_e)

@@ -93,6 +93,7 @@ def test_polygon_index_and_components_match_a_dictionary_and_a_union_find(monkey
         d = float(rng.uniform(0.0, 1.5))
         small = FreeSpace(track, d)
         monkeypatch.setattr(fsmod, "SMALL_POLYGONS", 0)  # the scipy path
+        monkeypatch.setattr(fsmod, "INDEX_DICT_POLYGONS", 0)  # the nested lists
         large = FreeSpace(track, d)
         monkeypatch.undo()
         assert small.polygon_ids == large.polygon_ids
