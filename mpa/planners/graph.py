@@ -40,8 +40,8 @@ fast routes of a robot with time to spare) and then towards the straightest (``+
 timing among equally fast ones, e.g. both robots moving all the time rather than one after the other). The A* bound
 is ``max(dA/vA, dB/vB)`` (plus the same tie-break terms) resp. ``hypot(dA, dB)`` of each robot's graph distance to
 its goal (for an interval: minimised exactly over it, with the unfolded distance from the root); it is admissible.
-The queue orders by that bound on a grid of ``1e-12`` of the start's bound, then deeper first (the cost from the
-start of a root, of a face's point nearest the root for a queued face), all in one place (``queue_key``).
+The queue orders by that bound on a grid of ``1e-12`` of the start's bound, then deeper roots first, all in one place
+(``queue_key``).
 
 **Why this is optimal.** For a fixed sequence of polygons the taut (Euclidean shortest) path through them is also of
 least weighted-L∞ time and of least travel: in a simply connected chain of polygons the taut path minimises the
@@ -570,9 +570,9 @@ def _search(
 
     def queue_key(f: float, depth: float, nid: int) -> tuple[int, float, int]:
         """The search's order, in one place: the bound ``f`` on a grid of ``F_GRID`` of the start's bound (so that
-        near-equal bounds count as ties), then deeper first (larger cost from the start, ``depth``): on the plateaus
-        of equally fast motions (a robot with slack may take any of many routes) the search dives to the goal
-        instead of widening; the plan is optimal up to that grid."""
+        near-equal bounds count as ties), then deeper first (larger cost from the start of the root, ``depth``): on
+        the plateaus of equally fast motions (a robot with slack may take any of many routes) the search dives to the
+        goal instead of widening; the plan is optimal up to that grid."""
         return (math.floor(f * fq), -depth, nid)
 
     goal_at: dict[PolygonId, list[Coords]] = {}
@@ -634,12 +634,7 @@ def _search(
             xb = abs(r[1] - a) + vdb[w]
             xa = min_along(face[2], y0, y1, r[0], 0)
         nodes.append([3, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin])
-        # depth: the cost to the face's point nearest the root's other coordinate (only orders ties of the bound)
-        if ax == 0:
-            depth = groot + cost(a - r[0], min(max(r[1], y0), y1) - r[1])
-        else:
-            depth = groot + cost(min(max(r[0], y0), y1) - r[0], a - r[1])
-        heapq.heappush(heap, queue_key(groot + comb(xa, xb), depth, len(nodes) - 1))
+        heapq.heappush(heap, queue_key(groot + comb(xa, xb), groot, len(nodes) - 1))
 
     def open_face(nd: list[Any]) -> None:
         """Interval nodes of a queued face entry into each other page (unfolding the root), expanded at once."""
