@@ -88,8 +88,9 @@ _ALLOWED = (
 )
 
 
-#: Third-party imports allowed in single modules beyond their layer's (PyYAML reads Open-RMF maps in mpa.openrmf).
-_MODULE_ALLOWED = {"mpa.openrmf": {"yaml"}}
+#: Third-party imports allowed in single modules beyond their layer's (PyYAML reads Open-RMF maps in mpa.openrmf;
+#: scipy's sparse graphs give the free space's components and the vertex distances of large layouts).
+_MODULE_ALLOWED = {"mpa.openrmf": {"yaml"}, "mpa.freespace": {"scipy"}, "mpa.geometry": {"scipy"}}
 
 
 def _layer_of(module: str) -> int | None:

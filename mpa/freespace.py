@@ -26,8 +26,9 @@ i.e. some component is mapped to itself by the swap ``(x, y) -> (y, x)``.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
@@ -79,6 +80,85 @@ def _dedupe(poly: list[tuple[float, float]], eps: float) -> list[tuple[float, fl
     while len(out) > 1 and abs(out[0][0] - out[-1][0]) <= eps and abs(out[0][1] - out[-1][1]) <= eps:
         out.pop()
     return out
+
+
+#: Up to this many polygons their numbers are kept in a dictionary (about 150 bytes each), above it in nested lists.
+INDEX_DICT_POLYGONS = 250_000
+
+#: Cells classified at once when the free space is built (a block of rows of the E × E cells).
+CELL_BLOCK = 1 << 18
+
+#: Up to this many polygons the components are found by a union-find in Python, above it by scipy's csgraph.
+SMALL_POLYGONS = 20_000
+
+
+def _union_find(n: int, rows: list[int], cols: list[int]) -> list[int]:
+    """The root of each of ``n`` nodes after joining ``rows[i]`` with ``cols[i]`` for every ``i``."""
+    parent = list(range(n))
+
+    def find(x: int) -> int:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for a, b in zip(rows, cols):
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[ra] = rb
+    return [find(i) for i in range(n)]
+
+
+class _PolygonIndex:
+    """The number of each free polygon ``(e, f, k)`` (a read-only mapping), from the polygons' arrays sorted by
+    ``(e, f, k)``: per cell its first polygon (-1 when empty), per edge the second piece of its own cell, instead of a
+    dictionary of E² entries (nested lists: a look-up is two list indexings)."""
+
+    def __init__(self, pe: NDArray[np.int64], pf: NDArray[np.int64], pk: NDArray[np.int64], n_e: int) -> None:
+        first = np.full((n_e, n_e), -1, dtype=np.int64)
+        n = len(pe)
+        head = np.ones(n, dtype=bool)
+        if n > 1:
+            head[1:] = (pe[1:] != pe[:-1]) | (pf[1:] != pf[:-1])
+        idx = np.nonzero(head)[0]
+        first[pe[idx], pf[idx]] = idx
+        self._first: list[list[int]] = first.tolist()
+        self._k0: list[bool] = (pk[idx] == 0).tolist()  # whether a cell's first polygon is piece 0, by head number
+        self._head_of = {int(i): j for j, i in enumerate(idx.tolist())}
+        second = np.nonzero(~head)[0]  # (e, e, 1) after (e, e, 0)
+        self._second = {int(pe[i]): int(i) for i in second}
+        self._n = n
+        self._n_e = n_e
+
+    def get(self, pid: PolygonId, default: int | None = None) -> int | None:
+        """The polygon's number, ``default`` when it is not a free polygon."""
+        try:
+            e, f, k = pid
+        except (TypeError, ValueError):
+            return default
+        if not (0 <= e < self._n_e and 0 <= f < self._n_e):
+            return default
+        i = self._first[e][f]
+        if i < 0:
+            return default
+        k0 = self._k0[self._head_of[i]]
+        if (k == 0) == k0:
+            return i
+        if k == 1 and e == f:
+            return self._second.get(e, default)
+        return default
+
+    def __contains__(self, pid: object) -> bool:
+        return self.get(pid) is not None  # type: ignore[arg-type]
+
+    def __getitem__(self, pid: PolygonId) -> int:
+        i = self.get(pid)
+        if i is None:
+            raise KeyError(pid)
+        return i
+
+    def __len__(self) -> int:
+        return self._n
 
 
 @dataclass(frozen=True)
@@ -146,89 +226,113 @@ class FreeSpace:
         lo = np.maximum(0.0, dmin - g.dv[:, g.tails])
         hi = np.minimum(lengths[None, :], lengths[None, :] + g.dv[:, g.heads] - dmin)
         self.faces = _Faces(lo, hi, lo <= hi)
-        # classify cells
-        ee, ff = np.meshgrid(np.arange(n_e), np.arange(n_e), indexing="ij")
-        c0 = g.cell_terms_array(ee, ff)  # (E, E, 4)
-        le = lengths[ee][..., None]
-        lf = lengths[ff][..., None]
-        ca = np.array([s[0] for s in _SLOPES])
-        cb = np.array([s[1] for s in _SLOPES])
-        tmin = c0 + np.minimum(0.0, ca * le) + np.minimum(0.0, cb * lf)
-        tmax = c0 + np.maximum(0.0, ca * le) + np.maximum(0.0, cb * lf)
-        with np.errstate(invalid="ignore"):
-            empty = np.any(tmax < dmin, axis=-1)
-            full = np.all(tmin >= dmin, axis=-1) & (ee != ff)
+        # classify the cells, a block of rows at a time (memory: about 100 bytes per cell of a block, not per cell)
         status = np.full((n_e, n_e), _PARTIAL, dtype=np.int8)
-        status[full] = _FULL
-        status[empty] = _EMPTY
         self.status = status
-        self._c0 = c0
-        self._tmin = tmin
-        # clip the partial cells
+        self._eps = 1e-12 * max(1.0, float(lengths.max()))
         self._vertices: dict[PolygonId, FloatArray] = {}
-        eps = 1e-12 * max(1.0, float(lengths.max()))
-        for e, f in zip(*np.nonzero(status == _PARTIAL)):
-            e, f = int(e), int(f)
-            le_, lf_ = float(lengths[e]), float(lengths[f])
-            box = [(0.0, 0.0), (le_, 0.0), (le_, lf_), (0.0, lf_)]
-            poly = box
-            for j, (a, b) in enumerate(_SLOPES):
-                if tmin[e, f, j] < dmin:
-                    poly = _clip(poly, a, b, dmin - float(c0[e, f, j]))
-                    if not poly:
-                        break
-            pieces = ((0, 1.0, -1.0), (1, -1.0, 1.0)) if e == f else ((0, 0.0, 0.0),)
-            for k, a, b in pieces:
-                q = _clip(poly, a, b, dmin) if e == f else poly
-                q = _dedupe(q, eps)
-                if q:
-                    self._vertices[(e, f, k)] = np.asarray(q, dtype=float)
-            if not any((e, f, k) in self._vertices for k in (0, 1)):
-                status[e, f] = _EMPTY
-        ids: list[PolygonId] = []
-        for e, f in zip(*np.nonzero(status != _EMPTY)):
-            e, f = int(e), int(f)
-            if status[e, f] == _FULL:
-                ids.append((e, f, 0))
-            else:
-                ids.extend((e, f, k) for k in (0, 1) if (e, f, k) in self._vertices)
-        self.polygon_ids: list[PolygonId] = ids
-        self._index = {pid: i for i, pid in enumerate(ids)}
+        ca = np.array([sl[0] for sl in _SLOPES])
+        cb = np.array([sl[1] for sl in _SLOPES])
+        lf = lengths[None, :, None]
+        rows = max(1, CELL_BLOCK // max(1, n_e))
+        for i0 in range(0, n_e, rows):
+            i1 = min(n_e, i0 + rows)
+            ee, ff = np.meshgrid(np.arange(i0, i1), np.arange(n_e), indexing="ij")
+            c0 = g.cell_terms_array(ee, ff)  # (rows, E, 4)
+            le = lengths[i0:i1, None, None]
+            tmin = c0 + np.minimum(0.0, ca * le) + np.minimum(0.0, cb * lf)
+            tmax = c0 + np.maximum(0.0, ca * le) + np.maximum(0.0, cb * lf)
+            with np.errstate(invalid="ignore"):
+                empty = np.any(tmax < dmin, axis=-1)
+                full = np.all(tmin >= dmin, axis=-1) & (ee != ff)
+            block = status[i0:i1]
+            block[full] = _FULL
+            block[empty] = _EMPTY
+            for r, f in zip(*np.nonzero(block == _PARTIAL)):
+                self._clip_cell(i0 + int(r), int(f), c0[r, f].tolist(), tmin[r, f].tolist())
+        # the polygons in the order of their cells (row-major), pieces 0 then 1: entirely free cells and clipped
+        # cells of two edges hold piece 0; a clipped cell of one edge the pieces that survived clipping
+        ee_f, ff_f = np.nonzero(status == _FULL)
+        clipped = sorted(self._vertices)
+        pe = np.concatenate([ee_f, np.array([p[0] for p in clipped], dtype=np.int64)])
+        pf = np.concatenate([ff_f, np.array([p[1] for p in clipped], dtype=np.int64)])
+        pk = np.concatenate([np.zeros(len(ee_f), dtype=np.int64), np.array([p[2] for p in clipped], dtype=np.int64)])
+        order = np.lexsort((pk, pf, pe))
+        self._pe, self._pf, self._pk = pe[order], pf[order], pk[order]
+        # the number of each polygon: a dictionary when small (fastest to look up), else one int32 per cell
+        self._index: Mapping[PolygonId, int] | _PolygonIndex
+        if len(self._pe) <= INDEX_DICT_POLYGONS:
+            self._index = {pid: i for i, pid in enumerate(self.polygon_ids)}
+        else:
+            self._index = _PolygonIndex(self._pe, self._pf, self._pk, n_e)
         self._components()
 
+    @cached_property
+    def polygon_ids(self) -> list[PolygonId]:
+        """The non-empty free polygons ``(e, f, k)``; the index in this list is the polygon's number."""
+        return list(zip(self._pe.tolist(), self._pf.tolist(), self._pk.tolist()))
+
+    def _clip_cell(self, e: int, f: int, c0: list[float], tmin: list[float]) -> None:
+        """The free polygons of a clipped cell ``e × f`` (into ``_vertices``); the cell is empty if none is left.
+
+        ``c0`` and ``tmin``: the four terms' constants and their least values over the cell's box (metres).
+        """
+        dmin = self._dmin
+        lengths = self.geometry._L
+        le_, lf_ = float(lengths[e]), float(lengths[f])
+        poly = [(0.0, 0.0), (le_, 0.0), (le_, lf_), (0.0, lf_)]
+        for j, (a, b) in enumerate(_SLOPES):
+            if tmin[j] < dmin:
+                poly = _clip(poly, a, b, dmin - c0[j])
+                if not poly:
+                    break
+        eps = self._eps
+        pieces = ((0, 1.0, -1.0), (1, -1.0, 1.0)) if e == f else ((0, 0.0, 0.0),)
+        for k, a, b in pieces:
+            q = _clip(poly, a, b, dmin) if e == f else poly
+            q = _dedupe(q, eps)
+            if q:
+                self._vertices[(e, f, k)] = np.asarray(q, dtype=float)
+        if not any((e, f, k) in self._vertices for k in (0, 1)):
+            self.status[e, f] = _EMPTY
+
     def _components(self) -> None:
+        """Path components: connected components of the graph of polygons and the faces on their sides."""
         g = self.geometry
         n_e, n_v = g.n_edges, g.n_vertices
-        n_poly = len(self.polygon_ids)
-        # nodes: polygons 0..P-1, A-faces P + w*E + f, B-faces P + V*E + e*V + w
-        parent = list(range(n_poly + 2 * n_v * n_e))
+        pe, pf, pk = self._pe, self._pf, self._pk
+        n_poly = len(pe)
+        tails, heads = g.tails, g.heads
+        ok = self.faces.ok
+        same = pe == pf
+        rows, cols = [], []
+        # A on a vertex: the tail of e (two edges, or piece 1 of one edge) and the head of e (two edges, or piece 0)
+        for w, use in ((tails[pe], ~same | (pk == 1)), (heads[pe], ~same | (pk == 0))):
+            m = use & ok[w, pf]
+            rows.append(np.nonzero(m)[0])
+            cols.append(n_poly + w[m] * n_e + pf[m])
+        # B on a vertex: the tail of f (two edges, or piece 0 of one edge) and the head of f (or piece 1)
+        for w, use in ((tails[pf], ~same | (pk == 0)), (heads[pf], ~same | (pk == 1))):
+            m = use & ok[w, pe]
+            rows.append(np.nonzero(m)[0])
+            cols.append(n_poly + n_v * n_e + pe[m] * n_v + w[m])
+        r = np.concatenate(rows)
+        c = np.concatenate(cols)
+        n_nodes = n_poly + 2 * n_v * n_e
+        if n_poly <= SMALL_POLYGONS:  # union-find in Python: no scipy import for small layouts (start-up time)
+            lab = np.asarray(_union_find(n_nodes, r.tolist(), c.tolist()), dtype=np.int64)[:n_poly]
+        else:
+            from scipy.sparse import coo_matrix
+            from scipy.sparse.csgraph import connected_components
 
-        def find(x: int) -> int:
-            while parent[x] != x:
-                parent[x] = parent[parent[x]]
-                x = parent[x]
-            return x
-
-        ok = self.faces.ok.tolist()
-        base_a, base_b = n_poly, n_poly + n_v * n_e
-        for i, (e, f, k) in enumerate(self.polygon_ids):
-            for _, w in self._sides_a(e, f, k):
-                if ok[w][f]:
-                    r1, r2 = find(i), find(base_a + w * n_e + f)
-                    if r1 != r2:
-                        parent[r1] = r2
-            for _, w in self._sides_b(e, f, k):
-                if ok[w][e]:
-                    r1, r2 = find(i), find(base_b + e * n_v + w)
-                    if r1 != r2:
-                        parent[r1] = r2
-        roots = [find(i) for i in range(n_poly)]
-        labels: dict[int, int] = {}
-        comp = np.empty(n_poly, dtype=np.int64)
-        for i, r in enumerate(roots):
-            comp[i] = labels.setdefault(r, len(labels))
-        self.polygon_component = comp
-        self.n_components = len(labels)
+            adj = coo_matrix((np.ones(len(r), dtype=np.int8), (r, c)), shape=(n_nodes, n_nodes))
+            lab = connected_components(adj, directed=False)[1][:n_poly]
+        # number the components in the order of their first polygon
+        uniq, first = np.unique(lab, return_index=True)
+        rank = np.empty(len(uniq), dtype=np.int64)
+        rank[np.argsort(first)] = np.arange(len(uniq))
+        self.polygon_component = rank[np.searchsorted(uniq, lab)].astype(np.int64)
+        self.n_components = len(uniq)
 
     def _sides_a(self, e: int, f: int, k: int) -> list[tuple[float, int]]:
         """Sides of polygon ``(e, f, k)`` where robot A stands on a vertex: list of (s of the side, vertex)."""
@@ -324,8 +428,9 @@ class FreeSpace:
         return c1 == self.component_of(pos_b, pos_a)
 
 
-#: Budget of the free space's size: at most this many cells (pairs of edges, E²) are built. Measured on path
-#: layouts: 1 000 edges (1e6 cells) plan in 12.9 s and 569 MB; 3 000 edges (9e6) ran out of memory after 66 s.
+#: Budget of the free space's size: at most this many cells (pairs of edges, E²) are built. Measured on the seeded
+#: warehouse grids and road maps: 1 000 edges (1e6 cells, 1e6 polygons) build in 1.2-1.4 s CPU and about 400 MB;
+#: 3 000 edges (9e6 cells) would need several GB (every pair of edges is a polygon and a node of the components).
 MAX_CELLS = 1_500_000
 
 

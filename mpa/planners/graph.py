@@ -26,6 +26,13 @@ Every face end and corner is a root and every face is opened from them, so the s
 start's component: it finds a path whenever one exists (**complete**), and :func:`plan_graph` raises
 :class:`~mpa.errors.NoMotionError` otherwise, naming the reason.
 
+**The independent motion first.** Before searching, each robot's shortest route to its goal is taken from the
+vertex distances; when both are unique (no other route within ``1e-9 · max(1, longest edge)`` metres) the two
+robots' individually fastest motions, started together (a straight line in route coordinates), cost exactly the
+search's bound at the start and are the only motion of that cost. If they keep the clearance (checked exactly in every
+cell they cross, :meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`) they are the answer and the search is
+skipped (:func:`_independent_motion`); otherwise, or when a route is not unique, the search answers.
+
 **Costs.** A straight move ``(Δs, Δt)`` costs ``hypot(Δs, Δt)`` (metres) for ``"shortest"`` and
 ``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the least travel
 (``+ 1e-6 · (|Δs|/vA + |Δt|/vB)``: exact for the bound below, so the search does not widen over the many equally
@@ -33,7 +40,8 @@ fast routes of a robot with time to spare) and then towards the straightest (``+
 timing among equally fast ones, e.g. both robots moving all the time rather than one after the other). The A* bound
 is ``max(dA/vA, dB/vB)`` (plus the same tie-break terms) resp. ``hypot(dA, dB)`` of each robot's graph distance to
 its goal (for an interval: minimised exactly over it, with the unfolded distance from the root); it is admissible.
-The queue orders by that bound on a grid of ``1e-12`` of the start's bound, then deeper roots first.
+The queue orders by that bound on a grid of ``1e-12`` of the start's bound, then deeper roots first, all in one place
+(``queue_key``).
 
 **Why this is optimal.** For a fixed sequence of polygons the taut (Euclidean shortest) path through them is also of
 least weighted-L∞ time and of least travel: in a simply connected chain of polygons the taut path minimises the
@@ -56,7 +64,9 @@ reversal); its route coordinate is the distance travelled, and the plan is a pol
 
 from __future__ import annotations
 
+import bisect
 import heapq
+import itertools
 import math
 from dataclasses import dataclass, field
 from typing import Any, cast
@@ -326,6 +336,136 @@ def _mesh(fs: FreeSpace) -> _Mesh:
     return cast("_Mesh", m)
 
 
+# ------------------------------------------------------------------------------------- independent motion
+Piece = tuple[int, float, float]  # (edge, offset from, offset to): one robot's move along one edge
+
+
+def _fastest_alone(mesh: _Mesh, pos: Position, goal: Position, tol: float) -> list[Piece] | None:
+    """A robot's unique shortest route from ``pos`` to ``goal`` on the graph, as moves along edges (metres).
+
+    Returns None when another route is within ``tol`` metres of the shortest one (the choice among equally short
+    routes is then the search's). A robot already at its goal gets one standing piece.
+    """
+    g = mesh.g
+    dv = g._dv
+
+    def ends(p: Position, leaving: bool) -> list[tuple[int, float, list[Piece]]]:
+        """(vertex, distance, the move between p and the vertex) for each way between p and the vertices."""
+        e, s = p
+        le = g._L[e]
+        if s == 0.0:
+            return [(g._t[e], 0.0, [])]
+        if s == le:
+            return [(g._h[e], 0.0, [])]
+        if leaving:
+            return [(g._t[e], s, [(e, s, 0.0)]), (g._h[e], le - s, [(e, s, le)])]
+        return [(g._t[e], s, [(e, 0.0, s)]), (g._h[e], le - s, [(e, le, s)])]
+
+    options: list[tuple[float, int, int, list[Piece], list[Piece]]] = []
+    (e0, s0), (e1, s1) = pos, goal
+    if e0 == e1 and 0.0 < s0 < g._L[e0] and 0.0 < s1 < g._L[e0]:
+        options.append((abs(s1 - s0), -1, -1, [(e0, s0, s1)] if s0 != s1 else [], []))
+    for a, ca, pa in ends(pos, True):
+        for b, cb, pb in ends(goal, False):
+            d = ca + dv[a][b] + cb
+            if math.isfinite(d):
+                options.append((d, a, b, pa, pb))
+    if not options:
+        return None
+    options.sort(key=lambda o: o[0])
+    if len(options) > 1 and options[1][0] - options[0][0] <= tol:
+        return None
+    d, a, b, pa, pb = options[0]
+    moves = list(pa)
+    if a >= 0:
+        x = a
+        for _ in range(g.n_vertices):
+            if x == b:
+                break
+            nxt = [(e, x_off, (g._h[e] if x_off == 0.0 else g._t[e])) for e, x_off in mesh.inc[x] if g._t[e] != g._h[e]]
+            hits = [(e, x_off, y) for e, x_off, y in nxt if g._L[e] + dv[y][b] <= dv[x][b] + tol]
+            if len(hits) != 1:
+                return None
+            e, x_off, y = hits[0]
+            moves.append((e, x_off, g._L[e] - x_off))
+            x = y
+        else:
+            return None
+    moves.extend(pb)
+    return moves or [(e0, s0, s0)]
+
+
+def _independent_motion(
+    mesh: _Mesh, start: tuple[Position, Position], goal: tuple[Position, Position]
+) -> list[list[Any]] | None:
+    """The two robots' individually fastest motions, both starting at once, as straight segments in cells.
+
+    Each robot follows its unique shortest route at its own pace: a straight line in route coordinates from
+    ``(0, 0)`` to ``(dA, dB)``, cut where either robot changes edge. Its cost is the search's bound at the start
+    (``max(dA/vA, dB/vB)`` plus the tie-break terms, resp. ``hypot(dA, dB)``), which no motion undercuts, and it is
+    the only motion of that cost; so when it keeps the clearance it is the search's answer. Returns the segments
+    ``[polygon, (s, t) from, (s, t) to]`` (offsets in metres), or None when a robot's shortest route is not unique
+    (within ``1e-9 · max(1, longest edge)`` metres), a segment leaves the free polygons or the robots come closer
+    than the clearance on a segment (exact minimum per cell, :meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`).
+    """
+    tol = 1e-9 * mesh.scale
+    ra = _fastest_alone(mesh, start[0], goal[0], tol)
+    rb = _fastest_alone(mesh, start[1], goal[1], tol)
+    if ra is None or rb is None:
+        return None
+    cum_a = [0.0]
+    for _, x0, x1 in ra:
+        cum_a.append(cum_a[-1] + abs(x1 - x0))
+    cum_b = [0.0]
+    for _, x0, x1 in rb:
+        cum_b.append(cum_b[-1] + abs(x1 - x0))
+    da, db = cum_a[-1], cum_b[-1]
+    if da <= 0.0 and db <= 0.0:
+        return None
+    lams = {0.0, 1.0}
+    if da > 0.0:
+        lams.update(c / da for c in cum_a[1:-1])
+    if db > 0.0:
+        lams.update(c / db for c in cum_b[1:-1])
+    cuts = sorted(x for x in lams if 0.0 <= x <= 1.0)
+
+    def at(route: list[Piece], cum: list[float], total: float, lam0: float, lam1: float) -> tuple[int, float, float]:
+        """The robot's edge and its offsets at ``lam0`` and ``lam1`` (both within one piece)."""
+        if total <= 0.0:
+            e, x, _ = route[0]
+            return e, x, x
+        mid = 0.5 * (lam0 + lam1) * total
+        i = min(max(bisect.bisect_right(cum, mid) - 1, 0), len(route) - 1)
+        e, x0, x1 = route[i]
+        length = cum[i + 1] - cum[i]
+
+        def off(lam: float) -> float:
+            r = lam * total - cum[i]
+            if length <= 0.0 or r <= 0.0:
+                return x0
+            if r >= length:
+                return x1
+            return x0 + (x1 - x0) * (r / length)
+
+        return e, off(lam0), off(lam1)
+
+    segs: list[list[Any]] = []
+    index = mesh.fs._index
+    for lam0, lam1 in itertools.pairwise(cuts):
+        if lam1 <= lam0:
+            continue
+        ea, sa0, sa1 = at(ra, cum_a, da, lam0, lam1)
+        eb, sb0, sb1 = at(rb, cum_b, db, lam0, lam1)
+        pid = (ea, eb, 0 if ea != eb or sa0 + sa1 > sb0 + sb1 else 1)
+        if pid not in index:
+            return None
+        if (sa0, sb0) != (sa1, sb1):
+            if mesh.g.segment_min_scalar(ea, eb, sa0, sb0, sa1, sb1) < mesh.fs._dmin:
+                return None  # the robots come closer than the clearance: they must negotiate
+            segs.append([pid, (sa0, sb0), (sa1, sb1)])
+    return segs or None
+
+
 def _uncovered(
     seen: dict[Key, list[tuple[float, float]]], key: Key, y0: float, y1: float, eps: float
 ) -> list[tuple[float, float]]:
@@ -428,6 +568,13 @@ def _search(
             v = min(v, abs(y - r) + abs(y - gs))
         return v
 
+    def queue_key(f: float, depth: float, nid: int) -> tuple[int, float, int]:
+        """The search's order, in one place: the bound ``f`` on a grid of ``F_GRID`` of the start's bound (so that
+        near-equal bounds count as ties), then deeper first (larger cost from the start of the root, ``depth``): on
+        the plateaus of equally fast motions (a robot with slack may take any of many routes) the search dives to the
+        goal instead of widening; the plan is optimal up to that grid."""
+        return (math.floor(f * fq), -depth, nid)
+
     goal_at: dict[PolygonId, list[Coords]] = {}
     for pid, c in mesh.placements(*goal):
         goal_at.setdefault(pid, []).append(c)
@@ -451,13 +598,13 @@ def _search(
             best[key] = gval
             nodes.append([0, key, gval, seg])
             f = gval + comb(dist_a(pid[0], pt[0]), dist_b(pid[1], pt[1]))
-            heapq.heappush(heap, (math.floor(f * fq), -gval, len(nodes) - 1))
+            heapq.heappush(heap, queue_key(f, gval, len(nodes) - 1))
 
     def push_goal(gval: float, seg: tuple[Any, ...]) -> None:
         if gval < best.get(("G",), math.inf):
             best[("G",)] = gval
             nodes.append([2, ("G",), gval, seg])
-            heapq.heappush(heap, (math.floor(gval * fq), -gval, len(nodes) - 1))
+            heapq.heappush(heap, queue_key(gval, gval, len(nodes) - 1))
 
     def push_intervals(
         rid: int,
@@ -487,7 +634,7 @@ def _search(
             xb = abs(r[1] - a) + vdb[w]
             xa = min_along(face[2], y0, y1, r[0], 0)
         nodes.append([3, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin])
-        heapq.heappush(heap, (math.floor((groot + comb(xa, xb)) * fq), -groot, len(nodes) - 1))
+        heapq.heappush(heap, queue_key(groot + comb(xa, xb), groot, len(nodes) - 1))
 
     def open_face(nd: list[Any]) -> None:
         """Interval nodes of a queued face entry into each other page (unfolding the root), expanded at once."""
@@ -902,6 +1049,9 @@ def plan_graph(
 
         return cast("GraphPlan", plan_with_rules(tr, fs, s, gl, objective, (va, vb)))
     mesh = _mesh(fs)
+    quick = _independent_motion(mesh, s, gl)
+    if quick is not None:
+        return _assemble(tr, fs, s, gl, objective, (va, vb), quick)
     segs = _search(mesh, s, gl, objective, va, vb)
     if segs is None:  # pragma: no cover - no budget given
         raise PlanningError("search gave up")

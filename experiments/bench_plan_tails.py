@@ -1,0 +1,121 @@
+"""Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
+
+    python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
+
+Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
+10 / 30 / 100 / 150 edges, three seeds each), the seeded warehouse grids and road maps of
+``bench.graph_scale`` at 10 / 30 / 100 / 150 edges, and the Open-RMF sample maps converted as layouts (office L1,
+hotel L1 / L2 / L3). Per layout ``--queries`` seeded queries (``graph_runner.make_graph_queries``: every fourth a
+swap) at four clearances (5 %, 20 %, 50 %, 100 % of the median edge length; D = 1 m on the generated layouts),
+the free space built and cached before the clock starts, one unrecorded warm-up query. Per layout: median, p95 and
+max of ``mpa.plan(..., planner="graph")`` in milliseconds, wall time and the process's CPU time (the machine is
+shared: CPU time leaves out the waits for a core), and the slowest query (to profile it). Prints a Markdown
+table; ``--out FILE`` also writes ``FILE.json`` with every record.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT.parent))
+
+from bench.graph_runner import CLEARANCE_FRACTIONS, _plan, grid_layout, make_graph_queries  # noqa: E402
+from bench.graph_scale import road_map_layout, warehouse_layout  # noqa: E402
+
+from mpa.freespace import free_space  # noqa: E402
+from mpa.graph_track import GraphTrack  # noqa: E402
+
+DATA = ROOT.parent / "tests" / "data" / "openrmf"
+EXAMPLES = ROOT.parent / "examples" / "tracks"
+SIZES = (10, 30, 100, 150)
+
+
+def layouts() -> list[tuple[str, GraphTrack, list[float] | None]]:
+    """``(name, track, clearances)``; clearances None: the fractions of the median edge length."""
+    out: list[tuple[str, GraphTrack, list[float] | None]] = []
+    for p in sorted(EXAMPLES.glob("*.json")):
+        out.append((p.stem, GraphTrack.from_json(p), None))
+    for level in ("L1",):
+        out.append((f"office {level}", GraphTrack.from_file(DATA / "office.building.yaml", level=level), None))
+    for level in ("L1", "L2", "L3"):
+        out.append((f"hotel {level}", GraphTrack.from_file(DATA / "hotel.building.yaml", level=level), None))
+    for n_e in SIZES:
+        for k in range(3):
+            out.append((f"scaling {n_e}/{k}", grid_layout(n_e, n_e * 10 + k), [1.0]))
+        out.append((f"warehouse {n_e}", warehouse_layout(n_e, n_e), [1.0]))
+        out.append((f"road map {n_e}", road_map_layout(n_e, n_e), [1.0]))
+    return out
+
+
+def run(queries: int, seed: int, only: set[str] | None = None) -> list[dict[str, Any]]:
+    records = []
+    for li, (name, track, ds) in enumerate(layouts()):
+        if only and name not in only:
+            continue
+        if ds is None:
+            med = float(np.median(track.lengths))
+            ds = [round(f * med, 6) for f in CLEARANCE_FRACTIONS]
+        qs = make_graph_queries(track, queries + 1, seed * 1000 + li, ds)
+        for d in ds:
+            free_space(track, d)
+        _plan(track, qs[0], (1.0, 1.0))
+        times, cpu = [], []
+        for q in qs[1:]:
+            t0, c0 = time.perf_counter(), time.process_time()
+            p = _plan(track, q, (1.0, 1.0))
+            cpu.append(time.process_time() - c0)
+            times.append((time.perf_counter() - t0, q, None if p is None else p.makespan))
+        ts = np.array([t for t, _, _ in times])
+        cs = np.array(cpu)
+        worst = max(times, key=lambda x: x[0])
+        rec = {
+            "layout": name,
+            "edges": track.n_edges,
+            "queries": len(ts),
+            "median_ms": 1e3 * float(np.median(ts)),
+            "p95_ms": 1e3 * float(np.percentile(ts, 95)),
+            "max_ms": 1e3 * float(ts.max()),
+            "cpu_median_ms": 1e3 * float(np.median(cs)),
+            "cpu_p95_ms": 1e3 * float(np.percentile(cs, 95)),
+            "cpu_max_ms": 1e3 * float(cs.max()),
+            "worst": {"start": worst[1]["start"], "goal": worst[1]["goal"], "clearance": worst[1]["clearance"]},
+            "makespans": [m for _, _, m in times],
+        }
+        records.append(rec)
+        print(
+            f"| {name} | {rec['edges']} | {rec['queries']} | {rec['median_ms']:.2f} | {rec['p95_ms']:.1f} | "
+            f"{rec['max_ms']:.1f} | {rec['cpu_median_ms']:.2f} | {rec['cpu_p95_ms']:.1f} | {rec['cpu_max_ms']:.1f} |",
+            flush=True,
+        )
+    return records
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--queries", type=int, default=100)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--only", default=None, help="comma-separated layout names")
+    ap.add_argument("--out", default=None)
+    args = ap.parse_args()
+    print(
+        "| layout | edges | queries | wall median (ms) | wall p95 (ms) | wall max (ms) | CPU median (ms) | "
+        "CPU p95 (ms) | CPU max (ms) |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    only = set(args.only.split(",")) if args.only else None
+    records = run(args.queries, args.seed, only)
+    if args.out:
+        Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
+
+
+if __name__ == "__main__":
+    main()
