@@ -82,7 +82,7 @@ SPEED_RATIO = 1e8
 TIE_BREAK_2 = 1e-9  # then towards the straightest (Euclidean in time units): one timing among equally fast ones
 #: Weight of the layout's tie term: each robot's travel on edge e costs ``TIE_EDGE * w_e`` more per unit of the
 #: objective, ``w_e`` in [1, 2) a fixed function of the edge's name (:func:`edge_tie_weights`).
-TIE_EDGE = 1e-6
+TIE_EDGE = 1e-5
 F_GRID = 1e-12  # relative resolution of the search's order (see _search)
 Key = tuple[Any, ...]
 Coords = tuple[float, float]
