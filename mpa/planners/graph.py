@@ -30,7 +30,10 @@ start's component: it finds a path whenever one exists (**complete**), and :func
 ``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the least travel
 (``+ 1e-6 · (|Δs|/vA + |Δt|/vB)``: exact for the bound below, so the search does not widen over the many equally
 fast routes of a robot with time to spare) and then towards the straightest (``+ 1e-9 · hypot(Δs/vA, Δt/vB)``: one
-timing among equally fast ones, e.g. both robots moving all the time rather than one after the other). The A* bound
+timing among equally fast ones, e.g. both robots moving all the time rather than one after the other), and by the
+layout's tie term (``+ TIE_EDGE · w · travel`` per robot, edge and direction, :func:`edge_tie_weights`: equally fast
+motions get costs that differ by a layout-defined amount, so nearby queries break the tie the same way; along a
+straight run through several cells the term is carried across faces as per-robot constants). The A* bound
 is ``max(dA/vA, dB/vB)`` (plus the same tie-break terms) resp. ``hypot(dA, dB)`` of each robot's graph distance to
 its goal (for an interval: minimised exactly over it, with the unfolded distance from the root); it is admissible.
 The queue orders by that bound on a grid of ``1e-12`` of the start's bound, then deeper roots first.
