@@ -1,0 +1,178 @@
+"""Footprints in the plane under lane rules: one-way lanes and speed limits with bodies apart, the command line
+with Open-RMF maps and ``--fleet``, and completeness of the one-way search against a directed grid search."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+import mpa
+from mpa import Disc, GraphTrack, NoMotionError, Rectangle
+from tests.planar_checker import overlap_depth
+from tests.test_footprints import drawn_of, fp_tuple, plan_depth
+from trajopt import generate_trajectory
+from trajopt.cli.main import main
+
+DATA = Path(__file__).parent / "data" / "openrmf"
+FLEET = DATA / "office_tinyRobot_config.yaml"  # footprint 0.3 m, vicinity 0.5 m, limits 0.5 m/s, 0.75 m/s²
+
+
+def _y(oneway_short: bool, limit_right: float | None = None) -> GraphTrack:
+    """A Y junction drawn in metres: branches short (1 m, up), left (2 m) and right (3 m) from J."""
+    edges: list[dict[str, Any]] = [
+        {"name": "b_short", "from": "J", "to": "short", "oneway": oneway_short},
+        {"name": "b_left", "from": "left", "to": "J"},
+        {"name": "b_right", "from": "J", "to": "right"},
+    ]
+    if limit_right is not None:
+        edges[2]["speed_limit"] = limit_right
+    verts = {"J": [0.0, 0.0], "short": [0.0, 1.5], "left": [-2.0, 0.0], "right": [3.0, 0.0]}
+    return GraphTrack.from_layout({"vertices": verts, "edges": edges})
+
+
+def _monotone(plan: Any) -> None:
+    """No segment of the plan backs along a one-way edge."""
+    tr = plan.track
+    for (e, f, _), o in zip(plan.segment_cells, plan.segment_offsets):
+        assert not tr.oneway[e] or o[1, 0] >= o[0, 0] - 1e-12, (tr.edge_names[e], o)
+        assert not tr.oneway[f] or o[1, 1] >= o[0, 1] - 1e-12, (tr.edge_names[f], o)
+
+
+def _cli(capsys: pytest.CaptureFixture[str], *args: object) -> tuple[int, str, str]:
+    rc = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return rc, out, err
+
+
+# ---------------------------------------------------------------------------------------------- planner
+@pytest.mark.parametrize("fp", [Disc(0.2), Rectangle(0.5, 0.3)])
+def test_one_way_branch_forbids_the_swap_with_bodies_and_says_so(fp: Disc | Rectangle) -> None:
+    two_way = mpa.plan(_y(False), ("left", "right"), ("right", "left"), 0.5, footprint=fp)
+    assert plan_depth(two_way.track, two_way, fp_tuple(fp), fp_tuple(fp), 600) <= 1e-6
+    with pytest.raises(NoMotionError, match=r"one-way lanes forbid it.*b_short"):
+        mpa.plan(_y(True), ("left", "right"), ("right", "left"), 0.5, footprint=fp)
+
+
+def test_one_way_branch_entered_forwards_with_bodies() -> None:
+    """A parks in the one-way branch (forwards) while B passes J behind it; the reverse query is impossible."""
+    tr = _y(True)
+    p = mpa.plan(tr, ("left", "b_right:1"), ("short", "b_right:2.5"), 0.5, footprint=Disc(0.3))
+    _monotone(p)
+    assert plan_depth(tr, p, (0.3,), (0.3,), 600) <= 1e-6
+    with pytest.raises(NoMotionError, match="one-way"):
+        mpa.plan(tr, ("short", "b_right:2.5"), ("left", "b_right:1"), 0.5, footprint=Disc(0.3))
+
+
+def test_the_search_over_shared_segments_keeps_the_rule_and_decides() -> None:
+    """The complete search over shared segments (the fallback of the search over shared points) finds a motion
+    that keeps the one-way rule where one exists, and none out of the one-way branch."""
+    from mpa.planar import _search, _search_sets, planar_free_space
+
+    tr = _y(True)
+    space = planar_free_space(tr, 0.5, Disc(0.2))
+    s = (tr.position("left"), tr.position("b_right:1"))
+    g = (tr.position("b_right:1.5"), tr.position("short"))
+    by_points = _search(space, s, g, "fastest", 1.0, 1.0)
+    by_sets = _search_sets(space, s, g)
+    assert by_points is not None and by_sets is not None
+    for cell, p, q in by_sets:
+        assert not tr.oneway[cell[0]] or q[0] >= p[0]
+        assert not tr.oneway[cell[1]] or q[1] >= p[1]
+    assert by_sets[0][1] == (0.0, 1.0) and by_sets[-1][2] == (1.5, 1.5)  # start and goal in offsets
+    assert _search_sets(space, (s[1], s[0]), (g[1], g[0])) is not None
+    assert _search_sets(space, g, s) is None  # back out of the one-way branch: impossible
+
+
+def test_speed_limits_with_bodies_time_the_plan_and_cap_the_rows() -> None:
+    tr = _y(True, limit_right=0.3)
+    p = mpa.plan(tr, ("left", "b_right:1"), ("short", "right"), 0.5, speeds=(1.0, 1.0), footprint=Disc(0.3))
+    free = mpa.plan(_y(True), ("left", "b_right:1"), ("short", "right"), 0.5, speeds=(1.0, 1.0), footprint=Disc(0.3))
+    assert p.makespan >= 2.0 / 0.3 - 1e-9  # B drives 2 m of the limited branch
+    assert p.makespan > free.makespan
+    traj = generate_trajectory(tr, ("left", "b_right:1"), ("short", "right"), clearance=0.5, footprint=Disc(0.3))
+    assert traj.verification["ok"] and not traj.fallback, traj.fallback_reason
+    rows = list(csv.DictReader(traj.csv_text().splitlines()))
+    names = list(tr.edge_names)
+    for r in rows:
+        for robot in "ab":
+            e = names.index(r[f"{robot}_edge"])
+            lim = tr.speed_limits[e]
+            assert lim is None or abs(float(r[f"{robot}_v"])) <= lim * (1 + 1e-6), r
+            if tr.oneway[e]:
+                assert int(r[f"{robot}_dir"]) >= 0, r
+
+
+# ------------------------------------------------------------------------------------------ command line
+def _building_y(oneway: bool) -> dict[str, Any]:
+    params = {"graph_idx": [2, 0], "speed_limit": [3, 0.0], "orientation": [1, ""]}
+    vertices = [[0, 0, 0, "J"], [0, 1.5, 0, "short"], [-2, 0, 0, "left"], [3, 0, 0, "right"]]
+    lanes = [
+        [0, 1, {**params, "bidirectional": [4, not oneway]}],
+        [2, 0, {**params, "bidirectional": [4, True]}],
+        [0, 3, {**params, "bidirectional": [4, True]}],
+    ]
+    level = {"vertices": vertices, "lanes": lanes}
+    return {"name": "y", "coordinate_system": "cartesian_meters", "levels": {"L1": level}}
+
+
+@pytest.mark.parametrize("oneway", [True, False])
+def test_cli_swap_with_the_fleet_footprint_one_way_exit_3_two_way_verified(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], oneway: bool
+) -> None:
+    path = tmp_path / "y.building.yaml"
+    path.write_text(yaml.safe_dump(_building_y(oneway)), encoding="utf-8")
+    out = tmp_path / "out"
+    query = ["--start", "left", "right", "--goal", "right", "left", "--clearance", "0.5", "--fleet", FLEET]
+    rc, _, err = _cli(capsys, "trajectory", "--graph", path, *query, "--out", out)
+    if oneway:
+        assert rc == 3, err
+        assert err.startswith("no motion: ") and err.count("\n") == 1 and "one-way" in err, err
+        assert not out.exists() or list(out.iterdir()) == []
+        return
+    assert rc == 0, err
+    summary = json.loads((out / "summary.json").read_text())
+    assert "0.3" in json.dumps(summary["footprint"]) and summary["min_gap_plane"] >= 0.0
+    assert summary["min_separation"] >= 0.5 - 1e-9 and not summary["fallback"]
+
+
+def test_cli_office_map_with_one_way_lanes_and_the_fleet(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The Open-RMF office map with two lanes made one-way (one on the swap's route), the fleet's disc of 0.3 m:
+    a verified motion that drives the one-way lane forwards only, checked row by row and by the independent
+    checker."""
+    raw = yaml.safe_load((DATA / "office.building.yaml").read_text(encoding="utf-8"))
+    lanes = raw["levels"]["L1"]["lanes"]
+    for k in (0, 14):
+        lanes[k][2]["bidirectional"] = [4, False]
+    path = tmp_path / "office.building.yaml"
+    path.write_text(yaml.safe_dump(raw), encoding="utf-8")
+    out = tmp_path / "out"
+    query = ["--start", "pantry", "patrol_A1", "--goal", "patrol_A1", "pantry", "--clearance", "0.5"]
+    rc, _, err = _cli(capsys, "trajectory", "--graph", path, *query, "--fleet", FLEET, "--out", out)
+    assert rc == 0, err
+    summary = json.loads((out / "summary.json").read_text())
+    assert "0.3" in json.dumps(summary["footprint"]) and summary["verification"]["ok"] is True
+    tr = GraphTrack.from_file(path)
+    assert tr.oneway[0] and tr.oneway[14]
+    names = list(tr.edge_names)
+    rows = list(csv.DictReader((out / "setpoints.csv").read_text().splitlines()))
+    used = set()
+    for r in rows:
+        for robot in "ab":
+            e = names.index(r[f"{robot}_edge"])
+            assert abs(float(r[f"{robot}_v"])) <= 0.5 * (1 + 1e-6), r  # the fleet's limit
+            if tr.oneway[e]:
+                used.add(e)
+                assert int(r[f"{robot}_dir"]) >= 0, r
+    assert 14 in used  # the one-way lane is on the route, driven forwards
+    dr = drawn_of(tr)
+    worst = max(
+        overlap_depth(dr, (0.3,), (names.index(r["a_edge"]), float(r["a_offset"])), (0.3,),
+                      (names.index(r["b_edge"]), float(r["b_offset"])))
+        for r in rows
+    )  # fmt: skip
+    assert worst <= 1e-6
