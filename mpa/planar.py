@@ -1027,11 +1027,12 @@ def plan_planar(
         if bca is None or bca != bcb:
             raise NoMotionError(_why_no_motion(track, space.base, start, goal))
         raise NoMotionError(_why_not(space))
-    found = _search(space, start, goal, objective, speeds[0], speeds[1])
-    if found is None and any(track.oneway):
-        found = _search_sets(space, start, goal)
-        if found is None:
+    by_sets = None
+    if any(track.oneway):  # decide first (complete, and cheaper than exhausting the shared points)
+        by_sets = _search_sets(space, start, goal)
+        if by_sets is None:
             raise NoMotionError(_why_one_way(space, start, goal))
+    found = _search(space, start, goal, objective, speeds[0], speeds[1]) or by_sets
     if found is None:  # pragma: no cover - start and goal were checked to share a component
         raise PlanningError("the search ended without reaching the goal although start and goal share a component")
     segs = [x for x in found if x[1] != x[2]]

@@ -4,17 +4,20 @@ with Open-RMF maps and ``--fleet``, and completeness of the one-way search again
 from __future__ import annotations
 
 import csv
+import itertools
 import json
+import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 import yaml
 
 import mpa
 from mpa import Disc, GraphTrack, NoMotionError, Rectangle
 from tests.planar_checker import overlap_depth
-from tests.test_footprints import drawn_of, fp_tuple, plan_depth
+from tests.test_footprints import drawn_of, fp_tuple, passing_loop, plan_depth
 from trajopt import generate_trajectory
 from trajopt.cli.main import main
 
@@ -176,3 +179,94 @@ def test_cli_office_map_with_one_way_lanes_and_the_fleet(tmp_path: Path, capsys:
         for r in rows
     )  # fmt: skip
     assert worst <= 1e-6
+
+
+# ------------------------------------------------------------------------------- completeness (grid)
+def _directed_grid(tr: GraphTrack, radius: float, clearance: float, step: float) -> tuple[list[Any], Any]:
+    """Grid nodes along every edge (vertices shared), the forward moves between neighbours (only from tail to head
+    on a one-way edge), and the configurations kept: discs at least ``step + 0.02`` m apart in the plane and the
+    robots at least ``clearance + step`` apart along the track. One robot moves one step at a time, so every grid
+    path is a motion of the model that keeps the one-way rule."""
+    dr = drawn_of(tr)
+    nodes: list[tuple[int, float]] = []
+    index: dict[Any, int] = {}
+    nxt: list[list[int]] = []
+    for e in range(tr.n_edges):
+        length = float(tr.lengths[e])
+        k = max(2, math.ceil(length / step))
+        ids = []
+        for i in range(k + 1):
+            o = length * i / k
+            w = tr.vertex_at(e, o)
+            key = ("v", w) if w is not None else ("e", e, i)
+            if key not in index:
+                index[key] = len(nodes)
+                nodes.append((e, o))
+                nxt.append([])
+            ids.append(index[key])
+        for a, b in itertools.pairwise(ids):
+            nxt[a].append(b)
+            if not tr.oneway[e]:
+                nxt[b].append(a)
+    c = np.array([dr.point(*q) for q in nodes])
+    plane = np.hypot(c[:, None, 0] - c[None, :, 0], c[:, None, 1] - c[None, :, 1]) - 2.0 * radius
+    geo = tr.geometry
+    along = np.array([[geo.distance_scalar(*p, *q) for q in nodes] for p in nodes])
+    free = (plane >= step + 0.02) & (along >= clearance + step)
+    return nodes, (nxt, free)
+
+
+def _grid_reaches(nxt: list[list[int]], free: Any, s: tuple[int, int], g: tuple[int, int]) -> bool:
+    seen = {s}
+    todo = [s]
+    while todo:
+        i, j = todo.pop()
+        if (i, j) == g:
+            return True
+        for a, b in [(x, j) for x in nxt[i]] + [(i, y) for y in nxt[j]]:
+            if (a, b) not in seen and free[a, b]:
+                seen.add((a, b))
+                todo.append((a, b))
+    return False
+
+
+def _random_ruled_layout(rng: np.random.Generator) -> GraphTrack:
+    """A main line with a siding close beside it (``passing_loop``), some edges one-way, some speed-limited."""
+    layout = passing_loop(float(rng.uniform(0.5, 1.5)), float(rng.uniform(0.5, 2.0)), float(rng.uniform(25, 50)))
+    for e in layout["edges"]:
+        if rng.random() < 0.45:
+            e["oneway"] = True
+        if rng.random() < 0.2:
+            e["speed_limit"] = 0.4
+    return GraphTrack.from_layout(layout)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_complete_under_one_way_rules_with_bodies_against_a_grid(seed: int) -> None:
+    """Whenever the directed grid finds a motion, the planner finds one, and every plan keeps the rule and the
+    bodies apart (independent checker)."""
+    rng = np.random.default_rng(1000 + seed)
+    tr = _random_ruled_layout(rng)
+    radius = float(rng.choice([0.2, 0.3, 0.45]))
+    clearance = float(rng.choice([0.0, 0.5]))
+    step = 0.2
+    nodes, (nxt, free) = _directed_grid(tr, radius, clearance, step)
+    met = 0
+    for _ in range(12):
+        i, j, k, m = (int(x) for x in rng.integers(0, len(nodes), size=4))
+        if not (free[i, j] and free[k, m]):
+            continue
+        grid = _grid_reaches(nxt, free, (i, j), (k, m))
+        start, goal = (nodes[i], nodes[j]), (nodes[k], nodes[m])
+        try:
+            plan = mpa.plan(tr, start, goal, clearance, footprint=Disc(radius))
+        except NoMotionError as exc:
+            assert not grid, (
+                f"seed {seed}: the grid finds a motion, the planner says {exc}; {tr.to_dict()} {start} {goal}"
+            )
+            continue
+        met += grid
+        _monotone(plan)
+        assert plan.min_distance() >= clearance - 1e-9
+        assert plan_depth(tr, plan, (radius,), (radius,), 300) <= 1e-6, (seed, start, goal)
+    assert met >= 1, f"seed {seed}: no query the grid could solve"
