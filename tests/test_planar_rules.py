@@ -270,3 +270,29 @@ def test_complete_under_one_way_rules_with_bodies_against_a_grid(seed: int) -> N
         assert plan.min_distance() >= clearance - 1e-9
         assert plan_depth(tr, plan, (radius,), (radius,), 300) <= 1e-6, (seed, start, goal)
     assert met >= 1, f"seed {seed}: no query the grid could solve"
+
+
+# ------------------------------------------------------------------------------------ no fallback
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "tracks"
+
+
+@pytest.mark.parametrize(
+    ("layout", "start", "goal", "clearance", "spec"),
+    [
+        ("rail_yard.json", ("W", "E"), ("E", "W"), 2.5, "2.0x0.8"),
+        ("rail_yard.json", ("W", "D"), ("D", "W"), 2.5, "0.3"),
+        ("passing_loop.json", ("W", "E"), ("E", "W"), 0.5, "2x0.8"),
+        ("passing_loop.json", ("W", "E"), ("E", "W"), 0.5, "0.3"),
+        ("y_junction.json", ("short", "right"), ("right", "short"), 0.5, "0.3"),
+    ],
+)
+def test_example_swaps_with_footprints_verify_without_fallback(
+    layout: str, start: tuple[str, str], goal: tuple[str, str], clearance: float, spec: str
+) -> None:
+    """The blend keeps the plane margin along the whole path (the gate's bound between its samples, turns at
+    corners included), and the plan keeps it beyond the planner's touching tolerance: the optimized motion passes."""
+    tr = GraphTrack.from_json(EXAMPLES / layout)
+    traj = generate_trajectory(tr, start, goal, clearance=clearance, footprint=spec)
+    assert traj.verification["ok"]
+    assert not traj.fallback, traj.fallback_reason
+    assert traj.summary()["min_gap_plane"] >= 0.0
