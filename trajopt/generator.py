@@ -29,10 +29,10 @@ from numpy.typing import ArrayLike
 from mpa import defaults
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
 from mpa.footprint import Footprints, drawing_of, footprints
-from mpa.planar import TOUCH as PLANAR_TOUCH
 from mpa.geometry import RouteGeometry
 from mpa.graph_track import GraphTrack
 from mpa.plan import Plan
+from mpa.planar import TOUCH as PLANAR_TOUCH
 from mpa.planners import Planner, make_planner
 from mpa.planners.factory import OBJECTIVES
 from mpa.planners.graph import GraphPlan, plan_graph
