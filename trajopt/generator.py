@@ -32,7 +32,6 @@ from mpa.footprint import Footprints, drawing_of, footprints
 from mpa.geometry import RouteGeometry
 from mpa.graph_track import GraphTrack
 from mpa.plan import Plan
-from mpa.planar import TOUCH as PLANAR_TOUCH
 from mpa.planners import Planner, make_planner
 from mpa.planners.factory import OBJECTIVES
 from mpa.planners.graph import GraphPlan, plan_graph
@@ -112,6 +111,8 @@ class GraphPlanner:
         fp = self.footprint
         if fp is not None and self.plane_margin > 0:  # the bodies grown by the gate's between-rows margin first
             # plus the planner's touching tolerance (bodies that close count as apart there, not at the gate)
+            from mpa.planar import TOUCH as PLANAR_TOUCH
+
             grow = 0.5 * self.plane_margin + PLANAR_TOUCH * max(1.0, float(self.track.total_length))
             try:
                 return plan_graph(
