@@ -33,7 +33,6 @@ segment), but it is free by construction.
 
 from __future__ import annotations
 
-import dataclasses
 import heapq
 import itertools
 import math
@@ -1039,15 +1038,9 @@ def plan_planar(
     plan = _assemble(track, space.base, start, goal, objective, speeds, segs)
     if not track.has_rules:
         return plan
-    # the time at the edges' speed limits
-    spa, spb = _cell_speeds(track, speeds[0], speeds[1])
-    offs = plan.segment_offsets
-    d = np.abs(offs[:, 1] - offs[:, 0]) if len(offs) else np.zeros((0, 2))
-    sa = np.array([spa[c[0]] for c in plan.segment_cells], dtype=float)
-    sb = np.array([spb[c[1]] for c in plan.segment_cells], dtype=float)
-    seg_t = np.maximum(d[:, 0] / sa, d[:, 1] / sb) if len(offs) else np.zeros(0)
-    times = np.concatenate([[0.0], np.cumsum(seg_t)])
-    return dataclasses.replace(plan, makespan=float(times[-1]), _times=times)
+    from mpa.planners.rules import timed_at_limits
+
+    return timed_at_limits(plan, track, speeds)  # the time at the edges' speed limits
 
 
 def _why_one_way(space: PlanarFreeSpace, start: tuple[Position, Position], goal: tuple[Position, Position]) -> str:
