@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from mpa.errors import InvalidInputError, NoMotionError
+from mpa.errors import InvalidInputError, NoMotionError, PlanningError
 from mpa.footprint import Disc, Footprints, body_gap, drawing_of, footprints
 from mpa.freespace import FreeSpace, _clip, _dedupe, free_space
 from mpa.graph_track import GraphTrack, Position, as_graph_track
@@ -632,6 +632,18 @@ def planar_free_space(track: object, clearance: float, footprint: object) -> Pla
 
 
 # ------------------------------------------------------------------------------------------------ search
+def _cell_speeds(tr: GraphTrack, va: float, vb: float) -> tuple[list[float], list[float]]:
+    """Per edge the speed of robot A and of robot B on it (m/s): their limit capped by the edge's speed limit."""
+    lim = [math.inf if v is None else float(v) for v in tr.speed_limits]
+    return [min(va, x) for x in lim], [min(vb, x) for x in lim]
+
+
+def _forward(tr: GraphTrack, cell: tuple[int, int, int], p: Coords, q: Coords) -> bool:
+    """Whether the straight move ``p -> q`` in ``cell`` keeps the one-way rule (no robot backs along a one-way
+    edge; standing still is allowed)."""
+    return (not tr.oneway[cell[0]] or q[0] >= p[0]) and (not tr.oneway[cell[1]] or q[1] >= p[1])
+
+
 def _search(
     space: PlanarFreeSpace,
     start: tuple[Position, Position],
@@ -639,14 +651,22 @@ def _search(
     objective: str,
     va: float,
     vb: float,
-) -> list[list[Any]]:
-    """Dijkstra over the pieces' shared points: the path's straight segments ``[cell, from, to]``."""
+) -> list[list[Any]] | None:
+    """Dijkstra over the pieces' shared points: the path's straight segments ``[cell, from, to]``.
 
-    def cost(p: Coords, q: Coords) -> float:
+    Every move keeps the one-way rule and costs its time at the cell's speeds (the edges' speed limits), or its
+    length. None when no path through the shared points keeps the one-way rule (:func:`_search_sets` decides).
+    """
+    tr = space.track
+    spa, spb = _cell_speeds(tr, va, vb)
+    rules = any(tr.oneway)
+
+    def cost(cell: tuple[int, int, int], p: Coords, q: Coords) -> float:
         ds, dt = abs(q[0] - p[0]), abs(q[1] - p[1])
         if objective == "shortest":
             return math.hypot(ds, dt)
-        return max(ds / va, dt / vb) + 1e-6 * (ds / va + dt / vb) + 1e-9 * math.hypot(ds / va, dt / vb)
+        ta, tb = ds / spa[cell[0]], dt / spb[cell[1]]
+        return max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb)
 
     geo = space.track.geometry
     (ga_e, ga_s), (gb_e, gb_s) = goal
@@ -695,12 +715,13 @@ def _search(
             found = key
             break
         i, c = key
+        cell = pieces[i].cell
         # to the goal inside this piece
         for gc in goal_in.get(i, ()):
-            if not space.segment_ok(i, c, gc):
+            if (rules and not _forward(tr, cell, c, gc)) or not space.segment_ok(i, c, gc):
                 continue
             gk = (-1 - i, gc)
-            ng = g + cost(c, gc)
+            ng = g + cost(cell, c, gc)
             if ng < best.get(gk, math.inf):
                 best[gk] = ng
                 prev[gk] = (key, i, c, gc)
@@ -708,9 +729,9 @@ def _search(
                 counter += 1
         for j, pts_i, pts_j in space.adjacent[i]:
             for pi, pj in zip(pts_i, pts_j):
-                if not space.segment_ok(i, c, pi):
+                if (rules and not _forward(tr, cell, c, pi)) or not space.segment_ok(i, c, pi):
                     continue
-                ng = g + cost(c, pi)
+                ng = g + cost(cell, c, pi)
                 nk = (j, pj)
                 if ng < best.get(nk, math.inf) - 1e-15:
                     best[nk] = ng
@@ -718,8 +739,8 @@ def _search(
                     heapq.heappush(heap, (ng + bound(j, pj), counter, nk))
                     counter += 1
     del goal_key
-    if found is None:  # pragma: no cover - start and goal were checked to share a component
-        raise NoMotionError("the search ended without reaching the goal")
+    if found is None:
+        return None
     segs: list[list[Any]] = []
     key_: tuple[int, Coords] | None = found
     while key_ is not None:
@@ -735,6 +756,189 @@ def _search(
         i, c = s_pl[0]
         segs.append([i, c, c])
     return [[space.pieces[i].cell, a, b] for i, a, b in segs]
+
+
+def _parts(pi: list[Coords], pj: list[Coords]) -> list[tuple[Coords, Coords, Coords, Coords]]:
+    """The shared sets of a glued pair of pieces, as segments ``(p0, p1, q0, q1)`` (``p`` in the first piece's
+    offsets, ``q`` in the second's; one parameter ``λ`` maps ``p0 + λ(p1 - p0)`` to ``q0 + λ(q1 - q0)``; a point has
+    ``p0 == p1``). The shared points come as the two ends and the middle of each segment, or a single point."""
+    out: list[tuple[Coords, Coords, Coords, Coords]] = []
+    k, n = 0, len(pi)
+    while k < n:
+        if k + 2 < n:
+            a, m, b = pi[k], pi[k + 1], pi[k + 2]
+            span = max(abs(b[0] - a[0]), abs(b[1] - a[1]))
+            mid = (0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]))
+            if span > 0.0 and max(abs(m[0] - mid[0]), abs(m[1] - mid[1])) <= 1e-9 * max(1.0, span):
+                out.append((a, b, pj[k], pj[k + 2]))
+                k += 3
+                continue
+        out.append((pi[k], pi[k], pj[k], pj[k]))
+        k += 1
+    return out
+
+
+def _cone(ow: tuple[bool, bool], ends: tuple[Coords, Coords]) -> list[tuple[float, float, float]]:
+    """Half-planes ``a*s + b*t >= c`` of ``S ⊕ K``: the configurations a monotone move reaches from the segment
+    ``S`` (its two ends) when ``K`` is the forward cone of the one-way axes ``ow`` (a quadrant, a half-plane, or the
+    plane: no half-plane)."""
+    p, q = ends
+    out = []
+    if ow[0]:
+        out.append((1.0, 0.0, min(p[0], q[0])))
+    if ow[1]:
+        out.append((0.0, 1.0, min(p[1], q[1])))
+    ds, dt = q[0] - p[0], q[1] - p[1]
+    if ow[0] and ow[1] and ds * dt < 0.0:  # a falling segment: nothing below its line is reached
+        a, b = abs(dt), abs(ds)
+        nrm = math.hypot(a, b)
+        out.append((a / nrm, b / nrm, (a * p[0] + b * p[1]) / nrm))
+    return out
+
+
+def _lam_range(p0: Coords, p1: Coords, hp: list[tuple[float, float, float]], tol: float) -> tuple[float, float] | None:
+    """The parameters ``λ ∈ [0, 1]`` where ``p0 + λ(p1 - p0)`` satisfies every half-plane: exactly when some do,
+    else within ``tol`` (a segment that only touches the half-planes, where rounding decides)."""
+    exact = _lam_range_tol(p0, p1, hp, 0.0)
+    return exact if exact is not None else _lam_range_tol(p0, p1, hp, tol)
+
+
+def _lam_range_tol(
+    p0: Coords, p1: Coords, hp: list[tuple[float, float, float]], tol: float
+) -> tuple[float, float] | None:
+    lo, hi = 0.0, 1.0
+    for a, b, c in hp:
+        f0 = a * p0[0] + b * p0[1] - c + tol
+        df = a * (p1[0] - p0[0]) + b * (p1[1] - p0[1])
+        if abs(df) <= 1e-15:
+            if f0 < 0.0:
+                return None
+            continue
+        r = -f0 / df
+        if df > 0:
+            lo = max(lo, r)
+        else:
+            hi = min(hi, r)
+    return (lo, hi) if lo <= hi else None
+
+
+def _at(p0: Coords, p1: Coords, lam: float) -> Coords:
+    return (p0[0] + lam * (p1[0] - p0[0]), p0[1] + lam * (p1[1] - p0[1]))
+
+
+def _search_sets(
+    space: PlanarFreeSpace,
+    start: tuple[Position, Position],
+    goal: tuple[Position, Position],
+    budget: int = 400_000,
+) -> list[list[Any]] | None:
+    """A motion that keeps the one-way rule, or None when none exists in the model (complete).
+
+    **Reach.** In a convex free piece the moves allowed from a point ``r`` are the straight moves to the points of
+    its forward cone ``C(r)`` (the one-way coordinates do not decrease); from a segment ``S`` they reach
+    ``R(S) = piece ∩ (S ⊕ K)``: the piece cut by ``s >= min_S s`` and ``t >= min_S t`` on one-way axes and, when both
+    axes are one-way and ``S`` falls, by ``S``'s line (:func:`_cone`). A state is a piece with the segment ``S``
+    where the motion may enter it; its successors are the shared segments with the glued pieces cut to ``R(S)``
+    (again segments: a convex set meets a segment in a segment), and the goal is reached when it lies in ``R(S)``.
+
+    **Complete.** Every motion under the rule passes through a sequence of pieces and shared sets; by induction
+    its crossing points lie in the successive states' segments (a monotone move from a point of ``S`` stays in
+    ``R(S)``), so the search reaches the goal whenever such a motion exists. A state whose segment lies in the reach
+    of a state already expanded in the same piece adds nothing (``S' ⊆ R(S)`` implies ``R(S') ⊆ R(S)``) and is
+    skipped, which also ends the search.
+
+    **Path.** Back from the goal: in each state the point of its segment from which the next point is forward
+    (closest to it), a straight move inside the piece. ``budget`` bounds the expanded states.
+    """
+    from collections import deque
+
+    tr = space.track
+    pieces = space.pieces
+    tol = 10.0 * space.tol
+    dom = 100.0 * tol  # a state within this of an expanded one's reach adds nothing (rounding never loops)
+    ow_of = [(bool(tr.oneway[p.cell[0]]), bool(tr.oneway[p.cell[1]])) for p in pieces]
+    goal_in: dict[int, list[Coords]] = {}
+    for i, c in space.placements(*goal):
+        goal_in.setdefault(i, []).append(c)
+    # a state: (piece, ends of S, parent state, (p0, p1, q0, q1, lo, hi) of the shared segment it came through)
+    states: list[tuple[int, tuple[Coords, Coords], int, Any]] = []
+    todo: deque[int] = deque()
+    for i, c in space.placements(*start):
+        states.append((i, (c, c), -1, None))
+        todo.append(len(states) - 1)
+    expanded: dict[int, list[list[tuple[float, float, float]]]] = {}
+    parts_memo: dict[int, list[tuple[int, list[tuple[Coords, Coords, Coords, Coords]]]]] = {}
+    found: tuple[int, Coords] | None = None
+    steps = 0
+    while todo and found is None:
+        sid = todo.popleft()
+        i, ends, _, _ = states[sid]
+        done = expanded.setdefault(i, [])
+        if any(all(a * x[0] + b * x[1] >= c - dom for x in ends for a, b, c in hp) for hp in done):
+            continue
+        steps += 1
+        if steps > budget:
+            raise PlanningError(f"the one-way search expanded more than {budget} states without deciding")
+        hp = _cone(ow_of[i], ends)
+        done.append(hp)
+        for gc in goal_in.get(i, ()):
+            if all(a * gc[0] + b * gc[1] >= c - tol for a, b, c in hp):
+                found = (sid, gc)
+                break
+        if found is not None:
+            break
+        if i not in parts_memo:
+            parts_memo[i] = [(j, _parts(pi, pj)) for j, pi, pj in space.adjacent[i]]
+        for j, parts in parts_memo[i]:
+            for p0, p1, q0, q1 in parts:
+                rng = _lam_range(p0, p1, hp, tol)
+                if rng is None:
+                    continue
+                lo, hi = rng
+                x = (_at(q0, q1, lo), _at(q0, q1, hi))
+                if any(all(a * y[0] + b * y[1] >= c - dom for y in x for a, b, c in h2) for h2 in expanded.get(j, ())):
+                    continue
+                states.append((j, x, sid, (p0, p1, q0, q1, lo, hi)))
+                todo.append(len(states) - 1)
+    if found is None:
+        return None
+    sid, y = found
+    segs: list[list[Any]] = []
+    lam = 0.0
+    while True:
+        i, ends, parent, via = states[sid]
+        cell = pieces[i].cell
+        ow = ow_of[i]
+        if via is None:
+            xp = ends[0]
+        else:
+            p0, p1, q0, q1, lo, hi = via
+            # the parameters in [lo, hi] whose point is behind y on the one-way axes, then the closest to y
+            hp = [(-1.0, 0.0, -y[0])] if ow[0] else []
+            hp += [(0.0, -1.0, -y[1])] if ow[1] else []
+            a0, a1 = _at(q0, q1, lo), _at(q0, q1, hi)
+            rng = _lam_range(a0, a1, hp, tol)
+            u0, u1 = rng if rng is not None else (0.0, 1.0)
+            d = (a1[0] - a0[0], a1[1] - a0[1])
+            den = d[0] * d[0] + d[1] * d[1]
+            mu = 0.0 if den <= 0.0 else ((y[0] - a0[0]) * d[0] + (y[1] - a0[1]) * d[1]) / den
+            mu = min(max(mu, u0), u1)
+            lam = lo + mu * (hi - lo)
+            xp = _at(q0, q1, lam)
+        # a move within the tolerances of a shared point: never backwards on a one-way axis
+        xp = (min(xp[0], y[0]) if ow[0] else xp[0], min(xp[1], y[1]) if ow[1] else xp[1])
+        if xp != y:
+            if not space.segment_ok(i, xp, y):
+                raise PlanningError(
+                    "the one-way search found a motion whose move turns a body on a corner into the other one"
+                )
+            segs.append([cell, xp, y])
+        if via is None:
+            break
+        y = _at(via[0], via[1], lam)
+        sid = parent
+    segs.reverse()
+    return segs
 
 
 def _why_not(space: PlanarFreeSpace) -> str:
@@ -822,8 +1026,32 @@ def plan_planar(
         if bca is None or bca != bcb:
             raise NoMotionError(_why_no_motion(track, space.base, start, goal))
         raise NoMotionError(_why_not(space))
-    segs = _search(space, start, goal, objective, speeds[0], speeds[1])
-    segs = [x for x in segs if x[1] != x[2]] or segs[:1]
-    if len(segs) == 1 and segs[0][1] == segs[0][2]:
-        segs = []
-    return _assemble(track, space.base, start, goal, objective, speeds, segs)
+    by_sets = None
+    if any(track.oneway):  # decide first (complete, and cheaper than exhausting the shared points)
+        by_sets = _search_sets(space, start, goal)
+        if by_sets is None:
+            raise NoMotionError(_why_one_way(space, start, goal))
+    found = _search(space, start, goal, objective, speeds[0], speeds[1]) or by_sets
+    if found is None:  # pragma: no cover - start and goal were checked to share a component
+        raise PlanningError("the search ended without reaching the goal although start and goal share a component")
+    segs = [x for x in found if x[1] != x[2]]
+    plan = _assemble(track, space.base, start, goal, objective, speeds, segs)
+    if not track.has_rules:
+        return plan
+    from mpa.planners.rules import timed_at_limits
+
+    return timed_at_limits(plan, track, speeds)  # the time at the edges' speed limits
+
+
+def _why_one_way(space: PlanarFreeSpace, start: tuple[Position, Position], goal: tuple[Position, Position]) -> str:
+    """The reason when only the one-way rule forbids the motion (start and goal share a component)."""
+    tr = space.track
+    names = ", ".join(tr.position_name(*p) for p in start)
+    gnames = ", ".join(tr.position_name(*p) for p in goal)
+    one = [tr.edge_names[i] for i, ow in enumerate(tr.oneway) if ow]
+    listed = ", ".join(one[:8]) + (" ..." if len(one) > 8 else "")
+    return (
+        f"the one-way lanes forbid it: start ({names}) and goal ({gnames}) are connected with the bodies "
+        f"({space.footprints.spec()}) apart when every lane may be driven both ways, but no such motion drives the "
+        f"one-way lanes ({listed}) only from 'from' to 'to'"
+    )

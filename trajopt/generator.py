@@ -110,6 +110,10 @@ class GraphPlanner:
         """
         fp = self.footprint
         if fp is not None and self.plane_margin > 0:  # the bodies grown by the gate's between-rows margin first
+            # plus the planner's touching tolerance (bodies that close count as apart there, not at the gate)
+            from mpa.planar import TOUCH as PLANAR_TOUCH
+
+            grow = 0.5 * self.plane_margin + PLANAR_TOUCH * max(1.0, float(self.track.total_length))
             try:
                 return plan_graph(
                     self.track,
@@ -118,7 +122,7 @@ class GraphPlanner:
                     self.clearance + self.margin,
                     self.objective,
                     self.speeds,
-                    fp.inflated(0.5 * self.plane_margin),
+                    fp.inflated(grow),
                 )
             except (InvalidInputError, NoMotionError):
                 pass  # the bare footprint decides (and names the error)
@@ -596,15 +600,26 @@ class TrajectoryGenerator:
         )
 
     def _plane_chord_slack(self, view: Any, pts: np.ndarray) -> float:
-        """How far the bodies stay beyond the plane margin along a polyline in route coordinates, sampled every
-        1 cm (negative: closer; the gate decides exactly)."""
-        from trajopt.planar_gate import row_gaps
+        """How far the bodies stay beyond the plane margin along a polyline in route coordinates (negative: closer;
+        the gate decides exactly).
+
+        The polyline is sampled every 1 cm and the samples go through the gate's plane check as if they were rows
+        one second apart at speeds no lower than each step (no acceleration): the gap at the samples and the gate's
+        bound between them, a rectangle's turn at a corner included, so the blend keeps the plane margin along the
+        whole path and not only at its samples.
+        """
+        from trajopt.planar_gate import verify_plane
 
         assert self.footprint is not None
         dense = densify(pts, 0.01)
         e, o = view.positions(dense)
-        gaps = row_gaps(view.graph, self.footprint, e, o)
-        return float(np.min(gaps)) - 0.5 * self._plane_margin(self.rate)
+        speed = np.zeros_like(dense)
+        if len(dense) > 1:
+            step = np.abs(np.diff(dense, axis=0))
+            speed[:-1] = step
+            speed[1:] = np.maximum(speed[1:], step)
+        rep = verify_plane(view.graph, self.footprint, e, o, speed, amax=0.0, rate=1.0)
+        return min(rep.min_gap_plane, rep.min_gap_between) - 0.5 * self._plane_margin(self.rate)
 
     def _finish(
         self,

@@ -1088,13 +1088,6 @@ def plan_graph(
             )
     fps = footprints(footprint)
     if fps is not None:
-        if any(tr.oneway):
-            names = ", ".join(tr.edge_names[e] for e, ow in enumerate(tr.oneway) if ow)
-            raise InvalidInputError(
-                f"footprint is {fps.spec()!r} on a layout with one-way edges ({names}), expected a footprint on a "
-                "layout whose edges are all two-way: the planner in the plane does not yet honour one-way lanes "
-                "(plan without --footprint, or make the lanes two-way)"
-            )
         from mpa.planar import plan_planar
 
         return cast("GraphPlan", plan_planar(tr, s, gl, clearance, objective, (va, vb), fps))

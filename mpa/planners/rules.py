@@ -337,7 +337,6 @@ def plan_with_rules(
             f"the one-way lanes forbid it: start ({names}) and goal ({gnames}) are connected when every lane may be "
             f"driven both ways, but no motion drives the one-way lanes ({listed}) only from 'from' to 'to'"
         )
-    spa, spb = _cell_speeds(tr, va, vb)
     seg_cost = _cost_function(tr, objective, va, vb)
 
     def smoothed(path: list[list[Any]]) -> list[list[Any]]:
@@ -358,10 +357,17 @@ def plan_with_rules(
         candidates.append(smoothed(raw))
     segs = min(candidates, key=path_cost)
     plan = _assemble(tr, fs, start, goal, objective, speeds, segs)
+    return dataclasses.replace(timed_at_limits(plan, tr, speeds), lower_bound=bound)
+
+
+def timed_at_limits(plan: Any, tr: GraphTrack, speeds: tuple[float, float]) -> Any:
+    """The plan with its waypoint times and makespan at the cells' speeds: each straight move takes
+    ``max(|Δs| / min(vA, v_e), |Δt| / min(vB, v_f))`` seconds (``v_e`` the speed limit of edge ``e``, if any)."""
+    spa, spb = _cell_speeds(tr, speeds[0], speeds[1])
     offs = plan.segment_offsets
     d = np.abs(offs[:, 1] - offs[:, 0]) if len(offs) else np.zeros((0, 2))
     sa = np.array([spa[c[0]] for c in plan.segment_cells], dtype=float)
     sb = np.array([spb[c[1]] for c in plan.segment_cells], dtype=float)
     seg_t = np.maximum(d[:, 0] / sa, d[:, 1] / sb) if len(offs) else np.zeros(0)
     times = np.concatenate([[0.0], np.cumsum(seg_t)])
-    return dataclasses.replace(plan, makespan=float(times[-1]), _times=times, lower_bound=bound)
+    return dataclasses.replace(plan, makespan=float(times[-1]), _times=times)
