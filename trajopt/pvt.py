@@ -50,9 +50,9 @@ Largest interval
 
 Time stretch (optional)
     When an interval still fails (the fitted velocities cannot keep the limits, or the reconstruction leaves
-    the clearance), ``max_stretch > 1`` lets :func:`pvt_table` sample the same path ``k`` times slower (``s(t/k)``, ``v/k``; the path, hence clearance and homotopy class, unchanged) with
-    the smallest ``k`` of :data:`STRETCHES` that passes; the table reports ``stretch``. The default (1) is
-    strict: the rows are the motion itself or an error.
+    the clearance), ``max_stretch > 1`` lets :func:`pvt_table` sample the same path ``k`` times slower
+    (``s(t/k)``, ``v/k``; the path, hence clearance and homotopy class, unchanged) with the smallest ``k`` of
+    :data:`STRETCHES` that passes; the table reports ``stretch``. The default (1) keeps the motion's timing.
 """
 
 from __future__ import annotations
@@ -285,8 +285,8 @@ def fit_row_velocities(
     ndarray, shape (M,) or None
         The velocities (m/s), or None when the program is infeasible or its solution still breaks a limit.
     """
-    from scipy.optimize import linprog
-    from scipy.sparse import coo_matrix
+    from scipy.optimize import linprog  # type: ignore[import-untyped]
+    from scipy.sparse import coo_matrix, vstack  # type: ignore[import-untyped]
 
     m = len(t)
     if m < 3:
@@ -317,23 +317,23 @@ def fit_row_velocities(
     bounds[-1] = v[-1]
     w = v.copy()
     for _ in range(FIT_ROUNDS):
-        ck = np.concatenate([r[0] for r in rows])
-        ck1 = np.concatenate([r[1] for r in rows])
+        coef_k = np.concatenate([r[0] for r in rows])
+        coef_k1 = np.concatenate([r[1] for r in rows])
         rhs = np.concatenate([r[2] for r in rows])
         piece = np.concatenate([r[3] for r in rows])
         nr = len(rhs)
         # variables: w (m), e (m) with e >= |w - v|
         ri = np.concatenate([np.arange(nr), np.arange(nr)])
         ci = np.concatenate([piece, piece + 1])
-        a_ub = coo_matrix((np.concatenate([ck, ck1]), (ri, ci)), shape=(nr, 2 * m))
+        a_ub = coo_matrix((np.concatenate([coef_k, coef_k1]), (ri, ci)), shape=(nr, 2 * m))
         eye = np.arange(m)
         dev = coo_matrix(
-            (np.concatenate([np.ones(m), -np.ones(m), -np.ones(m), -np.ones(m)]),
-             (np.concatenate([eye, eye, eye + m, eye + m]), np.concatenate([eye, eye + m, eye, eye + m]))),
+            (
+                np.concatenate([np.ones(m), -np.ones(m), -np.ones(m), -np.ones(m)]),
+                (np.concatenate([eye, eye, eye + m, eye + m]), np.concatenate([eye, eye + m, eye, eye + m])),
+            ),
             shape=(2 * m, 2 * m),
         )
-        from scipy.sparse import vstack
-
         a_all = vstack([a_ub, dev]).tocsr()
         b_all = np.concatenate([rhs, v, -v])
         cost = np.concatenate([np.zeros(m), np.ones(m)])

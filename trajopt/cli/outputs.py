@@ -18,8 +18,9 @@ any work (:func:`check_output_options`); every file is computed in memory (:func
 written all or nothing (:func:`trajopt.cli.trajectory.write_outputs`).
 
 ``summary.json`` is :meth:`Trajectory.summary` plus ``files`` (what was written), ``pvt`` (interval, stretch,
-rows, ``velocity_change``: :attr:`trajopt.pvt.PVTTable.velocity_change`) and ``recipe``: the query that rebuilds the motion deterministically (``start``, ``goal``,
-``delay_tolerance`` and the chain of ``replans`` ``{at, goal}``), read by ``mpa replan --from DIR``.
+rows, ``velocity_change``: :attr:`trajopt.pvt.PVTTable.velocity_change`) and ``recipe``: the query that rebuilds
+the motion deterministically (``start``, ``goal``, ``delay_tolerance`` and the chain of ``replans``
+``{at, goal}``), read by ``mpa replan --from DIR``.
 """
 
 from __future__ import annotations
