@@ -282,3 +282,25 @@ def test_cli_swap_on_a_hand_made_map_one_way_exit_3_two_way_verified(
     rows = list(csv.DictReader((out / "setpoints.csv").read_text().splitlines()))
     assert (rows[0]["a_edge"], rows[-1]["b_edge"]) != ("", "")
     assert math.isclose(float(rows[-1]["time"]), summary["makespan"], abs_tol=0.011)
+
+
+def test_plan_prints_the_bound_with_the_speed_limits(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """`mpa plan` on the Y with a slow branch: B alone needs 8 s, so the bound is 8 s and the plan is optimal."""
+    import json
+
+    from trajopt.cli import main
+
+    layout = {
+        "edges": [
+            {"name": "b_short", "from": "J", "to": "short", "length": 1.0, "oneway": True},
+            {"name": "b_left", "from": "left", "to": "J", "length": 2.0},
+            {"name": "b_right", "from": "J", "to": "right", "length": 3.0, "speed_limit": 0.5},
+        ]
+    }
+    path = tmp_path / "y.json"
+    path.write_text(json.dumps(layout))
+    argv = ["plan", "--graph", str(path), "--start", "left", "right", "--goal", "short", "left", "--clearance", "0.5"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "makespan   8 s" in out, out
+    assert "no motion under them beats 8 s (this plan at most 0 s above the optimum)" in out, out
