@@ -89,7 +89,7 @@ _ALLOWED = (
 
 
 #: Third-party imports allowed in single modules beyond their layer's (PyYAML reads Open-RMF maps in mpa.openrmf).
-_MODULE_ALLOWED = {"mpa.openrmf": {"yaml"}}
+_MODULE_ALLOWED = {"mpa.openrmf": {"yaml"}, "trajopt.pvt": {"scipy"}}
 
 
 def _layer_of(module: str) -> int | None:
