@@ -89,8 +89,14 @@ _ALLOWED = (
 
 
 #: Third-party imports allowed in single modules beyond their layer's (PyYAML reads Open-RMF maps in mpa.openrmf;
-#: scipy's sparse graphs give the free space's components and the vertex distances of large layouts).
-_MODULE_ALLOWED = {"mpa.openrmf": {"yaml"}, "mpa.freespace": {"scipy"}, "mpa.geometry": {"scipy"}}
+#: scipy's sparse graphs give the free space's components and the vertex distances of large layouts; the PVT rows'
+#: velocity fit is a linear program solved by scipy's HiGHS).
+_MODULE_ALLOWED = {
+    "mpa.openrmf": {"yaml"},
+    "mpa.freespace": {"scipy"},
+    "mpa.geometry": {"scipy"},
+    "trajopt.pvt": {"scipy"},
+}
 
 
 def _layer_of(module: str) -> int | None:

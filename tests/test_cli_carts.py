@@ -82,7 +82,8 @@ def test_all_formats_written(full) -> None:  # type: ignore[no-untyped-def]
     assert js["recipe"] == {"start": [0.1, 0.6], "goal": [0.8, 0.3], "delay_tolerance": None, "replans": []}
     assert js["words"]["A"] and js["words"]["B"] and js["margins"]["tracking_margin"] > 0
     rows = len(read_csv(full / "pvt.csv")["time"])
-    assert js["pvt"] == {"interval": 0.1, "auto": True, "stretch": 1.0, "rows": rows}  # the default: auto
+    # the default: auto
+    assert js["pvt"] == {"interval": 0.1, "auto": True, "stretch": 1.0, "rows": rows, "velocity_change": 0.0}
     assert js["ros"] == {"joint_names": ["cart_a", "cart_b"], "topic": "/joint_trajectory"}
 
 
@@ -171,7 +172,7 @@ def test_joint_names_and_topic(tmp_path, capsys) -> None:  # type: ignore[no-unt
         (["--format", "csv,foo"], "--format has 'foo'"),
         (["--format", ""], "--format is ''"),
         (["--format", "pvt", "--pvt-interval", "0"], "--pvt-interval is 0.0 s"),
-        (["--format", "pvt", "--pvt-interval", "0.5"], "the largest interval that works is 0.1 s"),
+        (["--format", "pvt", "--pvt-interval", "0.5"], "the largest interval that works is 0.2 s"),
         (["--format", "pvt", "--pvt-stretch", "0.5"], "--pvt-stretch"),
         (["--format", "ros2-yaml", "--joint-names", "a"], "joint names"),
         (["--format", "mcap", "--topic", "no spaces"], "--topic"),
@@ -191,7 +192,7 @@ def test_pvt_failure_leaves_existing_directory_alone(tmp_path, capsys) -> None: 
     out.mkdir()
     (out / "old.txt").write_text("keep")
     code, _, err = run(["trajectory", *QUERY, "--format", "csv,pvt", "--pvt-interval", "0.5", "--out", out], capsys)
-    assert code == 2 and "largest interval that works is 0.1 s" in one_line(err, "error")
+    assert code == 2 and "largest interval that works is 0.2 s" in one_line(err, "error")
     assert [p.name for p in out.iterdir()] == ["old.txt"]
 
 

@@ -86,10 +86,43 @@ def test_fastest_takes_the_longer_lane_without_a_limit() -> None:
     fastest = mpa.plan(tr, ("P", "R"), ("Q", "R"), 0.5)
     assert [tr.edge_names[int(e)] for e in fastest.route_a.edges] == ["fast"]
     assert fastest.makespan == pytest.approx(4.0, rel=1e-5)
-    assert fastest.lower_bound == pytest.approx(2.0, rel=1e-5)  # the optimum without the limit
+    # the optimum without the limit is 2 s; A alone under the limit needs 4 s: the plan is optimal
+    assert fastest.lower_bound == pytest.approx(4.0, rel=1e-5)
     shortest = mpa.plan(tr, ("P", "R"), ("Q", "R"), 0.5, objective="shortest")
     assert [tr.edge_names[int(e)] for e in shortest.route_a.edges] == ["slow"]
     assert shortest.makespan == pytest.approx(8.0, rel=1e-9)  # its time at the limit
+
+
+def test_single_robot_time_under_limits_and_one_way_lanes() -> None:
+    """A ring P -> Q -> R -> P with one one-way lane and a slow lane, and a spur."""
+    from mpa.planners.rules import single_robot_time
+
+    layout = {
+        "edges": [
+            {"name": "pq", "from": "P", "to": "Q", "length": 2.0, "oneway": True},
+            {"name": "qr", "from": "Q", "to": "R", "length": 3.0, "speed_limit": 0.5},
+            {"name": "rp", "from": "R", "to": "P", "length": 4.0},
+            {"name": "spur", "from": "R", "to": "S", "length": 1.0},
+        ]
+    }
+    tr = GraphTrack.from_layout(layout)
+    pos = tr.position
+    # forward on the one-way lane: 1.5 m at 1 m/s
+    assert single_robot_time(tr, pos("pq:0.25"), pos("pq:1.75"), 1.0) == pytest.approx(1.5)
+    # backwards on it is forbidden: round the ring, 0.25 + 6 (qr at 0.5 m/s) + 4 + 0.25... the other way
+    # pq:1.75 -> Q (0.25 s) -> R (6 s) -> P (4 s) -> pq:0.25 (0.25 s)
+    assert single_robot_time(tr, pos("pq:1.75"), pos("pq:0.25"), 1.0) == pytest.approx(10.5)
+    # Q to S: through R via qr (6 s + 1 s) beats Q -> ... (pq is one-way, no way back to P from Q)
+    assert single_robot_time(tr, pos("Q"), pos("S"), 1.0) == pytest.approx(7.0)
+    # a slower robot: the limit binds no more than its own speed
+    assert single_robot_time(tr, pos("Q"), pos("S"), 0.25) == pytest.approx(16.0)
+    # on a two-way lane either way
+    assert single_robot_time(tr, pos("rp:3"), pos("rp:1"), 1.0) == pytest.approx(2.0)
+    # a bound: every plan on this layout takes at least each robot's own time
+    plan = mpa.plan(tr, ("Q", "S"), ("S", "P"), 0.3)
+    own = max(single_robot_time(tr, pos("Q"), pos("S"), 1.0), single_robot_time(tr, pos("S"), pos("P"), 1.0))
+    assert plan.lower_bound is not None and plan.lower_bound >= own - 1e-12
+    assert plan.makespan >= plan.lower_bound - 1e-9, (plan.makespan, plan.lower_bound)
 
 
 def _random_track(rng: np.random.Generator) -> GraphTrack:
@@ -249,3 +282,25 @@ def test_cli_swap_on_a_hand_made_map_one_way_exit_3_two_way_verified(
     rows = list(csv.DictReader((out / "setpoints.csv").read_text().splitlines()))
     assert (rows[0]["a_edge"], rows[-1]["b_edge"]) != ("", "")
     assert math.isclose(float(rows[-1]["time"]), summary["makespan"], abs_tol=0.011)
+
+
+def test_plan_prints_the_bound_with_the_speed_limits(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """`mpa plan` on the Y with a slow branch: B alone needs 8 s, so the bound is 8 s and the plan is optimal."""
+    import json
+
+    from trajopt.cli import main
+
+    layout = {
+        "edges": [
+            {"name": "b_short", "from": "J", "to": "short", "length": 1.0, "oneway": True},
+            {"name": "b_left", "from": "left", "to": "J", "length": 2.0},
+            {"name": "b_right", "from": "J", "to": "right", "length": 3.0, "speed_limit": 0.5},
+        ]
+    }
+    path = tmp_path / "y.json"
+    path.write_text(json.dumps(layout))
+    argv = ["plan", "--graph", str(path), "--start", "left", "right", "--goal", "short", "left", "--clearance", "0.5"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "makespan   8 s" in out, out
+    assert "no motion under them beats 8 s (this plan at most 0 s above the optimum)" in out, out

@@ -9,7 +9,7 @@ import os
 import numpy as np
 import pytest
 
-from mpa import InvalidInputError, Lollipop
+from mpa import InvalidInputError, Lollipop, MPAError
 from trajopt import generate_trajectory
 from trajopt.pvt import (
     PVT_COLUMNS,
@@ -107,35 +107,77 @@ def test_failing_interval_names_the_largest_that_works(canon, tmp_path) -> None:
     # the failure is real: the reconstruction's velocity exceeds vmax somewhere
     _, vpk, _, _ = reconstruction(canon, pvt_rows(canon, 0.5))
     assert np.any(vpk > canon.limits.v * (1 + LIMIT_RTOL))
-    with pytest.raises(InvalidInputError, match=r"PVT interval 0\.5 s.*largest interval that works is 0\.1 s"):
+    with pytest.raises(InvalidInputError, match=r"PVT interval 0\.5 s.*largest interval that works is 0\.2 s"):
         write_pvt(canon, tmp_path / "pvt.csv", 0.5)
     assert list(tmp_path.iterdir()) == []
-    assert largest_pvt_interval(canon, 0.5) == 0.1
-    assert check_pvt(canon, 0.1).ok and not check_pvt(canon, 0.2).ok
+    assert largest_pvt_interval(canon, 0.5) == 0.2
+    # 0.2 s passes, the round intervals between it and 0.5 s do not
+    assert check_pvt(canon, 0.2).ok and not check_pvt(canon, 0.25).ok and not check_pvt(canon, 0.4).ok
 
 
-def test_off_grid_motion_needs_a_stretch(tight, tmp_path) -> None:  # type: ignore[no-untyped-def]
-    chk = check_pvt(tight, 0.1)
-    assert not chk.ok and any("|a|" in f for f in chk.failures)
-    _, _, apk, _ = reconstruction(tight, pvt_rows(tight, 0.1))
-    assert np.any(apk > tight.limits.a * (1 + LIMIT_RTOL)), apk  # the overshoot is real
-    assert largest_pvt_interval(tight, 0.1) is None
-    with pytest.raises(InvalidInputError, match=r"no interval >= 1 ms works; 0\.1 s works with the motion slowed"):
-        pvt_table(tight, 0.1)
-    k = smallest_pvt_stretch(tight, 0.1)
-    assert k is not None and 1.0 < k <= 1.1
-    tab = write_pvt(tight, tmp_path / "pvt.csv", 0.1, max_stretch=1.1)
-    assert tab.stretch == k
-    assert tab.t[-1] == pytest.approx(k * tight.motion_time, rel=1e-12)
+def test_off_grid_motion_gets_fitted_row_velocities(tight, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """Phases off the grid: the cubics through exact samples overshoot amax; the fitted velocities keep it."""
+    exact = pvt_rows(tight, 0.1, fit=False)
+    _, _, apk, _ = reconstruction(tight, exact)
+    assert np.any(apk > tight.limits.a * (1 + LIMIT_RTOL)), apk  # the overshoot of exact samples is real
+    assert exact.velocity_change == 0.0
+    tab = write_pvt(tight, tmp_path / "pvt.csv", "auto")
+    assert tab.interval == 0.1 and tab.stretch == 1.0
+    assert 0.0 < tab.velocity_change < 0.01, tab.velocity_change
     d, vpk, apk, jpk = reconstruction(tight, tab)
     lim = tight.limits
     assert d.min() >= tight.clearance - 1e-9
+    assert np.all(vpk <= lim.v * (1 + LIMIT_RTOL)) and np.all(apk <= lim.a * (1 + LIMIT_RTOL)), (vpk, apk)
+    assert np.all(jpk <= lim.j * (1 + LIMIT_RTOL)), jpk
+    # positions at the rows are the motion's; velocities moved by at most velocity_change
+    np.testing.assert_array_equal(tab.t, exact.t)
+    np.testing.assert_array_equal(tab.s, exact.s)
+    assert np.max(np.abs(tab.v - exact.v)) == tab.velocity_change
+    assert tab.v[0].tolist() == [0.0, 0.0] and tab.v[-1].tolist() == [0.0, 0.0]
+
+
+def test_stretch_samples_the_same_path(canon, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """An interval no fit rescues (0.5 s) works with the motion slowed: the rows sample s(t/k)."""
+    with pytest.raises(InvalidInputError, match=r"0\.5 s works with the motion slowed"):
+        pvt_table(canon, 0.5)
+    k = smallest_pvt_stretch(canon, 0.5)
+    assert k is not None and 1.0 < k <= 1.1
+    tab = write_pvt(canon, tmp_path / "pvt.csv", 0.5, max_stretch=1.1)
+    assert tab.stretch == k
+    assert tab.t[-1] == pytest.approx(k * canon.motion_time, rel=1e-12)
+    d, vpk, apk, jpk = reconstruction(canon, tab)
+    lim = canon.limits
+    assert d.min() >= canon.clearance - 1e-9
     assert np.all(vpk <= lim.v * (1 + LIMIT_RTOL)) and np.all(apk <= lim.a * (1 + LIMIT_RTOL))
     assert np.all(jpk <= lim.j * (1 + LIMIT_RTOL))
-    # the stretched rows sample the same path
-    s, v, _, _ = tight.sampler(tab.t[1:-1] / k)
+    s, v, _, _ = canon.sampler(tab.t[1:-1] / k)
     np.testing.assert_allclose(tab.s[1:-1], s, atol=1e-12)
-    np.testing.assert_allclose(tab.v[1:-1], v / k, atol=1e-12)
+    np.testing.assert_allclose(tab.v[1:-1], v / k, atol=tab.velocity_change + 1e-12)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_auto_interval_on_random_queries_and_limits(seed) -> None:  # type: ignore[no-untyped-def]
+    """Seeded queries with limits drawn off any round grid: auto finds an interval and its cubics keep
+    clearance and limits (independent dense check)."""
+    rng = np.random.default_rng(seed)
+    for _ in range(20):
+        st, gl = rng.uniform(0.0, 2.0, 2), rng.uniform(0.0, 2.0, 2)
+        try:
+            traj = generate_trajectory(
+                L, tuple(st), tuple(gl), vmax=rng.uniform(0.2, 0.8), amax=rng.uniform(0.3, 1.5), jmax=rng.uniform(1, 8)
+            )
+        except MPAError:  # a query with no motion: draw another
+            continue
+        break
+    else:
+        pytest.fail(f"seed {seed}: no query with a motion")
+    tab = pvt_table(traj, "auto")
+    d, vpk, apk, jpk = reconstruction(traj, tab)
+    lim = traj.limits
+    info = (seed, st, gl, lim, tab.interval, tab.velocity_change)
+    assert d.min() >= traj.clearance - 1e-9, info
+    assert np.all(vpk <= lim.v * (1 + LIMIT_RTOL)) and np.all(apk <= lim.a * (1 + LIMIT_RTOL)), (info, vpk, apk)
+    assert np.all(jpk <= lim.j * (1 + LIMIT_RTOL)), (info, jpk)
 
 
 def test_separation_cut_by_the_cubic_is_caught() -> None:

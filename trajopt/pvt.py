@@ -12,6 +12,16 @@ Rows
     noise), so every interval lies in ``[Δ/100, 1.01·Δ]``. Columns ``time, a_s, a_v, b_s, b_v``
     (route coordinates and their velocities, as in the CSV).
 
+Row velocities
+    Positions are exact samples of the motion. Velocities are exact samples too unless the drive's cubics
+    through them break a limit: a Hermite cubic through exact samples of a jerk-limited motion that uses its
+    acceleration limit overshoots it by about ``jmax·Δ/7`` wherever a jerk phase begins inside a piece
+    (measured on the Y-junction swap, vmax 0.5, amax 1, jmax 5: +7.3 % at Δ = 0.1 s, +0.067 % at 1 ms), so no
+    interval would keep the limit. Then the velocities at the inner rows are moved, as little as possible in
+    L1, until every piece keeps ``vmax``, ``amax`` and ``jmax`` (:func:`fit_row_velocities`; the Y swap at
+    0.1 s: at most 3.6 mm/s); :attr:`PVTTable.velocity_change` reports the largest change. The positions at
+    the rows stay exact and the gate below checks the clearance of the reconstruction between them.
+
 The check (:func:`check_pvt`)
     On the piece ``[t_k, t_k+1]`` of length ``h`` the cubic is ``s(τ) = c0 + c1τ + c2τ² + c3τ³`` with
     ``c2 = (3Δs/h − 2v_k − v_k+1)/h``, ``c3 = (v_k + v_k+1 − 2Δs/h)/h²``. Its velocity is quadratic (checked at
@@ -39,13 +49,10 @@ Largest interval
     the command line's default) takes that interval below :data:`DEFAULT_INTERVAL`.
 
 Time stretch (optional)
-    A Hermite cubic through exact samples overshoots the motion's peak velocity and acceleration by O(jmax·Δ)
-    wherever a phase of the jerk-limited profile starts inside an interval (measured: +5.5 % acceleration at
-    Δ = 0.1 s, +0.55 % at 0.01 s for vmax 0.4, amax 0.8, jmax 3), so a motion that uses its limits fully
-    passes only when its phases fall on the grid. ``max_stretch > 1`` lets :func:`pvt_table` sample the same
-    path ``k`` times slower (``s(t/k)``, ``v/k``; the path, hence clearance and homotopy class, unchanged) with
-    the smallest ``k`` of :data:`STRETCHES` that passes; the table reports ``stretch``. The default (1) is
-    strict: the rows are the motion itself or an error.
+    When an interval still fails (the fitted velocities cannot keep the limits, or the reconstruction leaves
+    the clearance), ``max_stretch > 1`` lets :func:`pvt_table` sample the same path ``k`` times slower
+    (``s(t/k)``, ``v/k``; the path, hence clearance and homotopy class, unchanged) with the smallest ``k`` of
+    :data:`STRETCHES` that passes; the table reports ``stretch``. The default (1) keeps the motion's timing.
 """
 
 from __future__ import annotations
@@ -70,6 +77,7 @@ __all__ = [
     "PVTCheck",
     "PVTTable",
     "check_pvt",
+    "fit_row_velocities",
     "hermite_eval",
     "largest_pvt_interval",
     "pvt_knots",
@@ -81,6 +89,7 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
 #: Columns of the PVT file.
 PVT_COLUMNS = ("time", "a_s", "a_v", "b_s", "b_v")
 #: Default interval (s); the largest ``"auto"`` takes.
@@ -105,6 +114,9 @@ class PVTTable:
     interval: float
     stretch: float = 1.0
     """Time-stretch factor k >= 1: the rows sample ``s(t/k)`` (the same path, k times slower)."""
+    velocity_change: float = 0.0
+    """Largest change (m/s) of a row velocity from the motion's made by :func:`fit_row_velocities` (0: the rows
+    are exact samples)."""
 
     @property
     def motion_time(self) -> float:
@@ -233,10 +245,123 @@ def hermite_eval(
     return s, v, a, j
 
 
-def pvt_rows(trajectory: Trajectory, interval: float, stretch: float = 1.0) -> PVTTable:
+#: Factor on each limit in :func:`fit_row_velocities`: a motion may touch its limits (a cruise at ``vmax``
+#: makes the mean velocity of a piece ``vmax``), and this plus the LP solver's feasibility tolerance (1e-7,
+#: limits scaled to 1) stays inside :data:`trajopt.verify.LIMIT_RTOL`.
+FIT_SHARE = 1.0 + 1e-7
+#: Rounds of velocity cuts added at the pieces' velocity vertices (:func:`fit_row_velocities`).
+FIT_ROUNDS = 12
+
+
+def fit_row_velocities(
+    t: FloatArray, s: FloatArray, v: FloatArray, vmax: float, amax: float, jmax: float
+) -> FloatArray | None:
+    """Row velocities, closest in L1 to ``v``, whose Hermite cubics keep the limits, positions ``s`` fixed.
+
+    Between two rows a PVT drive follows the cubic with the rows' positions and velocities. Through *exact*
+    samples of a jerk-limited motion that uses its acceleration limit, that cubic overshoots it wherever a jerk
+    phase begins inside a piece (its acceleration is linear, the motion's is not): by about ``jmax·Δ/7``, so no
+    interval down to 1 ms keeps ``amax``. With the positions kept, the velocities at the inner rows are free;
+    this solves the linear program
+
+        minimise   Σ_k |w_k − v_k|
+        subject to |a| ≤ amax at both ends of every piece (a is linear on a piece), |6·c3| ≤ jmax,
+                   |w_k| ≤ vmax, the cubic's velocity ≤ vmax inside each piece (cuts at τ/h = 1/4, 1/2, 3/4,
+                   then at and around each violated vertex, up to :data:`FIT_ROUNDS` rounds),
+
+    with the first and last velocities fixed (at rest, or the state a re-plan starts from).
+
+    Parameters
+    ----------
+    t : ndarray, shape (M,)
+        Row times (s), increasing.
+    s, v : ndarray, shape (M,)
+        One robot's row positions (m) and the motion's velocities there (m/s).
+    vmax, amax, jmax : float
+        The robot's limits (m/s, m/s², m/s³).
+
+    Returns
+    -------
+    ndarray, shape (M,) or None
+        The velocities (m/s), or None when the program is infeasible or its solution still breaks a limit.
+    """
+    from scipy.optimize import linprog
+    from scipy.sparse import coo_matrix, vstack
+
+    m = len(t)
+    if m < 3:
+        return None
+    h = np.diff(t)
+    d = np.diff(s) / h
+    k = np.arange(m - 1)
+    vl, al, jl = vmax * FIT_SHARE, amax * FIT_SHARE, jmax * FIT_SHARE
+    rows: list[tuple[FloatArray, FloatArray, FloatArray, IntArray]] = []  # (coef_k, coef_k1, rhs, piece index)
+    # a at the piece's start (6d - 4w_k - 2w_k+1)/h and end (-6d + 2w_k + 4w_k+1)/h, each within ±amax, in amax units
+    for ck, ck1, cd in ((-4.0, -2.0, 6.0), (2.0, 4.0, -6.0)):
+        for sign in (1.0, -1.0):
+            rows.append((sign * ck / (h * al), sign * ck1 / (h * al), 1.0 - sign * cd * d / (h * al), k))
+    # jerk 6(w_k + w_k+1 - 2d)/h² within ±jmax, in jmax units
+    for sign in (1.0, -1.0):
+        g = 6.0 / (h * h * jl)
+        rows.append((sign * g, sign * g, 1.0 + sign * 2.0 * d * g, k))
+
+    def vel_rows(u: FloatArray, idx: IntArray) -> list[tuple[FloatArray, FloatArray, FloatArray, IntArray]]:
+        bk, bk1, bd = 1.0 - 4.0 * u + 3.0 * u * u, -2.0 * u + 3.0 * u * u, 6.0 * u - 6.0 * u * u
+        dd = d[idx]
+        return [(sg * bk / vl, sg * bk1 / vl, 1.0 - sg * bd * dd / vl, idx) for sg in (1.0, -1.0)]
+
+    for u in (0.25, 0.5, 0.75):
+        rows += vel_rows(np.full(m - 1, u), k)
+    bounds = np.column_stack([np.full(m, -vl), np.full(m, vl)])
+    bounds[0] = v[0]
+    bounds[-1] = v[-1]
+    w = v.copy()
+    for _ in range(FIT_ROUNDS):
+        coef_k = np.concatenate([r[0] for r in rows])
+        coef_k1 = np.concatenate([r[1] for r in rows])
+        rhs = np.concatenate([r[2] for r in rows])
+        piece = np.concatenate([r[3] for r in rows])
+        nr = len(rhs)
+        # variables: w (m), e (m) with e >= |w - v|
+        ri = np.concatenate([np.arange(nr), np.arange(nr)])
+        ci = np.concatenate([piece, piece + 1])
+        a_ub = coo_matrix((np.concatenate([coef_k, coef_k1]), (ri, ci)), shape=(nr, 2 * m))
+        eye = np.arange(m)
+        dev = coo_matrix(
+            (
+                np.concatenate([np.ones(m), -np.ones(m), -np.ones(m), -np.ones(m)]),
+                (np.concatenate([eye, eye, eye + m, eye + m]), np.concatenate([eye, eye + m, eye, eye + m])),
+            ),
+            shape=(2 * m, 2 * m),
+        )
+        a_all = vstack([a_ub, dev]).tocsr()
+        b_all = np.concatenate([rhs, v, -v])
+        cost = np.concatenate([np.zeros(m), np.ones(m)])
+        bnd = np.vstack([bounds, np.column_stack([np.zeros(m), np.full(m, np.inf)])])
+        res = linprog(cost, A_ub=a_all, b_ub=b_all, bounds=bnd, method="highs")
+        if res.status != 0:
+            return None
+        w = np.asarray(res.x[:m], dtype=float)
+        w[0], w[-1] = v[0], v[-1]
+        c2 = (3.0 * d - 2.0 * w[:-1] - w[1:]) / h
+        c3 = (w[:-1] + w[1:] - 2.0 * d) / (h * h)
+        tau = np.where(c3 != 0, -c2 / np.where(c3 != 0, 3.0 * c3, 1.0), -1.0)
+        inside = (tau > 0) & (tau < h)
+        vv = np.where(inside, w[:-1] + tau * (2.0 * c2 + 3.0 * tau * c3), 0.0)
+        bad = np.nonzero(inside & (np.abs(vv) > vmax * (1.0 + LIMIT_RTOL / 4)))[0]
+        if not len(bad):
+            return w
+        for du in (0.0, -1 / 64, 1 / 64, -1 / 16, 1 / 16):
+            rows += vel_rows(np.clip(tau[bad] / h[bad] + du, 0.0, 1.0), bad)
+    return None
+
+
+def pvt_rows(trajectory: Trajectory, interval: float, stretch: float = 1.0, *, fit: bool = True) -> PVTTable:
     """The PVT rows at ``interval`` (s) of the motion stretched ``stretch`` times, *unchecked* (see
     :func:`pvt_table`). Row times :func:`pvt_knots`; first row ``s = 0``, last the goal; both ``v = 0``
-    (the first row keeps its velocity if the trajectory starts moving: a re-plan, :mod:`trajopt.replan`)."""
+    (the first row keeps its velocity if the trajectory starts moving: a re-plan, :mod:`trajopt.replan`).
+    With ``fit`` (the default) a robot whose cubics through the exact samples break a limit gets the row
+    velocities of :func:`fit_row_velocities` when that program has a solution; ``fit=False``: exact samples."""
     t = pvt_knots(trajectory.motion_time * stretch, interval)
     s, v, _a, _j = trajectory.sampler(np.minimum(t / stretch, trajectory.motion_time))
     s, v = np.array(s, dtype=float), np.array(v, dtype=float) / stretch
@@ -245,7 +370,19 @@ def pvt_rows(trajectory: Trajectory, interval: float, stretch: float = 1.0) -> P
     v[-1] = 0.0
     s[0] = 0.0
     s[-1] = trajectory.s[-1]
-    return PVTTable(t=t, s=s, v=v, interval=interval, stretch=stretch)
+    tab = PVTTable(t=t, s=s, v=v, interval=interval, stretch=stretch)
+    lim = trajectory.limits
+    vmax, amax, jmax = _piece_peaks(tab)
+    change = 0.0
+    for r in (0, 1) if fit else ():
+        limits = (lim.v[r], lim.a[r], lim.j[r])
+        if all(val <= limit * (1 + LIMIT_RTOL / 2) for val, limit in zip((vmax[r], amax[r], jmax[r]), limits)):
+            continue
+        w = fit_row_velocities(t, s[:, r], v[:, r], *limits)
+        if w is not None:
+            change = max(change, float(np.max(np.abs(w - v[:, r]))))
+            v[:, r] = w
+    return PVTTable(t=t, s=s, v=v, interval=interval, stretch=stretch, velocity_change=change)
 
 
 def check_pvt(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, stretch: float = 1.0) -> PVTCheck:

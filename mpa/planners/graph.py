@@ -139,8 +139,9 @@ class GraphPlan:
     length : float
         Euclidean length in the plane of offsets (metres).
     lower_bound : float or None
-        On a track with lane rules (:mod:`mpa.planners.rules`): the optimum of the query without the rules (seconds
-        for ``"fastest"``, metres for ``"shortest"``), a lower bound of the optimum under them; None otherwise.
+        On a track with lane rules (:mod:`mpa.planners.rules`): a lower bound of the optimum under them, the optimum
+        of the query without the rules (seconds for ``"fastest"``, metres for ``"shortest"``) and, for
+        ``"fastest"``, at least each robot's least time alone under the rules; None otherwise.
     """
 
     track: GraphTrack

@@ -29,9 +29,10 @@ seconds (``"fastest"``, with the tie-breaks of :mod:`mpa.planners.graph`) or its
 found bends only at the points above; it is then improved by sliding each face crossing along its face (coordinate
 descent, every rule kept, :func:`_smooth`), and replaced by the exact optimum without the rules (also smoothed) when
 that one keeps the one-way rule and costs less. The result is exact in its time at the speed limits but not proven
-optimal. Its distance from the optimum is bounded per plan: the plan records as ``lower_bound`` the optimum of the
-same query without the rules (:func:`mpa.planners.graph.plan_graph`'s exact search at the speeds ``(vA, vB)``),
-which no motion under the rules can beat.
+optimal. Its distance from the optimum is bounded per plan: the plan records as ``lower_bound`` the larger of the
+optimum of the same query without the rules (:func:`mpa.planners.graph.plan_graph`'s exact search at the speeds
+``(vA, vB)``) and, for ``"fastest"``, each robot's least time alone under the rules (:func:`single_robot_time`:
+its own fastest route with the speed limits and one-way lanes); no motion under the rules can beat either.
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ from mpa.errors import NoMotionError, PlanningError
 from mpa.freespace import FreeSpace, PolygonId
 from mpa.graph_track import GraphTrack, Position
 
-__all__ = ["plan_with_rules"]
+__all__ = ["plan_with_rules", "single_robot_time"]
 
 Coords = tuple[float, float]
 
@@ -56,6 +57,65 @@ def _cell_speeds(tr: GraphTrack, va: float, vb: float) -> tuple[list[float], lis
     """Per edge the speed of robot A and of robot B on it (m/s): their limit capped by the edge's."""
     lim = [math.inf if v is None else v for v in tr.speed_limits]
     return [min(va, x) for x in lim], [min(vb, x) for x in lim]
+
+
+def single_robot_time(tr: GraphTrack, start: Position, goal: Position, speed: float) -> float:
+    """The least time (s) one robot alone needs from ``start`` to ``goal`` under the track's rules.
+
+    Dijkstra over the vertices, an edge ``e`` costing ``length / min(speed, v_e)`` and usable only from ``from`` to
+    ``to`` when one-way; a move along the start's edge straight to the goal counts when both are on it. ``inf``
+    when the one-way lanes leave no way. Both robots of a plan must make their own journeys, so the larger of the
+    two times bounds the ``fastest`` makespan from below, speed limits included.
+
+    Parameters
+    ----------
+    tr : GraphTrack
+    start, goal : Position
+        ``(edge index, offset in metres)``.
+    speed : float
+        The robot's speed limit (m/s), > 0.
+    """
+    spd = [min(speed, math.inf if v is None else v) for v in tr.speed_limits]
+    tails, heads, lengths = tr.tails, tr.heads, tr.lengths
+    n = tr.graph.n_vertices
+    adj: list[list[tuple[int, float]]] = [[] for _ in range(n)]
+    for e in range(tr.n_edges):
+        t_e = float(lengths[e]) / spd[e]
+        adj[int(tails[e])].append((int(heads[e]), t_e))
+        if not tr.oneway[e]:
+            adj[int(heads[e])].append((int(tails[e]), t_e))
+
+    def ends(pos: Position, leaving: bool) -> list[tuple[int, float]]:
+        """(vertex, time) from ``pos`` to its edge's ends (``leaving``) or from the ends to ``pos``."""
+        e, x = pos
+        head = (int(heads[e]), (float(lengths[e]) - x) / spd[e])
+        tail = (int(tails[e]), x / spd[e])
+        # against a one-way lane only from or to the vertex the position is at (no motion on the lane)
+        if leaving:  # towards the head is forward
+            return [head] + ([tail] if not tr.oneway[e] or tail[1] == 0.0 else [])
+        return [tail] + ([head] if not tr.oneway[e] or head[1] == 0.0 else [])
+
+    best = math.inf
+    (es, xs), (eg, xg) = start, goal
+    if es == eg and (not tr.oneway[es] or xg >= xs):
+        best = abs(xg - xs) / spd[es]
+    dist = [math.inf] * n
+    heap: list[tuple[float, int]] = []
+    for v, t_v in ends(start, True):
+        if t_v < dist[v]:
+            dist[v] = t_v
+            heapq.heappush(heap, (t_v, v))
+    while heap:
+        d, u = heapq.heappop(heap)
+        if d > dist[u]:
+            continue
+        for w, t_e in adj[u]:
+            if d + t_e < dist[w]:
+                dist[w] = d + t_e
+                heapq.heappush(heap, (d + t_e, w))
+    for v, t_v in ends(goal, False):
+        best = min(best, dist[v] + t_v)
+    return best
 
 
 def _cost_function(tr: GraphTrack, objective: str, va: float, vb: float) -> Any:
@@ -352,6 +412,8 @@ def plan_with_rules(
     raw = _merge_same_polygon([x for x in raw if x[1] != x[2]])
     free = _assemble(tr, fs, start, goal, objective, speeds, raw)
     bound = free.makespan if objective == "fastest" else free.length
+    if objective == "fastest":  # each robot's own journey under the limits bounds the makespan too
+        bound = max(bound, single_robot_time(tr, start[0], goal[0], va), single_robot_time(tr, start[1], goal[1], vb))
     candidates = [smoothed(segs)]
     if all(allowed_path(tr, x) for x in raw):  # the optimum without the rules keeps the one-way rule: start there
         candidates.append(smoothed(raw))

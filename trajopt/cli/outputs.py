@@ -19,8 +19,9 @@ any work (:func:`check_output_options`); every file is computed (:func:`output_f
 (:func:`trajopt.cli.trajectory.write_outputs`).
 
 ``summary.json`` is :meth:`Trajectory.summary` plus ``files`` (what was written), ``pvt`` (interval, stretch,
-rows) and ``recipe``: the query that rebuilds the motion deterministically (``start``, ``goal``,
-``delay_tolerance`` and the chain of ``replans`` ``{at, goal}``), read by ``mpa replan --from DIR``.
+rows, ``velocity_change``: :attr:`trajopt.pvt.PVTTable.velocity_change`) and ``recipe``: the query that rebuilds
+the motion deterministically (``start``, ``goal``, ``delay_tolerance`` and the chain of ``replans``
+``{at, goal}``), read by ``mpa replan --from DIR``.
 """
 
 from __future__ import annotations
@@ -215,7 +216,13 @@ def output_files(traj: Trajectory, opts: OutputOptions, recipe: dict[str, Any]) 
                 raise InvalidInputError(str(exc).replace("PVT interval", "--pvt-interval", 1)) from None
             files[name] = tab.csv_text()
             auto = opts.pvt_interval == "auto"
-            extra["pvt"] = {"interval": tab.interval, "auto": auto, "stretch": tab.stretch, "rows": len(tab.t)}
+            extra["pvt"] = {
+                "interval": tab.interval,
+                "auto": auto,
+                "stretch": tab.stretch,
+                "rows": len(tab.t),
+                "velocity_change": tab.velocity_change,
+            }
     if opts.plot:
         from trajopt.viz.layout_run import trajectory_figure
         from trajopt.viz.plotting import figure_png

@@ -229,7 +229,7 @@ def _print_graph_plan(p: GraphPlan, args: argparse.Namespace) -> int:
         value = p.makespan if p.objective == "fastest" else p.length
         print(
             f"rules      {sum(tr.oneway)} one-way, {sum(v is not None for v in tr.speed_limits)} speed-limited edges; "
-            f"without them the optimum is {p.lower_bound:.4g} {unit} (this plan at most "
+            f"no motion under them beats {p.lower_bound:.4g} {unit} (this plan at most "
             f"{max(0.0, value - p.lower_bound):.4g} {unit} above the optimum)"
         )
     return 0
