@@ -13,7 +13,7 @@ import pytest
 import mpa
 from mpa import Disc, GraphTrack, InvalidInputError, NoMotionError, Rectangle
 from tests.planar_checker import depth_many, overlap_depth
-from tests.test_footprints import DEPTH_TOL, drawn_of, fp_tuple, random_layout
+from tests.test_footprints import DEPTH_TOL, drawn_of, fp_tuple, passing_loop, random_layout
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "tracks"
 DRAWN_EXAMPLES = ("passing_loop.json", "rail_yard.json", "two_sidings.json", "y_junction.json", "warehouse.json")
@@ -149,3 +149,35 @@ def test_trajectories_never_overlap_at_and_between_rows_independent_check() -> N
 @pytest.mark.slow
 def test_thousand_trajectories_never_overlap_independent_check() -> None:
     assert _trajectories(1000, seed=8) >= 300
+
+
+def test_a_robot_passing_straight_through_a_switch_keeps_its_heading_there() -> None:
+    """The case of seed 21: B passes the switch SE straight (main to east, heading 0) while A waits on the siding's
+    diagonal, touching B's body at heading 0. Turned to the siding's heading B would overlap A by centimetres; the
+    model never turns it there, so the checker along the motion finds no overlap, and still finds the overlap of a
+    B that arrives on main and leaves onto the siding."""
+    tr = GraphTrack.from_layout(passing_loop(0.8, 3.0, 30.0))
+    dr = drawn_of(tr)
+    fp = (2.0, 0.8)
+    main, siding, east = (tr.edge_names.index(n) for n in ("main", "siding", "east"))
+    lm, ls = float(tr.lengths[main]), float(tr.lengths[siding])
+    b_at_se = (main, lm)
+
+    def depth_at_heading_0(o: float) -> float:
+        return overlap_depth(dr, fp, (siding, o), fp, b_at_se, heads_b=[0.0])
+
+    lo, hi = 0.0, ls  # A's offset on the siding where it just touches B (heading 0) at SE, by bisection
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if depth_at_heading_0(mid) > 0.0 else (mid, hi)
+    a = (siding, lo)
+    assert depth_at_heading_0(lo) == 0.0 and depth_at_heading_0(lo + 1e-3) > 0.0
+    every = overlap_depth(dr, fp, a, fp, b_at_se)  # B in every orientation at SE, the siding's included
+    assert every > 0.05, every
+    ea, oa = np.full(3, siding), np.full(3, lo)
+    straight = depth_many(dr, fp, fp, ea, oa, np.array([main, main, east]), np.array([lm - 1e-3, lm, 1e-3]), along=True)
+    assert float(straight.max()) <= DEPTH_TOL, straight
+    turning = depth_many(
+        dr, fp, fp, ea, oa, np.array([main, main, siding]), np.array([lm - 1e-3, lm, ls - 1e-3]), along=True
+    )
+    assert turning[1] > 0.05, turning
