@@ -107,8 +107,8 @@ def test_thousands_of_plans_never_overlap_independent_check() -> None:
 
 
 def test_hundreds_of_plans_never_overlap_independent_check() -> None:
-    # the drawn passing loop, rail yard and two sidings and three random sidings; a disc and the large rectangle
-    layouts = [0, 1, 2, len(DRAWN_EXAMPLES), len(DRAWN_EXAMPLES) + 1, len(DRAWN_EXAMPLES) + 2]
+    # the drawn passing loop, rail yard and Y junction and three random sidings; a disc and the large rectangle
+    layouts = [0, 1, 3, len(DRAWN_EXAMPLES), len(DRAWN_EXAMPLES) + 1, len(DRAWN_EXAMPLES) + 2]
     planned, refused = _plans(200, 5, layouts, [1, 3], [0.0, 0.5])
     assert planned >= 40, (planned, refused)
 
