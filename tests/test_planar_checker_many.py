@@ -100,7 +100,6 @@ def _plans(n: int, seed: int, layouts: list[int], fps: list[int], clearances: li
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(reason="not yet run with the along-the-motion checker", strict=False)
 def test_thousands_of_plans_never_overlap_independent_check() -> None:
     planned, refused = _plans(1000, 21, list(range(len(_tracks(0)))), [0, 1, 2, 3], [0.0, 0.5, 2.5])
     assert planned >= 200, (planned, refused)
