@@ -1,6 +1,12 @@
 """An independent checker of bodies in the plane, for the tests (shares no code with mpa.footprint, mpa.planar or
 trajopt.planar_gate): poses from the layout's own coordinates, discs exactly, rectangles as polygons with their own
-separating-axis distance, a robot on a corner in every orientation there."""
+separating-axis distance, a robot on a corner in every orientation there.
+
+Along a motion (``depth_many(..., along=True)``) a robot on a vertex takes the orientations of the edges it arrives
+on and leaves by, as the documented model says ("the body takes the orientation of the piece it is on", docs/graphs.md
+"Footprints in the plane"): a robot that passes straight through a switch (main to east) keeps the heading of main and
+east there and is never turned to the siding's diagonal, which meets the same vertex. Only a robot whose arrival or
+departure is not in the samples (a motion that starts or ends on the vertex) takes every orientation there."""
 
 from __future__ import annotations
 
@@ -28,6 +34,24 @@ class Drawn:
     def point(self, e: int, o: float) -> np.ndarray:
         pts, off = self.polys[e], self.offs[e]
         return np.array([np.interp(o, off, pts[:, 0]), np.interp(o, off, pts[:, 1])])
+
+    def vertex_of(self, e: int, o: float, tol: float) -> str | None:
+        """The vertex a robot at offset o of edge e stands on (within tol metres), None inside the edge."""
+        if o <= tol:
+            return str(self.ends[e][0])
+        if o >= self.offs[e][-1] - tol:
+            return str(self.ends[e][1])
+        return None
+
+    def end_headings(self, e: int, name: str) -> list[float]:
+        """The directions of edge e's pieces that meet vertex ``name`` (empty when e does not meet it)."""
+        p = self.polys[e]
+        out = []
+        if self.ends[e][0] == name:
+            out.append(math.atan2(*(p[1] - p[0])[::-1]))
+        if self.ends[e][1] == name:
+            out.append(math.atan2(*(p[-1] - p[-2])[::-1]))
+        return out
 
     def headings(self, e: int, o: float, tol: float = 1e-7) -> list[float]:
         """The directions of the polyline pieces at offset o: one inside a piece; all at a corner or vertex."""
@@ -117,14 +141,21 @@ def gap(
 
 
 def overlap_depth(
-    drawn: Drawn, fa: tuple[float, ...], pos_a: tuple[int, float], fb: tuple[float, ...], pos_b: tuple[int, float]
+    drawn: Drawn,
+    fa: tuple[float, ...],
+    pos_a: tuple[int, float],
+    fb: tuple[float, ...],
+    pos_b: tuple[int, float],
+    heads_a: list[float] | None = None,
+    heads_b: list[float] | None = None,
 ) -> float:
     """How deep the bodies overlap (0 if they do not): the smallest push apart over the separating axes (metres),
-    every orientation at a corner. Positive means overlap."""
+    every orientation at a corner unless ``heads_a`` / ``heads_b`` (radians) give the orientations. Positive means
+    overlap."""
     ca, cb = drawn.point(*pos_a), drawn.point(*pos_b)
     worst = 0.0
-    for ha in drawn.headings(*pos_a):
-        for hb in drawn.headings(*pos_b):
+    for ha in drawn.headings(*pos_a) if heads_a is None else heads_a:
+        for hb in drawn.headings(*pos_b) if heads_b is None else heads_b:
             pa = _shape(fa, ca, ha)
             pb = _shape(fb, cb, hb)
             worst = max(worst, _depth(pa, pb, ca, cb, fa, fb))
@@ -162,9 +193,16 @@ def depth_many(
     eb: np.ndarray,
     ob: np.ndarray,
     tol: float = 1e-7,
+    along: bool = False,
 ) -> np.ndarray:
     """:func:`overlap_depth` of many configurations at once (shape (N,)): vectorised for bodies inside a drawn
-    piece, the one-at-a-time code for a body on a corner or vertex (every orientation there)."""
+    piece, the one-at-a-time code for a body on a corner or vertex (every orientation there).
+
+    With ``along`` the N samples are consecutive instants of one motion: a robot on a vertex (within ``tol``
+    metres) takes the orientations of the edge it arrives on and the edge it leaves by (the nearest samples off that
+    vertex before and after), not those of every edge there; every orientation there where the motion starts or ends
+    on the vertex.
+    """
     ea, eb = np.asarray(ea, dtype=int), np.asarray(eb, dtype=int)
     oa, ob = np.asarray(oa, dtype=float), np.asarray(ob, dtype=float)
     ca, ha, corner_a = _poses(drawn, ea, oa, tol)
@@ -189,8 +227,44 @@ def depth_many(
             rb = 0.5 * fb[0] * np.abs(np.sum(ub * k, axis=1)) + 0.5 * fb[1] * np.abs(np.sum(nb * k, axis=1))
             depth = np.minimum(depth, ra + rb - np.abs(np.sum(d * k, axis=1)))
         out = np.maximum(0.0, depth)
+    pass_a = _passage_headings(drawn, ea, oa, tol) if along else {}
+    pass_b = _passage_headings(drawn, eb, ob, tol) if along else {}
     for i in np.nonzero(corner_a | corner_b)[0]:
-        out[i] = overlap_depth(drawn, fa, (int(ea[i]), float(oa[i])), fb, (int(eb[i]), float(ob[i])))
+        out[i] = overlap_depth(
+            drawn,
+            fa,
+            (int(ea[i]), float(oa[i])),
+            fb,
+            (int(eb[i]), float(ob[i])),
+            pass_a.get(int(i), drawn.headings(int(ea[i]), float(oa[i]), tol)),
+            pass_b.get(int(i), drawn.headings(int(eb[i]), float(ob[i]), tol)),
+        )
+    return out
+
+
+def _passage_headings(drawn: Drawn, e: np.ndarray, o: np.ndarray, tol: float) -> dict[int, list[float]]:
+    """Per sample on a vertex, the orientations of the edges a robot arrives on and leaves by: for each run of
+    consecutive samples on one vertex, the edges of the nearest samples off it before and after the run. A run at
+    either end of the motion, or next to a sample on an edge that does not meet the vertex, is left out (every
+    orientation there)."""
+    names = [drawn.vertex_of(int(k), float(x), tol) for k, x in zip(e, o)]
+    out: dict[int, list[float]] = {}
+    i, n = 0, len(names)
+    while i < n:
+        name = names[i]
+        if name is None:
+            i += 1
+            continue
+        j = i
+        while j + 1 < n and names[j + 1] == name:
+            j += 1
+        if i > 0 and j + 1 < n:
+            arrive = drawn.end_headings(int(e[i - 1]), name)
+            leave = drawn.end_headings(int(e[j + 1]), name)
+            if arrive and leave:
+                for k in range(i, j + 1):
+                    out[k] = arrive + leave
+        i = j + 1
     return out
 
 
