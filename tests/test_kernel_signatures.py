@@ -74,6 +74,7 @@ def test_each_kernel_is_compiled_for_one_argument_type() -> None:
         assert "'A'" not in s[0] and "'F'" not in s[0] and "int32" not in s[0] and "float32" not in s[0], (name, s)
 
 
+@pytest.mark.slow  # compiles every kernel in a fresh process (about 10 s)
 @pytest.mark.skipif(not HAVE_NUMBA, reason="numba is not installed: the kernels run as plain Python")
 def test_without_a_place_for_numbas_cache_the_kernels_compile_in_memory() -> None:
     # numba refuses cache=True where it finds no writable cache directory (a read-only install); an unknown

@@ -105,6 +105,7 @@ def test_thousands_of_plans_never_overlap_independent_check() -> None:
     assert planned >= 200, (planned, refused)
 
 
+@pytest.mark.slow  # about 30 s, nearly all of it planning (the checker itself takes about 3 s)
 def test_hundreds_of_plans_never_overlap_independent_check() -> None:
     # the drawn passing loop, rail yard and Y junction and three random sidings; a disc and the large rectangle
     layouts = [0, 1, 3, len(DRAWN_EXAMPLES), len(DRAWN_EXAMPLES) + 1, len(DRAWN_EXAMPLES) + 2]
