@@ -215,43 +215,63 @@ class PlanarFreeSpace:
         x = abs(float(d.piece_heading[p] - d.piece_heading[q])) % math.pi
         return min(x, math.pi - x) > 1e-12
 
-    def _turn_block(self, centre: FloatArray, reach: float, other: Any, pb: int) -> tuple[float, float] | None:
-        """Open interval of the other robot's offsets on piece ``pb`` where its body comes closer than ``reach`` to
-        ``centre`` (the turning body's sweep lies in that disc), None if it never does."""
+    def _reach_halfplanes(self, ax: int, pb: int) -> list[tuple[float, float, float]]:
+        """Half-planes ``a*x + b*y >= c`` of ``K = B ⊕ disc(reach)``: the other robot's body on piece ``pb`` (at
+        the origin) grown by the reach of robot ``ax`` (cached per ``(ax, pb)``: it does not depend on where the
+        turning robot stands)."""
+        memo: dict[tuple[int, int], list[tuple[float, float, float]]] = self.__dict__.setdefault("_reach_hp", {})
+        key = (ax, pb)
+        hp = memo.get(key)
+        if hp is None:
+            fp = self.footprints.a if ax == 0 else self.footprints.b
+            other = self.footprints.b if ax == 0 else self.footprints.a
+            hb = float(self.drawing.piece_heading[pb])
+            cb, sb = math.cos(hb), math.sin(hb)
+            kb = other.corners() @ np.array([[cb, sb], [-sb, cb]])
+            disc = Disc(fp.reach).corners()
+            k = _hull((kb[:, None, :] + disc[None, :, :]).reshape(-1, 2))
+            hp = memo[key] = _halfplanes([tuple(x) for x in k], 0.0)
+        return hp
+
+    def _turn_block(self, ax: int, turner: int, side: float, pb: int) -> tuple[float, float] | None:
+        """Open interval of the other robot's offsets on piece ``pb`` where its body comes closer than the reach of
+        robot ``ax`` to that robot's centre at offset ``side`` of piece ``turner`` (a turning body's sweep lies in
+        that disc), None if it never does (cached per arguments)."""
+        memo: dict[tuple[int, int, float, int], tuple[float, float] | None] = self.__dict__.setdefault("_blocks", {})
+        key = (ax, turner, side, pb)
+        if key in memo:
+            return memo[key]
         d = self.drawing
-        hb = float(d.piece_heading[pb])
-        cb, sb = math.cos(hb), math.sin(hb)
-        kb = other.corners() @ np.array([[cb, sb], [-sb, cb]])
-        disc = Disc(reach).corners()
-        k = _hull((kb[:, None, :] + disc[None, :, :]).reshape(-1, 2))
+        centre = d.piece_p0[turner] + (side - d.piece_s0[turner]) * d.piece_dir[turner]
         # overlap iff centre - q(t) in int K; q(t) = q0 + t*u
         u = d.piece_dir[pb]
         q0 = d.piece_p0[pb] - d.piece_s0[pb] * u
         lo, hi = -math.inf, math.inf
-        for a_, b_, c_ in _halfplanes([tuple(x) for x in k], 0.0):
+        out: tuple[float, float] | None = None
+        for a_, b_, c_ in self._reach_halfplanes(ax, pb):
             # a·(centre - q0 - t u) > c + tol
             alpha = -(a_ * u[0] + b_ * u[1])
             beta = a_ * (centre[0] - q0[0]) + b_ * (centre[1] - q0[1]) - c_ - self.tol
             if abs(alpha) <= 1e-15:
                 if beta <= 0.0:
-                    return None
+                    break
                 continue
             r = -beta / alpha
             if alpha > 0:
                 lo = max(lo, r)
             else:
                 hi = min(hi, r)
-        return (lo, hi) if lo < hi else None
+        else:
+            out = (lo, hi) if lo < hi else None
+        memo[key] = out
+        return out
 
     def _turn_filter(self, ax: int, side: float, turner_piece: int, other_piece: int, ys: list[float]) -> list[float]:
         """The portal values ``ys`` (the other robot's offsets) kept where the turning robot's sweep is clear."""
         fp = self.footprints.a if ax == 0 else self.footprints.b
-        other = self.footprints.b if ax == 0 else self.footprints.a
         if isinstance(fp, Disc):
             return ys
-        d = self.drawing
-        centre = d.piece_p0[turner_piece] + (side - d.piece_s0[turner_piece]) * d.piece_dir[turner_piece]
-        blk = self._turn_block(centre, fp.reach, other, other_piece)
+        blk = self._turn_block(ax, turner_piece, side, other_piece)
         if blk is None or not ys:
             return ys
         y0, y1 = min(ys), max(ys)
@@ -466,22 +486,14 @@ class PlanarFreeSpace:
         it may have either orientation, so its reach disc must stay clear of the other body."""
         e, f, _ = self.pieces[i].cell
         co = self._corner_offsets()
-        d = self.drawing
         for ax, edge in ((0, e), (1, f)):
             if c0[ax] != c1[ax] or c0[ax] not in co[edge]:
                 continue
             fp = self.footprints.a if ax == 0 else self.footprints.b
             if isinstance(fp, Disc):
                 continue
-            other = self.footprints.b if ax == 0 else self.footprints.a
             sub = self.pieces[i].sub
-            turner = sub[ax]
-            key = (ax, turner, c0[ax], sub[1 - ax])
-            memo = self.__dict__.setdefault("_blocks", {})
-            if key not in memo:
-                centre = d.piece_p0[turner] + (c0[ax] - d.piece_s0[turner]) * d.piece_dir[turner]
-                memo[key] = self._turn_block(centre, fp.reach, other, sub[1 - ax])
-            blk = memo[key]
+            blk = self._turn_block(ax, sub[ax], c0[ax], sub[1 - ax])
             if blk is None:
                 continue
             y0, y1 = sorted((c0[1 - ax], c1[1 - ax]))
