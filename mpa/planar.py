@@ -299,17 +299,28 @@ class PlanarFreeSpace:
         near = self._near_pairs()
         pieces: list[_Piece] = []
         eps = 1e-12 * max(1.0, float(self.track.lengths.max()))
+        ps0, ps1 = d.piece_s0.tolist(), d.piece_s1.tolist()
         for pid in base.polygon_ids:
             e, f, k = pid
-            bpoly = [tuple(x) for x in base.vertices(pid)]
+            bpoly: list[Coords] = [tuple(x) for x in base.vertices(pid).tolist()]
+            bs = [x[0] for x in bpoly]
+            lo_s, hi_s = min(bs), max(bs)
             for pa in d.edge_pieces[e]:
-                s0, s1 = float(d.piece_s0[pa]), float(d.piece_s1[pa])
-                ra = _clip(_clip(bpoly, 1.0, 0.0, s0), -1.0, 0.0, -s1)
+                s0, s1 = ps0[pa], ps1[pa]
+                # the clip to the drawing piece, skipped where it keeps or drops every vertex (the same result)
+                if hi_s < s0 or lo_s > s1:
+                    continue
+                ra = bpoly if s0 <= lo_s and hi_s <= s1 else _clip(_clip(bpoly, 1.0, 0.0, s0), -1.0, 0.0, -s1)
                 if not ra:
                     continue
+                ts = [x[1] for x in ra]
+                lo_t, hi_t = min(ts), max(ts)
                 for pb in d.edge_pieces[f]:
-                    t0, t1 = float(d.piece_s0[pb]), float(d.piece_s1[pb])
-                    r = _dedupe(_clip(_clip(ra, 0.0, 1.0, t0), 0.0, -1.0, -t1), eps)
+                    t0, t1 = ps0[pb], ps1[pb]
+                    if hi_t < t0 or lo_t > t1:
+                        continue
+                    rb = ra if t0 <= lo_t and hi_t <= t1 else _clip(_clip(ra, 0.0, 1.0, t0), 0.0, -1.0, -t1)
+                    r = _dedupe(rb, eps)
                     if not r:
                         continue
                     cell = (e, f, k)
@@ -379,7 +390,7 @@ class PlanarFreeSpace:
             )
             for x, y in zip(*np.nonzero(np.triu(ok, 1))):
                 i, j = idx[int(x)], idx[int(y)]
-                m = _meet(self.pieces[i].poly, self.pieces[j].poly, tol)
+                m = self._meet(i, j, tol)
                 if m:
                     pts = self._turn_points(i, j, _portal_points(m))
                     if pts:
@@ -437,10 +448,39 @@ class PlanarFreeSpace:
         self.component = np.array([labels.setdefault(r, len(labels)) for r in roots], dtype=np.int64)
         self.n_components = len(labels)
 
+    def _meet(self, i: int, j: int, tol: float) -> list[Coords] | None:
+        """:func:`_meet` of pieces ``i`` and ``j``, with each piece's area and half-planes computed once."""
+        cache = self.__dict__.setdefault("_meet_cache", {})
+        data = []
+        for k in (i, j):
+            c = cache.get(k)
+            if c is None:
+                pts = [tuple(x) for x in self.pieces[k].poly]
+                c = cache[k] = (pts, abs(_area(pts)), None)
+            data.append(c)
+        ai, aj = data[0][1], data[1][1]
+        small, big = (i, j) if ai <= aj else (j, i)
+        pts_b, area_b, hp_b = cache[big]
+        if len(pts_b) >= 3 and area_b > tol * tol:
+            if hp_b is None:
+                hp_b = _halfplanes(pts_b, tol)
+                cache[big] = (pts_b, area_b, hp_b)
+            out: list[Coords] = cache[small][0]
+            for a, b, c_ in hp_b:
+                out = _clip(out, a, b, c_)
+                if not out:
+                    return None
+            return out
+        return _meet(self.pieces[i].poly, self.pieces[j].poly, tol)
+
     def _box(self, i: int) -> tuple[float, float, float, float]:
-        d = self.drawing
-        pa, pb = self.pieces[i].sub
-        return float(d.piece_s0[pa]), float(d.piece_s1[pa]), float(d.piece_s0[pb]), float(d.piece_s1[pb])
+        """The sub-cell of piece ``i``: ``(s0, s1, t0, t1)`` offsets (metres) of its two drawing pieces."""
+        boxes = self.__dict__.get("_boxes")
+        if boxes is None:
+            d = self.drawing
+            s0, s1 = d.piece_s0.tolist(), d.piece_s1.tolist()
+            boxes = self._boxes = [(s0[a], s1[a], s0[b], s1[b]) for a, b in (p.sub for p in self.pieces)]
+        return boxes[i]
 
     def _clamp(self, i: int, j: int, c: Coords) -> Coords:
         """A shared point moved exactly into piece ``i``'s sub-cell (and ``j``'s, in the same cell): no point of a
