@@ -364,11 +364,16 @@ class PlanarFreeSpace:
                 x = parent[x]
             return x
 
+        cell2 = [p.cell[:2] for p in self.pieces]
+
         def link(i: int, j: int, pi: list[Coords], pj: list[Coords]) -> None:
-            pi = [self._clamp(i, j, c) for c in pi]
-            pj = [self._clamp(j, i, c) if self.pieces[i].cell[:2] != self.pieces[j].cell[:2] else c for c in pj]
-            if self.pieces[i].cell[:2] == self.pieces[j].cell[:2]:
+            s0, s1, t0, t1 = self._clamp_box(i, j)
+            pi = [(min(max(c[0], s0), s1), min(max(c[1], t0), t1)) for c in pi]
+            if cell2[i] == cell2[j]:
                 pj = pi
+            else:
+                s0, s1, t0, t1 = self._clamp_box(j, i)
+                pj = [(min(max(c[0], s0), s1), min(max(c[1], t0), t1)) for c in pj]
             self.adjacent[i].append((j, pi, pj))
             self.adjacent[j].append((i, pj, pi))
             ri, rj = find(i), find(j)
@@ -398,16 +403,33 @@ class PlanarFreeSpace:
         # faces: a robot on a vertex; key (axis, vertex, other edge) -> (piece, side value, lo, hi)
         faces: dict[tuple[Any, ...], list[tuple[int, float, float, float]]] = {}
         lengths = tr.lengths
-        for i, p in enumerate(self.pieces):
-            e, f, _ = p.cell
+        ls, tails, heads = lengths.tolist(), tr.tails.tolist(), tr.heads.tolist()
+        # every piece's vertices at once: owner piece, and per (axis, end of the edge) which pieces have vertices
+        # on that side and the range of the other robot's offsets there
+        verts = np.concatenate([p.poly for p in self.pieces]) if n else np.zeros((0, 2))
+        owner = np.repeat(np.arange(n), [len(p.poly) for p in self.pieces])
+        cells = np.array(cell2, dtype=np.int64).reshape(-1, 2)
+        near_end: dict[tuple[int, int], NDArray[np.bool_]] = {}
+        ext: dict[tuple[int, int], tuple[list[bool], list[float], list[float]]] = {}
+        for ax in (0, 1):
+            far = lengths[cells[owner, ax]]
+            for end in (0, 1):
+                on = np.abs(verts[:, ax] - (far if end else 0.0)) <= tol
+                near_end[ax, end] = on
+                lo_y, hi_y = np.full(n, math.inf), np.full(n, -math.inf)
+                np.minimum.at(lo_y, owner[on], verts[on, 1 - ax])
+                np.maximum.at(hi_y, owner[on], verts[on, 1 - ax])
+                has = np.bincount(owner[on], minlength=n) > 0
+                ext[ax, end] = (has.tolist(), lo_y.tolist(), hi_y.tolist())
+        for i in range(n):
+            e, f = cell2[i]
             for ax, edge, other in ((0, e, f), (1, f, e)):
-                col = p.poly[:, ax]
-                for side, w in ((0.0, int(tr.tails[edge])), (float(lengths[edge]), int(tr.heads[edge]))):
-                    on = np.abs(col - side) <= tol
-                    if not np.any(on):
+                for end in (0, 1):
+                    has_l, lo_l, hi_l = ext[ax, end]
+                    if not has_l[i]:
                         continue
-                    ys = p.poly[on, 1 - ax]
-                    faces.setdefault((ax, w, other), []).append((i, side, float(ys.min()), float(ys.max())))
+                    side, w = (ls[edge], heads[edge]) if end else (0.0, tails[edge])
+                    faces.setdefault((ax, w, other), []).append((i, side, lo_l[i], hi_l[i]))
         for (ax, _, _), items in faces.items():
             items.sort(key=lambda x: x[2])
             for x, (i, si, li, hi_) in enumerate(items):
@@ -432,11 +454,16 @@ class PlanarFreeSpace:
                     link(i, j, pi, pj)
         # corners: both robots on vertices
         corners: dict[tuple[int, int], list[tuple[int, Coords]]] = {}
-        for i, p in enumerate(self.pieces):
-            e, f, _ = p.cell
-            for sa, wa in ((0.0, int(tr.tails[e])), (float(lengths[e]), int(tr.heads[e]))):
-                for sb, wb in ((0.0, int(tr.tails[f])), (float(lengths[f]), int(tr.heads[f]))):
-                    if np.any((np.abs(p.poly[:, 0] - sa) <= tol) & (np.abs(p.poly[:, 1] - sb) <= tol)):
+        at_corner = {
+            (ea, eb): (np.bincount(owner[near_end[0, ea] & near_end[1, eb]], minlength=n) > 0).tolist()
+            for ea in (0, 1)
+            for eb in (0, 1)
+        }
+        for i in range(n):
+            e, f = cell2[i]
+            for ea, (sa, wa) in enumerate(((0.0, tails[e]), (ls[e], heads[e]))):
+                for eb, (sb, wb) in enumerate(((0.0, tails[f]), (ls[f], heads[f]))):
+                    if at_corner[ea, eb][i]:
                         corners.setdefault((wa, wb), []).append((i, (sa, sb)))
         for citems in corners.values():
             for x, (i, ci) in enumerate(citems):
@@ -482,9 +509,10 @@ class PlanarFreeSpace:
             boxes = self._boxes = [(s0[a], s1[a], s0[b], s1[b]) for a, b in (p.sub for p in self.pieces)]
         return boxes[i]
 
-    def _clamp(self, i: int, j: int, c: Coords) -> Coords:
-        """A shared point moved exactly into piece ``i``'s sub-cell (and ``j``'s, in the same cell): no point of a
-        path lies on another drawing piece than the one its sub-cell says (tolerances never flip an orientation)."""
+    def _clamp_box(self, i: int, j: int) -> tuple[float, float, float, float]:
+        """The box ``(s0, s1, t0, t1)`` a shared point of pieces ``i`` and ``j`` is moved into, exactly: piece
+        ``i``'s sub-cell (and ``j``'s, in the same cell), so that no point of a path lies on another drawing piece
+        than the one its sub-cell says (tolerances never flip an orientation)."""
         s0, s1, t0, t1 = self._box(i)
         if self.pieces[i].cell[:2] == self.pieces[j].cell[:2]:
             u0, u1, v0, v1 = self._box(j)
@@ -493,7 +521,7 @@ class PlanarFreeSpace:
                 s0 = s1 = 0.5 * (s0 + s1)
             if t0 > t1:
                 t0 = t1 = 0.5 * (t0 + t1)
-        return (min(max(c[0], s0), s1), min(max(c[1], t0), t1))
+        return s0, s1, t0, t1
 
     def _corner_offsets(self) -> list[dict[float, float]]:
         """Per edge: offsets where a body turns (polyline corners, ends at a vertex with several orientations)."""
