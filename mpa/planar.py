@@ -139,6 +139,23 @@ def _meet(p: FloatArray, q: FloatArray, tol: float) -> list[Coords] | None:
     return None
 
 
+def _clip_seq(poly: list[Coords], a: FloatArray, b: FloatArray, c: FloatArray) -> list[Coords]:
+    """``poly`` clipped by ``a[k]*s + b[k]*t >= c[k]`` for every ``k`` in order (:func:`mpa.freespace._clip`); a
+    half-plane that holds at every vertex leaves the polygon as it is and is skipped (tested for all at once, with
+    the same floating-point expression as the clip), so the result is the sequential clip's, exactly."""
+    k, n = 0, len(a)
+    while k < n and poly:
+        pv = np.asarray(poly, dtype=float)
+        f = a[k:, None] * pv[None, :, 0] + b[k:, None] * pv[None, :, 1] - c[k:, None]
+        cut = np.flatnonzero(~np.all(f >= 0.0, axis=1))
+        if not len(cut):
+            break
+        k += int(cut[0])
+        poly = _clip(poly, float(a[k]), float(b[k]), float(c[k]))
+        k += 1
+    return poly
+
+
 @dataclass(frozen=True)
 class _Piece:
     cell: tuple[int, int, int]  # (edge A, edge B, along-track piece k)
@@ -329,24 +346,22 @@ class PlanarFreeSpace:
                         pieces.append(_Piece(cell, sub, np.asarray(r, dtype=float)))
                         continue
                     hp = self._obstacle(int(pa), int(pb)) or []
-                    inner = r
-                    for a_, b_, c_ in hp:
-                        inner = _clip(inner, -a_, -b_, -c_)
-                        if not inner:
-                            break
+                    ha = np.array([h[0] for h in hp], dtype=float)
+                    hb = np.array([h[1] for h in hp], dtype=float)
+                    hc = np.array([h[2] for h in hp], dtype=float)
+                    inner = _clip_seq(r, -ha, -hb, -hc)
                     degenerate = abs(_area(r)) <= eps * eps
                     if not inner or (not degenerate and (_area(inner) <= eps * eps or len(_dedupe(inner, eps)) < 3)):
                         pieces.append(_Piece(cell, sub, np.asarray(r, dtype=float)))
                         continue
+                    rv = np.asarray(r, dtype=float)
+                    fr = ha[:, None] * rv[None, :, 0] + hb[:, None] * rv[None, :, 1] - hc[:, None]
+                    keeps_all, keeps_none = np.all(fr >= 0.0, axis=1), np.all(fr < 0.0, axis=1)
                     for i, (a_, b_, c_) in enumerate(hp):
-                        if abs(a_) + abs(b_) <= 1e-15:
-                            continue
-                        q = _clip(r, a_, b_, c_)
-                        for a2, b2, c2 in hp[:i]:
-                            if not q:
-                                break
-                            q = _clip(q, -a2, -b2, -c2)
-                        q = _dedupe(q, eps)
+                        if abs(a_) + abs(b_) <= 1e-15 or keeps_none[i]:
+                            continue  # (outside no vertex of r: the clip is empty)
+                        q = r if keeps_all[i] else _clip(r, a_, b_, c_)
+                        q = _dedupe(_clip_seq(q, -ha[:i], -hb[:i], -hc[:i]), eps)
                         if q:
                             pieces.append(_Piece(cell, sub, np.asarray(q, dtype=float)))
         self.pieces = pieces
