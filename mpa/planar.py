@@ -139,23 +139,6 @@ def _meet(p: FloatArray, q: FloatArray, tol: float) -> list[Coords] | None:
     return None
 
 
-def _clip_seq(poly: list[Coords], a: FloatArray, b: FloatArray, c: FloatArray) -> list[Coords]:
-    """``poly`` clipped by ``a[k]*s + b[k]*t >= c[k]`` for every ``k`` in order (:func:`mpa.freespace._clip`); a
-    half-plane that holds at every vertex leaves the polygon as it is and is skipped (tested for all at once, with
-    the same floating-point expression as the clip), so the result is the sequential clip's, exactly."""
-    k, n = 0, len(a)
-    while k < n and poly:
-        pv = np.asarray(poly, dtype=float)
-        f = a[k:, None] * pv[None, :, 0] + b[k:, None] * pv[None, :, 1] - c[k:, None]
-        cut = np.flatnonzero(~np.all(f >= 0.0, axis=1))
-        if not len(cut):
-            break
-        k += int(cut[0])
-        poly = _clip(poly, float(a[k]), float(b[k]), float(c[k]))
-        k += 1
-    return poly
-
-
 @dataclass(frozen=True)
 class _Piece:
     cell: tuple[int, int, int]  # (edge A, edge B, along-track piece k)
@@ -349,7 +332,11 @@ class PlanarFreeSpace:
                     ha = np.array([h[0] for h in hp], dtype=float)
                     hb = np.array([h[1] for h in hp], dtype=float)
                     hc = np.array([h[2] for h in hp], dtype=float)
-                    inner = _clip_seq(r, -ha, -hb, -hc)
+                    inner = r
+                    for a_, b_, c_ in hp:
+                        inner = _clip(inner, -a_, -b_, -c_)
+                        if not inner:
+                            break
                     degenerate = abs(_area(r)) <= eps * eps
                     if not inner or (not degenerate and (_area(inner) <= eps * eps or len(_dedupe(inner, eps)) < 3)):
                         pieces.append(_Piece(cell, sub, np.asarray(r, dtype=float)))
@@ -361,7 +348,11 @@ class PlanarFreeSpace:
                         if abs(a_) + abs(b_) <= 1e-15 or keeps_none[i]:
                             continue  # (outside no vertex of r: the clip is empty)
                         q = r if keeps_all[i] else _clip(r, a_, b_, c_)
-                        q = _dedupe(_clip_seq(q, -ha[:i], -hb[:i], -hc[:i]), eps)
+                        for a2, b2, c2 in hp[:i]:
+                            if not q:
+                                break
+                            q = _clip(q, -a2, -b2, -c2)
+                        q = _dedupe(q, eps)
                         if q:
                             pieces.append(_Piece(cell, sub, np.asarray(q, dtype=float)))
         self.pieces = pieces
@@ -687,14 +678,20 @@ def _portal_values(a0: float, a1: float) -> list[float]:
 
 
 def _portal_points(m: list[Coords]) -> list[Coords]:
-    arr = np.asarray(m, dtype=float)
-    c = tuple(arr.mean(axis=0))
-    if len(arr) == 1:
+    """The shared points of a glued pair: the centre of ``m`` and, when it has several points, the two farthest
+    apart (the first such pair in row-major order: the ends of a shared segment) around it."""
+    n = len(m)
+    c = (sum(float(x[0]) for x in m) / n, sum(float(x[1]) for x in m) / n)
+    if n == 1:
         return [c]
-    # the two points farthest apart (ends of a shared segment) and the centre
-    dd = np.hypot(arr[:, None, 0] - arr[None, :, 0], arr[:, None, 1] - arr[None, :, 1])
-    i, j = np.unravel_index(int(np.argmax(dd)), dd.shape)
-    return [tuple(arr[i]), c, tuple(arr[j])]
+    best, bi, bj = -1.0, 0, 0
+    for i in range(n):
+        xi, yi = m[i]
+        for j in range(n):
+            dd = float(np.hypot(xi - m[j][0], yi - m[j][1]))
+            if dd > best:
+                best, bi, bj = dd, i, j
+    return [(float(m[bi][0]), float(m[bi][1])), c, (float(m[bj][0]), float(m[bj][1]))]
 
 
 def bodies_gap(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Position) -> float:
