@@ -602,6 +602,18 @@ class PlanarFreeSpace:
         return float(np.hypot(*(pa - pb))) >= fa.reach + fb.reach - self.tol
 
     # ---------------------------------------------------------------------------------------- queries
+    def moves(self) -> list[list[tuple[Coords, tuple[int, Coords]]]]:
+        """Per piece its shared points with the glued pieces, flattened: ``(point in this piece, (neighbour, the
+        point in the neighbour's offsets))`` in the order of :attr:`adjacent` (built once; a repeated move relaxes
+        nothing the first one did not and is kept once)."""
+        mv = self.__dict__.get("_moves")
+        if mv is None:
+            mv = self._moves = [
+                list(dict.fromkeys((pi, (j, pj)) for j, pts_i, pts_j in row for pi, pj in zip(pts_i, pts_j)))
+                for row in self.adjacent
+            ]
+        return mv
+
     def names(self, pos: Position) -> list[Position]:
         """All ``(edge, offset)`` names of a position (several on a vertex)."""
         tr = self.track
@@ -777,6 +789,9 @@ def _search(
             hcache[key] = h
         return h
 
+    shortest = objective == "shortest"
+    bodies_turn = not (isinstance(space.footprints.a, Disc) and isinstance(space.footprints.b, Disc))
+    flat = space.moves()
     s_pl = space.placements(*start)
     g_pl = space.placements(*goal)
     goal_in: dict[int, list[Coords]] = {}
@@ -819,17 +834,27 @@ def _search(
                 prev[gk] = (key, i, c, gc)
                 heapq.heappush(heap, (ng, counter, gk))  # the goal's bound is 0
                 counter += 1
-        for j, pts_i, pts_j in space.adjacent[i]:
-            for pi, pj in zip(pts_i, pts_j):
-                if (rules and not _forward(tr, cell, c, pi)) or not space.segment_ok(i, c, pi):
-                    continue
-                ng = g + cost(cell, c, pi)
-                nk = (j, pj)
-                if ng < best.get(nk, math.inf) - 1e-15:
-                    best[nk] = ng
-                    prev[nk] = (key, i, c, pi)
-                    heapq.heappush(heap, (ng + bound(j, pj), counter, nk))
-                    counter += 1
+        # the moves to the shared points (cost inlined: the same expression as cost())
+        c0, c1 = c
+        va_i, vb_i = spa[cell[0]], spb[cell[1]]
+        for pi, nk in flat[i]:
+            if rules and not _forward(tr, cell, c, pi):
+                continue
+            ds, dt = abs(pi[0] - c0), abs(pi[1] - c1)
+            if shortest:
+                ng = g + math.hypot(ds, dt)
+            else:
+                ta, tb = ds / va_i, dt / vb_i
+                ng = g + (max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb))
+            if ng >= best.get(nk, math.inf) - 1e-15:
+                continue
+            # a move that keeps a robot still may turn its body on a corner (discs never need the check)
+            if bodies_turn and (pi[0] == c0 or pi[1] == c1) and not space.segment_ok(i, c, pi):
+                continue
+            best[nk] = ng
+            prev[nk] = (key, i, c, pi)
+            heapq.heappush(heap, (ng + bound(nk[0], nk[1]), counter, nk))
+            counter += 1
     del goal_key
     if found is None:
         return None
