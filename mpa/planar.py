@@ -632,13 +632,41 @@ class PlanarFreeSpace:
     def placements(self, pa: Position, pb: Position) -> list[tuple[int, Coords]]:
         """The free pieces holding the configuration, with its offsets in each (empty if it is not free)."""
         out = []
-        by_cell = self._by_cell()
         for ea, sa in self.names(pa):
             for eb, sb in self.names(pb):
-                for i in by_cell.get((ea, eb), ()):
-                    if _inside(self.pieces[i].poly, sa, sb, 10.0 * self.tol):
-                        out.append((i, (sa, sb)))
+                for i in self._inside_cell((ea, eb), sa, sb):
+                    out.append((i, (sa, sb)))
         return out
+
+    def _inside_cell(self, cell: tuple[int, int], s: float, t: float) -> list[int]:
+        """The pieces of ``cell`` (in :meth:`_by_cell` order) holding ``(s, t)``: :func:`_inside` with tolerance
+        ``10 * tol``, the half-planes of every piece of the cell tested at once (the same expression)."""
+        memo = self.__dict__.setdefault("_cell_tests", {})
+        tol = 10.0 * self.tol
+        data = memo.get(cell)
+        if data is None:
+            idx = self._by_cell().get(cell, [])
+            rows: list[tuple[float, float, float]] = []
+            owner: list[int] = []
+            degenerate = []
+            for k, i in enumerate(idx):
+                poly = self.pieces[i].poly
+                pts = [tuple(x) for x in poly]
+                if len(poly) <= 2 or abs(_area(pts)) <= tol * tol:
+                    degenerate.append(k)
+                    continue
+                hp = _halfplanes(pts, tol)
+                rows.extend(hp)
+                owner.extend([k] * len(hp))
+            arr = np.array(rows, dtype=float).reshape(-1, 3)
+            data = memo[cell] = (idx, arr[:, 0], arr[:, 1], arr[:, 2], np.array(owner, dtype=np.int64), degenerate)
+        idx, a, b, c, own, degenerate = data
+        if not idx:
+            return []
+        outside = np.bincount(own[a * s + b * t < c], minlength=len(idx)) > 0
+        for k in degenerate:
+            outside[k] = not _inside(self.pieces[idx[k]].poly, s, t, tol)
+        return [idx[k] for k in np.flatnonzero(~outside).tolist()]
 
     def _by_cell(self) -> dict[tuple[int, int], list[int]]:
         bc = getattr(self, "_bc", None)
