@@ -215,43 +215,63 @@ class PlanarFreeSpace:
         x = abs(float(d.piece_heading[p] - d.piece_heading[q])) % math.pi
         return min(x, math.pi - x) > 1e-12
 
-    def _turn_block(self, centre: FloatArray, reach: float, other: Any, pb: int) -> tuple[float, float] | None:
-        """Open interval of the other robot's offsets on piece ``pb`` where its body comes closer than ``reach`` to
-        ``centre`` (the turning body's sweep lies in that disc), None if it never does."""
+    def _reach_halfplanes(self, ax: int, pb: int) -> list[tuple[float, float, float]]:
+        """Half-planes ``a*x + b*y >= c`` of ``K = B ⊕ disc(reach)``: the other robot's body on piece ``pb`` (at
+        the origin) grown by the reach of robot ``ax`` (cached per ``(ax, pb)``: it does not depend on where the
+        turning robot stands)."""
+        memo: dict[tuple[int, int], list[tuple[float, float, float]]] = self.__dict__.setdefault("_reach_hp", {})
+        key = (ax, pb)
+        hp = memo.get(key)
+        if hp is None:
+            fp = self.footprints.a if ax == 0 else self.footprints.b
+            other = self.footprints.b if ax == 0 else self.footprints.a
+            hb = float(self.drawing.piece_heading[pb])
+            cb, sb = math.cos(hb), math.sin(hb)
+            kb = other.corners() @ np.array([[cb, sb], [-sb, cb]])
+            disc = Disc(fp.reach).corners()
+            k = _hull((kb[:, None, :] + disc[None, :, :]).reshape(-1, 2))
+            hp = memo[key] = _halfplanes([tuple(x) for x in k], 0.0)
+        return hp
+
+    def _turn_block(self, ax: int, turner: int, side: float, pb: int) -> tuple[float, float] | None:
+        """Open interval of the other robot's offsets on piece ``pb`` where its body comes closer than the reach of
+        robot ``ax`` to that robot's centre at offset ``side`` of piece ``turner`` (a turning body's sweep lies in
+        that disc), None if it never does (cached per arguments)."""
+        memo: dict[tuple[int, int, float, int], tuple[float, float] | None] = self.__dict__.setdefault("_blocks", {})
+        key = (ax, turner, side, pb)
+        if key in memo:
+            return memo[key]
         d = self.drawing
-        hb = float(d.piece_heading[pb])
-        cb, sb = math.cos(hb), math.sin(hb)
-        kb = other.corners() @ np.array([[cb, sb], [-sb, cb]])
-        disc = Disc(reach).corners()
-        k = _hull((kb[:, None, :] + disc[None, :, :]).reshape(-1, 2))
+        centre = d.piece_p0[turner] + (side - d.piece_s0[turner]) * d.piece_dir[turner]
         # overlap iff centre - q(t) in int K; q(t) = q0 + t*u
         u = d.piece_dir[pb]
         q0 = d.piece_p0[pb] - d.piece_s0[pb] * u
         lo, hi = -math.inf, math.inf
-        for a_, b_, c_ in _halfplanes([tuple(x) for x in k], 0.0):
+        out: tuple[float, float] | None = None
+        for a_, b_, c_ in self._reach_halfplanes(ax, pb):
             # a·(centre - q0 - t u) > c + tol
             alpha = -(a_ * u[0] + b_ * u[1])
             beta = a_ * (centre[0] - q0[0]) + b_ * (centre[1] - q0[1]) - c_ - self.tol
             if abs(alpha) <= 1e-15:
                 if beta <= 0.0:
-                    return None
+                    break
                 continue
             r = -beta / alpha
             if alpha > 0:
                 lo = max(lo, r)
             else:
                 hi = min(hi, r)
-        return (lo, hi) if lo < hi else None
+        else:
+            out = (lo, hi) if lo < hi else None
+        memo[key] = out
+        return out
 
     def _turn_filter(self, ax: int, side: float, turner_piece: int, other_piece: int, ys: list[float]) -> list[float]:
         """The portal values ``ys`` (the other robot's offsets) kept where the turning robot's sweep is clear."""
         fp = self.footprints.a if ax == 0 else self.footprints.b
-        other = self.footprints.b if ax == 0 else self.footprints.a
         if isinstance(fp, Disc):
             return ys
-        d = self.drawing
-        centre = d.piece_p0[turner_piece] + (side - d.piece_s0[turner_piece]) * d.piece_dir[turner_piece]
-        blk = self._turn_block(centre, fp.reach, other, other_piece)
+        blk = self._turn_block(ax, turner_piece, side, other_piece)
         if blk is None or not ys:
             return ys
         y0, y1 = min(ys), max(ys)
@@ -279,17 +299,28 @@ class PlanarFreeSpace:
         near = self._near_pairs()
         pieces: list[_Piece] = []
         eps = 1e-12 * max(1.0, float(self.track.lengths.max()))
+        ps0, ps1 = d.piece_s0.tolist(), d.piece_s1.tolist()
         for pid in base.polygon_ids:
             e, f, k = pid
-            bpoly = [tuple(x) for x in base.vertices(pid)]
+            bpoly: list[Coords] = [tuple(x) for x in base.vertices(pid).tolist()]
+            bs = [x[0] for x in bpoly]
+            lo_s, hi_s = min(bs), max(bs)
             for pa in d.edge_pieces[e]:
-                s0, s1 = float(d.piece_s0[pa]), float(d.piece_s1[pa])
-                ra = _clip(_clip(bpoly, 1.0, 0.0, s0), -1.0, 0.0, -s1)
+                s0, s1 = ps0[pa], ps1[pa]
+                # the clip to the drawing piece, skipped where it keeps or drops every vertex (the same result)
+                if hi_s < s0 or lo_s > s1:
+                    continue
+                ra = bpoly if s0 <= lo_s and hi_s <= s1 else _clip(_clip(bpoly, 1.0, 0.0, s0), -1.0, 0.0, -s1)
                 if not ra:
                     continue
+                ts = [x[1] for x in ra]
+                lo_t, hi_t = min(ts), max(ts)
                 for pb in d.edge_pieces[f]:
-                    t0, t1 = float(d.piece_s0[pb]), float(d.piece_s1[pb])
-                    r = _dedupe(_clip(_clip(ra, 0.0, 1.0, t0), 0.0, -1.0, -t1), eps)
+                    t0, t1 = ps0[pb], ps1[pb]
+                    if hi_t < t0 or lo_t > t1:
+                        continue
+                    rb = ra if t0 <= lo_t and hi_t <= t1 else _clip(_clip(ra, 0.0, 1.0, t0), 0.0, -1.0, -t1)
+                    r = _dedupe(rb, eps)
                     if not r:
                         continue
                     cell = (e, f, k)
@@ -298,6 +329,9 @@ class PlanarFreeSpace:
                         pieces.append(_Piece(cell, sub, np.asarray(r, dtype=float)))
                         continue
                     hp = self._obstacle(int(pa), int(pb)) or []
+                    ha = np.array([h[0] for h in hp], dtype=float)
+                    hb = np.array([h[1] for h in hp], dtype=float)
+                    hc = np.array([h[2] for h in hp], dtype=float)
                     inner = r
                     for a_, b_, c_ in hp:
                         inner = _clip(inner, -a_, -b_, -c_)
@@ -307,10 +341,13 @@ class PlanarFreeSpace:
                     if not inner or (not degenerate and (_area(inner) <= eps * eps or len(_dedupe(inner, eps)) < 3)):
                         pieces.append(_Piece(cell, sub, np.asarray(r, dtype=float)))
                         continue
+                    rv = np.asarray(r, dtype=float)
+                    fr = ha[:, None] * rv[None, :, 0] + hb[:, None] * rv[None, :, 1] - hc[:, None]
+                    keeps_all, keeps_none = np.all(fr >= 0.0, axis=1), np.all(fr < 0.0, axis=1)
                     for i, (a_, b_, c_) in enumerate(hp):
-                        if abs(a_) + abs(b_) <= 1e-15:
-                            continue
-                        q = _clip(r, a_, b_, c_)
+                        if abs(a_) + abs(b_) <= 1e-15 or keeps_none[i]:
+                            continue  # (outside no vertex of r: the clip is empty)
+                        q = r if keeps_all[i] else _clip(r, a_, b_, c_)
                         for a2, b2, c2 in hp[:i]:
                             if not q:
                                 break
@@ -333,11 +370,16 @@ class PlanarFreeSpace:
                 x = parent[x]
             return x
 
+        cell2 = [p.cell[:2] for p in self.pieces]
+
         def link(i: int, j: int, pi: list[Coords], pj: list[Coords]) -> None:
-            pi = [self._clamp(i, j, c) for c in pi]
-            pj = [self._clamp(j, i, c) if self.pieces[i].cell[:2] != self.pieces[j].cell[:2] else c for c in pj]
-            if self.pieces[i].cell[:2] == self.pieces[j].cell[:2]:
+            s0, s1, t0, t1 = self._clamp_box(i, j)
+            pi = [(min(max(c[0], s0), s1), min(max(c[1], t0), t1)) for c in pi]
+            if cell2[i] == cell2[j]:
                 pj = pi
+            else:
+                s0, s1, t0, t1 = self._clamp_box(j, i)
+                pj = [(min(max(c[0], s0), s1), min(max(c[1], t0), t1)) for c in pj]
             self.adjacent[i].append((j, pi, pj))
             self.adjacent[j].append((i, pj, pi))
             ri, rj = find(i), find(j)
@@ -359,7 +401,7 @@ class PlanarFreeSpace:
             )
             for x, y in zip(*np.nonzero(np.triu(ok, 1))):
                 i, j = idx[int(x)], idx[int(y)]
-                m = _meet(self.pieces[i].poly, self.pieces[j].poly, tol)
+                m = self._meet(i, j, tol)
                 if m:
                     pts = self._turn_points(i, j, _portal_points(m))
                     if pts:
@@ -367,16 +409,33 @@ class PlanarFreeSpace:
         # faces: a robot on a vertex; key (axis, vertex, other edge) -> (piece, side value, lo, hi)
         faces: dict[tuple[Any, ...], list[tuple[int, float, float, float]]] = {}
         lengths = tr.lengths
-        for i, p in enumerate(self.pieces):
-            e, f, _ = p.cell
+        ls, tails, heads = lengths.tolist(), tr.tails.tolist(), tr.heads.tolist()
+        # every piece's vertices at once: owner piece, and per (axis, end of the edge) which pieces have vertices
+        # on that side and the range of the other robot's offsets there
+        verts = np.concatenate([p.poly for p in self.pieces]) if n else np.zeros((0, 2))
+        owner = np.repeat(np.arange(n), [len(p.poly) for p in self.pieces])
+        cells = np.array(cell2, dtype=np.int64).reshape(-1, 2)
+        near_end: dict[tuple[int, int], NDArray[np.bool_]] = {}
+        ext: dict[tuple[int, int], tuple[list[bool], list[float], list[float]]] = {}
+        for ax in (0, 1):
+            far = lengths[cells[owner, ax]]
+            for end in (0, 1):
+                on = np.abs(verts[:, ax] - (far if end else 0.0)) <= tol
+                near_end[ax, end] = on
+                lo_y, hi_y = np.full(n, math.inf), np.full(n, -math.inf)
+                np.minimum.at(lo_y, owner[on], verts[on, 1 - ax])
+                np.maximum.at(hi_y, owner[on], verts[on, 1 - ax])
+                has = np.bincount(owner[on], minlength=n) > 0
+                ext[ax, end] = (has.tolist(), lo_y.tolist(), hi_y.tolist())
+        for i in range(n):
+            e, f = cell2[i]
             for ax, edge, other in ((0, e, f), (1, f, e)):
-                col = p.poly[:, ax]
-                for side, w in ((0.0, int(tr.tails[edge])), (float(lengths[edge]), int(tr.heads[edge]))):
-                    on = np.abs(col - side) <= tol
-                    if not np.any(on):
+                for end in (0, 1):
+                    has_l, lo_l, hi_l = ext[ax, end]
+                    if not has_l[i]:
                         continue
-                    ys = p.poly[on, 1 - ax]
-                    faces.setdefault((ax, w, other), []).append((i, side, float(ys.min()), float(ys.max())))
+                    side, w = (ls[edge], heads[edge]) if end else (0.0, tails[edge])
+                    faces.setdefault((ax, w, other), []).append((i, side, lo_l[i], hi_l[i]))
         for (ax, _, _), items in faces.items():
             items.sort(key=lambda x: x[2])
             for x, (i, si, li, hi_) in enumerate(items):
@@ -401,11 +460,16 @@ class PlanarFreeSpace:
                     link(i, j, pi, pj)
         # corners: both robots on vertices
         corners: dict[tuple[int, int], list[tuple[int, Coords]]] = {}
-        for i, p in enumerate(self.pieces):
-            e, f, _ = p.cell
-            for sa, wa in ((0.0, int(tr.tails[e])), (float(lengths[e]), int(tr.heads[e]))):
-                for sb, wb in ((0.0, int(tr.tails[f])), (float(lengths[f]), int(tr.heads[f]))):
-                    if np.any((np.abs(p.poly[:, 0] - sa) <= tol) & (np.abs(p.poly[:, 1] - sb) <= tol)):
+        at_corner = {
+            (ea, eb): (np.bincount(owner[near_end[0, ea] & near_end[1, eb]], minlength=n) > 0).tolist()
+            for ea in (0, 1)
+            for eb in (0, 1)
+        }
+        for i in range(n):
+            e, f = cell2[i]
+            for ea, (sa, wa) in enumerate(((0.0, tails[e]), (ls[e], heads[e]))):
+                for eb, (sb, wb) in enumerate(((0.0, tails[f]), (ls[f], heads[f]))):
+                    if at_corner[ea, eb][i]:
                         corners.setdefault((wa, wb), []).append((i, (sa, sb)))
         for citems in corners.values():
             for x, (i, ci) in enumerate(citems):
@@ -417,14 +481,44 @@ class PlanarFreeSpace:
         self.component = np.array([labels.setdefault(r, len(labels)) for r in roots], dtype=np.int64)
         self.n_components = len(labels)
 
-    def _box(self, i: int) -> tuple[float, float, float, float]:
-        d = self.drawing
-        pa, pb = self.pieces[i].sub
-        return float(d.piece_s0[pa]), float(d.piece_s1[pa]), float(d.piece_s0[pb]), float(d.piece_s1[pb])
+    def _meet(self, i: int, j: int, tol: float) -> list[Coords] | None:
+        """:func:`_meet` of pieces ``i`` and ``j``, with each piece's area and half-planes computed once."""
+        cache = self.__dict__.setdefault("_meet_cache", {})
+        data = []
+        for k in (i, j):
+            c = cache.get(k)
+            if c is None:
+                pts = [tuple(x) for x in self.pieces[k].poly]
+                c = cache[k] = (pts, abs(_area(pts)), None)
+            data.append(c)
+        ai, aj = data[0][1], data[1][1]
+        small, big = (i, j) if ai <= aj else (j, i)
+        pts_b, area_b, hp_b = cache[big]
+        if len(pts_b) >= 3 and area_b > tol * tol:
+            if hp_b is None:
+                hp_b = _halfplanes(pts_b, tol)
+                cache[big] = (pts_b, area_b, hp_b)
+            out: list[Coords] = cache[small][0]
+            for a, b, c_ in hp_b:
+                out = _clip(out, a, b, c_)
+                if not out:
+                    return None
+            return out
+        return _meet(self.pieces[i].poly, self.pieces[j].poly, tol)
 
-    def _clamp(self, i: int, j: int, c: Coords) -> Coords:
-        """A shared point moved exactly into piece ``i``'s sub-cell (and ``j``'s, in the same cell): no point of a
-        path lies on another drawing piece than the one its sub-cell says (tolerances never flip an orientation)."""
+    def _box(self, i: int) -> tuple[float, float, float, float]:
+        """The sub-cell of piece ``i``: ``(s0, s1, t0, t1)`` offsets (metres) of its two drawing pieces."""
+        boxes = self.__dict__.get("_boxes")
+        if boxes is None:
+            d = self.drawing
+            s0, s1 = d.piece_s0.tolist(), d.piece_s1.tolist()
+            boxes = self._boxes = [(s0[a], s1[a], s0[b], s1[b]) for a, b in (p.sub for p in self.pieces)]
+        return boxes[i]
+
+    def _clamp_box(self, i: int, j: int) -> tuple[float, float, float, float]:
+        """The box ``(s0, s1, t0, t1)`` a shared point of pieces ``i`` and ``j`` is moved into, exactly: piece
+        ``i``'s sub-cell (and ``j``'s, in the same cell), so that no point of a path lies on another drawing piece
+        than the one its sub-cell says (tolerances never flip an orientation)."""
         s0, s1, t0, t1 = self._box(i)
         if self.pieces[i].cell[:2] == self.pieces[j].cell[:2]:
             u0, u1, v0, v1 = self._box(j)
@@ -433,7 +527,7 @@ class PlanarFreeSpace:
                 s0 = s1 = 0.5 * (s0 + s1)
             if t0 > t1:
                 t0 = t1 = 0.5 * (t0 + t1)
-        return (min(max(c[0], s0), s1), min(max(c[1], t0), t1))
+        return s0, s1, t0, t1
 
     def _corner_offsets(self) -> list[dict[float, float]]:
         """Per edge: offsets where a body turns (polyline corners, ends at a vertex with several orientations)."""
@@ -466,22 +560,14 @@ class PlanarFreeSpace:
         it may have either orientation, so its reach disc must stay clear of the other body."""
         e, f, _ = self.pieces[i].cell
         co = self._corner_offsets()
-        d = self.drawing
         for ax, edge in ((0, e), (1, f)):
             if c0[ax] != c1[ax] or c0[ax] not in co[edge]:
                 continue
             fp = self.footprints.a if ax == 0 else self.footprints.b
             if isinstance(fp, Disc):
                 continue
-            other = self.footprints.b if ax == 0 else self.footprints.a
             sub = self.pieces[i].sub
-            turner = sub[ax]
-            key = (ax, turner, c0[ax], sub[1 - ax])
-            memo = self.__dict__.setdefault("_blocks", {})
-            if key not in memo:
-                centre = d.piece_p0[turner] + (c0[ax] - d.piece_s0[turner]) * d.piece_dir[turner]
-                memo[key] = self._turn_block(centre, fp.reach, other, sub[1 - ax])
-            blk = memo[key]
+            blk = self._turn_block(ax, sub[ax], c0[ax], sub[1 - ax])
             if blk is None:
                 continue
             y0, y1 = sorted((c0[1 - ax], c1[1 - ax]))
@@ -516,6 +602,18 @@ class PlanarFreeSpace:
         return float(np.hypot(*(pa - pb))) >= fa.reach + fb.reach - self.tol
 
     # ---------------------------------------------------------------------------------------- queries
+    def moves(self) -> list[list[tuple[Coords, tuple[int, Coords]]]]:
+        """Per piece its shared points with the glued pieces, flattened: ``(point in this piece, (neighbour, the
+        point in the neighbour's offsets))`` in the order of :attr:`adjacent` (built once; a repeated move relaxes
+        nothing the first one did not and is kept once)."""
+        mv = self.__dict__.get("_moves")
+        if mv is None:
+            mv = self._moves = [
+                list(dict.fromkeys((pi, (j, pj)) for j, pts_i, pts_j in row for pi, pj in zip(pts_i, pts_j)))
+                for row in self.adjacent
+            ]
+        return mv
+
     def names(self, pos: Position) -> list[Position]:
         """All ``(edge, offset)`` names of a position (several on a vertex)."""
         tr = self.track
@@ -534,13 +632,41 @@ class PlanarFreeSpace:
     def placements(self, pa: Position, pb: Position) -> list[tuple[int, Coords]]:
         """The free pieces holding the configuration, with its offsets in each (empty if it is not free)."""
         out = []
-        by_cell = self._by_cell()
         for ea, sa in self.names(pa):
             for eb, sb in self.names(pb):
-                for i in by_cell.get((ea, eb), ()):
-                    if _inside(self.pieces[i].poly, sa, sb, 10.0 * self.tol):
-                        out.append((i, (sa, sb)))
+                for i in self._inside_cell((ea, eb), sa, sb):
+                    out.append((i, (sa, sb)))
         return out
+
+    def _inside_cell(self, cell: tuple[int, int], s: float, t: float) -> list[int]:
+        """The pieces of ``cell`` (in :meth:`_by_cell` order) holding ``(s, t)``: :func:`_inside` with tolerance
+        ``10 * tol``, the half-planes of every piece of the cell tested at once (the same expression)."""
+        memo = self.__dict__.setdefault("_cell_tests", {})
+        tol = 10.0 * self.tol
+        data = memo.get(cell)
+        if data is None:
+            idx = self._by_cell().get(cell, [])
+            rows: list[tuple[float, float, float]] = []
+            owner: list[int] = []
+            degenerate = []
+            for k, i in enumerate(idx):
+                poly = self.pieces[i].poly
+                pts = [tuple(x) for x in poly]
+                if len(poly) <= 2 or abs(_area(pts)) <= tol * tol:
+                    degenerate.append(k)
+                    continue
+                hp = _halfplanes(pts, tol)
+                rows.extend(hp)
+                owner.extend([k] * len(hp))
+            arr = np.array(rows, dtype=float).reshape(-1, 3)
+            data = memo[cell] = (idx, arr[:, 0], arr[:, 1], arr[:, 2], np.array(owner, dtype=np.int64), degenerate)
+        idx, a, b, c, own, degenerate = data
+        if not idx:
+            return []
+        outside = np.bincount(own[a * s + b * t < c], minlength=len(idx)) > 0
+        for k in degenerate:
+            outside[k] = not _inside(self.pieces[idx[k]].poly, s, t, tol)
+        return [idx[k] for k in np.flatnonzero(~outside).tolist()]
 
     def _by_cell(self) -> dict[tuple[int, int], list[int]]:
         bc = getattr(self, "_bc", None)
@@ -592,14 +718,20 @@ def _portal_values(a0: float, a1: float) -> list[float]:
 
 
 def _portal_points(m: list[Coords]) -> list[Coords]:
-    arr = np.asarray(m, dtype=float)
-    c = tuple(arr.mean(axis=0))
-    if len(arr) == 1:
+    """The shared points of a glued pair: the centre of ``m`` and, when it has several points, the two farthest
+    apart (the first such pair in row-major order: the ends of a shared segment) around it."""
+    n = len(m)
+    c = (sum(float(x[0]) for x in m) / n, sum(float(x[1]) for x in m) / n)
+    if n == 1:
         return [c]
-    # the two points farthest apart (ends of a shared segment) and the centre
-    dd = np.hypot(arr[:, None, 0] - arr[None, :, 0], arr[:, None, 1] - arr[None, :, 1])
-    i, j = np.unravel_index(int(np.argmax(dd)), dd.shape)
-    return [tuple(arr[i]), c, tuple(arr[j])]
+    best, bi, bj = -1.0, 0, 0
+    for i in range(n):
+        xi, yi = m[i]
+        for j in range(n):
+            dd = float(np.hypot(xi - m[j][0], yi - m[j][1]))
+            if dd > best:
+                best, bi, bj = dd, i, j
+    return [(float(m[bi][0]), float(m[bi][1])), c, (float(m[bj][0]), float(m[bj][1]))]
 
 
 def bodies_gap(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Position) -> float:
@@ -685,6 +817,9 @@ def _search(
             hcache[key] = h
         return h
 
+    shortest = objective == "shortest"
+    bodies_turn = not (isinstance(space.footprints.a, Disc) and isinstance(space.footprints.b, Disc))
+    flat = space.moves()
     s_pl = space.placements(*start)
     g_pl = space.placements(*goal)
     goal_in: dict[int, list[Coords]] = {}
@@ -727,17 +862,27 @@ def _search(
                 prev[gk] = (key, i, c, gc)
                 heapq.heappush(heap, (ng, counter, gk))  # the goal's bound is 0
                 counter += 1
-        for j, pts_i, pts_j in space.adjacent[i]:
-            for pi, pj in zip(pts_i, pts_j):
-                if (rules and not _forward(tr, cell, c, pi)) or not space.segment_ok(i, c, pi):
-                    continue
-                ng = g + cost(cell, c, pi)
-                nk = (j, pj)
-                if ng < best.get(nk, math.inf) - 1e-15:
-                    best[nk] = ng
-                    prev[nk] = (key, i, c, pi)
-                    heapq.heappush(heap, (ng + bound(j, pj), counter, nk))
-                    counter += 1
+        # the moves to the shared points (cost inlined: the same expression as cost())
+        c0, c1 = c
+        va_i, vb_i = spa[cell[0]], spb[cell[1]]
+        for pi, nk in flat[i]:
+            if rules and not _forward(tr, cell, c, pi):
+                continue
+            ds, dt = abs(pi[0] - c0), abs(pi[1] - c1)
+            if shortest:
+                ng = g + math.hypot(ds, dt)
+            else:
+                ta, tb = ds / va_i, dt / vb_i
+                ng = g + (max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb))
+            if ng >= best.get(nk, math.inf) - 1e-15:
+                continue
+            # a move that keeps a robot still may turn its body on a corner (discs never need the check)
+            if bodies_turn and (pi[0] == c0 or pi[1] == c1) and not space.segment_ok(i, c, pi):
+                continue
+            best[nk] = ng
+            prev[nk] = (key, i, c, pi)
+            heapq.heappush(heap, (ng + bound(nk[0], nk[1]), counter, nk))
+            counter += 1
     del goal_key
     if found is None:
         return None

@@ -1,0 +1,86 @@
+"""Speed of the planar free space (footprints in the plane): build time per layout, plan median and tail.
+
+``python experiments/bench_planar.py [--queries N] [--seed S] [--repeat R]``: per layout and footprint the build
+time of :class:`mpa.planar.PlanarFreeSpace` (a fresh build, the smallest of R), then the median and 95th percentile
+of :func:`mpa.plan` with ``footprint=`` over N seeded random queries (the free space cached, as in a session that
+plans many queries on one layout); queries refused (bodies overlapping at start or goal, no motion) are counted,
+not timed. The layouts: the Open-RMF office map (30 edges), the example layouts with many-point polylines
+(``circle``, ``lollipop``, ``figure_eight``, ``two_sidings``), the rail yard and the passing loop. Times are the
+process's CPU time (the code is single-threaded: the wall time on an idle machine; a shared machine inflates wall
+times, not these).
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+
+import mpa
+from mpa.planar import PlanarFreeSpace
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples" / "tracks"
+OFFICE = ROOT / "tests" / "data" / "openrmf" / "office.building.yaml"
+CASES = (
+    (OFFICE, "0.3", 0.5),
+    (OFFICE, "0.6x0.4", 0.5),
+    (EXAMPLES / "circle.json", "0.05", 0.2),
+    (EXAMPLES / "lollipop.json", "0.05", 0.2),
+    (EXAMPLES / "figure_eight.json", "0.5", 1.0),
+    (EXAMPLES / "two_sidings.json", "1.5x0.8", 1.0),
+    (EXAMPLES / "rail_yard.json", "2x0.8", 2.5),
+    (EXAMPLES / "passing_loop.json", "2x1", 1.5),
+)
+
+
+def _query(tr: mpa.GraphTrack, rng: np.random.Generator) -> list[tuple[int, float]]:
+    q = []
+    for _ in range(4):
+        e = int(rng.integers(tr.n_edges))
+        q.append((e, float(rng.uniform(0, tr.lengths[e]))))
+    return q
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--queries", type=int, default=100)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args(argv)
+    print(
+        f"{'layout':<22} {'footprint':<9} {'edges':>5} {'pieces':>6} {'build ms':>9} {'plan med':>9} "
+        f"{'plan p95':>9} {'timed':>5} {'refused':>7}"
+    )
+    for path, spec, clearance in CASES:
+        tr = mpa.GraphTrack.from_file(path)
+        builds = []
+        for _ in range(args.repeat):
+            t0 = time.process_time()
+            space = PlanarFreeSpace(tr, clearance, spec)
+            builds.append(time.process_time() - t0)
+        rng = np.random.default_rng(args.seed)
+        plan_t, refused = [], 0
+        mpa.planar.planar_free_space(tr, clearance, spec)  # the cached build the queries use
+        for _ in range(args.queries):
+            q = _query(tr, rng)
+            try:
+                t0 = time.process_time()
+                mpa.plan(tr, q[:2], q[2:], clearance, footprint=spec)
+                plan_t.append(time.process_time() - t0)
+            except (mpa.InvalidInputError, mpa.NoMotionError):
+                refused += 1
+        med = 1e3 * float(np.median(plan_t)) if plan_t else float("nan")
+        p95 = 1e3 * float(np.percentile(plan_t, 95)) if plan_t else float("nan")
+        print(
+            f"{path.name.split('.')[0]:<22} {spec:<9} {tr.n_edges:>5} {len(space.pieces):>6} "
+            f"{1e3 * min(builds):>9.0f} {med:>9.1f} {p95:>9.1f} {len(plan_t):>5} {refused:>7}",
+            flush=True,
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
