@@ -685,10 +685,11 @@ class PlanarFreeSpace:
         return None if not pl else int(self.component[pl[0][0]])
 
     def is_free(self, pos_a: Position, pos_b: Position) -> bool:
-        """Whether the configuration is free in the planar model (every orientation at a corner)."""
+        """Whether the configuration is free in the planar model: the robots keep the clearance along the track and
+        it lies in a free piece (the bodies apart in the plane, every orientation at a corner)."""
         if not self.base.is_free(pos_a, pos_b):
             return False
-        return bodies_gap(self.track, self.footprints, pos_a, pos_b) >= -self.tol
+        return bool(self.placements(pos_a, pos_b))
 
     def can_swap(self, pos_a: object | None = None, pos_b: object | None = None) -> bool:
         """Whether the robots can exchange places (two positions: these; none: some free configuration)."""

@@ -399,3 +399,13 @@ def test_cli_topology_and_trajectory(tmp_path: Path, capsys: pytest.CaptureFixtu
     assert sm["footprint"]["spec"] == "2x1" and sm["min_gap_plane"] >= 0
     rows = (out / "setpoints.csv").read_text().splitlines()
     assert rows[0].endswith("a_heading,b_heading")
+
+
+def test_is_free_rejects_bodies_that_overlap_in_the_plane() -> None:
+    """Side by side on the passing loop (siding 1.2 m from the main line): discs of 0.8 m overlap, of 0.5 m do not;
+    the along-track distance is large in both cases, so only the plane decides."""
+    tr = GraphTrack.from_json(EXAMPLES / "passing_loop.json")
+    main, siding = tr.position("main:2"), tr.position("siding:2.5621")
+    assert not planar_free_space(tr, 0.0, Disc(0.8)).is_free(main, siding)
+    assert planar_free_space(tr, 0.0, Disc(0.5)).is_free(main, siding)
+    assert planar_free_space(tr, 0.0, Disc(0.8)).is_free(tr.position("W"), tr.position("E"))
