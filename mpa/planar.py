@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError, NoMotionError, PlanningError
 from mpa.footprint import Disc, Footprints, body_gap, drawing_of, footprints
-from mpa.freespace import FreeSpace, _clip, _dedupe, free_space
+from mpa.freespace import FreeSpace, _clip, _dedupe, _union_find, free_space
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 
 __all__ = ["PlanarFreeSpace", "bodies_gap", "plan_planar", "planar_free_space"]
@@ -362,13 +362,7 @@ class PlanarFreeSpace:
         tol = 10.0 * self.tol
         n = len(self.pieces)
         self.adjacent: list[list[tuple[int, list[Coords], list[Coords]]]] = [[] for _ in range(n)]
-        parent = list(range(n))
-
-        def find(x: int) -> int:
-            while parent[x] != x:
-                parent[x] = parent[parent[x]]
-                x = parent[x]
-            return x
+        joined: tuple[list[int], list[int]] = ([], [])  # the linked pairs, for the components
 
         cell2 = [p.cell[:2] for p in self.pieces]
 
@@ -382,9 +376,8 @@ class PlanarFreeSpace:
                 pj = [(min(max(c[0], s0), s1), min(max(c[1], t0), t1)) for c in pj]
             self.adjacent[i].append((j, pi, pj))
             self.adjacent[j].append((i, pj, pi))
-            ri, rj = find(i), find(j)
-            if ri != rj:
-                parent[ri] = rj
+            joined[0].append(i)
+            joined[1].append(j)
 
         lo = np.array([p.poly.min(axis=0) for p in self.pieces]).reshape(-1, 2)
         hi = np.array([p.poly.max(axis=0) for p in self.pieces]).reshape(-1, 2)
@@ -476,7 +469,7 @@ class PlanarFreeSpace:
                 for j, cj in citems[x + 1 :]:
                     if self.pieces[i].cell[:2] != self.pieces[j].cell[:2] and self._corner_clear(i, j, ci):
                         link(i, j, [ci], [cj])
-        roots = [find(i) for i in range(n)]
+        roots = _union_find(n, *joined)
         labels: dict[int, int] = {}
         self.component = np.array([labels.setdefault(r, len(labels)) for r in roots], dtype=np.int64)
         self.n_components = len(labels)
