@@ -183,7 +183,7 @@ def test_batch_on_a_dask_local_cluster(tmp_path: Path) -> None:
     qfile = _write_queries(tmp_path / "q.csv", QUERIES)
     out = tmp_path / "out"
     with distributed.LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=False, protocol="tcp://", dashboard_address=None
+        n_workers=1, threads_per_worker=1, processes=False, protocol="tcp://", dashboard_address=":0"
     ) as cluster:
         code = main(_args(qfile, out, "--dask", cluster.scheduler_address, "--setpoints"))
     assert code == 0

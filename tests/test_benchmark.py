@@ -112,7 +112,7 @@ def test_dask_local_cluster(tmp_path: Path) -> None:
     distributed = pytest.importorskip("dask.distributed")
     import benchmark
 
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
         rc = benchmark.main(
             [
                 "--queries",

@@ -72,7 +72,7 @@ def test_soak_script_on_a_dask_cluster(tmp_path) -> None:  # type: ignore[no-unt
 
     distributed = pytest.importorskip("dask.distributed")
     out = tmp_path / "soak.json"
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as c:
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as c:
         env = {**os.environ, "PYTHONPATH": str(ROOT)}
         args = ["--queries", "12", "--chunk", "5", "--subprocess", "0", "--dask", c.scheduler_address]
         cp = subprocess.run(
