@@ -149,6 +149,9 @@ def test_equally_short_routes_are_tried_until_a_pair_keeps_the_clearance() -> No
     assert len(gp._shortest_routes(mesh, start[0], goal[0], 1e-9, 4)) == 2
     assert gp._fastest_alone(mesh, start[0], goal[0], 1e-9) is None
     assert gp._independent_motion(mesh, start, goal) is not None
+    with pytest.MonkeyPatch.context() as mp:  # unique routes only: the tie is left to the search
+        mp.setattr(gp, "TIED_ROUTES", 1)
+        assert gp._independent_motion(mesh, start, goal) is None
     plan = gp.plan_graph(track, start, goal, 1.0)
     ref = _search_plan(track, fs, start, goal)
     assert math.isclose(plan.makespan, 4.0, rel_tol=1e-12) and math.isclose(ref.makespan, 4.0, rel_tol=1e-9)

@@ -344,7 +344,7 @@ Piece = tuple[int, float, float]  # (edge, offset from, offset to): one robot's 
 
 #: Per robot, at most this many of its equally short routes are tried by :func:`_independent_motion` (half of them
 #: in the order of the edges' numbers, half in the reverse order: on a lattice the two extremes, e.g. "along the
-#: aisle first" and "across first").
+#: aisle first" and "across first"); 1: only a robot's unique shortest route (the benchmark's comparison).
 TIED_ROUTES = 4
 
 
@@ -465,8 +465,10 @@ def _independent_motion(
     the clearance on a segment: exact minimum per cell, :meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`).
     """
     tol = 1e-9 * mesh.scale
-    routes_a = _shortest_routes(mesh, start[0], goal[0], tol, TIED_ROUTES)
-    routes_b = _shortest_routes(mesh, start[1], goal[1], tol, TIED_ROUTES)
+    routes_a = _shortest_routes(mesh, start[0], goal[0], tol, max(2, TIED_ROUTES))
+    routes_b = _shortest_routes(mesh, start[1], goal[1], tol, max(2, TIED_ROUTES))
+    if TIED_ROUTES <= 1 and (len(routes_a) > 1 or len(routes_b) > 1):
+        return None
     for ra in routes_a:
         for rb in routes_b:
             segs = _straight_motion(mesh, ra, rb)
