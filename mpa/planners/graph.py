@@ -26,12 +26,13 @@ Every face end and corner is a root and every face is opened from them, so the s
 start's component: it finds a path whenever one exists (**complete**), and :func:`plan_graph` raises
 :class:`~mpa.errors.NoMotionError` otherwise, naming the reason.
 
-**The independent motion first.** Before searching, each robot's shortest route to its goal is taken from the
-vertex distances; when both are unique (no other route within ``1e-9 · max(1, longest edge)`` metres) the two
-robots' individually fastest motions, started together (a straight line in route coordinates), cost exactly the
-search's bound at the start and are the only motion of that cost. If they keep the clearance (checked exactly in every
-cell they cross, :meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`) they are the answer and the search is
-skipped (:func:`_independent_motion`); otherwise, or when a route is not unique, the search answers.
+**The independent motion first.** Before searching, each robot's shortest routes to its goal are taken from the
+vertex distances (routes within ``1e-9 · max(1, longest edge)`` metres of the shortest tie; up to
+:data:`TIED_ROUTES` of them, in a fixed order). The two robots' individually fastest motions along a pair of them,
+started together (a straight line in route coordinates), cost exactly the search's bound at the start, which no
+motion undercuts (with unique routes they are the only motion of that cost). The first pair that keeps the clearance
+(checked exactly in every cell crossed, :meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`) is the answer and
+the search is skipped (:func:`_independent_motion`); otherwise the search answers.
 
 **Costs.** A straight move ``(Δs, Δt)`` costs ``hypot(Δs, Δt)`` (metres) for ``"shortest"`` and
 ``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the least travel
