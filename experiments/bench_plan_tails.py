@@ -5,8 +5,9 @@
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
 10 / 30 / 100 / 150 edges, three seeds each), the seeded warehouse grids and road maps of
 ``bench.graph_scale`` at 10 / 30 / 100 / 150 edges, and the Open-RMF sample maps converted as layouts (office L1,
-hotel L1 / L2 / L3). Per layout ``--queries`` seeded queries (``graph_runner.make_graph_queries``: every fourth a
-swap) at four clearances (5 %, 20 %, 50 %, 100 % of the median edge length; D = 1 m on the generated layouts),
+hotel L1 / L2 / L3; the airport terminal's level L1, navigation graph 2: 139 lanes, 1 186 m, at D = 0.6 m). Per
+layout ``--queries`` seeded queries (``graph_runner.make_graph_queries``: every fourth a swap) at four clearances
+(5 %, 20 %, 50 %, 100 % of the median edge length; D = 1 m on the generated layouts),
 the free space built and cached before the clock starts, one unrecorded warm-up query. Per layout: median, p95 and
 max of ``mpa.plan(..., planner="graph")`` in milliseconds, wall time and the process's CPU time (the machine is
 shared: CPU time leaves out the waits for a core), and the slowest query (to profile it). Prints a Markdown
@@ -48,6 +49,8 @@ def layouts() -> list[tuple[str, GraphTrack, list[float] | None]]:
         out.append((f"office {level}", GraphTrack.from_file(DATA / "office.building.yaml", level=level), None))
     for level in ("L1", "L2", "L3"):
         out.append((f"hotel {level}", GraphTrack.from_file(DATA / "hotel.building.yaml", level=level), None))
+    airport = GraphTrack.from_file(DATA / "airport_terminal.building.yaml", level="L1", nav_graph=2)
+    out.append(("airport L1 graph 2", airport, [0.6]))
     for n_e in SIZES:
         for k in range(3):
             out.append((f"scaling {n_e}/{k}", grid_layout(n_e, n_e * 10 + k), [1.0]))

@@ -41,6 +41,8 @@ def test_the_independent_motion_is_the_search_s_answer(name: str) -> None:
         d = [0.05, 0.2, 0.5][q % 3] * med
         start = (random_position(track, rng), random_position(track, rng))
         goal = (random_position(track, rng), random_position(track, rng))
+        if q % 4 == 3:  # a swap: the robots must negotiate, the search answers
+            goal = (start[1], start[0])
         fs = free_space(track, d)
         if not (fs.is_free(*start) and fs.is_free(*goal)):
             continue
@@ -59,9 +61,12 @@ def test_the_independent_motion_is_the_search_s_answer(name: str) -> None:
         case = f"{name} D={d!r} start={start!r} goal={goal!r}"
         assert math.isclose(plan.makespan, ref.makespan, rel_tol=1e-9, abs_tol=1e-12), case
         assert plan.min_distance() >= fs._dmin - 1e-12, case
-        if took:  # the only motion of the bound's cost: the same routes as the search's
+        mesh = gp._mesh(fs)
+        unique = all(gp._fastest_alone(mesh, p, q, 1e-9 * mesh.scale) is not None for p, q in zip(start, goal))
+        if took and unique:  # the only motion of the bound's cost: the same routes as the search's
             assert plan.route_a.edges.tolist() == ref.route_a.edges.tolist(), case
             assert plan.route_b.edges.tolist() == ref.route_b.edges.tolist(), case
+        if took:  # the bound at the start: no motion is faster (with tied routes, one of the optimal motions)
             lb = max(plan.route_a.length, plan.route_b.length)
             assert math.isclose(plan.makespan, lb, rel_tol=1e-12, abs_tol=1e-12), case
     assert used > 0 and searched > 0, (used, searched)
@@ -130,3 +135,54 @@ def test_dijkstra_and_floyd_warshall_agree(monkeypatch: pytest.MonkeyPatch) -> N
     monkeypatch.setattr(geomod, "FLOYD_VERTICES", 0)
     dv = geomod.vertex_distance_matrix(3, [0, 1, 2], [1, 2, 2], [0.0, 2.0, 1.0])
     assert dv.tolist() == [[0.0, 0.0, 2.0], [0.0, 0.0, 2.0], [2.0, 2.0, 0.0]]
+
+
+def test_equally_short_routes_are_tried_until_a_pair_keeps_the_clearance() -> None:
+    # a square loop of 2 m sides: each robot crosses to the opposite corner by either of two 4 m routes; the pair
+    # going round the same way meets head-on, the pair going opposite ways stays 4 m apart
+    track = GraphTrack.from_layout(
+        {"edges": [["NW", "NE", 2.0], ["NE", "SE", 2.0], ["SE", "SW", 2.0], ["SW", "NW", 2.0]]}
+    )
+    fs = free_space(track, 1.0)
+    mesh = gp._mesh(fs)
+    start, goal = (track.position("NW"), track.position("SE")), (track.position("SE"), track.position("NW"))
+    assert len(gp._shortest_routes(mesh, start[0], goal[0], 1e-9, 4)) == 2
+    assert gp._fastest_alone(mesh, start[0], goal[0], 1e-9) is None
+    assert gp._independent_motion(mesh, start, goal) is not None
+    with pytest.MonkeyPatch.context() as mp:  # unique routes only: the tie is left to the search
+        mp.setattr(gp, "TIED_ROUTES", 1)
+        assert gp._independent_motion(mesh, start, goal) is None
+    plan = gp.plan_graph(track, start, goal, 1.0)
+    ref = _search_plan(track, fs, start, goal)
+    assert math.isclose(plan.makespan, 4.0, rel_tol=1e-12) and math.isclose(ref.makespan, 4.0, rel_tol=1e-9)
+    assert plan.min_distance() >= 1.0 - EXACT
+    assert set(plan.route_a.edges.tolist()) != set(plan.route_b.edges.tolist())  # round the loop opposite ways
+
+
+def test_tied_routes_shortcut_matches_the_search_on_random_layouts() -> None:
+    """Every query the shortcut answers has the search's makespan and keeps the clearance (seeded random layouts,
+    lattices with ties included)."""
+    rng = np.random.default_rng(2025)
+    warehouse = GraphTrack.from_json(ROOT / "examples" / "tracks" / "warehouse.json")
+    tracks = [random_layout(rng) for _ in range(12)] + [warehouse, warehouse]
+    took = tied = 0
+    for track in tracks:
+        d = float(rng.uniform(0.05, 1.0))
+        fs = free_space(track, d)
+        mesh = gp._mesh(fs)
+        for _ in range(10):
+            start = (random_position(track, rng), random_position(track, rng))
+            goal = (random_position(track, rng), random_position(track, rng))
+            if not (fs.is_free(*start) and fs.is_free(*goal)) or fs.component_of(*start) != fs.component_of(*goal):
+                continue
+            quick = gp._independent_motion(mesh, start, goal)
+            if quick is None:
+                continue
+            took += 1
+            tied += any(gp._fastest_alone(mesh, p, q, 1e-9 * mesh.scale) is None for p, q in zip(start, goal))
+            case = f"{track.to_dict()} D={d!r} start={start!r} goal={goal!r}"
+            plan = gp._assemble(track, fs, start, goal, "fastest", (1.0, 1.0), quick)  # type: ignore[arg-type]
+            ref = _search_plan(track, fs, start, goal)
+            assert math.isclose(plan.makespan, ref.makespan, rel_tol=1e-9, abs_tol=1e-12), case
+            assert plan.min_distance() >= fs._dmin - 1e-12, case
+    assert took >= 20 and tied >= 3, (took, tied)

@@ -126,9 +126,6 @@ def test_fast_hard_switch_reproducer() -> None:
     assert gap <= 1e-4 and dt <= 1e-3, (one.solver_stats.get("path"), two.solver_stats.get("path"), gap, dt)
 
 
-@pytest.mark.xfail(
-    strict=True, reason="ties in the graph planner are still left to rounding (measured in docs/graphs.md)"
-)
 def test_graph_planner_tie_reproducer() -> None:
     """Warehouse, clearance 1.6, objective fastest: robot A's start moved by 1e-7 m changes robot B's route (two
     routes round a block, equally fast to 1e-14 s). Goal: the routes are locally constant in the query."""

@@ -26,12 +26,13 @@ Every face end and corner is a root and every face is opened from them, so the s
 start's component: it finds a path whenever one exists (**complete**), and :func:`plan_graph` raises
 :class:`~mpa.errors.NoMotionError` otherwise, naming the reason.
 
-**The independent motion first.** Before searching, each robot's shortest route to its goal is taken from the
-vertex distances; when both are unique (no other route within ``1e-9 · max(1, longest edge)`` metres) the two
-robots' individually fastest motions, started together (a straight line in route coordinates), cost exactly the
-search's bound at the start and are the only motion of that cost. If they keep the clearance (checked exactly in every
-cell they cross, :meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`) they are the answer and the search is
-skipped (:func:`_independent_motion`); otherwise, or when a route is not unique, the search answers.
+**The independent motion first.** Before searching, each robot's shortest routes to its goal are taken from the
+vertex distances (routes within ``1e-9 · max(1, longest edge)`` metres of the shortest tie; up to
+:data:`TIED_ROUTES` of them, in a fixed order). The two robots' individually fastest motions along a pair of them,
+started together (a straight line in route coordinates), cost exactly the search's bound at the start, which no
+motion undercuts (with unique routes they are the only motion of that cost). The first pair that keeps the clearance
+(checked exactly in every cell crossed, :meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`) is the answer and
+the search is skipped (:func:`_independent_motion`); otherwise the search answers.
 
 **Costs.** A straight move ``(Δs, Δt)`` costs ``hypot(Δs, Δt)`` (metres) for ``"shortest"`` and
 ``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the least travel
@@ -68,6 +69,7 @@ import bisect
 import heapq
 import itertools
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any, cast
 
@@ -341,11 +343,19 @@ def _mesh(fs: FreeSpace) -> _Mesh:
 Piece = tuple[int, float, float]  # (edge, offset from, offset to): one robot's move along one edge
 
 
-def _fastest_alone(mesh: _Mesh, pos: Position, goal: Position, tol: float) -> list[Piece] | None:
-    """A robot's unique shortest route from ``pos`` to ``goal`` on the graph, as moves along edges (metres).
+#: Per robot, at most this many of its equally short routes are tried by :func:`_independent_motion` (half of them
+#: in the order of the edges' numbers, half in the reverse order: on a lattice the two extremes, e.g. "along the
+#: aisle first" and "across first"); 1: only a robot's unique shortest route (the benchmark's comparison).
+TIED_ROUTES = 4
 
-    Returns None when another route is within ``tol`` metres of the shortest one (the choice among equally short
-    routes is then the search's). A robot already at its goal gets one standing piece.
+
+def _shortest_routes(mesh: _Mesh, pos: Position, goal: Position, tol: float, limit: int) -> list[list[Piece]]:
+    """Up to ``limit`` of a robot's shortest routes from ``pos`` to ``goal`` on the graph, as moves along edges.
+
+    Every route returned is within ``tol`` metres of the graph distance. The routes are the first ``ceil(limit/2)``
+    of a depth-first walk over the edges of shortest paths taking the vertex's edges in their order at the vertex,
+    then the first of the same walk in the reverse order (duplicates dropped): a deterministic choice. A robot
+    already at its goal gets one standing piece. An empty list when the goal cannot be reached.
     """
     g = mesh.g
     dv = g._dv
@@ -372,28 +382,71 @@ def _fastest_alone(mesh: _Mesh, pos: Position, goal: Position, tol: float) -> li
             if math.isfinite(d):
                 options.append((d, a, b, pa, pb))
     if not options:
-        return None
+        return []
     options.sort(key=lambda o: o[0])
-    if len(options) > 1 and options[1][0] - options[0][0] <= tol:
-        return None
-    d, a, b, pa, pb = options[0]
-    moves = list(pa)
-    if a >= 0:
-        x = a
-        for _ in range(g.n_vertices):
-            if x == b:
+    best = options[0][0]
+    options = [o for o in options if o[0] - best <= tol]
+
+    def walks(a: int, b: int, forward: bool, want: int) -> list[list[Piece]]:
+        """Up to ``want`` routes from vertex ``a`` to ``b`` along edges of shortest paths (depth first, no
+        recursion: a route may cross hundreds of vertices)."""
+        out: list[list[Piece]] = []
+        path: list[Piece] = []
+        on_path = {a}
+
+        def nexts(x: int) -> Iterator[tuple[Piece, int]]:
+            inc = mesh.inc[x] if forward else mesh.inc[x][::-1]
+            for e, x_off in inc:
+                if g._t[e] == g._h[e]:
+                    continue
+                y = g._h[e] if x_off == 0.0 else g._t[e]
+                if g._L[e] + dv[y][b] <= dv[x][b] + tol:
+                    yield (e, x_off, g._L[e] - x_off), y
+
+        if a == b:
+            return [[]]
+        stack = [nexts(a)]
+        while stack and len(out) < want:
+            for piece, y in stack[-1]:
+                if y in on_path:
+                    continue
+                if y == b:
+                    out.append([*path, piece])
+                    break
+                path.append(piece)
+                on_path.add(y)
+                stack.append(nexts(y))
                 break
-            nxt = [(e, x_off, (g._h[e] if x_off == 0.0 else g._t[e])) for e, x_off in mesh.inc[x] if g._t[e] != g._h[e]]
-            hits = [(e, x_off, y) for e, x_off, y in nxt if g._L[e] + dv[y][b] <= dv[x][b] + tol]
-            if len(hits) != 1:
-                return None
-            e, x_off, y = hits[0]
-            moves.append((e, x_off, g._L[e] - x_off))
-            x = y
-        else:
-            return None
-    moves.extend(pb)
-    return moves or [(e0, s0, s0)]
+            else:
+                stack.pop()
+                if path:
+                    e, x_off, _ = path.pop()
+                    on_path.discard(g._h[e] if x_off == 0.0 else g._t[e])
+        return out
+
+    routes: list[list[Piece]] = []
+    for forward, want in ((True, (limit + 1) // 2), (False, limit)):
+        for _, a, b, pa, pb in options:
+            if len(routes) >= want:
+                break
+            middles: list[list[Piece]] = [[]] if a < 0 else walks(a, b, forward, want - len(routes))
+            for mid in middles:
+                r = [*pa, *mid, *pb] or [(e0, s0, s0)]
+                if r not in routes:
+                    routes.append(r)
+                if len(routes) >= want:
+                    break
+    return routes
+
+
+def _fastest_alone(mesh: _Mesh, pos: Position, goal: Position, tol: float) -> list[Piece] | None:
+    """A robot's unique shortest route from ``pos`` to ``goal`` on the graph, as moves along edges (metres).
+
+    Returns None when another route is within ``tol`` metres of the shortest one. A robot already at its goal gets
+    one standing piece.
+    """
+    routes = _shortest_routes(mesh, pos, goal, tol, 2)
+    return routes[0] if len(routes) == 1 else None
 
 
 def _independent_motion(
@@ -401,19 +454,33 @@ def _independent_motion(
 ) -> list[list[Any]] | None:
     """The two robots' individually fastest motions, both starting at once, as straight segments in cells.
 
-    Each robot follows its unique shortest route at its own pace: a straight line in route coordinates from
+    Each robot follows one of its shortest routes at its own pace: a straight line in route coordinates from
     ``(0, 0)`` to ``(dA, dB)``, cut where either robot changes edge. Its cost is the search's bound at the start
-    (``max(dA/vA, dB/vB)`` plus the tie-break terms, resp. ``hypot(dA, dB)``), which no motion undercuts, and it is
-    the only motion of that cost; so when it keeps the clearance it is the search's answer. Returns the segments
-    ``[polygon, (s, t) from, (s, t) to]`` (offsets in metres), or None when a robot's shortest route is not unique
-    (within ``1e-9 · max(1, longest edge)`` metres), a segment leaves the free polygons or the robots come closer
-    than the clearance on a segment (exact minimum per cell, :meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`).
+    (``max(dA/vA, dB/vB)`` plus the tie-break terms, resp. ``hypot(dA, dB)``), which no motion undercuts; so when it
+    keeps the clearance it is an optimal answer, and when both shortest routes are unique (no other route within
+    ``1e-9 · max(1, longest edge)`` metres) it is the only motion of that cost, the search's answer. With equally
+    short routes (a lattice's ties) up to :data:`TIED_ROUTES` of each robot's are tried, pairs in the order of
+    :func:`_shortest_routes` (A's first route with each of B's, then A's second, ...), and the first pair that keeps
+    the clearance is the answer. Returns the segments ``[polygon, (s, t) from, (s, t) to]`` (offsets in metres), or
+    None when no pair tried keeps the clearance (a segment leaves the free polygons or the robots come closer than
+    the clearance on a segment: exact minimum per cell, :meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`).
     """
     tol = 1e-9 * mesh.scale
-    ra = _fastest_alone(mesh, start[0], goal[0], tol)
-    rb = _fastest_alone(mesh, start[1], goal[1], tol)
-    if ra is None or rb is None:
+    routes_a = _shortest_routes(mesh, start[0], goal[0], tol, max(2, TIED_ROUTES))
+    routes_b = _shortest_routes(mesh, start[1], goal[1], tol, max(2, TIED_ROUTES))
+    if TIED_ROUTES <= 1 and (len(routes_a) > 1 or len(routes_b) > 1):
         return None
+    for ra in routes_a:
+        for rb in routes_b:
+            segs = _straight_motion(mesh, ra, rb)
+            if segs is not None:
+                return segs
+    return None
+
+
+def _straight_motion(mesh: _Mesh, ra: list[Piece], rb: list[Piece]) -> list[list[Any]] | None:
+    """The straight line in route coordinates along routes ``ra`` and ``rb`` as segments in cells, None when it
+    leaves the free polygons or brings the robots closer than the clearance (see :func:`_independent_motion`)."""
     cum_a = [0.0]
     for _, x0, x1 in ra:
         cum_a.append(cum_a[-1] + abs(x1 - x0))
