@@ -49,7 +49,7 @@ LAYERS = (
     ),
     Layer(
         "trajopt — the pipeline",
-        ("trajopt",),
+        ("trajopt", "trajopt/timing"),
         "casadi, toppra, ruckig, numba (compiled kernels); rosbags: ROS 2 bags only",
         "#e2f0d9",
     ),
