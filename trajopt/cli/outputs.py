@@ -228,7 +228,7 @@ def output_files(traj: Trajectory, opts: OutputOptions, recipe: dict[str, Any]) 
         from trajopt.viz.plotting import figure_png
 
         files[PLOT_FILE] = figure_png(trajectory_figure(traj))
-    summary = traj.summary()
+    summary = traj.summary(margins=True)
     summary.update(extra)
     summary["formats"] = list(opts.formats)
     summary["files"] = [*files, "summary.json"]

@@ -224,7 +224,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     plan: Any = traj.plan  # a paper Plan (the demo's lollipop)
     files: dict[str, Content] = {
         "setpoints.csv": Streamed(traj.csv_chunks),
-        "summary.json": _json(traj.summary()),
+        "summary.json": _json(traj.summary(margins=True)),
         "plan.json": _json(plan.to_dict(samples=max(400, plan.samples_needed(0.01)))),
         "trajectory.png": png,
     }
