@@ -32,7 +32,7 @@ from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the 3-D projection)
 
 from mpa import Circle, Interval, Lollipop, NoMotionError, plan, retract, skeleton_of
-from mpa.plan import Plan
+from mpa.plans import Plan
 from mpa.skeleton import LollipopSkeleton, SkeletonPoint
 from trajopt.viz import drawing as dr
 from trajopt.viz.plotting import save_figure

@@ -43,7 +43,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import InvalidInputError, NoMotionError, PlanningError
 from mpa.homotopy import path_word
-from mpa.plan import Plan, PlanStep
+from mpa.plans import Plan, PlanStep
 from mpa.routes import Lift, Route
 from mpa.tracks import Circle, Lollipop, Track
 from trajopt.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile

@@ -18,8 +18,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from mpa.plan import Plan
 from mpa.planners.graph import GraphPlan
+from mpa.plans import Plan
 from trajopt.grid import check_rate, time_grid
 from trajopt.io.csvfile import CSV_COLUMNS, GRAPH_CSV_COLUMNS, HEADING_COLUMNS, XY_COLUMNS
 from trajopt.planview import plan_view

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 
 from mpa import defaults
 from mpa.errors import InvalidInputError
-from mpa.plan import Plan
+from mpa.plans import Plan
 from mpa.skeleton import skeleton_of
 from mpa.tracks import Track
 from trajopt.viz import drawing as dr
