@@ -328,8 +328,9 @@ class Trajectory:
             object.__setattr__(self, "_margins", cached)
         return cached
 
-    def words(self) -> dict[str, str]:
-        """The motion in plain words per cart (:func:`trajopt.words.describe`; computed once)."""
+    def description(self) -> dict[str, str]:
+        """The motion in plain words per cart, ``{"A": ..., "B": ...}`` (:func:`trajopt.words.describe`; computed
+        once). Not to be confused with :attr:`word`, the homotopy class."""
         cached = self.__dict__.get("_words")
         if cached is None:
             from trajopt.words import describe
@@ -337,6 +338,13 @@ class Trajectory:
             cached = describe(self)
             object.__setattr__(self, "_words", cached)
         return dict(cached)
+
+    def words(self) -> dict[str, str]:
+        """Deprecated name of :meth:`description` (the prose, not the homotopy class :attr:`word`)."""
+        import warnings
+
+        warnings.warn("Trajectory.words() is deprecated: use Trajectory.description()", DeprecationWarning, 2)
+        return self.description()
 
     def summary(self, *, margins: bool = False) -> dict[str, Any]:
         """JSON-ready summary (everything but the arrays): :func:`trajopt.io.summary.summary`.

@@ -245,7 +245,7 @@ def summary_text(traj: Trajectory) -> str:
     src = "fallback (plan re-timed): " + traj.fallback_reason if traj.fallback else "optimized"
     m = traj.margins()
     tau = "unbounded" if math.isinf(m.delay_tolerance) else f"{m.delay_tolerance:.4g} s"
-    words = traj.words()
+    words = traj.description()
     if traj.is_graph:  # a layout: each robot's route (edges with the direction travelled) instead of the domain
         first = [
             f"route {r.upper()}     " + " → ".join(f"{p['edge']}{'+' if p['dir'] > 0 else '-'}" for p in s["routes"][r])

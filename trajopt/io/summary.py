@@ -96,7 +96,7 @@ def summary(traj: Trajectory, *, margins: bool = False) -> dict[str, Any]:
         "solver": traj.solver_stats,
         "timings": traj.timings,
         "verification": traj.verification,
-        "words": traj.words(),
+        "words": traj.description(),
     }
     if margins:
         out["margins"] = traj.margins().to_dict()

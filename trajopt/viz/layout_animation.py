@@ -2,7 +2,7 @@
 
 A motion is given as times ``t`` (shape (N,)) and route coordinates ``s`` (shape (N, 2), robot A in column 0): the
 distance each robot has travelled along its route (:class:`mpa.geometry.DirectedRoute`), so plans of the complete
-graph planner (:func:`plan_motion`) and jerk-limited trajectories on graph tracks animate the same way.
+graph planner (:func:`graph_plan_motion`) and jerk-limited trajectories on graph tracks animate the same way.
 
 The figure is laid out once (the layout, both routes faintly, start and goal; labels that would overlap moved
 apart, :func:`trajopt.viz.labels.separate_labels`) and drawn once as a background; each frame restores that
@@ -38,7 +38,7 @@ from trajopt.viz.labels import separate_labels
 from trajopt.viz.layout import ROUTE_STYLES, LayoutGeometry, draw_layout, draw_routes, layout_geometry
 from trajopt.viz.movie import StreamingGifWriter, _Progress, _save_streaming, animation_format, movie_writer
 
-__all__ = ["StreamingGifWriter", "animate_graph_plan", "animate_layout", "plan_motion"]
+__all__ = ["StreamingGifWriter", "animate_graph_plan", "animate_layout", "graph_plan_motion"]
 
 FloatArray = NDArray[np.float64]
 #: Points along a robot's body.
@@ -77,7 +77,7 @@ def _check_motion(t: ArrayLike, s: ArrayLike) -> tuple[FloatArray, FloatArray]:
     return tt, ss
 
 
-def plan_motion(plan: GraphPlan, samples: int = 400) -> tuple[FloatArray, FloatArray]:
+def graph_plan_motion(plan: GraphPlan, samples: int = 400) -> tuple[FloatArray, FloatArray]:
     """The raw plan as a timed motion: ``(t, s)`` at the plan's speed limits (no acceleration limits).
 
     Parameters
@@ -389,7 +389,7 @@ def animate_graph_plan(plan: GraphPlan, out: str | os.PathLike[str], *, name: st
     """
     from trajopt.viz.layout import plan_title
 
-    t, s = plan_motion(plan)
+    t, s = graph_plan_motion(plan)
     kw.setdefault("clearance", plan.clearance)
     kw.setdefault("title", plan_title(plan, name))
     return animate_layout(plan.track, plan.route_a, plan.route_b, t, s, out, **kw)

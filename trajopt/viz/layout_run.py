@@ -259,6 +259,6 @@ def trajectory_figure(traj: Any, name: str | None = None) -> Figure:
         clearance=traj.clearance,
         limits={"vmax": tuple(lim.v), "amax": tuple(lim.a)},
         title=title,
-        words=traj.words(),
+        words=traj.description(),
         footprint=getattr(traj, "footprint", None),
     )
