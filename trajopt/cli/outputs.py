@@ -15,7 +15,7 @@ pvt           ``pvt.csv``             PVT rows every ``--pvt-interval`` s (:func
 ``--plot`` adds ``trajectory.png`` (:func:`trajopt.viz.layout_run.trajectory_figure`: a paper track's figure, or
 a layout run's). Every option is checked before
 any work (:func:`check_output_options`); every file is computed (:func:`output_files`; ``setpoints.csv`` is
-:class:`trajopt.export.Streamed`, formatted piece by piece while it is written) and then written all or nothing
+:class:`trajopt.io.atomic.Streamed`, formatted piece by piece while it is written) and then written all or nothing
 (:func:`trajopt.cli.trajectory.write_outputs`).
 
 ``summary.json`` is :meth:`Trajectory.summary` plus ``files`` (what was written), ``pvt`` (interval, stretch,

@@ -1,4 +1,4 @@
-"""The demo figure of a :class:`~trajopt.export.Trajectory` (matplotlib, Agg; imported only by the CLI).
+"""The demo figure of a :class:`~trajopt.result.Trajectory` (matplotlib, Agg; imported only by the CLI).
 
 One figure, three views: the track with both robots' routes, the path in the flat configuration space
 (track coordinates of A and B) with the skeleton and the forbidden band ``d < D``, and ``s, v, a, j`` of both
