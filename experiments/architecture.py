@@ -49,7 +49,7 @@ LAYERS = (
     ),
     Layer(
         "trajopt — the pipeline",
-        ("trajopt",),
+        ("trajopt", "trajopt/io", "trajopt/timing"),
         "casadi, toppra, ruckig, numba (compiled kernels); rosbags: ROS 2 bags only",
         "#e2f0d9",
     ),
@@ -203,12 +203,9 @@ def draw_layers(out: str | os.PathLike[str], dpi: float = 100.0) -> Path:
                 arrowprops={"arrowstyle": "-|>", "color": "0.3", "lw": 1.4},
             )
         ax.text(9.1, (lo_top + hi_bottom) / 2, "imports", fontsize=8, color="0.3", va="center")
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.stem}.tmp.png")
-    fig.savefig(tmp, dpi=dpi, facecolor="white")
-    os.replace(tmp, out)
-    return out
+    from trajopt.viz.plotting import save_figure
+
+    return save_figure(fig, out, dpi, facecolor="white")
 
 
 def _module_row(ax: object, label: str, names: Sequence[str], y: float) -> None:

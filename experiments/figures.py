@@ -16,7 +16,6 @@ Headless (Agg).
 from __future__ import annotations
 
 import argparse
-import os
 import re
 import sys
 import time
@@ -33,9 +32,10 @@ from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the 3-D projection)
 
 from mpa import Circle, Interval, Lollipop, NoMotionError, plan, retract, skeleton_of
-from mpa.plan import Plan
+from mpa.plans import Plan
 from mpa.skeleton import LollipopSkeleton, SkeletonPoint
 from trajopt.viz import drawing as dr
+from trajopt.viz.plotting import save_figure
 
 __all__ = ["FIGURES", "FigureSpec", "main", "queries"]
 
@@ -1152,9 +1152,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     for s in specs:
         t0 = time.perf_counter()
         fig = s.make()
-        tmp = args.out / (s.filename + ".tmp.png")
-        fig.savefig(tmp, dpi=args.dpi, facecolor="white")
-        os.replace(tmp, args.out / s.filename)
+        save_figure(fig, args.out / s.filename, args.dpi, facecolor="white")
         timings[s.filename] = time.perf_counter() - t0
         print(f"{s.filename}  {timings[s.filename]:.2f} s")
     if not args.no_index:

@@ -2,16 +2,15 @@
 
 Layout follows the paper: :mod:`mpa.tracks` (physical spaces), :mod:`mpa.cspace` (configuration spaces),
 :mod:`mpa.skeleton` and :mod:`mpa.retraction` (the deformation onto the skeleton), :mod:`mpa.planners`
-(the algorithms and their domains of continuity), :mod:`mpa.plan` (results), :mod:`mpa.homotopy` (classes of
-paths as skeleton words), :mod:`mpa.topology` (topological complexity of the tracks; homology and TC of two
-robots on any graph); shared pieces: :mod:`mpa.graph` (metric graphs), :mod:`mpa.routes` (a robot's route in
-unwrapped coordinates), :mod:`mpa.errors` (the error family). numpy only.
+(the algorithms and their domains of continuity; the function ``mpa.plan`` plans one query), :mod:`mpa.plans`
+(the result ``Plan``), :mod:`mpa.homotopy` (classes of paths as skeleton words), :mod:`mpa.topology`
+(topological complexity of the tracks; homology and TC of two robots on any graph); shared pieces:
+:mod:`mpa.graph` (metric graphs), :mod:`mpa.routes` (a robot's route in unwrapped coordinates), :mod:`mpa.errors`
+(the error family). numpy only.
 """
 
 import importlib
 import importlib.util
-import sys
-import types
 from typing import TYPE_CHECKING, Any
 
 from mpa._version import __version__
@@ -25,10 +24,10 @@ if TYPE_CHECKING:  # the names as type checkers see them
     from mpa.graph import Edge, MetricGraph, farber_tc_of_graph
     from mpa.graph_track import GraphTrack
     from mpa.homotopy import path_word, reduce_word
-    from mpa.plan import Plan, PlanStep
     from mpa.planar import PlanarFreeSpace, planar_free_space
     from mpa.planners import CirclePlanner, IntervalPlanner, LollipopPlanner, Planner, make_planner, plan
     from mpa.planners.graph import GraphPlan, plan_graph
+    from mpa.plans import Plan, PlanStep
     from mpa.retraction import retract
     from mpa.routes import Route
     from mpa.skeleton import CircleSkeleton, IntervalSkeleton, LollipopSkeleton, Skeleton, skeleton_of
@@ -61,8 +60,8 @@ _LAZY = {
     "GraphTrack": "mpa.graph_track",
     "path_word": "mpa.homotopy",
     "reduce_word": "mpa.homotopy",
-    "Plan": "mpa.plan",
-    "PlanStep": "mpa.plan",
+    "Plan": "mpa.plans",
+    "PlanStep": "mpa.plans",
     "CirclePlanner": "mpa.planners",
     "IntervalPlanner": "mpa.planners",
     "LollipopPlanner": "mpa.planners",
@@ -107,25 +106,6 @@ def __dir__() -> list[str]:
     return sorted(set(globals()) | set(_LAZY))
 
 
-class _Package(types.ModuleType):
-    """``mpa.plan`` is the function :func:`mpa.planners.plan`, also after the submodule ``mpa.plan`` is imported
-    (the import system then sets the package's attribute to the submodule; this keeps the function)."""
-
-    @property
-    def plan(self) -> Any:
-        override = self.__dict__.get("_plan_override")
-        if override is not None:
-            return override
-        return importlib.import_module("mpa.planners").plan
-
-    @plan.setter
-    def plan(self, value: Any) -> None:
-        if not isinstance(value, types.ModuleType):  # e.g. a test's monkeypatch; a submodule is ignored
-            self.__dict__["_plan_override"] = value
-
-
-sys.modules[__name__].__class__ = _Package
-
 __all__ = [
     "BatchPlans",
     "Circle",
@@ -133,7 +113,12 @@ __all__ = [
     "CircleSkeleton",
     "ConfigurationSpace",
     "ConfigurationSpaceTopology",
+    "Disc",
     "Edge",
+    "Footprints",
+    "FreeSpace",
+    "GraphPlan",
+    "GraphTrack",
     "Interval",
     "IntervalPlanner",
     "IntervalSkeleton",
@@ -146,25 +131,29 @@ __all__ = [
     "NoMotionError",
     "Plan",
     "PlanStep",
+    "PlanarFreeSpace",
     "Planner",
     "PlanningError",
+    "Rectangle",
     "Route",
     "Skeleton",
     "Track",
     "__version__",
     "configuration_space_topology",
     "farber_tc_of_graph",
+    "free_space",
     "load_graph_json",
     "make_planner",
     "make_track",
+    "parse_footprint",
     "path_word",
     "plan",
+    "plan_graph",
     "plan_many",
+    "planar_free_space",
     "reduce_word",
     "retract",
     "rules_needed",
     "skeleton_of",
     "topological_complexity",
 ]
-__all__ += ["FreeSpace", "GraphPlan", "GraphTrack", "free_space", "plan_graph"]
-__all__ += ["Disc", "Footprints", "PlanarFreeSpace", "Rectangle", "parse_footprint", "planar_free_space"]

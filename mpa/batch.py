@@ -5,7 +5,7 @@ points and the domain tests run on whole arrays with numpy. On a lollipop, the m
 (which branch, which comparisons hold) are evaluated on whole arrays and packed into one key per query; one
 query per distinct key (a few hundred at most) runs the planner's own main-step code, and its domain and word
 are shared by every query with that key. Queries within ``_MARGIN`` of a decision border (a vertex, an
-ε-neighbourhood's edge, an antipode) are answered one by one by the same code. Full :class:`~mpa.plan.Plan`
+ε-neighbourhood's edge, an antipode) are answered one by one by the same code. Full :class:`~mpa.plans.Plan`
 objects are built on demand by :meth:`BatchPlans.plan`.
 """
 
@@ -18,12 +18,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import InvalidInputError, NoMotionError
-from mpa.plan import Plan
 from mpa.planners import make_planner
 from mpa.planners.base import DEFAULT_NEIGHBOURHOOD, Planner, circle_pieces, pieces_word
 from mpa.planners.circle import CirclePlanner
 from mpa.planners.interval import IntervalPlanner
 from mpa.planners.lollipop import LollipopPlanner, _drop_zero_edges, _wrap_model
+from mpa.plans import Plan
 from mpa.retraction import lollipop_trace, lollipop_trace_scalar
 from mpa.skeleton import CircleSkeleton, skeleton_of
 from mpa.tracks import Circle, Lollipop, Track
@@ -58,7 +58,7 @@ class BatchPlans:
         return len(self.domain)
 
     def plan(self, i: int) -> Plan:
-        """The full :class:`~mpa.plan.Plan` of query ``i`` (built on first use, then kept)."""
+        """The full :class:`~mpa.plans.Plan` of query ``i`` (built on first use, then kept)."""
         k = int(i)
         if not -len(self) <= k < len(self):
             raise InvalidInputError(f"query index is {i!r}, expected 0 <= i < {len(self)}")

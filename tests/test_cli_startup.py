@@ -57,8 +57,9 @@ def test_lazy_package_names() -> None:
     code = (
         "import mpa, sys, types\n"
         "assert 'numpy' not in sys.modules\n"
-        "import mpa.plan as pm\n"  # the submodule mpa.plan is imported: mpa.plan stays the function
-        "assert mpa.plan is pm and not isinstance(mpa.plan, types.ModuleType), mpa.plan\n"
+        "import mpa.plans as pm\n"  # the module of the result type: no name clash with the function mpa.plan
+        "assert isinstance(pm, types.ModuleType) and pm.Plan is mpa.Plan\n"
+        "assert callable(mpa.plan) and not isinstance(mpa.plan, types.ModuleType), mpa.plan\n"
         "from mpa import Lollipop, plan\n"
         "assert plan(Lollipop(1.0, 1.0), (0.1, 0.6), (0.8, 0.3)).domain == 1\n"
         "assert all(hasattr(mpa, n) for n in mpa.__all__) and set(mpa.__all__) <= set(dir(mpa))\n"

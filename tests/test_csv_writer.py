@@ -17,7 +17,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import trajopt.export as export
+import trajopt.io.csvfile as csvfile
 from mpa import GraphTrack, Lollipop
 from mpa.footprint import Disc
 from trajopt import generate_trajectory
@@ -98,7 +98,7 @@ def test_csv_is_byte_identical_to_the_row_by_row_writer(case: str, monkeypatch: 
     tr = CASES[case]()
     ref = reference_csv(tr)
     assert tr.csv_text() == ref
-    monkeypatch.setattr(export, "CSV_CHUNK_ROWS", 7)  # many pieces: the seams between them too
+    monkeypatch.setattr(csvfile, "CSV_CHUNK_ROWS", 7)  # many pieces: the seams between them too
     pieces = list(tr.csv_chunks())
     assert len(pieces) == 1 + -(-len(tr.t) // 7)
     assert b"".join(pieces).decode("utf-8") == ref

@@ -25,7 +25,7 @@ from trajopt.viz.layout import (
     layout_geometry,
     route_switches,
 )
-from trajopt.viz.layout_animation import StreamingGifWriter, animate_layout, plan_motion
+from trajopt.viz.layout_animation import StreamingGifWriter, animate_layout, graph_plan_motion
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples" / "tracks"
@@ -186,7 +186,7 @@ def _frames(path: Path) -> list[np.ndarray]:
 
 def test_animation_of_a_plan_moves_both_robots(tmp_path: Path) -> None:
     p = _y_swap()
-    t, s = plan_motion(p, samples=50)
+    t, s = graph_plan_motion(p, samples=50)
     assert t[0] == 0.0 and t[-1] == pytest.approx(p.makespan)
     np.testing.assert_allclose(s[0], 0.0)
     np.testing.assert_allclose(s[-1], [p.route_a.length, p.route_b.length])
@@ -208,7 +208,7 @@ def test_animation_of_a_plan_moves_both_robots(tmp_path: Path) -> None:
 
 def test_animation_rejects_bad_input_and_writes_nothing(tmp_path: Path) -> None:
     p = _y_swap()
-    t, s = plan_motion(p, samples=20)
+    t, s = graph_plan_motion(p, samples=20)
     out = tmp_path / "bad.gif"
     cases = [
         ((t, s[:, :1]), {}, "s has shape"),

@@ -195,7 +195,8 @@ def test_swap_on_the_y_junction_passes_the_switches_along_the_routes() -> None:
     assert "b_short" not in edges_b
     assert traj.summary()["start"] == ["left", "right"] and traj.summary()["goal"] == ["right", "left"]
     assert traj.min_separation >= 0.3 - 1e-9
-    assert "along b_short to b_short:" in traj.words()["A"] and "back along b_short to J" in traj.words()["A"]
+    prose = traj.description()["A"]
+    assert "along b_short to b_short:" in prose and "back along b_short to J" in prose
 
 
 def test_positions_as_names_tuples_and_text_agree() -> None:

@@ -5,8 +5,9 @@ keeps the clearance: one phase-synchronised ruckig profile), :mod:`trajopt.corri
 convex QP in a corridor fixed by the plan, continuous in the query), :mod:`trajopt.planview` (paper and graph
 plans in one route geometry, :class:`mpa.geometry.RouteGeometry`), :mod:`trajopt.timing` (C² paths and their
 jerk-limited timing),
-:mod:`trajopt.verify` (the independent gate), :mod:`trajopt.export` (the :class:`Trajectory` result, CSV/JSON)
-and :mod:`trajopt.generator` (the pipeline with its fallback); :mod:`trajopt.stability` measures continuity. The
+:mod:`trajopt.verify` (the independent gate), :mod:`trajopt.result` (the :class:`Trajectory` result),
+:mod:`trajopt.io` (atomic writes, CSV, JSON summary) and :mod:`trajopt.generator` (the pipeline with its
+fallback); :mod:`trajopt.stability` measures continuity. The
 drawings (:mod:`trajopt.viz`) and the command line (:mod:`trajopt.cli`, one module per subcommand) sit on top; the
 pipeline imports neither, and nothing else in :mod:`trajopt` imports matplotlib.
 
@@ -23,19 +24,20 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
-    from trajopt.export import CSV_COLUMNS, GRAPH_CSV_COLUMNS, XY_COLUMNS, Source, Trajectory
     from trajopt.generator import GraphPlanner, TrajectoryGenerator, generate_trajectory
+    from trajopt.io.csvfile import CSV_COLUMNS, GRAPH_CSV_COLUMNS, XY_COLUMNS
+    from trajopt.result import Source, Trajectory
     from trajopt.timing import Limits
     from trajopt.verify import VerificationError, VerificationReport, verify_graph_setpoints, verify_setpoints
 
 _WHERE = {
-    "CSV_COLUMNS": "trajopt.export",
-    "GRAPH_CSV_COLUMNS": "trajopt.export",
-    "XY_COLUMNS": "trajopt.export",
+    "CSV_COLUMNS": "trajopt.io.csvfile",
+    "GRAPH_CSV_COLUMNS": "trajopt.io.csvfile",
+    "XY_COLUMNS": "trajopt.io.csvfile",
     "GraphPlanner": "trajopt.generator",
     "verify_graph_setpoints": "trajopt.verify",
-    "Source": "trajopt.export",
-    "Trajectory": "trajopt.export",
+    "Source": "trajopt.result",
+    "Trajectory": "trajopt.result",
     "TrajectoryGenerator": "trajopt.generator",
     "generate_trajectory": "trajopt.generator",
     "Limits": "trajopt.timing",

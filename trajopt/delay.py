@@ -181,8 +181,6 @@ class _CandidateSearch:
         The ordinary query (caller's clearance, no slowdown) raises when it has no motion; other candidates
         record the failure and return None.
         """
-        from trajopt.generator import TrajectoryGenerator
-
         gen, D, T = self.gen, self.gen.clearance, self.T
         limits = gen.limits
         rec: dict[str, Any] = {"clearance": clearance, "slowdown": slowdown}
@@ -198,9 +196,7 @@ class _CandidateSearch:
             if clearance == D and slowdown == 1.0:
                 raw = gen.generate(self.start, self.goal)
             else:
-                g2 = TrajectoryGenerator(
-                    gen.track, clearance=clearance, limits=limits, rate=gen.rate, objective=gen.objective
-                )
+                g2 = type(gen)(gen.track, clearance=clearance, limits=limits, rate=gen.rate, objective=gen.objective)
                 raw = g2.generate(self.start, self.goal)
         except (NoMotionError, InvalidInputError) as exc:
             if clearance == D and slowdown == 1.0:

@@ -31,10 +31,10 @@ from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
 from mpa.footprint import Footprints, drawing_of, footprints
 from mpa.geometry import RouteGeometry
 from mpa.graph_track import GraphTrack
-from mpa.plan import Plan
 from mpa.planners import Planner, make_planner
 from mpa.planners.factory import OBJECTIVES
 from mpa.planners.graph import GraphPlan, plan_graph
+from mpa.plans import Plan
 from mpa.tracks import Track
 from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
 from trajopt.export import Source, Trajectory, check_rate, time_grid, verified_rows

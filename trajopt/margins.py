@@ -45,14 +45,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from trajopt.export import Trajectory
 from trajopt.planview import plan_view
 from trajopt.verify import SEPARATION_TOL, between_rows_separation
+
+if TYPE_CHECKING:  # the result type calls margins() (Trajectory.margins): a type here, no import at run time
+    from trajopt.result import Trajectory
 
 __all__ = [
     "DELAY_PRECISION",

@@ -65,9 +65,8 @@ def check_min_margin(value: Any) -> float:
 
 
 def _at_clearance(gen: TrajectoryGenerator, clearance: float) -> TrajectoryGenerator:
-    from trajopt.generator import TrajectoryGenerator
-
-    return TrajectoryGenerator(
+    """``gen`` at another clearance (its own class: this module does not import the generator, which calls it)."""
+    return type(gen)(
         gen.track, clearance=clearance, limits=gen.limits, rate=gen.rate, optimize=gen.optimize, objective=gen.objective
     )
 

@@ -274,7 +274,7 @@ def _route_piece(route: DirectedRoute, s: FloatArray, v: FloatArray) -> tuple[Fl
 
 
 def plan_view(plan: Any) -> PlanView:
-    """The :class:`PlanView` of a paper :class:`~mpa.plan.Plan` or a :class:`~mpa.planners.graph.GraphPlan`.
+    """The :class:`PlanView` of a paper :class:`~mpa.plans.Plan` or a :class:`~mpa.planners.graph.GraphPlan`.
 
     Built once per plan (cached on the plan object).
     """

@@ -3,56 +3,10 @@
 A PVT drive receives rows ``(t_k, s_k, v_k)`` and moves, between two rows, along the cubic Hermite polynomial
 with those end positions and velocities. :func:`pvt_table` samples a verified trajectory every ``interval``
 seconds and accepts the interval only if that *reconstruction* — not the trajectory itself — keeps the clearance
-and the limits.
-
-Rows
-    ``t_k = k·Δ`` for ``k·Δ < T − Δ/100`` (``T`` = :attr:`Trajectory.motion_time`), then ``T`` itself: the
-    last row is the end of the motion (at the goal, at rest). A remainder shorter than ``Δ/100`` is merged into
-    the previous interval (a nanosecond-long last piece would make the cubic's coefficients pure rounding
-    noise), so every interval lies in ``[Δ/100, 1.01·Δ]``. Columns ``time, a_s, a_v, b_s, b_v``
-    (route coordinates and their velocities, as in the CSV).
-
-Row velocities
-    Positions are exact samples of the motion. Velocities are exact samples too unless the drive's cubics
-    through them break a limit: a Hermite cubic through exact samples of a jerk-limited motion that uses its
-    acceleration limit overshoots it by about ``jmax·Δ/7`` wherever a jerk phase begins inside a piece
-    (measured on the Y-junction swap, vmax 0.5, amax 1, jmax 5: +7.3 % at Δ = 0.1 s, +0.067 % at 1 ms), so no
-    interval would keep the limit. Then the velocities at the inner rows are moved, as little as possible in
-    L1, until every piece keeps ``vmax``, ``amax`` and ``jmax`` (:func:`fit_row_velocities`; the Y swap at
-    0.1 s: at most 3.6 mm/s); :attr:`PVTTable.velocity_change` reports the largest change. The positions at
-    the rows stay exact and the gate below checks the clearance of the reconstruction between them.
-
-The check (:func:`check_pvt`)
-    On the piece ``[t_k, t_k+1]`` of length ``h`` the cubic is ``s(τ) = c0 + c1τ + c2τ² + c3τ³`` with
-    ``c2 = (3Δs/h − 2v_k − v_k+1)/h``, ``c3 = (v_k + v_k+1 − 2Δs/h)/h²``. Its velocity is quadratic (checked at
-    both ends and at the vertex ``τ = −c2/(3c3)`` when inside), its acceleration linear (checked at both ends:
-    these are its extremes), its jerk the constant ``6c3``. **Acceleration and jerk are checked per piece**:
-    the acceleration of a Hermite reconstruction jumps at the rows (it is only C¹) and these jumps are inherent
-    to every PVT drive, so they are not counted as jerk; what is checked is that each piece's acceleration
-    stays within ``amax`` and its (constant) jerk within ``jmax`` (relative tolerance
-    :data:`trajopt.verify.LIMIT_RTOL`). The jump at the first and last row (the drive at rest before and after)
-    is treated the same way.
-    Then the gate :func:`trajopt.verify.verify_setpoints` runs on a dense grid of the reconstruction at
-    ``R = m/Δ`` Hz, ``m = max(8, ceil(Δ·1000))`` (so every row ``k·Δ`` is a grid point and ``R ≥ 1 kHz``):
-    positions on the routes, separation at every grid point and between points, homotopy class, endpoints.
-    As the gate bounds the motion between grid points with the accelerations at its ends, the array passed as
-    acceleration holds, at each grid point, the largest ``|a|`` of the reconstruction over the two adjacent grid
-    steps (exact: ``a`` is piecewise linear), and 0 at the first and last point; the jerk array holds the
-    largest per-piece ``|6c3|`` of the adjacent steps. This over-estimates, never under-estimates, the chord
-    deviation, so the gate's separation bound stays a bound.
-
-Largest interval
-    If the interval fails, :func:`largest_pvt_interval` scans the round intervals (…, 0.1, 0.08, 0.05, 0.04,
-    0.025, 0.02, 0.01, …, 0.001 s) downwards from the largest value not above the requested interval and
-    returns the first that passes (round values are preferred over bisection: drives take round periods, and
-    passing is not monotone in Δ in general); the error names it. ``interval="auto"`` (:func:`pvt_table`,
-    the command line's default) takes that interval below :data:`DEFAULT_INTERVAL`.
-
-Time stretch (optional)
-    When an interval still fails (the fitted velocities cannot keep the limits, or the reconstruction leaves
-    the clearance), ``max_stretch > 1`` lets :func:`pvt_table` sample the same path ``k`` times slower
-    (``s(t/k)``, ``v/k``; the path, hence clearance and homotopy class, unchanged) with the smallest ``k`` of
-    :data:`STRETCHES` that passes; the table reports ``stretch``. The default (1) keeps the motion's timing.
+and the limits (:func:`check_pvt`); the row velocities are fitted when the cubics through exact samples would
+break a limit (:func:`fit_row_velocities`), :func:`largest_pvt_interval` finds the largest round interval that
+passes, and ``max_stretch`` may slow the same path down. The rows, the fit, the check and the intervals are
+derived in docs/pvt.md.
 """
 
 from __future__ import annotations

@@ -34,9 +34,9 @@ from numpy.typing import NDArray
 from mpa.errors import NoMotionError, PlanningError
 from mpa.geometry import DirectedRoute
 from mpa.planners.graph import GraphPlan
+from trajopt.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
 from trajopt.export import Trajectory, time_grid, verified_rows
 from trajopt.planview import plan_view
-from trajopt.replan import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
 from trajopt.verify import SEPARATION_TOL, VerificationError, VerificationReport
 
 if TYPE_CHECKING:

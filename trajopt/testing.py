@@ -19,7 +19,7 @@ On a layout (:class:`mpa.GraphTrack`), :func:`check_graph_setpoints` checks the 
 within their edges, edge changes only between edges sharing a vertex, and the ``*_dir`` column.
 
 Each check returns a message on failure; :func:`check_trajectory` applies them to a
-:class:`~trajopt.export.Trajectory`.
+:class:`~trajopt.result.Trajectory`.
 """
 
 from __future__ import annotations
@@ -219,7 +219,7 @@ def _dense_times(traj: Any, fine: int) -> FloatArray:
 def check_trajectory(
     traj: Any, start: ArrayLike | None = None, goal: ArrayLike | None = None, *, fine: int = 8
 ) -> list[str]:
-    """Check a :class:`~trajopt.export.Trajectory` (its rows, and its continuous motion ``fine`` times denser).
+    """Check a :class:`~trajopt.result.Trajectory` (its rows, and its continuous motion ``fine`` times denser).
 
     Parameters
     ----------
@@ -450,9 +450,9 @@ def _direction_failures(
 
 
 def check_graph_trajectory(traj: Any, *, fine: int = 8) -> list[str]:
-    """Check a :class:`~trajopt.export.Trajectory` on a layout (rows and the continuous motion ``fine`` times denser).
+    """Check a :class:`~trajopt.result.Trajectory` on a layout (rows and the continuous motion ``fine`` times denser).
 
-    The rows' positions are the trajectory's (:attr:`~trajopt.export.Trajectory.edges`, ``offsets``,
+    The rows' positions are the trajectory's (:attr:`~trajopt.result.Trajectory.edges`, ``offsets``,
     ``directions``); the dense grid follows the plan's routes (:meth:`mpa.geometry.DirectedRoute.positions`).
     """
     plan = traj.plan

@@ -180,7 +180,7 @@ def _phrase(track: Track, edge: str, direction: int, length: float, pa: float, p
 
 
 def describe(trajectory: Any) -> dict[str, str]:
-    """Plain words per cart for a :class:`~trajopt.export.Trajectory` (its rows and its plan's routes).
+    """Plain words per cart for a :class:`~trajopt.result.Trajectory` (its rows and its plan's routes).
 
     Examples
     --------

@@ -467,8 +467,8 @@ def _path_kind(r: Record) -> str:
 
 def plot_scaling(records: Sequence[Record], path: Path, dpi: int = 90) -> Path:
     """Four panels: compute time (verified results) and makespan (queries every method verified) against the
-    track scale, grid compute time against the number of product nodes, our compute time against the IPOPT
-    size class."""
+    track scale, grid compute time against the number of product nodes, our compute time against the track scale
+    by path (fast or hard)."""
     plt = _plt()
     from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
 

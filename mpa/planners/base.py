@@ -17,7 +17,7 @@ from mpa.cspace import ConfigurationSpace
 from mpa.errors import InvalidInputError, PlanningError
 from mpa.graph import MetricGraph
 from mpa.homotopy import word_from_samples
-from mpa.plan import JointMove, Plan
+from mpa.plans import JointMove, Plan
 from mpa.routes import RobotMove
 from mpa.tracks import Track
 

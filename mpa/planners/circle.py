@@ -9,7 +9,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from mpa.errors import InvalidInputError, PlanningError
-from mpa.plan import Plan, build_plan
 from mpa.planners.base import (
     FINAL,
     PRELIM,
@@ -19,6 +18,7 @@ from mpa.planners.base import (
     pieces_word,
     reverse_moves,
 )
+from mpa.plans import Plan, build_plan
 from mpa.retraction import trace_moves
 from mpa.skeleton import (
     CircleSkeleton,

@@ -14,7 +14,6 @@ import numpy as np
 
 from mpa.errors import InvalidInputError
 from mpa.graph_track import GraphTrack
-from mpa.plan import Plan
 from mpa.planners.base import (
     DEFAULT_NEIGHBOURHOOD,
     Planner,
@@ -23,6 +22,7 @@ from mpa.planners.circle import CirclePlanner
 from mpa.planners.graph import GraphPlan, plan_graph
 from mpa.planners.interval import IntervalPlanner
 from mpa.planners.lollipop import LollipopPlanner
+from mpa.plans import Plan
 from mpa.tracks import Circle, Interval, Lollipop, Track
 
 __all__ = ["OBJECTIVES", "PLANNERS", "make_planner", "plan"]
@@ -59,7 +59,7 @@ def plan(
 ) -> Plan | GraphPlan:
     """Plan a collision-free motion of two robots from ``start`` to ``goal``.
 
-    On the paper's tracks the paper's algorithm answers (a :class:`~mpa.plan.Plan` with its domain of continuity);
+    On the paper's tracks the paper's algorithm answers (a :class:`~mpa.plans.Plan` with its domain of continuity);
     with ``planner="graph"``, or on any other track graph, the complete graph planner answers (a
     :class:`~mpa.planners.graph.GraphPlan`: it finds a motion whenever one exists).
 

@@ -39,7 +39,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from mpa.errors import InvalidInputError, PlanningError
-from mpa.plan import JointMove, Plan, build_plan
 from mpa.planners.base import (
     FINAL,
     PRELIM,
@@ -50,6 +49,7 @@ from mpa.planners.base import (
     pieces_word,
     reverse_moves,
 )
+from mpa.plans import JointMove, Plan, build_plan
 from mpa.retraction import lollipop_trace_scalar
 from mpa.routes import RobotMove
 from mpa.skeleton import (

@@ -15,7 +15,7 @@ pvt           ``pvt.csv``             PVT rows every ``--pvt-interval`` s (:func
 ``--plot`` adds ``trajectory.png`` (:func:`trajopt.viz.layout_run.trajectory_figure`: a paper track's figure, or
 a layout run's). Every option is checked before
 any work (:func:`check_output_options`); every file is computed (:func:`output_files`; ``setpoints.csv`` is
-:class:`trajopt.export.Streamed`, formatted piece by piece while it is written) and then written all or nothing
+:class:`trajopt.io.atomic.Streamed`, formatted piece by piece while it is written) and then written all or nothing
 (:func:`trajopt.cli.trajectory.write_outputs`).
 
 ``summary.json`` is :meth:`Trajectory.summary` plus ``files`` (what was written), ``pvt`` (interval, stretch,
@@ -228,7 +228,7 @@ def output_files(traj: Trajectory, opts: OutputOptions, recipe: dict[str, Any]) 
         from trajopt.viz.plotting import figure_png
 
         files[PLOT_FILE] = figure_png(trajectory_figure(traj))
-    summary = traj.summary()
+    summary = traj.summary(margins=True)
     summary.update(extra)
     summary["formats"] = list(opts.formats)
     summary["files"] = [*files, "summary.json"]
@@ -245,7 +245,7 @@ def summary_text(traj: Trajectory) -> str:
     src = "fallback (plan re-timed): " + traj.fallback_reason if traj.fallback else "optimized"
     m = traj.margins()
     tau = "unbounded" if math.isinf(m.delay_tolerance) else f"{m.delay_tolerance:.4g} s"
-    words = traj.words()
+    words = traj.description()
     if traj.is_graph:  # a layout: each robot's route (edges with the direction travelled) instead of the domain
         first = [
             f"route {r.upper()}     " + " → ".join(f"{p['edge']}{'+' if p['dir'] > 0 else '-'}" for p in s["routes"][r])

@@ -18,10 +18,10 @@ import numpy as np
 
 from mpa.errors import InvalidInputError
 from mpa.graph_track import GraphTrack
-from mpa.plan import Plan
 from mpa.planners import make_planner
 from mpa.planners.factory import OBJECTIVES, PLANNERS, plan
 from mpa.planners.graph import GraphPlan
+from mpa.plans import Plan
 from mpa.retraction import trace_info
 from mpa.tracks import Track
 from trajopt.cli.common import (
@@ -103,7 +103,7 @@ def plan_query(
 def plan_json(p: Plan | GraphPlan, samples: int = 400) -> dict[str, Any]:
     """The object ``mpa plan --json`` prints (``samples``: ``--samples``, any integer >= 2).
 
-    A paper plan: :meth:`mpa.plan.Plan.to_dict` with ``max(samples, 200, the 1 % rule)`` path points, ``samples``
+    A paper plan: :meth:`mpa.plans.Plan.to_dict` with ``max(samples, 200, the 1 % rule)`` path points, ``samples``
     and ``min_distance`` (metres). A graph plan: :meth:`GraphPlan.to_dict` with ``planner``, ``path`` (shape
     (n, 2, 2): ``[edge name, offset]`` per robot), ``path_s`` (shape (n, 2), metres along each route),
     ``samples`` and ``min_distance``.

@@ -65,7 +65,7 @@ DEFAULTS = TRAJECTORY_DEFAULTS
 
 @contextlib.contextmanager
 def output_lock(directory: str | os.PathLike[str]) -> Iterator[None]:
-    """Hold the lock of :func:`write_outputs` on ``directory`` (:func:`trajopt.export.directory_lock`).
+    """Hold the lock of :func:`write_outputs` on ``directory`` (:func:`trajopt.io.directory.directory_lock`).
 
     Readers that want one run's consistent set of files take it too.
     """
@@ -83,7 +83,7 @@ def _write_file(path: Path, content: Content) -> None:
 def write_outputs(out: str | os.PathLike[str], files: Mapping[str, Content]) -> list[Path]:
     """Replace the run files of directory ``out`` by ``files`` (name -> content) as a whole, in one step.
 
-    See :func:`trajopt.export.write_directory`: the files go into a temporary directory beside ``out``, which is
+    See :func:`trajopt.io.directory.write_directory`: the files go into a temporary directory beside ``out``, which is
     swapped with ``out`` by one rename; after any interruption ``out`` holds this run's complete set or the
     previous one untouched, and no file of a format this run did not ask for.
 
@@ -224,7 +224,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     plan: Any = traj.plan  # a paper Plan (the demo's lollipop)
     files: dict[str, Content] = {
         "setpoints.csv": Streamed(traj.csv_chunks),
-        "summary.json": _json(traj.summary()),
+        "summary.json": _json(traj.summary(margins=True)),
         "plan.json": _json(plan.to_dict(samples=max(400, plan.samples_needed(0.01)))),
         "trajectory.png": png,
     }

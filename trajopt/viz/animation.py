@@ -7,7 +7,7 @@ v/a/j limits) is visible side by side.
 
 The figure is laid out once (the static panels drawn once and kept as a background); each frame restores that
 background and draws only the moving artists, and is handed to the writer at once, so memory does not grow with
-the number of frames. GIF files are written by :class:`~trajopt.viz.layout_animation.StreamingGifWriter` (frame by
+the number of frames. GIF files are written by :class:`~trajopt.viz.movie.StreamingGifWriter` (frame by
 frame); MP4 files by matplotlib's ``FFMpegWriter``, which needs an ffmpeg executable: one on the ``PATH``, or the
 one shipped inside the ``imageio-ffmpeg`` wheel (``pip install imageio-ffmpeg``), found automatically. A progress
 bar goes to stderr when it is a terminal. Files are written to a temporary name and renamed, so a failed run
@@ -17,27 +17,23 @@ leaves no file behind.
 from __future__ import annotations
 
 import os
-import shutil
-import sys
-import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import matplotlib as mpl
 import numpy as np
-from matplotlib.animation import FFMpegWriter
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
 from mpa import defaults
 from mpa.errors import InvalidInputError
-from mpa.plan import Plan
+from mpa.plans import Plan
 from mpa.skeleton import skeleton_of
 from mpa.tracks import Track
 from trajopt.viz import drawing as dr
+from trajopt.viz.movie import FORMATS, _Progress, _save_streaming, animation_format, ffmpeg_executable, movie_writer
 
 __all__ = [
     "FORMATS",
@@ -51,8 +47,6 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
-#: Output formats and their file suffixes.
-FORMATS = {"gif": ".gif", "mp4": ".mp4"}
 
 
 @dataclass(frozen=True)
@@ -129,46 +123,6 @@ def trajectory_motion(traj: Any) -> Motion:
     kind = "fallback: re-timed plan" if bool(getattr(traj, "fallback", False)) else "optimised"
     label = f"jerk-limited trajectory\n({kind}), makespan {float(traj.makespan):.2f} s"
     return Motion(label, np.asarray(traj.t, dtype=float), np.asarray(traj.track, dtype=float), np.asarray(traj.v))
-
-
-def ffmpeg_executable() -> str | None:
-    """Path of an ffmpeg executable: on the PATH, else the one inside ``imageio-ffmpeg``, else None."""
-    exe = shutil.which("ffmpeg")
-    if exe:
-        return exe
-    try:
-        import imageio_ffmpeg
-    except ImportError:
-        return None
-    try:
-        return str(imageio_ffmpeg.get_ffmpeg_exe())
-    except (RuntimeError, OSError):  # pragma: no cover - a broken install
-        return None
-
-
-def animation_format(out: Path, fmt: str | None) -> str:
-    """The animation format: ``fmt``, else the suffix of ``out`` (InvalidInputError unless one of :data:`FORMATS`)."""
-    fmt = fmt if fmt is not None else out.suffix.lstrip(".").lower()
-    if fmt not in FORMATS:
-        raise InvalidInputError(f"format is {fmt!r}, expected one of {sorted(FORMATS)}")
-    return fmt
-
-
-def movie_writer(fmt: str, fps: float, ffmpeg_fps: float | None = None) -> Any:
-    """The writer of an animation: a streaming GIF writer at ``fps``, or ffmpeg's h264 at ``ffmpeg_fps`` (default
-    ``fps``); InvalidInputError for mp4 without an ffmpeg executable."""
-    if fmt == "gif":
-        from trajopt.viz.layout_animation import StreamingGifWriter
-
-        return StreamingGifWriter(fps=fps)
-    exe = ffmpeg_executable()
-    if exe is None:
-        raise InvalidInputError(
-            "format is 'mp4', which needs an ffmpeg executable: install one (pip install imageio-ffmpeg) or use gif"
-        )
-    mpl.rcParams["animation.ffmpeg_path"] = exe
-    rate = fps if ffmpeg_fps is None else ffmpeg_fps
-    return FFMpegWriter(fps=rate, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])  # type: ignore[arg-type]
 
 
 def _check(name: str, value: float, lo: float, *, integer: bool = False) -> None:
@@ -249,49 +203,6 @@ def animate_motions(
 
 def _artist_list(art: dict[str, Any]) -> list[Any]:
     return [art["trail"], art["dot"], *art["marks"].values(), *art["names"].values(), art["cursor"], art["clock"]]
-
-
-class _Progress:
-    """A one-line progress bar on stderr (``\\r``-updated at most 10 times a second); silent unless enabled.
-
-    Parameters
-    ----------
-    total : int
-        Number of steps.
-    label : str
-    enabled : bool, optional
-        Default: when stderr is a terminal.
-    """
-
-    def __init__(self, total: int, label: str, enabled: bool | None = None) -> None:
-        self.total, self.label = max(int(total), 1), label
-        stream = sys.stderr
-        self.enabled = bool(enabled) if enabled is not None else bool(getattr(stream, "isatty", lambda: False)())
-        self.t0 = time.perf_counter()
-        self._last = -1.0
-        self.shown = 0
-
-    def update(self, done: int) -> None:
-        """``done`` steps finished."""
-        if not self.enabled:
-            return
-        now = time.perf_counter()
-        if done < self.total and now - self._last < 0.1:
-            return
-        self._last = now
-        frac = min(done / self.total, 1.0)
-        el = now - self.t0
-        eta = el / frac - el if frac > 0 else 0.0
-        bar = "#" * int(30 * frac) + "-" * (30 - int(30 * frac))
-        sys.stderr.write(f"\r{self.label}: [{bar}] {done}/{self.total} frames, {el:5.1f} s, {eta:5.1f} s left")
-        sys.stderr.flush()
-        self.shown += 1
-
-    def close(self) -> None:
-        """End the line."""
-        if self.enabled and self.shown:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
 
 
 def _motions_figure(
@@ -433,32 +344,6 @@ def _update_frame(track: Track, motions: Sequence[Motion], artists: Sequence[dic
         changed += [art["trail"], art["dot"], *art["marks"].values(), *art["names"].values()]
         changed += [art["cursor"], art["clock"]]
     return changed
-
-
-def _save_streaming(fig: Figure, frames: Any, out: Path, fmt: str, writer: Any, dpi: float, bar: _Progress) -> None:
-    """Hand every frame to the writer as it is drawn, into a temporary file beside ``out``, then rename it; nothing
-    is left on a failure. ``frames`` yields after each frame has been drawn onto the figure's canvas."""
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.stem}.tmp{FORMATS[fmt]}")
-    try:
-        with writer.saving(fig, str(tmp), dpi):
-            for k in frames:
-                _grab(writer, fig)
-                bar.update(k + 1)
-        os.replace(tmp, out)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-
-
-def _grab(writer: Any, fig: Figure) -> None:
-    """Give the writer the canvas as drawn (no redraw: the frame was blitted onto the background)."""
-    canvas = fig.canvas
-    rgba = np.asarray(canvas.buffer_rgba())  # type: ignore[attr-defined]
-    if hasattr(writer, "write_rgba"):
-        writer.write_rgba(rgba)
-    else:  # FFMpegWriter: raw RGBA into the pipe
-        writer._proc.stdin.write(rgba.tobytes())
 
 
 def query_title(track: Track, plan: Plan) -> str:

@@ -32,7 +32,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from mpa.plan import Plan
+    from mpa.plans import Plan
 
 __all__ = [
     "DOMAIN_COLORS",

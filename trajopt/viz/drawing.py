@@ -27,7 +27,7 @@ from matplotlib.figure import Figure
 from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import InvalidInputError, PlanningError
-from mpa.plan import Plan
+from mpa.plans import Plan
 from mpa.retraction import retract
 from mpa.skeleton import CircleSkeleton, IntervalSkeleton, LollipopSkeleton, Skeleton, SkeletonPoint, skeleton_of
 from mpa.tracks import Circle, Interval, Lollipop, Track

@@ -2,7 +2,7 @@
 
 A motion is given as times ``t`` (shape (N,)) and route coordinates ``s`` (shape (N, 2), robot A in column 0): the
 distance each robot has travelled along its route (:class:`mpa.geometry.DirectedRoute`), so plans of the complete
-graph planner (:func:`plan_motion`) and jerk-limited trajectories on graph tracks animate the same way.
+graph planner (:func:`graph_plan_motion`) and jerk-limited trajectories on graph tracks animate the same way.
 
 The figure is laid out once (the layout, both routes faintly, start and goal; labels that would overlap moved
 apart, :func:`trajopt.viz.labels.separate_labels`) and drawn once as a background; each frame restores that
@@ -28,18 +28,17 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from numpy.typing import ArrayLike, NDArray
-from PIL import GifImagePlugin, Image
 
 from mpa.errors import InvalidInputError
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, as_graph_track
 from mpa.planners.graph import GraphPlan
-from trajopt.viz.animation import _Progress, _save_streaming, animation_format, movie_writer
 from trajopt.viz.drawing import ROBOT_COLORS
 from trajopt.viz.labels import separate_labels
 from trajopt.viz.layout import ROUTE_STYLES, LayoutGeometry, draw_layout, draw_routes, layout_geometry
+from trajopt.viz.movie import StreamingGifWriter, _Progress, _save_streaming, animation_format, movie_writer
 
-__all__ = ["StreamingGifWriter", "animate_graph_plan", "animate_layout", "plan_motion"]
+__all__ = ["StreamingGifWriter", "animate_graph_plan", "animate_layout", "graph_plan_motion"]
 
 FloatArray = NDArray[np.float64]
 #: Points along a robot's body.
@@ -52,70 +51,6 @@ LEGEND_SIZE = 9.5
 LABEL_SIZE = 10.0
 #: Space kept free along the figure's border (inches).
 BORDER_PAD = 0.15
-
-
-class StreamingGifWriter(AbstractMovieWriter):
-    """A GIF writer that encodes and writes each frame as it is grabbed (memory flat in the number of frames).
-
-    The palette (up to 256 colours, no dithering) is taken from the first frame and reused for every frame, so colours
-    do not flicker. Loops forever.
-    """
-
-    def __init__(self, fps: float = 20.0) -> None:
-        super().__init__(fps=round(fps) if fps >= 1 else 1)
-        self._fps = float(fps)
-        self._fp: Any = None
-        self._palette: Image.Image | None = None
-        self._last: NDArray[np.uint8] = np.zeros((0, 0), dtype=np.uint8)
-        self.frames = 0
-
-    def setup(self, fig: Figure, outfile: str | Path, dpi: float | None = None) -> None:
-        """Open ``outfile`` for writing."""
-        super().setup(fig, outfile, dpi=dpi)
-        self._fp = open(outfile, "wb")
-        self._palette = None
-        self.frames = 0
-
-    def grab_frame(self, **savefig_kwargs: Any) -> None:
-        """Render the figure and append it to the file (only the rectangle that changed since the last frame)."""
-        fig = self.fig
-        fig.set_dpi(self.dpi)
-        canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
-        canvas.draw()
-        self.write_rgba(np.asarray(canvas.buffer_rgba()))
-
-    def write_rgba(self, rgba: NDArray[np.uint8]) -> None:
-        """Append one frame given as pixels (shape (H, W, 4)), e.g. a canvas drawn by blitting."""
-        rgb = Image.fromarray(rgba[..., :3].copy(), "RGB")
-        duration = round(1000.0 / self._fps)
-        if self._palette is None:
-            self._palette = rgb.quantize(colors=256, dither=Image.Dither.NONE)
-            frame = self._palette
-            header, _ = GifImagePlugin.getheader(frame, None, {"loop": 0, "duration": duration})
-            for chunk in header:
-                self._fp.write(chunk)
-            box = (0, 0, frame.width, frame.height)
-        else:
-            frame = rgb.quantize(palette=self._palette, dither=Image.Dither.NONE)
-            changed = np.asarray(frame) != self._last
-            if changed.any():
-                rows, cols = np.nonzero(changed.any(axis=1))[0], np.nonzero(changed.any(axis=0))[0]
-                box = (int(cols[0]), int(rows[0]), int(cols[-1]) + 1, int(rows[-1]) + 1)
-            else:
-                box = (0, 0, 1, 1)
-        self._last = np.asarray(frame).copy()
-        part = frame.crop(box)
-        part.palette = frame.palette
-        for chunk in GifImagePlugin.getdata(part, (box[0], box[1]), duration=duration):
-            self._fp.write(chunk)
-        self.frames += 1
-
-    def finish(self) -> None:
-        """Write the GIF trailer and close the file."""
-        if self._fp is not None:
-            self._fp.write(b";")
-            self._fp.close()
-            self._fp = None
 
 
 def _check_number(name: str, value: object, lo: float, *, integer: bool = False) -> float:
@@ -142,7 +77,7 @@ def _check_motion(t: ArrayLike, s: ArrayLike) -> tuple[FloatArray, FloatArray]:
     return tt, ss
 
 
-def plan_motion(plan: GraphPlan, samples: int = 400) -> tuple[FloatArray, FloatArray]:
+def graph_plan_motion(plan: GraphPlan, samples: int = 400) -> tuple[FloatArray, FloatArray]:
     """The raw plan as a timed motion: ``(t, s)`` at the plan's speed limits (no acceleration limits).
 
     Parameters
@@ -454,7 +389,7 @@ def animate_graph_plan(plan: GraphPlan, out: str | os.PathLike[str], *, name: st
     """
     from trajopt.viz.layout import plan_title
 
-    t, s = plan_motion(plan)
+    t, s = graph_plan_motion(plan)
     kw.setdefault("clearance", plan.clearance)
     kw.setdefault("title", plan_title(plan, name))
     return animate_layout(plan.track, plan.route_a, plan.route_b, t, s, out, **kw)

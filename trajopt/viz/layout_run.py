@@ -8,7 +8,7 @@ over time with the limits (A solid, B dashed), and the distance between the cart
 has no domains of continuity: the title names the query, clearance, makespan and closest approach, and each
 cart's motion in words.
 
-:func:`layout_run_figure` draws from plain arrays (a :class:`~trajopt.export.Trajectory`, or the columns of a
+:func:`layout_run_figure` draws from plain arrays (a :class:`~trajopt.result.Trajectory`, or the columns of a
 ``setpoints.csv`` with the routes of its ``summary.json``: :func:`routes_from_summary`);
 :func:`trajectory_figure` draws any trajectory (a layout run here, a paper track's with
 :func:`trajopt.viz.plotting.plot_trajectory`).
@@ -259,6 +259,6 @@ def trajectory_figure(traj: Any, name: str | None = None) -> Figure:
         clearance=traj.clearance,
         limits={"vmax": tuple(lim.v), "amax": tuple(lim.a)},
         title=title,
-        words=traj.words(),
+        words=traj.description(),
         footprint=getattr(traj, "footprint", None),
     )

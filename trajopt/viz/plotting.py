@@ -1,4 +1,4 @@
-"""The demo figure of a :class:`~trajopt.export.Trajectory` (matplotlib, Agg; imported only by the CLI).
+"""The demo figure of a :class:`~trajopt.result.Trajectory` (matplotlib, Agg; imported only by the CLI).
 
 One figure, three views: the track with both robots' routes, the path in the flat configuration space
 (track coordinates of A and B) with the skeleton and the forbidden band ``d < D``, and ``s, v, a, j`` of both
@@ -125,12 +125,10 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float, **savefig
     """
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
-    try:
+    from trajopt.io.atomic import atomic_path
+
+    with atomic_path(out) as tmp:
         fig.savefig(tmp, dpi=dpi, format=out.suffix.lstrip(".").lower() or "png", **savefig_kwargs)
-        os.replace(tmp, out)
-    finally:
-        tmp.unlink(missing_ok=True)
     return out
 
 

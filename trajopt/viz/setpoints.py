@@ -1,4 +1,4 @@
-"""A figure of setpoints read back from files (``mpa plot``): no :class:`~trajopt.export.Trajectory` needed.
+"""A figure of setpoints read back from files (``mpa plot``): no :class:`~trajopt.result.Trajectory` needed.
 
 :func:`read_rows` reads a setpoints file of the project (``setpoints.csv``: ``time,a_track,a_s,...``; ``pvt.csv``:
 ``time,a_s,a_v,b_s,b_v``; any CSV with a ``time`` column and ``a_*``/``b_*`` columns) into columns;
