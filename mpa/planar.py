@@ -548,19 +548,42 @@ class PlanarFreeSpace:
         x = abs(h1 - h2) % math.pi
         return min(x, math.pi - x) > 1e-12
 
+    def still_on_corner(self, i: int, c0: Coords, c1: Coords) -> list[tuple[int, float]]:
+        """The robots (axis ``0`` A, ``1`` B) that a straight move ``c0 -> c1`` in piece ``i`` keeps on a corner of
+        the drawing where the body turns, with that corner's offset: both ends within ``10 * tol`` of it (shared
+        points computed two ways may differ in the last digits)."""
+        e, f, _ = self.pieces[i].cell
+        co = self._corner_arrays()
+        tol = 10.0 * self.tol
+        out = []
+        for ax, edge in ((0, e), (1, f)):
+            x = c0[ax]
+            if abs(c1[ax] - x) > tol:
+                continue
+            arr = co[edge]
+            k = int(np.searchsorted(arr, x))
+            for j in (k - 1, k):
+                if 0 <= j < len(arr) and abs(arr[j] - x) <= tol and abs(arr[j] - c1[ax]) <= tol:
+                    out.append((ax, float(arr[j])))
+                    break
+        return out
+
+    def _corner_arrays(self) -> list[NDArray[np.float64]]:
+        """Per edge the sorted offsets of :meth:`_corner_offsets`."""
+        ca = self.__dict__.get("_ca")
+        if ca is None:
+            ca = self._ca = [np.array(sorted(d), dtype=float) for d in self._corner_offsets()]
+        return ca
+
     def segment_ok(self, i: int, c0: Coords, c1: Coords) -> bool:
         """Whether a straight move inside piece ``i`` is clear also where a robot stands still on a corner: there
         it may have either orientation, so its reach disc must stay clear of the other body."""
-        e, f, _ = self.pieces[i].cell
-        co = self._corner_offsets()
-        for ax, edge in ((0, e), (1, f)):
-            if c0[ax] != c1[ax] or c0[ax] not in co[edge]:
-                continue
+        sub = self.pieces[i].sub
+        for ax, corner in self.still_on_corner(i, c0, c1):
             fp = self.footprints.a if ax == 0 else self.footprints.b
             if isinstance(fp, Disc):
                 continue
-            sub = self.pieces[i].sub
-            blk = self._turn_block(ax, sub[ax], c0[ax], sub[1 - ax])
+            blk = self._turn_block(ax, sub[ax], corner, sub[1 - ax])
             if blk is None:
                 continue
             y0, y1 = sorted((c0[1 - ax], c1[1 - ax]))
@@ -628,11 +651,10 @@ class PlanarFreeSpace:
         where the other robot's edge is one-way (its offset then stays between the ends). None when the piece has
         no interior, the still robot's edge is one-way (it could not come back) or either move is refused too.
         """
-        if c0 == c1:
+        still = self.still_on_corner(i, c0, c1)
+        if len(still) != 1:  # both still: no move; none: nothing to go round
             return None
-        ax = 0 if c0[0] == c1[0] else 1
-        if c0[ax] != c1[ax]:
-            return None
+        ax = still[0][0]
         poly = self.pieces[i].poly
         tol = 10.0 * self.tol
         if len(poly) < 3 or abs(_area([tuple(x) for x in poly])) <= tol * tol:
@@ -648,7 +670,7 @@ class PlanarFreeSpace:
         if self.track.oneway[edges[o]] and dz > 0.0:
             lam = min(lam, 0.25 * abs(c1[o] - c0[o]) / dz)
         w = (m[0] + lam * (float(z[0]) - m[0]), m[1] + lam * (float(z[1]) - m[1]))
-        if w[ax] == c0[ax] or not (self.segment_ok(i, c0, w) and self.segment_ok(i, w, c1)):
+        if self.still_on_corner(i, c0, w) or not (self.segment_ok(i, c0, w) and self.segment_ok(i, w, c1)):
             return None
         return w
 
@@ -876,10 +898,11 @@ class _Moves:
             keep &= (~ow[ea] | (dst[:, 0] >= src[:, 0])) & (~ow[eb] | (dst[:, 1] >= src[:, 1]))
         via = np.full((len(w), 2), np.nan)
         if not (isinstance(space.footprints.a, Disc) and isinstance(space.footprints.b, Disc)):
-            still = keep & ((dst[:, 0] == src[:, 0]) | (dst[:, 1] == src[:, 1]))
+            near = 10.0 * space.tol
+            still = keep & ((np.abs(dst[:, 0] - src[:, 0]) <= near) | (np.abs(dst[:, 1] - src[:, 1]) <= near))
             for k in np.flatnonzero(still).tolist():
                 i, c0, c1 = int(piece[k]), (float(src[k, 0]), float(src[k, 1])), (float(dst[k, 0]), float(dst[k, 1]))
-                if c0 == c1 or space.segment_ok(i, c0, c1):
+                if space.segment_ok(i, c0, c1):
                     continue
                 wp = space.detour(i, c0, c1)
                 if wp is None:
@@ -955,7 +978,7 @@ def _search(
         cell = pieces[i].cell
         if rules and not _forward(tr, cell, c, q):
             return None
-        if not bodies_turn or (c[0] != q[0] and c[1] != q[1]) or c == q or space.segment_ok(i, c, q):
+        if not bodies_turn or space.segment_ok(i, c, q):
             return cost(cell, c, q), None
         w = space.detour(i, c, q)
         if w is None:
@@ -1017,6 +1040,7 @@ def _astar(
 
     shortest = objective == "shortest"
     bodies_turn = not (isinstance(space.footprints.a, Disc) and isinstance(space.footprints.b, Disc))
+    near = 10.0 * space.tol  # a robot this close to standing still may stand on a corner (segment_ok decides)
     flat = space.moves()
     goal_in: dict[int, list[Coords]] = {}
     for i, c in g_pl:
@@ -1076,7 +1100,7 @@ def _astar(
                 continue
             via = None
             # a move that keeps a robot still may turn its body on a corner (discs never need the check)
-            if bodies_turn and (pi[0] == c0 or pi[1] == c1) and pi != c and not space.segment_ok(i, c, pi):
+            if bodies_turn and (abs(pi[0] - c0) <= near or abs(pi[1] - c1) <= near) and not space.segment_ok(i, c, pi):
                 mv = move(i, c, pi)
                 if mv is None:
                     continue
