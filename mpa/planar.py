@@ -33,6 +33,7 @@ segment), but it is free by construction.
 
 from __future__ import annotations
 
+import bisect
 import heapq
 import itertools
 import math
@@ -553,7 +554,7 @@ class PlanarFreeSpace:
         the drawing where the body turns, with that corner's offset: both ends within ``10 * tol`` of it (shared
         points computed two ways may differ in the last digits)."""
         e, f, _ = self.pieces[i].cell
-        co = self._corner_arrays()
+        co = self._corner_lists()
         tol = 10.0 * self.tol
         out = []
         for ax, edge in ((0, e), (1, f)):
@@ -561,23 +562,31 @@ class PlanarFreeSpace:
             if abs(c1[ax] - x) > tol:
                 continue
             arr = co[edge]
-            k = int(np.searchsorted(arr, x))
+            k = bisect.bisect_left(arr, x)
             for j in (k - 1, k):
                 if 0 <= j < len(arr) and abs(arr[j] - x) <= tol and abs(arr[j] - c1[ax]) <= tol:
-                    out.append((ax, float(arr[j])))
+                    out.append((ax, arr[j]))
                     break
         return out
 
-    def _corner_arrays(self) -> list[NDArray[np.float64]]:
+    def _corner_lists(self) -> list[list[float]]:
         """Per edge the sorted offsets of :meth:`_corner_offsets`."""
         ca = self.__dict__.get("_ca")
         if ca is None:
-            ca = self._ca = [np.array(sorted(d), dtype=float) for d in self._corner_offsets()]
+            ca = self._ca = [sorted(d) for d in self._corner_offsets()]
         return ca
 
     def segment_ok(self, i: int, c0: Coords, c1: Coords) -> bool:
         """Whether a straight move inside piece ``i`` is clear also where a robot stands still on a corner: there
-        it may have either orientation, so its reach disc must stay clear of the other body."""
+        it may have either orientation, so its reach disc must stay clear of the other body (memoised)."""
+        memo: dict[tuple[int, Coords, Coords], bool] = self.__dict__.setdefault("_seg_ok", {})
+        key = (i, c0, c1)
+        ok = memo.get(key)
+        if ok is None:
+            ok = memo[key] = self._segment_ok(i, c0, c1)
+        return ok
+
+    def _segment_ok(self, i: int, c0: Coords, c1: Coords) -> bool:
         sub = self.pieces[i].sub
         for ax, corner in self.still_on_corner(i, c0, c1):
             fp = self.footprints.a if ax == 0 else self.footprints.b
@@ -987,7 +996,7 @@ def _search(
 
     s_pl = space.placements(*start)
     g_pl = space.placements(*goal)
-    found = _astar(space, s_pl, g_pl, goal, objective, va, vb, spa, spb, move, budget=200)
+    found = _astar(space, s_pl, g_pl, goal, objective, va, vb, spa, spb, move, budget=100)
     if found is None:
         (ea, sa), (eb, sb) = start
         (fa, ta), (fb, tb) = goal
@@ -1349,19 +1358,26 @@ def _search_sets(
     parts_memo: dict[int, list[tuple[int, list[tuple[Coords, Coords, Coords, Coords]]]]] = {}
     found: tuple[int, Coords] | None = None
     steps = 0
+    seen_pinned: set[tuple[int, tuple[Coords, Coords]]] = set()
     while todo and found is None:
         sid = todo.popleft()
         i, ends, _, _ = states[sid]
         done = expanded.setdefault(i, [])
         if any(all(a * x[0] + b * x[1] >= c - dom for x in ends for a, b, c in hp) for hp in done):
             continue
+        pins = _pins(space, i, ends, ow_of[i])
+        if pins:  # a smaller reach: never used to drop other states, and each such state expanded once
+            if (i, ends) in seen_pinned:
+                continue
+            seen_pinned.add((i, ends))
         steps += 1
         if steps > budget:
             raise PlanningError(f"the one-way search expanded more than {budget} states without deciding")
         hp = _cone(ow_of[i], ends)
-        done.append(hp)
+        if not pins:
+            done.append(hp)
         for gc in goal_in.get(i, ()):
-            if all(a * gc[0] + b * gc[1] >= c - tol for a, b, c in hp):
+            if all(a * gc[0] + b * gc[1] >= c - tol for a, b, c in hp) and _pinned_ok(pins, gc, ends, tol):
                 found = (sid, gc)
                 break
         if found is not None:
@@ -1373,12 +1389,14 @@ def _search_sets(
                 rng = _lam_range(p0, p1, hp, tol)
                 if rng is None:
                     continue
-                lo, hi = rng
-                x = (_at(q0, q1, lo), _at(q0, q1, hi))
-                if any(all(a * y[0] + b * y[1] >= c - dom for y in x for a, b, c in h2) for h2 in expanded.get(j, ())):
-                    continue
-                states.append((j, x, sid, (p0, p1, q0, q1, lo, hi)))
-                todo.append(len(states) - 1)
+                for lo, hi in _pinned_ranges(pins, p0, p1, rng, ends, tol):
+                    x = (_at(q0, q1, lo), _at(q0, q1, hi))
+                    if any(
+                        all(a * y[0] + b * y[1] >= c - dom for y in x for a, b, c in h2) for h2 in expanded.get(j, ())
+                    ):
+                        continue
+                    states.append((j, x, sid, (p0, p1, q0, q1, lo, hi)))
+                    todo.append(len(states) - 1)
     if found is None:
         return None
     sid, y = found
@@ -1392,9 +1410,17 @@ def _search_sets(
             xp = ends[0]
         else:
             p0, p1, q0, q1, lo, hi = via
-            # the parameters in [lo, hi] whose point is behind y on the one-way axes, then the closest to y
+            # the parameters in [lo, hi] whose point is behind y on the one-way axes (and, where a robot is pinned
+            # to a corner, on y's side of its turning block), then the closest to y
             hp = [(-1.0, 0.0, -y[0])] if ow[0] else []
             hp += [(0.0, -1.0, -y[1])] if ow[1] else []
+            for ax, corner, b0, b1 in _pins(space, i, (_at(q0, q1, lo), _at(q0, q1, hi)), ow):
+                if abs(y[ax] - corner) <= tol:
+                    o = 1 - ax
+                    if y[o] <= b0:
+                        hp.append((-1.0, 0.0, -b0) if o == 0 else (0.0, -1.0, -b0))
+                    elif y[o] >= b1:
+                        hp.append((1.0, 0.0, b1) if o == 0 else (0.0, 1.0, b1))
             a0, a1 = _at(q0, q1, lo), _at(q0, q1, hi)
             rng = _lam_range(a0, a1, hp, tol)
             u0, u1 = rng if rng is not None else (0.0, 1.0)
@@ -1402,26 +1428,126 @@ def _search_sets(
             den = d[0] * d[0] + d[1] * d[1]
             mu = 0.0 if den <= 0.0 else ((y[0] - a0[0]) * d[0] + (y[1] - a0[1]) * d[1]) / den
             mu = min(max(mu, u0), u1)
-            lam = lo + mu * (hi - lo)
-            xp = _at(q0, q1, lam)
-        # a move within the tolerances of a shared point: never backwards on a one-way axis
-        xp = (min(xp[0], y[0]) if ow[0] else xp[0], min(xp[1], y[1]) if ow[1] else xp[1])
+            # the closest point first; where its move would hold a robot on a corner through the other's block,
+            # a point of the allowed range off that corner (the middle, then the ends)
+            cands = [mu, 0.5 * (u0 + u1), u0, u1]
+        chosen: tuple[Coords, Coords | None] | None = None
+        for m_ in cands if via is not None else [0.0]:
+            if via is not None:
+                lam = lo + m_ * (hi - lo)
+                xp = _at(q0, q1, lam)
+            # a move within the tolerances of a shared point: never backwards on a one-way axis
+            xp = (min(xp[0], y[0]) if ow[0] else xp[0], min(xp[1], y[1]) if ow[1] else xp[1])
+            if xp == y or space.segment_ok(i, xp, y):
+                chosen = (xp, None)
+                break
+            w = space.detour(i, xp, y)  # a robot kept still on a corner: by a point inside the piece
+            if w is not None:
+                chosen = (xp, w)
+                break
+        if chosen is None:
+            raise PlanningError(
+                "the one-way search found a motion whose move turns a body on a corner into the other one"
+            )
+        xp, w = chosen
         if xp != y:
-            if space.segment_ok(i, xp, y):
-                segs.append([cell, xp, y])
-            else:  # a robot kept still on a corner: by a point inside the piece (reversed below)
-                w = space.detour(i, xp, y)
-                if w is None:
-                    raise PlanningError(
-                        "the one-way search found a motion whose move turns a body on a corner into the other one"
-                    )
-                segs += [[cell, w, y], [cell, xp, w]]
+            segs += [[cell, xp, y]] if w is None else [[cell, w, y], [cell, xp, w]]  # reversed below
         if via is None:
             break
         y = _at(via[0], via[1], lam)
         sid = parent
     segs.reverse()
     return segs
+
+
+def _pins(
+    space: PlanarFreeSpace, i: int, ends: tuple[Coords, Coords], ow: tuple[bool, bool]
+) -> list[tuple[int, float, float, float]]:
+    """The robots a state of the one-way search holds on a corner: ``(axis, corner offset, block start, block
+    end)`` where its segment ``S`` lies on the corner's line, the robot is a rectangle that cannot step off the
+    line and back (its edge is one-way, or the piece has no interior) and the other body passes its turning disc
+    over the open interval ``(block start, block end)`` of the other robot's offsets. From ``S`` the points of that
+    line are then reached only on the side of the block where ``S`` reaches it."""
+    out = []
+    sub = space.pieces[i].sub
+    flat = None
+    for ax, corner in space.still_on_corner(i, ends[0], ends[1]):
+        fp = space.footprints.a if ax == 0 else space.footprints.b
+        if isinstance(fp, Disc):
+            continue
+        if not ow[ax]:
+            if flat is None:
+                poly = space.pieces[i].poly
+                t = 10.0 * space.tol
+                flat = len(poly) < 3 or abs(_area([tuple(x) for x in poly])) <= t * t
+            if not flat:
+                continue  # it may step into the piece and back (PlanarFreeSpace.detour)
+        blk = space._turn_block(ax, sub[ax], corner, sub[1 - ax])
+        if blk is not None:
+            out.append((ax, corner, blk[0], blk[1]))
+    return out
+
+
+def _pinned_ok(pins: list[tuple[int, float, float, float]], y: Coords, ends: tuple[Coords, Coords], tol: float) -> bool:
+    """Whether the point ``y`` is reached from the segment ``ends`` with the robots in ``pins`` held on their
+    corners (a point off a pinned line is reached by moving that robot, which :func:`_cone` decides)."""
+    for ax, corner, b0, b1 in pins:
+        if abs(y[ax] - corner) > tol:
+            continue
+        o = 1 - ax
+        lo, hi = min(ends[0][o], ends[1][o]), max(ends[0][o], ends[1][o])
+        if not ((lo <= b0 and y[o] <= b0) or (hi >= b1 and y[o] >= b1) or lo <= y[o] <= hi):
+            return False
+    return True
+
+
+def _pinned_ranges(
+    pins: list[tuple[int, float, float, float]],
+    p0: Coords,
+    p1: Coords,
+    rng: tuple[float, float],
+    ends: tuple[Coords, Coords],
+    tol: float,
+) -> list[tuple[float, float]]:
+    """The parameter range ``rng`` of the shared segment ``p0 -> p1`` cut to the points reached with the robots in
+    ``pins`` held on their corners: on a pinned line, the parts on the reached sides of the block (and ``S``'s own
+    points); an end of a segment that only touches the line is dropped when it is not reached."""
+    out = [rng]
+    for ax, corner, b0, b1 in pins:
+        o = 1 - ax
+        on0, on1 = abs(p0[ax] - corner) <= tol, abs(p1[ax] - corner) <= tol
+        nxt: list[tuple[float, float]] = []
+        for lo, hi in out:
+            if on0 and on1:  # along the line: the other robot's offsets allowed there, as parameters
+                lo_s, hi_s = min(ends[0][o], ends[1][o]), max(ends[0][o], ends[1][o])
+                allowed = [(lo_s, hi_s)]
+                if lo_s <= b0:
+                    allowed.append((-math.inf, b0))
+                if hi_s >= b1:
+                    allowed.append((b1, math.inf))
+                d = p1[o] - p0[o]
+                for y0, y1 in allowed:
+                    if abs(d) <= 1e-15:
+                        if y0 - tol <= p0[o] <= y1 + tol:
+                            nxt.append((lo, hi))
+                        continue
+                    l0, l1 = sorted(((y0 - p0[o]) / d, (y1 - p0[o]) / d))
+                    a, b = max(lo, l0), min(hi, l1)
+                    if a <= b:
+                        nxt.append((a, b))
+            elif on0 or on1:  # touches the line at one end: that end only if reached
+                end = p0 if on0 else p1
+                if _pinned_ok([(ax, corner, b0, b1)], end, ends, tol):
+                    nxt.append((lo, hi))
+                else:
+                    cut = 1e-9
+                    a, b = (max(lo, cut), hi) if on0 else (lo, min(hi, 1.0 - cut))
+                    if a <= b:
+                        nxt.append((a, b))
+            else:
+                nxt.append((lo, hi))
+        out = nxt
+    return out
 
 
 def _why_not(space: PlanarFreeSpace) -> str:

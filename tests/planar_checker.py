@@ -249,15 +249,23 @@ def _passage_headings(drawn: Drawn, e: np.ndarray, o: np.ndarray, tol: float) ->
     and after the run (at a vertex: the edges' end pieces there; at a corner: the pieces of its edge on either side,
     one piece when the robot touches the corner and turns back). A run at either end of the motion, or next to a
     sample on an edge that does not meet the vertex, is left out (every orientation there)."""
-    keys: list[Any] = []
-    for k, x in zip(e, o):
-        name = drawn.vertex_of(int(k), float(x), tol)
-        if name is not None:
-            keys.append(("v", name))
-            continue
+    # per sample the nearest point of its edge's polyline and whether it stands on it (one pass per edge)
+    near = np.zeros(len(e), dtype=np.int64)
+    on = np.zeros(len(e), dtype=bool)
+    last = np.zeros(len(e), dtype=np.int64)
+    for k in np.unique(e):
+        m = e == k
         off = drawn.offs[int(k)]
-        m = int(np.argmin(np.abs(off - float(x))))
-        keys.append(("c", int(k), m) if abs(off[m] - float(x)) <= tol else None)
+        j = np.clip(np.searchsorted(off, o[m]), 1, len(off) - 1)
+        j = np.where(np.abs(off[j - 1] - o[m]) <= np.abs(off[j] - o[m]), j - 1, j)
+        near[m], on[m], last[m] = j, np.abs(off[j] - o[m]) <= tol, len(off) - 1
+    keys: list[Any] = [None] * len(e)
+    for i in np.flatnonzero(on).tolist():
+        k, j = int(e[i]), int(near[i])
+        if j == 0 or j == last[i]:
+            keys[i] = ("v", str(drawn.ends[k][0 if j == 0 else 1]))
+        else:
+            keys[i] = ("c", k, j)
     out: dict[int, list[float]] = {}
     i, n = 0, len(keys)
     while i < n:
