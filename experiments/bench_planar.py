@@ -4,9 +4,10 @@
 time of :class:`mpa.planar.PlanarFreeSpace` (a fresh build, the smallest of R), then the median and 95th percentile
 of :func:`mpa.plan` with ``footprint=`` over N seeded random queries (the free space cached, as in a session that
 plans many queries on one layout, and the search's sparse graph of moves built beforehand: ``graph ms``, a cost
-paid once per layout and speeds by the first query that needs it); queries refused (bodies overlapping at start or goal, no motion) are counted,
-not timed. The layouts: the Open-RMF office map (30 edges), the example layouts with many-point polylines
-(``circle``, ``lollipop``, ``figure_eight``, ``two_sidings``), the rail yard and the passing loop. Times are the
+paid once per layout and speeds by the first query that needs it); queries refused (bodies overlapping at start or
+goal, no motion) are counted, not timed. The layouts: the Open-RMF office map (30 edges), the example layouts
+with many-point polylines (``circle``, ``lollipop``, ``figure_eight``, ``two_sidings``), the rail yard and the
+passing loop. Times are the
 process's CPU time (the code is single-threaded: the wall time on an idle machine; a shared machine inflates wall
 times, not these).
 """
