@@ -1134,6 +1134,13 @@ def _astar(
         elif a != b:
             segs.append((i, a, b))
         key_ = pkey
+    return _in_order(segs, s_pl)
+
+
+def _in_order(
+    segs: list[tuple[int, Coords, Coords]], s_pl: list[tuple[int, Coords]]
+) -> list[tuple[int, Coords, Coords]]:
+    """The moves read back from the goal, in order from the start (a move that stays at the start when none)."""
     segs.reverse()
     if not segs:
         i, c = s_pl[0]
@@ -1239,11 +1246,7 @@ def _dijkstra(
             None if np.isnan(w[0]) else (float(w[0]), float(w[1])),
         )
         k = p
-    segs.reverse()
-    if not segs:
-        i0, c0 = s_pl[0]
-        segs.append((i0, c0, c0))
-    return segs
+    return _in_order(segs, s_pl)
 
 
 def _parts(pi: list[Coords], pj: list[Coords]) -> list[tuple[Coords, Coords, Coords, Coords]]:
