@@ -89,12 +89,14 @@ _ALLOWED = (
 
 
 #: Third-party imports allowed in single modules beyond their layer's (PyYAML reads Open-RMF maps in mpa.openrmf;
-#: scipy's sparse graphs give the free space's components and the vertex distances of large layouts; the PVT rows'
-#: velocity fit is a linear program solved by scipy's HiGHS).
+#: scipy's sparse graphs give the free space's components and the vertex distances of large layouts, and the search
+#: of the free space with footprints (Dijkstra over the moves); the PVT rows' velocity fit is a linear program solved
+#: by scipy's HiGHS).
 _MODULE_ALLOWED = {
     "mpa.openrmf": {"yaml"},
     "mpa.freespace": {"scipy"},
     "mpa.geometry": {"scipy"},
+    "mpa.planar": {"scipy"},
     "trajopt.pvt": {"scipy"},
 }
 

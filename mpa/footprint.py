@@ -281,16 +281,33 @@ class Drawing:
         """Per edge the offsets of its pieces' starts (for lookup)."""
         return tuple(self.piece_s0[p] for p in self.edge_pieces)
 
+    @cached_property
+    def _lookup(self) -> tuple[FloatArray, FloatArray, NDArray[np.int64], NDArray[np.int64]]:
+        """For :meth:`piece_at`: each edge's base on one line (edges 1 m apart), the pieces' starts on that line,
+        and each edge's first and last piece."""
+        lengths = np.asarray(self.track.lengths, dtype=float)
+        base = np.concatenate([[0.0], np.cumsum(lengths + 1.0)[:-1]])
+        keys = base[self.piece_edge] + self.piece_s0
+        first = np.array([int(p[0]) for p in self.edge_pieces], dtype=np.int64)
+        last = np.array([int(p[-1]) for p in self.edge_pieces], dtype=np.int64)
+        return base, keys, first, last
+
     def piece_at(self, edge: ArrayLike, offset: ArrayLike) -> NDArray[np.int64]:
-        """The piece holding each position (at a corner: the piece that starts there; at the edge's end: the last)."""
+        """The piece holding each position (at a corner: the piece that starts there; at the edge's end: the last).
+
+        One search over all edges' pieces at once (each edge's offsets shifted onto one line), then corrected by
+        comparing the offset with the pieces' own starts, so the answer is the piece whose ``[s0, s1)`` holds the
+        offset exactly (clamped to the edge's first and last piece).
+        """
         e, o = np.broadcast_arrays(np.asarray(edge, dtype=np.int64), np.asarray(offset, dtype=float))
-        out = np.empty(e.shape, dtype=np.int64)
-        for i in np.unique(e):
-            m = e == i
-            pcs = self.edge_pieces[int(i)]
-            k = np.searchsorted(self.edge_breaks[int(i)], o[m], side="right") - 1
-            out[m] = pcs[np.clip(k, 0, len(pcs) - 1)]
-        return out
+        base, keys, first, last = self._lookup
+        lo, hi = first[e], last[e]
+        k = np.clip(np.searchsorted(keys, base[e] + o, side="right") - 1, lo, hi)
+        s0 = self.piece_s0
+        for _ in range(2):  # rounding on the shared line moves the index by one piece at most, each way
+            k = k - ((k > lo) & (o < s0[k]))
+            k = k + ((k < hi) & (o >= s0[np.minimum(k + 1, hi)]))
+        return np.asarray(k, dtype=np.int64)
 
     def pose(self, edge: ArrayLike, offset: ArrayLike) -> tuple[FloatArray, FloatArray]:
         """Drawn point ``(..., 2)`` (metres) and heading ``(...)`` (radians) of positions."""

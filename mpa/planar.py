@@ -33,6 +33,7 @@ segment), but it is free by construction.
 
 from __future__ import annotations
 
+import bisect
 import heapq
 import itertools
 import math
@@ -548,19 +549,50 @@ class PlanarFreeSpace:
         x = abs(h1 - h2) % math.pi
         return min(x, math.pi - x) > 1e-12
 
+    def still_on_corner(self, i: int, c0: Coords, c1: Coords) -> list[tuple[int, float]]:
+        """The robots (axis ``0`` A, ``1`` B) that a straight move ``c0 -> c1`` in piece ``i`` keeps on a corner of
+        the drawing where the body turns, with that corner's offset: both ends within ``10 * tol`` of it (shared
+        points computed two ways may differ in the last digits)."""
+        e, f, _ = self.pieces[i].cell
+        co = self._corner_lists()
+        tol = 10.0 * self.tol
+        out = []
+        for ax, edge in ((0, e), (1, f)):
+            x = c0[ax]
+            if abs(c1[ax] - x) > tol:
+                continue
+            arr = co[edge]
+            k = bisect.bisect_left(arr, x)
+            for j in (k - 1, k):
+                if 0 <= j < len(arr) and abs(arr[j] - x) <= tol and abs(arr[j] - c1[ax]) <= tol:
+                    out.append((ax, arr[j]))
+                    break
+        return out
+
+    def _corner_lists(self) -> list[list[float]]:
+        """Per edge the sorted offsets of :meth:`_corner_offsets`."""
+        ca = self.__dict__.get("_ca")
+        if ca is None:
+            ca = self._ca = [sorted(d) for d in self._corner_offsets()]
+        return ca
+
     def segment_ok(self, i: int, c0: Coords, c1: Coords) -> bool:
         """Whether a straight move inside piece ``i`` is clear also where a robot stands still on a corner: there
-        it may have either orientation, so its reach disc must stay clear of the other body."""
-        e, f, _ = self.pieces[i].cell
-        co = self._corner_offsets()
-        for ax, edge in ((0, e), (1, f)):
-            if c0[ax] != c1[ax] or c0[ax] not in co[edge]:
-                continue
+        it may have either orientation, so its reach disc must stay clear of the other body (memoised)."""
+        memo: dict[tuple[int, Coords, Coords], bool] = self.__dict__.setdefault("_seg_ok", {})
+        key = (i, c0, c1)
+        ok = memo.get(key)
+        if ok is None:
+            ok = memo[key] = self._segment_ok(i, c0, c1)
+        return ok
+
+    def _segment_ok(self, i: int, c0: Coords, c1: Coords) -> bool:
+        sub = self.pieces[i].sub
+        for ax, corner in self.still_on_corner(i, c0, c1):
             fp = self.footprints.a if ax == 0 else self.footprints.b
             if isinstance(fp, Disc):
                 continue
-            sub = self.pieces[i].sub
-            blk = self._turn_block(ax, sub[ax], c0[ax], sub[1 - ax])
+            blk = self._turn_block(ax, sub[ax], corner, sub[1 - ax])
             if blk is None:
                 continue
             y0, y1 = sorted((c0[1 - ax], c1[1 - ax]))
@@ -606,6 +638,50 @@ class PlanarFreeSpace:
                 for row in self.adjacent
             ]
         return mv
+
+    def search_graph(self, objective: str, spa: list[float], spb: list[float]) -> _Moves:
+        """The moves between shared points as a sparse graph (:class:`_Moves`), built once per objective and the
+        robots' speeds per edge (m/s)."""
+        memo: dict[tuple[Any, ...], _Moves] = self.__dict__.setdefault("_graphs", {})
+        key = (objective, tuple(spa), tuple(spb))
+        g = memo.get(key)
+        if g is None:
+            g = memo[key] = _Moves(self, objective, spa, spb)
+        return g
+
+    def detour(self, i: int, c0: Coords, c1: Coords) -> Coords | None:
+        """A point of piece ``i`` off the corner line of a move ``c0 -> c1`` that keeps one robot still on a corner
+        where :meth:`segment_ok` refuses it (the other body passes its turning disc).
+
+        The piece is convex and the corner line is one of its sides (the sub-cell's edge), so the point
+        ``w = m + λ (z - m)`` between the move's middle ``m`` and the mean ``z`` of the piece's vertices lies in the
+        piece, off that line for ``λ > 0``: ``c0 -> w -> c1`` moves the robot a little into its piece and back, its
+        body at the piece's orientation, and it stands on the corner only at ``c0`` and ``c1``. ``λ = 1/2``, smaller
+        where the other robot's edge is one-way (its offset then stays between the ends). None when the piece has
+        no interior, the still robot's edge is one-way (it could not come back) or either move is refused too.
+        """
+        still = self.still_on_corner(i, c0, c1)
+        if len(still) != 1:  # both still: no move; none: nothing to go round
+            return None
+        ax = still[0][0]
+        poly = self.pieces[i].poly
+        tol = 10.0 * self.tol
+        if len(poly) < 3 or abs(_area([tuple(x) for x in poly])) <= tol * tol:
+            return None
+        edges = self.pieces[i].cell[:2]
+        if self.track.oneway[edges[ax]]:
+            return None
+        z = poly.mean(axis=0)
+        m = (0.5 * (c0[0] + c1[0]), 0.5 * (c0[1] + c1[1]))
+        lam = 0.5
+        o = 1 - ax
+        dz = abs(float(z[o]) - m[o])
+        if self.track.oneway[edges[o]] and dz > 0.0:
+            lam = min(lam, 0.25 * abs(c1[o] - c0[o]) / dz)
+        w = (m[0] + lam * (float(z[0]) - m[0]), m[1] + lam * (float(z[1]) - m[1]))
+        if self.still_on_corner(i, c0, w) or not (self.segment_ok(i, c0, w) and self.segment_ok(i, w, c1)):
+            return None
+        return w
 
     def names(self, pos: Position) -> list[Position]:
         """All ``(edge, offset)`` names of a position (several on a vertex)."""
@@ -770,6 +846,115 @@ def _forward(tr: GraphTrack, cell: tuple[int, int, int], p: Coords, q: Coords) -
     return (not tr.oneway[cell[0]] or q[0] >= p[0]) and (not tr.oneway[cell[1]] or q[1] >= p[1])
 
 
+def _move_cost(objective: str, ds: Any, dt: Any, va: Any, vb: Any) -> Any:
+    """Cost of straight moves by ``ds``, ``dt`` metres (scalars or arrays): the length, or the time at speeds
+    ``va``, ``vb`` with two tie-breaks (the summed and the Euclidean time, 1e-6 and 1e-9 of it)."""
+    if objective == "shortest":
+        return np.hypot(ds, dt) if isinstance(ds, np.ndarray) else math.hypot(ds, dt)
+    ta, tb = ds / va, dt / vb
+    if isinstance(ta, np.ndarray):
+        return np.maximum(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * np.hypot(ta, tb)
+    return max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb)
+
+
+class _Moves:
+    """The moves between the pieces' shared points as one sparse graph (built once per objective and speeds).
+
+    A node is a piece with a shared point where a motion enters it (:meth:`PlanarFreeSpace.moves`: the point in
+    that piece's offsets); its arcs are the straight moves inside the piece to each of its shared points, landing
+    in the neighbour, at the move's cost (:func:`_move_cost`). Moves that back along a one-way edge are left out;
+    a move that would keep a rectangle still on a corner while the other body passes its turning disc goes by
+    :meth:`PlanarFreeSpace.detour` (or is left out when there is none). ``arc_to``, ``arc_via`` give each arc's end
+    point in the piece's offsets and its detour point (NaN: straight).
+    """
+
+    SLOTS = 1024  # the most arcs the source may have (the start's moves in all its pieces)
+
+    def __init__(self, space: PlanarFreeSpace, objective: str, spa: list[float], spb: list[float]) -> None:
+        mv = space.moves()
+        pieces = space.pieces
+        node: dict[tuple[int, Coords], int] = {}
+        for row in mv:
+            for _, nk in row:
+                if nk not in node:
+                    node[nk] = len(node)
+        n = len(node)
+        self.n = n
+        self.node_piece = np.array([k[0] for k in node], dtype=np.int64)
+        self.node_xy = np.array([k[1] for k in node], dtype=float).reshape(-1, 2)
+        # the moves flattened, grouped by piece
+        counts = np.array([len(r) for r in mv], dtype=np.int64)
+        m_start = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
+        m_xy = np.array([pi for r in mv for pi, _ in r], dtype=float).reshape(-1, 2)
+        m_to = np.array([node[nk] for r in mv for _, nk in r], dtype=np.int64)
+        # arcs: every node times every move of its piece
+        per = counts[self.node_piece]
+        rows = np.repeat(np.arange(n, dtype=np.int64), per)
+        first = np.repeat(np.cumsum(per) - per, per)
+        mi = np.arange(int(per.sum()), dtype=np.int64) - first + np.repeat(m_start[self.node_piece], per)
+        src = self.node_xy[rows]
+        dst = m_xy[mi]
+        cols = m_to[mi]
+        piece = self.node_piece[rows]
+        cells = np.array([p.cell[:2] for p in pieces], dtype=np.int64).reshape(-1, 2)
+        ea, eb = cells[piece, 0], cells[piece, 1]
+        va = np.asarray(spa, dtype=float)[ea]
+        vb = np.asarray(spb, dtype=float)[eb]
+        w = _move_cost(objective, np.abs(dst[:, 0] - src[:, 0]), np.abs(dst[:, 1] - src[:, 1]), va, vb)
+        keep = np.ones(len(w), dtype=bool)
+        ow = np.asarray(space.track.oneway, dtype=bool)
+        if ow.any():
+            keep &= (~ow[ea] | (dst[:, 0] >= src[:, 0])) & (~ow[eb] | (dst[:, 1] >= src[:, 1]))
+        via = np.full((len(w), 2), np.nan)
+        if not (isinstance(space.footprints.a, Disc) and isinstance(space.footprints.b, Disc)):
+            near = 10.0 * space.tol
+            still = keep & ((np.abs(dst[:, 0] - src[:, 0]) <= near) | (np.abs(dst[:, 1] - src[:, 1]) <= near))
+            for k in np.flatnonzero(still).tolist():
+                i, c0, c1 = int(piece[k]), (float(src[k, 0]), float(src[k, 1])), (float(dst[k, 0]), float(dst[k, 1]))
+                if space.segment_ok(i, c0, c1):
+                    continue
+                wp = space.detour(i, c0, c1)
+                if wp is None:
+                    keep[k] = False
+                    continue
+                cell = pieces[i].cell
+                w[k] = _move_cost(objective, abs(wp[0] - c0[0]), abs(wp[1] - c0[1]), spa[cell[0]], spb[cell[1]])
+                w[k] += _move_cost(objective, abs(c1[0] - wp[0]), abs(c1[1] - wp[1]), spa[cell[0]], spb[cell[1]])
+                via[k] = wp
+        rows, cols, w, dst, via = rows[keep], cols[keep], w[keep], dst[keep], via[keep]
+        # rows already in order; zero costs kept as arcs (the smallest positive float); two arcs between the same
+        # nodes are both kept (the search takes the cheaper, and so does the path read back)
+        self.indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32)
+        self.indices = cols.astype(np.int32)
+        self.weights = np.maximum(w, 5e-324)
+        self.arc_to = dst
+        self.arc_via = via
+        self.widen(self.SLOTS)
+        self.by_piece: dict[int, NDArray[np.int64]] = {}
+        order_p = np.argsort(self.node_piece, kind="stable")
+        bounds = np.searchsorted(self.node_piece[order_p], np.arange(len(pieces) + 1))
+        for i in range(len(pieces)):
+            if bounds[i + 1] > bounds[i]:
+                self.by_piece[i] = order_p[bounds[i] : bounds[i + 1]]
+        self.node_of = node
+
+    def widen(self, slots: int) -> None:
+        """The graph with the source, node ``n``: its row has ``slots`` arcs, rewritten per query (unused arcs
+        loop to the source itself)."""
+        from scipy.sparse import csr_matrix
+
+        self.SLOTS = slots
+        m, n = len(self.weights), self.n
+        self.graph = csr_matrix(
+            (
+                np.concatenate([self.weights, np.ones(slots)]),
+                np.concatenate([self.indices, np.full(slots, n, dtype=np.int32)]),
+                np.concatenate([self.indptr, [m + slots]]).astype(np.int32),
+            ),
+            shape=(n + 1, n + 1),
+        )
+
+
 def _search(
     space: PlanarFreeSpace,
     start: tuple[Position, Position],
@@ -778,23 +963,70 @@ def _search(
     va: float,
     vb: float,
 ) -> list[list[Any]] | None:
-    """Dijkstra over the pieces' shared points: the path's straight segments ``[cell, from, to]``.
+    """The cheapest path over the pieces' shared points: its straight segments ``[cell, from, to]``.
 
     Every move keeps the one-way rule and costs its time at the cell's speeds (the edges' speed limits), or its
-    length. None when no path through the shared points keeps the one-way rule (:func:`_search_sets` decides).
+    length; a move that would keep a rectangle still on a corner while the other body passes its turning disc
+    goes by a point inside the piece (:meth:`PlanarFreeSpace.detour`). A* with the robots' own distances to the
+    goal as the bound; when it expands more than a few per cent of the nodes (a motion that must go round), the
+    same graph is searched by scipy's Dijkstra (:class:`_Moves`, compiled), which finds a path of the same cost.
+    None when no path through the shared points keeps the one-way rule (:func:`_search_sets` decides).
     """
     tr = space.track
     spa, spb = _cell_speeds(tr, va, vb)
     rules = any(tr.oneway)
 
     def cost(cell: tuple[int, int, int], p: Coords, q: Coords) -> float:
-        ds, dt = abs(q[0] - p[0]), abs(q[1] - p[1])
-        if objective == "shortest":
-            return math.hypot(ds, dt)
-        ta, tb = ds / spa[cell[0]], dt / spb[cell[1]]
-        return max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb)
+        return float(_move_cost(objective, abs(q[0] - p[0]), abs(q[1] - p[1]), spa[cell[0]], spb[cell[1]]))
 
-    geo = space.track.geometry
+    pieces = space.pieces
+    bodies_turn = not (isinstance(space.footprints.a, Disc) and isinstance(space.footprints.b, Disc))
+
+    def move(i: int, c: Coords, q: Coords) -> tuple[float, Coords | None] | None:
+        """The cost of the move ``c -> q`` inside piece ``i`` and its detour point, None if it is not allowed."""
+        cell = pieces[i].cell
+        if rules and not _forward(tr, cell, c, q):
+            return None
+        if not bodies_turn or space.segment_ok(i, c, q):
+            return cost(cell, c, q), None
+        w = space.detour(i, c, q)
+        if w is None:
+            return None
+        return cost(cell, c, w) + cost(cell, w, q), w
+
+    s_pl = space.placements(*start)
+    g_pl = space.placements(*goal)
+    found = _astar(space, s_pl, g_pl, goal, objective, va, vb, spa, spb, move, budget=100)
+    if found is None:
+        (ea, sa), (eb, sb) = start
+        (fa, ta), (fb, tb) = goal
+        da = tr.geometry.distance_scalar(ea, sa, fa, ta)
+        db = tr.geometry.distance_scalar(eb, sb, fb, tb)
+        lower = math.hypot(da, db) if objective == "shortest" else max(da / va, db / vb)
+        found = _dijkstra(space, s_pl, g_pl, objective, spa, spb, move, lower)
+    if found is None:
+        return None
+    return [[pieces[i].cell, a, b] for i, a, b in found]
+
+
+def _astar(
+    space: PlanarFreeSpace,
+    s_pl: list[tuple[int, Coords]],
+    g_pl: list[tuple[int, Coords]],
+    goal: tuple[Position, Position],
+    objective: str,
+    va: float,
+    vb: float,
+    spa: list[float],
+    spb: list[float],
+    move: Any,
+    budget: int,
+) -> list[tuple[int, Coords, Coords]] | None:
+    """A* over the shared points; the moves ``(piece, from, to)``, or None when it expands more than ``budget``
+    nodes or the goal is not reached."""
+    tr = space.track
+    rules = any(tr.oneway)
+    geo = tr.geometry
     (ga_e, ga_s), (gb_e, gb_s) = goal
     pieces = space.pieces
     hcache: dict[tuple[int, Coords], float] = {}
@@ -806,16 +1038,19 @@ def _search(
             e, f, _ = pieces[i].cell
             da = geo.distance_scalar(e, c[0], ga_e, ga_s)
             db = geo.distance_scalar(f, c[1], gb_e, gb_s)
-            h = math.hypot(da, db) if objective == "shortest" else max(da / va, db / vb)
+            if objective == "shortest":
+                h = math.hypot(da, db)
+            else:  # the cost's own terms: each move costs at least what it takes off each of them
+                ta, tb = da / va, db / vb
+                h = max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb)
             h *= 1.0 - 1e-12
             hcache[key] = h
         return h
 
     shortest = objective == "shortest"
     bodies_turn = not (isinstance(space.footprints.a, Disc) and isinstance(space.footprints.b, Disc))
+    near = 10.0 * space.tol  # a robot this close to standing still may stand on a corner (segment_ok decides)
     flat = space.moves()
-    s_pl = space.placements(*start)
-    g_pl = space.placements(*goal)
     goal_in: dict[int, list[Coords]] = {}
     for i, c in g_pl:
         goal_in.setdefault(i, []).append(c)
@@ -833,11 +1068,12 @@ def _search(
     heapq.heapify(heap)
     done: set[tuple[int, Coords]] = set()
     found: tuple[int, Coords] | None = None
-    goal_key: dict[tuple[int, Coords], tuple[int, Coords]] = {}
     while heap:
         _, _, key = heapq.heappop(heap)
         if key in done:
             continue
+        if len(done) >= budget:
+            return None
         g = best[key]
         done.add(key)
         if key[0] < 0:
@@ -847,16 +1083,17 @@ def _search(
         cell = pieces[i].cell
         # to the goal inside this piece
         for gc in goal_in.get(i, ()):
-            if (rules and not _forward(tr, cell, c, gc)) or not space.segment_ok(i, c, gc):
+            mv = move(i, c, gc)
+            if mv is None:
                 continue
             gk = (-1 - i, gc)
-            ng = g + cost(cell, c, gc)
+            ng = g + mv[0]
             if ng < best.get(gk, math.inf):
                 best[gk] = ng
-                prev[gk] = (key, i, c, gc)
+                prev[gk] = (key, i, c, gc, mv[1])
                 heapq.heappush(heap, (ng, counter, gk))  # the goal's bound is 0
                 counter += 1
-        # the moves to the shared points (cost inlined: the same expression as cost())
+        # the moves to the shared points (cost inlined: the same expression as _move_cost)
         c0, c1 = c
         va_i, vb_i = spa[cell[0]], spb[cell[1]]
         for pi, nk in flat[i]:
@@ -870,31 +1107,146 @@ def _search(
                 ng = g + (max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb))
             if ng >= best.get(nk, math.inf) - 1e-15:
                 continue
+            via = None
             # a move that keeps a robot still may turn its body on a corner (discs never need the check)
-            if bodies_turn and (pi[0] == c0 or pi[1] == c1) and not space.segment_ok(i, c, pi):
-                continue
+            if bodies_turn and (abs(pi[0] - c0) <= near or abs(pi[1] - c1) <= near) and not space.segment_ok(i, c, pi):
+                mv = move(i, c, pi)
+                if mv is None:
+                    continue
+                ng, via = g + mv[0], mv[1]
+                if ng >= best.get(nk, math.inf) - 1e-15:
+                    continue
             best[nk] = ng
-            prev[nk] = (key, i, c, pi)
+            prev[nk] = (key, i, c, pi, via)
             heapq.heappush(heap, (ng + bound(nk[0], nk[1]), counter, nk))
             counter += 1
-    del goal_key
     if found is None:
         return None
-    segs: list[list[Any]] = []
+    segs: list[tuple[int, Coords, Coords]] = []
     key_: tuple[int, Coords] | None = found
     while key_ is not None:
         pv = prev[key_]
         if pv is None:
             break
-        pkey, i, c0, c1 = pv
-        if c0 != c1:
-            segs.append([i, c0, c1])
+        pkey, i, a, b, via = pv
+        if via is not None:
+            segs += [(i, via, b), (i, a, via)]
+        elif a != b:
+            segs.append((i, a, b))
         key_ = pkey
+    return _in_order(segs, s_pl)
+
+
+def _in_order(
+    segs: list[tuple[int, Coords, Coords]], s_pl: list[tuple[int, Coords]]
+) -> list[tuple[int, Coords, Coords]]:
+    """The moves read back from the goal, in order from the start (a move that stays at the start when none)."""
     segs.reverse()
     if not segs:
         i, c = s_pl[0]
-        segs.append([i, c, c])
-    return [[space.pieces[i].cell, a, b] for i, a, b in segs]
+        segs.append((i, c, c))
+    return segs
+
+
+def _dijkstra(
+    space: PlanarFreeSpace,
+    s_pl: list[tuple[int, Coords]],
+    g_pl: list[tuple[int, Coords]],
+    objective: str,
+    spa: list[float],
+    spb: list[float],
+    move: Any,
+    lower: float,
+) -> list[tuple[int, Coords, Coords]] | None:
+    """Dijkstra (scipy, compiled) over :class:`_Moves` from a source node joined to the start's moves; the moves
+    ``(piece, from, to)`` of a cheapest path, or None when the goal is not reached. ``lower``: a lower bound of the
+    cost (the limits of the first searches are multiples of it)."""
+    from scipy.sparse.csgraph import dijkstra
+
+    G = space.search_graph(objective, spa, spb)
+    flat = space.moves()
+    n = G.n
+    # the source's arcs: from the start in each of its pieces to that piece's shared points
+    first: dict[int, tuple[float, int, Coords, Coords, Coords | None]] = {}
+    direct: list[tuple[float, int, Coords, Coords, Coords | None]] = []
+    goal_in: dict[int, list[Coords]] = {}
+    for i, c in g_pl:
+        goal_in.setdefault(i, []).append(c)
+    for i, c in s_pl:
+        for pi, nk in flat[i]:
+            mv = move(i, c, pi)
+            if mv is None:
+                continue
+            k = G.node_of[nk]
+            if k not in first or mv[0] < first[k][0]:
+                first[k] = (mv[0], i, c, pi, mv[1])
+        for gc in goal_in.get(i, ()):
+            mv = move(i, c, gc)
+            if mv is not None:
+                direct.append((mv[0], i, c, gc, mv[1]))
+    if len(first) > G.SLOTS:  # a start with more shared points than the source's row holds: a larger row
+        G.widen(len(first))
+    graph = G.graph
+    ks = np.full(G.SLOTS, n, dtype=np.int32)
+    ws = np.ones(G.SLOTS)
+    ks[: len(first)] = sorted(first)
+    ws[: len(first)] = np.maximum([first[int(k)][0] for k in ks[: len(first)]], 5e-324)
+    graph.indices[-G.SLOTS :] = ks
+    graph.data[-G.SLOTS :] = ws
+    # within a growing limit first: every node closer than the limit is settled exactly, so a goal reached at a
+    # cost within the limit is reached at its least cost (any cheaper path's nodes lie within the limit too)
+    for limit in (4.0 * lower + 1e-9, math.inf):
+        dist, pred = dijkstra(graph, directed=True, indices=n, return_predecessors=True, limit=limit)
+        # cost, node (-1: from the start), piece, its point, goal point, detour
+        best: tuple[float, int, int, Coords, Coords, Coords | None] | None = None
+        for cost, i, c, gc, via in direct:
+            if best is None or cost < best[0]:
+                best = (cost, -1, i, c, gc, via)
+        for i, gcs in goal_in.items():
+            nodes = G.by_piece.get(i)
+            if nodes is None:
+                continue
+            reached = nodes[np.isfinite(dist[nodes])]
+            for k in reached.tolist():
+                xy = (float(G.node_xy[k, 0]), float(G.node_xy[k, 1]))
+                for gc in gcs:
+                    if best is not None and dist[k] >= best[0]:
+                        break
+                    mv = move(i, xy, gc)
+                    if mv is not None and (best is None or dist[k] + mv[0] < best[0]):
+                        best = (float(dist[k] + mv[0]), k, i, xy, gc, mv[1])
+        if best is not None and best[0] <= limit:
+            break
+    if best is None:
+        return None
+    _, k, i, c_last, gc, via = best
+    segs: list[tuple[int, Coords, Coords]] = []
+
+    def add(piece: int, a: Coords, b: Coords, w: Coords | None) -> None:
+        if w is not None:
+            segs.extend([(piece, w, b), (piece, a, w)])
+        elif a != b:
+            segs.append((piece, a, b))
+
+    add(i, c_last, gc, via)
+    while k >= 0:
+        p = int(pred[k])
+        if p == n:  # the source: the first move, from the start
+            _, i0, c0, to, w0 = first[k]
+            add(i0, c0, to, w0)
+            break
+        lo, hi = int(G.indptr[p]), int(G.indptr[p + 1])
+        arcs = lo + np.flatnonzero(G.indices[lo:hi] == k)
+        a = int(arcs[np.argmin(G.weights[arcs])])
+        w = G.arc_via[a]
+        add(
+            int(G.node_piece[p]),
+            (float(G.node_xy[p, 0]), float(G.node_xy[p, 1])),
+            (float(G.arc_to[a, 0]), float(G.arc_to[a, 1])),
+            None if np.isnan(w[0]) else (float(w[0]), float(w[1])),
+        )
+        k = p
+    return _in_order(segs, s_pl)
 
 
 def _parts(pi: list[Coords], pj: list[Coords]) -> list[tuple[Coords, Coords, Coords, Coords]]:
@@ -1009,19 +1361,26 @@ def _search_sets(
     parts_memo: dict[int, list[tuple[int, list[tuple[Coords, Coords, Coords, Coords]]]]] = {}
     found: tuple[int, Coords] | None = None
     steps = 0
+    seen_pinned: set[tuple[int, tuple[Coords, Coords]]] = set()
     while todo and found is None:
         sid = todo.popleft()
         i, ends, _, _ = states[sid]
         done = expanded.setdefault(i, [])
         if any(all(a * x[0] + b * x[1] >= c - dom for x in ends for a, b, c in hp) for hp in done):
             continue
+        pins = _pins(space, i, ends, ow_of[i])
+        if pins:  # a smaller reach: never used to drop other states, and each such state expanded once
+            if (i, ends) in seen_pinned:
+                continue
+            seen_pinned.add((i, ends))
         steps += 1
         if steps > budget:
             raise PlanningError(f"the one-way search expanded more than {budget} states without deciding")
         hp = _cone(ow_of[i], ends)
-        done.append(hp)
+        if not pins:
+            done.append(hp)
         for gc in goal_in.get(i, ()):
-            if all(a * gc[0] + b * gc[1] >= c - tol for a, b, c in hp):
+            if all(a * gc[0] + b * gc[1] >= c - tol for a, b, c in hp) and _pinned_ok(pins, gc, ends, tol):
                 found = (sid, gc)
                 break
         if found is not None:
@@ -1033,12 +1392,14 @@ def _search_sets(
                 rng = _lam_range(p0, p1, hp, tol)
                 if rng is None:
                     continue
-                lo, hi = rng
-                x = (_at(q0, q1, lo), _at(q0, q1, hi))
-                if any(all(a * y[0] + b * y[1] >= c - dom for y in x for a, b, c in h2) for h2 in expanded.get(j, ())):
-                    continue
-                states.append((j, x, sid, (p0, p1, q0, q1, lo, hi)))
-                todo.append(len(states) - 1)
+                for lo, hi in _pinned_ranges(pins, p0, p1, rng, ends, tol):
+                    x = (_at(q0, q1, lo), _at(q0, q1, hi))
+                    if any(
+                        all(a * y[0] + b * y[1] >= c - dom for y in x for a, b, c in h2) for h2 in expanded.get(j, ())
+                    ):
+                        continue
+                    states.append((j, x, sid, (p0, p1, q0, q1, lo, hi)))
+                    todo.append(len(states) - 1)
     if found is None:
         return None
     sid, y = found
@@ -1052,9 +1413,17 @@ def _search_sets(
             xp = ends[0]
         else:
             p0, p1, q0, q1, lo, hi = via
-            # the parameters in [lo, hi] whose point is behind y on the one-way axes, then the closest to y
+            # the parameters in [lo, hi] whose point is behind y on the one-way axes (and, where a robot is pinned
+            # to a corner, on y's side of its turning block), then the closest to y
             hp = [(-1.0, 0.0, -y[0])] if ow[0] else []
             hp += [(0.0, -1.0, -y[1])] if ow[1] else []
+            for ax, corner, b0, b1 in _pins(space, i, (_at(q0, q1, lo), _at(q0, q1, hi)), ow):
+                if abs(y[ax] - corner) <= tol:
+                    o = 1 - ax
+                    if y[o] <= b0:
+                        hp.append((-1.0, 0.0, -b0) if o == 0 else (0.0, -1.0, -b0))
+                    elif y[o] >= b1:
+                        hp.append((1.0, 0.0, b1) if o == 0 else (0.0, 1.0, b1))
             a0, a1 = _at(q0, q1, lo), _at(q0, q1, hi)
             rng = _lam_range(a0, a1, hp, tol)
             u0, u1 = rng if rng is not None else (0.0, 1.0)
@@ -1062,22 +1431,126 @@ def _search_sets(
             den = d[0] * d[0] + d[1] * d[1]
             mu = 0.0 if den <= 0.0 else ((y[0] - a0[0]) * d[0] + (y[1] - a0[1]) * d[1]) / den
             mu = min(max(mu, u0), u1)
-            lam = lo + mu * (hi - lo)
-            xp = _at(q0, q1, lam)
-        # a move within the tolerances of a shared point: never backwards on a one-way axis
-        xp = (min(xp[0], y[0]) if ow[0] else xp[0], min(xp[1], y[1]) if ow[1] else xp[1])
+            # the closest point first; where its move would hold a robot on a corner through the other's block,
+            # a point of the allowed range off that corner (the middle, then the ends)
+            cands = [mu, 0.5 * (u0 + u1), u0, u1]
+        chosen: tuple[Coords, Coords | None] | None = None
+        for m_ in cands if via is not None else [0.0]:
+            if via is not None:
+                lam = lo + m_ * (hi - lo)
+                xp = _at(q0, q1, lam)
+            # a move within the tolerances of a shared point: never backwards on a one-way axis
+            xp = (min(xp[0], y[0]) if ow[0] else xp[0], min(xp[1], y[1]) if ow[1] else xp[1])
+            if xp == y or space.segment_ok(i, xp, y):
+                chosen = (xp, None)
+                break
+            w = space.detour(i, xp, y)  # a robot kept still on a corner: by a point inside the piece
+            if w is not None:
+                chosen = (xp, w)
+                break
+        if chosen is None:
+            raise PlanningError(
+                "the one-way search found a motion whose move turns a body on a corner into the other one"
+            )
+        xp, w = chosen
         if xp != y:
-            if not space.segment_ok(i, xp, y):
-                raise PlanningError(
-                    "the one-way search found a motion whose move turns a body on a corner into the other one"
-                )
-            segs.append([cell, xp, y])
+            segs += [[cell, xp, y]] if w is None else [[cell, w, y], [cell, xp, w]]  # reversed below
         if via is None:
             break
         y = _at(via[0], via[1], lam)
         sid = parent
     segs.reverse()
     return segs
+
+
+def _pins(
+    space: PlanarFreeSpace, i: int, ends: tuple[Coords, Coords], ow: tuple[bool, bool]
+) -> list[tuple[int, float, float, float]]:
+    """The robots a state of the one-way search holds on a corner: ``(axis, corner offset, block start, block
+    end)`` where its segment ``S`` lies on the corner's line, the robot is a rectangle that cannot step off the
+    line and back (its edge is one-way, or the piece has no interior) and the other body passes its turning disc
+    over the open interval ``(block start, block end)`` of the other robot's offsets. From ``S`` the points of that
+    line are then reached only on the side of the block where ``S`` reaches it."""
+    out = []
+    sub = space.pieces[i].sub
+    flat = None
+    for ax, corner in space.still_on_corner(i, ends[0], ends[1]):
+        fp = space.footprints.a if ax == 0 else space.footprints.b
+        if isinstance(fp, Disc):
+            continue
+        if not ow[ax]:
+            if flat is None:
+                poly = space.pieces[i].poly
+                t = 10.0 * space.tol
+                flat = len(poly) < 3 or abs(_area([tuple(x) for x in poly])) <= t * t
+            if not flat:
+                continue  # it may step into the piece and back (PlanarFreeSpace.detour)
+        blk = space._turn_block(ax, sub[ax], corner, sub[1 - ax])
+        if blk is not None:
+            out.append((ax, corner, blk[0], blk[1]))
+    return out
+
+
+def _pinned_ok(pins: list[tuple[int, float, float, float]], y: Coords, ends: tuple[Coords, Coords], tol: float) -> bool:
+    """Whether the point ``y`` is reached from the segment ``ends`` with the robots in ``pins`` held on their
+    corners (a point off a pinned line is reached by moving that robot, which :func:`_cone` decides)."""
+    for ax, corner, b0, b1 in pins:
+        if abs(y[ax] - corner) > tol:
+            continue
+        o = 1 - ax
+        lo, hi = min(ends[0][o], ends[1][o]), max(ends[0][o], ends[1][o])
+        if not ((lo <= b0 and y[o] <= b0) or (hi >= b1 and y[o] >= b1) or lo <= y[o] <= hi):
+            return False
+    return True
+
+
+def _pinned_ranges(
+    pins: list[tuple[int, float, float, float]],
+    p0: Coords,
+    p1: Coords,
+    rng: tuple[float, float],
+    ends: tuple[Coords, Coords],
+    tol: float,
+) -> list[tuple[float, float]]:
+    """The parameter range ``rng`` of the shared segment ``p0 -> p1`` cut to the points reached with the robots in
+    ``pins`` held on their corners: on a pinned line, the parts on the reached sides of the block (and ``S``'s own
+    points); an end of a segment that only touches the line is dropped when it is not reached."""
+    out = [rng]
+    for ax, corner, b0, b1 in pins:
+        o = 1 - ax
+        on0, on1 = abs(p0[ax] - corner) <= tol, abs(p1[ax] - corner) <= tol
+        nxt: list[tuple[float, float]] = []
+        for lo, hi in out:
+            if on0 and on1:  # along the line: the other robot's offsets allowed there, as parameters
+                lo_s, hi_s = min(ends[0][o], ends[1][o]), max(ends[0][o], ends[1][o])
+                allowed = [(lo_s, hi_s)]
+                if lo_s <= b0:
+                    allowed.append((-math.inf, b0))
+                if hi_s >= b1:
+                    allowed.append((b1, math.inf))
+                d = p1[o] - p0[o]
+                for y0, y1 in allowed:
+                    if abs(d) <= 1e-15:
+                        if y0 - tol <= p0[o] <= y1 + tol:
+                            nxt.append((lo, hi))
+                        continue
+                    l0, l1 = sorted(((y0 - p0[o]) / d, (y1 - p0[o]) / d))
+                    a, b = max(lo, l0), min(hi, l1)
+                    if a <= b:
+                        nxt.append((a, b))
+            elif on0 or on1:  # touches the line at one end: that end only if reached
+                end = p0 if on0 else p1
+                if _pinned_ok([(ax, corner, b0, b1)], end, ends, tol):
+                    nxt.append((lo, hi))
+                else:
+                    cut = 1e-9
+                    a, b = (max(lo, cut), hi) if on0 else (lo, min(hi, 1.0 - cut))
+                    if a <= b:
+                        nxt.append((a, b))
+            else:
+                nxt.append((lo, hi))
+        out = nxt
+    return out
 
 
 def _why_not(space: PlanarFreeSpace) -> str:

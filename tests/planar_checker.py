@@ -2,11 +2,12 @@
 trajopt.planar_gate): poses from the layout's own coordinates, discs exactly, rectangles as polygons with their own
 separating-axis distance, a robot on a corner in every orientation there.
 
-Along a motion (``depth_many(..., along=True)``) a robot on a vertex takes the orientations of the edges it arrives
-on and leaves by, as the documented model says ("the body takes the orientation of the piece it is on", docs/graphs.md
-"Footprints in the plane"): a robot that passes straight through a switch (main to east) keeps the heading of main and
-east there and is never turned to the siding's diagonal, which meets the same vertex. Only a robot whose arrival or
-departure is not in the samples (a motion that starts or ends on the vertex) takes every orientation there."""
+Along a motion (``depth_many(..., along=True)``) a robot on a vertex or a polyline corner takes the orientations of
+the pieces it arrives on and leaves by, as the documented model says ("the body takes the orientation of the piece it
+is on", docs/graphs.md "Footprints in the plane"): a robot that passes straight through a switch (main to east) keeps
+the heading of main and east there and is never turned to the siding's diagonal, which meets the same vertex; one that
+drives up to a polyline corner and back keeps the heading of the piece it drove on. Only a robot whose arrival or
+departure is not in the samples (a motion that starts or ends there) takes every orientation there."""
 
 from __future__ import annotations
 
@@ -198,10 +199,10 @@ def depth_many(
     """:func:`overlap_depth` of many configurations at once (shape (N,)): vectorised for bodies inside a drawn
     piece, the one-at-a-time code for a body on a corner or vertex (every orientation there).
 
-    With ``along`` the N samples are consecutive instants of one motion: a robot on a vertex (within ``tol``
-    metres) takes the orientations of the edge it arrives on and the edge it leaves by (the nearest samples off that
-    vertex before and after), not those of every edge there; every orientation there where the motion starts or ends
-    on the vertex.
+    With ``along`` the N samples are consecutive instants of one motion: a robot on a vertex or a polyline corner
+    (within ``tol`` metres) takes the orientations of the pieces it arrives on and leaves by (the nearest samples
+    off that vertex or corner before and after), not those of every piece there; every orientation there where the
+    motion starts or ends on it.
     """
     ea, eb = np.asarray(ea, dtype=int), np.asarray(eb, dtype=int)
     oa, ob = np.asarray(oa, dtype=float), np.asarray(ob, dtype=float)
@@ -243,29 +244,59 @@ def depth_many(
 
 
 def _passage_headings(drawn: Drawn, e: np.ndarray, o: np.ndarray, tol: float) -> dict[int, list[float]]:
-    """Per sample on a vertex, the orientations of the edges a robot arrives on and leaves by: for each run of
-    consecutive samples on one vertex, the edges of the nearest samples off it before and after the run. A run at
-    either end of the motion, or next to a sample on an edge that does not meet the vertex, is left out (every
-    orientation there)."""
-    names = [drawn.vertex_of(int(k), float(x), tol) for k, x in zip(e, o)]
+    """Per sample on a vertex or a polyline corner, the orientations of the pieces a robot arrives on and leaves
+    by: for each run of consecutive samples on one vertex (corner), the pieces of the nearest samples off it before
+    and after the run (at a vertex: the edges' end pieces there; at a corner: the pieces of its edge on either side,
+    one piece when the robot touches the corner and turns back). A run at either end of the motion, or next to a
+    sample on an edge that does not meet the vertex, is left out (every orientation there)."""
+    # per sample the nearest point of its edge's polyline and whether it stands on it (one pass per edge)
+    near = np.zeros(len(e), dtype=np.int64)
+    on = np.zeros(len(e), dtype=bool)
+    last = np.zeros(len(e), dtype=np.int64)
+    for k in np.unique(e):
+        m = e == k
+        off = drawn.offs[int(k)]
+        j = np.clip(np.searchsorted(off, o[m]), 1, len(off) - 1)
+        j = np.where(np.abs(off[j - 1] - o[m]) <= np.abs(off[j] - o[m]), j - 1, j)
+        near[m], on[m], last[m] = j, np.abs(off[j] - o[m]) <= tol, len(off) - 1
+    keys: list[Any] = [None] * len(e)
+    for i in np.flatnonzero(on).tolist():
+        k, j = int(e[i]), int(near[i])
+        if j == 0 or j == last[i]:
+            keys[i] = ("v", str(drawn.ends[k][0 if j == 0 else 1]))
+        else:
+            keys[i] = ("c", k, j)
     out: dict[int, list[float]] = {}
-    i, n = 0, len(names)
+    i, n = 0, len(keys)
     while i < n:
-        name = names[i]
-        if name is None:
+        key = keys[i]
+        if key is None:
             i += 1
             continue
         j = i
-        while j + 1 < n and names[j + 1] == name:
+        while j + 1 < n and keys[j + 1] == key:
             j += 1
         if i > 0 and j + 1 < n:
-            arrive = drawn.end_headings(int(e[i - 1]), name)
-            leave = drawn.end_headings(int(e[j + 1]), name)
+            if key[0] == "v":
+                arrive = drawn.end_headings(int(e[i - 1]), key[1])
+                leave = drawn.end_headings(int(e[j + 1]), key[1])
+            else:
+                arrive = _piece_heading(drawn, key[1], int(e[i - 1]), float(o[i - 1]))
+                leave = _piece_heading(drawn, key[1], int(e[j + 1]), float(o[j + 1]))
             if arrive and leave:
                 for k in range(i, j + 1):
                     out[k] = arrive + leave
         i = j + 1
     return out
+
+
+def _piece_heading(drawn: Drawn, edge: int, e: int, o: float) -> list[float]:
+    """The direction of the piece of ``edge`` holding offset ``o`` (empty when the sample is on another edge)."""
+    if e != edge:
+        return []
+    pts, off = drawn.polys[e], drawn.offs[e]
+    i = int(np.clip(np.searchsorted(off, o, side="right") - 1, 0, len(off) - 2))
+    return [math.atan2(*(pts[i + 1] - pts[i])[::-1])]
 
 
 def _poses(drawn: Drawn, e: np.ndarray, o: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

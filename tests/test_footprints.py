@@ -332,6 +332,17 @@ def _grid_connected(tr: GraphTrack, fp: Disc | Rectangle, start: Any, goal: Any,
     return goal_node in seen
 
 
+def grid_and_planner(tr: GraphTrack, fp: Disc | Rectangle, start: Any, goal: Any) -> tuple[bool, bool]:
+    """Whether the grid search (step 0.1 m) finds a motion, and whether the planner plans one (False on
+    NoMotionError; bad input propagates)."""
+    grid = _grid_connected(tr, fp, start, goal, 0.1)
+    try:
+        mpa.plan(tr, start, goal, footprint=fp)
+    except NoMotionError:
+        return grid, False
+    return grid, True
+
+
 @pytest.mark.parametrize(
     "fp", [Disc(0.4), Disc(0.5), Disc(0.7), Rectangle(1.5, 0.9), Rectangle(1.0, 1.0), Rectangle(2.0, 1.3)]
 )
@@ -340,12 +351,7 @@ def test_complete_against_grid(fp: Disc | Rectangle) -> None:
     tr = GraphTrack.from_layout(passing_loop(1.2, 2.5, 35.0))
     agree = 0
     for start, goal in ((("W", "E"), ("E", "W")), (("west:1", "east:3"), ("east:3", "west:1"))):
-        grid = _grid_connected(tr, fp, start, goal, 0.1)
-        try:
-            mpa.plan(tr, start, goal, footprint=fp)
-            planned = True
-        except NoMotionError:
-            planned = False
+        grid, planned = grid_and_planner(tr, fp, start, goal)
         if grid:
             assert planned, (fp, start, goal)
         agree += grid == planned

@@ -71,20 +71,39 @@ def _queries(n: int, seed: int, layouts: list[int], fps: list[int], clearances: 
     return [(k, FOOTPRINTS[f], c, ends) for k, f, c, ends in out]
 
 
-def _plans(n: int, seed: int, layouts: list[int], fps: list[int], clearances: list[float]) -> tuple[int, int]:
+def _plans(
+    n: int,
+    seed: int,
+    layouts: list[int],
+    fps: list[int],
+    clearances: list[float],
+    refusals: tuple[list[GraphTrack], list[Any]] | None = None,
+) -> tuple[int, int]:
     """``n`` seeded queries; each plan sampled at 400 parameters and on both sides of every waypoint, checked by the
     vectorised independent checker along the motion (a robot on a vertex at the orientations of the edges it
-    arrives on and leaves by)."""
-    tracks = _tracks(seed)
-    drawn = [drawn_of(tr) for tr in tracks]
+    arrives on and leaves by). With ``refusals`` (the tracks and their drawings): a query refused as bad input must
+    have the bodies overlapping (checker) or the robots closer than D along the track at its start or goal."""
+    tracks, drawn = refusals if refusals is not None else (_tracks(seed), None)
+    if drawn is None:
+        drawn = [drawn_of(tr) for tr in tracks]
     planned = refused = 0
     u = np.linspace(0.0, 1.0, 400)
     for k, fp, clearance, ends in _queries(n, seed, layouts, fps, clearances):
         tr, dr = tracks[k], drawn[k]
         try:
             p = mpa.plan(tr, (ends[0], ends[1]), (ends[2], ends[3]), clearance=clearance, footprint=fp)
-        except (InvalidInputError, NoMotionError):
+        except NoMotionError:
             refused += 1
+            continue
+        except InvalidInputError:
+            refused += 1
+            if refusals is not None:
+                f = fp_tuple(fp)
+                worst = max(
+                    max(overlap_depth(dr, f, a, f, b), clearance - tr.geometry.distance_scalar(*a, *b))
+                    for a, b in ((ends[0], ends[1]), (ends[2], ends[3]))
+                )
+                assert worst > -1e-6, (tr.to_dict(), ends, fp, clearance, worst)
             continue
         planned += 1
         # just before and after every waypoint (a corner of the plan), and the waypoint itself
@@ -97,6 +116,22 @@ def _plans(n: int, seed: int, layouts: list[int], fps: list[int], clearances: li
         i = int(np.argmax(depth))
         assert depth[i] <= DEPTH_TOL, (tr.to_dict(), ends, fp, clearance, float(depth[i]), i)
     return planned, refused
+
+
+# the drawn passing loop, rail yard and Y junction and the three random sidings: small layouts, few free spaces
+CI_LAYOUTS = [0, 1, 3, len(DRAWN_EXAMPLES), len(DRAWN_EXAMPLES) + 1, len(DRAWN_EXAMPLES) + 2]
+
+
+def test_thousands_of_queries_few_free_spaces_independent_check() -> None:
+    """2 400 seeded queries on 12 free spaces (6 layouts, a disc and a rectangle, D = 0.5 m): every plan checked
+    along the motion by the independent checker, and every query refused for bodies overlapping at start or goal
+    confirmed by it (the checker's overlap there, or the robots closer than D along the track)."""
+    n, seed = 2400, 31
+    tracks = _tracks(seed)
+    drawn = [drawn_of(tr) for tr in tracks]
+    counts = _plans(n, seed, CI_LAYOUTS, [1, 3], [0.5], refusals=(tracks, drawn))
+    planned, refused = counts
+    assert planned + refused == n and planned >= 900, counts
 
 
 @pytest.mark.slow

@@ -114,11 +114,31 @@ def row_gaps(track: GraphTrack, fps: Footprints, edges: ArrayLike, offsets: Arra
     pa, ha = d.pose(E[:, 0], OFF[:, 0])
     pb, hb = d.pose(E[:, 1], OFF[:, 1])
     gaps = pair_gaps(fps, pa, ha, pb, hb)
-    for k in np.nonzero(_at_corner(d, E, OFF))[0]:
-        for hha in d.corner_headings(int(E[k, 0]), float(OFF[k, 0])):
-            for hhb in d.corner_headings(int(E[k, 1]), float(OFF[k, 1])):
-                g = pair_gaps(fps, pa[k : k + 1], np.array([hha]), pb[k : k + 1], np.array([hhb]))
-                gaps[k] = min(gaps[k], float(g[0]))
+    rows = np.nonzero(_at_corner(d, E, OFF))[0]
+    if len(rows):
+        # every pair of headings at the corner rows, in one call (the headings looked up once per position)
+        memo: dict[tuple[int, float], list[float]] = {}
+
+        def heads(e: int, o: float) -> list[float]:
+            key = (e, o)
+            if key not in memo:
+                memo[key] = d.corner_headings(e, o)
+            return memo[key]
+
+        ks: list[int] = []
+        hs_a: list[float] = []
+        hs_b: list[float] = []
+        for k in rows.tolist():
+            la = heads(int(E[k, 0]), float(OFF[k, 0]))
+            lb = heads(int(E[k, 1]), float(OFF[k, 1]))
+            for hha in la:
+                ks.extend([k] * len(lb))
+                hs_a.extend([hha] * len(lb))
+                hs_b.extend(lb)
+        if ks:
+            kk = np.array(ks, dtype=np.int64)
+            g = pair_gaps(fps, pa[kk], np.array(hs_a), pb[kk], np.array(hs_b))
+            np.minimum.at(gaps, kk, g)
     return gaps
 
 
@@ -140,22 +160,31 @@ def _travel(v0: FloatArray, v1: FloatArray, amax: float, dt: float) -> FloatArra
 
 
 def _motion(
-    d: Drawing, fp: Footprint, e: NDArray[np.int64], o: FloatArray, v: FloatArray, amax: float, dt: float
+    d: Drawing,
+    fp: Footprint,
+    e: NDArray[np.int64],
+    o: FloatArray,
+    v: FloatArray,
+    amax: float,
+    dt: float,
+    where: tuple[NDArray[np.int64], NDArray[np.bool_]] | None = None,
 ) -> FloatArray:
-    """Bound of how far any point of one body moves between consecutive rows (metres). Shape (N - 1,)."""
+    """Bound of how far any point of one body moves between consecutive rows (metres). Shape (N - 1,).
+
+    ``where``: the rows' pieces and whether each row is on a corner (:func:`_pieces`), when already known."""
     travel = _travel(v[:-1], v[1:], amax, dt)
     scale = float(np.max(np.hypot(*d.piece_dir.T)))
     move = travel * scale
-    p = d.piece_at(e, o)
+    p, at = where if where is not None else _pieces(d, e, o)
     h = d.piece_heading[p]
-    turned = (p[:-1] != p[1:]) | _at_corner_1(d, e, o)[:-1] | _at_corner_1(d, e, o)[1:]
+    turned = (p[:-1] != p[1:]) | at[:-1] | at[1:]
     if np.any(turned) and not isinstance(fp, Disc):
         shortest = float(np.min(d.piece_s1 - d.piece_s0))
         dh = _axis_turn(h[1:] - h[:-1])
         # passing a vertex, the headings of every piece there bound the turn; more than one corner: pi each
         many = travel >= shortest
         turn = np.where(
-            many, 0.5 * math.pi * (1.0 + travel / max(shortest, 1e-12)), np.maximum(dh, _vertex_turn(d, e, o))
+            many, 0.5 * math.pi * (1.0 + travel / max(shortest, 1e-12)), np.maximum(dh, _vertex_turn(d, e, o, at))
         )
         move = move + np.where(turned, fp.reach * turn, 0.0)
     return move
@@ -168,13 +197,18 @@ def _point_gap(fp: Footprint, d: FloatArray, h: FloatArray) -> FloatArray:
     return np.maximum(_local(fp, d, h), 0.0)
 
 
-def _turning_one(d: Drawing, fp: Footprint, e: NDArray[np.int64], o: FloatArray) -> NDArray[np.bool_]:
+def _turning_one(
+    d: Drawing,
+    fp: Footprint,
+    e: NDArray[np.int64],
+    o: FloatArray,
+    where: tuple[NDArray[np.int64], NDArray[np.bool_]] | None = None,
+) -> NDArray[np.bool_]:
     """Per interval: whether this robot's rectangle turns (its piece's orientation changes, or a row on a corner)."""
     if isinstance(fp, Disc):
         return np.zeros(len(e) - 1, dtype=bool)
-    p = d.piece_at(e, o)
+    p, at = where if where is not None else _pieces(d, e, o)
     h = d.piece_heading[p]
-    at = _at_corner_1(d, e, o)
     return np.asarray((_axis_turn(h[1:] - h[:-1]) > 1e-12) | at[:-1] | at[1:])
 
 
@@ -192,8 +226,16 @@ def _turning(d: Drawing, fps: Footprints, E: NDArray[np.int64], OFF: FloatArray)
 
 
 def _at_corner_1(d: Drawing, e: NDArray[np.int64], o: FloatArray, tol: float = 1e-9) -> NDArray[np.bool_]:
+    return _pieces(d, e, o, tol)[1]
+
+
+def _pieces(
+    d: Drawing, e: NDArray[np.int64], o: FloatArray, tol: float = 1e-9
+) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
+    """The drawing piece of every row of one robot and whether the row is on a corner (within ``tol`` metres of
+    its piece's start or end). Shapes (N,), (N,)."""
     p = d.piece_at(e, o)
-    return (np.abs(o - d.piece_s0[p]) <= tol) | (np.abs(o - d.piece_s1[p]) <= tol)
+    return p, (np.abs(o - d.piece_s0[p]) <= tol) | (np.abs(o - d.piece_s1[p]) <= tol)
 
 
 def _axis_turn(dh: Any) -> Any:
@@ -202,10 +244,12 @@ def _axis_turn(dh: Any) -> Any:
     return np.minimum(x, math.pi - x)
 
 
-def _vertex_turn(d: Drawing, e: NDArray[np.int64], o: FloatArray) -> FloatArray:
-    """Per interval: the largest turn between the headings of any two pieces at a corner touched by its rows."""
+def _vertex_turn(d: Drawing, e: NDArray[np.int64], o: FloatArray, at: NDArray[np.bool_] | None = None) -> FloatArray:
+    """Per interval: the largest turn between the headings of any two pieces at a corner touched by its rows
+    (``at``: whether each row is on a corner, when already known)."""
     out = np.zeros(len(e) - 1)
-    at = _at_corner_1(d, e, o)
+    if at is None:
+        at = _at_corner_1(d, e, o)
     for k in np.nonzero(at)[0]:
         hs = d.corner_headings(int(e[k]), float(o[k]))
         if len(hs) < 2:
@@ -274,13 +318,13 @@ def verify_plane(
         fails.append(f"row {k}: the bodies overlap in the plane (gap {float(gaps[k]):.6g} m)")
     if len(gaps) > 1:
         dt = 1.0 / float(rate)
-        m = _motion(d, fps.a, E[:, 0], OFF[:, 0], V[:, 0], float(acc[0]), dt) + _motion(
-            d, fps.b, E[:, 1], OFF[:, 1], V[:, 1], float(acc[1]), dt
-        )
-        between = 0.5 * (gaps[:-1] + gaps[1:] - m)
+        wa, wb = _pieces(d, E[:, 0], OFF[:, 0]), _pieces(d, E[:, 1], OFF[:, 1])
+        ma = _motion(d, fps.a, E[:, 0], OFF[:, 0], V[:, 0], float(acc[0]), dt, wa)
+        mb = _motion(d, fps.b, E[:, 1], OFF[:, 1], V[:, 1], float(acc[1]), dt, wb)
+        between = 0.5 * (gaps[:-1] + gaps[1:] - (ma + mb))
         # where a rectangle turns between two rows its sweep lies in the disc of its reach about its centre
-        turn_a = _turning_one(d, fps.a, E[:, 0], OFF[:, 0])
-        turn_b = _turning_one(d, fps.b, E[:, 1], OFF[:, 1])
+        turn_a = _turning_one(d, fps.a, E[:, 0], OFF[:, 0], wa)
+        turn_b = _turning_one(d, fps.b, E[:, 1], OFF[:, 1], wb)
         turn = turn_a | turn_b
         if np.any(turn):
             pa, ha = d.pose(E[:, 0], OFF[:, 0])
@@ -288,8 +332,6 @@ def verify_plane(
             scale = float(np.max(np.hypot(*d.piece_dir.T)))
             ta = _travel(V[:-1, 0], V[1:, 0], float(acc[0]), dt) * scale
             tb = _travel(V[:-1, 1], V[1:, 1], float(acc[1]), dt) * scale
-            ma = _motion(d, fps.a, E[:, 0], OFF[:, 0], V[:, 0], float(acc[0]), dt)
-            mb = _motion(d, fps.b, E[:, 1], OFF[:, 1], V[:, 1], float(acc[1]), dt)
             both = np.hypot(*(pa[:-1] - pb[:-1]).T) - fps.a.reach - fps.b.reach - ta - tb
             # one body turns: the disc of its reach against the other body as it is (which moves at most m)
             only_a = _point_gap(fps.b, pa[:-1] - pb[:-1], hb[:-1]) - fps.a.reach - ta - mb
