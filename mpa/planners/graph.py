@@ -37,10 +37,7 @@ skipped (:func:`_independent_motion`); otherwise, or when a route is not unique,
 ``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the least travel
 (``+ 1e-6 · (|Δs|/vA + |Δt|/vB)``: exact for the bound below, so the search does not widen over the many equally
 fast routes of a robot with time to spare) and then towards the straightest (``+ 1e-9 · hypot(Δs/vA, Δt/vB)``: one
-timing among equally fast ones, e.g. both robots moving all the time rather than one after the other), and by the
-layout's tie term (``+ TIE_EDGE · w · travel`` per robot, edge and direction, :func:`edge_tie_weights`: equally fast
-motions get costs that differ by a layout-defined amount, so nearby queries break the tie the same way; along a
-straight run through several cells the term is carried across faces as per-robot constants). The A* bound
+timing among equally fast ones, e.g. both robots moving all the time rather than one after the other). The A* bound
 is ``max(dA/vA, dB/vB)`` (plus the same tie-break terms) resp. ``hypot(dA, dB)`` of each robot's graph distance to
 its goal (for an interval: minimised exactly over it, with the unfolded distance from the root); it is admissible.
 The queue orders by that bound on a grid of ``1e-12`` of the start's bound, then deeper roots first, all in one place
@@ -68,7 +65,6 @@ reversal); its route coordinate is the distance travelled, and the plan is a pol
 from __future__ import annotations
 
 import bisect
-import hashlib
 import heapq
 import itertools
 import math
@@ -93,17 +89,9 @@ TIE_BREAK = 1e-6
 SPEED_RANGE = (1e-6, 1e6)
 SPEED_RATIO = 1e8
 TIE_BREAK_2 = 1e-9  # then towards the straightest (Euclidean in time units): one timing among equally fast ones
-#: Weight of the layout's tie term: each robot's travel on edge e costs ``TIE_EDGE * w_e`` more per unit of the
-#: objective, ``w_e`` in [1, 1 + TIE_SPREAD) a fixed function of the edge's name (:func:`edge_tie_weights`). Its
-#: bound is each robot's least weighted length among its shortest routes (:func:`_tie_terms`), so the search dives
-#: along the tie-best routes where the robots do not interact.
-TIE_EDGE = 1e-9
-#: Spread of the tie weights (see :data:`TIE_EDGE`).
-TIE_SPREAD = 1.0
 F_GRID = 1e-12  # relative resolution of the search's order (see _search)
 Key = tuple[Any, ...]
 Coords = tuple[float, float]
-_C0: Coords = (0.0, 0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -253,7 +241,6 @@ class _Mesh:
         self.ok = fs.faces.ok.tolist()
         self.scale = max(1.0, float(g.lengths.max()))
         self.eps = 1e-12 * self.scale
-        self.w = edge_tie_weights(fs.track.edge_names)
         self._sides: dict[PolygonId, list[Side]] = {}
         self._pages: dict[FaceKey, list[tuple[PolygonId, float]]] = {}
         self._members: dict[Key, list[tuple[PolygonId, Coords]]] = {}
@@ -340,22 +327,6 @@ class _Mesh:
                 if pid is not None:
                     out.append((pid, (sa, sb)))
         return out
-
-
-def edge_tie_weights(names: Any) -> list[tuple[float, float, float, float]]:
-    """The layout's tie weights, per edge ``(A backwards, A forwards, B backwards, B forwards)`` in
-    [1, 1 + TIE_SPREAD): a fixed function of the robot, the edge's name and the direction of travel (the first 52
-    bits of a BLAKE2b digest), so that equally fast motions differ in ``sum of w * travel`` by an amount that depends
-    only on the layout and the routes (see :data:`TIE_EDGE`), also when they differ only in direction (round a loop)
-    or in which robot does what (who gives way on a swap)."""
-    out = []
-    for name in names:
-        ws = []
-        for tag in ("A-", "A+", "B-", "B+"):
-            h = hashlib.blake2b(f"{tag}{name}".encode(), digest_size=8).digest()
-            ws.append(1.0 + TIE_SPREAD * (int.from_bytes(h, "big") >> 12) / float(1 << 52))
-        out.append((ws[0], ws[1], ws[2], ws[3]))
-    return out
 
 
 def _mesh(fs: FreeSpace) -> _Mesh:
@@ -540,40 +511,6 @@ def _goal_terms(g: Any, goal: Position) -> tuple[list[float], list[float], list[
     return cp.tolist(), cm.tolist(), vd.tolist()
 
 
-def _tie_terms(
-    g: Any, goal: Position, w: list[tuple[float, float, float, float]], robot: int, vd: list[float]
-) -> list[float]:
-    """Per vertex the least tie-weighted length (``sum of w * travel``, metres) among the robot's shortest routes to
-    its goal (``vd``: the vertex distances to the goal; routes within ``1e-9 * max(1, longest edge)`` count as
-    shortest). The tie term's bound: exact for a robot that takes the tie-best of its shortest routes."""
-    ge, gs = goal
-    lg = g._L[ge]
-    tol = 1e-9 * max(1.0, float(g.lengths.max()))
-    n = len(vd)
-    out = [math.inf] * n
-    tg, hg = g._t[ge], g._h[ge]
-    wf, wb = w[ge][2 * robot + 1], w[ge][2 * robot]
-    if vd[tg] >= gs - tol:
-        out[tg] = min(out[tg], wf * gs) if abs(vd[tg] - gs) <= tol else out[tg]
-    if abs(vd[hg] - (lg - gs)) <= tol:
-        out[hg] = min(out[hg], wb * (lg - gs))
-    order = sorted(range(n), key=lambda x: vd[x])
-    t_, h_, L_ = g._t, g._h, g._L
-    inc: list[list[tuple[int, int, float, float]]] = [[] for _ in range(n)]
-    for e in range(len(L_)):
-        inc[t_[e]].append((h_[e], e, L_[e], w[e][2 * robot + 1]))
-        inc[h_[e]].append((t_[e], e, L_[e], w[e][2 * robot]))
-    for x in order:
-        if not math.isfinite(vd[x]):
-            continue
-        best = out[x]
-        for y, _, le, wt in inc[x]:
-            if y != x and vd[y] < vd[x] and abs(le + vd[y] - vd[x]) <= tol and math.isfinite(out[y]):
-                best = min(best, wt * le + out[y])
-        out[x] = best
-    return out
-
-
 def _search(
     mesh: _Mesh,
     start: tuple[Position, Position],
@@ -588,7 +525,6 @@ def _search(
     through the faces crossed so far, unfolded across faces). With ``budget``: None after that many expansions."""
     g = mesh.g
     eps = mesh.eps
-    w = mesh.w
     ctol = 1e-12 * mesh.scale * mesh.scale
     if objective == "shortest":
 
@@ -608,77 +544,9 @@ def _search(
             ta, tb_ = xa / va, xb / vb
             return max(ta, tb_) + TIE_BREAK * (ta + tb_) + TIE_BREAK_2 * math.hypot(ta, tb_)
 
-    # the layout's tie term (see TIE_EDGE): robot A's travel on edge e weighs TIE_EDGE * w_e / vA, B's w_f / vB.
-    # Along a straight run from a root through a chain of cells, a robot's travel on each edge it crosses whole is
-    # fixed by the faces (the robot is on the face's vertex), so the term is ``tie(c, pid, d)`` with per-robot
-    # constants ``c`` carried across faces (:func:`open_face`) and ``d`` the unfolded travel from the root.
-    ua, ub = (TIE_EDGE / va, TIE_EDGE / vb) if objective == "fastest" else (TIE_EDGE, TIE_EDGE)
-
-    def tie(c: Coords, pid: PolygonId, ds: float, dt: float) -> float:
-        return ua * (c[0] + w[pid[0]][ds > 0.0] * abs(ds)) + ub * (c[1] + w[pid[1]][2 + (dt > 0.0)] * abs(dt))
-
     (gea, gsa), (geb, gsb) = goal
     cpa, cma, vda = _goal_terms(g, goal[0])
     cpb, cmb, vdb = _goal_terms(g, goal[1])
-    wda = _tie_terms(g, goal[0], w, 0, vda)
-    wdb = _tie_terms(g, goal[1], w, 1, vdb)
-    tol9 = 1e-9 * mesh.scale
-
-    gtie = ((vda, wda, goal[0][0], goal[0][1]), (vdb, wdb, goal[1][0], goal[1][1]))
-    tails, heads, lens = g._t, g._h, g._L
-
-    def tie_to_goal(e: int, y: float, robot: int) -> float:
-        """The tie term's bound from (e, y) (weighted metres): the tie-best among the shortest ways to the goal."""
-        vd, wd, ge, gs = gtie[robot]
-        we = w[e]
-        t, h = tails[e], heads[e]
-        d1 = y + vd[t]
-        d2 = lens[e] - y + vd[h]
-        if d1 < d2 - tol9:
-            d, tv = d1, we[2 * robot] * y + wd[t]
-        elif d2 < d1 - tol9:
-            d, tv = d2, we[2 * robot + 1] * (lens[e] - y) + wd[h]
-        else:
-            d = d1 if d1 < d2 else d2
-            tv = min(we[2 * robot] * y + wd[t], we[2 * robot + 1] * (lens[e] - y) + wd[h])
-        if e == ge:
-            d3 = abs(y - gs)
-            t3 = we[2 * robot + (1 if gs > y else 0)] * d3
-            if d3 < d - tol9:
-                return t3
-            if d3 <= d + tol9 and t3 < tv:
-                tv = t3
-        return tv if tv < math.inf else d
-
-    def tie_along(e: int, y0: float, y1: float, r: float, robot: int) -> float:
-        """The tie term's bound of a robot at ``r`` on edge ``e`` that first moves to ``[y0, y1]``: among the points
-        where ``|y - r| + d((e, y), goal)`` is least (the ends, the clamp of ``r``, the kink of ``d``), the least
-        ``w |y - r| + tie_to_goal``."""
-        if robot == 0:
-            cp, cm = cpa[e], cma[e]
-        else:
-            cp, cm = cpb[e], cmb[e]
-        ge, gs = gtie[robot][2], gtie[robot][3]
-        rc = y0 if r < y0 else (y1 if r > y1 else r)
-        k = 0.5 * (cm - cp)
-        k = y0 if k < y0 else (y1 if k > y1 else k)
-        cands = (y0, y1, rc, k, (y0 if gs < y0 else (y1 if gs > y1 else gs))) if e == ge else (y0, y1, rc, k)
-        we = w[e]
-        best_p, best_t = math.inf, math.inf
-        for y in cands:
-            dy = y - r
-            d = y + cp if y + cp < cm - y else cm - y
-            if e == ge and abs(y - gs) < d:
-                d = abs(y - gs)
-            pv = abs(dy) + d
-            if pv < best_p - tol9:
-                best_p = pv
-                best_t = we[2 * robot + (1 if dy > 0 else 0)] * abs(dy) + tie_to_goal(e, y, robot)
-            elif pv <= best_p + tol9:
-                tv = we[2 * robot + (1 if dy > 0 else 0)] * abs(dy) + tie_to_goal(e, y, robot)
-                if tv < best_t:
-                    best_t = tv
-        return best_t
 
     def dist_a(e: int, y: float) -> float:
         d = min(y + cpa[e], cma[e] - y)
@@ -714,11 +582,9 @@ def _search(
 
     # node records
     #   point:    [0, key, g, seg]             seg = (kind, ...) the straight run that ends here
-    #   interval: [1, root id, root key, g_root, r, sig, ax, a, y0, y1, pid, prev pid, prev a, lo, hi, parent, origin,
-    #              tie constants]
+    #   interval: [1, root id, root key, g_root, r, sig, ax, a, y0, y1, pid, prev pid, prev a, lo, hi, parent, origin]
     #   face entry (queued, opens the intervals into its pages):
-    #             [3, root id, root key, g_root, r, sig, ax, a, y0, y1, prev pid, face, lo, hi, parent, origin,
-    #              tie constants]
+    #             [3, root id, root key, g_root, r, sig, ax, a, y0, y1, prev pid, face, lo, hi, parent, origin]
     #   goal:     [2, None, g, seg]
     nodes: list[list[Any]] = []
     # interval nodes by (root, page, side, root position in the page's frame): routes of equal lengths (a lattice's
@@ -732,8 +598,7 @@ def _search(
         if gval < best.get(key, math.inf):
             best[key] = gval
             nodes.append([0, key, gval, seg])
-            xa, xb = dist_a(pid[0], pt[0]), dist_b(pid[1], pt[1])
-            f = gval + comb(xa, xb) + ua * tie_to_goal(pid[0], pt[0], 0) + ub * tie_to_goal(pid[1], pt[1], 1)
+            f = gval + comb(dist_a(pid[0], pt[0]), dist_b(pid[1], pt[1]))
             heapq.heappush(heap, queue_key(f, gval, len(nodes) - 1))
 
     def push_goal(gval: float, seg: tuple[Any, ...]) -> None:
@@ -758,33 +623,24 @@ def _search(
         hi: float,
         parent: int,
         origin: tuple[PolygonId, Coords],
-        tc: Coords,
     ) -> None:
         """Queue the part [y0, y1] of face ``face`` (side ``ax = a`` of ``pid``) seen from the root, once for all the
         face's other pages: the bound is the same for each (the robot on the vertex is as far from its goal, and the
         other robot's edge is the face's), so the pages are opened only when the entry is taken from the queue."""
-        vx = face[1]
-        dr = a - r[ax]  # the crossing robot's move to the face
+        w = face[1]
         if ax == 0:
-            xa = abs(dr) + vda[vx]
+            xa = abs(r[0] - a) + vda[w]
             xb = min_along(face[2], y0, y1, r[1], 1)
-            tl = ua * (tc[0] + w[pid[0]][dr > 0.0] * abs(dr) + wda[vx]) + ub * (
-                tc[1] + tie_along(face[2], y0, y1, r[1], 1)
-            )
         else:
-            xb = abs(dr) + vdb[vx]
+            xb = abs(r[1] - a) + vdb[w]
             xa = min_along(face[2], y0, y1, r[0], 0)
-            tl = ua * (tc[0] + tie_along(face[2], y0, y1, r[0], 0)) + ub * (
-                tc[1] + w[pid[1]][2 + (dr > 0.0)] * abs(dr) + wdb[vx]
-            )
-        nodes.append([3, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin, tc])
-        heapq.heappush(heap, queue_key(groot + comb(xa, xb) + tl, groot, len(nodes) - 1))
+        nodes.append([3, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin])
+        heapq.heappush(heap, queue_key(groot + comb(xa, xb), groot, len(nodes) - 1))
 
     def open_face(nd: list[Any]) -> None:
         """Interval nodes of a queued face entry into each other page (unfolding the root), expanded at once."""
-        _, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin, tc = nd
+        _, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin = nd
         n1 = 1.0 if a == 0.0 else -1.0
-        dr = abs(r[ax] - a)
         for pid2, b in mesh.pages(face):
             if pid2 == pid and b == a:
                 continue
@@ -795,21 +651,18 @@ def _search(
             if ax == 0:
                 r2 = (b + sg * (r[0] - a), r[1])
                 sig2 = (sg * sig[0], sig[1])
-                tc2 = (tc[0] + (w[pid[0]][a != 0.0] - w[pid2[0]][b == 0.0]) * dr, tc[1])
             else:
                 r2 = (r[0], b + sg * (r[1] - a))
                 sig2 = (sig[0], sg * sig[1])
-                tc2 = (tc[0], tc[1] + (w[pid[1]][2 + (a != 0.0)] - w[pid2[1]][2 + (b == 0.0)]) * dr)
             sk = (rid, pid2, ax, b, round(r2[0] * quantum), round(r2[1] * quantum))
             for z0, z1 in _uncovered(seen, sk, y0, y1, eps):  # parts not seen the same way from this root before
-                nodes.append([1, rid, rkey, groot, r2, sig2, ax, b, z0, z1, pid2, pid, a, lo, hi, parent, origin, tc2])
+                nodes.append([1, rid, rkey, groot, r2, sig2, ax, b, z0, z1, pid2, pid, a, lo, hi, parent, origin])
                 expand_interval(len(nodes) - 1, nodes[-1])
 
     def expand_point(nid: int, key: Key, gval: float, members: list[tuple[PolygonId, Coords]]) -> None:
         for q, rc in members:
             for pt in goal_at.get(q, ()):
-                ds, dt = pt[0] - rc[0], pt[1] - rc[1]
-                push_goal(gval + cost(ds, dt) + tie(_C0, q, ds, dt), ("direct", nid, q, rc, pt))
+                push_goal(gval + cost(pt[0] - rc[0], pt[1] - rc[1]), ("direct", nid, q, rc, pt))
             for ax2, a2, face2, lo2, hi2 in mesh.sides(q):
                 on_line = rc[ax2] == a2
                 for y in (lo2, hi2) if hi2 > lo2 else (lo2,):
@@ -817,14 +670,13 @@ def _search(
                     if pt == rc:
                         continue
                     k2 = mesh.point_key(face2, y)
-                    ds, dt = pt[0] - rc[0], pt[1] - rc[1]
-                    push_point(k2, gval + cost(ds, dt) + tie(_C0, q, ds, dt), q, pt, ("direct", nid, q, rc, pt))
+                    push_point(k2, gval + cost(pt[0] - rc[0], pt[1] - rc[1]), q, pt, ("direct", nid, q, rc, pt))
                 if on_line or hi2 - lo2 <= eps:
                     continue
-                push_intervals(nid, key, gval, rc, (1.0, 1.0), q, ax2, a2, face2, lo2, hi2, lo2, hi2, nid, (q, rc), _C0)
+                push_intervals(nid, key, gval, rc, (1.0, 1.0), q, ax2, a2, face2, lo2, hi2, lo2, hi2, nid, (q, rc))
 
     def expand_interval(nid: int, nd: list[Any]) -> None:
-        _, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, _, _, _, _, _, origin, tc = nd
+        _, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, _, _, _, _, _, origin = nd
         rs, rt = r
         if ax == 0:
             u0 = (a - rs, y0 - rt)
@@ -845,8 +697,7 @@ def _search(
 
         for pt in goal_at.get(pid, ()):
             if inside(pt):
-                ds, dt = pt[0] - rs, pt[1] - rt
-                push_goal(groot + cost(ds, dt) + tie(tc, pid, ds, dt), ("chain", rid, nid, pid, pt))
+                push_goal(groot + cost(pt[0] - rs, pt[1] - rt), ("chain", rid, nid, pid, pt))
         for ax2, a2, face2, lo2, hi2 in mesh.sides(pid):
             if ax2 == ax and a2 == a:
                 continue
@@ -872,17 +723,15 @@ def _search(
                 yl = lo2
                 pt = (a2, lo2) if ax2 == 0 else (lo2, a2)
                 k2 = mesh.point_key(face2, lo2)
-                ds, dt = pt[0] - rs, pt[1] - rt
-                push_point(k2, groot + cost(ds, dt) + tie(tc, pid, ds, dt), pid, pt, ("chain", rid, nid, pid, pt))
+                push_point(k2, groot + cost(pt[0] - rs, pt[1] - rt), pid, pt, ("chain", rid, nid, pid, pt))
             if yh >= hi2 - eps:
                 yh = hi2
                 pt = (a2, hi2) if ax2 == 0 else (hi2, a2)
                 k2 = mesh.point_key(face2, hi2)
-                ds, dt = pt[0] - rs, pt[1] - rt
-                push_point(k2, groot + cost(ds, dt) + tie(tc, pid, ds, dt), pid, pt, ("chain", rid, nid, pid, pt))
+                push_point(k2, groot + cost(pt[0] - rs, pt[1] - rt), pid, pt, ("chain", rid, nid, pid, pt))
             if yh - yl <= eps:
                 continue
-            push_intervals(rid, rkey, groot, r, sig, pid, ax2, a2, face2, yl, yh, lo2, hi2, nid, origin, tc)
+            push_intervals(rid, rkey, groot, r, sig, pid, ax2, a2, face2, yl, yh, lo2, hi2, nid, origin)
 
     # the queue's order: f on a grid of F_GRID of the start's bound (so that near-equal bounds count as ties), then
     # deeper first (larger g): on the plateaus of equally fast motions (a robot with slack may take any of many
