@@ -40,3 +40,19 @@ def test_layout_twins_on_theta() -> None:
         assert t.makespan_gap <= 10 * t.delta + 1e-9, t
         if not t.route_changed:
             assert t.gap <= 1e-3, t
+
+
+def test_layout_twins_flag_swaps_and_the_circle_changes_routes_only_on_them() -> None:
+    """``LayoutTwin.swap`` marks exactly the twins of swap queries (every fourth of :func:`layout_queries`). On the
+    circle layout a swap's two motions (both robots one way round or the other) are equally fast, so its twins may
+    change routes; every other query has one fastest motion there, and its twins keep their routes."""
+    track = GraphTrack.from_json(ROOT / "examples" / "tracks" / "circle.json")
+    qs = layout_queries(track, 24, np.random.default_rng(5), (0.05, 0.2))
+    twins = layout_twins(track, qs, (1e-7,), np.random.default_rng(6))
+    assert len(twins) >= 20
+    for t in twins:
+        _, st, gl = qs[t.query]
+        assert t.swap == (gl == (st[1], st[0])), t
+        if t.route_changed:
+            assert t.swap, (qs[t.query], t)
+    assert any(t.swap for t in twins) and any(not t.swap for t in twins)

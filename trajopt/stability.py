@@ -173,6 +173,10 @@ class LayoutTwin:
         plans' positions (metres).
     makespan_gap : float
         Change of the plan's makespan (s).
+    swap : bool
+        The query is a swap (goal = start with the robots exchanged): with equal speeds every motion of it has a mirror
+        image of the same makespan (the robots' roles exchanged and time reversed), so the query lies on a tie of the
+        objective and its twin's move decides between the two by about δ.
     """
 
     query: int
@@ -181,6 +185,7 @@ class LayoutTwin:
     route_changed: bool
     gap: float
     makespan_gap: float
+    swap: bool = False
 
 
 def layout_queries(
@@ -269,7 +274,15 @@ def layout_twins(
                 np.max(np.maximum(g.distance(pb[0], pb[1], p2[0], p2[1]), g.distance(pb[2], pb[3], p2[2], p2[3])))
             )
             out.append(
-                LayoutTwin(qi, D, delta, _route_key(base) != _route_key(twin), gap, abs(base.makespan - twin.makespan))
+                LayoutTwin(
+                    qi,
+                    D,
+                    delta,
+                    _route_key(base) != _route_key(twin),
+                    gap,
+                    abs(base.makespan - twin.makespan),
+                    swap=(tuple(gl[0]), tuple(gl[1])) == (tuple(st[1]), tuple(st[0])),
+                )
             )
     return out
 
