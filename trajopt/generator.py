@@ -59,14 +59,33 @@ __all__ = [
 LIMIT_CAP = 10.0
 
 
-def separation_margin(limits: Limits, rate: float) -> float:
+def separation_margin(limits: Limits, rate: float, gate: Limits | None = None) -> float:
     """Extra separation (m) the geometric path keeps so that the gate's between-rows bound holds.
 
-    The gate allows the motion to deviate from the chord between rows by ``Σ amax·Δt²/8``; the path keeps
-    twice that (the chord loses it once, the bound once more) plus 1e-9 m.
+    The motion deviates from the chord between rows by at most ``amax·Δt²/8`` per robot (``amax`` of ``limits``,
+    the limits it is timed with); the gate subtracts ``a_int·Δt²/8`` with ``a_int = min(amax_gate, max(|a_k|,
+    |a_k+1|) + jmax_gate·Δt/2) ≤ min(amax_gate, amax + jmax_gate·Δt/2)`` (:mod:`trajopt.verify`). The path keeps
+    the sum of both over the two robots plus 1e-9 m.
+
+    Parameters
+    ----------
+    limits : Limits
+        The limits the motion is timed with (m/s, m/s², m/s³ per robot).
+    rate : float
+        Setpoint rate (Hz).
+    gate : Limits, optional
+        The limits the gate checks, when higher than ``limits`` (:attr:`TrajectoryGenerator.motion_limits` below
+        :attr:`TrajectoryGenerator.limits`); default ``limits``: the margin is ``2·Σ amax·Δt²/8 + 1e-9``.
+
+    Returns
+    -------
+    float
+        The margin (m).
     """
     dt = 1.0 / rate
-    return 2.0 * float(np.sum(limits.a)) * dt * dt / 8.0 + 1e-9
+    a = np.asarray(limits.a, dtype=float)
+    a_int = a if gate is None else np.minimum(np.asarray(gate.a, dtype=float), a + np.asarray(gate.j) * dt / 2.0)
+    return float(np.sum(np.maximum(a_int, a) + a)) * dt * dt / 8.0 + 1e-9
 
 
 def reachable_speed(length: float, amax: np.ndarray, jmax: np.ndarray) -> np.ndarray:
@@ -298,7 +317,7 @@ class TrajectoryGenerator:
                 self.track,
                 self.clearance,
                 speeds,
-                separation_margin(self.motion_limits, self.rate),
+                separation_margin(self.motion_limits, self.rate, self.limits),
                 objective=self.objective,
                 footprint=self.footprint,
                 plane_margin=self._plane_margin(self.rate),
@@ -380,7 +399,7 @@ class TrajectoryGenerator:
         """At a threshold clearance (the plan keeps exactly D somewhere while the robots move) no rate can be
         verified: the gate's bound between rows loses ``a·Δt²/8``. Names a slightly lower clearance that gives
         verified setpoints (tried here, at most three), or "" if the plan is not at a threshold or none works."""
-        margin = separation_margin(self.motion_limits, self.rate)
+        margin = separation_margin(self.motion_limits, self.rate, self.limits)
         if self.clearance <= 0 or float(plan.min_distance()) - self.clearance >= margin:
             return ""
         for drop in (2.0 * margin, 1e-3 * self.clearance, 1e-2 * self.clearance):
@@ -420,7 +439,7 @@ class TrajectoryGenerator:
                 pl.track,
                 pl.clearance,
                 pl.speeds,
-                separation_margin(gen.motion_limits, gen.rate),
+                separation_margin(gen.motion_limits, gen.rate, gen.limits),
                 objective=pl.objective,
                 footprint=self.footprint,
                 plane_margin=self._plane_margin(gen.rate),
@@ -474,7 +493,7 @@ class TrajectoryGenerator:
             if why:
                 return why
         best = self.lowest_rate(plan)
-        margin = separation_margin(self.motion_limits, self.rate)
+        margin = separation_margin(self.motion_limits, self.rate, self.limits)
         if best is not None:
             slack = float(plan.min_distance()) - self.clearance
             tight = ""
@@ -569,7 +588,7 @@ class TrajectoryGenerator:
     def _optimized(
         self, plan: Plan | GraphPlan, geom: RouteGeometry, timings: dict[str, Any], stats: dict[str, Any]
     ) -> Trajectory:
-        sep = self.clearance + separation_margin(self.motion_limits, self.rate)
+        sep = self.clearance + separation_margin(self.motion_limits, self.rate, self.limits)
         t0 = time.perf_counter()
         view = plan_view(plan)
         # start == goal: a motion of zero length (one row at rest); the straight "line" is a single point
