@@ -143,6 +143,32 @@ def test_makespan_does_not_grow_when_amax_is_loosened_past_the_rate_margin(case:
         assert spans[0] < 0.2, spans  # the straight motion, not the 0.41 s detour
 
 
+@pytest.mark.parametrize(
+    ("vmax", "amax", "jmax", "rate"),
+    [
+        (0.05, 10.0, 500.0, 10.0),  # refused before: "rate is 10.0 Hz, too low ...; the lowest usable rate is 40 Hz"
+        (0.1, 10.0, 1000.0, 5.0),  # refused before: "the lowest usable rate is 6 Hz"
+        pytest.param(5e-4, 1.0, 500.0, 100.0, marks=pytest.mark.slow),  # exit 4 before (found by the property test)
+    ],
+)
+def test_the_margin_covers_the_gates_bound_when_the_motion_uses_less_than_amax(
+    vmax: float, amax: float, jmax: float, rate: float
+) -> None:
+    """The motion is timed with ``amax`` capped (here at ``10·vmax·rate``), the gate checks the ``amax`` asked for.
+
+    Between rows the gate subtracts ``min(amax, a_k + jmax·Δt/2)·Δt²/8``, more than the capped acceleration's
+    ``a·Δt²/8`` the path kept; on the Y the robots pass exactly at that margin, so the motion failed the gate
+    (the fast path and the re-timed plan: exit 4 for ``vmax 5e-4, amax 1, jmax 500``) or a rate error was raised
+    that the rate asked for did not need.
+    """
+    from trajopt.testing import check_graph_trajectory
+
+    track, q = LIMIT_QUERIES["y"]
+    t = generate_trajectory(track, *q, vmax=vmax, amax=amax, jmax=jmax, rate=rate)
+    assert t.verification["ok"] and not t.fallback_reason, t.fallback_reason
+    assert t.min_separation >= 0.05 - 1e-9 and not check_graph_trajectory(t), check_graph_trajectory(t)
+
+
 @settings(max_examples=EXAMPLES, deadline=None)
 @given(st.tuples(SPAN, SPAN, SPAN), st.sampled_from([0, 1, 2]), st.floats(min_value=1.0, max_value=1e4))
 def test_motion_limits_never_rise_and_stop_moving_past_the_travel_cap(
