@@ -68,7 +68,8 @@ def test_issue_amax_1e4_gives_the_fast_motion() -> None:
 
 
 @pytest.mark.parametrize(
-    ("name", "value"), [("vmax", 1e-300), ("amax", 1e-300), ("jmax", 1e-300), ("jmax", 1e300), ("amax", 1e300)]
+    ("name", "value"),
+    [("vmax", 1e-300), ("amax", 1e-300), ("jmax", 1e-300), ("jmax", 1e-9), ("jmax", 1e300), ("amax", 1e300)],
 )
 def test_limits_outside_the_supported_range_are_one_error_line(name: str, value: float, tmp_path: Path) -> None:
     code, _, err = run(["trajectory", *QUERY, f"--{name}", repr(value), "--out", str(tmp_path / "o")])
@@ -489,6 +490,14 @@ def test_fuzz_layout_text_deep_and_digits(
         assert code in (0, 2, 3), (text[:80], err)
         if code:
             one_line(err, "error:" if code == 2 else "no motion:")
+        out = d / f"o{k}"  # the same through `mpa trajectory`, which writes files
+        code, _, err = run(
+            ["trajectory", "--graph", str(f), "--start", "a", "b", "--goal", "b", "a", "--out", str(out)]
+        )
+        assert code in (0, 2, 3), (text[:80], err)
+        if code:
+            one_line(err, "error:" if code == 2 else "no motion:")
+            assert not out.exists(), text[:80]
 
 
 @settings(max_examples=60, deadline=None)
