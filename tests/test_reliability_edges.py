@@ -90,8 +90,10 @@ def test_extreme_limits_answer_within_10_s(args: list[str], tmp_path: Path) -> N
 
 
 SPAN = st.floats(min_value=-3.0, max_value=4.0)
-#: Examples of the limit property tests; CI runs the default, ``MPA_PROPERTY_EXAMPLES=2000`` checks harder.
+#: Examples of the limit property tests. CI runs 60 derandomized examples (fixed, so a counterexample is never a
+#: flaky failure); ``MPA_PROPERTY_EXAMPLES=2000`` draws that many random ones (a hunt for counterexamples).
 EXAMPLES = int(os.environ.get("MPA_PROPERTY_EXAMPLES", "60"))
+RANDOM = "MPA_PROPERTY_EXAMPLES" in os.environ
 DEFAULT_LIMITS = np.array([0.5, 1.0, 5.0])
 #: A paper query and a layout query (the Y junction: A from b_left to b_right, B from b_right to b_short).
 LIMIT_QUERIES = {
@@ -111,7 +113,7 @@ def _makespans(case: str, base: np.ndarray, looser: np.ndarray) -> tuple[float, 
     return a.makespan, b.makespan
 
 
-@settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=not RANDOM)
 @given(
     st.sampled_from(sorted(LIMIT_QUERIES)),
     st.tuples(SPAN, SPAN, SPAN),
@@ -142,6 +144,22 @@ def test_makespan_does_not_grow_when_amax_is_loosened_past_the_rate_margin(case:
     assert spans is not None and spans[1] <= spans[0] + 1e-9, (case, spans)
     if case == "lollipop":
         assert spans[0] < 0.2, spans  # the straight motion, not the 0.41 s detour
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="known: on a layout the planner keeps the between-rows margin, which grows with the amax the motion is "
+    "timed with although the motion uses less (37 m/s² here, capped at 64), so the path gets longer",
+)
+def test_makespan_does_not_grow_when_amax_is_loosened_below_the_travel_cap() -> None:
+    """Found by the random property test (2 000 examples): the Y, vmax 50, jmax 210.8; amax 42.2 gives 1.85 s,
+    amax 84.3 (timed with the cap 64.4) 1.86 s; the plans keep 2.1e-3 and 3.2e-3 m beyond the clearance."""
+    spans = _makespans(
+        "y",
+        np.array([50.0, 42.169650342858226, 210.84825171429114]),
+        np.array([50.0, 84.33930068571645, 210.84825171429114]),
+    )
+    assert spans is not None and spans[1] <= spans[0] + 1e-9, spans
 
 
 @pytest.mark.parametrize(
