@@ -84,7 +84,8 @@ def separation_margin(limits: Limits, rate: float, gate: Limits | None = None) -
     """
     dt = 1.0 / rate
     a = np.asarray(limits.a, dtype=float)
-    a_int = a if gate is None else np.minimum(np.asarray(gate.a, dtype=float), a + np.asarray(gate.j) * dt / 2.0)
+    with np.errstate(over="ignore"):  # a tiny rate: jmax·Δt/2 is inf, the bound is amax_gate
+        a_int = a if gate is None else np.minimum(np.asarray(gate.a, dtype=float), a + np.asarray(gate.j) * dt / 2.0)
     return float(np.sum(np.maximum(a_int, a) + a)) * dt * dt / 8.0 + 1e-9
 
 
