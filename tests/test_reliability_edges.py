@@ -162,6 +162,15 @@ def test_makespan_does_not_grow_when_amax_is_loosened_below_the_travel_cap() -> 
     assert spans is not None and spans[1] <= spans[0] + 1e-9, spans
 
 
+@pytest.mark.parametrize("rate", [1e-308, 5e-324, 1e-10])
+@pytest.mark.parametrize("case", sorted(LIMIT_QUERIES))
+def test_a_tiny_rate_is_one_rate_error_without_warnings(case: str, rate: float) -> None:
+    """Found by the extreme-floats fuzz: ``jmax·Δt/2`` of the between-rows margin overflowed (a RuntimeWarning)."""
+    track, q = LIMIT_QUERIES[case]
+    with pytest.raises(InvalidInputError, match="rate"):
+        generate_trajectory(track, *q, rate=rate)
+
+
 @pytest.mark.parametrize(
     ("vmax", "amax", "jmax", "rate"),
     [
