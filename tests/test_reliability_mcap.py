@@ -119,7 +119,7 @@ NAME = st.from_regex(r"[A-Za-z_][A-Za-z0-9_]{0,9}", fullmatch=True)
 @given(
     st.lists(st.tuples(ROW, ROW, ROW, ROW, ROW, ROW), min_size=0, max_size=7),
     st.tuples(NAME, NAME),
-    st.integers(min_value=0, max_value=2**62),
+    st.integers(min_value=0, max_value=ros.MAX_STAMP_NS - 1),
     st.text(max_size=9),
 )
 def test_the_messages_are_the_bytes_rosbags_serializes(
@@ -134,3 +134,14 @@ def test_the_messages_are_the_bytes_rosbags_serializes(
     assert data.shape == (len(rows), 88)
     for k, p in enumerate(points):
         assert data[k].tobytes() == TS.serialize_cdr(p, JTP.__msgtype__)
+
+
+@pytest.mark.parametrize("stamp", [ros.MAX_STAMP_NS, 2**62])
+def test_a_stamp_past_the_int32_seconds_is_an_input_error(stamp: int, tmp_path: Path) -> None:
+    """``builtin_interfaces/Time`` holds int32 seconds: rosbags raised ``struct.error`` (exit 4) for such a stamp."""
+    traj = generate_trajectory(Lollipop(1, 1), (0.2, 0.5), (0.5, 0.2))
+    with pytest.raises(ros.InvalidInputError, match="stamp_ns"):
+        ros.write_mcap(traj, tmp_path / "bag", stamp_ns=stamp)
+    with pytest.raises(ros.InvalidInputError, match="stamp_ns"):
+        ros.ros2_yaml_text(traj, stamp_ns=stamp)
+    assert not (tmp_path / "bag").exists()

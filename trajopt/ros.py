@@ -43,6 +43,7 @@ __all__ = [
     "DEFAULT_JOINT_NAMES",
     "DEFAULT_POINT_TOPIC",
     "DEFAULT_TOPIC",
+    "MAX_STAMP_NS",
     "JointPoints",
     "check_joint_names",
     "check_topic",
@@ -62,6 +63,9 @@ DEFAULT_TOPIC = "/joint_trajectory"
 DEFAULT_POINT_TOPIC = "/joint_trajectory_point"
 #: ROS 2 distribution whose message definitions are stored in the bag (the trajectory messages are identical in all).
 ROS_DISTRO = "humble"
+
+#: Stamps (ns) from this on do not fit the int32 ``sec`` of ``builtin_interfaces/msg/Time``.
+MAX_STAMP_NS = 2**31 * 1_000_000_000
 
 _NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _TOPIC_RE = re.compile(r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$")
@@ -240,6 +244,10 @@ def _check_stamp(stamp_ns: Any) -> int:
         raise InvalidInputError(f"stamp_ns is {stamp_ns!r}, expected a non-negative integer (ns)") from None
     if v != stamp_ns or v < 0:
         raise InvalidInputError(f"stamp_ns is {stamp_ns!r}, expected a non-negative integer (ns)")
+    if v >= MAX_STAMP_NS:
+        raise InvalidInputError(
+            f"stamp_ns is {v}, expected below {MAX_STAMP_NS} (2**31 s: the int32 seconds of builtin_interfaces/Time)"
+        )
     return v
 
 
