@@ -44,7 +44,14 @@ from trajopt.switch import near_switch_scaling, switch_band
 from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling
 from trajopt.verify import VerificationError, VerificationReport, class_failures_only
 
-__all__ = ["RATE_LADDER", "GraphPlanner", "TrajectoryGenerator", "generate_trajectory", "separation_margin"]
+__all__ = [
+    "RATE_LADDER",
+    "GraphPlanner",
+    "TrajectoryGenerator",
+    "generate_trajectory",
+    "reachable_speed",
+    "separation_margin",
+]
 
 
 #: Factor of :attr:`TrajectoryGenerator.motion_limits`: accelerations above ``LIMIT_CAP·vmax·rate`` and jerks above
@@ -52,14 +59,58 @@ __all__ = ["RATE_LADDER", "GraphPlanner", "TrajectoryGenerator", "generate_traje
 LIMIT_CAP = 10.0
 
 
-def separation_margin(limits: Limits, rate: float) -> float:
+def separation_margin(limits: Limits, rate: float, gate: Limits | None = None) -> float:
     """Extra separation (m) the geometric path keeps so that the gate's between-rows bound holds.
 
-    The gate allows the motion to deviate from the chord between rows by ``Σ amax·Δt²/8``; the path keeps
-    twice that (the chord loses it once, the bound once more) plus 1e-9 m.
+    The motion deviates from the chord between rows by at most ``amax·Δt²/8`` per robot (``amax`` of ``limits``,
+    the limits it is timed with); the gate subtracts ``a_int·Δt²/8`` with ``a_int = min(amax_gate, max(|a_k|,
+    |a_k+1|) + jmax_gate·Δt/2) ≤ min(amax_gate, amax + jmax_gate·Δt/2)`` (:mod:`trajopt.verify`). The path keeps
+    the sum of both over the two robots plus 1e-9 m.
+
+    Parameters
+    ----------
+    limits : Limits
+        The limits the motion is timed with (m/s, m/s², m/s³ per robot).
+    rate : float
+        Setpoint rate (Hz).
+    gate : Limits, optional
+        The limits the gate checks, when higher than ``limits`` (:attr:`TrajectoryGenerator.motion_limits` below
+        :attr:`TrajectoryGenerator.limits`); default ``limits``: the margin is ``2·Σ amax·Δt²/8 + 1e-9``.
+
+    Returns
+    -------
+    float
+        The margin (m).
     """
     dt = 1.0 / rate
-    return 2.0 * float(np.sum(limits.a)) * dt * dt / 8.0 + 1e-9
+    a = np.asarray(limits.a, dtype=float)
+    with np.errstate(over="ignore"):  # a tiny rate: jmax·Δt/2 is inf, the bound is amax_gate
+        a_int = a if gate is None else np.minimum(np.asarray(gate.a, dtype=float), a + np.asarray(gate.j) * dt / 2.0)
+    return float(np.sum(np.maximum(a_int, a) + a)) * dt * dt / 8.0 + 1e-9
+
+
+def reachable_speed(length: float, amax: np.ndarray, jmax: np.ndarray) -> np.ndarray:
+    """Peak speed (m/s) of a time-optimal jerk-limited rest-to-rest profile over ``length`` (m), without a speed limit.
+
+    Parameters
+    ----------
+    length : float
+        The travel (m, > 0).
+    amax, jmax : ndarray, shape (2,)
+        Acceleration (m/s²) and jerk (m/s³) limits per robot.
+
+    Returns
+    -------
+    ndarray, shape (2,)
+        ``amax²/jmax`` when the profile never reaches ``amax`` (``amax³ ≥ jmax²·length/2``), else the root of
+        ``v²/amax + v·amax/jmax = length`` (each half covers ``v/2·(v/amax + amax/jmax)``).
+    """
+    a = np.asarray(amax, dtype=float)
+    j = np.asarray(jmax, dtype=float)
+    r = a * a / j
+    with np.errstate(over="ignore", invalid="ignore"):
+        plateau = 0.5 * (np.sqrt(r * r + 4.0 * a * length) - r)
+        return np.where(a * a * a >= j * j * length / 2.0, r, plateau)
 
 
 @dataclass(frozen=True, eq=False)
@@ -200,28 +251,58 @@ class TrajectoryGenerator:
         self.clearance = self.planner.clearance
 
     @property
+    def travel_bound(self) -> float:
+        """Bound (m) on a robot's travel in one motion, known before planning: twice the track's total length.
+
+        A robot's route passes the track's pieces at most about once (measured: at most 1.21 times the total
+        length on the lollipop, where a route can take the stick, the loop and part of the stick again; at most
+        0.76 times on the example layouts), so twice the total length leaves room. It caps the limits the motion
+        is timed with (:attr:`motion_limits`).
+        """
+        return 2.0 * float(self.track.total_length)
+
+    @property
     def motion_limits(self) -> Limits:
-        """The limits the motion is timed with: :attr:`limits`, with accelerations above ``CAP·vmax·rate`` or
-        ``sqrt(vmax·jmax)`` and jerks above ``CAP·amax·rate`` (``CAP`` = :data:`LIMIT_CAP`, per robot) lowered
-        to those values.
+        """The limits the motion is timed with: :attr:`limits`, lowered (per robot) to what a motion can use.
 
-        A time-optimal jerk-limited rest-to-rest profile never accelerates beyond ``sqrt(vmax·jmax)`` (the speed
-        limit is reached before), so that cap costs nothing and keeps the timing filters away from plateaus of
-        ``amax/jmax`` seconds (amax 1e4 with jmax 5 gave a 4 097 s motion).
+        With ``L`` = :attr:`travel_bound` (m) and ``CAP`` = :data:`LIMIT_CAP`:
 
-        A higher acceleration reaches the speed limit in less than a tenth of a row, so it cannot shorten the
-        motion by more than a row per start or stop; it would only widen the between-rows margin
-        (:func:`separation_margin`) and force slower detours. The motion keeps the lower values, so it also keeps
-        :attr:`limits`, which the gate checks; the makespan does not grow when a limit is loosened past them.
+        - accelerations above ``a_L = (jmax²·L/2)^(1/3)``, ``CAP·vmax·rate`` or ``sqrt(vmax·jmax)`` are lowered to
+          the least of them;
+        - speeds above ``v_L``, the peak speed of a time-optimal jerk-limited rest-to-rest profile over ``L`` with
+          that acceleration, are lowered to ``v_L``;
+        - jerks above ``CAP·amax·rate`` (the lowered ``amax``) are lowered to that.
+
+        A time-optimal jerk-limited rest-to-rest profile over a travel ``L`` never accelerates beyond ``a_L``
+        (with jerk alone it covers ``L = 2·jmax·T³`` in ``4T`` and peaks at ``jmax·T``) nor beyond
+        ``sqrt(vmax·jmax)`` (the speed limit is reached before), and never runs faster than ``v_L``; so those
+        caps cost nothing. They keep the timing filters away from plateaus of ``amax/jmax`` seconds (amax 1e4 with
+        jmax 5 gave a 4 097 s motion) and keep the between-rows margin (:func:`separation_margin`, about
+        ``amax·Δt²/8``) at what the motion can use, so a loosened ``amax`` does not make the straight motion fail
+        its margin and take a slower detour.
+
+        A higher acceleration than ``CAP·vmax·rate`` reaches the speed limit in less than a tenth of a row, so it
+        cannot shorten the motion by more than a row per start or stop; it would only widen the margin. The
+        motion keeps the lower values, so it also keeps :attr:`limits`, which the gate checks; the makespan does
+        not grow when a limit is loosened past them.
+
+        Returns
+        -------
+        Limits
+            ``vmax`` (m/s), ``amax`` (m/s²), ``jmax`` (m/s³), each a pair (robot A, robot B); :attr:`limits`
+            itself when nothing is lowered.
         """
         v, a, j = self.limits.v, self.limits.a, self.limits.j
+        length = self.travel_bound
         with np.errstate(over="ignore"):  # a huge rate: no cap (inf), the memory budget refuses it later
             a_eff = np.minimum(np.minimum(a, LIMIT_CAP * v * self.rate), np.sqrt(v * j))
+            a_eff = np.minimum(a_eff, np.cbrt(j * j * length / 2.0))
+            v_eff = np.minimum(v, reachable_speed(length, a_eff, j))
             j_eff = np.minimum(j, LIMIT_CAP * a_eff * self.rate)
-        if np.array_equal(a_eff, a) and np.array_equal(j_eff, j):
+        if np.array_equal(v_eff, v) and np.array_equal(a_eff, a) and np.array_equal(j_eff, j):
             return self.limits
         capped = object.__new__(Limits)  # lower than valid limits, so valid (not checked against the range again)
-        for name, x in (("vmax", v), ("amax", a_eff), ("jmax", j_eff)):
+        for name, x in (("vmax", v_eff), ("amax", a_eff), ("jmax", j_eff)):
             object.__setattr__(capped, name, (float(x[0]), float(x[1])))
         return capped
 
@@ -237,7 +318,7 @@ class TrajectoryGenerator:
                 self.track,
                 self.clearance,
                 speeds,
-                separation_margin(self.motion_limits, self.rate),
+                separation_margin(self.motion_limits, self.rate, self.limits),
                 objective=self.objective,
                 footprint=self.footprint,
                 plane_margin=self._plane_margin(self.rate),
@@ -319,7 +400,7 @@ class TrajectoryGenerator:
         """At a threshold clearance (the plan keeps exactly D somewhere while the robots move) no rate can be
         verified: the gate's bound between rows loses ``a·Δt²/8``. Names a slightly lower clearance that gives
         verified setpoints (tried here, at most three), or "" if the plan is not at a threshold or none works."""
-        margin = separation_margin(self.motion_limits, self.rate)
+        margin = separation_margin(self.motion_limits, self.rate, self.limits)
         if self.clearance <= 0 or float(plan.min_distance()) - self.clearance >= margin:
             return ""
         for drop in (2.0 * margin, 1e-3 * self.clearance, 1e-2 * self.clearance):
@@ -359,7 +440,7 @@ class TrajectoryGenerator:
                 pl.track,
                 pl.clearance,
                 pl.speeds,
-                separation_margin(gen.motion_limits, gen.rate),
+                separation_margin(gen.motion_limits, gen.rate, gen.limits),
                 objective=pl.objective,
                 footprint=self.footprint,
                 plane_margin=self._plane_margin(gen.rate),
@@ -413,7 +494,7 @@ class TrajectoryGenerator:
             if why:
                 return why
         best = self.lowest_rate(plan)
-        margin = separation_margin(self.motion_limits, self.rate)
+        margin = separation_margin(self.motion_limits, self.rate, self.limits)
         if best is not None:
             slack = float(plan.min_distance()) - self.clearance
             tight = ""
@@ -508,7 +589,7 @@ class TrajectoryGenerator:
     def _optimized(
         self, plan: Plan | GraphPlan, geom: RouteGeometry, timings: dict[str, Any], stats: dict[str, Any]
     ) -> Trajectory:
-        sep = self.clearance + separation_margin(self.motion_limits, self.rate)
+        sep = self.clearance + separation_margin(self.motion_limits, self.rate, self.limits)
         t0 = time.perf_counter()
         view = plan_view(plan)
         # start == goal: a motion of zero length (one row at rest); the straight "line" is a single point

@@ -27,6 +27,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+import struct
 import tempfile
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
@@ -42,6 +43,7 @@ __all__ = [
     "DEFAULT_JOINT_NAMES",
     "DEFAULT_POINT_TOPIC",
     "DEFAULT_TOPIC",
+    "MAX_STAMP_NS",
     "JointPoints",
     "check_joint_names",
     "check_topic",
@@ -61,6 +63,9 @@ DEFAULT_TOPIC = "/joint_trajectory"
 DEFAULT_POINT_TOPIC = "/joint_trajectory_point"
 #: ROS 2 distribution whose message definitions are stored in the bag (the trajectory messages are identical in all).
 ROS_DISTRO = "humble"
+
+#: Stamps (ns) from this on do not fit the int32 ``sec`` of ``builtin_interfaces/msg/Time``.
+MAX_STAMP_NS = 2**31 * 1_000_000_000
 
 _NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _TOPIC_RE = re.compile(r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$")
@@ -239,6 +244,10 @@ def _check_stamp(stamp_ns: Any) -> int:
         raise InvalidInputError(f"stamp_ns is {stamp_ns!r}, expected a non-negative integer (ns)") from None
     if v != stamp_ns or v < 0:
         raise InvalidInputError(f"stamp_ns is {stamp_ns!r}, expected a non-negative integer (ns)")
+    if v >= MAX_STAMP_NS:
+        raise InvalidInputError(
+            f"stamp_ns is {v}, expected below {MAX_STAMP_NS} (2**31 s: the int32 seconds of builtin_interfaces/Time)"
+        )
     return v
 
 
@@ -297,10 +306,8 @@ def write_mcap(
     pts = joint_points(trajectory, rate)
     target = _check_bag_path(path)
     ts = _typestore()
-    msg, points = _joint_trajectory_messages(ts, pts, names, stamp, frame_id)
-    point_stamps = [stamp + int(pts.ns[k]) for k in range(len(points))]
     _write_directory_atomically(
-        target, lambda bag: _write_bag(bag, ts, (topic, stamp, msg), point_topic, point_stamps, points)
+        target, lambda bag: _write_bag(bag, ts, topic, point_topic, pts, names, stamp, frame_id)
     )
     return target / f"{target.name}.mcap"
 
@@ -318,16 +325,20 @@ def _check_topics(topic: str, point_topic: str | None) -> tuple[str, str | None]
 def _write_bag(
     bag: Path,
     ts: Any,
-    trajectory_message: tuple[str, int, Any],
+    topic: str,
     point_topic: str | None,
-    point_stamps: Sequence[int],
-    points: Sequence[Any],
+    pts: JointPoints,
+    names: tuple[str, str],
+    stamp: int,
+    frame_id: str,
 ) -> None:
-    """Write a rosbag2 bag (MCAP storage) at ``bag``: the ``JointTrajectory`` message ``(topic, stamp, message)`` and,
-    unless ``point_topic`` is None, each ``JointTrajectoryPoint`` at its stamp (ns)."""
+    """Write a rosbag2 bag (MCAP storage) at ``bag``: the ``JointTrajectory`` message on ``topic`` at ``stamp`` (ns)
+    and, unless ``point_topic`` is None, each row's ``JointTrajectoryPoint`` at ``stamp`` + its time (ns).
+
+    The messages are CDR-encoded here (:func:`joint_trajectory_cdr`, :func:`joint_trajectory_point_cdr`: the
+    bytes ``rosbags`` writes) and the points are written a chunk at a time (:func:`_write_points`)."""
     from rosbags.rosbag2 import StoragePlugin, Writer
 
-    topic, stamp, msg = trajectory_message
     T = ts.types
     jt = T["trajectory_msgs/msg/JointTrajectory"].__msgtype__
     jtp = T["trajectory_msgs/msg/JointTrajectoryPoint"].__msgtype__
@@ -335,13 +346,189 @@ def _write_bag(
     writer.open()
     try:
         conn = writer.add_connection(topic, jt, typestore=ts)
-        writer.write(conn, stamp, ts.serialize_cdr(msg, jt))
+        writer.write(conn, stamp, joint_trajectory_cdr(pts, names, stamp, frame_id))
         if point_topic is not None:
             pconn = writer.add_connection(point_topic, jtp, typestore=ts)
-            for k, p in enumerate(points):
-                writer.write(pconn, point_stamps[k], ts.serialize_cdr(p, jtp))
+            _write_points(writer, pconn, pts, stamp)
     finally:
         writer.close()
+
+
+#: Rows encoded and written at once by :func:`_write_points`.
+_ROWS_PER_PIECE = 8192
+#: CDR little-endian encapsulation header.
+_CDR_HEADER = b"\x00\x01\x00\x00"
+#: MCAP message record before the data: opcode, record length, channel id, sequence, log time, publish time.
+_RECORD_HEAD = 1 + 8 + 2 + 4 + 8 + 8
+
+
+def _point_dtype(offset: int) -> np.dtype[Any]:
+    """The CDR layout of one ``JointTrajectoryPoint`` with two joints starting ``offset`` bytes into the payload
+    (``offset`` a multiple of 4): three ``float64[2]`` sequences (count, padding to 8, values), an empty
+    ``effort``, ``time_from_start``; padding bytes are zero in arrays made with :func:`numpy.zeros`."""
+    fields: list[tuple[str, Any, int]] = []
+    rel = 0
+    for name in ("positions", "velocities", "accelerations"):
+        fields.append((f"n_{name}", "<u4", rel))
+        rel += 4
+        rel += (-(offset + rel)) % 8
+        fields.append((name, ("<f8", (2,)), rel))
+        rel += 16
+    for name, fmt in (("n_effort", "<u4"), ("sec", "<i4"), ("nanosec", "<u4")):
+        fields.append((name, fmt, rel))
+        rel += 4
+    names, formats, offsets = zip(*fields, strict=True)
+    return np.dtype({"names": list(names), "formats": list(formats), "offsets": list(offsets), "itemsize": rel})
+
+
+def _fill_points(out: NDArray[Any], pts: JointPoints, lo: int, hi: int) -> None:
+    """Fill the :func:`_point_dtype` array ``out`` (``hi - lo`` rows) with rows ``lo:hi`` of ``pts``."""
+    ns = pts.ns[lo:hi]
+    for name in ("positions", "velocities", "accelerations"):
+        out[f"n_{name}"] = 2
+        out[name] = np.asarray(getattr(pts, name), dtype=np.float64)[lo:hi]
+    out["sec"] = ns // 1_000_000_000
+    out["nanosec"] = ns % 1_000_000_000
+
+
+def joint_trajectory_point_cdr(pts: JointPoints, lo: int = 0, hi: int | None = None) -> NDArray[np.uint8]:
+    """CDR messages (``trajectory_msgs/msg/JointTrajectoryPoint``, little-endian) of rows ``lo:hi``.
+
+    Parameters
+    ----------
+    pts : JointPoints
+        The rows (N of them).
+    lo, hi : int
+        The rows encoded (default all).
+
+    Returns
+    -------
+    ndarray of uint8, shape (hi - lo, 88)
+        Row ``k`` is the message of row ``lo + k``: the bytes ``rosbags`` ``serialize_cdr`` gives for that point.
+    """
+    hi = len(pts.t) if hi is None else hi
+    dt = np.dtype({"names": ["cdr", "point"], "formats": ["V4", _point_dtype(0)], "offsets": [0, 4]})
+    out = np.zeros(hi - lo, dtype=dt)
+    out["cdr"] = np.void(_CDR_HEADER)
+    _fill_points(out["point"], pts, lo, hi)
+    return out.view(np.uint8).reshape(hi - lo, dt.itemsize)
+
+
+def _cdr_string(out: list[bytes], pos: int, text: str) -> int:
+    """Append a CDR string (aligned count including the NUL, bytes, NUL) to ``out``; the payload position after."""
+    data = text.encode() + b"\x00"
+    pad = (-pos) % 4
+    out.append(b"\x00" * pad + struct.pack("<I", len(data)) + data)
+    return pos + pad + 4 + len(data)
+
+
+def joint_trajectory_cdr(pts: JointPoints, names: tuple[str, str], stamp: int, frame_id: str) -> bytes:
+    """The CDR message (``trajectory_msgs/msg/JointTrajectory``, little-endian) of all rows.
+
+    Parameters
+    ----------
+    pts : JointPoints
+        The rows.
+    names : (str, str)
+        Joint names of robot A and robot B.
+    stamp : int
+        Header stamp (ns since the epoch).
+    frame_id : str
+
+    Returns
+    -------
+    bytes
+        The bytes ``rosbags`` ``serialize_cdr`` gives for the same message (80 bytes a row and a header).
+    """
+    out = [_CDR_HEADER, struct.pack("<iI", *split_ns(stamp))]
+    pos = _cdr_string(out, 8, frame_id)
+    pad = (-pos) % 4
+    out.append(b"\x00" * pad + struct.pack("<I", len(names)))
+    pos += pad + 4
+    for joint in names:
+        pos = _cdr_string(out, pos, joint)
+    pad = (-pos) % 4
+    out.append(b"\x00" * pad + struct.pack("<I", len(pts.t)))
+    pos += pad + 4
+    n, lo = len(pts.t), 0
+    if n and pos % 8 == 0:  # a point starting 8-aligned takes 84 bytes, so the next ones start 4 past 8
+        first = np.zeros(1, dtype=_point_dtype(0))
+        _fill_points(first, pts, 0, 1)
+        out.append(first.tobytes())
+        lo = 1
+    rest = _point_dtype(4)  # 80 bytes: every further point starts 4 past a multiple of 8
+    for a in range(lo, n, _ROWS_PER_PIECE):
+        piece = np.zeros(min(a + _ROWS_PER_PIECE, n) - a, dtype=rest)
+        _fill_points(piece, pts, a, a + len(piece))
+        out.append(piece.tobytes())
+    return b"".join(out)
+
+
+def _write_points(writer: Any, conn: Any, pts: JointPoints, stamp: int) -> None:
+    """Write each row's ``JointTrajectoryPoint`` on ``conn`` at ``stamp`` + its time (ns), a chunk at a time.
+
+    With ``rosbags``' MCAP storage (uncompressed) the message records of up to a chunk (1 MiB) are built at once
+    and written into the storage's pending chunk, which is closed where ``McapWriter.write`` closes it (after the
+    record that takes it past 2²⁰ bytes): the file is the one per-message writes give. Any other storage gets
+    one ``writer.write`` per message.
+    """
+    storage = writer.storage
+    batched = _batched(storage) and all(hasattr(writer, x) for x in ("counts", "min_timestamp", "max_timestamp"))
+    n = len(pts.t)
+    for lo in range(0, n, _ROWS_PER_PIECE):
+        hi = min(lo + _ROWS_PER_PIECE, n)
+        data = joint_trajectory_point_cdr(pts, lo, hi)
+        stamps = stamp + pts.ns[lo:hi].astype(np.uint64)
+        if not batched:
+            for t, d in zip(stamps.tolist(), data, strict=True):
+                writer.write(conn, t, d.tobytes())
+            continue
+        k = 0
+        while k < len(data):
+            k = _write_records(storage, conn.id, stamps, data, k)
+        writer.counts[conn.id] += len(data)
+        writer.min_timestamp = min(int(stamps.min()), writer.min_timestamp)
+        writer.max_timestamp = max(int(stamps.max()), writer.max_timestamp)
+
+
+def _batched(storage: Any) -> bool:
+    """Whether ``storage`` is ``rosbags``' uncompressed MCAP storage, whose pending chunk :func:`_write_records`
+    fills."""
+    chunk = getattr(storage, "chunk", None)
+    return (
+        type(storage).__name__ == "McapWriter"
+        and getattr(storage, "compression", None) == ""
+        and all(hasattr(chunk, x) for x in ("bio", "msgs", "message_start_time", "message_end_time"))
+        and all(hasattr(storage, x) for x in ("close_chunk", "channel_stats", "message_start_time"))
+    )
+
+
+def _write_records(storage: Any, cid: int, stamps: NDArray[np.uint64], data: NDArray[np.uint8], k: int) -> int:
+    """Write messages ``k:`` into ``storage``'s pending chunk (rosbags ``McapWriter``) up to the one that fills it,
+    then close the chunk; the index of the next message to write."""
+    chunk = storage.chunk
+    start = chunk.bio.tell()
+    size = _RECORD_HEAD + data.shape[1]
+    count = min(len(data) - k, max(0, (2**20 - start) // size) + 1)  # the record that passes 2**20 closes it
+    records = np.zeros((count, size), dtype=np.uint8)
+    records[:, 0] = 0x05
+    records[:, 1:9] = np.array([size - 9], dtype="<u8").view(np.uint8)
+    records[:, 9:11] = np.array([cid], dtype="<u2").view(np.uint8)
+    t = stamps[k : k + count].astype("<u8")
+    records[:, 15:23] = records[:, 23:31] = t.view(np.uint8).reshape(count, 8)
+    records[:, _RECORD_HEAD:] = data[k : k + count]
+    offsets = start + size * np.arange(count)
+    chunk.msgs[cid].extend(zip(t.tolist(), offsets.tolist(), strict=True))
+    chunk.bio.write(records.tobytes())
+    lo, hi = int(t.min()), int(t.max())
+    storage.message_start_time = min(lo, storage.message_start_time)
+    storage.message_end_time = max(hi, storage.message_end_time)
+    storage.channel_stats[cid] += count
+    chunk.message_start_time = min(lo, chunk.message_start_time)
+    chunk.message_end_time = max(hi, chunk.message_end_time)
+    if chunk.bio.tell() > 2**20:
+        storage.close_chunk()
+    return k + count
 
 
 def _check_bag_path(path: str | os.PathLike[str]) -> Path:
@@ -352,33 +539,6 @@ def _check_bag_path(path: str | os.PathLike[str]) -> Path:
     if not target.name or target.name in (".", ".."):
         raise InvalidInputError(f"bag path is {str(target)!r}, expected a directory name")
     return target
-
-
-def _joint_trajectory_messages(
-    ts: Any, pts: JointPoints, names: tuple[str, str], stamp: int, frame_id: str
-) -> tuple[Any, list[Any]]:
-    """The ``JointTrajectory`` message stamped ``stamp`` (ns) and its ``JointTrajectoryPoint`` messages (rosbags
-    types of the typestore ``ts``)."""
-    T = ts.types
-    Time, Duration, Header = (
-        T["builtin_interfaces/msg/Time"],
-        T["builtin_interfaces/msg/Duration"],
-        T["std_msgs/msg/Header"],
-    )
-    JT, JTP = T["trajectory_msgs/msg/JointTrajectory"], T["trajectory_msgs/msg/JointTrajectoryPoint"]
-    empty = np.zeros(0, dtype=np.float64)
-    points = [
-        JTP(
-            positions=np.array(pts.positions[k], dtype=np.float64),
-            velocities=np.array(pts.velocities[k], dtype=np.float64),
-            accelerations=np.array(pts.accelerations[k], dtype=np.float64),
-            effort=empty,
-            time_from_start=Duration(*split_ns(int(pts.ns[k]))),
-        )
-        for k in range(len(pts.t))
-    ]
-    msg = JT(header=Header(stamp=Time(*split_ns(stamp)), frame_id=frame_id), joint_names=list(names), points=points)
-    return msg, points
 
 
 def _write_directory_atomically(target: Path, write: Callable[[Path], None]) -> None:
