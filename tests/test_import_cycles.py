@@ -19,9 +19,6 @@ KNOWN_CYCLES = {
     # The graph planner's search calls the planar planner and the rules' bounds, which call back into its helpers
     # (function-level imports both ways); those three modules are being restructured on other branches.
     frozenset({"mpa.planar", "mpa.planners.graph", "mpa.planners.rules"}),
-    # trajopt.generator calls delay_tolerance= and min_margin= (function-level); trajopt.delay imports
-    # trajopt.generator.separation_margin, which belongs one layer down (the gate's between-rows margin).
-    frozenset({"trajopt.delay", "trajopt.generator", "trajopt.min_margin"}),
 }
 
 

@@ -46,6 +46,7 @@ from mpa.tracks import Track
 from trajopt.export import Trajectory
 from trajopt.planview import plan_view
 from trajopt.timing import Limits
+from trajopt.verify import separation_margin
 
 if TYPE_CHECKING:
     from trajopt.generator import TrajectoryGenerator
@@ -114,8 +115,6 @@ def _as_caller(traj: Trajectory, gen: TrajectoryGenerator) -> Trajectory:
 
 def _feasible_cap(gen: TrajectoryGenerator, start: ArrayLike, goal: ArrayLike) -> float:
     """The largest effective clearance the carts' rest states allow (a little below their separations)."""
-    from trajopt.generator import separation_margin
-
     d = min(rest_separation(gen.track, start), rest_separation(gen.track, goal))
     return d - 2.0 * separation_margin(gen.limits, gen.rate) - 1e-6
 

@@ -41,8 +41,8 @@ from trajopt.export import Source, Trajectory, check_rate, time_grid, verified_r
 from trajopt.fastpath import straight_scaling
 from trajopt.planview import densify, plan_view
 from trajopt.switch import near_switch_scaling, switch_band
-from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling
-from trajopt.verify import VerificationError, VerificationReport, class_failures_only
+from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling, reachable_speed
+from trajopt.verify import VerificationError, VerificationReport, class_failures_only, separation_margin
 
 __all__ = [
     "RATE_LADDER",
@@ -57,60 +57,6 @@ __all__ = [
 #: Factor of :attr:`TrajectoryGenerator.motion_limits`: accelerations above ``LIMIT_CAP·vmax·rate`` and jerks above
 #: ``LIMIT_CAP·amax·rate`` are not used.
 LIMIT_CAP = 10.0
-
-
-def separation_margin(limits: Limits, rate: float, gate: Limits | None = None) -> float:
-    """Extra separation (m) the geometric path keeps so that the gate's between-rows bound holds.
-
-    The motion deviates from the chord between rows by at most ``amax·Δt²/8`` per robot (``amax`` of ``limits``,
-    the limits it is timed with); the gate subtracts ``a_int·Δt²/8`` with ``a_int = min(amax_gate, max(|a_k|,
-    |a_k+1|) + jmax_gate·Δt/2) ≤ min(amax_gate, amax + jmax_gate·Δt/2)`` (:mod:`trajopt.verify`). The path keeps
-    the sum of both over the two robots plus 1e-9 m.
-
-    Parameters
-    ----------
-    limits : Limits
-        The limits the motion is timed with (m/s, m/s², m/s³ per robot).
-    rate : float
-        Setpoint rate (Hz).
-    gate : Limits, optional
-        The limits the gate checks, when higher than ``limits`` (:attr:`TrajectoryGenerator.motion_limits` below
-        :attr:`TrajectoryGenerator.limits`); default ``limits``: the margin is ``2·Σ amax·Δt²/8 + 1e-9``.
-
-    Returns
-    -------
-    float
-        The margin (m).
-    """
-    dt = 1.0 / rate
-    a = np.asarray(limits.a, dtype=float)
-    with np.errstate(over="ignore"):  # a tiny rate: jmax·Δt/2 is inf, the bound is amax_gate
-        a_int = a if gate is None else np.minimum(np.asarray(gate.a, dtype=float), a + np.asarray(gate.j) * dt / 2.0)
-    return float(np.sum(np.maximum(a_int, a) + a)) * dt * dt / 8.0 + 1e-9
-
-
-def reachable_speed(length: float, amax: np.ndarray, jmax: np.ndarray) -> np.ndarray:
-    """Peak speed (m/s) of a time-optimal jerk-limited rest-to-rest profile over ``length`` (m), without a speed limit.
-
-    Parameters
-    ----------
-    length : float
-        The travel (m, > 0).
-    amax, jmax : ndarray, shape (2,)
-        Acceleration (m/s²) and jerk (m/s³) limits per robot.
-
-    Returns
-    -------
-    ndarray, shape (2,)
-        ``amax²/jmax`` when the profile never reaches ``amax`` (``amax³ ≥ jmax²·length/2``), else the root of
-        ``v²/amax + v·amax/jmax = length`` (each half covers ``v/2·(v/amax + amax/jmax)``).
-    """
-    a = np.asarray(amax, dtype=float)
-    j = np.asarray(jmax, dtype=float)
-    r = a * a / j
-    with np.errstate(over="ignore", invalid="ignore"):
-        plateau = 0.5 * (np.sqrt(r * r + 4.0 * a * length) - r)
-        return np.where(a * a * a >= j * j * length / 2.0, r, plateau)
 
 
 @dataclass(frozen=True, eq=False)

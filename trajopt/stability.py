@@ -343,7 +343,7 @@ def switch_points(
     list of SwitchPoint
     """
     from trajopt.fastpath import straight_line_clearance
-    from trajopt.generator import separation_margin
+    from trajopt.verify import separation_margin
 
     track = gen.track
     hi = np.nextafter(track.total_length, 0.0)

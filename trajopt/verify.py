@@ -61,6 +61,7 @@ __all__ = [
     "between_rows_separation",
     "class_failures_only",
     "lane_rule_failures",
+    "separation_margin",
     "skeleton_word",
     "verify_graph_setpoints",
     "verify_setpoints",
@@ -613,3 +614,35 @@ def _separation_failures(
             f"(tolerance {tol:g} m)"
         )
     return fails
+
+
+def separation_margin(limits: Limits, rate: float, gate: Limits | None = None) -> float:
+    """Extra separation (m) the geometric path keeps so that the gate's between-rows bound holds.
+
+    The motion deviates from the chord between rows by at most ``amax·Δt²/8`` per robot (``amax`` of ``limits``,
+    the limits it is timed with); the gate subtracts ``a_int·Δt²/8`` with
+    ``a_int = min(amax_gate, max(|a_k|, |a_k+1|) + jmax_gate·Δt/2) ≤ min(amax_gate, amax + jmax_gate·Δt/2)``
+    (:func:`between_rows_separation`). The path keeps the sum of both over the two robots plus 1e-9 m.
+
+    Parameters
+    ----------
+    limits : Limits
+        The limits the motion is timed with (m/s, m/s², m/s³ per robot).
+    rate : float
+        Setpoint rate (Hz).
+    gate : Limits, optional
+        The limits the gate checks, when higher than ``limits``
+        (:attr:`trajopt.generator.TrajectoryGenerator.motion_limits` below
+        :attr:`~trajopt.generator.TrajectoryGenerator.limits`); default ``limits``: the margin is
+        ``2·Σ amax·Δt²/8 + 1e-9``.
+
+    Returns
+    -------
+    float
+        The margin (m).
+    """
+    dt = 1.0 / rate
+    a = np.asarray(limits.a, dtype=float)
+    with np.errstate(over="ignore"):  # a tiny rate: jmax·Δt/2 is inf, the bound is amax_gate
+        a_int = a if gate is None else np.minimum(np.asarray(gate.a, dtype=float), a + np.asarray(gate.j) * dt / 2.0)
+    return float(np.sum(np.maximum(a_int, a) + a)) * dt * dt / 8.0 + 1e-9

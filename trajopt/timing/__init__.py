@@ -24,6 +24,7 @@ from trajopt.timing.ruckig_profiles import (
     RestToRest,
     jerk_limited_scaling,
     min_time_rest_to_rest,
+    reachable_speed,
     rest_to_rest_profile,
 )
 from trajopt.timing.scaling import TimeScaling
@@ -42,6 +43,7 @@ __all__ = [
     "jerk_limited_scaling",
     "min_time_rest_to_rest",
     "piece_limits",
+    "reachable_speed",
     "rest_to_rest_profile",
     "spline_path",
     "toppra_profile",

@@ -215,3 +215,27 @@ def min_time_rest_to_rest(distance: float, v: float, a: float, j: float) -> floa
     if distance <= 0:
         return 0.0
     return rest_to_rest_profile(distance, v, a, j).duration
+
+
+def reachable_speed(length: float, amax: np.ndarray, jmax: np.ndarray) -> np.ndarray:
+    """Peak speed (m/s) of a time-optimal jerk-limited rest-to-rest profile over ``length`` (m), without a speed limit.
+
+    Parameters
+    ----------
+    length : float
+        The travel (m, > 0).
+    amax, jmax : ndarray, shape (2,)
+        Acceleration (m/s²) and jerk (m/s³) limits per robot.
+
+    Returns
+    -------
+    ndarray, shape (2,)
+        ``amax²/jmax`` when the profile never reaches ``amax`` (``amax³ ≥ jmax²·length/2``), else the root of
+        ``v²/amax + v·amax/jmax = length`` (each half covers ``v/2·(v/amax + amax/jmax)``).
+    """
+    a = np.asarray(amax, dtype=float)
+    j = np.asarray(jmax, dtype=float)
+    r = a * a / j
+    with np.errstate(over="ignore", invalid="ignore"):
+        plateau = 0.5 * (np.sqrt(r * r + 4.0 * a * length) - r)
+        return np.where(a * a * a >= j * j * length / 2.0, r, plateau)
