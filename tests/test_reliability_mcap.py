@@ -145,3 +145,49 @@ def test_a_stamp_past_the_int32_seconds_is_an_input_error(stamp: int, tmp_path: 
     with pytest.raises(ros.InvalidInputError, match="stamp_ns"):
         ros.ros2_yaml_text(traj, stamp_ns=stamp)
     assert not (tmp_path / "bag").exists()
+
+
+def test_a_bag_path_whose_directory_is_missing_is_an_input_error_naming_it(tmp_path: Path) -> None:
+    """``write_mcap`` into a missing directory raised a raw ``FileNotFoundError`` (exit 4); it is an input error
+    naming the path and its directory, and nothing is created."""
+    traj = generate_trajectory(Lollipop(1, 1), (0.2, 0.5), (0.5, 0.2))
+    bag = tmp_path / "missing" / "deeper" / "bag"
+    with pytest.raises(ros.InvalidInputError, match="does not exist") as info:
+        ros.write_mcap(traj, bag)
+    assert str(bag) in str(info.value) and str(bag.parent) in str(info.value)
+    assert not (tmp_path / "missing").exists()
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_bag_is_replaced_as_a_whole_and_kept_when_the_write_fails(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """An existing bag is replaced by the new one (the same bytes as a bag written to a new path), with no
+    temporary left beside it; a write that fails with an ``OSError`` is an input error and the old bag is
+    untouched. Both with the one-step exchange and with the two renames where it is missing."""
+    import trajopt.io.directory as directory
+
+    short = generate_trajectory(Lollipop(1, 1), (0.2, 0.5), (0.5, 0.2))
+    other = generate_trajectory(Lollipop(1, 1), (0.1, 0.6), (0.8, 0.3))
+    (tmp_path / "fresh").mkdir()
+    fresh = ros.write_mcap(other, tmp_path / "fresh" / "bag")
+    for exchange in (True, False):
+        d = tmp_path / f"exchange_{exchange}"
+        d.mkdir()
+        if not exchange:
+            monkeypatch.setattr(directory, "_exchange", lambda a, b: False)
+        bag = d / "bag"
+        old = ros.write_mcap(short, bag).read_bytes()
+        new = ros.write_mcap(other, bag)
+        assert new.read_bytes() == fresh.read_bytes() != old
+        assert sorted(p.name for p in d.iterdir()) == ["bag"]
+
+        def fail(*args: Any) -> None:
+            raise OSError(28, "No space left on device")
+
+        with monkeypatch.context() as m:
+            m.setattr(ros, "_write_bag", fail)
+            with pytest.raises(ros.InvalidInputError, match="cannot write: No space left on device"):
+                ros.write_mcap(short, bag)
+        assert new.read_bytes() == fresh.read_bytes()
+        assert sorted(p.name for p in d.iterdir()) == ["bag"]

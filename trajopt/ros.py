@@ -26,10 +26,8 @@ from __future__ import annotations
 
 import os
 import re
-import shutil
 import struct
-import tempfile
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -38,6 +36,7 @@ from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError
 from trajopt.export import Trajectory, atomic_write_text
+from trajopt.io.directory import atomic_directory
 
 __all__ = [
     "DEFAULT_JOINT_NAMES",
@@ -298,7 +297,9 @@ def write_mcap(
     Raises
     ------
     InvalidInputError
-        Bad names, stamp or rate; ``rosbags`` not installed; ``path`` exists and is not a rosbag2 bag.
+        Bad names, stamp or rate; ``rosbags`` not installed; ``path`` exists and is not a rosbag2 bag, its directory
+        does not exist, or the bag cannot be written there (``bag path PATH: cannot write: reason``); ``path`` is
+        then unchanged.
     """
     names = check_joint_names(joint_names)
     topic, point_topic = _check_topics(topic, point_topic)
@@ -306,9 +307,12 @@ def write_mcap(
     pts = joint_points(trajectory, rate)
     target = _check_bag_path(path)
     ts = _typestore()
-    _write_directory_atomically(
-        target, lambda bag: _write_bag(bag, ts, topic, point_topic, pts, names, stamp, frame_id)
-    )
+    try:
+        with atomic_directory(target) as bag:
+            _write_bag(bag, ts, topic, point_topic, pts, names, stamp, frame_id)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise InvalidInputError(f"bag path {str(target)!r}: cannot write: {reason}") from None
     return target / f"{target.name}.mcap"
 
 
@@ -534,37 +538,13 @@ def _write_records(storage: Any, cid: int, stamps: NDArray[np.uint64], data: NDA
 def _check_bag_path(path: str | os.PathLike[str]) -> Path:
     """The bag directory: a new path or an existing rosbag2 bag (to be replaced)."""
     target = Path(path)
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        raise InvalidInputError(
+            f"bag path {str(target)!r}: its directory {str(parent)!r} does not exist, expected an existing directory"
+        )
     if target.exists() and not (target.is_dir() and (target / "metadata.yaml").is_file()):
         raise InvalidInputError(f"bag path {str(target)!r} exists and is not a rosbag2 bag, expected a new path")
     if not target.name or target.name in (".", ".."):
         raise InvalidInputError(f"bag path is {str(target)!r}, expected a directory name")
     return target
-
-
-def _write_directory_atomically(target: Path, write: Callable[[Path], None]) -> None:
-    """``write(d)`` fills a new directory ``d`` in a temporary directory beside ``target``, which then replaces
-    ``target`` (restored if the replacement fails); nothing is left behind on failure."""
-    parent = target.parent if str(target.parent) else Path(".")
-    tmp = Path(tempfile.mkdtemp(dir=parent, prefix=f".{target.name}.", suffix=".tmp"))
-    try:
-        bag = tmp / target.name
-        write(bag)
-        os.chmod(bag, 0o777 & ~_umask())
-        if target.exists():
-            old = tmp / ".old"
-            os.replace(target, old)
-            try:
-                os.replace(bag, target)
-            except BaseException:
-                os.replace(old, target)
-                raise
-        else:
-            os.replace(bag, target)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-
-
-def _umask() -> int:
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return mask

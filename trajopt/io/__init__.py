@@ -25,7 +25,7 @@ from trajopt.io.csvfile import (
     csv_line,
     write_csv,
 )
-from trajopt.io.directory import check_output_path, directory_lock, write_directory, write_output_file
+from trajopt.io.directory import atomic_directory, check_output_path, directory_lock, write_directory, write_output_file
 from trajopt.io.summary import summary, write_json
 
 __all__ = [
@@ -36,6 +36,7 @@ __all__ = [
     "XY_COLUMNS",
     "Content",
     "Streamed",
+    "atomic_directory",
     "atomic_path",
     "atomic_write",
     "atomic_write_bytes",

@@ -1,5 +1,6 @@
 """Output files and directories: a path checked before anything is made, one file written atomically, and a run's
-directory replaced as a whole (:func:`write_directory`, under :func:`directory_lock`).
+directory replaced as a whole (:func:`write_directory`, under :func:`directory_lock`), a directory another library
+writes (a ROS 2 bag) put in place as a whole (:func:`atomic_directory`).
 """
 
 from __future__ import annotations
@@ -59,6 +60,48 @@ def _exchange(a: Path, b: Path) -> bool:
     if err in (_errno.EINVAL, _errno.ENOSYS, _errno.EOPNOTSUPP):
         return False
     raise OSError(err, os.strerror(err), str(b))
+
+
+@contextlib.contextmanager
+def atomic_directory(path: str | os.PathLike[str]) -> Iterator[Path]:
+    """A path for a new directory that replaces the directory ``path`` as a whole when the block ends.
+
+    The counterpart of :func:`~trajopt.io.atomic.atomic_path` for a directory another library fills (a ROS 2
+    bag): the block makes the directory at the yielded path, inside a hidden temporary directory
+    ``.NAME.XXXX.tmp`` beside ``path``; after the block it gets the usual permissions (``0o777`` less the umask)
+    and is swapped with ``path`` in one ``renameat2(RENAME_EXCHANGE)`` (a plain :func:`os.replace` when ``path``
+    does not exist; where the exchange is missing, ``path`` is renamed aside and put back if the second rename
+    fails). The temporary directory, with the previous ``path``, is removed; on any error ``path`` is untouched.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The directory to replace; its parent must exist.
+
+    Yields
+    ------
+    Path
+        Where the block makes the new directory (it does not exist yet).
+    """
+    target = Path(path)
+    parent = target.parent if str(target.parent) else Path(".")
+    tmp = Path(tempfile.mkdtemp(dir=parent, prefix=f".{target.name}.", suffix=".tmp"))
+    try:
+        new = tmp / target.name
+        yield new
+        os.chmod(new, 0o777 & ~_umask())
+        if not target.exists():
+            os.replace(new, target)
+        elif not _exchange(new, target):
+            old = tmp / ".old"
+            os.replace(target, old)
+            try:
+                os.replace(new, target)
+            except BaseException:
+                os.replace(old, target)
+                raise
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def _hidden_stem(name: str) -> str:
