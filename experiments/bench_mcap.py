@@ -3,7 +3,7 @@
 Draws the longest of six seeded warehouse queries (``examples/tracks/warehouse.json``, default limits), then writes
 its bag at each ``--rates`` Hz ``--repeat`` times: the median wall and CPU time, and the peak of the Python heap
 (``tracemalloc``, one further write) beside the rows and the file's size. Run it at two commits to compare writers;
-the bag's bytes do not depend on the writer (``tests/test_reliability_mcap.py``).
+the bag's bytes do not depend on the writer (``tests/reliability/test_reliability_mcap.py``).
 
     python experiments/bench_mcap.py --rates 100 1000
 """

@@ -1,0 +1,82 @@
+"""Start-up: ``mpa --help`` imports no numpy or subcommand module; the lazy ``mpa`` package keeps its names."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from trajopt.cli.main import SUBCOMMANDS, build_parser
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _run(code: str) -> str:
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=ROOT,
+        env={"PYTHONPATH": str(ROOT)},
+    )
+    return out.stdout.strip()
+
+
+def test_lazy_help_lists_the_same_subcommands_as_the_full_parser() -> None:
+    assert build_parser(None, full=False).format_help() == build_parser().format_help()
+    full = build_parser()
+    sub = next(a for a in full._actions if a.dest == "command")
+    helps = {a.dest: a.help for a in sub._choices_actions}  # type: ignore[attr-defined]
+    assert helps == {name: text for name, (_m, text) in SUBCOMMANDS.items()}
+
+
+@pytest.mark.parametrize("command", list(SUBCOMMANDS))
+def test_lazy_parser_of_a_subcommand_is_the_full_one(command: str) -> None:
+    lazy = next(a for a in build_parser(command, full=False)._actions if a.dest == "command")
+    full = next(a for a in build_parser()._actions if a.dest == "command")
+    assert lazy.choices[command].format_help() == full.choices[command].format_help()  # type: ignore[index]
+
+
+def test_help_and_version_import_no_numpy() -> None:
+    code = (
+        "import contextlib, io, sys\n"
+        "from trajopt.cli.main import main\n"
+        "for argv in (['--help'], ['--version']):\n"
+        "    with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):\n"
+        "        main(argv)\n"
+        "print(sorted(m for m in ('numpy', 'mpa.planners', 'trajopt.cli.plan', 'casadi', 'matplotlib')"
+        " if m in sys.modules))"
+    )
+    assert _run(code) == "[]"
+
+
+def test_lazy_package_names() -> None:
+    code = (
+        "import mpa, sys, types\n"
+        "assert 'numpy' not in sys.modules\n"
+        "import mpa.plans as pm\n"  # the module of the result type: no name clash with the function mpa.plan
+        "assert isinstance(pm, types.ModuleType) and pm.Plan is mpa.Plan\n"
+        "assert callable(mpa.plan) and not isinstance(mpa.plan, types.ModuleType), mpa.plan\n"
+        "from mpa import Lollipop, plan\n"
+        "assert plan(Lollipop(1.0, 1.0), (0.1, 0.6), (0.8, 0.3)).domain == 1\n"
+        "assert all(hasattr(mpa, n) for n in mpa.__all__) and set(mpa.__all__) <= set(dir(mpa))\n"
+        "assert mpa.tracks.Lollipop is Lollipop\n"
+        "try:\n"
+        "    mpa.no_such_name\n"
+        "except AttributeError:\n"
+        "    print('ok')\n"
+    )
+    assert _run(code) == "ok"
+
+
+def test_monkeypatching_mpa_plan(monkeypatch: pytest.MonkeyPatch) -> None:
+    import mpa
+
+    original = mpa.plan
+    monkeypatch.setattr(mpa, "plan", len)
+    assert mpa.plan is len
+    monkeypatch.undo()
+    assert mpa.plan is original
