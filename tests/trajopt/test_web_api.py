@@ -29,11 +29,6 @@ ROOT = Path(__file__).resolve().parents[2]
 LAYOUT = ROOT / "examples" / "tracks" / "passing_loop.json"
 
 
-@pytest.fixture(scope="module")
-def client() -> TestClient:
-    return TestClient(create_app())
-
-
 def _timeless(summary: dict[str, Any]) -> dict[str, Any]:
     """A summary without its wall-clock times (the only fields two identical runs may differ in)."""
     s = json.loads(json.dumps(summary))

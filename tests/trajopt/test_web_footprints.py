@@ -14,16 +14,10 @@ pytest.importorskip("httpx")
 from starlette.testclient import TestClient
 
 from tests.trajopt.test_web_api import _cli, _timeless
-from trajopt.web.app import create_app
 
 ROOT = Path(__file__).resolve().parents[2]
 YARD = ROOT / "examples" / "tracks" / "rail_yard.json"
 LOOP = ROOT / "examples" / "tracks" / "passing_loop.json"
-
-
-@pytest.fixture(scope="module")
-def client() -> TestClient:
-    return TestClient(create_app())
 
 
 @pytest.mark.parametrize("spec", ["0.3", "2.0x0.8", "0.3,2x0.8"])
