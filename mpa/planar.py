@@ -45,11 +45,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError, NoMotionError, PlanningError
-from mpa.footprint import Disc, Footprints, body_gap, drawing_of, footprints
+from mpa.footprint import Disc, Drawing, Footprint, Footprints, body_gap, drawing_of, footprints
 from mpa.freespace import FreeSpace, _clip, _dedupe, _union_find, free_space
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 
-__all__ = ["PlanarFreeSpace", "bodies_gap", "plan_planar", "planar_free_space"]
+__all__ = ["PlanarFreeSpace", "bodies_gap", "corner_sweep", "plan_planar", "planar_free_space", "start_refusal"]
 
 FloatArray = NDArray[np.float64]
 Coords = tuple[float, float]
@@ -758,7 +758,7 @@ class PlanarFreeSpace:
         it lies in a free piece (the bodies apart in the plane, every orientation at a corner)."""
         if not self.base.is_free(pos_a, pos_b):
             return False
-        return bool(self.placements(pos_a, pos_b))
+        return not start_refusal(self.track, self, "", pos_a, pos_b)
 
     def can_swap(self, pos_a: object | None = None, pos_b: object | None = None) -> bool:
         """Whether the robots can exchange places (two positions: these; none: some free configuration)."""
@@ -772,13 +772,19 @@ class PlanarFreeSpace:
             return False
         if pos_a is None or pos_b is None:
             raise InvalidInputError("can_swap takes two positions or none")
-        c1 = self.component_of(pos_a, pos_b)
-        if c1 is None:
+        a = self.track.position(pos_a, "position of robot A")
+        b = self.track.position(pos_b, "position of robot B")
+        c1 = self.component_of(a, b)
+        why = start_refusal(self.track, self, "configuration", a, b) if c1 is not None else ""
+        if c1 is None or why:
             raise InvalidInputError(
-                f"configuration {pos_a!r}, {pos_b!r} has the bodies overlapping or the robots closer than the "
+                why
+                or f"configuration {pos_a!r}, {pos_b!r} has the bodies overlapping or the robots closer than the "
                 f"clearance {self.clearance:g}"
             )
-        return c1 == self.component_of(pos_b, pos_a)
+        if start_refusal(self.track, self, "configuration", b, a):
+            return False
+        return c1 == self.component_of(b, a)
 
 
 def _portal_values(a0: float, a1: float) -> list[float]:
@@ -815,6 +821,93 @@ def bodies_gap(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Posit
         for hb in d.corner_headings(pos_b[0], pos_b[1]):
             best = min(best, body_gap(fps.a, xy_a, ha, fps.b, xy_b, hb))
     return best
+
+
+def _turning_at(d: Drawing, pos: Position) -> list[float] | None:
+    """The headings at a position where a body standing there turns (a corner or vertex whose pieces' orientations
+    differ modulo pi), None elsewhere."""
+    hs = d.corner_headings(pos[0], pos[1])
+    if any(PlanarFreeSpace._turns_h(hs[0], h) for h in hs[1:]):
+        return hs
+    return None
+
+
+def _point_to_body(fp: Footprint, centre: FloatArray, point: FloatArray, heading: float) -> float:
+    """Distance (metres) from ``point`` to a body centred at ``centre`` with ``heading`` (0 inside)."""
+    dx, dy = float(point[0] - centre[0]), float(point[1] - centre[1])
+    if isinstance(fp, Disc):
+        return max(math.hypot(dx, dy) - fp.radius, 0.0)
+    c, s = math.cos(heading), math.sin(heading)
+    x = abs(c * dx + s * dy) - fp.half_length
+    y = abs(-s * dx + c * dy) - fp.half_width
+    return math.hypot(max(x, 0.0), max(y, 0.0))
+
+
+def corner_sweep(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Position) -> tuple[int, float]:
+    """How far a rectangle standing on a corner sweeps into the other body (the model's rule for a body at rest
+    on a corner).
+
+    A rectangle on a corner or vertex where the drawing turns takes every orientation of the pieces there, and
+    turning between them it sweeps the disc of its reach (half its diagonal) about the corner; the rule keeps that
+    disc clear of the other body (in every orientation the other body may have; the other's disc too when it also
+    turns there). Discs do not turn.
+
+    Parameters
+    ----------
+    track : GraphTrack
+        A layout with coordinates.
+    fps : Footprints
+    pos_a, pos_b : (int, float)
+        The robots' positions ``(edge, offset)`` (metres).
+
+    Returns
+    -------
+    (int, float)
+        The robot (0 A, 1 B) whose sweep reaches deepest into the other body and the depth (metres; <= 0: clear,
+        ``(-1, -inf)`` when neither robot turns where it stands).
+    """
+    d = drawing_of(track)
+    pos = (pos_a, pos_b)
+    body = (fps.a, fps.b)
+    xy = [d.pose(p[0], p[1])[0] for p in pos]
+    turning = [None if isinstance(body[r], Disc) else _turning_at(d, pos[r]) for r in (0, 1)]
+    best: tuple[int, float] = (-1, -math.inf)
+    for r in (0, 1):
+        if turning[r] is None:
+            continue
+        o = 1 - r
+        if turning[o] is not None:
+            free = float(np.hypot(*(xy[r] - xy[o]))) - body[o].reach
+        else:
+            free = min(_point_to_body(body[o], xy[o], xy[r], h) for h in d.corner_headings(pos[o][0], pos[o][1]))
+        depth = body[r].reach - free
+        if depth > best[1]:
+            best = (r, depth)
+    return best
+
+
+def start_refusal(track: GraphTrack, space: PlanarFreeSpace, what: str, pa: Position, pb: Position) -> str:
+    """Why a start or goal (``what``) is not a configuration of the planar model ("" if it is): the bodies overlap
+    in the plane in some orientation they may have there, or a rectangle on a corner sweeps into the other body
+    (:func:`corner_sweep`). Robots closer than the clearance along the track are the caller's check."""
+    names = (track.position_name(*pa), track.position_name(*pb))
+    if not space.placements(pa, pb):
+        gap = bodies_gap(track, space.footprints, pa, pb)
+        closest = "they overlap" if gap <= 0.0 else f"{gap:.3g} m apart, inside the planner's disc polygon"
+        return (
+            f"{what} has the bodies ({space.footprints.spec()}) overlapping in the plane at robot A {names[0]}, "
+            f"robot B {names[1]} ({closest} in some orientation they take there), expected them apart"
+        )
+    r, depth = corner_sweep(track, space.footprints, pa, pb)
+    if depth > space.tol:
+        fp = space.footprints.a if r == 0 else space.footprints.b
+        who, other = ("A", "B") if r == 0 else ("B", "A")
+        return (
+            f"{what} has robot {who} ({fp.spec()}) on a corner at {names[r]}, where its body takes every "
+            f"orientation of the pieces there: the disc of its half-diagonal ({fp.reach:.3g} m) about that point "
+            f"overlaps robot {other}'s body at {names[1 - r]} by {depth:.3g} m, expected it clear"
+        )
+    return ""
 
 
 @lru_cache(maxsize=16)
@@ -1627,11 +1720,9 @@ def plan_planar(
 
     space = planar_free_space(track, clearance, footprint)
     for what, (pa, pb) in (("start", start), ("goal", goal)):
-        if not space.placements(pa, pb):
-            raise InvalidInputError(
-                f"{what} has the bodies ({space.footprints.spec()}) overlapping in the plane at "
-                f"{track.position_name(*pa)}, {track.position_name(*pb)}, expected them apart"
-            )
+        why = start_refusal(track, space, what, pa, pb)
+        if why:
+            raise InvalidInputError(why)
     ca, cb = space.component_of(*start), space.component_of(*goal)
     if ca is None or ca != cb:
         bca, bcb = space.base.component_of(*start), space.base.component_of(*goal)
