@@ -823,10 +823,10 @@ def bodies_gap(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Posit
     return best
 
 
-def _turning_at(d: Drawing, pos: Position) -> list[float] | None:
+def _turning_at(d: Drawing, pos: Position, tol: float) -> list[float] | None:
     """The headings at a position where a body standing there turns (a corner or vertex whose pieces' orientations
-    differ modulo pi), None elsewhere."""
-    hs = d.corner_headings(pos[0], pos[1])
+    differ modulo pi, within ``tol`` metres), None elsewhere."""
+    hs = d.corner_headings(pos[0], pos[1], tol)
     if any(PlanarFreeSpace._turns_h(hs[0], h) for h in hs[1:]):
         return hs
     return None
@@ -843,7 +843,9 @@ def _point_to_body(fp: Footprint, centre: FloatArray, point: FloatArray, heading
     return math.hypot(max(x, 0.0), max(y, 0.0))
 
 
-def corner_sweep(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Position) -> tuple[int, float]:
+def corner_sweep(
+    track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Position, tol: float = 1e-9
+) -> tuple[int, float]:
     """How far a rectangle standing on a corner sweeps into the other body (the model's rule for a body at rest
     on a corner).
 
@@ -859,6 +861,9 @@ def corner_sweep(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Pos
     fps : Footprints
     pos_a, pos_b : (int, float)
         The robots' positions ``(edge, offset)`` (metres).
+    tol : float
+        A position within ``tol`` metres of a corner stands on it (the gate's 1e-9 m; the planner's start and goal
+        check uses ten times its touching tolerance, so that it is never more lenient than the gate).
 
     Returns
     -------
@@ -870,7 +875,7 @@ def corner_sweep(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Pos
     pos = (pos_a, pos_b)
     body = (fps.a, fps.b)
     xy = [d.pose(p[0], p[1])[0] for p in pos]
-    turning = [None if isinstance(body[r], Disc) else _turning_at(d, pos[r]) for r in (0, 1)]
+    turning = [None if isinstance(body[r], Disc) else _turning_at(d, pos[r], tol) for r in (0, 1)]
     best: tuple[int, float] = (-1, -math.inf)
     for r in (0, 1):
         if turning[r] is None:
@@ -879,7 +884,8 @@ def corner_sweep(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Pos
         if turning[o] is not None:
             free = float(np.hypot(*(xy[r] - xy[o]))) - body[o].reach
         else:
-            free = min(_point_to_body(body[o], xy[o], xy[r], h) for h in d.corner_headings(pos[o][0], pos[o][1]))
+            heads = d.corner_headings(pos[o][0], pos[o][1], tol)
+            free = min(_point_to_body(body[o], xy[o], xy[r], h) for h in heads)
         depth = body[r].reach - free
         if depth > best[1]:
             best = (r, depth)
@@ -898,7 +904,7 @@ def start_refusal(track: GraphTrack, space: PlanarFreeSpace, what: str, pa: Posi
             f"{what} has the bodies ({space.footprints.spec()}) overlapping in the plane at robot A {names[0]}, "
             f"robot B {names[1]} ({closest} in some orientation they take there), expected them apart"
         )
-    r, depth = corner_sweep(track, space.footprints, pa, pb)
+    r, depth = corner_sweep(track, space.footprints, pa, pb, 10.0 * space.tol)
     if depth > space.tol:
         fp = space.footprints.a if r == 0 else space.footprints.b
         who, other = ("A", "B") if r == 0 else ("B", "A")
