@@ -129,3 +129,27 @@ def test_vertex_start_same_error_from_every_entry_point(tmp_path: Path, capsys: 
     # further from the vertex the disc is clear: planned and verified
     traj = trajopt.generate_trajectory(tr, ("v", "middle:0.8"), goal, clearance=0.0, footprint="1.0x0.5")
     assert traj.plane is not None and traj.plane["ok"]
+
+
+def test_vertex_start_free_in_one_orientation_only_is_refused() -> None:
+    """The hunted one-way case of tests/test_planar_corners.py started with A on SW, its body apart from B's only in
+    the orientation of the siding (in that of 'west' and 'main' they overlap): refused, not planned."""
+    from tests.test_planar_corners import CASES, _layout
+
+    se, pts, length, oneway, _, (lg, wd) = CASES[1]
+    tr = GraphTrack.from_layout(_layout(se, pts, length, oneway))
+    dr = drawn_of(tr)
+    a, b = (1, 0.0), (0, 2.0583570525992587)
+    # independent: in the orientation of 'main' (heading 0) the two rectangles overlap
+    body_a = rect(dr.point(*a), _headings(dr, 1, 0.0), lg, wd)
+    body_b = rect(dr.point(*b), _headings(dr, 0, b[1]), lg, wd)
+    assert any(_inside(v, body_b) for v in body_a) or any(_inside(v, body_a) for v in body_b)
+    for clearance in (0.0, 0.5):
+        with pytest.raises(InvalidInputError, match=r"^start has robot A \(2.15908x0.413317\) on a corner at SW"):
+            mpa.plan(
+                tr,
+                (a, b),
+                ((0, 0.31419821261844083), (0, 3.8365748444234673)),
+                clearance,
+                footprint=mpa.Rectangle(lg, wd),
+            )
