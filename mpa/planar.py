@@ -794,12 +794,11 @@ def _portal_values(a0: float, a1: float) -> list[float]:
 
 
 def _portal_points(m: list[Coords]) -> list[Coords]:
-    """The shared points of a glued pair: the centre of ``m`` and, when it has several points, the two farthest
-    apart (the first such pair in row-major order: the ends of a shared segment) around it."""
+    """The shared points of a glued pair: its one point, or the two points of ``m`` farthest apart (the first such
+    pair in row-major order: the ends of a shared segment) with their middle between them."""
     n = len(m)
-    c = (sum(float(x[0]) for x in m) / n, sum(float(x[1]) for x in m) / n)
     if n == 1:
-        return [c]
+        return [(float(m[0][0]), float(m[0][1]))]
     best, bi, bj = -1.0, 0, 0
     for i in range(n):
         xi, yi = m[i]
@@ -807,7 +806,11 @@ def _portal_points(m: list[Coords]) -> list[Coords]:
             dd = float(np.hypot(xi - m[j][0], yi - m[j][1]))
             if dd > best:
                 best, bi, bj = dd, i, j
-    return [(float(m[bi][0]), float(m[bi][1])), c, (float(m[bj][0]), float(m[bj][1]))]
+    a = (float(m[bi][0]), float(m[bi][1]))
+    b = (float(m[bj][0]), float(m[bj][1]))
+    # the exact middle of the two ends (not the mean of m, whose near-duplicate points move it off the middle):
+    # the one-way search reads an end, middle, end triple as the whole segment (_parts)
+    return [a, (0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])), b]
 
 
 def bodies_gap(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Position) -> float:
