@@ -11,7 +11,6 @@ ends' middle), so a robot held still on a one-way edge could not cross there.
 
 from __future__ import annotations
 
-import itertools
 import math
 from typing import Any
 
@@ -22,7 +21,7 @@ import mpa
 from mpa import Disc, GraphTrack, NoMotionError, Rectangle
 from tests.test_footprints import drawn_of, fp_tuple, plan_depth
 from tests.test_planar_corners import _layout
-from tests.test_planar_rules import _grid_reaches, _monotone
+from tests.test_planar_rules import _directed_grid, _grid_reaches, _monotone
 
 
 def _siding(rng: np.random.Generator) -> tuple[GraphTrack, Rectangle]:
@@ -38,26 +37,7 @@ def _siding(rng: np.random.Generator) -> tuple[GraphTrack, Rectangle]:
 def _directed_rect_grid(tr: GraphTrack, fp: Rectangle, step: float) -> tuple[list[Any], list[list[int]], Any]:
     """Nodes, forward moves and free pairs of the directed grid (the free pairs by the rule of
     ``tests.test_footprints._grid_connected``)."""
-    nodes: list[tuple[int, float]] = []
-    index: dict[Any, int] = {}
-    nxt: list[list[int]] = []
-    for e in range(tr.n_edges):
-        length = float(tr.lengths[e])
-        k = max(2, math.ceil(length / step))
-        ids = []
-        for i in range(k + 1):
-            o = min(length * i / k, length)
-            w = tr.vertex_at(e, o)
-            key = ("v", w) if w is not None else ("e", e, i)
-            if key not in index:
-                index[key] = len(nodes)
-                nodes.append((e, o))
-                nxt.append([])
-            ids.append(index[key])
-        for a, b in itertools.pairwise(ids):
-            nxt[a].append(b)
-            if not tr.oneway[e]:
-                nxt[b].append(a)
+    nodes, (nxt, _) = _directed_grid(tr, 0.0, 0.0, step)  # the nodes and forward moves; the free pairs below
     dr = drawn_of(tr)
     c = np.array([dr.point(*q) for q in nodes])
     hs = [dr.headings(*q) for q in nodes]
