@@ -799,13 +799,9 @@ def _portal_points(m: list[Coords]) -> list[Coords]:
     n = len(m)
     if n == 1:
         return [(float(m[0][0]), float(m[0][1]))]
-    best, bi, bj = -1.0, 0, 0
-    for i in range(n):
-        xi, yi = m[i]
-        for j in range(n):
-            dd = float(np.hypot(xi - m[j][0], yi - m[j][1]))
-            if dd > best:
-                best, bi, bj = dd, i, j
+    arr = np.asarray(m, dtype=float)
+    dist = np.hypot(arr[:, None, 0] - arr[None, :, 0], arr[:, None, 1] - arr[None, :, 1])
+    bi, bj = divmod(int(np.argmax(dist)), n)  # the first largest in row-major order
     a = (float(m[bi][0]), float(m[bi][1]))
     b = (float(m[bj][0]), float(m[bj][1]))
     # the exact middle of the two ends (not the mean of m, whose near-duplicate points move it off the middle):
