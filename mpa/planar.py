@@ -45,11 +45,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError, NoMotionError, PlanningError
-from mpa.footprint import Disc, Footprints, body_gap, drawing_of, footprints
+from mpa.footprint import Disc, Drawing, Footprint, Footprints, body_gap, drawing_of, footprints
 from mpa.freespace import FreeSpace, _clip, _dedupe, _union_find, free_space
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 
-__all__ = ["PlanarFreeSpace", "bodies_gap", "plan_planar", "planar_free_space"]
+__all__ = ["PlanarFreeSpace", "bodies_gap", "corner_sweep", "plan_planar", "planar_free_space", "start_refusal"]
 
 FloatArray = NDArray[np.float64]
 Coords = tuple[float, float]
@@ -758,7 +758,7 @@ class PlanarFreeSpace:
         it lies in a free piece (the bodies apart in the plane, every orientation at a corner)."""
         if not self.base.is_free(pos_a, pos_b):
             return False
-        return bool(self.placements(pos_a, pos_b))
+        return not start_refusal(self.track, self, "", pos_a, pos_b)
 
     def can_swap(self, pos_a: object | None = None, pos_b: object | None = None) -> bool:
         """Whether the robots can exchange places (two positions: these; none: some free configuration)."""
@@ -772,13 +772,19 @@ class PlanarFreeSpace:
             return False
         if pos_a is None or pos_b is None:
             raise InvalidInputError("can_swap takes two positions or none")
-        c1 = self.component_of(pos_a, pos_b)
-        if c1 is None:
+        a = self.track.position(pos_a, "position of robot A")
+        b = self.track.position(pos_b, "position of robot B")
+        c1 = self.component_of(a, b)
+        why = start_refusal(self.track, self, "configuration", a, b) if c1 is not None else ""
+        if c1 is None or why:
             raise InvalidInputError(
-                f"configuration {pos_a!r}, {pos_b!r} has the bodies overlapping or the robots closer than the "
+                why
+                or f"configuration {pos_a!r}, {pos_b!r} has the bodies overlapping or the robots closer than the "
                 f"clearance {self.clearance:g}"
             )
-        return c1 == self.component_of(pos_b, pos_a)
+        if start_refusal(self.track, self, "configuration", b, a):
+            return False
+        return c1 == self.component_of(b, a)
 
 
 def _portal_values(a0: float, a1: float) -> list[float]:
@@ -788,20 +794,19 @@ def _portal_values(a0: float, a1: float) -> list[float]:
 
 
 def _portal_points(m: list[Coords]) -> list[Coords]:
-    """The shared points of a glued pair: the centre of ``m`` and, when it has several points, the two farthest
-    apart (the first such pair in row-major order: the ends of a shared segment) around it."""
+    """The shared points of a glued pair: its one point, or the two points of ``m`` farthest apart (the first such
+    pair in row-major order: the ends of a shared segment) with their middle between them."""
     n = len(m)
-    c = (sum(float(x[0]) for x in m) / n, sum(float(x[1]) for x in m) / n)
     if n == 1:
-        return [c]
-    best, bi, bj = -1.0, 0, 0
-    for i in range(n):
-        xi, yi = m[i]
-        for j in range(n):
-            dd = float(np.hypot(xi - m[j][0], yi - m[j][1]))
-            if dd > best:
-                best, bi, bj = dd, i, j
-    return [(float(m[bi][0]), float(m[bi][1])), c, (float(m[bj][0]), float(m[bj][1]))]
+        return [(float(m[0][0]), float(m[0][1]))]
+    arr = np.asarray(m, dtype=float)
+    dist = np.hypot(arr[:, None, 0] - arr[None, :, 0], arr[:, None, 1] - arr[None, :, 1])
+    bi, bj = divmod(int(np.argmax(dist)), n)  # the first largest in row-major order
+    a = (float(m[bi][0]), float(m[bi][1]))
+    b = (float(m[bj][0]), float(m[bj][1]))
+    # the exact middle of the two ends (not the mean of m, whose near-duplicate points move it off the middle):
+    # the one-way search reads an end, middle, end triple as the whole segment (_parts)
+    return [a, (0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])), b]
 
 
 def bodies_gap(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Position) -> float:
@@ -815,6 +820,99 @@ def bodies_gap(track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Posit
         for hb in d.corner_headings(pos_b[0], pos_b[1]):
             best = min(best, body_gap(fps.a, xy_a, ha, fps.b, xy_b, hb))
     return best
+
+
+def _turning_at(d: Drawing, pos: Position, tol: float) -> list[float] | None:
+    """The headings at a position where a body standing there turns (a corner or vertex whose pieces' orientations
+    differ modulo pi, within ``tol`` metres), None elsewhere."""
+    hs = d.corner_headings(pos[0], pos[1], tol)
+    if any(PlanarFreeSpace._turns_h(hs[0], h) for h in hs[1:]):
+        return hs
+    return None
+
+
+def _point_to_body(fp: Footprint, centre: FloatArray, point: FloatArray, heading: float) -> float:
+    """Distance (metres) from ``point`` to a body centred at ``centre`` with ``heading`` (0 inside)."""
+    dx, dy = float(point[0] - centre[0]), float(point[1] - centre[1])
+    if isinstance(fp, Disc):
+        return max(math.hypot(dx, dy) - fp.radius, 0.0)
+    c, s = math.cos(heading), math.sin(heading)
+    x = abs(c * dx + s * dy) - fp.half_length
+    y = abs(-s * dx + c * dy) - fp.half_width
+    return math.hypot(max(x, 0.0), max(y, 0.0))
+
+
+def corner_sweep(
+    track: GraphTrack, fps: Footprints, pos_a: Position, pos_b: Position, tol: float = 1e-9
+) -> tuple[int, float]:
+    """How far a rectangle standing on a corner sweeps into the other body (the model's rule for a body at rest
+    on a corner).
+
+    A rectangle on a corner or vertex where the drawing turns takes every orientation of the pieces there, and
+    turning between them it sweeps the disc of its reach (half its diagonal) about the corner; the rule keeps that
+    disc clear of the other body (in every orientation the other body may have; the other's disc too when it also
+    turns there). Discs do not turn.
+
+    Parameters
+    ----------
+    track : GraphTrack
+        A layout with coordinates.
+    fps : Footprints
+    pos_a, pos_b : (int, float)
+        The robots' positions ``(edge, offset)`` (metres).
+    tol : float
+        A position within ``tol`` metres of a corner stands on it (the gate's 1e-9 m; the planner's start and goal
+        check uses ten times its touching tolerance, so that it is never more lenient than the gate).
+
+    Returns
+    -------
+    (int, float)
+        The robot (0 A, 1 B) whose sweep reaches deepest into the other body and the depth (metres; <= 0: clear,
+        ``(-1, -inf)`` when neither robot turns where it stands).
+    """
+    d = drawing_of(track)
+    pos = (pos_a, pos_b)
+    body = (fps.a, fps.b)
+    xy = [d.pose(p[0], p[1])[0] for p in pos]
+    turning = [None if isinstance(body[r], Disc) else _turning_at(d, pos[r], tol) for r in (0, 1)]
+    best: tuple[int, float] = (-1, -math.inf)
+    for r in (0, 1):
+        if turning[r] is None:
+            continue
+        o = 1 - r
+        if turning[o] is not None:
+            free = float(np.hypot(*(xy[r] - xy[o]))) - body[o].reach
+        else:
+            heads = d.corner_headings(pos[o][0], pos[o][1], tol)
+            free = min(_point_to_body(body[o], xy[o], xy[r], h) for h in heads)
+        depth = body[r].reach - free
+        if depth > best[1]:
+            best = (r, depth)
+    return best
+
+
+def start_refusal(track: GraphTrack, space: PlanarFreeSpace, what: str, pa: Position, pb: Position) -> str:
+    """Why a start or goal (``what``) is not a configuration of the planar model ("" if it is): the bodies overlap
+    in the plane in some orientation they may have there, or a rectangle on a corner sweeps into the other body
+    (:func:`corner_sweep`). Robots closer than the clearance along the track are the caller's check."""
+    names = (track.position_name(*pa), track.position_name(*pb))
+    if not space.placements(pa, pb):
+        gap = bodies_gap(track, space.footprints, pa, pb)
+        closest = "they overlap" if gap <= 0.0 else f"{gap:.3g} m apart, inside the planner's disc polygon"
+        return (
+            f"{what} has the bodies ({space.footprints.spec()}) overlapping in the plane at robot A {names[0]}, "
+            f"robot B {names[1]} ({closest} in some orientation they take there), expected them apart"
+        )
+    r, depth = corner_sweep(track, space.footprints, pa, pb, 10.0 * space.tol)
+    if depth > space.tol:
+        fp = space.footprints.a if r == 0 else space.footprints.b
+        who, other = ("A", "B") if r == 0 else ("B", "A")
+        return (
+            f"{what} has robot {who} ({fp.spec()}) on a corner at {names[r]}, where its body takes every "
+            f"orientation of the pieces there: the disc of its half-diagonal ({fp.reach:.3g} m) about that point "
+            f"overlaps robot {other}'s body at {names[1 - r]} by {depth:.3g} m, expected it clear"
+        )
+    return ""
 
 
 @lru_cache(maxsize=16)
@@ -1627,11 +1725,9 @@ def plan_planar(
 
     space = planar_free_space(track, clearance, footprint)
     for what, (pa, pb) in (("start", start), ("goal", goal)):
-        if not space.placements(pa, pb):
-            raise InvalidInputError(
-                f"{what} has the bodies ({space.footprints.spec()}) overlapping in the plane at "
-                f"{track.position_name(*pa)}, {track.position_name(*pb)}, expected them apart"
-            )
+        why = start_refusal(track, space, what, pa, pb)
+        if why:
+            raise InvalidInputError(why)
     ca, cb = space.component_of(*start), space.component_of(*goal)
     if ca is None or ca != cb:
         bca, bcb = space.base.component_of(*start), space.base.component_of(*goal)

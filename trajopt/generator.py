@@ -609,6 +609,7 @@ class TrajectoryGenerator:
 
     def _explain_plane(self, plan: GraphPlan) -> str:
         """The bodies pass closer than the gate's between-rows margin at this rate ("" if they do not)."""
+        from mpa.planar import corner_sweep
         from trajopt.planar_gate import row_gaps
 
         assert self.footprint is not None
@@ -616,12 +617,20 @@ class TrajectoryGenerator:
         e, o = view.positions(densify(view.waypoints, 0.01))
         g = row_gaps(view.graph, self.footprint, e, o)
         need = 0.5 * self._plane_margin(self.rate)
+        # a rectangle at rest on a corner at the start or goal: the gate bounds its turn by the disc of its reach
+        swept = ""
+        for (pa, pb), k in ((plan.start, 0), (plan.goal, len(g) - 1)):
+            _, depth = corner_sweep(view.graph, self.footprint, pa, pb)
+            if -depth < min(g[k], need):
+                g[k] = -depth
+                swept = " (a rectangle on a corner: the disc it sweeps turning there)"
         low = float(np.min(g))
         if low >= need:
             return ""
         where = "at the start" if g[0] < need else ("at the goal" if g[-1] < need else "on the only way there")
         return (
-            f"footprint {self.footprint.spec()}: the bodies come within {max(low, 0.0):.3g} m of each other {where}, "
+            f"footprint {self.footprint.spec()}: the bodies come within {max(low, 0.0):.3g} m of each other "
+            f"{where}{swept}, "
             f"and setpoints at {self.rate:g} Hz are verified between rows only with {need:.3g} m between them; "
             "use smaller bodies, start or goal further apart, or a higher rate"
         )
