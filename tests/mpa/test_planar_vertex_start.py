@@ -4,7 +4,7 @@ its half-diagonal about the corner. ``mpa.plan``, ``trajopt.generate_trajectory`
 query with one and the same ``InvalidInputError`` when that disc reaches into the other body; otherwise the plan is
 made and the trajectory verified. Reproduced by a seeded search over the example layouts (theta: ``v`` and
 ``middle:0.95`` with 1x0.5 rectangles was planned, then failed the gate between its first two rows, exit 4). The
-expected answer is computed here with the test's own geometry (``tests.planar_checker``), not the planner's."""
+expected answer is computed here with the test's own geometry (``tests.helpers.planar_checker``), not the planner's."""
 
 from __future__ import annotations
 
@@ -19,11 +19,11 @@ import mpa
 import trajopt
 from mpa import InvalidInputError
 from mpa.graph_track import GraphTrack
-from tests.planar_checker import Drawn, _inside, _pt_seg, rect
-from tests.test_footprints import drawn_of
+from tests.helpers.planar_checker import Drawn, _inside, _pt_seg, rect
+from tests.mpa.test_footprints import drawn_of
 from trajopt.cli.main import main
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "tracks"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tracks"
 
 
 def _headings(dr: Drawn, e: int, o: float) -> float:
@@ -132,9 +132,9 @@ def test_vertex_start_same_error_from_every_entry_point(tmp_path: Path, capsys: 
 
 
 def test_vertex_start_free_in_one_orientation_only_is_refused() -> None:
-    """The hunted one-way case of tests/test_planar_corners.py started with A on SW, its body apart from B's only in
+    """The hunted one-way case of tests/mpa/test_planar_corners.py started with A on SW, its body apart from B's only in
     the orientation of the siding (in that of 'west' and 'main' they overlap): refused, not planned."""
-    from tests.test_planar_corners import CASES, _layout
+    from tests.mpa.test_planar_corners import CASES, _layout
 
     se, pts, length, oneway, _, (lg, wd) = CASES[1]
     tr = GraphTrack.from_layout(_layout(se, pts, length, oneway))

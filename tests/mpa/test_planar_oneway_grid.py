@@ -3,7 +3,7 @@
 The grid: both robots' positions sampled every 0.2 m along every edge (vertices shared), one robot one step at a
 time, forward only on one-way edges, the rectangles kept ``step + 0.02`` m apart (a rectangle on a corner where the
 drawing turns counts as the disc of its half-diagonal), so every grid path is a motion of the model. A seeded hunt
-over siding layouts (``tests/test_planar_corners.py``'s family, random one-way edges) found the planner answering
+over siding layouts (``tests/mpa/test_planar_corners.py``'s family, random one-way edges) found the planner answering
 "no motion" where the grid moved: a shared segment of two pieces across the siding's polyline corner was read by the
 one-way search as three single points, because its middle point was the mean of the meeting points (1.3e-8 m off the
 ends' middle), so a robot held still on a one-way edge could not cross there.
@@ -19,9 +19,9 @@ import pytest
 
 import mpa
 from mpa import Disc, GraphTrack, NoMotionError, Rectangle
-from tests.test_footprints import drawn_of, fp_tuple, plan_depth
-from tests.test_planar_corners import _layout
-from tests.test_planar_rules import _directed_grid, _grid_reaches, _monotone
+from tests.mpa.test_footprints import drawn_of, fp_tuple, plan_depth
+from tests.mpa.test_planar_corners import _layout
+from tests.mpa.test_planar_rules import _directed_grid, _grid_reaches, _monotone
 
 
 def _siding(rng: np.random.Generator) -> tuple[GraphTrack, Rectangle]:
@@ -36,7 +36,7 @@ def _siding(rng: np.random.Generator) -> tuple[GraphTrack, Rectangle]:
 
 def _directed_rect_grid(tr: GraphTrack, fp: Rectangle, step: float) -> tuple[list[Any], list[list[int]], Any]:
     """Nodes, forward moves and free pairs of the directed grid (the free pairs by the rule of
-    ``tests.test_footprints._grid_connected``)."""
+    ``tests.mpa.test_footprints._grid_connected``)."""
     nodes, (nxt, _) = _directed_grid(tr, 0.0, 0.0, step)  # the nodes and forward moves; the free pairs below
     dr = drawn_of(tr)
     c = np.array([dr.point(*q) for q in nodes])
