@@ -1136,12 +1136,8 @@ def _astar(
             e, f, _ = pieces[i].cell
             da = geo.distance_scalar(e, c[0], ga_e, ga_s)
             db = geo.distance_scalar(f, c[1], gb_e, gb_s)
-            if objective == "shortest":
-                h = math.hypot(da, db)
-            else:  # the cost's own terms: each move costs at least what it takes off each of them
-                ta, tb = da / va, db / vb
-                h = max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb)
-            h *= 1.0 - 1e-12
+            # the cost's own terms: each move costs at least what it takes off each of them
+            h = _move_cost(objective, da, db, va, vb) * (1.0 - 1e-12)
             hcache[key] = h
         return h
 

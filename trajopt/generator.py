@@ -252,6 +252,11 @@ class TrajectoryGenerator:
             object.__setattr__(capped, name, (float(x[0]), float(x[1])))
         return capped
 
+    def separation_margin(self) -> float:
+        """The between-rows margin (m) the plan keeps beyond the clearance: :func:`separation_margin` of the motion's
+        limits (:attr:`motion_limits`) at :attr:`rate`, for the gate's bound with the limits asked for."""
+        return separation_margin(self.motion_limits, self.rate, self.limits)
+
     @property
     def is_graph(self) -> bool:
         """Whether the track is a layout (:class:`mpa.GraphTrack`) rather than one of the paper's tracks."""
@@ -264,7 +269,7 @@ class TrajectoryGenerator:
                 self.track,
                 self.clearance,
                 speeds,
-                separation_margin(self.motion_limits, self.rate, self.limits),
+                self.separation_margin(),
                 objective=self.objective,
                 footprint=self.footprint,
                 plane_margin=self._plane_margin(self.rate),
@@ -346,7 +351,7 @@ class TrajectoryGenerator:
         """At a threshold clearance (the plan keeps exactly D somewhere while the robots move) no rate can be
         verified: the gate's bound between rows loses ``a·Δt²/8``. Names a slightly lower clearance that gives
         verified setpoints (tried here, at most three), or "" if the plan is not at a threshold or none works."""
-        margin = separation_margin(self.motion_limits, self.rate, self.limits)
+        margin = self.separation_margin()
         if self.clearance <= 0 or float(plan.min_distance()) - self.clearance >= margin:
             return ""
         for drop in (2.0 * margin, 1e-3 * self.clearance, 1e-2 * self.clearance):
@@ -386,7 +391,7 @@ class TrajectoryGenerator:
                 pl.track,
                 pl.clearance,
                 pl.speeds,
-                separation_margin(gen.motion_limits, gen.rate, gen.limits),
+                gen.separation_margin(),
                 objective=pl.objective,
                 footprint=self.footprint,
                 plane_margin=self._plane_margin(gen.rate),
@@ -440,7 +445,7 @@ class TrajectoryGenerator:
             if why:
                 return why
         best = self.lowest_rate(plan)
-        margin = separation_margin(self.motion_limits, self.rate, self.limits)
+        margin = self.separation_margin()
         if best is not None:
             slack = float(plan.min_distance()) - self.clearance
             tight = ""
@@ -535,7 +540,7 @@ class TrajectoryGenerator:
     def _optimized(
         self, plan: Plan | GraphPlan, geom: RouteGeometry, timings: dict[str, Any], stats: dict[str, Any]
     ) -> Trajectory:
-        sep = self.clearance + separation_margin(self.motion_limits, self.rate, self.limits)
+        sep = self.clearance + self.separation_margin()
         t0 = time.perf_counter()
         view = plan_view(plan)
         # start == goal: a motion of zero length (one row at rest); the straight "line" is a single point
