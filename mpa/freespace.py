@@ -88,10 +88,14 @@ INDEX_DICT_POLYGONS = 250_000
 #: Cells classified at once when the free space is built (a block of rows of the E × E cells).
 CELL_BLOCK = 1 << 18
 
-#: Up to this many polygons the components are found by a union-find in Python, above it by scipy's csgraph (already
-#: imported by the vertex distances, :func:`mpa.geometry.vertex_distance_matrix`): at 19 460 polygons (the airport
-#: terminal's 139 lanes) 30 ms CPU instead of the union-find's 100 ms.
+#: Up to this many polygons the components are found by a union-find in Python, above it by label jumping in numpy
+#: (:func:`_label_components`): at 19 460 polygons (the airport terminal's 139 lanes) a few ms instead of the
+#: union-find's 100 ms.
 SMALL_POLYGONS = 1_000
+
+#: Above this many polygons the components are found by scipy's csgraph (its import, 0.4 s, is then a small part of
+#: the build; small layouts do without it).
+SCIPY_POLYGONS = 200_000
 
 
 def _union_find(n: int, rows: list[int], cols: list[int]) -> list[int]:
@@ -109,6 +113,30 @@ def _union_find(n: int, rows: list[int], cols: list[int]) -> list[int]:
         if ra != rb:
             parent[ra] = rb
     return [find(i) for i in range(n)]
+
+
+def _label_components(n: int, rows: NDArray[np.int64], cols: NDArray[np.int64]) -> NDArray[np.int64]:
+    """Per node of an undirected graph of ``n`` nodes (edges ``rows[i] -- cols[i]``) the least node of its component.
+
+    Label jumping: every label is the number of a node of the same component, never above the node's own; each round
+    hooks the larger label of every edge whose ends disagree onto the smaller and then follows the labels to their
+    roots, until every edge's ends agree (a few rounds: the hooked trees are flattened each time).
+    """
+    lab = np.arange(n, dtype=np.int64)
+    while True:
+        lu, lv = lab[rows], lab[cols]
+        diff = lu != lv
+        if not diff.any():
+            return lab
+        lu, lv = lu[diff], lv[diff]
+        hi = np.maximum(lu, lv)
+        np.minimum.at(lab, hi, np.minimum(lu, lv))  # each root hooked below itself: no cycles
+        while True:
+            nxt = lab[lab]
+            if np.array_equal(nxt, lab):
+                break
+            lab = nxt
+        rows, cols = rows[diff], cols[diff]
 
 
 class _PolygonIndex:
@@ -323,6 +351,8 @@ class FreeSpace:
         n_nodes = n_poly + 2 * n_v * n_e
         if n_poly <= SMALL_POLYGONS:  # union-find in Python: tiny layouts
             lab = np.asarray(_union_find(n_nodes, r.tolist(), c.tolist()), dtype=np.int64)[:n_poly]
+        elif n_poly <= SCIPY_POLYGONS:
+            lab = _label_components(n_nodes, r, c)[:n_poly]
         else:
             from scipy.sparse import coo_matrix
             from scipy.sparse.csgraph import connected_components
