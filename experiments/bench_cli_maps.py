@@ -7,7 +7,8 @@ Maps: the Open-RMF sample maps of ``tests/data/openrmf`` (office L1, hotel L1 / 
 terminal's level L1, navigation graph 2, at D = 0.6 m). Queries: on the airport the query of issue 25 (a 438 s
 motion) and on every map seeded queries of ``bench.graph_runner.make_graph_queries`` that are not swaps (the swaps'
 plan time is measured by ``bench_plan_tails.py``). Each query runs ``--runs`` times as a fresh process
-(``python -m trajopt.cli trajectory ... --out DIR``); per map the median wall time and the median CPU time of the
+(``python -m trajopt.cli trajectory ... --out DIR``), after one unrecorded warm-up run (numba compiles and
+caches its kernels on the first run of a checkout); per map the median wall time and the median CPU time of the
 process (user + system, ``resource.getrusage(RUSAGE_CHILDREN)``: on a shared machine the wall time includes the
 waits for a core). ``--root DIR`` runs the code of another checkout (``PYTHONPATH=DIR``), for before/after.
 Prints a Markdown table; ``--out FILE`` also writes ``FILE.json``.
@@ -92,6 +93,8 @@ def main() -> None:
     print("| map | queries x runs | wall median (s) | wall max (s) | CPU median (s) | CPU max (s) |")
     print("|---|---|---|---|---|---|")
     records = []
+    name, path, options, clearance = MAPS[0]  # a warm-up run, not recorded: numba's kernels compiled and cached once
+    _run(root, path, options, clearance, _queries(name, path, options, clearance, 1)[0])
     for name, path, options, clearance in MAPS:
         walls, cpus = [], []
         for query in _queries(name, path, options, clearance, args.queries):
