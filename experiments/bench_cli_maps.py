@@ -5,7 +5,7 @@ timing, gate, margins, files written.
 
 Maps: the Open-RMF sample maps of ``tests/data/openrmf`` (office L1, hotel L1 / L2 / L3 at D = 0.3 m, the airport
 terminal's level L1, navigation graph 2, at D = 0.6 m). Queries: on the airport the query of issue 25 (a 438 s
-motion) and on every map seeded queries of ``bench.graph_runner.make_graph_queries`` that are not swaps (the swaps'
+motion) then, on every map, seeded queries of ``bench.graph_runner.make_graph_queries`` that are not swaps (the swaps'
 plan time is measured by ``bench_plan_tails.py``). Each query runs ``--runs`` times as a fresh process
 (``python -m trajopt.cli trajectory ... --out DIR``), after one unrecorded warm-up run (numba compiles and
 caches its kernels on the first run of a checkout); per map the median wall time and the median CPU time of the
