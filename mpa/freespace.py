@@ -153,8 +153,9 @@ class _PolygonIndex:
         idx = np.nonzero(head)[0]
         first[pe[idx], pf[idx]] = idx
         self._first: list[list[int]] = first.tolist()
-        self._k0: list[bool] = (pk[idx] == 0).tolist()  # whether a cell's first polygon is piece 0, by head number
-        self._head_of = {int(i): j for j, i in enumerate(idx.tolist())}
+        k0 = np.zeros((n_e, n_e), dtype=bool)
+        k0[pe[idx], pf[idx]] = pk[idx] == 0
+        self._k0: list[list[bool]] = k0.tolist()  # per cell: whether its first polygon is piece 0
         second = np.nonzero(~head)[0]  # (e, e, 1) after (e, e, 0)
         self._second = {int(pe[i]): int(i) for i in second}
         self._n = n
@@ -171,8 +172,7 @@ class _PolygonIndex:
         i = self._first[e][f]
         if i < 0:
             return default
-        k0 = self._k0[self._head_of[i]]
-        if (k == 0) == k0:
+        if (k == 0) == self._k0[e][f]:
             return i
         if k == 1 and e == f:
             return self._second.get(e, default)
@@ -336,23 +336,26 @@ class FreeSpace:
         ok = self.faces.ok
         same = pe == pf
         rows, cols = [], []
+        n_nodes = n_poly + 2 * n_v * n_e
+        idx = np.int32 if n_nodes < 2**31 else np.int64  # half the memory of the incidences on large layouts
         # A on a vertex: the tail of e (two edges, or piece 1 of one edge) and the head of e (two edges, or piece 0)
         for w, use in ((tails[pe], ~same | (pk == 1)), (heads[pe], ~same | (pk == 0))):
             m = use & ok[w, pf]
-            rows.append(np.nonzero(m)[0])
-            cols.append(n_poly + w[m] * n_e + pf[m])
+            rows.append(np.nonzero(m)[0].astype(idx))
+            cols.append((n_poly + w[m] * n_e + pf[m]).astype(idx))
         # B on a vertex: the tail of f (two edges, or piece 0 of one edge) and the head of f (or piece 1)
         for w, use in ((tails[pf], ~same | (pk == 0)), (heads[pf], ~same | (pk == 1))):
             m = use & ok[w, pe]
-            rows.append(np.nonzero(m)[0])
-            cols.append(n_poly + n_v * n_e + pe[m] * n_v + w[m])
+            rows.append(np.nonzero(m)[0].astype(idx))
+            cols.append((n_poly + n_v * n_e + pe[m] * n_v + w[m]).astype(idx))
         r = np.concatenate(rows)
+        del rows
         c = np.concatenate(cols)
-        n_nodes = n_poly + 2 * n_v * n_e
+        del cols
         if n_poly <= SMALL_POLYGONS:  # union-find in Python: tiny layouts
             lab = np.asarray(_union_find(n_nodes, r.tolist(), c.tolist()), dtype=np.int64)[:n_poly]
         elif n_poly <= SCIPY_POLYGONS:
-            lab = _label_components(n_nodes, r, c)[:n_poly]
+            lab = _label_components(n_nodes, r.astype(np.int64), c.astype(np.int64))[:n_poly]
         else:
             from scipy.sparse import coo_matrix
             from scipy.sparse.csgraph import connected_components
