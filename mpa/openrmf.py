@@ -87,7 +87,8 @@ def _nesting_bound(text: str) -> int:
 
 
 def _safe_load(text: str) -> object:
-    """``yaml.safe_load``, with libyaml's C loader when it is installed and the text's nesting is bounded."""
+    """``yaml.safe_load``, with libyaml's C loader when it is installed and the text's nesting is bounded (a text
+    the C loader refuses is read again by PyYAML's loader, so that the error names what PyYAML names)."""
     import yaml
 
     loader = getattr(yaml, "CSafeLoader", None)
@@ -104,12 +105,14 @@ def _safe_load(text: str) -> object:
 
     old = threading.stack_size(C_LOADER_STACK)
     try:
-        worker = threading.Thread(target=run, name="yaml-c-loader")
+        worker = threading.Thread(target=run, name="yaml-c-loader", daemon=True)
         worker.start()
     finally:
         threading.stack_size(old)
     worker.join()
     if err:
+        if isinstance(err[0], yaml.YAMLError):  # PyYAML's own message and mark for a text that is not valid
+            return yaml.safe_load(text)
         raise err[0]
     return out[0]
 

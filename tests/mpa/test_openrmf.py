@@ -467,3 +467,19 @@ def test_nesting_bound_is_an_upper_bound() -> None:
         for flow in (True, False, None):
             text = yaml.safe_dump(x, default_flow_style=flow)
             assert _nesting_bound(text) >= depth(yaml.safe_load(text)), text
+
+
+def test_invalid_yaml_is_named_as_pyyaml_names_it(tmp_path: Path) -> None:
+    """A text the C loader refuses gets PyYAML's message and position in the error."""
+    from mpa.errors import InvalidInputError
+
+    text = "levels:\n  L1: [a, b\n  x: }\n"
+    with pytest.raises(yaml.YAMLError) as ref:
+        yaml.safe_load(text)
+    path = tmp_path / "bad.building.yaml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InvalidInputError) as info:
+        read_layout_file(path)
+    print(info.value)
+    assert str(getattr(ref.value, "problem", "")) in str(info.value)
+    assert "line 3 column 4" in str(info.value)
