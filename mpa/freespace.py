@@ -467,8 +467,7 @@ class FreeSpace:
 #: Budget of the free space's size: at most this many cells (pairs of edges, E²) are built. Measured on the seeded
 #: warehouse grids and road maps: 1 000 edges (1e6 cells, 1e6 polygons) build in 1.2-1.7 s CPU with a peak of about
 #: 330 MB (``tracemalloc``; 93 MB kept); 3 000 edges (9e6 cells) would need about 3 GB at the peak (scaled, not
-#: measured: every pair of
-#: edges is a polygon and a node of the components).
+#: measured: every pair of edges is a polygon and a node of the components).
 MAX_CELLS = 1_500_000
 
 
