@@ -12,7 +12,8 @@ super-level set is convex); every free polygon of a cell ``e × f`` with ``w`` a
 this interval on its side ``s = 0`` (``w`` the tail of ``e``) or ``s = L_e`` (``w`` the head). Faces ``A on e, B at
 w`` likewise. Polygons sharing a face are adjacent (a face that is a single point still connects: point contacts
 count). Corners, where both robots stand on vertices, lie on faces and need no extra gluing. Path components of the
-free set are the connected components of the polygon–face incidence graph (union-find).
+free set are the connected components of the polygon–face incidence graph (by size: a union-find, label
+jumping in numpy, scipy's csgraph).
 
 Tolerances. Membership uses ``d >= D - tol`` with ``tol = 1e-12 · max(1, total length)``, so thresholds that are met
 exactly (a siding exactly as long as the clearance) count as free. A clearance of 0 (the paper's ``C²``, only the
@@ -88,10 +89,14 @@ INDEX_DICT_POLYGONS = 250_000
 #: Cells classified at once when the free space is built (a block of rows of the E × E cells).
 CELL_BLOCK = 1 << 18
 
-#: Up to this many polygons the components are found by a union-find in Python, above it by scipy's csgraph (already
-#: imported by the vertex distances, :func:`mpa.geometry.vertex_distance_matrix`): at 19 460 polygons (the airport
-#: terminal's 139 lanes) 30 ms CPU instead of the union-find's 100 ms.
+#: Up to this many polygons the components are found by a union-find in Python, above it by label jumping in numpy
+#: (:func:`_label_components`): at 19 460 polygons (the airport terminal's 139 lanes) a few ms instead of the
+#: union-find's 100 ms.
 SMALL_POLYGONS = 1_000
+
+#: Above this many polygons the components are found by scipy's csgraph (its import, 0.4 s, is then a small part of
+#: the build; small layouts do without it).
+SCIPY_POLYGONS = 200_000
 
 
 def _union_find(n: int, rows: list[int], cols: list[int]) -> list[int]:
@@ -111,6 +116,30 @@ def _union_find(n: int, rows: list[int], cols: list[int]) -> list[int]:
     return [find(i) for i in range(n)]
 
 
+def _label_components(n: int, rows: NDArray[np.int64], cols: NDArray[np.int64]) -> NDArray[np.int64]:
+    """Per node of an undirected graph of ``n`` nodes (edges ``rows[i] -- cols[i]``) the least node of its component.
+
+    Label jumping: every label is the number of a node of the same component, never above the node's own; each round
+    hooks the larger label of every edge whose ends disagree onto the smaller and then follows the labels to their
+    roots, until every edge's ends agree (a few rounds: the hooked trees are flattened each time).
+    """
+    lab = np.arange(n, dtype=np.int64)
+    while True:
+        lu, lv = lab[rows], lab[cols]
+        diff = lu != lv
+        if not diff.any():
+            return lab
+        lu, lv = lu[diff], lv[diff]
+        hi = np.maximum(lu, lv)
+        np.minimum.at(lab, hi, np.minimum(lu, lv))  # each root hooked below itself: no cycles
+        while True:
+            nxt = lab[lab]
+            if np.array_equal(nxt, lab):
+                break
+            lab = nxt
+        rows, cols = rows[diff], cols[diff]
+
+
 class _PolygonIndex:
     """The number of each free polygon ``(e, f, k)`` (a read-only mapping), from the polygons' arrays sorted by
     ``(e, f, k)``: per cell its first polygon (-1 when empty), per edge the second piece of its own cell, instead of a
@@ -125,8 +154,9 @@ class _PolygonIndex:
         idx = np.nonzero(head)[0]
         first[pe[idx], pf[idx]] = idx
         self._first: list[list[int]] = first.tolist()
-        self._k0: list[bool] = (pk[idx] == 0).tolist()  # whether a cell's first polygon is piece 0, by head number
-        self._head_of = {int(i): j for j, i in enumerate(idx.tolist())}
+        k0 = np.zeros((n_e, n_e), dtype=bool)
+        k0[pe[idx], pf[idx]] = pk[idx] == 0
+        self._k0: list[list[bool]] = k0.tolist()  # per cell: whether its first polygon is piece 0
         second = np.nonzero(~head)[0]  # (e, e, 1) after (e, e, 0)
         self._second = {int(pe[i]): int(i) for i in second}
         self._n = n
@@ -143,8 +173,7 @@ class _PolygonIndex:
         i = self._first[e][f]
         if i < 0:
             return default
-        k0 = self._k0[self._head_of[i]]
-        if (k == 0) == k0:
+        if (k == 0) == self._k0[e][f]:
             return i
         if k == 1 and e == f:
             return self._second.get(e, default)
@@ -308,21 +337,26 @@ class FreeSpace:
         ok = self.faces.ok
         same = pe == pf
         rows, cols = [], []
+        n_nodes = n_poly + 2 * n_v * n_e
+        idx = np.int32 if n_nodes < 2**31 else np.int64  # half the memory of the incidences on large layouts
         # A on a vertex: the tail of e (two edges, or piece 1 of one edge) and the head of e (two edges, or piece 0)
         for w, use in ((tails[pe], ~same | (pk == 1)), (heads[pe], ~same | (pk == 0))):
             m = use & ok[w, pf]
-            rows.append(np.nonzero(m)[0])
-            cols.append(n_poly + w[m] * n_e + pf[m])
+            rows.append(np.nonzero(m)[0].astype(idx))
+            cols.append((n_poly + w[m] * n_e + pf[m]).astype(idx))
         # B on a vertex: the tail of f (two edges, or piece 0 of one edge) and the head of f (or piece 1)
         for w, use in ((tails[pf], ~same | (pk == 0)), (heads[pf], ~same | (pk == 1))):
             m = use & ok[w, pe]
-            rows.append(np.nonzero(m)[0])
-            cols.append(n_poly + n_v * n_e + pe[m] * n_v + w[m])
+            rows.append(np.nonzero(m)[0].astype(idx))
+            cols.append((n_poly + n_v * n_e + pe[m] * n_v + w[m]).astype(idx))
         r = np.concatenate(rows)
+        del rows
         c = np.concatenate(cols)
-        n_nodes = n_poly + 2 * n_v * n_e
+        del cols
         if n_poly <= SMALL_POLYGONS:  # union-find in Python: tiny layouts
             lab = np.asarray(_union_find(n_nodes, r.tolist(), c.tolist()), dtype=np.int64)[:n_poly]
+        elif n_poly <= SCIPY_POLYGONS:
+            lab = _label_components(n_nodes, r.astype(np.int64), c.astype(np.int64))[:n_poly]
         else:
             from scipy.sparse import coo_matrix
             from scipy.sparse.csgraph import connected_components
@@ -431,8 +465,9 @@ class FreeSpace:
 
 
 #: Budget of the free space's size: at most this many cells (pairs of edges, E²) are built. Measured on the seeded
-#: warehouse grids and road maps: 1 000 edges (1e6 cells, 1e6 polygons) build in 1.2-1.4 s CPU and about 400 MB;
-#: 3 000 edges (9e6 cells) would need several GB (every pair of edges is a polygon and a node of the components).
+#: warehouse grids and road maps: 1 000 edges (1e6 cells, 1e6 polygons) build in 1.2-1.7 s CPU with a peak of about
+#: 330 MB (``tracemalloc``; 93 MB kept); 3 000 edges (9e6 cells) would need about 3 GB at the peak (scaled, not
+#: measured: every pair of edges is a polygon and a node of the components).
 MAX_CELLS = 1_500_000
 
 

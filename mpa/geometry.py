@@ -107,9 +107,6 @@ def vertex_distance_matrix(n_vertices: int, tails: ArrayLike, heads: ArrayLike, 
         ``DV[a, b]`` in metres, ``inf`` between graph components, 0 on the diagonal. Loops never change it and
         of parallel edges only the shortest counts.
     """
-    from scipy.sparse import csr_matrix
-    from scipy.sparse.csgraph import shortest_path
-
     t = np.asarray(tails, dtype=np.int64)
     h = np.asarray(heads, dtype=np.int64)
     w = np.asarray(lengths, dtype=float)
@@ -126,6 +123,9 @@ def vertex_distance_matrix(n_vertices: int, tails: ArrayLike, heads: ArrayLike, 
     u, v, ww = u[first], v[first], ww[first]
     if n_vertices <= FLOYD_VERTICES or np.any(ww == 0.0):  # (a sparse matrix drops stored zeros)
         return _floyd(n_vertices, u, v, ww)
+    from scipy.sparse import csr_matrix  # here: small layouts do without scipy's import (0.4 s)
+    from scipy.sparse.csgraph import shortest_path
+
     graph = csr_matrix((ww, (u, v)), shape=(n_vertices, n_vertices))
     dv: FloatArray = shortest_path(graph, method="D", directed=True)
     np.fill_diagonal(dv, 0.0)

@@ -30,15 +30,15 @@ Delay tolerance ``τ`` (s)
     ``h·V(t)``, with ``V(t)`` its peak speed over the times ``[t − δ − h, t − δ]`` of its own motion (largest
     sampled ``|v|`` plus ``amax·Δt/2``), or 0 where it rests throughout; so
     ``F ≥ min_k [lb_k(δ) − h·V_k]`` (``lb_k`` the between-rows bound of grid step k). An interval that passes is
-    accepted (and ``h`` doubled, up to :data:`DELAY_STEP`); one that fails is halved, down to
-    :data:`DELAY_PRECISION`, where ``τ`` is set. So ``τ`` is a lower bound of the true value, short of it by at
-    most ``DELAY_PRECISION`` plus the bound's slack (``≈ Σ amax·Δt²/8``, 2.5e-7 m at 1 kHz, divided by the
-    rate at which ``F`` falls). Delaying a cart by more than its whole motion changes nothing more (it waits at
-    its start during the other's motion, then moves while the other rests at its goal): if the stepping passes
-    the cart's own motion time, ``τ`` is infinite. ``delay_tolerance = min(τ_A, τ_B)``. Where ``F`` stays
-    within the bound's slack of ``D`` over a long range of delays (a grazing contact) the steps shrink; the
-    search stops after :data:`MAX_DELAY_STEPS` steps and reports the delay reached (a lower bound) with
-    ``delay_resolved = False``.
+    accepted (and ``h`` doubled, up to the motion's time ``T``; the first step is :data:`DELAY_STEP`); one that
+    fails is halved, down to :data:`DELAY_PRECISION`, where ``τ`` is set. So ``τ`` is a lower bound of the true
+    value, short of it by at most ``DELAY_PRECISION`` plus the bound's slack (``≈ Σ amax·Δt²/8``, 2.5e-7 m at
+    1 kHz, divided by the rate at which ``F`` falls). Delaying a cart by more than its whole motion changes
+    nothing more (it waits at its start during the other's motion, then moves while the other rests at its
+    goal): if the stepping passes the cart's own motion time, ``τ`` is infinite.
+    ``delay_tolerance = min(τ_A, τ_B)``. Where ``F`` stays within the bound's slack of ``D`` over a long range
+    of delays (a grazing contact) the steps shrink; the search stops after :data:`MAX_DELAY_STEPS` steps and
+    reports the delay reached (a lower bound) with ``delay_resolved = False``.
 """
 
 from __future__ import annotations
@@ -77,7 +77,8 @@ MAX_REFINE_STEPS = 20_000
 MIN_PRECISION = 1e-9
 #: Resolution of the delay tolerance (s).
 DELAY_PRECISION = 1e-6
-#: Largest δ step of the delay search (s).
+#: First δ step of the delay search (s); a step that keeps the clearance doubles the next, up to the motion's time
+#: (delays far from a contact cost a few steps, not one a second).
 DELAY_STEP = 1.0
 #: Cap on the rows the delay search of one cart samples (a bounded cost for long motions; the value reached is
 #: returned, a lower bound, as at :data:`MAX_DELAY_STEPS`).
@@ -264,7 +265,7 @@ class _Motion:
                 return delta, False
             if self._delay_interval_holds(robot, delta, h, D):
                 delta += h
-                h = min(2.0 * h, DELAY_STEP)
+                h = min(2.0 * h, max(DELAY_STEP, self.T))
             elif h <= DELAY_PRECISION:
                 return delta, True
             else:

@@ -97,12 +97,15 @@ def test_polygon_index_and_components_match_a_dictionary_and_a_union_find(monkey
         track = random_layout(rng)
         d = float(rng.uniform(0.0, 1.5))
         small = FreeSpace(track, d)
-        monkeypatch.setattr(fsmod, "SMALL_POLYGONS", 0)  # the scipy path
+        monkeypatch.setattr(fsmod, "SMALL_POLYGONS", 0)  # label jumping in numpy
+        middle = FreeSpace(track, d)
+        monkeypatch.setattr(fsmod, "SCIPY_POLYGONS", 0)  # the scipy path
         monkeypatch.setattr(fsmod, "INDEX_DICT_POLYGONS", 0)  # the nested lists
         large = FreeSpace(track, d)
         monkeypatch.undo()
         assert small.polygon_ids == large.polygon_ids
         assert np.array_equal(small.polygon_component, large.polygon_component), (track.to_dict(), d)
+        assert np.array_equal(small.polygon_component, middle.polygon_component), (track.to_dict(), d)
         ref = {pid: i for i, pid in enumerate(small.polygon_ids)}
         n_e = track.n_edges
         assert dict(small._index) == ref and isinstance(large._index, fsmod._PolygonIndex)
@@ -186,3 +189,23 @@ def test_tied_routes_shortcut_matches_the_search_on_random_layouts() -> None:
             assert math.isclose(plan.makespan, ref.makespan, rel_tol=1e-9, abs_tol=1e-12), case
             assert plan.min_distance() >= fs._dmin - 1e-12, case
     assert took >= 20 and tied >= 3, (took, tied)
+
+
+def test_label_jumping_finds_the_union_finds_components() -> None:
+    """Seeded random graphs (isolated nodes, loops, repeated edges, long chains): the same partition, each label the
+    least node of its component."""
+    rng = np.random.default_rng(11)
+    for case in range(300):
+        n = int(rng.integers(1, 400))
+        m = int(rng.integers(0, 2 * n))
+        rows = rng.integers(0, n, m)
+        cols = rng.integers(0, n, m)
+        if case % 5 == 0:  # a long chain in a random order: many rounds of hooking
+            perm = rng.permutation(n)
+            rows, cols = np.concatenate([rows, perm[:-1]]), np.concatenate([cols, perm[1:]])
+        got = fsmod._label_components(n, rows.astype(np.int64), cols.astype(np.int64))
+        ref = np.asarray(fsmod._union_find(n, rows.tolist(), cols.tolist()))
+        least = {}
+        for i, r in enumerate(ref.tolist()):
+            least.setdefault(r, i)
+        assert got.tolist() == [least[r] for r in ref.tolist()], (case, n, m)

@@ -421,3 +421,65 @@ def test_serve_opens_with_a_building_map() -> None:
     init = _initial(args)
     assert init["name"] == "hotel.building" and len(init["layout"]["edges"]) == 16
     assert mpa.GraphTrack.from_layout(init["layout"]) == mpa.GraphTrack.from_file(HOTEL, level="L2", nav_graph=2)
+
+
+def test_the_c_loader_reads_what_the_python_loader_reads() -> None:
+    """libyaml's loader (used when the nesting is bounded) gives the same data as PyYAML's on the shared maps."""
+    from mpa.openrmf import C_LOADER_DEPTH, _nesting_bound, _safe_load
+
+    for path in sorted(DATA.glob("*.yaml")):
+        text = path.read_text(encoding="utf-8")
+        assert _nesting_bound(text) <= C_LOADER_DEPTH, path.name  # these maps take the C loader
+        assert _safe_load(text) == yaml.safe_load(text), path.name
+
+
+@pytest.mark.parametrize("text", ["[" * 30_000 + "]" * 30_000, "- " * 30_000 + "x"])
+def test_deeply_nested_yaml_is_refused_not_a_crash(tmp_path: Path, text: str) -> None:
+    """Past the C loader's nesting bound the Python loader answers: an error naming the file, no crash."""
+    from mpa.errors import InvalidInputError
+    from mpa.openrmf import C_LOADER_DEPTH, _nesting_bound
+
+    assert _nesting_bound(text) > C_LOADER_DEPTH
+    path = tmp_path / "deep.building.yaml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InvalidInputError, match="nested too deeply") as info:
+        read_layout_file(path)
+    print(info.value)
+
+
+def test_nesting_bound_is_an_upper_bound() -> None:
+    """Seeded random nestings of flow and block collections: the bound is never below the true depth."""
+    rng = np.random.default_rng(7)
+
+    def depth(x: Any) -> int:
+        if isinstance(x, dict):
+            return 1 + max((depth(v) for v in x.values()), default=0)
+        if isinstance(x, list):
+            return 1 + max((depth(v) for v in x), default=0)
+        return 0
+
+    from mpa.openrmf import _nesting_bound
+
+    for _ in range(200):
+        x: Any = int(rng.integers(10))
+        for _ in range(int(rng.integers(1, 40))):
+            x = [x, "a-b"] if rng.random() < 0.5 else {"k": x, "q": "x?"}
+        for flow in (True, False, None):
+            text = yaml.safe_dump(x, default_flow_style=flow)
+            assert _nesting_bound(text) >= depth(yaml.safe_load(text)), text
+
+
+def test_invalid_yaml_is_named_as_pyyaml_names_it(tmp_path: Path) -> None:
+    """A text the C loader refuses gets PyYAML's message and position in the error."""
+    from mpa.errors import InvalidInputError
+
+    text = "levels:\n  L1: [a, b\n  x: }\n"
+    with pytest.raises(yaml.YAMLError) as ref:
+        yaml.safe_load(text)
+    path = tmp_path / "bad.building.yaml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InvalidInputError) as info:
+        read_layout_file(path)
+    print(info.value)
+    assert str(getattr(ref.value, "problem", "")) in str(info.value)
+    assert "line 3 column 4" in str(info.value)

@@ -1,0 +1,124 @@
+"""`mpa trajectory` end to end on the converted building maps: process start, imports, map read, free space, plan,
+timing, gate, margins, files written.
+
+    python experiments/bench_cli_maps.py [--runs 3] [--queries 3] [--root DIR] [--out FILE]
+
+Maps: the Open-RMF sample maps of ``tests/data/openrmf`` (office L1, hotel L1 / L2 / L3 at D = 0.3 m, the airport
+terminal's level L1, navigation graph 2, at D = 0.6 m). Queries: on the airport the query of issue 25 (a 438 s
+motion) then, on every map, seeded queries of ``bench.graph_runner.make_graph_queries`` that are not swaps (the swaps'
+plan time is measured by ``bench_plan_tails.py``). Each query runs ``--runs`` times as a fresh process
+(``python -m trajopt.cli trajectory ... --out DIR``), after one unrecorded warm-up run (numba compiles and
+caches its kernels on the first run of a checkout); per map the median wall time and the median CPU time of the
+process (user + system, ``resource.getrusage(RUSAGE_CHILDREN)``: on a shared machine the wall time includes the
+waits for a core). ``--root DIR`` runs the code of another checkout (``PYTHONPATH=DIR``), for before/after.
+Prints a Markdown table; ``--out FILE`` also writes ``FILE.json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT.parent))
+
+from bench.graph_runner import make_graph_queries  # noqa: E402
+
+from mpa.graph_track import GraphTrack  # noqa: E402
+
+DATA = ROOT.parent / "tests" / "data" / "openrmf"
+AIRPORT = DATA / "airport_terminal.building.yaml"
+#: The query of issue 25 on the airport terminal (level L1, navigation graph 2), clearance 0.6 m.
+AIRPORT_QUERY = (("lane70:3.102", "lane143:8.848"), ("lane87:1.237", "lane100:0.997"))
+MAPS: tuple[tuple[str, Path, list[str], float], ...] = (
+    ("office L1", DATA / "office.building.yaml", ["--level", "L1"], 0.3),
+    ("hotel L1", DATA / "hotel.building.yaml", ["--level", "L1"], 0.3),
+    ("hotel L2", DATA / "hotel.building.yaml", ["--level", "L2"], 0.3),
+    ("hotel L3", DATA / "hotel.building.yaml", ["--level", "L3"], 0.3),
+    ("airport L1 graph 2", AIRPORT, ["--level", "L1", "--nav-graph", "2"], 0.6),
+)
+
+
+def _queries(name: str, path: Path, options: list[str], clearance: float, n: int) -> list[tuple[Any, Any]]:
+    level = options[options.index("--level") + 1]
+    nav = int(options[options.index("--nav-graph") + 1]) if "--nav-graph" in options else None
+    track = GraphTrack.from_file(path, level=level, nav_graph=nav)
+    out: list[tuple[Any, Any]] = [AIRPORT_QUERY] if path == AIRPORT else []
+    for q in make_graph_queries(track, 4 * n, 25, [clearance]):
+        if len(out) >= n:
+            break
+        if q["swap"]:
+            continue
+        out.append(tuple(tuple(track.position_name(*p) for p in pair) for pair in (q["start"], q["goal"])))
+    return out
+
+
+def _run(root: Path, path: Path, options: list[str], clearance: float, query: tuple[Any, Any]) -> tuple[float, float]:
+    """Wall and CPU seconds of one ``mpa trajectory`` process."""
+    (a0, b0), (a1, b1) = query
+    env = {**os.environ, "PYTHONPATH": str(root)}
+    with tempfile.TemporaryDirectory() as tmp:
+        cmd = [sys.executable, "-m", "trajopt.cli", "trajectory", "--graph", str(path), *options]
+        cmd += ["--start", a0, b0, "--goal", a1, b1, "--clearance", str(clearance), "--out", str(Path(tmp) / "o")]
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.perf_counter()
+        proc = subprocess.run(cmd, env=env, cwd=root, capture_output=True, text=True, check=False)
+        wall = time.perf_counter() - t0
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if proc.returncode != 0:
+            raise RuntimeError(f"{' '.join(cmd)} exited {proc.returncode}: {proc.stderr.strip()}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--queries", type=int, default=3)
+    ap.add_argument("--root", default=str(ROOT.parent), help="the checkout whose code runs")
+    ap.add_argument("--out", default=None)
+    args = ap.parse_args()
+    root = Path(args.root).resolve()
+    print("| map | queries x runs | wall median (s) | wall max (s) | CPU median (s) | CPU max (s) |")
+    print("|---|---|---|---|---|---|")
+    records = []
+    name, path, options, clearance = MAPS[0]  # a warm-up run, not recorded: numba's kernels compiled and cached once
+    _run(root, path, options, clearance, _queries(name, path, options, clearance, 1)[0])
+    for name, path, options, clearance in MAPS:
+        walls, cpus = [], []
+        for query in _queries(name, path, options, clearance, args.queries):
+            for _ in range(args.runs):
+                w, c = _run(root, path, options, clearance, query)
+                walls.append(w)
+                cpus.append(c)
+        rec = {
+            "map": name,
+            "runs": len(walls),
+            "wall_median_s": float(np.median(walls)),
+            "wall_max_s": float(np.max(walls)),
+            "cpu_median_s": float(np.median(cpus)),
+            "cpu_max_s": float(np.max(cpus)),
+        }
+        records.append(rec)
+        print(
+            f"| {name} | {rec['runs']} | {rec['wall_median_s']:.2f} | {rec['wall_max_s']:.2f} | "
+            f"{rec['cpu_median_s']:.2f} | {rec['cpu_max_s']:.2f} |",
+            flush=True,
+        )
+    if args.out:
+        Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
+
+
+if __name__ == "__main__":
+    main()
