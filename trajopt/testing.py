@@ -19,7 +19,8 @@ On a layout (:class:`mpa.GraphTrack`), :func:`check_graph_setpoints` checks the 
 within their edges, edge changes only between edges sharing a vertex, and the ``*_dir`` column.
 
 Each check returns a message on failure; :func:`check_trajectory` applies them to a
-:class:`~trajopt.result.Trajectory`.
+:class:`~trajopt.result.Trajectory`. :func:`travel_curve` resamples a trajectory's path by route travel, to
+compare two motions' paths (re-planning stability).
 """
 
 from __future__ import annotations
@@ -42,6 +43,7 @@ __all__ = [
     "check_graph_trajectory",
     "check_setpoints",
     "check_trajectory",
+    "travel_curve",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -484,3 +486,32 @@ def check_graph_trajectory(traj: Any, *, fine: int = 8) -> list[str]:
         (ea, oa), (eb, ob) = plan.route_a.positions(s[:, 0]), plan.route_b.positions(s[:, 1])
         fails += _dense_separation_failures(tf, m(ea, oa, eb, ob), traj.clearance)
     return fails
+
+
+def travel_curve(traj: Any, t0: float, n: int = 600) -> FloatArray:
+    """The path of ``traj`` from ``t0`` on: ``n`` points equally spaced in route travel, in track coordinates.
+
+    The motion is sampled every 0.5 ms from ``t0`` to the end of the motion; travel is the larger of the two
+    robots' route-coordinate steps, summed.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        A trajectory on a paper track (its plan's ``routes`` map route to track coordinates).
+    t0 : float
+        Start time (s), in ``[0, traj.motion_time]``.
+    n : int
+        Number of points.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (n, 2): robot A's and B's track coordinates (m).
+    """
+    t = np.append(np.arange(t0, traj.motion_time, 1 / 2000.0), traj.motion_time)
+    s = traj.sampler(t)[0]
+    c = np.concatenate([[0.0], np.cumsum(np.max(np.abs(np.diff(s, axis=0)), axis=1))])
+    u = np.linspace(0.0, c[-1], n)
+    ss = np.stack([np.interp(u, c, s[:, 0]), np.interp(u, c, s[:, 1])], axis=1)
+    r = traj.plan.routes
+    return np.stack([r[0].position(ss[:, 0]), r[1].position(ss[:, 1])], axis=1)

@@ -25,7 +25,15 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from trajopt.export import Trajectory
 
-__all__ = ["draw_cspace", "draw_profiles", "draw_track", "figure_png", "plot_trajectory", "save_figure"]
+__all__ = [
+    "draw_cspace",
+    "draw_profiles",
+    "draw_track",
+    "figure_png",
+    "plot_trajectory",
+    "save_and_close",
+    "save_figure",
+]
 
 COLORS = ("tab:blue", "tab:orange")
 #: Line styles of robots A and B in the profiles: B dashed on top of A, so equal curves (a symmetric swap) show both.
@@ -130,6 +138,20 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float, **savefig
     with atomic_path(out) as tmp:
         fig.savefig(tmp, dpi=dpi, format=out.suffix.lstrip(".").lower() or "png", **savefig_kwargs)
     return out
+
+
+def save_and_close(fig: Figure, path: str | os.PathLike[str], dpi: float) -> Path:
+    """Lay ``fig`` out tightly, write it with :func:`save_figure` and close it (pyplot forgets it).
+
+    Returns the path written.
+    """
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    try:
+        return save_figure(fig, path, dpi)
+    finally:
+        plt.close(fig)
 
 
 def figure_png(fig: Figure) -> bytes:
