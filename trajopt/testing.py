@@ -43,6 +43,7 @@ __all__ = [
     "check_graph_trajectory",
     "check_setpoints",
     "check_trajectory",
+    "requirements",
     "travel_curve",
 ]
 
@@ -218,6 +219,20 @@ def _dense_times(traj: Any, fine: int) -> FloatArray:
     return np.linspace(0.0, traj.makespan, max(2, fine * (len(traj.t) - 1) + 1))
 
 
+def requirements(traj: Any) -> dict[str, Any]:
+    """What the rows of ``traj`` must keep, as the keywords of :func:`check_setpoints` and
+    :func:`check_graph_setpoints`: ``rate`` (Hz), ``clearance`` (m) and the per-robot limits ``vmax``, ``amax``,
+    ``jmax`` (shape (2,); m/s, m/s², m/s³).
+
+    Parameters
+    ----------
+    traj : Trajectory
+        Its ``rate``, ``clearance`` and ``limits`` are read.
+    """
+    lim = traj.limits
+    return {"rate": traj.rate, "clearance": traj.clearance, "vmax": lim.v, "amax": lim.a, "jmax": lim.j}
+
+
 def check_trajectory(
     traj: Any, start: ArrayLike | None = None, goal: ArrayLike | None = None, *, fine: int = 8
 ) -> list[str]:
@@ -242,22 +257,8 @@ def check_trajectory(
     track = plan.track
     st = plan.start if start is None else start
     gl = plan.goal if goal is None else goal
-    lim = traj.limits
     fails = check_setpoints(
-        track,
-        traj.t,
-        traj.track,
-        traj.s,
-        traj.v,
-        traj.a,
-        traj.j,
-        rate=traj.rate,
-        clearance=traj.clearance,
-        vmax=lim.v,
-        amax=lim.a,
-        jmax=lim.j,
-        start=st,
-        goal=gl,
+        track, traj.t, traj.track, traj.s, traj.v, traj.a, traj.j, start=st, goal=gl, **requirements(traj)
     )
     fails += _makespan_failures(traj)
     if fine > 0:
@@ -459,25 +460,9 @@ def check_graph_trajectory(traj: Any, *, fine: int = 8) -> list[str]:
     """
     plan = traj.plan
     m = GraphMetric(plan.track)
-    lim = traj.limits
+    rows = (traj.t, traj.edges, traj.offsets, traj.s, traj.v, traj.a, traj.j)
     fails = check_graph_setpoints(
-        plan.track,
-        traj.t,
-        traj.edges,
-        traj.offsets,
-        traj.s,
-        traj.v,
-        traj.a,
-        traj.j,
-        rate=traj.rate,
-        clearance=traj.clearance,
-        vmax=lim.v,
-        amax=lim.a,
-        jmax=lim.j,
-        start=plan.start,
-        goal=plan.goal,
-        dirs=traj.directions,
-        metric=m,
+        plan.track, *rows, start=plan.start, goal=plan.goal, dirs=traj.directions, metric=m, **requirements(traj)
     )
     fails += _makespan_failures(traj)
     if fine > 0 and len(traj.t) > 1:
