@@ -19,8 +19,9 @@ On a layout (:class:`mpa.GraphTrack`), :func:`check_graph_setpoints` checks the 
 within their edges, edge changes only between edges sharing a vertex, and the ``*_dir`` column.
 
 Each check returns a message on failure; :func:`check_trajectory` applies them to a
-:class:`~trajopt.result.Trajectory`. :func:`travel_curve` resamples a trajectory's path by route travel, to
-compare two motions' paths (re-planning stability).
+:class:`~trajopt.result.Trajectory` (:func:`requirements`: what its rows must keep). :func:`random_queries` draws
+seeded queries on a paper track; :func:`travel_curve` resamples a trajectory's path by route travel, to compare two
+motions' paths (re-planning stability).
 """
 
 from __future__ import annotations
@@ -43,6 +44,7 @@ __all__ = [
     "check_graph_trajectory",
     "check_setpoints",
     "check_trajectory",
+    "random_queries",
     "requirements",
     "travel_curve",
 ]
@@ -500,3 +502,31 @@ def travel_curve(traj: Any, t0: float, n: int = 600) -> FloatArray:
     ss = np.stack([np.interp(u, c, s[:, 0]), np.interp(u, c, s[:, 1])], axis=1)
     r = traj.plan.routes
     return np.stack([r[0].position(ss[:, 0]), r[1].position(ss[:, 1])], axis=1)
+
+
+def random_queries(track: Track, clearance: float, n: int, seed: int) -> list[tuple[FloatArray, FloatArray]]:
+    """``n`` seeded random queries on a paper track whose start and goal both keep the clearance.
+
+    Parameters
+    ----------
+    track : Track
+    clearance : float
+        Least track distance between the robots at the start and at the goal (m).
+    n : int
+        Number of queries.
+    seed : int
+        Seed of :func:`numpy.random.default_rng`; states are drawn uniformly in ``[0, total_length)`` until ``n``
+        pairs keep the clearance.
+
+    Returns
+    -------
+    list of (numpy.ndarray, numpy.ndarray)
+        ``(start, goal)`` pairs, each of shape (2,): track coordinates of A and B (m).
+    """
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        s, g = rng.uniform(0.0, track.total_length, 2), rng.uniform(0.0, track.total_length, 2)
+        if track.distance(*s) >= clearance and track.distance(*g) >= clearance:
+            out.append((s, g))
+    return out
