@@ -524,7 +524,7 @@ def random_queries(track: Track, clearance: float, n: int, seed: int) -> list[tu
         ``(start, goal)`` pairs, each of shape (2,): track coordinates of A and B (m).
     """
     rng = np.random.default_rng(seed)
-    out = []
+    out: list[tuple[FloatArray, FloatArray]] = []
     while len(out) < n:
         s, g = rng.uniform(0.0, track.total_length, 2), rng.uniform(0.0, track.total_length, 2)
         if track.distance(*s) >= clearance and track.distance(*g) >= clearance:
