@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import io
 import os
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -138,6 +139,16 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float, **savefig
     with atomic_path(out) as tmp:
         fig.savefig(tmp, dpi=dpi, format=out.suffix.lstrip(".").lower() or "png", **savefig_kwargs)
     return out
+
+
+def title_with_words(fig: Figure, title: str, words: Mapping[str, str] | None) -> None:
+    """Give ``fig`` the title ``title`` with each cart's motion in words (``{"A": ..., "B": ...}``) on a line of its
+    own below it; no title when both are empty."""
+    text = title
+    if words:
+        text += "".join(f"\n{k}: {w}" for k, w in words.items())
+    if text:
+        fig.suptitle(text, fontsize=10)
 
 
 def save_and_close(fig: Figure, path: str | os.PathLike[str], dpi: float) -> Path:
