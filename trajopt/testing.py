@@ -19,9 +19,10 @@ On a layout (:class:`mpa.GraphTrack`), :func:`check_graph_setpoints` checks the 
 within their edges, edge changes only between edges sharing a vertex, and the ``*_dir`` column.
 
 Each check returns a message on failure; :func:`check_trajectory` applies them to a
-:class:`~trajopt.result.Trajectory` (:func:`requirements`: what its rows must keep). :func:`random_queries` draws
-seeded queries on a paper track; :func:`travel_curve` resamples a trajectory's path by route travel, to compare two
-motions' paths (re-planning stability).
+:class:`~trajopt.result.Trajectory` (:func:`requirements`: what its rows must keep). For the tests and the
+benchmark scripts: :func:`random_queries` draws seeded queries on a paper track, :func:`random_rules` seeded lane
+rules on a layout; :func:`travel_curve` resamples a trajectory's path by route travel, to compare two motions'
+paths (re-planning stability).
 """
 
 from __future__ import annotations
@@ -45,6 +46,7 @@ __all__ = [
     "check_setpoints",
     "check_trajectory",
     "random_queries",
+    "random_rules",
     "requirements",
     "travel_curve",
 ]
@@ -530,3 +532,33 @@ def random_queries(track: Track, clearance: float, n: int, seed: int) -> list[tu
         if track.distance(*s) >= clearance and track.distance(*g) >= clearance:
             out.append((s, g))
     return out
+
+
+def random_rules(layout: dict[str, Any], rng: np.random.Generator, oneway: float, limited: float, speed: float) -> Any:
+    """A layout with seeded lane rules: each edge in turn one-way (the direction of its ``from``/``to``) with
+    probability ``oneway``, then limited to ``speed`` m/s with probability ``limited``.
+
+    Parameters
+    ----------
+    layout : dict
+        A layout dict (:meth:`mpa.GraphTrack.to_dict`); its edges are marked in place.
+    rng : numpy.random.Generator
+        Two draws per edge.
+    oneway, limited : float
+        Probabilities in [0, 1].
+    speed : float
+        Speed limit of the limited edges (m/s).
+
+    Returns
+    -------
+    GraphTrack
+        The layout read back (:meth:`mpa.GraphTrack.from_layout`).
+    """
+    from mpa.graph_track import GraphTrack
+
+    for e in layout["edges"]:
+        if rng.random() < oneway:
+            e["oneway"] = True
+        if rng.random() < limited:
+            e["speed_limit"] = speed
+    return GraphTrack.from_layout(layout)

@@ -19,6 +19,7 @@ from tests.helpers.planar_grid import grid_nodes, grid_queries
 from tests.mpa.test_footprints import drawn_of, fp_tuple, passing_loop, plan_depth
 from trajopt import generate_trajectory
 from trajopt.cli.main import main
+from trajopt.testing import random_rules
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "openrmf"
 FLEET = DATA / "office_tinyRobot_config.yaml"  # footprint 0.3 m, vicinity 0.5 m, limits 0.5 m/s, 0.75 m/s²
@@ -199,12 +200,7 @@ def _directed_grid(tr: GraphTrack, radius: float, clearance: float, step: float)
 def _random_ruled_layout(rng: np.random.Generator) -> GraphTrack:
     """A main line with a siding close beside it (``passing_loop``), some edges one-way, some speed-limited."""
     layout = passing_loop(float(rng.uniform(0.5, 1.5)), float(rng.uniform(0.5, 2.0)), float(rng.uniform(25, 50)))
-    for e in layout["edges"]:
-        if rng.random() < 0.45:
-            e["oneway"] = True
-        if rng.random() < 0.2:
-            e["speed_limit"] = 0.4
-    return GraphTrack.from_layout(layout)
+    return random_rules(layout, rng, oneway=0.45, limited=0.2, speed=0.4)
 
 
 @pytest.mark.parametrize("seed", range(6))
