@@ -27,6 +27,7 @@ paths (re-planning stability).
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from typing import Any
 
@@ -47,6 +48,7 @@ __all__ = [
     "check_trajectory",
     "random_queries",
     "random_rules",
+    "read_setpoint_rows",
     "requirements",
     "travel_curve",
 ]
@@ -119,6 +121,21 @@ def check_setpoints(
                 fails.append(f"robot {'AB'[r]} jumps {float(np.max(step))!r} m between rows")
     fails += _row_separation_failures(track.distance(P[:, 0], P[:, 1]), clearance)
     return fails
+
+
+def read_setpoint_rows(path: str | os.PathLike[str]) -> tuple[FloatArray, ...]:
+    """The rows of a setpoints CSV of a paper track in the order :func:`check_setpoints` takes them.
+
+    Reads the first eleven columns (``time``, then ``track, s, v, a, j`` of A and of B; conventions: Command
+    line and files) with numpy.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``t`` of shape (N,), then ``track, s, v, a, j``, each of shape (N, 2) (A's column first).
+    """
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2, usecols=range(11))
+    return (data[:, 0], *(data[:, [k, k + 5]] for k in range(1, 6)))
 
 
 def _rows_or_failure(
