@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mpa.errors import InvalidInputError
+from mpa.errors import InvalidInputError, positive_number
 from mpa.graph import Edge, MetricGraph
 
 if TYPE_CHECKING:
@@ -39,13 +39,7 @@ WRAP_TOL = 1e-12
 
 
 def _positive_length(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError, OverflowError):
-        raise InvalidInputError(f"{name} length is {value!r}, expected a positive finite number (metres)") from None
-    if not np.isfinite(v) or v <= 0:
-        raise InvalidInputError(f"{name} length is {v!r}, expected a positive finite number (metres)")
-    return v
+    return positive_number(value, f"{name} length", "metres")
 
 
 class Track:
