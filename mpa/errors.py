@@ -82,23 +82,9 @@ def positive_number(value: Any, name: str, unit: str) -> float:
 
 
 def nonnegative_number(value: Any, name: str, unit: str) -> float:
-    """``value`` as a float >= 0 and finite.
-
-    Parameters
-    ----------
-    value : object
-        What the caller gave.
-    name : str
-        The quantity, as the message names it (e.g. ``"min_margin"``).
-    unit : str
-        Its unit in words, plural (e.g. ``"metres"``, ``"seconds"``).
-
-    Raises
-    ------
-    InvalidInputError
-        ``"{name} is {value!r}, expected a number of {unit} >= 0"`` (not a number) or ``"..., expected a finite
-        number of {unit} >= 0"`` (negative, infinite or NaN).
-    """
+    """``value`` as a float >= 0 and finite, else :class:`InvalidInputError`: ``"{name} is {value!r}, expected a
+    number of {unit} >= 0"`` (not a number) or ``"... a finite number of {unit} >= 0"`` (negative, infinite or NaN).
+    ``unit`` in words, plural (``"metres"``, ``"seconds"``); see :func:`positive_number`."""
     v = _number(value, name, f"a number of {unit} >= 0")
     if not math.isfinite(v) or v < 0.0:
         raise InvalidInputError(f"{name} is {value!r}, expected a finite number of {unit} >= 0")
