@@ -20,6 +20,7 @@ import numpy as np
 import mpa
 from mpa.graph_track import GraphTrack
 from trajopt import generate_trajectory
+from trajopt.testing import random_rules
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "openrmf"
 MAPS = [("office", "office.building.yaml", "L1"), *[("hotel " + lv, "hotel.building.yaml", lv) for lv in ("L1", "L2")]]
@@ -27,13 +28,7 @@ MAPS = [("office", "office.building.yaml", "L1"), *[("hotel " + lv, "hotel.build
 
 def with_rules(track: GraphTrack, rng: np.random.Generator) -> GraphTrack:
     """The track with a seeded 30 % of its edges one-way (random direction kept) and 30 % limited to 0.3 m/s."""
-    d = track.to_dict()
-    for e in d["edges"]:
-        if rng.random() < 0.3:
-            e["oneway"] = True
-        if rng.random() < 0.3:
-            e["speed_limit"] = 0.3
-    return GraphTrack.from_layout(d)
+    return random_rules(track.to_dict(), rng, oneway=0.3, limited=0.3, speed=0.3)
 
 
 def run(track: GraphTrack, rng: np.random.Generator, queries: int, trajectories: bool) -> dict[str, float]:

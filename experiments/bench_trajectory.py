@@ -35,22 +35,12 @@ from mpa import defaults
 from mpa.errors import MPAError
 from mpa.tracks import make_track
 from trajopt import Limits, TrajectoryGenerator
+from trajopt.testing import random_queries
 from trajopt.timing import min_time_rest_to_rest
 
 STAGES = ("plan", "smooth", "blend", "jerk", "sample", "verify")
 DOMAINS = {"lollipop": (1, 2, 3), "circle": (1, 2), "interval": (1,)}
 DELTAS = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7)
-
-
-def random_queries(track, clearance: float, n: int, seed: int) -> list[tuple[np.ndarray, np.ndarray]]:  # type: ignore[no-untyped-def]
-    """``n`` seeded random valid queries (both states at least the clearance apart)."""
-    rng = np.random.default_rng(seed)
-    out = []
-    while len(out) < n:
-        s, g = rng.uniform(0.0, track.total_length, 2), rng.uniform(0.0, track.total_length, 2)
-        if track.distance(*s) >= clearance and track.distance(*g) >= clearance:
-            out.append((s, g))
-    return out
 
 
 def _q(x: np.ndarray) -> tuple[float, float]:

@@ -64,6 +64,7 @@ from bench.report import plot_results, plot_scaling, results_markdown, scaling_m
 from bench.runner import METHODS, BenchConfig, make_queries
 
 from mpa import defaults
+from trajopt.cli.common import trajectory_options
 from trajopt.export import atomic_write_text
 
 __all__ = ["main", "run_benchmark", "run_compute", "run_scaling"]
@@ -374,11 +375,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             track=t,
             stick=args.stick if t == "lollipop" else None,
             loop=args.loop,
-            clearance=args.clearance,
-            vmax=args.vmax,
-            amax=args.amax,
-            jmax=args.jmax,
-            rate=args.rate,
+            **trajectory_options(args),
             ompl_time=args.ompl_time,
             grid=args.grid,
             methods=methods,

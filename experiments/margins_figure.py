@@ -29,7 +29,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from mpa import Lollipop
 from trajopt import generate_trajectory
 from trajopt.margins import margins
-from trajopt.viz.plotting import save_figure
+from trajopt.viz.plotting import save_and_close
 
 #: The query drawn: A goes up into the loop while B comes down from it, passing close to each other near P.
 START, GOAL = (0.3, 1.2), (1.6, 0.4)
@@ -84,10 +84,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     ax2.legend(loc="upper right", fontsize=8)
     fig.suptitle(f"Lollipop ℓ = c = 1, {START} → {GOAL}: how far off and how late the carts may be", fontsize=10)
-    fig.tight_layout()
-    out = save_figure(fig, args.out, args.dpi)
-    plt.close(fig)
-    print(f"wrote {out}")
+    print(f"wrote {save_and_close(fig, args.out, args.dpi)}")
     return 0
 
 

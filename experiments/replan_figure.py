@@ -29,7 +29,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from mpa import Lollipop
 from trajopt import TrajectoryGenerator
-from trajopt.viz.plotting import save_figure
+from trajopt.viz.plotting import save_and_close
 
 START, GOAL, AT, NEW_GOAL = (0.2, 0.5), (0.5, 0.2), 1.3, (0.7, 0.35)
 
@@ -79,10 +79,7 @@ def main(argv: list[str] | None = None) -> int:
         "(jerk-limited, continuous in p, v, a), then the new plan",
         fontsize=10,
     )
-    fig.tight_layout()
-    out = save_figure(fig, args.out, args.dpi)
-    plt.close(fig)
-    print(f"wrote {out}")
+    print(f"wrote {save_and_close(fig, args.out, args.dpi)}")
     return 0
 
 

@@ -35,19 +35,9 @@ from mpa import Lollipop
 from mpa.geometry import densify_polyline
 from mpa.homotopy import path_word
 from trajopt import TrajectoryGenerator
+from trajopt.testing import travel_curve
 
 QUERIES = [((0.2, 0.5), (0.5, 0.2)), ((0.1, 0.6), (0.8, 0.3)), ((1.25, 1.75), (1.75, 1.25)), ((0.3, 1.2), (1.6, 0.4))]
-
-
-def curve(traj, t0: float, n: int = 600) -> np.ndarray:  # type: ignore[no-untyped-def]
-    """The path from ``t0`` on: ``n`` points equally spaced in route travel (track coordinates). Shape (n, 2)."""
-    t = np.append(np.arange(t0, traj.motion_time, 1 / 2000.0), traj.motion_time)
-    s = traj.sampler(t)[0]
-    c = np.concatenate([[0.0], np.cumsum(np.max(np.abs(np.diff(s, axis=0)), axis=1))])
-    u = np.linspace(0.0, c[-1], n)
-    ss = np.stack([np.interp(u, c, s[:, 0]), np.interp(u, c, s[:, 1])], axis=1)
-    r = traj.plan.routes
-    return np.stack([r[0].position(ss[:, 0]), r[1].position(ss[:, 1])], axis=1)
 
 
 def _by_travel(pts: np.ndarray, s: np.ndarray, n: int) -> np.ndarray:
@@ -185,7 +175,7 @@ def main(argv: list[str] | None = None) -> int:
             move = rng.uniform(-1e-3, 1e-3, 2)
             new = gen.replan(cur, 0.1, g + move)
             pairs.append((tuple(new.plan.start), tuple(g), tuple(g + move)))
-            rem, nw = curve(cur, 0.1), curve(new, 0.0)
+            rem, nw = travel_curve(cur, 0.1), travel_curve(new, 0.0)
             changes += path_word(track, rem) != path_word(track, nw)
             gap = max(track.distance(rem[:, 0], nw[:, 0]).max(), track.distance(rem[:, 1], nw[:, 1]).max())
             ratios.append(gap / np.abs(move).max())

@@ -53,7 +53,7 @@ from mpa import Circle, Interval, Lollipop, Track  # noqa: E402
 from mpa.errors import InvalidInputError, NoMotionError, PlanningError  # noqa: E402
 from trajopt import Limits, TrajectoryGenerator  # noqa: E402
 from trajopt.export import atomic_write_text  # noqa: E402
-from trajopt.testing import check_setpoints, check_trajectory  # noqa: E402
+from trajopt.testing import check_setpoints, check_trajectory, read_setpoint_rows  # noqa: E402
 
 __all__ = ["EXPECTED_FALLBACK_MARGIN", "draw_query", "expected_fallback", "run_chunk", "run_query", "summarize"]
 
@@ -219,16 +219,10 @@ def _cli(q: dict[str, Any], subproc: bool) -> dict[str, Any]:
                 res["fails"].append(f"exit {code} left {os.listdir(out)}")
             return res
         summary = json.loads(Path(out, "summary.json").read_text())
-        data = np.loadtxt(Path(out, "setpoints.csv"), delimiter=",", skiprows=1, ndmin=2, usecols=range(11))
         lim = summary["limits"]
         res["fails"] = check_setpoints(
             _track(q),
-            data[:, 0],
-            data[:, [1, 6]],
-            data[:, [2, 7]],
-            data[:, [3, 8]],
-            data[:, [4, 9]],
-            data[:, [5, 10]],
+            *read_setpoint_rows(Path(out, "setpoints.csv")),
             rate=q["rate"],
             clearance=q["clearance"],
             vmax=lim["vmax"],

@@ -19,13 +19,13 @@ vectorized over numpy arrays.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mpa.errors import InvalidInputError
+from mpa.errors import InvalidInputError, positive_number
 from mpa.graph import Edge, MetricGraph
 
 if TYPE_CHECKING:
@@ -38,16 +38,6 @@ FloatArray = NDArray[np.float64]
 WRAP_TOL = 1e-12
 
 
-def _positive_length(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError, OverflowError):
-        raise InvalidInputError(f"{name} length is {value!r}, expected a positive finite number (metres)") from None
-    if not np.isfinite(v) or v <= 0:
-        raise InvalidInputError(f"{name} length is {v!r}, expected a positive finite number (metres)")
-    return v
-
-
 class Track:
     """A track: a compact metric graph with a one-float coordinate (see module docstring).
 
@@ -55,11 +45,19 @@ class Track:
     """
 
     kind: str
+    _total_length: float
+
+    def __post_init__(self) -> None:
+        """Check the lengths the track is made of (its dataclass fields: ``stick``, ``loop``), each > 0 and finite."""
+        lengths = [f.name for f in fields(self)]  # type: ignore[arg-type]
+        for name in lengths:
+            object.__setattr__(self, name, positive_number(getattr(self, name), f"{name} length", "metres"))
+        object.__setattr__(self, "_total_length", float(sum(getattr(self, name) for name in lengths)))
 
     @property
     def total_length(self) -> float:
-        """Total length of the track (metres)."""
-        raise NotImplementedError
+        """Total length of the track (metres): the sum of its lengths."""
+        return self._total_length
 
     @property
     def has_loop(self) -> bool:
@@ -212,13 +210,6 @@ class Interval(Track):
     stick: float = 1.0
     kind = "interval"
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "stick", _positive_length("stick", self.stick))
-
-    @property
-    def total_length(self) -> float:
-        return self.stick
-
     @property
     def has_loop(self) -> bool:
         return False
@@ -269,17 +260,10 @@ class Circle(Track):
     loop: float = 1.0
     kind = "circle"
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "loop", _positive_length("loop", self.loop))
-
     @property
     def half(self) -> float:
         """Half the circumference, ``h = c/2``: the antipodal distance."""
         return 0.5 * self.loop
-
-    @property
-    def total_length(self) -> float:
-        return self.loop
 
     @property
     def has_loop(self) -> bool:
@@ -340,18 +324,10 @@ class Lollipop(Track):
     loop: float = 1.0
     kind = "lollipop"
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "stick", _positive_length("stick", self.stick))
-        object.__setattr__(self, "loop", _positive_length("loop", self.loop))
-
     @property
     def half(self) -> float:
         """Half the loop, ``h = c/2`` (the paper's "half unit")."""
         return 0.5 * self.loop
-
-    @property
-    def total_length(self) -> float:
-        return self.stick + self.loop
 
     @property
     def has_loop(self) -> bool:

@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from mpa.errors import InvalidInputError, MPAError, NoMotionError
+from mpa.errors import InvalidInputError, MPAError, NoMotionError, nonnegative_number
 from mpa.graph_track import GraphTrack
 from mpa.tracks import Track
 from trajopt.export import Trajectory
@@ -72,13 +72,7 @@ def check_delay_tolerance(value: Any) -> float:
     ------
     InvalidInputError
     """
-    try:
-        t = float(value)
-    except (TypeError, ValueError, OverflowError):
-        raise InvalidInputError(f"delay tolerance is {value!r}, expected a number of seconds >= 0") from None
-    if not math.isfinite(t) or t < 0.0:
-        raise InvalidInputError(f"delay tolerance is {value!r}, expected a finite number of seconds >= 0")
-    return t
+    return nonnegative_number(value, "delay tolerance", "seconds")
 
 
 def _as_caller(traj: Trajectory, gen: TrajectoryGenerator) -> Trajectory:

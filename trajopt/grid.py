@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from mpa.errors import InvalidInputError
+from mpa.errors import InvalidInputError, positive_number
 
 FloatArray = NDArray[np.float64]
 
@@ -34,13 +34,7 @@ def check_rate(rate: Any, name: str = "rate") -> float:
     ------
     InvalidInputError
     """
-    try:
-        r = float(rate)
-    except (TypeError, ValueError, OverflowError):
-        raise InvalidInputError(f"{name} is {rate!r}, expected a positive finite number (Hz)") from None
-    if not np.isfinite(r) or r <= 0:
-        raise InvalidInputError(f"{name} is {r!r}, expected a positive finite number (Hz)")
-    return r
+    return positive_number(rate, name, "Hz")
 
 
 def memory_budget() -> float:

@@ -28,10 +28,9 @@ the request, the margin reached and the effective clearance.
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING, Any
 
-from mpa.errors import InvalidInputError, NoMotionError
+from mpa.errors import InvalidInputError, NoMotionError, nonnegative_number
 from trajopt.delay import _as_caller, rest_separation
 from trajopt.export import Trajectory
 
@@ -55,13 +54,7 @@ def check_min_margin(value: Any) -> float:
     ------
     InvalidInputError
     """
-    try:
-        m = float(value)
-    except (TypeError, ValueError):
-        raise InvalidInputError(f"min_margin is {value!r}, expected a number of metres >= 0") from None
-    if not math.isfinite(m) or m < 0.0:
-        raise InvalidInputError(f"min_margin is {value!r}, expected a finite number of metres >= 0")
-    return m
+    return nonnegative_number(value, "min_margin", "metres")
 
 
 def _at_clearance(gen: TrajectoryGenerator, clearance: float) -> TrajectoryGenerator:

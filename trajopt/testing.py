@@ -19,11 +19,15 @@ On a layout (:class:`mpa.GraphTrack`), :func:`check_graph_setpoints` checks the 
 within their edges, edge changes only between edges sharing a vertex, and the ``*_dir`` column.
 
 Each check returns a message on failure; :func:`check_trajectory` applies them to a
-:class:`~trajopt.result.Trajectory`.
+:class:`~trajopt.result.Trajectory` (:func:`requirements`: what its rows must keep). For the tests and the
+benchmark scripts: :func:`random_queries` draws seeded queries on a paper track, :func:`random_rules` seeded lane
+rules on a layout; :func:`travel_curve` resamples a trajectory's path by route travel, to compare two motions'
+paths (re-planning stability).
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from typing import Any
 
@@ -42,6 +46,11 @@ __all__ = [
     "check_graph_trajectory",
     "check_setpoints",
     "check_trajectory",
+    "random_queries",
+    "random_rules",
+    "read_setpoint_rows",
+    "requirements",
+    "travel_curve",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -112,6 +121,21 @@ def check_setpoints(
                 fails.append(f"robot {'AB'[r]} jumps {float(np.max(step))!r} m between rows")
     fails += _row_separation_failures(track.distance(P[:, 0], P[:, 1]), clearance)
     return fails
+
+
+def read_setpoint_rows(path: str | os.PathLike[str]) -> tuple[FloatArray, ...]:
+    """The rows of a setpoints CSV of a paper track in the order :func:`check_setpoints` takes them.
+
+    Reads the first eleven columns (``time``, then ``track, s, v, a, j`` of A and of B; conventions: Command
+    line and files) with numpy.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``t`` of shape (N,), then ``track, s, v, a, j``, each of shape (N, 2) (A's column first).
+    """
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2, usecols=range(11))
+    return (data[:, 0], *(data[:, [k, k + 5]] for k in range(1, 6)))
 
 
 def _rows_or_failure(
@@ -216,6 +240,20 @@ def _dense_times(traj: Any, fine: int) -> FloatArray:
     return np.linspace(0.0, traj.makespan, max(2, fine * (len(traj.t) - 1) + 1))
 
 
+def requirements(traj: Any) -> dict[str, Any]:
+    """What the rows of ``traj`` must keep, as the keywords of :func:`check_setpoints` and
+    :func:`check_graph_setpoints`: ``rate`` (Hz), ``clearance`` (m) and the per-robot limits ``vmax``, ``amax``,
+    ``jmax`` (shape (2,); m/s, m/s², m/s³).
+
+    Parameters
+    ----------
+    traj : Trajectory
+        Its ``rate``, ``clearance`` and ``limits`` are read.
+    """
+    lim = traj.limits
+    return {"rate": traj.rate, "clearance": traj.clearance, "vmax": lim.v, "amax": lim.a, "jmax": lim.j}
+
+
 def check_trajectory(
     traj: Any, start: ArrayLike | None = None, goal: ArrayLike | None = None, *, fine: int = 8
 ) -> list[str]:
@@ -240,22 +278,8 @@ def check_trajectory(
     track = plan.track
     st = plan.start if start is None else start
     gl = plan.goal if goal is None else goal
-    lim = traj.limits
     fails = check_setpoints(
-        track,
-        traj.t,
-        traj.track,
-        traj.s,
-        traj.v,
-        traj.a,
-        traj.j,
-        rate=traj.rate,
-        clearance=traj.clearance,
-        vmax=lim.v,
-        amax=lim.a,
-        jmax=lim.j,
-        start=st,
-        goal=gl,
+        track, traj.t, traj.track, traj.s, traj.v, traj.a, traj.j, start=st, goal=gl, **requirements(traj)
     )
     fails += _makespan_failures(traj)
     if fine > 0:
@@ -457,25 +481,9 @@ def check_graph_trajectory(traj: Any, *, fine: int = 8) -> list[str]:
     """
     plan = traj.plan
     m = GraphMetric(plan.track)
-    lim = traj.limits
+    rows = (traj.t, traj.edges, traj.offsets, traj.s, traj.v, traj.a, traj.j)
     fails = check_graph_setpoints(
-        plan.track,
-        traj.t,
-        traj.edges,
-        traj.offsets,
-        traj.s,
-        traj.v,
-        traj.a,
-        traj.j,
-        rate=traj.rate,
-        clearance=traj.clearance,
-        vmax=lim.v,
-        amax=lim.a,
-        jmax=lim.j,
-        start=plan.start,
-        goal=plan.goal,
-        dirs=traj.directions,
-        metric=m,
+        plan.track, *rows, start=plan.start, goal=plan.goal, dirs=traj.directions, metric=m, **requirements(traj)
     )
     fails += _makespan_failures(traj)
     if fine > 0 and len(traj.t) > 1:
@@ -484,3 +492,90 @@ def check_graph_trajectory(traj: Any, *, fine: int = 8) -> list[str]:
         (ea, oa), (eb, ob) = plan.route_a.positions(s[:, 0]), plan.route_b.positions(s[:, 1])
         fails += _dense_separation_failures(tf, m(ea, oa, eb, ob), traj.clearance)
     return fails
+
+
+def travel_curve(traj: Any, t0: float, n: int = 600) -> FloatArray:
+    """The path of ``traj`` from ``t0`` on: ``n`` points equally spaced in route travel, in track coordinates.
+
+    The motion is sampled every 0.5 ms from ``t0`` to the end of the motion; travel is the larger of the two
+    robots' route-coordinate steps, summed.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        A trajectory on a paper track (its plan's ``routes`` map route to track coordinates).
+    t0 : float
+        Start time (s), in ``[0, traj.motion_time]``.
+    n : int
+        Number of points.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (n, 2): robot A's and B's track coordinates (m).
+    """
+    t = np.append(np.arange(t0, traj.motion_time, 1 / 2000.0), traj.motion_time)
+    s = traj.sampler(t)[0]
+    c = np.concatenate([[0.0], np.cumsum(np.max(np.abs(np.diff(s, axis=0)), axis=1))])
+    u = np.linspace(0.0, c[-1], n)
+    ss = np.stack([np.interp(u, c, s[:, 0]), np.interp(u, c, s[:, 1])], axis=1)
+    r = traj.plan.routes
+    return np.stack([r[0].position(ss[:, 0]), r[1].position(ss[:, 1])], axis=1)
+
+
+def random_queries(track: Track, clearance: float, n: int, seed: int) -> list[tuple[FloatArray, FloatArray]]:
+    """``n`` seeded random queries on a paper track whose start and goal both keep the clearance.
+
+    Parameters
+    ----------
+    track : Track
+    clearance : float
+        Least track distance between the robots at the start and at the goal (m).
+    n : int
+        Number of queries.
+    seed : int
+        Seed of :func:`numpy.random.default_rng`; states are drawn uniformly in ``[0, total_length)`` until ``n``
+        pairs keep the clearance.
+
+    Returns
+    -------
+    list of (numpy.ndarray, numpy.ndarray)
+        ``(start, goal)`` pairs, each of shape (2,): track coordinates of A and B (m).
+    """
+    rng = np.random.default_rng(seed)
+    out: list[tuple[FloatArray, FloatArray]] = []
+    while len(out) < n:
+        s, g = rng.uniform(0.0, track.total_length, 2), rng.uniform(0.0, track.total_length, 2)
+        if track.distance(*s) >= clearance and track.distance(*g) >= clearance:
+            out.append((s, g))
+    return out
+
+
+def random_rules(layout: dict[str, Any], rng: np.random.Generator, oneway: float, limited: float, speed: float) -> Any:
+    """A layout with seeded lane rules: each edge in turn one-way (the direction of its ``from``/``to``) with
+    probability ``oneway``, then limited to ``speed`` m/s with probability ``limited``.
+
+    Parameters
+    ----------
+    layout : dict
+        A layout dict (:meth:`mpa.GraphTrack.to_dict`); its edges are marked in place.
+    rng : numpy.random.Generator
+        Two draws per edge.
+    oneway, limited : float
+        Probabilities in [0, 1].
+    speed : float
+        Speed limit of the limited edges (m/s).
+
+    Returns
+    -------
+    GraphTrack
+        The layout read back (:meth:`mpa.GraphTrack.from_layout`).
+    """
+    from mpa.graph_track import GraphTrack
+
+    for e in layout["edges"]:
+        if rng.random() < oneway:
+            e["oneway"] = True
+        if rng.random() < limited:
+            e["speed_limit"] = speed
+    return GraphTrack.from_layout(layout)

@@ -570,6 +570,34 @@ def grid_layout(n_edges: int, seed: int) -> GraphTrack:
     return GraphTrack.from_layout({"vertices": verts, "edges": [[names[a], names[b]] for a, b in chosen]})
 
 
+def timed_build(track: GraphTrack, clearance: float) -> tuple[float, int]:
+    """Seconds one uncached :class:`~mpa.freespace.FreeSpace` build of ``track`` takes, and its polygons."""
+    t0 = time.perf_counter()
+    fs = FreeSpace(track, clearance)
+    return time.perf_counter() - t0, len(fs.polygon_ids)
+
+
+def plan_times(track: GraphTrack, qs: list[dict[str, Any]]) -> dict[str, Any]:
+    """Plan time of the queries ``qs[1:]`` at unit speeds after one plan of ``qs[0]`` (warm: free space cached).
+
+    Returns ``plan_median``, ``plan_p95``, ``plan_max`` (s), ``solved`` (plans found) and ``queries``.
+    """
+    _plan(track, qs[0], (1.0, 1.0))  # warm
+    times, solved = [], 0
+    for q in qs[1:]:
+        t0 = time.perf_counter()
+        p = _plan(track, q, (1.0, 1.0))
+        times.append(time.perf_counter() - t0)
+        solved += p is not None
+    return {
+        "plan_median": float(np.median(times)),
+        "plan_p95": float(np.percentile(times, 95)),
+        "plan_max": float(np.max(times)),
+        "solved": solved,
+        "queries": len(times),
+    }
+
+
 def run_scaling(
     sizes: Sequence[int] = (10, 30, 100, 150),
     layouts_per_size: int = 3,
@@ -583,32 +611,11 @@ def run_scaling(
     for n_e in sizes:
         for k in range(layouts_per_size):
             track = grid_layout(n_e, seed * 10_000 + n_e * 10 + k)
-            t0 = time.perf_counter()
-            fs = FreeSpace(track, clearance)
-            build = time.perf_counter() - t0
+            build, polygons = timed_build(track, clearance)
             free_space(track, clearance)
             qs = make_graph_queries(track, queries + 1, seed + k, [clearance])
-            _plan(track, qs[0], (1.0, 1.0))  # warm
-            times, solved = [], 0
-            for q in qs[1:]:
-                t0 = time.perf_counter()
-                p = _plan(track, q, (1.0, 1.0))
-                times.append(time.perf_counter() - t0)
-                solved += p is not None
-            out.append(
-                {
-                    "edges": track.n_edges,
-                    "vertices": track.graph.n_vertices,
-                    "layout": k,
-                    "build": build,
-                    "polygons": len(fs.polygon_ids),
-                    "plan_median": float(np.median(times)),
-                    "plan_p95": float(np.percentile(times, 95)),
-                    "plan_max": float(np.max(times)),
-                    "solved": solved,
-                    "queries": len(times),
-                }
-            )
+            rec = {"edges": track.n_edges, "vertices": track.graph.n_vertices, "layout": k, "build": build}
+            out.append(rec | {"polygons": polygons, **plan_times(track, qs)})
             if progress:
                 progress(f"scaling {n_e} edges, layout {k + 1}/{layouts_per_size}")
     return out

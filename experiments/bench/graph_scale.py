@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from bench.graph_runner import _plan, make_graph_queries
+from bench.graph_runner import make_graph_queries, plan_times, timed_build
 from mpa.errors import MPAError
 from mpa.freespace import FreeSpace, free_space
 from mpa.graph_track import GraphTrack
@@ -138,24 +138,14 @@ def run_scale(
     for kind in kinds:
         for n_e in sizes:
             track = KINDS[kind](n_e, seed * 100_003 + n_e)
-            t0 = time.perf_counter()
-            fs = FreeSpace(track, clearance)
-            build = time.perf_counter() - t0
-            polygons = len(fs.polygon_ids)
-            del fs
+            build, polygons = timed_build(track, clearance)
             tracemalloc.start()  # a second build for the memory (tracemalloc slows it down)
             FreeSpace(track, clearance)
             _, peak = tracemalloc.get_traced_memory()
             tracemalloc.stop()
             free_space(track, clearance)
             qs = make_graph_queries(track, queries + 1, seed, [clearance])
-            _plan(track, qs[0], (1.0, 1.0))  # warm
-            times, solved = [], 0
-            for q in qs[1:]:
-                t0 = time.perf_counter()
-                p = _plan(track, q, (1.0, 1.0))
-                times.append(time.perf_counter() - t0)
-                solved += p is not None
+            plans = plan_times(track, qs)
             gen = TrajectoryGenerator(track, clearance=clearance, limits=Limits(1.0, 1.0, 4.0), rate=100.0)
             ttimes = []
             for q in qs[1 : 1 + trajectories]:
@@ -173,12 +163,8 @@ def run_scale(
                     "build": build,
                     "memory": int(peak),
                     "polygons": polygons,
-                    "plan_median": float(np.median(times)),
-                    "plan_p95": float(np.percentile(times, 95)),
-                    "plan_max": float(np.max(times)),
+                    **plans,
                     "trajectory_median": float(np.median(ttimes)) if ttimes else float("nan"),
-                    "solved": solved,
-                    "queries": len(times),
                 }
             )
             if progress:

@@ -9,21 +9,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from mpa.errors import InvalidInputError, PlanningError
-from mpa.planners.base import (
-    FINAL,
-    PRELIM,
-    RULES,
-    Planner,
-    circle_pieces,
-    pieces_word,
-    reverse_moves,
-)
+from mpa.planners.base import FINAL, PRELIM, RULES, Planner, circle_pieces, pieces_word, reverse_moves
 from mpa.plans import Plan, build_plan
 from mpa.retraction import trace_moves
-from mpa.skeleton import (
-    CircleSkeleton,
-    skeleton_of,
-)
+from mpa.skeleton import CircleSkeleton, skeleton_of
 from mpa.tracks import Circle
 
 __all__ = ["CirclePlanner"]

@@ -7,18 +7,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from mpa.planners.base import (
-    FINAL,
-    PRELIM,
-    RULES,
-    Planner,
-)
+from mpa.planners.base import FINAL, PRELIM, RULES, Planner
 from mpa.plans import Plan, build_plan
 from mpa.retraction import retract
 from mpa.routes import RobotMove
-from mpa.skeleton import (
-    skeleton_of,
-)
+from mpa.skeleton import skeleton_of
 
 __all__ = ["IntervalPlanner"]
 

@@ -7,7 +7,6 @@ Every figure of the paper must be written, listed in ``index.md`` under its capt
 from __future__ import annotations
 
 import re
-import subprocess
 import sys
 from pathlib import Path
 
@@ -15,7 +14,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-ROOT = Path(__file__).resolve().parents[2]
+from tests.helpers.scripts import ROOT, run_script
+
 PAPER = ROOT.parent / "shared" / "paper" / "lollipop-mpa.tex"
 sys.path.insert(0, str(ROOT / "experiments"))
 
@@ -32,14 +32,10 @@ def _ink(img: Image.Image) -> tuple[float, int]:
     return ink, colours
 
 
-def _run(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, *args], cwd=ROOT, capture_output=True, text=True, timeout=300, check=False)
-
-
 @pytest.fixture(scope="module")
 def figures_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("figures")
-    res = _run("experiments/figures.py", "--out", str(out), "--dpi", "40")
+    res = run_script("experiments/figures.py", "--out", str(out), "--dpi", "40")
     assert res.returncode == 0, res.stderr
     return out
 
@@ -92,7 +88,7 @@ def _frames(path: Path) -> list[np.ndarray]:
 
 
 def test_animation_script_writes_moving_gifs(tmp_path: Path) -> None:
-    res = _run(
+    res = run_script(
         "experiments/animate.py",
         "--out",
         str(tmp_path),
@@ -115,52 +111,16 @@ def test_animation_script_writes_moving_gifs(tmp_path: Path) -> None:
 def test_cli_animate_and_its_errors(tmp_path: Path) -> None:
     from trajopt.cli import main
 
+    # the circle's domain-1 example (conventions: Domains of continuity)
+    query = ["animate", "--track", "circle", "--start", "0.3", "0.6", "--goal", "0.25", "0.1"]
     out = tmp_path / "anim"
-    assert (
-        main(
-            [
-                "animate",
-                "--track",
-                "circle",
-                "--start",
-                "0.3",
-                "0.6",
-                "--goal",
-                "0.25",
-                "0.1",
-                "--out",
-                str(out),
-                "--dpi",
-                "30",
-                "--max-frames",
-                "2",
-                "--raw-only",
-            ]
-        )
-        == 0
-    )
+    assert main([*query, "--out", str(out), "--dpi", "30", "--max-frames", "2", "--raw-only"]) == 0
     assert len(_frames(out / "animation.gif")) == 2
     bad = tmp_path / "bad"
     rc = main(["animate", "--track", "circle", "--start", "0.3", "0.6", "--goal", "0.25", "1.5", "--out", str(bad)])
     assert rc == 2
     assert not bad.exists(), "an error left an output directory behind"
-    rc = main(
-        [
-            "animate",
-            "--track",
-            "circle",
-            "--start",
-            "0.3",
-            "0.6",
-            "--goal",
-            "0.25",
-            "0.1",
-            "--out",
-            str(bad),
-            "--fps",
-            "0",
-        ]
-    )
+    rc = main([*query, "--out", str(bad), "--fps", "0"])
     assert rc == 2
     assert not bad.exists()
 
@@ -184,7 +144,7 @@ def test_architecture_layers_hold_and_the_picture_is_drawn(tmp_path: Path) -> No
     import architecture
 
     assert architecture.check_layers() == []
-    res = _run("experiments/architecture.py", "--out", str(tmp_path / "arch.png"), "--dpi", "30")
+    res = run_script("experiments/architecture.py", "--out", str(tmp_path / "arch.png"), "--dpi", "30")
     assert res.returncode == 0, res.stderr
     with Image.open(tmp_path / "arch.png") as img:
         ink, colours = _ink(img)

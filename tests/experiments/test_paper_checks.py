@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import subprocess
 import sys
 from pathlib import Path
 
 from mpa import Lollipop
+from tests.helpers.scripts import run_script
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "experiments"))
@@ -32,13 +32,6 @@ def test_neighbourhood_trade_off_grows_domain_1_with_epsilon() -> None:
 
 
 def test_script_runs_headless() -> None:
-    res = subprocess.run(
-        [sys.executable, "experiments/paper_checks.py", "--queries", "20"],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-        timeout=120,
-        check=False,
-    )
+    res = run_script("experiments/paper_checks.py", "--queries", "20", timeout=120)
     assert res.returncode == 0, res.stderr
     assert "| 0.3 / 1 | 20 |" in res.stdout

@@ -1,8 +1,9 @@
-"""Shared helpers of the graph-track tests: random small layouts and a brute-force distance."""
+"""Shared helpers of the graph-track tests: random small layouts and queries, a brute-force distance."""
 
 from __future__ import annotations
 
 import heapq
+from typing import Any
 
 import numpy as np
 
@@ -36,6 +37,27 @@ def random_position(track: GraphTrack, rng: np.random.Generator, vertex_p: float
     if rng.random() < vertex_p:
         return e, float(rng.choice([0.0, length]))
     return e, float(rng.uniform(0.0, length))
+
+
+Query = tuple[tuple[int, float], tuple[int, float]]
+
+
+def random_free_query(
+    track: GraphTrack, fs: Any, rng: np.random.Generator, vertex_p: float = 0.0, tries: int = 20
+) -> tuple[Query, Query] | None:
+    """A random query both of whose states are free in ``fs`` (a :class:`mpa.freespace.FreeSpace` of ``track``):
+    up to ``tries`` draws of four positions ``(edge, offset)`` (A's and B's start, then goal), each with
+    probability ``vertex_p`` moved to the tail of its edge; None when no draw is free."""
+    for _ in range(tries):
+        e = rng.integers(track.n_edges, size=4)
+        o = rng.uniform(0, 1, 4) * track.lengths[e]
+        if vertex_p:
+            o[rng.random(4) < vertex_p] = 0.0
+        s = ((int(e[0]), float(o[0])), (int(e[1]), float(o[1])))
+        t = ((int(e[2]), float(o[2])), (int(e[3]), float(o[3])))
+        if fs.is_free(*s) and fs.is_free(*t):
+            return s, t
+    return None
 
 
 def brute_distance(track: GraphTrack, a: tuple[int, float], b: tuple[int, float]) -> float:

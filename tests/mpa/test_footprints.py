@@ -3,7 +3,6 @@ trajectories, completeness against a grid search, the gate's plane check and the
 
 from __future__ import annotations
 
-import itertools
 import json
 import math
 from pathlib import Path
@@ -16,7 +15,8 @@ import mpa
 from mpa import Disc, GraphTrack, InvalidInputError, NoMotionError, Rectangle
 from mpa.footprint import Footprints, parse_footprint
 from mpa.planar import planar_free_space
-from tests.helpers.planar_checker import Drawn, overlap_depth
+from tests.helpers.planar_checker import overlap_depth
+from tests.helpers.planar_grid import drawn_of, grid_nodes, plane_free
 from trajopt.cli.main import main
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tracks"
@@ -42,18 +42,6 @@ def passing_loop(h: float, straight: float, angle_deg: float = 30.0) -> dict[str
 
 def fp_tuple(fp: Disc | Rectangle) -> tuple[float, ...]:
     return (fp.radius,) if isinstance(fp, Disc) else (fp.length, fp.width)
-
-
-def _layout_dict(track: GraphTrack) -> dict[str, Any]:
-    d = track.to_dict()
-    names = [str(v) for v in track.graph.vertices]
-    if isinstance(d.get("vertices"), list):
-        d["vertices"] = dict(zip(names, d["vertices"]))
-    return d
-
-
-def drawn_of(track: GraphTrack) -> Drawn:
-    return Drawn(_layout_dict(track), [float(x) for x in track.lengths])
 
 
 def plan_depth(track: GraphTrack, plan: Any, fa: tuple[float, ...], fb: tuple[float, ...], n: int = 1500) -> float:
@@ -268,48 +256,8 @@ def _grid_connected(tr: GraphTrack, fp: Disc | Rectangle, start: Any, goal: Any,
     the bodies stay at least ``step + 0.02`` m apart (so every grid move is a motion of the model: a step moves a
     body at most ``step``). A rectangle on a corner where the drawing turns counts as the disc of its half-diagonal
     (it may turn there)."""
-    dr = drawn_of(tr)
-    nodes: list[tuple[int, float]] = []
-    index: dict[Any, int] = {}
-    adj: list[list[int]] = []
-    for e in range(tr.n_edges):
-        length = float(tr.lengths[e])
-        k = max(2, math.ceil(length / step))
-        ids = []
-        for i in range(k + 1):
-            o = length * i / k
-            w = tr.vertex_at(e, o)
-            key = ("v", w) if w is not None else ("e", e, i)
-            if key not in index:
-                index[key] = len(nodes)
-                nodes.append((e, o))
-                adj.append([])
-            ids.append(index[key])
-        for a, b in itertools.pairwise(ids):
-            adj[a].append(b)
-            adj[b].append(a)
-    c = np.array([dr.point(*q) for q in nodes])
-    hs = [dr.headings(*q) for q in nodes]
-    turn = np.array([max((abs(math.remainder(x - y, math.pi)) for x in h for y in h), default=0.0) > 1e-9 for h in hs])
-    h = np.array([x[0] for x in hs])
-    dx = c[None, :, :] - c[:, None, :]
-    if isinstance(fp, Disc):
-        g = np.hypot(dx[..., 0], dx[..., 1]) - 2 * fp.radius
-    else:
-        g = np.full(dx.shape[:2], -np.inf)
-        hl, hw = fp.length / 2, fp.width / 2
-        for hh in (h[:, None] + 0 * h[None, :], h[None, :] + 0 * h[:, None]):
-            for ax in (hh, hh + math.pi / 2):
-                ux, uy = np.cos(ax), np.sin(ax)
-                cen = np.abs(dx[..., 0] * ux + dx[..., 1] * uy)
-                ra = hl * np.abs(np.cos(ax - h[:, None])) + hw * np.abs(np.sin(ax - h[:, None]))
-                rb = hl * np.abs(np.cos(ax - h[None, :])) + hw * np.abs(np.sin(ax - h[None, :]))
-                g = np.maximum(g, cen - ra - rb)
-        reach = math.hypot(fp.length, fp.width) / 2
-        dist = np.hypot(dx[..., 0], dx[..., 1])
-        g = np.where(turn[:, None] | turn[None, :], np.minimum(g, dist - 2 * reach), g)
-    free = g >= step + 0.02
-    np.fill_diagonal(free, False)
+    nodes, adj = grid_nodes(tr, step, oneway=False)
+    free = plane_free(tr, nodes, fp, step)
     geo = tr.geometry
 
     def nearest(pos: Any) -> int:

@@ -20,7 +20,7 @@ from mpa.errors import InvalidInputError, NoMotionError
 from mpa.freespace import free_space
 from mpa.graph_track import GraphTrack
 from mpa.planners.graph import TIE_BREAK, GraphPlan, plan_graph
-from tests.helpers.graph_helpers import random_layout
+from tests.helpers.graph_helpers import random_free_query, random_layout
 from tests.mpa.test_graph_planner import _grid, _grid_cost
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -156,16 +156,10 @@ def test_fastest_reaches_the_lp_optimum_of_its_corridor(seed: int, D: float, va:
     rng = np.random.default_rng(seed)
     track = random_layout(rng)
     fs = free_space(track, D)
-    for _ in range(20):
-        e = rng.integers(track.n_edges, size=4)
-        o = rng.uniform(0, 1, 4) * track.lengths[e]
-        o[rng.random(4) < 0.15] = 0.0  # some on vertices
-        s = ((int(e[0]), float(o[0])), (int(e[1]), float(o[1])))
-        t = ((int(e[2]), float(o[2])), (int(e[3]), float(o[3])))
-        if fs.is_free(*s) and fs.is_free(*t):
-            break
-    else:
+    query = random_free_query(track, fs, rng, vertex_p=0.15)  # some on vertices
+    if query is None:
         return
+    s, t = query
     try:
         p = plan_graph(track, s, t, D, objective="fastest", speeds=(va, vb))
     except NoMotionError:

@@ -6,7 +6,8 @@ import heapq
 import itertools
 import math
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from typing import Any
 
 import numpy as np
 import pytest
@@ -18,7 +19,7 @@ from mpa.errors import InvalidInputError, NoMotionError
 from mpa.freespace import free_space
 from mpa.graph_track import GraphTrack
 from mpa.planners.graph import OBJECTIVES, plan_graph
-from tests.helpers.graph_helpers import random_layout
+from tests.helpers.graph_helpers import random_free_query, random_layout
 
 COUNTS = {"cases": 0, "grid_found": 0, "planned": 0}
 
@@ -51,6 +52,26 @@ def _grid(track: GraphTrack, h: float):
     return names, nbrs
 
 
+def _grid_steps(g: Any, names: dict, nbrs: dict, ka: object, kb: object, D: float) -> Iterator[tuple]:
+    """The grid's moves from ``(ka, kb)``: one robot or both one step (``nbrs``), each kept when its straight segment
+    keeps >= D (exact, ``g.segment_min_scalar``). Yields ``(na, nb, Δs_a, Δs_b)``: the new keys and each robot's
+    travel along its edge (m)."""
+    moves_a = [(ka, names[ka][0][0], names[ka][0][1], names[ka][0][1]), *sorted(nbrs[ka], key=str)]
+    moves_b = [(kb, names[kb][0][0], names[kb][0][1], names[kb][0][1]), *sorted(nbrs[kb], key=str)]
+    for (na, ea, sa0, sa1), (nb, eb, sb0, sb1) in itertools.product(moves_a, moves_b):
+        if na == ka and nb == kb:
+            continue
+        if na == ka:  # A stays: use a name of its position on any edge
+            ea, sa0 = names[ka][0]
+            sa1 = sa0
+        if nb == kb:
+            eb, sb0 = names[kb][0]
+            sb1 = sb0
+        if g.segment_min_scalar(ea, eb, sa0, sb0, sa1, sb1) < D:
+            continue
+        yield na, nb, sa1 - sa0, sb1 - sb0
+
+
 def _grid_reachable(track: GraphTrack, D: float, h: float, start: tuple[object, object]) -> set[tuple[object, object]]:
     """BFS over grid states at least D + h apart with 8-neighbour moves whose straight segment keeps >= D."""
     g = track.geometry
@@ -64,20 +85,8 @@ def _grid_reachable(track: GraphTrack, D: float, h: float, start: tuple[object, 
     queue = deque([start])
     while queue:
         ka, kb = queue.popleft()
-        moves_a = [(ka, names[ka][0][0], names[ka][0][1], names[ka][0][1]), *sorted(nbrs[ka], key=str)]
-        moves_b = [(kb, names[kb][0][0], names[kb][0][1], names[kb][0][1]), *sorted(nbrs[kb], key=str)]
-        for (na, ea, sa0, sa1), (nb, eb, sb0, sb1) in itertools.product(moves_a, moves_b):
-            if (na, nb) in seen or (na == ka and nb == kb):
-                continue
-            if dist(na, nb) < D + h:
-                continue
-            if na == ka:  # A stays: use a name of its position on any edge
-                ea, sa0 = names[ka][0]
-                sa1 = sa0
-            if nb == kb:
-                eb, sb0 = names[kb][0]
-                sb1 = sb0
-            if g.segment_min_scalar(ea, eb, sa0, sb0, sa1, sb1) < D:
+        for na, nb, _, _ in _grid_steps(g, names, nbrs, ka, kb, D):
+            if (na, nb) in seen or dist(na, nb) < D + h:
                 continue
             seen.add((na, nb))
             queue.append((na, nb))
@@ -134,20 +143,8 @@ def _grid_cost(track: GraphTrack, D: float, h: float, start: tuple, goal: tuple,
             return c
         if c > best[(ka, kb)]:
             continue
-        moves_a = [(ka, names[ka][0][0], names[ka][0][1], names[ka][0][1]), *nbrs[ka]]
-        moves_b = [(kb, names[kb][0][0], names[kb][0][1], names[kb][0][1]), *nbrs[kb]]
-        for (na, ea, sa0, sa1), (nb, eb, sb0, sb1) in itertools.product(moves_a, moves_b):
-            if na == ka and nb == kb:
-                continue
-            if na == ka:
-                ea, sa0 = names[ka][0]
-                sa1 = sa0
-            if nb == kb:
-                eb, sb0 = names[kb][0]
-                sb1 = sb0
-            if g.segment_min_scalar(ea, eb, sa0, sb0, sa1, sb1) < D:
-                continue
-            nc = c + cost(sa1 - sa0, sb1 - sb0)
+        for na, nb, da, db in _grid_steps(g, names, nbrs, ka, kb, D):
+            nc = c + cost(da, db)
             if nc < best.get((na, nb), np.inf):
                 best[(na, nb)] = nc
                 heapq.heappush(heap, (nc, n, (na, nb)))
@@ -271,15 +268,10 @@ def test_random_graphs_plans_keep_clearance_and_reach_the_goal(
     track = random_layout(rng)
     fs = free_space(track, D)
     g = track.geometry
-    for _ in range(20):
-        e = rng.integers(track.n_edges, size=4)
-        o = rng.uniform(0, 1, 4) * track.lengths[e]
-        s = ((int(e[0]), float(o[0])), (int(e[1]), float(o[1])))
-        t = ((int(e[2]), float(o[2])), (int(e[3]), float(o[3])))
-        if fs.is_free(*s) and fs.is_free(*t):
-            break
-    else:
+    query = random_free_query(track, fs, rng)
+    if query is None:
         return
+    s, t = query
     try:
         p = plan_graph(track, s, t, D, objective=objective, speeds=(va, vb))
     except NoMotionError:

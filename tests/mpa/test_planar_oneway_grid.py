@@ -12,16 +12,16 @@ ends' middle), so a robot held still on a one-way edge could not cross there.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 import pytest
 
 import mpa
 from mpa import Disc, GraphTrack, NoMotionError, Rectangle
-from tests.mpa.test_footprints import drawn_of, fp_tuple, plan_depth
+from tests.helpers.planar_grid import grid_nodes, grid_queries, plane_free
+from tests.mpa.test_footprints import fp_tuple, plan_depth
 from tests.mpa.test_planar_corners import _layout
-from tests.mpa.test_planar_rules import _directed_grid, _grid_reaches, _monotone
+from tests.mpa.test_planar_rules import _monotone
 
 
 def _siding(rng: np.random.Generator) -> tuple[GraphTrack, Rectangle]:
@@ -32,31 +32,6 @@ def _siding(rng: np.random.Generator) -> tuple[GraphTrack, Rectangle]:
     oneway = [bool(rng.random() < 0.5) for _ in range(4)]
     tr = GraphTrack.from_layout(_layout(se, [[x0, h], [x1, h]], length, oneway))
     return tr, Rectangle(float(rng.uniform(0.8, 2.6)), float(rng.uniform(0.2, min(1.2, 0.95 * h + 0.3))))
-
-
-def _directed_rect_grid(tr: GraphTrack, fp: Rectangle, step: float) -> tuple[list[Any], list[list[int]], Any]:
-    """Nodes, forward moves and free pairs of the directed grid (the free pairs by the rule of
-    ``tests.mpa.test_footprints._grid_connected``)."""
-    nodes, (nxt, _) = _directed_grid(tr, 0.0, 0.0, step)  # the nodes and forward moves; the free pairs below
-    dr = drawn_of(tr)
-    c = np.array([dr.point(*q) for q in nodes])
-    hs = [dr.headings(*q) for q in nodes]
-    turn = np.array([max((abs(math.remainder(x - y, math.pi)) for x in h for y in h), default=0.0) > 1e-9 for h in hs])
-    hd = np.array([x[0] for x in hs])
-    dx = c[None, :, :] - c[:, None, :]
-    g = np.full(dx.shape[:2], -np.inf)
-    hl, hw = fp.length / 2, fp.width / 2
-    for hh in (hd[:, None] + 0 * hd[None, :], hd[None, :] + 0 * hd[:, None]):
-        for ax in (hh, hh + math.pi / 2):
-            cen = np.abs(dx[..., 0] * np.cos(ax) + dx[..., 1] * np.sin(ax))
-            ra = hl * np.abs(np.cos(ax - hd[:, None])) + hw * np.abs(np.sin(ax - hd[:, None]))
-            rb = hl * np.abs(np.cos(ax - hd[None, :])) + hw * np.abs(np.sin(ax - hd[None, :]))
-            g = np.maximum(g, cen - ra - rb)
-    dist = np.hypot(dx[..., 0], dx[..., 1])
-    g = np.where(turn[:, None] | turn[None, :], np.minimum(g, dist - 2 * fp.reach), g)
-    free = g >= step + 0.02
-    np.fill_diagonal(free, False)
-    return nodes, nxt, free
 
 
 # seed 232 of the hunt: every edge one-way; A drives west -> siding -> east past B, which creeps forward on 'main'
@@ -105,14 +80,10 @@ def test_one_way_rectangles_complete_against_a_directed_grid(seed: int) -> None:
     both answers counted so that the check was exercised."""
     rng = np.random.default_rng(seed)
     tr, fp = _siding(rng)
-    nodes, nxt, free = _directed_rect_grid(tr, fp, 0.2)
+    nodes, nxt = grid_nodes(tr, 0.2, oneway=True)
+    free = plane_free(tr, nodes, fp, 0.2)
     met = refused = 0
-    for _ in range(15):
-        i, j, k, m = (int(x) for x in rng.integers(0, len(nodes), size=4))
-        if not (free[i, j] and free[k, m]):
-            continue
-        grid = _grid_reaches(nxt, free, (i, j), (k, m))
-        start, goal = (nodes[i], nodes[j]), (nodes[k], nodes[m])
+    for grid, start, goal in grid_queries(rng, nodes, nxt, free, 15):
         try:
             plan = mpa.plan(tr, start, goal, 0.0, footprint=fp)
         except NoMotionError as exc:

@@ -4,9 +4,7 @@ with Open-RMF maps and ``--fleet``, and completeness of the one-way search again
 from __future__ import annotations
 
 import csv
-import itertools
 import json
-import math
 from pathlib import Path
 from typing import Any
 
@@ -17,9 +15,11 @@ import yaml
 import mpa
 from mpa import Disc, GraphTrack, NoMotionError, Rectangle
 from tests.helpers.planar_checker import overlap_depth
+from tests.helpers.planar_grid import grid_nodes, grid_queries
 from tests.mpa.test_footprints import drawn_of, fp_tuple, passing_loop, plan_depth
 from trajopt import generate_trajectory
 from trajopt.cli.main import main
+from trajopt.testing import random_rules
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "openrmf"
 FLEET = DATA / "office_tinyRobot_config.yaml"  # footprint 0.3 m, vicinity 0.5 m, limits 0.5 m/s, 0.75 m/s²
@@ -188,26 +188,7 @@ def _directed_grid(tr: GraphTrack, radius: float, clearance: float, step: float)
     robots at least ``clearance + step`` apart along the track. One robot moves one step at a time, so every grid
     path is a motion of the model that keeps the one-way rule."""
     dr = drawn_of(tr)
-    nodes: list[tuple[int, float]] = []
-    index: dict[Any, int] = {}
-    nxt: list[list[int]] = []
-    for e in range(tr.n_edges):
-        length = float(tr.lengths[e])
-        k = max(2, math.ceil(length / step))
-        ids = []
-        for i in range(k + 1):
-            o = length * i / k
-            w = tr.vertex_at(e, o)
-            key = ("v", w) if w is not None else ("e", e, i)
-            if key not in index:
-                index[key] = len(nodes)
-                nodes.append((e, o))
-                nxt.append([])
-            ids.append(index[key])
-        for a, b in itertools.pairwise(ids):
-            nxt[a].append(b)
-            if not tr.oneway[e]:
-                nxt[b].append(a)
+    nodes, nxt = grid_nodes(tr, step, oneway=True)
     c = np.array([dr.point(*q) for q in nodes])
     plane = np.hypot(c[:, None, 0] - c[None, :, 0], c[:, None, 1] - c[None, :, 1]) - 2.0 * radius
     geo = tr.geometry
@@ -216,29 +197,10 @@ def _directed_grid(tr: GraphTrack, radius: float, clearance: float, step: float)
     return nodes, (nxt, free)
 
 
-def _grid_reaches(nxt: list[list[int]], free: Any, s: tuple[int, int], g: tuple[int, int]) -> bool:
-    seen = {s}
-    todo = [s]
-    while todo:
-        i, j = todo.pop()
-        if (i, j) == g:
-            return True
-        for a, b in [(x, j) for x in nxt[i]] + [(i, y) for y in nxt[j]]:
-            if (a, b) not in seen and free[a, b]:
-                seen.add((a, b))
-                todo.append((a, b))
-    return False
-
-
 def _random_ruled_layout(rng: np.random.Generator) -> GraphTrack:
     """A main line with a siding close beside it (``passing_loop``), some edges one-way, some speed-limited."""
     layout = passing_loop(float(rng.uniform(0.5, 1.5)), float(rng.uniform(0.5, 2.0)), float(rng.uniform(25, 50)))
-    for e in layout["edges"]:
-        if rng.random() < 0.45:
-            e["oneway"] = True
-        if rng.random() < 0.2:
-            e["speed_limit"] = 0.4
-    return GraphTrack.from_layout(layout)
+    return random_rules(layout, rng, oneway=0.45, limited=0.2, speed=0.4)
 
 
 @pytest.mark.parametrize("seed", range(6))
@@ -252,12 +214,7 @@ def test_complete_under_one_way_rules_with_bodies_against_a_grid(seed: int) -> N
     step = 0.2
     nodes, (nxt, free) = _directed_grid(tr, radius, clearance, step)
     met = 0
-    for _ in range(12):
-        i, j, k, m = (int(x) for x in rng.integers(0, len(nodes), size=4))
-        if not (free[i, j] and free[k, m]):
-            continue
-        grid = _grid_reaches(nxt, free, (i, j), (k, m))
-        start, goal = (nodes[i], nodes[j]), (nodes[k], nodes[m])
+    for grid, start, goal in grid_queries(rng, nodes, nxt, free, 12):
         try:
             plan = mpa.plan(tr, start, goal, clearance, footprint=Disc(radius))
         except NoMotionError as exc:

@@ -13,6 +13,7 @@ import io
 import itertools
 import json
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -25,7 +26,7 @@ from tests.helpers.cli import run_main as _run
 from tests.helpers.graph_helpers import random_layout, random_position
 from trajopt import Limits, TrajectoryGenerator, generate_trajectory
 from trajopt.export import CSV_COLUMNS, GRAPH_CSV_COLUMNS, XY_COLUMNS
-from trajopt.testing import GraphMetric, check_graph_setpoints, check_trajectory
+from trajopt.testing import GraphMetric, check_graph_setpoints, check_trajectory, requirements
 
 ROOT = Path(__file__).resolve().parents[2]
 LAYOUTS = sorted((ROOT / "examples" / "tracks").glob("*.json"))
@@ -43,6 +44,23 @@ def _parse(text: str) -> tuple[list[str], dict[str, np.ndarray]]:
     return header, cols
 
 
+def _pairs(c: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The CSV's per-robot columns (``a_K``, ``b_K``) as pairs: shape (N, 2) per quantity K."""
+    return {k: np.stack([c[f"a_{k}"], c[f"b_{k}"]], axis=1) for k in ("offset", "s", "v", "a", "j", "dir")}
+
+
+def _row_failures(  # type: ignore[no-untyped-def]
+    traj, track: Any, t: np.ndarray, edges: np.ndarray, pair: dict[str, np.ndarray], ends: Any, metric: Any, **kw: Any
+) -> list[str]:
+    """The independent checker's failures of rows read from a CSV of ``traj`` (positions on ``track``, the query
+    ``ends``); ``kw`` overrides :func:`trajopt.testing.requirements` (e.g. the rate read from the file)."""
+    rows = [pair[k] for k in ("offset", "s", "v", "a", "j")]
+    need = requirements(traj) | kw
+    return check_graph_setpoints(
+        track, t, edges, *rows, start=ends[0], goal=ends[1], dirs=pair["dir"].astype(int), metric=metric, **need
+    )
+
+
 def _check_csv(traj, text: str, metric: GraphMetric | None = None) -> list[str]:  # type: ignore[no-untyped-def]
     """Check the graph CSV ``text`` of ``traj`` with the independent checker; returns the failures."""
     plan = traj.plan
@@ -54,28 +72,9 @@ def _check_csv(traj, text: str, metric: GraphMetric | None = None) -> list[str]:
         fails.append(f"header {header}")
     index = {n: i for i, n in enumerate(track.edge_names)}
     edges = np.stack([[index[x] for x in c["a_edge"]], [index[x] for x in c["b_edge"]]], axis=1)
-    pair = {k: np.stack([c[f"a_{k}"], c[f"b_{k}"]], axis=1) for k in ("offset", "s", "v", "a", "j", "dir")}
+    pair = _pairs(c)
     rate = 1.0 / (c["time"][1] - c["time"][0]) if len(c["time"]) > 1 else traj.rate
-    lim = traj.limits
-    fails += check_graph_setpoints(
-        track,
-        c["time"],
-        edges,
-        pair["offset"],
-        pair["s"],
-        pair["v"],
-        pair["a"],
-        pair["j"],
-        rate=round(rate, 6),
-        clearance=traj.clearance,
-        vmax=lim.v,
-        amax=lim.a,
-        jmax=lim.j,
-        start=plan.start,
-        goal=plan.goal,
-        dirs=pair["dir"].astype(int),
-        metric=metric,
-    )
+    fails += _row_failures(traj, track, c["time"], edges, pair, (plan.start, plan.goal), metric, rate=round(rate, 6))
     if track.has_coordinates:
         xy = np.stack([np.stack([c["a_x"], c["a_y"]], 1), np.stack([c["b_x"], c["b_y"]], 1)], axis=1)
         for r in (0, 1):
@@ -293,14 +292,8 @@ def test_paper_csv_gains_consistent_edge_offset_dir_columns(query) -> None:  # t
     track = Lollipop(1.0, 1.0)
     traj = TrajectoryGenerator(track, clearance=0.05).generate(*query)
     header, c = _parse(traj.csv_text())
-    assert tuple(header) == CSV_COLUMNS and header[11:] == [
-        "a_edge",
-        "a_offset",
-        "a_dir",
-        "b_edge",
-        "b_offset",
-        "b_dir",
-    ]
+    # conventions: Command line and files (the header continues after b_j)
+    assert tuple(header) == CSV_COLUMNS and ",".join(header[11:]) == "a_edge,a_offset,a_dir,b_edge,b_offset,b_dir"
     g = track.as_graph_track()
     assert set(c["a_edge"]) | set(c["b_edge"]) <= {"stick", "loop"} == set(g.edge_names)
     for x in "ab":
@@ -321,28 +314,8 @@ def test_paper_csv_gains_consistent_edge_offset_dir_columns(query) -> None:  # t
     metric = GraphMetric(g)
     idx = {"stick": 0, "loop": 1}
     edges = np.stack([[idx[v] for v in c["a_edge"]], [idx[v] for v in c["b_edge"]]], axis=1)
-    pair = {k: np.stack([c[f"a_{k}"], c[f"b_{k}"]], axis=1) for k in ("offset", "s", "v", "a", "j", "dir")}
     ends = [tuple((int(e), float(o)) for e, o in zip(*track.to_graph_position(np.asarray(q, float)))) for q in query]
-    lim = traj.limits
-    fails = check_graph_setpoints(
-        g,
-        c["time"],
-        edges,
-        pair["offset"],
-        pair["s"],
-        pair["v"],
-        pair["a"],
-        pair["j"],
-        rate=traj.rate,
-        clearance=traj.clearance,
-        vmax=lim.v,
-        amax=lim.a,
-        jmax=lim.j,
-        start=ends[0],
-        goal=ends[1],
-        dirs=pair["dir"].astype(int),
-        metric=metric,
-    )
+    fails = _row_failures(traj, g, c["time"], edges, _pairs(c), ends, metric)
     assert not fails, fails
     routes = traj.summary()["routes"]
     assert {p["edge"] for r in "ab" for p in routes[r]} <= {"stick", "loop"}

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from mpa import Circle, Lollipop
+from tests.helpers.scripts import is_png, run_script
 from trajopt import generate_trajectory
 from trajopt.margins import margins, min_separation
 
@@ -122,19 +123,7 @@ def test_summary_reports_margins(tmp_path) -> None:  # type: ignore[no-untyped-d
 
 
 def test_figure_script_smoke(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[2]
     out = tmp_path / "m.png"
-    res = subprocess.run(
-        [sys.executable, "experiments/margins_figure.py", "--out", str(out), "--dpi", "40", "--points", "5"],
-        cwd=root,
-        capture_output=True,
-        text=True,
-        timeout=300,
-        check=False,
-    )
+    res = run_script("experiments/margins_figure.py", "--out", str(out), "--dpi", "40", "--points", "5")
     assert res.returncode == 0, res.stderr
-    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 5000
+    assert is_png(out, 5000)

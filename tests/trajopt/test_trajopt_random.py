@@ -16,6 +16,7 @@ from mpa import Circle, Lollipop, MPAError, path_word
 from mpa.errors import InvalidInputError
 from trajopt import Limits, Trajectory, TrajectoryGenerator
 from trajopt.generator import separation_margin
+from trajopt.testing import random_queries
 
 #: Relative tolerance of the limit checks (the issue's 1e-6).
 LIMIT_RTOL = 1e-6
@@ -66,21 +67,11 @@ def recheck(traj: Trajectory, start: np.ndarray, goal: np.ndarray) -> list[str]:
     return fails
 
 
-def _queries(track, clearance: float, n: int, seed: int):  # type: ignore[no-untyped-def]
-    rng = np.random.default_rng(seed)
-    out = []
-    while len(out) < n:
-        s, g = rng.uniform(0, track.total_length, 2), rng.uniform(0, track.total_length, 2)
-        if track.distance(*s) >= clearance and track.distance(*g) >= clearance:
-            out.append((s, g))
-    return out
-
-
 @pytest.mark.parametrize(("track", "clearance", "n"), CASES, ids=lambda x: repr(x)[:40])
 def test_random_queries_verified_and_rechecked(track, clearance, n) -> None:  # type: ignore[no-untyped-def]
     gen = TrajectoryGenerator(track, clearance=clearance, limits=Limits(0.5, 1.0, 5.0), rate=100.0)
     fallbacks, done = [], 0
-    for i, (s, g) in enumerate(_queries(track, clearance, n, seed=1234 + n)):
+    for i, (s, g) in enumerate(random_queries(track, clearance, n, seed=1234 + n)):
         try:
             traj = gen.generate(s, g)
         except MPAError as exc:
@@ -149,6 +140,6 @@ def test_many_random_lollipops_slow(seed: int) -> None:
         track = Lollipop(float(rng.uniform(0.3, 2.0)), float(rng.uniform(0.5, 2.0)))
         D = float(rng.uniform(0.005, 0.3)) * track.loop / 2
         gen = TrajectoryGenerator(track, clearance=D)
-        for s, g in _queries(track, D, 50, seed):
+        for s, g in random_queries(track, D, 50, seed):
             traj = gen.generate(s, g)
             assert not recheck(traj, s, g), (track, D, s.tolist(), g.tolist())

@@ -7,7 +7,9 @@ import pytest
 
 from mpa import Interval, InvalidInputError, Lollipop, NoMotionError
 from mpa.homotopy import path_word
+from tests.helpers.scripts import is_png, run_script
 from trajopt import TrajectoryGenerator
+from trajopt.testing import travel_curve
 
 SPLICE_TOL = 1e-9
 LIMIT_RTOL = 1e-6
@@ -124,17 +126,6 @@ def test_no_motion_on_an_interval() -> None:
         gen.replan(traj, 0.5, (0.9, 0.3))  # the order cannot change
 
 
-def curve(traj, t0, n=600):  # type: ignore[no-untyped-def]
-    """The geometric path from ``t0`` on: ``n`` points equally spaced in route travel, track coordinates."""
-    t = np.append(np.arange(t0, traj.motion_time, 1 / 2000.0), traj.motion_time)
-    s = traj.sampler(t)[0]
-    c = np.concatenate([[0.0], np.cumsum(np.max(np.abs(np.diff(s, axis=0)), axis=1))])
-    u = np.linspace(0.0, c[-1], n)
-    ss = np.stack([np.interp(u, c, s[:, 0]), np.interp(u, c, s[:, 1])], axis=1)
-    r = traj.plan.routes
-    return np.stack([r[0].position(ss[:, 0]), r[1].position(ss[:, 1])], axis=1)
-
-
 @pytest.mark.parametrize(("start", "goal"), [((0.2, 0.5), (0.5, 0.2)), ((1.25, 1.75), (1.75, 1.25))])
 def test_replanning_every_tenth_with_millimetre_goal_moves_is_stable(gen, start, goal) -> None:  # type: ignore[no-untyped-def]
     rng = np.random.default_rng(14)
@@ -142,7 +133,7 @@ def test_replanning_every_tenth_with_millimetre_goal_moves_is_stable(gen, start,
     for k in range(25):
         move = rng.uniform(-1e-3, 1e-3, 2)
         new = gen.replan(cur, 0.1, g + move)
-        rem, nw = curve(cur, 0.1), curve(new, 0.0)
+        rem, nw = travel_curve(cur, 0.1), travel_curve(new, 0.0)
         assert path_word(L, nw) == path_word(L, rem), k  # the class never changes
         jump = max(L.distance(rem[:, 0], nw[:, 0]).max(), L.distance(rem[:, 1], nw[:, 1]).max())
         assert jump <= 10 * np.abs(move).max(), (k, jump, move)
@@ -150,38 +141,14 @@ def test_replanning_every_tenth_with_millimetre_goal_moves_is_stable(gen, start,
 
 
 def test_figure_script_smoke(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[2]
     out = tmp_path / "r.png"
-    res = subprocess.run(
-        [sys.executable, "experiments/replan_figure.py", "--out", str(out), "--dpi", "40"],
-        cwd=root,
-        capture_output=True,
-        text=True,
-        timeout=300,
-        check=False,
-    )
+    res = run_script("experiments/replan_figure.py", "--out", str(out), "--dpi", "40")
     assert res.returncode == 0, res.stderr
-    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 5000
+    assert is_png(out, 5000)
 
 
 def test_stability_script_smoke() -> None:
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[2]
-    res = subprocess.run(
-        [sys.executable, "experiments/replan_stability.py", "--replans", "2"],
-        cwd=root,
-        capture_output=True,
-        text=True,
-        timeout=300,
-        check=False,
-    )
+    res = run_script("experiments/replan_stability.py", "--replans", "2")
     assert res.returncode == 0, res.stderr
     lines = res.stdout.strip().splitlines()
     ours = [ln for ln in lines if not ln.startswith("    OMPL")]

@@ -151,18 +151,14 @@ def good():  # type: ignore[no-untyped-def]
 
 
 def _check(traj, **changes):  # type: ignore[no-untyped-def]
-    arrays = {k: getattr(traj, k).copy() for k in ("t", "track", "s", "v", "a", "j")}
+    columns = ("t", "track", "s", "v", "a", "j")
+    arrays = {k: getattr(traj, k).copy() for k in columns}
     arrays.update(changes)
     p = traj.plan
     return verify_setpoints(
         p.track,
         p.routes,
-        arrays["t"],
-        arrays["track"],
-        arrays["s"],
-        arrays["v"],
-        arrays["a"],
-        arrays["j"],
+        *(arrays[k] for k in columns),
         limits=traj.limits,
         clearance=traj.clearance,
         start=p.start,

@@ -21,6 +21,7 @@ from trajopt.cli.common import (
     footprint_query,
     output_error,
     query_from_args,
+    trajectory_options,
 )
 
 __all__ = ["DEFAULTS", "register"]
@@ -54,11 +55,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
                 start,
                 goal,
                 target,
-                clearance=args.clearance,
-                vmax=args.vmax,
-                amax=args.amax,
-                jmax=args.jmax,
-                rate=args.rate,
+                **trajectory_options(args),
                 trajectory=not args.raw_only,
                 fps=args.fps,
                 dpi=args.dpi,

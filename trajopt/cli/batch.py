@@ -58,6 +58,7 @@ from trajopt.cli.common import (
     check_output_dir,
     graph_from_args,
     output_error,
+    trajectory_options,
 )
 
 __all__ = [
@@ -457,11 +458,7 @@ def _cmd_batch(args: argparse.Namespace) -> int:
         track,
         queries,
         args.out,
-        clearance=args.clearance,
-        vmax=args.vmax,
-        amax=args.amax,
-        jmax=args.jmax,
-        rate=args.rate,
+        **trajectory_options(args),
         footprint=args.footprint,
         setpoints=args.setpoints,
         workers=args.workers,

@@ -146,6 +146,12 @@ def add_trajectory_arguments(p: argparse.ArgumentParser) -> None:
     add_fleet_arguments(p)
 
 
+def trajectory_options(args: argparse.Namespace) -> dict[str, float]:
+    """The motion options of :func:`add_trajectory_arguments` as keywords: ``clearance`` (m), ``vmax``, ``amax``,
+    ``jmax`` (m/s, m/s², m/s³) and ``rate`` (Hz)."""
+    return {k: args.__dict__[k] for k in ("clearance", "vmax", "amax", "jmax", "rate")}
+
+
 class _StoreGiven(argparse.Action):
     """Store the value and remember that the option was given (``namespace.given_options``)."""
 

@@ -278,6 +278,21 @@ def layout_geometry(track: object) -> LayoutGeometry:
 
 
 # ------------------------------------------------------------------------------------------------- layout
+def label_beside(ax: Axes, text: str, p: Any, direction: Any, points: float, size: float, **style: Any) -> None:
+    """A label centred ``points`` typographic points from the data point ``p`` along the unit vector
+    ``direction`` (shape (2,) each); ``style`` goes to :meth:`matplotlib.axes.Axes.annotate` (colour, box, ...)."""
+    ax.annotate(
+        text,
+        xy=(float(p[0]), float(p[1])),
+        xytext=(float(direction[0] * points), float(direction[1] * points)),
+        textcoords="offset points",
+        ha="center",
+        va="center",
+        fontsize=size,
+        **style,
+    )
+
+
 def _arrowhead(
     ax: Axes, pts: FloatArray, frac: FloatArray, at: float, color: str, size: float, alpha: float = 1.0, **kw: Any
 ) -> None:
@@ -411,17 +426,17 @@ def _draw_vertices(
             d = p - centre
             nd = float(np.hypot(*d))
             d = d / nd if nd > 1e-9 * geo.size else np.array([0.0, 1.0])
-            ax.annotate(
+            box = {"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8}
+            label_beside(
+                ax,
                 str(tr.graph.vertices[w]),
-                xy=(float(p[0]), float(p[1])),
-                xytext=(float(d[0] * 10.0), float(d[1] * 10.0)),
-                textcoords="offset points",
-                ha="center",
-                va="center",
-                fontsize=label_size,
+                p,
+                d,
+                10.0,
+                label_size,
                 fontweight="bold",
                 color="0.15",
-                bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8},
+                bbox=box,
                 zorder=6,
             )
 

@@ -12,7 +12,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from mpa.graph_track import GraphTrack, as_graph_track
-from trajopt.viz.layout import LayoutGeometry, _arrowhead, _pad, draw_layout, layout_geometry
+from trajopt.viz.layout import LayoutGeometry, _arrowhead, _pad, draw_layout, label_beside, layout_geometry
 
 __all__ = ["ONEWAY_COLOR", "SPEED_COLOR", "draw_lane_rules", "layout_figure"]
 
@@ -46,18 +46,8 @@ def draw_lane_rules(ax: Axes, track: GraphTrack, geo: LayoutGeometry, *, label_s
         if limit is not None:
             p = geo.embed(i, 0.5 * lengths[i], lengths)
             n = geo.normal(i, 0.5 * lengths[i], lengths)
-            ax.annotate(
-                f"≤ {limit:g} m/s",
-                xy=(float(p[0]), float(p[1])),
-                xytext=(float(n[0] * 14.0), float(n[1] * 14.0)),
-                textcoords="offset points",
-                ha="center",
-                va="center",
-                fontsize=label_size,
-                color=SPEED_COLOR,
-                bbox={"boxstyle": "round,pad=0.12", "fc": "white", "ec": SPEED_COLOR, "lw": 0.6, "alpha": 0.85},
-                zorder=5,
-            )
+            box = {"boxstyle": "round,pad=0.12", "fc": "white", "ec": SPEED_COLOR, "lw": 0.6, "alpha": 0.85}
+            label_beside(ax, f"≤ {limit:g} m/s", p, n, 14.0, label_size, color=SPEED_COLOR, bbox=box, zorder=5)
 
 
 def layout_figure(track: object, *, name: str | None = None, width: float = 9.0, **draw_kw: Any) -> Figure:

@@ -196,11 +196,7 @@ def layout_run_figure(
     axd.set_xlabel("t (s)")
     axd.grid(alpha=0.3)
     axd.legend(fontsize=9, loc="best")
-    text = title
-    if words:
-        text += "".join(f"\n{k}: {w}" for k, w in words.items())
-    if text:
-        fig.suptitle(text, fontsize=10)
+    pl.title_with_words(fig, title, words)
     return fig
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import io
 import os
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -25,7 +26,15 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from trajopt.export import Trajectory
 
-__all__ = ["draw_cspace", "draw_profiles", "draw_track", "figure_png", "plot_trajectory", "save_figure"]
+__all__ = [
+    "draw_cspace",
+    "draw_profiles",
+    "draw_track",
+    "figure_png",
+    "plot_trajectory",
+    "save_and_close",
+    "save_figure",
+]
 
 COLORS = ("tab:blue", "tab:orange")
 #: Line styles of robots A and B in the profiles: B dashed on top of A, so equal curves (a symmetric swap) show both.
@@ -130,6 +139,30 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float, **savefig
     with atomic_path(out) as tmp:
         fig.savefig(tmp, dpi=dpi, format=out.suffix.lstrip(".").lower() or "png", **savefig_kwargs)
     return out
+
+
+def title_with_words(fig: Figure, title: str, words: Mapping[str, str] | None) -> None:
+    """Give ``fig`` the title ``title`` with each cart's motion in words (``{"A": ..., "B": ...}``) on a line of its
+    own below it; no title when both are empty."""
+    text = title
+    if words:
+        text += "".join(f"\n{k}: {w}" for k, w in words.items())
+    if text:
+        fig.suptitle(text, fontsize=10)
+
+
+def save_and_close(fig: Figure, path: str | os.PathLike[str], dpi: float) -> Path:
+    """Lay ``fig`` out tightly, write it with :func:`save_figure` and close it (pyplot forgets it).
+
+    Returns the path written.
+    """
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    try:
+        return save_figure(fig, path, dpi)
+    finally:
+        plt.close(fig)
 
 
 def figure_png(fig: Figure) -> bytes:

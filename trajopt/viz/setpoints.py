@@ -111,11 +111,9 @@ def plot_rows(
     _draw_cspace_panel(ax_cs, rows, pos, track, clearance)
     axes = [fig.add_subplot(gs[i, 1]) for i in range(len(profiles))]
     _draw_profiles(axes, rows, profiles)
-    text = title
-    if words:
-        text += "".join(f"\n{k}: {v}" for k, v in words.items())
-    if text:
-        fig.suptitle(text, fontsize=10)
+    from trajopt.viz.plotting import title_with_words
+
+    title_with_words(fig, title, words)
     return fig
 
 
