@@ -180,6 +180,8 @@ class TrajectoryGenerator:
     footprint: Any = None
     planner: Planner | GraphPlanner = field(init=False, repr=False)
     _corridor: CorridorProblem | None = field(default=None, init=False, repr=False)
+    #: Per-robot cap (m/s²) on the motion's acceleration: what a first motion reached (:meth:`_reached_pass`).
+    _reached: tuple[float, float] | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.limits, Limits):
@@ -217,7 +219,9 @@ class TrajectoryGenerator:
           the least of them;
         - speeds above ``v_L``, the peak speed of a time-optimal jerk-limited rest-to-rest profile over ``L`` with
           that acceleration, are lowered to ``v_L``;
-        - jerks above ``CAP·amax·rate`` (the lowered ``amax``) are lowered to that.
+        - jerks above ``CAP·amax·rate`` (the lowered ``amax``) are lowered to that;
+        - in the second pass of a layout query (:meth:`_reached_pass`), accelerations are also lowered to what the
+          first motion reached.
 
         A time-optimal jerk-limited rest-to-rest profile over a travel ``L`` never accelerates beyond ``a_L``
         (with jerk alone it covers ``L = 2·jmax·T³`` in ``4T`` and peaks at ``jmax·T``) nor beyond
@@ -243,6 +247,8 @@ class TrajectoryGenerator:
         with np.errstate(over="ignore"):  # a huge rate: no cap (inf), the memory budget refuses it later
             a_eff = np.minimum(np.minimum(a, LIMIT_CAP * v * self.rate), np.sqrt(v * j))
             a_eff = np.minimum(a_eff, np.cbrt(j * j * length / 2.0))
+            if self._reached is not None:
+                a_eff = np.minimum(a_eff, self._reached)
             v_eff = np.minimum(v, reachable_speed(length, a_eff, j))
             j_eff = np.minimum(j, LIMIT_CAP * a_eff * self.rate)
         if np.array_equal(v_eff, v) and np.array_equal(a_eff, a) and np.array_equal(j_eff, j):
@@ -340,12 +346,78 @@ class TrajectoryGenerator:
             Not even the re-timed plan passes verification (never expected).
         """
         try:
-            return self._generate(plan, timings)
+            first = self._generate(plan, timings)
         except _RejectedError as exc:
             why = self._explain_rejection(plan) or self._explain_threshold(plan)
             if why:
                 raise InvalidInputError(why) from None
             raise PlanningError(str(exc)) from exc
+        return self._reached_pass(plan, first)
+
+    def _reached_pass(self, plan: Plan | GraphPlan, first: Trajectory) -> Trajectory:
+        """The layout's plan again with the between-rows margin of the accelerations ``first`` reached; the faster
+        of the two verified motions.
+
+        The graph plan keeps :meth:`separation_margin` beyond the clearance, which grows with the ``amax`` the
+        motion is timed with (about ``amax·Δt²/4`` per robot). A blended motion whose pieces are short does not
+        reach that ``amax``; a wider margin then only lengthens the path, so loosening ``amax`` could slow the
+        motion down. Here each robot's acceleration is capped at what ``first`` reached: the largest ``|a|`` of
+        its rows plus ``jmax·Δt/2`` (the most the motion's jerk adds between rows, as the gate bounds it), no
+        more than :attr:`motion_limits`. If that lowers the margin, the query is planned for the lower margin,
+        timed with the capped accelerations (so the margin covers the gate's bound by construction) and verified
+        by the gate; that motion is returned if it passed optimised and is not slower than ``first``.
+
+        Only blended layout motions without footprints take this pass (a straight motion is already the fastest
+        of its routes; the plane's margin of bodies is that of :attr:`limits`, so it would not change).
+
+        Parameters
+        ----------
+        plan : Plan or GraphPlan
+            The plan ``first`` was made from (by this generator's planner).
+        first : Trajectory
+            The verified motion of ``plan``.
+
+        Returns
+        -------
+        Trajectory
+            ``first``, or the second motion (``solver_stats["reached_pass"]``: the capped accelerations in m/s²,
+            the margin in m and ``first``'s motion time in s).
+        """
+        if (
+            not isinstance(plan, GraphPlan)
+            or not isinstance(self.planner, GraphPlanner)
+            or self.footprint is not None
+            or self._reached is not None
+            or first.source is not Source.OPTIMIZED
+            or first.solver_stats.get("path") != "blend"
+        ):
+            return first
+        t0 = time.perf_counter()
+        limits = self.motion_limits
+        a = np.asarray(limits.a, dtype=float)
+        reached = np.minimum(a, np.max(np.abs(first.a), axis=0) + np.asarray(limits.j, dtype=float) / (2.0 * self.rate))
+        if not np.any(reached < a):
+            return first
+        gen = copy.copy(self)
+        gen._reached = (float(reached[0]), float(reached[1]))
+        margin = gen.separation_margin()
+        if not margin < self.separation_margin():
+            return first
+        gen.planner = replace(self.planner, margin=margin)
+        try:
+            second_plan = gen.planner.plan(plan.start, plan.goal)
+            second = gen._generate(second_plan, {"plan": time.perf_counter() - t0})
+        except MPAError:  # no motion or none verified for the lower margin: the first motion stands
+            return first
+        if second.source is not Source.OPTIMIZED or second.motion_time > first.motion_time:
+            return first
+        second.timings["total"] += first.timings.get("total", 0.0)
+        second.solver_stats["reached_pass"] = {
+            "amax": list(gen._reached),
+            "margin": margin,
+            "first_motion_time": first.motion_time,
+        }
+        return second
 
     def _explain_threshold(self, plan: Plan | GraphPlan) -> str:
         """At a threshold clearance (the plan keeps exactly D somewhere while the robots move) no rate can be
@@ -385,6 +457,7 @@ class TrajectoryGenerator:
         gen.footprint = self.footprint
         gen.rate = check_rate(rate)
         gen._corridor = self._corridor
+        gen._reached = None  # what a motion reaches between rows depends on the rate
         if isinstance(self.planner, GraphPlanner):  # the plan's margin depends on the rate
             pl = self.planner
             gen.planner = GraphPlanner(
