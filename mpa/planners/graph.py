@@ -1117,6 +1117,10 @@ def plan_graph(
     if segs is None:  # pragma: no cover - no budget given
         raise PlanningError("search gave up")
     segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])
+    if objective == "fastest":  # one motion among the equally fast ones of the chain, continuous in the query
+        from mpa.planners.corners import resolve_corners
+
+        segs = [x for x in resolve_corners(fs, segs, (va, vb)) if x[1] != x[2]]
     return _assemble(tr, fs, s, gl, objective, (va, vb), segs)
 
 
