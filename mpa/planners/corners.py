@@ -40,6 +40,7 @@ unchanged.
 
 from __future__ import annotations
 
+import itertools
 import math
 from typing import Any
 
@@ -47,9 +48,12 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import nnls
 
+from mpa.freespace import PolygonId
+
 __all__ = ["RESOLVE_TOL", "resolve_corners"]
 
 FloatArray = NDArray[np.float64]
+Coords = tuple[float, float]
 #: Relative tolerance of the re-solve: makespan and travel at most ``(1 + RESOLVE_TOL)`` times the search's.
 RESOLVE_TOL = 1e-12
 _SLOPES = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))
@@ -86,32 +90,18 @@ def _directions(cells: list[Any], d: FloatArray, free: list[list[int]], robot: i
     return out
 
 
-def resolve_corners(
+def _solve_chain(
     fs: Any,
     segs: list[list[Any]],
     speeds: tuple[float, float],
-) -> list[list[Any]]:
-    """The corners of a searched ``fastest`` plan re-solved by the continuous rule of this module.
-
-    Parameters
-    ----------
-    fs : FreeSpace
-        The free space the plan was searched in.
-    segs : list of [PolygonId, (s, t), (s, t)]
-        The search's segments, start to goal: cell, start and end in the cell's offsets (metres), consecutive
-        segments meeting at the same configuration, no segment of length zero.
-    speeds : (float, float)
-        ``(vA, vB)`` in m/s.
-
-    Returns
-    -------
-    list of [PolygonId, (s, t), (s, t)]
-        The same cells with the re-solved corners (same length as ``segs``), or ``segs`` itself when the plan has no
-        free corner or a check fails.
-    """
+    m_search: float,
+    w_search: float,
+    floor: float,
+) -> tuple[float, list[list[Any]]] | None:
+    """The rule's minimiser in the chain of cells of ``segs`` (segments as in :func:`resolve_corners`; a segment may
+    have length zero), with its objective value (s²); None when the chain has no free corner, no motion within the
+    tolerance of the search's makespan ``m_search`` and travel ``w_search`` (s), or a check fails."""
     n = len(segs)
-    if n < 2:
-        return segs
     va, vb = speeds
     g = fs.geometry
     lengths = g._L
@@ -132,7 +122,7 @@ def resolve_corners(
                 var_edge.append(int(cells[j][r]))
     nv = len(values)
     if nv == 0:
-        return segs
+        return None
     d = p1 - p0
     sig_a = _directions(cells, d, free, 0)
     sig_b = _directions(cells, d, free, 1)
@@ -180,7 +170,7 @@ def resolve_corners(
     var_corners = [[j for j in range(1, n) for r in (0, 1) if free[j][r] == k] for k in range(len(kept))]
     nv = len(kept)
     if nv == 0:
-        return segs
+        return None
 
     # every coordinate as an affine function of the variables: coef (nv,) and constant
     def coord(i: int, end: int, r: int) -> tuple[int, float]:
@@ -235,12 +225,10 @@ def resolve_corners(
             if coord(i, 0, r)[0] < 0 and coord(i, 1, r)[0] < 0:
                 fixed = max(fixed, abs(d[i, r]) / vel[r])
         rhs.append(fixed)
-    m_search = float(np.sum(np.maximum(np.abs(d[:, 0]) / va, np.abs(d[:, 1]) / vb)))
-    w_search = float(np.sum(np.abs(d[:, 0]) / va + np.abs(d[:, 1]) / vb))
     q = row()  # makespan
     q[nv:] = -1.0
     rows_g.append(q)
-    rhs.append(-m_search * (1.0 + RESOLVE_TOL))
+    rhs.append(-m_search * (1.0 + 0.5 * RESOLVE_TOL))
     q = row()  # travel: sum σ Δ / v (fixed moves as constants)
     const = 0.0
     for i in range(n):
@@ -249,7 +237,7 @@ def resolve_corners(
             q[:nv] -= sig[r][i] * dmat[k]
             const += sig[r][i] * dcon[k]
     rows_g.append(q)
-    rhs.append(const - w_search * (1.0 + RESOLVE_TOL))
+    rhs.append(const - w_search * (1.0 + 0.5 * RESOLVE_TOL))
     # corners in their polygons: the clearance's affine terms, the edges' ends, the piece of a one-edge cell
     dmin = fs._dmin
     margin = 0.5 * fs.tol  # rounding of the solve stays on the free side of the membership test
@@ -283,7 +271,7 @@ def resolve_corners(
                 if vb_ >= 0:
                     q[vb_] += sb
                 rows_g.append(q)
-                here = sa * pts[end][i, 0] + sb * pts[end][i, 1] + c0
+                here = max(dmin, sa * pts[end][i, 0] + sb * pts[end][i, 1] + c0)
                 rhs.append(min(dmin + margin, here) - c0 - sa * ca_ - sb * cb_)
             if e == f:
                 sg = 1.0 if kk == 0 else -1.0  # piece 0: s - t >= dmin; piece 1: t - s >= dmin
@@ -293,14 +281,14 @@ def resolve_corners(
                 if vb_ >= 0:
                     q[vb_] -= sg
                 rows_g.append(q)
-                here = sg * (pts[end][i, 0] - pts[end][i, 1])
+                here = max(dmin, sg * (pts[end][i, 0] - pts[end][i, 1]))
                 rhs.append(min(dmin + margin, here) - sg * (ca_ - cb_))
     gmat = np.array(rows_g)
     h = np.array(rhs)
     # objective 1/2 |dmat x + dcon|² + 1/2 |T|²: with dmat = Q R, w = R x + Qᵀ dcon, min 1/2 |(w, T)|²
     qm, rm = np.linalg.qr(dmat)
     if np.min(np.abs(np.diag(rm))) <= 1e-12 * np.max(np.abs(np.diag(rm))):  # pragma: no cover - full rank
-        return segs
+        return None
     rinv = np.linalg.inv(rm)
     shift = qm.T @ dcon  # x = R⁻¹ (w - shift)
     gx = gmat[:, :nv] @ rinv
@@ -313,10 +301,10 @@ def resolve_corners(
     try:
         u, _ = nnls(e_mat, f_vec, maxiter=50 * e_mat.shape[1])
     except RuntimeError:  # pragma: no cover - the iteration limit
-        return segs
+        return None
     res = e_mat @ u - f_vec
-    if abs(res[-1]) <= 1e-12:  # pragma: no cover - infeasible: the search's corners are feasible
-        return segs
+    if abs(res[-1]) <= 1e-12:  # infeasible (a widened chain without a motion as fast as the search's)
+        return None
     y = -res[:-1] / res[-1]
     x = rinv @ (y[:nv] - shift)
     # clamp into the edges and the faces (the other robot on its vertex), as the search clamps its crossings
@@ -343,8 +331,158 @@ def resolve_corners(
             a[r] = float(x[v0]) if v0 >= 0 else c0
             b[r] = float(x[v1]) if v1 >= 0 else c1
         out.append([segs[i][0], (a[0], a[1]), (b[0], b[1])])
-    floor = min(fs._dmin, min(g.segment_min_scalar(c[0], c[1], *a, *b) for c, a, b in zip(cells, p0, p1)))
-    return out if _valid(fs, out, sig, speeds, m_search, w_search, floor) else segs
+    if not _valid(fs, out, sig, speeds, m_search, w_search, floor):
+        return None
+    value = 0.0
+    for _, a, b in out:
+        ta, tb = (b[0] - a[0]) / va, (b[1] - a[1]) / vb
+        value += ta * ta + tb * tb + max(abs(ta), abs(tb)) ** 2
+    return value, out
+
+
+def _widenings(fs: Any, segs: list[list[Any]]) -> list[list[tuple[int, PolygonId, Any]]]:
+    """Where the chain turns a grid corner: both robots change edge at one corner, or one right after the other.
+
+    Returns per such place the ways round it, each ``(index, cell, how)``: ``how`` is ``"insert"`` (a cell of
+    length zero put in between the cells ``index - 1`` and ``index``) or ``"replace"`` (the cell ``index`` replaced).
+    The way the search took comes first.
+    """
+    index = fs._index
+    cells = [tuple(x[0]) for x in segs]
+    n = len(cells)
+    out: list[list[tuple[int, PolygonId, Any]]] = []
+    j = 1
+    while j < n:
+        (a0, b0, _), (a1, b1, _) = cells[j - 1], cells[j]
+        ways: list[tuple[int, PolygonId, Any]] = []
+        if a0 != a1 and b0 != b1:  # both at once, through the corner
+            for x in ((a1, b0, 0), (a0, b1, 0)):
+                if x[0] != x[1] and x in index:
+                    ways.append((j, x, "insert"))
+            if ways:
+                out.append([(j, cells[j], "keep"), *ways])
+            j += 1
+            continue
+        if j + 1 < n:
+            a2, b2, _ = cells[j + 1]
+            if (a0 != a1 and b1 == b0 and b2 != b1 and a2 == a1) or (b0 != b1 and a1 == a0 and a2 != a1 and b2 == b1):
+                other = (a0, b2, 0) if a0 != a1 else (a2, b0, 0)
+                if other[0] != other[1] and other in index:
+                    out.append([(j, cells[j], "keep"), (j, other, "replace")])
+                    j += 2
+                    continue
+        j += 1
+    return out
+
+
+#: At most this many grid corners of a chain are widened (2 ** MAX_WIDEN chains solved at most).
+MAX_WIDEN = 3
+
+
+def resolve_corners(
+    fs: Any,
+    segs: list[list[Any]],
+    speeds: tuple[float, float],
+) -> list[list[Any]]:
+    """The corners of a searched ``fastest`` plan re-solved by the continuous rule of this module.
+
+    Parameters
+    ----------
+    fs : FreeSpace
+        The free space the plan was searched in.
+    segs : list of [PolygonId, (s, t), (s, t)]
+        The search's segments, start to goal: cell, start and end in the cell's offsets (metres), consecutive
+        segments meeting at the same configuration, no segment of length zero.
+    speeds : (float, float)
+        ``(vA, vB)`` in m/s.
+
+    Returns
+    -------
+    list of [PolygonId, (s, t), (s, t)]
+        The re-solved segments (segments of length zero included), or ``segs`` itself when the plan has no free
+        corner or no chain passes the checks.
+    """
+    n = len(segs)
+    if n < 2:
+        return segs
+    va, vb = speeds
+    g = fs.geometry
+    d = np.array([np.subtract(x[2], x[1]) for x in segs], dtype=float)
+    m_search = float(np.sum(np.maximum(np.abs(d[:, 0]) / va, np.abs(d[:, 1]) / vb)))
+    w_search = float(np.sum(np.abs(d[:, 0]) / va + np.abs(d[:, 1]) / vb))
+    floor = min(fs._dmin, min(g.segment_min_scalar(c[0], c[1], *a, *b) for c, a, b in segs))
+    places = _widenings(fs, segs)[:MAX_WIDEN]
+    best: tuple[float, list[list[Any]]] | None = None
+    routes = _routes(segs)
+    for choice in itertools.product(*places):
+        chain = _widened(fs, segs, list(choice))
+        got = _solve_chain(fs, chain, speeds, m_search, w_search, floor)
+        if got is not None and (best is None or got[0] < best[0] * (1.0 - 1e-12)) and _routes(got[1]) == routes:
+            best = got
+    return segs if best is None else best[1]
+
+
+def _routes(segs: list[list[Any]]) -> tuple[tuple[tuple[int, int], ...], ...]:
+    """Each robot's route as ``(edge, direction)`` pairs in order (moves of length zero left out, repeats merged)."""
+    out = []
+    for r in (0, 1):
+        route: list[tuple[int, int]] = []
+        for cell, a, b in segs:
+            dr = b[r] - a[r]
+            if dr != 0.0:
+                key = (int(cell[r]), 1 if dr > 0 else -1)
+                if not route or route[-1] != key:
+                    route.append(key)
+        out.append(tuple(route))
+    return tuple(out)
+
+
+def _widened(fs: Any, segs: list[list[Any]], choice: list[tuple[int, PolygonId, Any]]) -> list[list[Any]]:
+    """The chain of ``segs`` with the ways ``choice`` round its grid corners (see :func:`_widenings`); a cell put in
+    or swapped in starts as a segment of length zero at the grid corner (both robots on their vertices)."""
+    g = fs.geometry
+    lengths = g._L
+    out = [list(x) for x in segs]
+    for j, cell, how in sorted(choice, key=lambda c: -c[0]):
+        if how == "keep":
+            continue
+        if how == "insert":
+            prev, nxt = out[j - 1], out[j]
+            # robot A: the edge of the new cell is the next cell's (or the previous one's); same for B
+            sa = nxt[1][0] if cell[0] == nxt[0][0] else prev[2][0]
+            sb = nxt[1][1] if cell[1] == nxt[0][1] else prev[2][1]
+            out.insert(j, [cell, (sa, sb), (sa, sb)])
+            continue
+        prev, nxt = out[j - 1], out[j + 1]
+        pt = _grid_corner(g, lengths, prev, nxt, cell)
+        if pt is None:
+            continue
+        out[j - 1] = [prev[0], prev[1], pt[0]]
+        out[j] = [cell, pt[1], pt[1]]
+        out[j + 1] = [nxt[0], pt[2], nxt[2]]
+    return out
+
+
+def _grid_corner(
+    g: Any, lengths: Any, prev: list[Any], nxt: list[Any], cell: PolygonId
+) -> tuple[Coords, Coords, Coords] | None:
+    """The grid corner between ``prev``'s cell and ``nxt``'s cell (each robot on the vertex its edges share) in the
+    three cells' offsets: ``prev``'s, ``cell``'s and ``nxt``'s; None when the edges share no vertex."""
+    res: list[list[float]] = [[0.0, 0.0], [0.0, 0.0], [0.0, 0.0]]
+    for r in (0, 1):
+        e0, e1, em = prev[0][r], nxt[0][r], cell[r]
+        ends0 = {g._t[e0]: 0.0, g._h[e0]: float(lengths[e0])}
+        ends1 = {g._t[e1]: 0.0, g._h[e1]: float(lengths[e1])}
+        if e0 == e1:
+            return None
+        common = [w for w in ends0 if w in ends1]
+        if len(common) != 1:
+            return None
+        w = common[0]
+        res[0][r] = ends0[w]
+        res[2][r] = ends1[w]
+        res[1][r] = ends0[w] if em == e0 else ends1[w]
+    return (res[0][0], res[0][1]), (res[1][0], res[1][1]), (res[2][0], res[2][1])
 
 
 def _valid(
@@ -360,7 +498,7 @@ def _valid(
     search's own least distance when its rounding is below it), their directions, the makespan and the travel."""
     g = fs.geometry
     va, vb = speeds
-    tol = 2.0 * RESOLVE_TOL
+    tol = RESOLVE_TOL  # the solve aims at half of it: rounding stays inside
     m = w = 0.0
     for i, (pid, a, b) in enumerate(segs):
         e, f, _ = pid
