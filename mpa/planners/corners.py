@@ -357,7 +357,7 @@ def _widenings(fs: Any, segs: list[list[Any]]) -> list[list[tuple[int, PolygonId
         ways: list[tuple[int, PolygonId, Any]] = []
         if a0 != a1 and b0 != b1:  # both at once, through the corner
             for x in ((a1, b0, 0), (a0, b1, 0)):
-                if x[0] != x[1] and x in index:
+                if x[0] == x[1] or x in index:  # one edge: the piece is the robots' order there (see _widened)
                     ways.append((j, x, "insert"))
             if ways:
                 out.append([(j, cells[j], "keep"), *ways])
@@ -367,7 +367,7 @@ def _widenings(fs: Any, segs: list[list[Any]]) -> list[list[tuple[int, PolygonId
             a2, b2, _ = cells[j + 1]
             if (a0 != a1 and b1 == b0 and b2 != b1 and a2 == a1) or (b0 != b1 and a1 == a0 and a2 != a1 and b2 == b1):
                 other = (a0, b2, 0) if a0 != a1 else (a2, b0, 0)
-                if other[0] != other[1] and other in index:
+                if other[0] == other[1] or other in index:
                     out.append([(j, cells[j], "keep"), (j, other, "replace")])
                     j += 2
                     continue
@@ -416,6 +416,8 @@ def resolve_corners(
     routes = _routes(segs)
     for choice in itertools.product(*places):
         chain = _widened(fs, segs, list(choice))
+        if chain is None:
+            continue
         got = _solve_chain(fs, chain, speeds, m_search, w_search, floor)
         if got is not None and (best is None or got[0] < best[0] * (1.0 - 1e-12)) and _routes(got[1]) == routes:
             best = got
@@ -437,9 +439,16 @@ def _routes(segs: list[list[Any]]) -> tuple[tuple[tuple[int, int], ...], ...]:
     return tuple(out)
 
 
-def _widened(fs: Any, segs: list[list[Any]], choice: list[tuple[int, PolygonId, Any]]) -> list[list[Any]]:
+def _piece(cell: PolygonId, s: float, t: float) -> PolygonId:
+    """The cell with its piece: on one edge 0 when robot A is ahead (``s > t``), else 1."""
+    e, f, _ = cell
+    return (e, f, 0 if e != f or s > t else 1)
+
+
+def _widened(fs: Any, segs: list[list[Any]], choice: list[tuple[int, PolygonId, Any]]) -> list[list[Any]] | None:
     """The chain of ``segs`` with the ways ``choice`` round its grid corners (see :func:`_widenings`); a cell put in
-    or swapped in starts as a segment of length zero at the grid corner (both robots on their vertices)."""
+    or swapped in starts as a segment of length zero at the grid corner (both robots on their vertices). None when
+    the cell is not free there."""
     g = fs.geometry
     lengths = g._L
     out = [list(x) for x in segs]
@@ -451,12 +460,18 @@ def _widened(fs: Any, segs: list[list[Any]], choice: list[tuple[int, PolygonId, 
             # robot A: the edge of the new cell is the next cell's (or the previous one's); same for B
             sa = nxt[1][0] if cell[0] == nxt[0][0] else prev[2][0]
             sb = nxt[1][1] if cell[1] == nxt[0][1] else prev[2][1]
+            cell = _piece(cell, sa, sb)
+            if cell not in fs._index:
+                return None
             out.insert(j, [cell, (sa, sb), (sa, sb)])
             continue
         prev, nxt = out[j - 1], out[j + 1]
         pt = _grid_corner(g, lengths, prev, nxt, cell)
         if pt is None:
-            continue
+            return None
+        cell = _piece(cell, *pt[1])
+        if cell not in fs._index:
+            return None
         out[j - 1] = [prev[0], prev[1], pt[0]]
         out[j] = [cell, pt[1], pt[1]]
         out[j + 1] = [nxt[0], pt[2], nxt[2]]
@@ -466,22 +481,29 @@ def _widened(fs: Any, segs: list[list[Any]], choice: list[tuple[int, PolygonId, 
 def _grid_corner(
     g: Any, lengths: Any, prev: list[Any], nxt: list[Any], cell: PolygonId
 ) -> tuple[Coords, Coords, Coords] | None:
-    """The grid corner between ``prev``'s cell and ``nxt``'s cell (each robot on the vertex its edges share) in the
-    three cells' offsets: ``prev``'s, ``cell``'s and ``nxt``'s; None when the edges share no vertex."""
+    """The grid corner between ``prev``'s cell and ``nxt``'s cell (each robot on the vertex where it changes edge:
+    where ``prev`` ends or ``nxt`` starts at an end of the robot's edge) in the three cells' offsets: ``prev``'s,
+    ``cell``'s and ``nxt``'s; None when a robot changes edge at no end of its edges."""
     res: list[list[float]] = [[0.0, 0.0], [0.0, 0.0], [0.0, 0.0]]
     for r in (0, 1):
         e0, e1, em = prev[0][r], nxt[0][r], cell[r]
-        ends0 = {g._t[e0]: 0.0, g._h[e0]: float(lengths[e0])}
-        ends1 = {g._t[e1]: 0.0, g._h[e1]: float(lengths[e1])}
-        if e0 == e1:
+        x0, x1 = float(prev[2][r]), float(nxt[1][r])
+        if x0 == 0.0 or x0 == lengths[e0]:
+            w = g._t[e0] if x0 == 0.0 else g._h[e0]
+        elif x1 == 0.0 or x1 == lengths[e1]:
+            w = g._t[e1] if x1 == 0.0 else g._h[e1]
+        else:
             return None
-        common = [w for w in ends0 if w in ends1]
-        if len(common) != 1:
-            return None
-        w = common[0]
-        res[0][r] = ends0[w]
-        res[2][r] = ends1[w]
-        res[1][r] = ends0[w] if em == e0 else ends1[w]
+        ends = []
+        for e in (e0, e1):
+            if g._t[e] == w:
+                ends.append(0.0)
+            elif g._h[e] == w:
+                ends.append(float(lengths[e]))
+            else:
+                return None
+        res[0][r], res[2][r] = ends
+        res[1][r] = ends[0] if em == e0 else ends[1]
     return (res[0][0], res[0][1]), (res[1][0], res[1][1]), (res[2][0], res[2][1])
 
 
