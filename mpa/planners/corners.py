@@ -343,9 +343,10 @@ def _solve_chain(
 def _widenings(fs: Any, segs: list[list[Any]]) -> list[list[tuple[int, PolygonId, Any]]]:
     """Where the chain turns a grid corner: both robots change edge at one corner, or one right after the other.
 
-    Returns per such place the ways round it, each ``(index, cell, how)``: ``how`` is ``"insert"`` (a cell of
-    length zero put in between the cells ``index - 1`` and ``index``) or ``"replace"`` (the cell ``index`` replaced).
-    The way the search took comes first.
+    Returns per such place the ways round it, each ``(index, cell, how)``: ``how`` is ``"keep"`` (the search's
+    way), ``"insert"`` (a cell put in between the cells ``index - 1`` and ``index``, starting as a segment of length
+    zero at the corner: the two cells that turn the corner on either side; both contain the search's way through
+    the corner itself) or ``"replace"`` (the cell ``index`` swapped for the one on the corner's other side).
     """
     index = fs._index
     cells = [tuple(x[0]) for x in segs]
@@ -359,8 +360,8 @@ def _widenings(fs: Any, segs: list[list[Any]]) -> list[list[tuple[int, PolygonId
             for x in ((a1, b0, 0), (a0, b1, 0)):
                 if x[0] == x[1] or x in index:  # one edge: the piece is the robots' order there (see _widened)
                     ways.append((j, x, "insert"))
-            if ways:
-                out.append([(j, cells[j], "keep"), *ways])
+            if ways:  # each holds the corner itself (its cell's segment of length zero): no need to keep the chain
+                out.append(ways)
             j += 1
             continue
         if j + 1 < n:
