@@ -172,125 +172,119 @@ def _solve_chain(
     if nv == 0:
         return None
 
-    # every coordinate as an affine function of the variables: coef (nv,) and constant
+    # every coordinate as a variable (index, or -1) plus a constant (the search's value when fixed)
+    p0l, p1l = p0.tolist(), p1.tolist()
+    vix = [[[-1, -1], [-1, -1]] for _ in range(n)]
+    cst = [[[0.0, 0.0], [0.0, 0.0]] for _ in range(n)]
+    for i in range(n):
+        for r in (0, 1):
+            v0 = free[i][r] if i > 0 else -1
+            v1 = free[i + 1][r] if i + 1 < n else -1
+            vix[i][0][r], vix[i][1][r] = v0, v1
+            cst[i][0][r] = 0.0 if v0 >= 0 else p0l[i][r]
+            cst[i][1][r] = 0.0 if v1 >= 0 else p1l[i][r]
+
     def coord(i: int, end: int, r: int) -> tuple[int, float]:
         """Variable index (or -1) and constant of robot r's coordinate at segment i's start (0) or end (1)."""
-        j = i + end  # corner index
-        v = free[j][r] if 0 < j < n else -1
-        if v >= 0:
-            return v, 0.0
-        return -1, float((p1 if end else p0)[i, r])
+        return vix[i][end][r], cst[i][end][r]
 
+    # constraints G [x; T] >= h over nv + n unknowns, as (column, value) entries per row
+    nz = nv + n
+    rows_g: list[list[tuple[int, float]]] = []
+    rhs: list[float] = []
     # the objective's linear map: scaled moves Δ/v of every segment and robot, (2n, nv) and constant (2n,)
     dmat = np.zeros((2 * n, nv))
-    dcon = np.zeros(2 * n)
-    rows_g: list[FloatArray] = []  # constraints G [x; T] >= h over nv + n unknowns
-    rhs: list[float] = []
-    nz = nv + n
-
-    def row() -> FloatArray:
-        return np.zeros(nz)
-
+    dcon = [0.0] * (2 * n)
+    travel: dict[int, float] = {}
+    travel_const = 0.0
+    fixed_t = [0.0] * n
     for i in range(n):
         for r in (0, 1):
-            v1, c1 = coord(i, 1, r)
-            v0, c0 = coord(i, 0, r)
+            v0, v1 = vix[i][0][r], vix[i][1][r]
+            iv = 1.0 / vel[r]
             k = 2 * i + r
-            if v1 >= 0:
-                dmat[k, v1] += 1.0 / vel[r]
-            if v0 >= 0:
-                dmat[k, v0] -= 1.0 / vel[r]
-            dcon[k] = (c1 - c0) / vel[r]
+            dk = (cst[i][1][r] - cst[i][0][r]) * iv
+            dcon[k] = dk
             s = sig[r][i]
-            if v0 < 0 and v1 < 0:
-                continue  # both ends fixed: the move is the search's
+            if v0 < 0 and v1 < 0:  # both ends fixed: the move is the search's
+                fixed_t[i] = max(fixed_t[i], abs(dk))
+                travel_const += s * dk
+                continue
+            ents = []
+            if v1 >= 0:
+                dmat[k, v1] += iv
+                ents.append((v1, iv))
+            if v0 >= 0:
+                dmat[k, v0] -= iv
+                ents.append((v0, -iv))
             if s == 0:  # stands: both ends are one variable (Δ = 0 identically)
                 continue
-            q = row()  # σ Δ >= 0
-            q[:nv] = s * dmat[k]
-            rows_g.append(q)
-            rhs.append(-s * dcon[k])
-            q = row()  # T_i - σ Δ / v >= 0
-            q[:nv] = -s * dmat[k]
-            q[nv + i] = 1.0
-            rows_g.append(q)
-            rhs.append(s * dcon[k])
-    # the durations of segments whose moves are both fixed, and T_i >= 0
-    for i in range(n):
-        q = row()
-        q[nv + i] = 1.0
-        rows_g.append(q)
-        fixed = 0.0
-        for r in (0, 1):
-            if coord(i, 0, r)[0] < 0 and coord(i, 1, r)[0] < 0:
-                fixed = max(fixed, abs(d[i, r]) / vel[r])
-        rhs.append(fixed)
-    q = row()  # makespan
-    q[nv:] = -1.0
-    rows_g.append(q)
+            rows_g.append([(c, s * x) for c, x in ents])  # σ Δ >= 0
+            rhs.append(-s * dk)
+            rows_g.append([(c, -s * x) for c, x in ents] + [(nv + i, 1.0)])  # T_i - σ Δ / v >= 0
+            rhs.append(s * dk)
+            for c, x in ents:
+                travel[c] = travel.get(c, 0.0) - s * x
+            travel_const += s * dk
+    for i in range(n):  # T_i >= the fixed moves' durations (and >= 0)
+        rows_g.append([(nv + i, 1.0)])
+        rhs.append(fixed_t[i])
+    rows_g.append([(nv + i, -1.0) for i in range(n)])  # makespan
     rhs.append(-m_search * (1.0 + 0.5 * RESOLVE_TOL))
-    q = row()  # travel: sum σ Δ / v (fixed moves as constants)
-    const = 0.0
-    for i in range(n):
-        for r in (0, 1):
-            k = 2 * i + r
-            q[:nv] -= sig[r][i] * dmat[k]
-            const += sig[r][i] * dcon[k]
-    rows_g.append(q)
-    rhs.append(const - w_search * (1.0 + 0.5 * RESOLVE_TOL))
+    rows_g.append(list(travel.items()))  # travel: sum σ Δ / v
+    rhs.append(travel_const - w_search * (1.0 + 0.5 * RESOLVE_TOL))
     # corners in their polygons: the clearance's affine terms, the edges' ends, the piece of a one-edge cell
     dmin = fs._dmin
     margin = 0.5 * fs.tol  # rounding of the solve stays on the free side of the membership test
-    pts = (p0, p1)
+    pts = (p0l, p1l)
     for v in range(nv):  # box of the free coordinate
-        q = row()
-        q[v] = 1.0
-        rows_g.append(q)
+        rows_g.append([(v, 1.0)])
         rhs.append(0.0)
-        q = row()
-        q[v] = -1.0
-        rows_g.append(q)
+        rows_g.append([(v, -1.0)])
         rhs.append(-float(lengths[var_edge[v]]))
     for i in range(n):
         e, f, kk = cells[i]
         terms = g.cell_terms(e, f)
         le, lf = float(lengths[e]), float(lengths[f])
         for end in (0, 1):
-            va_, ca_ = coord(i, end, 0)
-            vb_, cb_ = coord(i, end, 1)
+            va_, vb_ = vix[i][end]
             if va_ < 0 and vb_ < 0:
                 continue
+            ca_, cb_ = cst[i][end]
+            ps, pt_ = pts[end][i]
             for sa, sb, c0 in terms:
-                if not math.isfinite(c0):
-                    continue
-                if c0 + min(0.0, sa * le) + min(0.0, sb * lf) >= dmin:
-                    continue  # holds on the whole cell
-                q = row()  # sa * s + sb * t + c0 >= dmin (+ margin, where the search's corner allows it)
+                if not math.isfinite(c0) or c0 + min(0.0, sa * le) + min(0.0, sb * lf) >= dmin:
+                    continue  # unreachable, or holds on the whole cell
+                ents = []  # sa * s + sb * t + c0 >= dmin (+ margin, where the search's corner allows it)
                 if va_ >= 0:
-                    q[va_] += sa
+                    ents.append((va_, sa))
                 if vb_ >= 0:
-                    q[vb_] += sb
-                rows_g.append(q)
-                here = max(dmin, sa * pts[end][i, 0] + sb * pts[end][i, 1] + c0)
+                    ents.append((vb_, sb))
+                rows_g.append(ents)
+                here = max(dmin, sa * ps + sb * pt_ + c0)
                 rhs.append(min(dmin + margin, here) - c0 - sa * ca_ - sb * cb_)
             if e == f:
                 sg = 1.0 if kk == 0 else -1.0  # piece 0: s - t >= dmin; piece 1: t - s >= dmin
-                q = row()
+                ents = []
                 if va_ >= 0:
-                    q[va_] += sg
+                    ents.append((va_, sg))
                 if vb_ >= 0:
-                    q[vb_] -= sg
-                rows_g.append(q)
-                here = max(dmin, sg * (pts[end][i, 0] - pts[end][i, 1]))
+                    ents.append((vb_, -sg))
+                rows_g.append(ents)
+                here = max(dmin, sg * (ps - pt_))
                 rhs.append(min(dmin + margin, here) - sg * (ca_ - cb_))
-    gmat = np.array(rows_g)
+    gmat = np.zeros((len(rows_g), nz))
+    for ri, ents in enumerate(rows_g):
+        for c, x in ents:
+            gmat[ri, c] += x
     h = np.array(rhs)
+    dcon_a = np.array(dcon)
     # objective 1/2 |dmat x + dcon|² + 1/2 |T|²: with dmat = Q R, w = R x + Qᵀ dcon, min 1/2 |(w, T)|²
     qm, rm = np.linalg.qr(dmat)
     if np.min(np.abs(np.diag(rm))) <= 1e-12 * np.max(np.abs(np.diag(rm))):  # pragma: no cover - full rank
         return None
     rinv = np.linalg.inv(rm)
-    shift = qm.T @ dcon  # x = R⁻¹ (w - shift)
+    shift = qm.T @ dcon_a  # x = R⁻¹ (w - shift)
     gx = gmat[:, :nv] @ rinv
     g2 = np.hstack([gx, gmat[:, nv:]])
     h2 = h + gx @ shift
