@@ -90,13 +90,15 @@ _ALLOWED = (
 
 #: Third-party imports allowed in single modules beyond their layer's (PyYAML reads Open-RMF maps in mpa.openrmf;
 #: scipy's sparse graphs give the free space's components and the vertex distances of large layouts, and the search
-#: of the free space with footprints (Dijkstra over the moves); the PVT rows' velocity fit is a linear program solved
-#: by scipy's HiGHS).
+#: of the free space with footprints (Dijkstra over the moves); the graph planner's corner re-solve is a least-distance
+#: programme solved by scipy's non-negative least squares; the PVT rows' velocity fit is a linear program solved by
+#: scipy's HiGHS).
 _MODULE_ALLOWED = {
     "mpa.openrmf": {"yaml"},
     "mpa.freespace": {"scipy"},
     "mpa.geometry": {"scipy"},
     "mpa.planar": {"scipy"},
+    "mpa.planners.corners": {"scipy"},
     "trajopt.pvt": {"scipy"},
 }
 

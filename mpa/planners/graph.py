@@ -58,6 +58,11 @@ and optimality for the objective (up to ``1e-12`` relative from the queue's grid
 Search time is not bounded polynomially: on a 77-edge warehouse a few swaps with clearances that force the robots to
 negotiate take about a second.
 
+**One motion among equally fast ones.** A ``fastest`` plan that the search answered has its corners solved again
+in its own chain of cells (:func:`mpa.planners.corners.resolve_corners`): the same routes, makespan and travel within
+``1e-12`` of the search's, and among those motions the unique one of least sum of squared segment moves and
+durations, so that the corners move continuously with the query instead of following the queue's order.
+
 **Routes.** Each robot's route is a sequence of directed edges (a new piece at every edge change and every
 reversal); its route coordinate is the distance travelled, and the plan is a polyline in route coordinates
 (straight on each segment).
@@ -1117,6 +1122,10 @@ def plan_graph(
     if segs is None:  # pragma: no cover - no budget given
         raise PlanningError("search gave up")
     segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])
+    if objective == "fastest":  # one motion among the equally fast ones of the chain, continuous in the query
+        from mpa.planners.corners import resolve_corners
+
+        segs = [x for x in resolve_corners(fs, segs, (va, vb)) if x[1] != x[2]]
     return _assemble(tr, fs, s, gl, objective, (va, vb), segs)
 
 

@@ -158,7 +158,9 @@ def test_makespan_does_not_grow_when_amax_is_loosened_below_the_travel_cap() -> 
     the second path was 1.4 mm longer. The second pass plans both for the margin of what they reach."""
     spans = _makespans("y", *BELOW_THE_CAP)
     assert spans is not None and spans[1] <= spans[0] + 1e-9, spans
-    assert spans[1] <= 1.85 + 1e-9, spans
+    # 1.85 s with the search's corners; the corner re-solve (mpa.planners.corners, the stable rule) spreads the
+    # plan's moves over its segments and both motions take 2.15 s (docs/graphs.md, "Stability")
+    assert spans[1] <= 2.15 + 1e-9, spans
 
 
 #: Found by the random property test after the second pass: the Y, vmax 0.5, jmax 5e4, amax 100 and 200; and

@@ -1,0 +1,534 @@
+"""The corners of a searched plan re-solved by a continuous rule: one motion among the equally fast ones.
+
+The any-angle search of :mod:`mpa.planners.graph` returns a chain of straight segments through free convex polygons,
+one cell per segment. Along such a chain the optimum is often a *plateau*: a robot with time to spare may wait a
+little earlier or a little later, and every such timing is equally fast. Which of them the search returns depends on
+the order of its queue, so a query moved by a hair may return a corner moved by metres. :func:`resolve_corners`
+replaces the search's corners by the unique minimiser of a strictly convex function over the plateau of the plan's
+own chain of cells, so the corners move continuously with the query while the routes, the cells and the makespan
+stay the search's.
+
+**The chain.** Segment ``i`` runs in cell ``c_i = (e_i, f_i, k_i)`` from ``P_i`` to ``Q_i`` (offsets ``(s, t)`` in
+metres). At the corner between segments ``i - 1`` and ``i`` a robot whose edge changes (or whose offset is read
+differently in the two cells) stands on a vertex: its coordinate is fixed. A robot on the same edge at the same
+offset in both cells is *free*: one variable ``x`` shared by ``Q_{i-1}`` and ``P_i``. The start and the goal are
+fixed. Each robot's motion on a segment keeps the direction of its route there (``σ Δ >= 0``; a robot that stands
+on an edge for the whole stay keeps standing), so ``|Δ| = σ Δ`` is linear and the routes (edges and directions)
+cannot change.
+
+**The rule.** With ``T_i`` the duration of segment ``i`` (at least ``σ_A ΔA_i / vA`` and ``σ_B ΔB_i / vB``):
+
+1. the makespan ``sum T_i`` is at most the search's, ``M (1 + RESOLVE_TOL)``;
+2. the travel in time units ``sum (|ΔA_i| / vA + |ΔB_i| / vB)`` is at most the search's, ``W (1 + RESOLVE_TOL)``;
+3. every corner lies in both polygons it joins (the clearance's affine terms, the edges' ends, the piece of a cell
+   of one edge), so every segment lies in its convex polygon;
+
+and among those motions the one of least ``sum (ΔA_i / vA)² + (ΔB_i / vB)² + T_i²`` (squared segment lengths and
+durations, seconds²). The function is strictly convex in the free corners and the durations and the feasible set is
+a polyhedron that moves continuously with the query, so the minimiser is unique and continuous in the query. It is a
+least-distance programme, solved exactly (a finite active-set method) by Lawson and Hanson's reduction to
+non-negative least squares (:func:`scipy.optimize.nnls`): with ``R`` from the QR factorisation of the map from the
+free corners to the scaled segment moves, ``min |y|`` subject to ``G y >= h`` is ``y = -r[:n] / r[n]`` for the
+residual ``r = E u - (0, ..., 0, 1)`` of the non-negative least squares problem with ``E = [Gᵀ; hᵀ]``.
+
+**Checks.** The free coordinates are clamped into the face intervals of :mod:`mpa.freespace` (as the search clamps
+its crossings), and the result is kept only if every segment keeps the clearance (exact per cell,
+:meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`), every corner lies in its edges, each robot's directions
+are kept and the makespan and travel are within the tolerance; otherwise the search's corners are returned
+unchanged.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import nnls
+
+from mpa.freespace import PolygonId
+
+__all__ = ["RESOLVE_TOL", "resolve_corners"]
+
+FloatArray = NDArray[np.float64]
+Coords = tuple[float, float]
+#: Relative tolerance of the re-solve: makespan and travel at most ``(1 + RESOLVE_TOL)`` times the search's.
+RESOLVE_TOL = 1e-12
+_SLOPES = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))
+
+
+def _directions(cells: list[Any], d: FloatArray, free: list[list[int]], robot: int) -> list[int]:
+    """Per segment the sign each robot's move must keep: its own sign, or for a standing stay the sign of the
+    previous (else the next) move on the same stay on one edge, or 0 (the robot stands there throughout).
+
+    ``d`` has shape (n, 2), the search's moves; ``free[j][robot] >= 0`` when the robot's coordinate at corner ``j``
+    (between segments ``j - 1`` and ``j``) is a free variable, i.e. the robot stays on its edge across the corner.
+    """
+    n = len(cells)
+    sig = [int(np.sign(d[i, robot])) for i in range(n)]
+    out = list(sig)
+    i = 0
+    while i < n:  # stays: maximal runs of segments joined by free corners of this robot
+        j = i
+        while j + 1 < n and free[j + 1][robot] >= 0:
+            j += 1
+        last = 0
+        pending: list[int] = []
+        for k in range(i, j + 1):
+            if sig[k] != 0:
+                for p in pending:
+                    out[p] = sig[k]
+                pending = []
+                last = sig[k]
+            elif last != 0:
+                out[k] = last
+            else:
+                pending.append(k)
+        i = j + 1
+    return out
+
+
+def _solve_chain(
+    fs: Any,
+    segs: list[list[Any]],
+    speeds: tuple[float, float],
+    m_search: float,
+    w_search: float,
+    floor: float,
+) -> tuple[float, list[list[Any]]] | None:
+    """The rule's minimiser in the chain of cells of ``segs`` (segments as in :func:`resolve_corners`; a segment may
+    have length zero), with its objective value (s²); None when the chain has no free corner, no motion within the
+    tolerance of the search's makespan ``m_search`` and travel ``w_search`` (s), or a check fails."""
+    n = len(segs)
+    va, vb = speeds
+    g = fs.geometry
+    lengths = g._L
+    cells = [tuple(x[0]) for x in segs]
+    p0 = np.array([x[1] for x in segs], dtype=float)  # (n, 2)
+    p1 = np.array([x[2] for x in segs], dtype=float)
+    # free variables at the interior corners j = 1 .. n-1 (between segment j-1 and j)
+    free: list[list[int]] = [[-1, -1] for _ in range(n + 1)]
+    values: list[float] = []
+    var_robot: list[int] = []
+    var_edge: list[int] = []
+    for j in range(1, n):
+        for r in (0, 1):
+            if cells[j - 1][r] == cells[j][r] and p1[j - 1, r] == p0[j, r]:
+                free[j][r] = len(values)
+                values.append(float(p0[j, r]))
+                var_robot.append(r)
+                var_edge.append(int(cells[j][r]))
+    nv = len(values)
+    if nv == 0:
+        return None
+    d = p1 - p0
+    sig_a = _directions(cells, d, free, 0)
+    sig_b = _directions(cells, d, free, 1)
+    sig = (sig_a, sig_b)
+    vel = (va, vb)
+    # a robot standing on a segment keeps one coordinate at both its corners: one variable, or none at a fixed end
+    parent = list(range(nv))
+    pinned = [False] * nv
+
+    def find(v: int) -> int:
+        while parent[v] != v:
+            parent[v] = parent[parent[v]]
+            v = parent[v]
+        return v
+
+    for i in range(n):
+        for r in (0, 1):
+            if sig[r][i] != 0:
+                continue
+            v0 = free[i][r] if i > 0 else -1
+            v1 = free[i + 1][r] if i + 1 < n else -1
+            if v0 >= 0 and v1 >= 0:
+                a0, a1 = find(v0), find(v1)
+                pinned[a1] = pinned[a1] or pinned[a0]
+                parent[a0] = a1
+            elif v0 >= 0 or v1 >= 0:
+                pinned[find(max(v0, v1))] = True
+    renumber: dict[int, int] = {}
+    kept: list[int] = []
+    for v in range(nv):
+        root = find(v)
+        if pinned[root]:
+            continue
+        if root not in renumber:
+            renumber[root] = len(kept)
+            kept.append(root)
+    for j in range(1, n):
+        for r in (0, 1):
+            v = free[j][r]
+            if v >= 0:
+                root = find(v)
+                free[j][r] = -1 if pinned[root] else renumber[root]
+    var_robot = [var_robot[v] for v in kept]
+    var_edge = [var_edge[v] for v in kept]
+    var_corners = [[j for j in range(1, n) for r in (0, 1) if free[j][r] == k] for k in range(len(kept))]
+    nv = len(kept)
+    if nv == 0:
+        return None
+
+    # every coordinate as a variable (index, or -1) plus a constant (the search's value when fixed)
+    p0l, p1l = p0.tolist(), p1.tolist()
+    vix = [[[-1, -1], [-1, -1]] for _ in range(n)]
+    cst = [[[0.0, 0.0], [0.0, 0.0]] for _ in range(n)]
+    for i in range(n):
+        for r in (0, 1):
+            v0 = free[i][r] if i > 0 else -1
+            v1 = free[i + 1][r] if i + 1 < n else -1
+            vix[i][0][r], vix[i][1][r] = v0, v1
+            cst[i][0][r] = 0.0 if v0 >= 0 else p0l[i][r]
+            cst[i][1][r] = 0.0 if v1 >= 0 else p1l[i][r]
+
+    def coord(i: int, end: int, r: int) -> tuple[int, float]:
+        """Variable index (or -1) and constant of robot r's coordinate at segment i's start (0) or end (1)."""
+        return vix[i][end][r], cst[i][end][r]
+
+    # constraints G [x; T] >= h over nv + n unknowns, as (column, value) entries per row
+    nz = nv + n
+    rows_g: list[list[tuple[int, float]]] = []
+    rhs: list[float] = []
+    # the objective's linear map: scaled moves Δ/v of every segment and robot, (2n, nv) and constant (2n,)
+    dmat = np.zeros((2 * n, nv))
+    dcon = [0.0] * (2 * n)
+    travel: dict[int, float] = {}
+    travel_const = 0.0
+    fixed_t = [0.0] * n
+    for i in range(n):
+        for r in (0, 1):
+            v0, v1 = vix[i][0][r], vix[i][1][r]
+            iv = 1.0 / vel[r]
+            k = 2 * i + r
+            dk = (cst[i][1][r] - cst[i][0][r]) * iv
+            dcon[k] = dk
+            s = sig[r][i]
+            if v0 < 0 and v1 < 0:  # both ends fixed: the move is the search's
+                fixed_t[i] = max(fixed_t[i], abs(dk))
+                travel_const += s * dk
+                continue
+            ents = []
+            if v1 >= 0:
+                dmat[k, v1] += iv
+                ents.append((v1, iv))
+            if v0 >= 0:
+                dmat[k, v0] -= iv
+                ents.append((v0, -iv))
+            if s == 0:  # stands: both ends are one variable (Δ = 0 identically)
+                continue
+            rows_g.append([(c, s * x) for c, x in ents])  # σ Δ >= 0
+            rhs.append(-s * dk)
+            rows_g.append([(c, -s * x) for c, x in ents] + [(nv + i, 1.0)])  # T_i - σ Δ / v >= 0
+            rhs.append(s * dk)
+            for c, x in ents:
+                travel[c] = travel.get(c, 0.0) - s * x
+            travel_const += s * dk
+    for i in range(n):  # T_i >= the fixed moves' durations (and >= 0)
+        rows_g.append([(nv + i, 1.0)])
+        rhs.append(fixed_t[i])
+    rows_g.append([(nv + i, -1.0) for i in range(n)])  # makespan
+    rhs.append(-m_search * (1.0 + 0.5 * RESOLVE_TOL))
+    rows_g.append(list(travel.items()))  # travel: sum σ Δ / v
+    rhs.append(travel_const - w_search * (1.0 + 0.5 * RESOLVE_TOL))
+    # corners in their polygons: the clearance's affine terms, the edges' ends, the piece of a one-edge cell
+    dmin = fs._dmin
+    margin = 0.5 * fs.tol  # rounding of the solve stays on the free side of the membership test
+    pts = (p0l, p1l)
+    for v in range(nv):  # box of the free coordinate
+        rows_g.append([(v, 1.0)])
+        rhs.append(0.0)
+        rows_g.append([(v, -1.0)])
+        rhs.append(-float(lengths[var_edge[v]]))
+    for i in range(n):
+        e, f, kk = cells[i]
+        terms = g.cell_terms(e, f)
+        le, lf = float(lengths[e]), float(lengths[f])
+        for end in (0, 1):
+            va_, vb_ = vix[i][end]
+            if va_ < 0 and vb_ < 0:
+                continue
+            ca_, cb_ = cst[i][end]
+            ps, pt_ = pts[end][i]
+            for sa, sb, c0 in terms:
+                if not math.isfinite(c0) or c0 + min(0.0, sa * le) + min(0.0, sb * lf) >= dmin:
+                    continue  # unreachable, or holds on the whole cell
+                ents = []  # sa * s + sb * t + c0 >= dmin (+ margin, where the search's corner allows it)
+                if va_ >= 0:
+                    ents.append((va_, sa))
+                if vb_ >= 0:
+                    ents.append((vb_, sb))
+                rows_g.append(ents)
+                here = max(dmin, sa * ps + sb * pt_ + c0)
+                rhs.append(min(dmin + margin, here) - c0 - sa * ca_ - sb * cb_)
+            if e == f:
+                sg = 1.0 if kk == 0 else -1.0  # piece 0: s - t >= dmin; piece 1: t - s >= dmin
+                ents = []
+                if va_ >= 0:
+                    ents.append((va_, sg))
+                if vb_ >= 0:
+                    ents.append((vb_, -sg))
+                rows_g.append(ents)
+                here = max(dmin, sg * (ps - pt_))
+                rhs.append(min(dmin + margin, here) - sg * (ca_ - cb_))
+    gmat = np.zeros((len(rows_g), nz))
+    for ri, ents in enumerate(rows_g):
+        for c, x in ents:
+            gmat[ri, c] += x
+    h = np.array(rhs)
+    dcon_a = np.array(dcon)
+    # objective 1/2 |dmat x + dcon|² + 1/2 |T|²: with dmat = Q R, w = R x + Qᵀ dcon, min 1/2 |(w, T)|²
+    qm, rm = np.linalg.qr(dmat)
+    if np.min(np.abs(np.diag(rm))) <= 1e-12 * np.max(np.abs(np.diag(rm))):  # pragma: no cover - full rank
+        return None
+    rinv = np.linalg.inv(rm)
+    shift = qm.T @ dcon_a  # x = R⁻¹ (w - shift)
+    gx = gmat[:, :nv] @ rinv
+    g2 = np.hstack([gx, gmat[:, nv:]])
+    h2 = h + gx @ shift
+    # least distance: min |y| s.t. g2 y >= h2, by non-negative least squares (Lawson & Hanson, ch. 23)
+    e_mat = np.vstack([g2.T, h2[None, :]])
+    f_vec = np.zeros(nz + 1)
+    f_vec[-1] = 1.0
+    try:
+        u, _ = nnls(e_mat, f_vec, maxiter=50 * e_mat.shape[1])
+    except RuntimeError:  # pragma: no cover - the iteration limit
+        return None
+    res = e_mat @ u - f_vec
+    if abs(res[-1]) <= 1e-12:  # infeasible (a widened chain without a motion as fast as the search's)
+        return None
+    y = -res[:-1] / res[-1]
+    x = rinv @ (y[:nv] - shift)
+    # clamp into the edges and the faces (the other robot on its vertex), as the search clamps its crossings
+    lo_f, hi_f = fs.faces.lo, fs.faces.hi
+    for v in range(nv):
+        r, e = var_robot[v], var_edge[v]
+        xv = min(max(float(x[v]), 0.0), float(lengths[e]))
+        for j in var_corners[v]:
+            for cell, pt in ((cells[j - 1], p1[j - 1]), (cells[j], p0[j])):
+                other = 1 - r
+                if free[j][other] < 0:  # the other robot stands on a vertex there
+                    oe, oo = cell[other], float(pt[other])
+                    w = g._t[oe] if oo == 0.0 else (g._h[oe] if oo == lengths[oe] else -1)
+                    if w >= 0:
+                        xv = min(max(xv, float(lo_f[w, e])), float(hi_f[w, e]))
+        x[v] = xv
+    out: list[list[Any]] = []
+    for i in range(n):
+        a = [0.0, 0.0]
+        b = [0.0, 0.0]
+        for r in (0, 1):
+            v0, c0 = coord(i, 0, r)
+            v1, c1 = coord(i, 1, r)
+            a[r] = float(x[v0]) if v0 >= 0 else c0
+            b[r] = float(x[v1]) if v1 >= 0 else c1
+        out.append([segs[i][0], (a[0], a[1]), (b[0], b[1])])
+    if not _valid(fs, out, sig, speeds, m_search, w_search, floor):
+        return None
+    value = 0.0
+    for _, a, b in out:
+        ta, tb = (b[0] - a[0]) / va, (b[1] - a[1]) / vb
+        value += ta * ta + tb * tb + max(abs(ta), abs(tb)) ** 2
+    return value, out
+
+
+def _widenings(fs: Any, segs: list[list[Any]]) -> list[list[tuple[int, PolygonId, Any]]]:
+    """Where the chain turns a grid corner: both robots change edge at one corner, or one right after the other.
+
+    Returns per such place the ways round it, each ``(index, cell, how)``: ``how`` is ``"keep"`` (the search's
+    way), ``"insert"`` (a cell put in between the cells ``index - 1`` and ``index``, starting as a segment of length
+    zero at the corner: the two cells that turn the corner on either side; both contain the search's way through
+    the corner itself) or ``"replace"`` (the cell ``index`` swapped for the one on the corner's other side).
+    """
+    index = fs._index
+    cells = [tuple(x[0]) for x in segs]
+    n = len(cells)
+    out: list[list[tuple[int, PolygonId, Any]]] = []
+    j = 1
+    while j < n:
+        (a0, b0, _), (a1, b1, _) = cells[j - 1], cells[j]
+        ways: list[tuple[int, PolygonId, Any]] = []
+        if a0 != a1 and b0 != b1:  # both at once, through the corner
+            for x in ((a1, b0, 0), (a0, b1, 0)):
+                if x[0] == x[1] or x in index:  # one edge: the piece is the robots' order there (see _widened)
+                    ways.append((j, x, "insert"))
+            if ways:  # each holds the corner itself (its cell's segment of length zero): no need to keep the chain
+                out.append(ways)
+            j += 1
+            continue
+        if j + 1 < n:
+            a2, b2, _ = cells[j + 1]
+            if (a0 != a1 and b1 == b0 and b2 != b1 and a2 == a1) or (b0 != b1 and a1 == a0 and a2 != a1 and b2 == b1):
+                other = (a0, b2, 0) if a0 != a1 else (a2, b0, 0)
+                if other[0] == other[1] or other in index:
+                    out.append([(j, cells[j], "keep"), (j, other, "replace")])
+                    j += 2
+                    continue
+        j += 1
+    return out
+
+
+#: At most this many grid corners of a chain are widened (2 ** MAX_WIDEN chains solved at most).
+MAX_WIDEN = 3
+
+
+def resolve_corners(
+    fs: Any,
+    segs: list[list[Any]],
+    speeds: tuple[float, float],
+) -> list[list[Any]]:
+    """The corners of a searched ``fastest`` plan re-solved by the continuous rule of this module.
+
+    Parameters
+    ----------
+    fs : FreeSpace
+        The free space the plan was searched in.
+    segs : list of [PolygonId, (s, t), (s, t)]
+        The search's segments, start to goal: cell, start and end in the cell's offsets (metres), consecutive
+        segments meeting at the same configuration, no segment of length zero.
+    speeds : (float, float)
+        ``(vA, vB)`` in m/s.
+
+    Returns
+    -------
+    list of [PolygonId, (s, t), (s, t)]
+        The re-solved segments (segments of length zero included), or ``segs`` itself when the plan has no free
+        corner or no chain passes the checks.
+    """
+    n = len(segs)
+    if n < 2:
+        return segs
+    va, vb = speeds
+    g = fs.geometry
+    d = np.array([np.subtract(x[2], x[1]) for x in segs], dtype=float)
+    m_search = float(np.sum(np.maximum(np.abs(d[:, 0]) / va, np.abs(d[:, 1]) / vb)))
+    w_search = float(np.sum(np.abs(d[:, 0]) / va + np.abs(d[:, 1]) / vb))
+    floor = min(fs._dmin, min(g.segment_min_scalar(c[0], c[1], *a, *b) for c, a, b in segs))
+    places = _widenings(fs, segs)[:MAX_WIDEN]
+    best: tuple[float, list[list[Any]]] | None = None
+    routes = _routes(segs)
+    for choice in itertools.product(*places):
+        chain = _widened(fs, segs, list(choice))
+        if chain is None:
+            continue
+        got = _solve_chain(fs, chain, speeds, m_search, w_search, floor)
+        if got is not None and (best is None or got[0] < best[0] * (1.0 - 1e-12)) and _routes(got[1]) == routes:
+            best = got
+    return segs if best is None else best[1]
+
+
+def _routes(segs: list[list[Any]]) -> tuple[tuple[tuple[int, int], ...], ...]:
+    """Each robot's route as ``(edge, direction)`` pairs in order (moves of length zero left out, repeats merged)."""
+    out = []
+    for r in (0, 1):
+        route: list[tuple[int, int]] = []
+        for cell, a, b in segs:
+            dr = b[r] - a[r]
+            if dr != 0.0:
+                key = (int(cell[r]), 1 if dr > 0 else -1)
+                if not route or route[-1] != key:
+                    route.append(key)
+        out.append(tuple(route))
+    return tuple(out)
+
+
+def _piece(cell: PolygonId, s: float, t: float) -> PolygonId:
+    """The cell with its piece: on one edge 0 when robot A is ahead (``s > t``), else 1."""
+    e, f, _ = cell
+    return (e, f, 0 if e != f or s > t else 1)
+
+
+def _widened(fs: Any, segs: list[list[Any]], choice: list[tuple[int, PolygonId, Any]]) -> list[list[Any]] | None:
+    """The chain of ``segs`` with the ways ``choice`` round its grid corners (see :func:`_widenings`); a cell put in
+    or swapped in starts as a segment of length zero at the grid corner (both robots on their vertices). None when
+    the cell is not free there."""
+    g = fs.geometry
+    lengths = g._L
+    out = [list(x) for x in segs]
+    for j, cell, how in sorted(choice, key=lambda c: -c[0]):
+        if how == "keep":
+            continue
+        if how == "insert":
+            prev, nxt = out[j - 1], out[j]
+            # robot A: the edge of the new cell is the next cell's (or the previous one's); same for B
+            sa = nxt[1][0] if cell[0] == nxt[0][0] else prev[2][0]
+            sb = nxt[1][1] if cell[1] == nxt[0][1] else prev[2][1]
+            cell = _piece(cell, sa, sb)
+            if cell not in fs._index:
+                return None
+            out.insert(j, [cell, (sa, sb), (sa, sb)])
+            continue
+        prev, nxt = out[j - 1], out[j + 1]
+        pt = _grid_corner(g, lengths, prev, nxt, cell)
+        if pt is None:
+            return None
+        cell = _piece(cell, *pt[1])
+        if cell not in fs._index:
+            return None
+        out[j - 1] = [prev[0], prev[1], pt[0]]
+        out[j] = [cell, pt[1], pt[1]]
+        out[j + 1] = [nxt[0], pt[2], nxt[2]]
+    return out
+
+
+def _grid_corner(
+    g: Any, lengths: Any, prev: list[Any], nxt: list[Any], cell: PolygonId
+) -> tuple[Coords, Coords, Coords] | None:
+    """The grid corner between ``prev``'s cell and ``nxt``'s cell (each robot on the vertex where it changes edge:
+    where ``prev`` ends or ``nxt`` starts at an end of the robot's edge) in the three cells' offsets: ``prev``'s,
+    ``cell``'s and ``nxt``'s; None when a robot changes edge at no end of its edges."""
+    res: list[list[float]] = [[0.0, 0.0], [0.0, 0.0], [0.0, 0.0]]
+    for r in (0, 1):
+        e0, e1, em = prev[0][r], nxt[0][r], cell[r]
+        x0, x1 = float(prev[2][r]), float(nxt[1][r])
+        if x0 == 0.0 or x0 == lengths[e0]:
+            w = g._t[e0] if x0 == 0.0 else g._h[e0]
+        elif x1 == 0.0 or x1 == lengths[e1]:
+            w = g._t[e1] if x1 == 0.0 else g._h[e1]
+        else:
+            return None
+        ends = []
+        for e in (e0, e1):
+            if g._t[e] == w:
+                ends.append(0.0)
+            elif g._h[e] == w:
+                ends.append(float(lengths[e]))
+            else:
+                return None
+        res[0][r], res[2][r] = ends
+        res[1][r] = ends[0] if em == e0 else ends[1]
+    return (res[0][0], res[0][1]), (res[1][0], res[1][1]), (res[2][0], res[2][1])
+
+
+def _valid(
+    fs: Any,
+    segs: list[list[Any]],
+    sig: tuple[list[int], list[int]],
+    speeds: tuple[float, float],
+    m_search: float,
+    w_search: float,
+    floor: float,
+) -> bool:
+    """Whether re-solved segments keep the clearance (at least ``floor`` m: the membership test's bound, or the
+    search's own least distance when its rounding is below it), their directions, the makespan and the travel."""
+    g = fs.geometry
+    va, vb = speeds
+    tol = RESOLVE_TOL  # the solve aims at half of it: rounding stays inside
+    m = w = 0.0
+    for i, (pid, a, b) in enumerate(segs):
+        e, f, _ = pid
+        le, lf = g._L[e], g._L[f]
+        if not (0.0 <= a[0] <= le and 0.0 <= b[0] <= le and 0.0 <= a[1] <= lf and 0.0 <= b[1] <= lf):
+            return False
+        for r in (0, 1):
+            dr = b[r] - a[r]
+            if dr * sig[r][i] < 0.0 or (sig[r][i] == 0 and dr != 0.0):
+                return False
+        if g.segment_min_scalar(e, f, a[0], a[1], b[0], b[1]) < floor:
+            return False
+        ta, tb = abs(b[0] - a[0]) / va, abs(b[1] - a[1]) / vb
+        m += max(ta, tb)
+        w += ta + tb
+    return m <= m_search * (1.0 + tol) and w <= w_search * (1.0 + tol)
