@@ -699,13 +699,21 @@ class PlanarFreeSpace:
         return out
 
     def placements(self, pa: Position, pb: Position) -> list[tuple[int, Coords]]:
-        """The free pieces holding the configuration, with its offsets in each (empty if it is not free)."""
-        out = []
-        for ea, sa in self.names(pa):
-            for eb, sb in self.names(pb):
-                for i in self._inside_cell((ea, eb), sa, sb):
-                    out.append((i, (sa, sb)))
-        return out
+        """The free pieces holding the configuration, with its offsets in each (empty if it is not free; the last
+        few configurations asked remembered: a query asks for its start and goal several times)."""
+        memo: dict[tuple[Position, Position], list[tuple[int, Coords]]] = self.__dict__.setdefault("_placed", {})
+        key = ((int(pa[0]), float(pa[1])), (int(pb[0]), float(pb[1])))
+        out = memo.get(key)
+        if out is None:
+            out = []
+            for ea, sa in self.names(pa):
+                for eb, sb in self.names(pb):
+                    for i in self._inside_cell((ea, eb), sa, sb):
+                        out.append((i, (sa, sb)))
+            if len(memo) >= 64:
+                memo.clear()
+            memo[key] = out
+        return list(out)
 
     def _inside_cell(self, cell: tuple[int, int], s: float, t: float) -> list[int]:
         """The pieces of ``cell`` (in :meth:`_by_cell` order) holding ``(s, t)``: :func:`_inside` with tolerance
@@ -736,6 +744,13 @@ class PlanarFreeSpace:
         for k in degenerate:
             outside[k] = not _inside(self.pieces[idx[k]].poly, s, t, tol)
         return [idx[k] for k in np.flatnonzero(~outside).tolist()]
+
+    def cells(self) -> list[tuple[int, int]]:
+        """Per piece its cell's two edges ``(edge of A, edge of B)`` (built once)."""
+        cl = self.__dict__.get("_cells")
+        if cl is None:
+            cl = self._cells = [(p.cell[0], p.cell[1]) for p in self.pieces]
+        return cl
 
     def _by_cell(self) -> dict[tuple[int, int], list[int]]:
         bc = getattr(self, "_bc", None)
@@ -955,6 +970,20 @@ def _move_cost(objective: str, ds: Any, dt: Any, va: Any, vb: Any) -> Any:
     return max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb)
 
 
+def _from_ends(tr: GraphTrack, pos: Position) -> tuple[FloatArray, FloatArray]:
+    """Per edge the graph distance (metres) from its tail and from its head to the position ``pos``, shape
+    ``(E,)`` each: a position ``(e, x)`` is ``min(x + tail[e], (L_e - x) + head[e])`` from it (and ``|x - offset|``
+    on ``pos``'s own edge)."""
+    geo = tr.geometry
+    g, gs = pos
+    back = float(geo.lengths[g]) - gs
+    tg, hg = int(geo.tails[g]), int(geo.heads[g])
+    dv = geo.dv
+    tail = np.minimum(dv[geo.tails, tg] + gs, dv[geo.tails, hg] + back)
+    head = np.minimum(dv[geo.heads, tg] + gs, dv[geo.heads, hg] + back)
+    return tail, head
+
+
 class _Moves:
     """The moves between the pieces' shared points as one sparse graph (built once per objective and speeds).
 
@@ -1035,6 +1064,58 @@ class _Moves:
             if bounds[i + 1] > bounds[i]:
                 self.by_piece[i] = order_p[bounds[i] : bounds[i + 1]]
         self.node_of = node
+        self.node_edges = cells[self.node_piece].T.copy()  # (2, n): robot A's and robot B's edge at each node
+        self.node_room = space.track.lengths[self.node_edges] - self.node_xy.T  # (2, n): metres to the edges' heads
+
+    def lower(
+        self, tr: GraphTrack, pos: tuple[Position, Position], speeds: tuple[float, float], objective: str
+    ) -> FloatArray:
+        """A lower bound of the cost between every node and the configuration ``pos``, shape ``(n,)``: the cost
+        (:func:`_move_cost` at the robots' own limits ``speeds``, m/s) of the robots' graph distances to it, shrunk by
+        1e-9 of itself (rounding). Every move costs at least the cost of what it changes the two distances (the
+        cost is a monotone norm of the two travels, and the edges' speed limits only make a move dearer), so a path
+        between a node and ``pos`` in either direction costs at least this."""
+        d = []
+        for r in (0, 1):
+            g, gs = pos[r]
+            from_tail, from_head = _from_ends(tr, pos[r])
+            e, x = self.node_edges[r], self.node_xy[:, r]
+            dr = np.minimum(x + from_tail[e], self.node_room[r] + from_head[e])
+            same = e == g
+            dr[same] = np.minimum(dr[same], np.abs(x[same] - gs))
+            d.append(dr)
+        return _move_cost(objective, d[0], d[1], speeds[0], speeds[1]) * (1.0 - 1e-9)
+
+    LANDMARKS = 6  # nodes whose distances to and from every node bound the cost of a query (:meth:`landmarks`)
+
+    def landmarks(self) -> tuple[FloatArray, FloatArray]:
+        """Costs from and to a few *landmark* nodes (built once): ``(out, back)``, shape ``(LANDMARKS, n)`` each,
+        ``out[l, u]`` the least cost from landmark ``l`` to node ``u``, ``back[l, u]`` from ``u`` to ``l`` (inf:
+        not reached). Landmarks are picked farthest first (each the node farthest from those before it). By the
+        triangle inequality a path from ``u`` to ``v`` costs at least ``out[l, v] - out[l, u]`` and
+        ``back[l, u] - back[l, v]``: bounds that see the detours a motion must make (one body stepping aside)."""
+        lm = self.__dict__.get("_landmarks")
+        if lm is None:
+            from scipy.sparse import csr_matrix
+            from scipy.sparse.csgraph import dijkstra
+
+            n = self.n
+            g = csr_matrix((self.weights, self.indices, self.indptr), shape=(n, n))
+            gt = g.T.tocsr()
+            out, back = [], []
+            near = np.full(n, np.inf)
+            node = 0
+            for _ in range(min(self.LANDMARKS, n)):
+                d = dijkstra(g, directed=True, indices=node)
+                out.append(d)
+                back.append(dijkstra(gt, directed=True, indices=node))
+                near = np.minimum(near, d)
+                far = np.where(np.isfinite(near), near, -1.0)
+                if far.max() <= 0.0:
+                    break
+                node = int(np.argmax(far))
+            lm = self._landmarks = (np.array(out).reshape(-1, n), np.array(back).reshape(-1, n))
+        return lm
 
     def widen(self, slots: int) -> None:
         """The graph with the source, node ``n``: its row has ``slots`` arcs, rewritten per query (unused arcs
@@ -1094,14 +1175,14 @@ def _search(
 
     s_pl = space.placements(*start)
     g_pl = space.placements(*goal)
-    found = _astar(space, s_pl, g_pl, goal, objective, va, vb, spa, spb, move, budget=100)
+    found = _astar(space, s_pl, g_pl, goal, objective, va, vb, spa, spb, move, budget=40)
     if found is None:
         (ea, sa), (eb, sb) = start
         (fa, ta), (fb, tb) = goal
         da = tr.geometry.distance_scalar(ea, sa, fa, ta)
         db = tr.geometry.distance_scalar(eb, sb, fb, tb)
         lower = math.hypot(da, db) if objective == "shortest" else max(da / va, db / vb)
-        found = _dijkstra(space, s_pl, g_pl, objective, spa, spb, move, lower)
+        found = _dijkstra(space, (start, goal), (s_pl, g_pl), objective, (va, vb), (spa, spb), move, lower)
     if found is None:
         return None
     return [[pieces[i].cell, a, b] for i, a, b in found]
@@ -1124,24 +1205,38 @@ def _astar(
     nodes or the goal is not reached."""
     tr = space.track
     rules = any(tr.oneway)
-    geo = tr.geometry
     (ga_e, ga_s), (gb_e, gb_s) = goal
     pieces = space.pieces
+    shortest = objective == "shortest"
     hcache: dict[tuple[int, Coords], float] = {}
+    # per edge the robots' distances from its tail and head to their goal positions (metres), per robot
+    (ta_l, ha_l), (tb_l, hb_l) = (tuple(x.tolist() for x in _from_ends(tr, goal[r])) for r in (0, 1))
+    lens = tr.lengths.tolist()
+    cells = space.cells()
+    slack = 1.0 - 1e-12
 
     def bound(i: int, c: Coords) -> float:
+        """The cost of the robots' own distances to the goal (:func:`_move_cost`, inlined): each move costs at least
+        what it takes off each of them."""
         key = (i, c)
         h = hcache.get(key)
         if h is None:
-            e, f, _ = pieces[i].cell
-            da = geo.distance_scalar(e, c[0], ga_e, ga_s)
-            db = geo.distance_scalar(f, c[1], gb_e, gb_s)
-            # the cost's own terms: each move costs at least what it takes off each of them
-            h = _move_cost(objective, da, db, va, vb) * (1.0 - 1e-12)
+            e, f = cells[i]
+            x, y = c
+            da = min(x + ta_l[e], (lens[e] - x) + ha_l[e])
+            if e == ga_e:
+                da = min(da, abs(x - ga_s))
+            db = min(y + tb_l[f], (lens[f] - y) + hb_l[f])
+            if f == gb_e:
+                db = min(db, abs(y - gb_s))
+            if shortest:
+                h = math.hypot(da, db) * slack
+            else:
+                ta, tb = da / va, db / vb
+                h = (max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb)) * slack
             hcache[key] = h
         return h
 
-    shortest = objective == "shortest"
     bodies_turn = not (isinstance(space.footprints.a, Disc) and isinstance(space.footprints.b, Disc))
     near = 10.0 * space.tol  # a robot this close to standing still may stand on a corner (segment_ok decides)
     flat = space.moves()
@@ -1242,21 +1337,34 @@ def _in_order(
     return segs
 
 
+#: Node counts of the regions the planar search tries after the first (:func:`_dijkstra`).
+_REGIONS = (2_000, 6_000, 18_000)
+
+
 def _dijkstra(
     space: PlanarFreeSpace,
-    s_pl: list[tuple[int, Coords]],
-    g_pl: list[tuple[int, Coords]],
+    ends: tuple[tuple[Position, Position], tuple[Position, Position]],
+    places: tuple[list[tuple[int, Coords]], list[tuple[int, Coords]]],
     objective: str,
-    spa: list[float],
-    spb: list[float],
+    speeds: tuple[float, float],
+    cell_speeds: tuple[list[float], list[float]],
     move: Any,
     lower: float,
 ) -> list[tuple[int, Coords, Coords]] | None:
     """Dijkstra (scipy, compiled) over :class:`_Moves` from a source node joined to the start's moves; the moves
-    ``(piece, from, to)`` of a cheapest path, or None when the goal is not reached. ``lower``: a lower bound of the
-    cost (the limits of the first searches are multiples of it)."""
+    ``(piece, from, to)`` of a cheapest path, or None when the goal is not reached.
+
+    ``ends``: start and goal configurations, ``places``: their placements, ``speeds``: the robots' limits (m/s),
+    ``cell_speeds``: per edge, ``lower``: a lower bound of the cost (the cost of the robots' own distances). First
+    in growing *regions*: the nodes whose bounds from the start and to the goal (:meth:`_Moves.lower`) sum to at
+    most ``ub``; every node of a path that costs at most ``ub`` lies in that region, so a goal reached there at a cost
+    within ``ub`` is reached at its least cost over the whole graph. Then, when no region reaches it, the whole
+    graph.
+    """
     from scipy.sparse.csgraph import dijkstra
 
+    s_pl, g_pl = places
+    spa, spb = cell_speeds
     G = space.search_graph(objective, spa, spb)
     flat = space.moves()
     n = G.n
@@ -1278,20 +1386,11 @@ def _dijkstra(
             mv = move(i, c, gc)
             if mv is not None:
                 direct.append((mv[0], i, c, gc, mv[1]))
-    if len(first) > G.SLOTS:  # a start with more shared points than the source's row holds: a larger row
-        G.widen(len(first))
-    graph = G.graph
-    ks = np.full(G.SLOTS, n, dtype=np.int32)
-    ws = np.ones(G.SLOTS)
-    ks[: len(first)] = sorted(first)
-    ws[: len(first)] = np.maximum([first[int(k)][0] for k in ks[: len(first)]], 5e-324)
-    graph.indices[-G.SLOTS :] = ks
-    graph.data[-G.SLOTS :] = ws
-    # within a growing limit first: every node closer than the limit is settled exactly, so a goal reached at a
-    # cost within the limit is reached at its least cost (any cheaper path's nodes lie within the limit too)
-    for limit in (4.0 * lower + 1e-9, math.inf):
-        dist, pred = dijkstra(graph, directed=True, indices=n, return_predecessors=True, limit=limit)
-        # cost, node (-1: from the start), piece, its point, goal point, detour
+    fk = np.array(sorted(first), dtype=np.int64)
+    fw = np.maximum(np.array([first[int(k)][0] for k in fk], dtype=float), 5e-324)
+
+    def arrival(dist: FloatArray) -> tuple[float, int, int, Coords, Coords, Coords | None] | None:
+        """The cheapest arrival at the goal: cost, node (-1: from the start), piece, its point, goal point, detour."""
         best: tuple[float, int, int, Coords, Coords, Coords | None] | None = None
         for cost, i, c, gc, via in direct:
             if best is None or cost < best[0]:
@@ -1309,8 +1408,64 @@ def _dijkstra(
                     mv = move(i, xy, gc)
                     if mv is not None and (best is None or dist[k] + mv[0] < best[0]):
                         best = (float(dist[k] + mv[0]), k, i, xy, gc, mv[1])
-        if best is not None and best[0] <= limit:
+        return best
+
+    tr = space.track
+    from_start, to_goal = G.lower(tr, ends[0], speeds, objective), G.lower(tr, ends[1], speeds, objective)
+    # the landmarks' bounds (Goldberg and Harrelson's ALT): to the goal out[l, T] - out[l, u] with out[l, T]
+    # through the goal pieces' nodes and a straight last move (never dearer than the move taken), from the start
+    # back[l, S] - back[l, u] with back[l, S] through the source's arcs; 1e-9 of the larger term kept for rounding
+    out, back = G.landmarks()
+    to_t = np.full(len(out), np.inf)
+    for i, gcs in goal_in.items():
+        nodes = G.by_piece.get(i)
+        if nodes is None:
+            continue
+        e, f = space.cells()[i]
+        for gc in gcs:
+            last = _move_cost(
+                objective,
+                np.abs(G.node_xy[nodes, 0] - gc[0]),
+                np.abs(G.node_xy[nodes, 1] - gc[1]),
+                spa[e],
+                spb[f],
+            )
+            to_t = np.minimum(to_t, np.min(out[:, nodes] + last, axis=1))
+    from_s = np.min(back[:, fk] + fw, axis=1) if len(fk) else np.full(len(back), np.inf)
+    with np.errstate(invalid="ignore"):
+        for l_ in range(len(out)):
+            to_goal = np.fmax(to_goal, to_t[l_] - out[l_] - 1e-9 * to_t[l_])
+            from_start = np.fmax(from_start, from_s[l_] - back[l_] - 1e-9 * from_s[l_])
+    through = from_start + to_goal
+    if len(fk):
+        lower = max(lower, float(np.min(fw + to_goal[fk])))
+    # the bounds: just above the lower bound (most queries), then the sums that take in about 2 000, 6 000 and
+    # 18 000 nodes (each region about three times the last), then the whole graph
+    finite = through[np.isfinite(through)]
+    ubs = [lower * (1.0 + 1e-3) + 1e-9 * (1.0 + lower)]
+    for size in _REGIONS:
+        if size < len(finite):
+            ub = float(np.partition(finite, size)[size])
+            if ub > ubs[-1]:
+                ubs.append(ub)
+    best = None
+    for ub in ubs:
+        dist, pred = _region_search(G, through <= ub, fk, fw)
+        best = arrival(dist)
+        if best is not None and best[0] <= ub:
             break
+    else:
+        if len(first) > G.SLOTS:  # a start with more shared points than the source's row holds: a larger row
+            G.widen(len(first))
+        graph = G.graph
+        ks = np.full(G.SLOTS, n, dtype=np.int32)
+        ws = np.ones(G.SLOTS)
+        ks[: len(first)] = fk
+        ws[: len(first)] = fw
+        graph.indices[-G.SLOTS :] = ks
+        graph.data[-G.SLOTS :] = ws
+        dist, pred = dijkstra(graph, directed=True, indices=n, return_predecessors=True)
+        best = arrival(dist)
     if best is None:
         return None
     _, k, i, c_last, gc, via = best
@@ -1341,6 +1496,44 @@ def _dijkstra(
         )
         k = p
     return _in_order(segs, s_pl)
+
+
+def _region_search(
+    G: _Moves, region: NDArray[np.bool_], fk: NDArray[np.int64], fw: FloatArray
+) -> tuple[FloatArray, NDArray[np.int64]]:
+    """Dijkstra (scipy) over the nodes of ``region`` (shape ``(n,)``) only, from a source joined to the nodes ``fk``
+    at costs ``fw``: the costs of all ``n`` nodes (inf outside the region or not reached) and their predecessors
+    (``n``: the source; negative: none), in the whole graph's numbering."""
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    n = G.n
+    r = np.flatnonzero(region)
+    m = len(r)
+    dist = np.full(n, np.inf)
+    pred = np.full(n, -9999, dtype=np.int64)
+    if m == 0:
+        return dist, pred
+    new = np.full(n, -1, dtype=np.int64)
+    new[r] = np.arange(m)
+    lo = G.indptr[r].astype(np.int64)
+    cnt = G.indptr[r + 1].astype(np.int64) - lo
+    stop = np.cumsum(cnt)
+    idx = np.repeat(lo - (stop - cnt), cnt) + np.arange(int(stop[-1]))
+    cols = new[G.indices[idx]]
+    keep = cols >= 0
+    per_row = np.bincount(np.repeat(np.arange(m), cnt)[keep], minlength=m)
+    fc = new[fk]
+    fin = fc >= 0
+    data = np.concatenate([G.weights[idx[keep]], fw[fin]])
+    indices = np.concatenate([cols[keep], fc[fin]]).astype(np.int32)
+    indptr = np.concatenate([[0], np.cumsum(per_row), [len(data)]]).astype(np.int32)
+    sub = csr_matrix((data, indices, indptr), shape=(m + 1, m + 1))
+    d, p = dijkstra(sub, directed=True, indices=m, return_predecessors=True)
+    dist[r] = d[:m]
+    ok = p[:m] >= 0
+    pred[r[ok]] = np.append(r, n)[p[:m][ok]]
+    return dist, pred
 
 
 def _parts(pi: list[Coords], pj: list[Coords]) -> list[tuple[Coords, Coords, Coords, Coords]]:
