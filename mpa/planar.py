@@ -211,10 +211,15 @@ class PlanarFreeSpace:
         return out
 
     def _turns(self, p: int, q: int) -> bool:
-        """Whether a body passing from drawing piece ``p`` to ``q`` turns (orientation modulo pi)."""
-        d = self.drawing
-        x = abs(float(d.piece_heading[p] - d.piece_heading[q])) % math.pi
-        return min(x, math.pi - x) > 1e-12
+        """Whether a body passing from drawing piece ``p`` to ``q`` turns (orientation modulo pi; remembered)."""
+        memo: dict[tuple[int, int], bool] = self.__dict__.setdefault("_turn_memo", {})
+        key = (p, q)
+        out = memo.get(key)
+        if out is None:
+            d = self.drawing
+            x = abs(float(d.piece_heading[p] - d.piece_heading[q])) % math.pi
+            out = memo[key] = min(x, math.pi - x) > 1e-12
+        return out
 
     def _reach_halfplanes(self, ax: int, pb: int) -> list[tuple[float, float, float]]:
         """Half-planes ``a*x + b*y >= c`` of ``K = B ⊕ disc(reach)``: the other robot's body on piece ``pb`` (at
@@ -367,13 +372,25 @@ class PlanarFreeSpace:
 
         cell2 = [p.cell[:2] for p in self.pieces]
 
+        self._box(0) if n else None  # the sub-cells' boxes, built once
+        boxes = self.__dict__.get("_boxes", [])
+
         def link(i: int, j: int, pi: list[Coords], pj: list[Coords]) -> None:
-            s0, s1, t0, t1 = self._clamp_box(i, j)
+            # the shared points clamped into their boxes (:meth:`_clamp_box`, inlined)
+            s0, s1, t0, t1 = boxes[i]
+            same = cell2[i] == cell2[j]
+            if same:
+                u0, u1, v0, v1 = boxes[j]
+                s0, s1, t0, t1 = max(s0, u0), min(s1, u1), max(t0, v0), min(t1, v1)
+                if s0 > s1:
+                    s0 = s1 = 0.5 * (s0 + s1)
+                if t0 > t1:
+                    t0 = t1 = 0.5 * (t0 + t1)
             pi = [(min(max(c[0], s0), s1), min(max(c[1], t0), t1)) for c in pi]
-            if cell2[i] == cell2[j]:
+            if same:
                 pj = pi
             else:
-                s0, s1, t0, t1 = self._clamp_box(j, i)
+                s0, s1, t0, t1 = boxes[j]
                 pj = [(min(max(c[0], s0), s1), min(max(c[1], t0), t1)) for c in pj]
             self.adjacent[i].append((j, pi, pj))
             self.adjacent[j].append((i, pj, pi))
