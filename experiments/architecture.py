@@ -96,7 +96,7 @@ _MODULE_ALLOWED = {
     "mpa.openrmf": {"yaml"},
     "mpa.freespace": {"scipy"},
     "mpa.geometry": {"scipy"},
-    "mpa.planar": {"scipy"},
+    "mpa.planar.search": {"scipy"},
     "trajopt.pvt": {"scipy"},
 }
 
