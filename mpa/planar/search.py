@@ -484,6 +484,12 @@ def _dijkstra(
 
     tr = space.track
     from_start, to_goal = G.lower(tr, ends[0], speeds, objective), G.lower(tr, ends[1], speeds, objective)
+    # first the region just above the robots' own bound: most queries end there
+    ub = lower * (1.0 + 1e-3) + 1e-9 * (1.0 + lower)
+    dist, pred = _region_search(G, from_start + to_goal <= ub, fk, fw)
+    best = arrival(dist)
+    if best is not None and best[0] <= ub:
+        return _read_back(G, first, best, pred, s_pl)
     # the landmarks' bounds (Goldberg and Harrelson's ALT): to the goal out[l, T] - out[l, u] with out[l, T]
     # through the goal pieces' nodes and a straight last move (never dearer than the move taken), from the start
     # back[l, S] - back[l, u] with back[l, S] through the source's arcs; 1e-9 of the larger term kept for rounding
@@ -511,35 +517,44 @@ def _dijkstra(
     through = from_start + to_goal
     if len(fk):
         lower = max(lower, float(np.min(fw + to_goal[fk])))
-    # the bounds: just above the lower bound (most queries), then the sums that take in about 2 000, 6 000 and
-    # 18 000 nodes (each region about three times the last), then the whole graph
+    # then just above the landmarks' lower bound, the sums that take in about 2 000, 6 000 and 18 000 nodes (each
+    # region about three times the last), and the whole graph
     finite = through[np.isfinite(through)]
     ubs = [lower * (1.0 + 1e-3) + 1e-9 * (1.0 + lower)]
     for size in _REGIONS:
         if size < len(finite):
-            ub = float(np.partition(finite, size)[size])
-            if ub > ubs[-1]:
-                ubs.append(ub)
-    best = None
+            cut = float(np.partition(finite, size)[size])
+            if cut > ubs[-1]:
+                ubs.append(cut)
     for ub in ubs:
         dist, pred = _region_search(G, through <= ub, fk, fw)
         best = arrival(dist)
         if best is not None and best[0] <= ub:
-            break
-    else:
-        if len(first) > G.SLOTS:  # a start with more shared points than the source's row holds: a larger row
-            G.widen(len(first))
-        graph = G.graph
-        ks = np.full(G.SLOTS, n, dtype=np.int32)
-        ws = np.ones(G.SLOTS)
-        ks[: len(first)] = fk
-        ws[: len(first)] = fw
-        graph.indices[-G.SLOTS :] = ks
-        graph.data[-G.SLOTS :] = ws
-        dist, pred = dijkstra(graph, directed=True, indices=n, return_predecessors=True)
-        best = arrival(dist)
-    if best is None:
-        return None
+            return _read_back(G, first, best, pred, s_pl)
+    if len(first) > G.SLOTS:  # a start with more shared points than the source's row holds: a larger row
+        G.widen(len(first))
+    graph = G.graph
+    ks = np.full(G.SLOTS, n, dtype=np.int32)
+    ws = np.ones(G.SLOTS)
+    ks[: len(first)] = fk
+    ws[: len(first)] = fw
+    graph.indices[-G.SLOTS :] = ks
+    graph.data[-G.SLOTS :] = ws
+    dist, pred = dijkstra(graph, directed=True, indices=n, return_predecessors=True)
+    best = arrival(dist)
+    return None if best is None else _read_back(G, first, best, pred, s_pl)
+
+
+def _read_back(
+    G: _Moves,
+    first: dict[int, tuple[float, int, Coords, Coords, Coords | None]],
+    best: tuple[float, int, int, Coords, Coords, Coords | None],
+    pred: Any,
+    s_pl: list[tuple[int, Coords]],
+) -> list[tuple[int, Coords, Coords]]:
+    """The moves ``(piece, from, to)`` of the path that :func:`_dijkstra` found, read back from its arrival ``best``
+    over the predecessors ``pred`` (``G.n``: the source, whose arcs ``first`` are the start's moves)."""
+    n = G.n
     _, k, i, c_last, gc, via = best
     segs: list[tuple[int, Coords, Coords]] = []
 
