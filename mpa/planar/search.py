@@ -138,21 +138,68 @@ class _Moves:
         self.node_of = node
         self.node_edges = cells[self.node_piece].T.copy()  # (2, n): robot A's and robot B's edge at each node
         self.node_room = space.track.lengths[self.node_edges] - self.node_xy.T  # (2, n): metres to the edges' heads
+        # the nodes grouped by cell: those of cell (e, f) are cell_nodes[cell_start[e * E + f] : cell_start[... + 1]]
+        ne = space.track.n_edges
+        cid = self.node_edges[0] * ne + self.node_edges[1]
+        self.cell_nodes = np.argsort(cid, kind="stable")
+        self.cell_start = np.searchsorted(cid[self.cell_nodes], np.arange(ne * ne + 1))
+
+    def near(
+        self,
+        tr: GraphTrack,
+        ends: tuple[tuple[Position, Position], tuple[Position, Position]],
+        speeds: tuple[float, float],
+        objective: str,
+        ub: float,
+    ) -> NDArray[np.bool_]:
+        """The region of the nodes whose :meth:`lower` bounds from the start and to the goal (``ends``) sum to at
+        most ``ub``, shape ``(n,)``; the bounds computed only in the cells whose nearest points could be in it (per
+        edge the least distance of its points to a position is that of its nearer end, 0 on the position's own
+        edge)."""
+        least = []
+        for pos in ends:
+            per = []
+            for r in (0, 1):
+                tail, head = _from_ends(tr, pos[r])
+                m = np.minimum(tail, head)
+                m[pos[r][0]] = 0.0
+                per.append(m)
+            least.append(_move_cost(objective, per[0][:, None], per[1][None, :], speeds[0], speeds[1]))
+        cells = np.flatnonzero((least[0] + least[1]).ravel() * (1.0 - 1e-9) <= ub)
+        lo, hi = self.cell_start[cells], self.cell_start[cells + 1]
+        cnt = hi - lo
+        stop = np.cumsum(cnt)
+        total = int(stop[-1]) if len(stop) else 0
+        nodes = self.cell_nodes[np.repeat(lo - (stop - cnt), cnt) + np.arange(total)]
+        region = np.zeros(self.n, dtype=bool)
+        if total:
+            through = self.lower(tr, ends[0], speeds, objective, nodes)
+            through += self.lower(tr, ends[1], speeds, objective, nodes)
+            region[nodes[through <= ub]] = True
+        return region
 
     def lower(
-        self, tr: GraphTrack, pos: tuple[Position, Position], speeds: tuple[float, float], objective: str
+        self,
+        tr: GraphTrack,
+        pos: tuple[Position, Position],
+        speeds: tuple[float, float],
+        objective: str,
+        nodes: NDArray[np.int64] | None = None,
     ) -> FloatArray:
-        """A lower bound of the cost between every node and the configuration ``pos``, shape ``(n,)``: the cost
-        (:func:`_move_cost` at the robots' own limits ``speeds``, m/s) of the robots' graph distances to it, shrunk by
-        1e-9 of itself (rounding). Every move costs at least the cost of what it changes the two distances (the
-        cost is a monotone norm of the two travels, and the edges' speed limits only make a move dearer), so a path
-        between a node and ``pos`` in either direction costs at least this."""
+        """A lower bound of the cost between every node (or the ``nodes``) and the configuration ``pos``, shape
+        ``(n,)`` (or ``nodes.shape``): the cost (:func:`_move_cost` at the robots' own limits ``speeds``, m/s) of the
+        robots' graph distances to it, shrunk by 1e-9 of itself (rounding). Every move costs at least the cost of
+        what it changes the two distances (the cost is a monotone norm of the two travels, and the edges' speed
+        limits only make a move dearer), so a path between a node and ``pos`` in either direction costs at least
+        this."""
         d = []
         for r in (0, 1):
             g, gs = pos[r]
             from_tail, from_head = _from_ends(tr, pos[r])
-            e, x = self.node_edges[r], self.node_xy[:, r]
-            dr = np.minimum(x + from_tail[e], self.node_room[r] + from_head[e])
+            e, x, room = self.node_edges[r], self.node_xy[:, r], self.node_room[r]
+            if nodes is not None:
+                e, x, room = e[nodes], x[nodes], room[nodes]
+            dr = np.minimum(x + from_tail[e], room + from_head[e])
             same = e == g
             dr[same] = np.minimum(dr[same], np.abs(x[same] - gs))
             d.append(dr)
@@ -206,6 +253,10 @@ class _Moves:
         )
 
 
+#: Nodes A* expands before the search goes over to the sparse graph of moves (:func:`_dijkstra`).
+ASTAR_BUDGET = 100
+
+
 def _search(
     space: PlanarFreeSpace,
     start: tuple[Position, Position],
@@ -247,7 +298,7 @@ def _search(
 
     s_pl = space.placements(*start)
     g_pl = space.placements(*goal)
-    found = _astar(space, s_pl, g_pl, goal, objective, va, vb, spa, spb, move, budget=40)
+    found = _astar(space, s_pl, g_pl, goal, objective, va, vb, spa, spb, move, budget=ASTAR_BUDGET)
     if found is None:
         (ea, sa), (eb, sb) = start
         (fa, ta), (fb, tb) = goal
@@ -483,13 +534,13 @@ def _dijkstra(
         return best
 
     tr = space.track
-    from_start, to_goal = G.lower(tr, ends[0], speeds, objective), G.lower(tr, ends[1], speeds, objective)
     # first the region just above the robots' own bound: most queries end there
     ub = lower * (1.0 + 1e-3) + 1e-9 * (1.0 + lower)
-    dist, pred = _region_search(G, from_start + to_goal <= ub, fk, fw)
+    dist, pred = _region_search(G, G.near(tr, ends, speeds, objective, ub), fk, fw)
     best = arrival(dist)
     if best is not None and best[0] <= ub:
         return _read_back(G, first, best, pred, s_pl)
+    from_start, to_goal = G.lower(tr, ends[0], speeds, objective), G.lower(tr, ends[1], speeds, objective)
     # the landmarks' bounds (Goldberg and Harrelson's ALT): to the goal out[l, T] - out[l, u] with out[l, T]
     # through the goal pieces' nodes and a straight last move (never dearer than the move taken), from the start
     # back[l, S] - back[l, u] with back[l, S] through the source's arcs; 1e-9 of the larger term kept for rounding
