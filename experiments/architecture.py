@@ -97,7 +97,7 @@ _MODULE_ALLOWED = {
     "mpa.openrmf": {"yaml"},
     "mpa.freespace": {"scipy"},
     "mpa.geometry": {"scipy"},
-    "mpa.planar": {"scipy"},
+    "mpa.planar.search": {"scipy"},
     "mpa.planners.corners": {"scipy"},
     "trajopt.pvt": {"scipy"},
 }

@@ -3,13 +3,12 @@
 ``python experiments/bench_planar.py [--queries N] [--seed S] [--repeat R]``: per layout and footprint the build
 time of :class:`mpa.planar.PlanarFreeSpace` (a fresh build, the smallest of R), then the median and 95th percentile
 of :func:`mpa.plan` with ``footprint=`` over N seeded random queries (the free space cached, as in a session that
-plans many queries on one layout, and the search's sparse graph of moves built beforehand: ``graph ms``, a cost
-paid once per layout and speeds by the first query that needs it); queries refused (bodies overlapping at start or
-goal, no motion) are counted, not timed. The layouts: the Open-RMF office map (30 edges), the example layouts
-with many-point polylines (``circle``, ``lollipop``, ``figure_eight``, ``two_sidings``), the rail yard and the
-passing loop. Times are the
-process's CPU time (the code is single-threaded: the wall time on an idle machine; a shared machine inflates wall
-times, not these).
+plans many queries on one layout, and the search's sparse graph of moves with its landmarks built beforehand:
+``graph ms``, a cost paid once per layout and speeds by the first query that needs it); queries refused (bodies
+overlapping at start or goal, no motion) are counted, not timed. The layouts: the Open-RMF office map (30 edges),
+the example layouts with many-point polylines (``circle``, ``lollipop``, ``figure_eight``, ``two_sidings``), the
+rail yard and the passing loop. Times are the process's CPU time (the code is single-threaded: the wall time on an
+idle machine; a shared machine inflates wall times, not these).
 """
 
 from __future__ import annotations
@@ -67,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
         plan_t, refused = [], 0
         cached = mpa.planar.planar_free_space(tr, clearance, spec)  # the cached build the queries use
         t0 = time.process_time()
-        cached.search_graph("fastest", *mpa.planar._cell_speeds(tr, 1.0, 1.0))
+        cached.search_graph("fastest", *mpa.planar._cell_speeds(tr, 1.0, 1.0)).landmarks()
         graph_ms = 1e3 * (time.process_time() - t0)
         for _ in range(args.queries):
             q = _query(tr, rng)

@@ -1104,7 +1104,7 @@ def plan_graph(
             )
     fps = footprints(footprint)
     if fps is not None:
-        from mpa.planar import plan_planar
+        from mpa.planar.plan import plan_planar
 
         return cast("GraphPlan", plan_planar(tr, s, gl, clearance, objective, (va, vb), fps))
     ca, cb = fs.component_of(*s), fs.component_of(*gl)
