@@ -1,71 +1,10 @@
 """A complete planner for two robots on any graph track: shortest or fastest paths in the exact free space.
 
-Entry point :func:`plan_graph` (also :func:`mpa.plan` with ``planner="graph"`` or on a graph track).
-
-**Search.** The free space ``{d >= D}`` is a union of convex polygons glued along faces (:mod:`mpa.freespace`). In a
-convex polygon every straight segment is free and no move between two points is cheaper than the straight one (both
-costs below are norms), so a shortest path is a polyline whose corners lie on faces; pulled taut, it bends only at
-*face ends* (where a face's interval ends: a clearance constraint or an edge's end meets the robot's vertex) and at
-*corners* (both robots on vertices, where up to ``deg(w)·deg(w')`` cells meet). The planner is an any-angle A* in
-the manner of Polyanya (Cui, Harabor, Grastien 2017) on this non-manifold complex of polygons:
-
-- a *root* is the start, a face end or a corner, with its cost from the start; expanding it opens, for every polygon
-  holding it and every face of that polygon, the whole face as an *interval* into each other polygon glued there
-  (a face of deg(w) pages has deg(w) - 1 others);
-- an *interval* is the part of a face that its root sees straight through the faces crossed so far; the root is
-  carried in the polygon's own offsets by unfolding across each face (an isometry per axis: the robot at the vertex
-  keeps moving away from it on the next edge). Expanding it projects the cone (root, interval) onto the polygon's
-  other faces: the parts seen become new intervals with the same root, and every face end reached becomes a root
-  (where a taut path may turn). The goal is reached straight when it lies in the cone.
-
-Roots of the same name are kept once (the cheapest; one reached again more cheaply is expanded again), intervals of
-one root that unfold to the same place on the same face are merged (a lattice's equally long routes), a face seen
-from a root is queued once for all the polygons glued along it (its bound is the same for each) and opened when
-taken, and no interval enters a dead-end polygon (one whose only face is the entry) unless the goal is there.
-Every face end and corner is a root and every face is opened from them, so the search reaches every polygon of the
-start's component: it finds a path whenever one exists (**complete**), and :func:`plan_graph` raises
-:class:`~mpa.errors.NoMotionError` otherwise, naming the reason.
-
-**The independent motion first.** Before searching, each robot's shortest routes to its goal are taken from the
-vertex distances (routes within ``1e-9 · max(1, longest edge)`` metres of the shortest tie; up to
-:data:`TIED_ROUTES` of them, in a fixed order). The two robots' individually fastest motions along a pair of them,
-started together (a straight line in route coordinates), cost exactly the search's bound at the start, which no
-motion undercuts (with unique routes they are the only motion of that cost). The first pair that keeps the clearance
-(checked exactly in every cell crossed, :meth:`~mpa.geometry.GraphGeometry.segment_min_scalar`) is the answer and
-the search is skipped (:func:`_independent_motion`); otherwise the search answers.
-
-**Costs.** A straight move ``(Δs, Δt)`` costs ``hypot(Δs, Δt)`` (metres) for ``"shortest"`` and
-``max(|Δs|/vA, |Δt|/vB)`` (seconds, a weighted L∞ length) for ``"fastest"``, ties broken towards the least travel
-(``+ 1e-6 · (|Δs|/vA + |Δt|/vB)``: exact for the bound below, so the search does not widen over the many equally
-fast routes of a robot with time to spare) and then towards the straightest (``+ 1e-9 · hypot(Δs/vA, Δt/vB)``: one
-timing among equally fast ones, e.g. both robots moving all the time rather than one after the other). The A* bound
-is ``max(dA/vA, dB/vB)`` (plus the same tie-break terms) resp. ``hypot(dA, dB)`` of each robot's graph distance to
-its goal (for an interval: minimised exactly over it, with the unfolded distance from the root); it is admissible.
-The queue orders by that bound on a grid of ``1e-12`` of the start's bound, then deeper roots first, all in one place
-(``queue_key``).
-
-**Why this is optimal.** For a fixed sequence of polygons the taut (Euclidean shortest) path through them is also of
-least weighted-L∞ time and of least travel: in a simply connected chain of polygons the taut path minimises the
-total variation of every linear function of ``(s, t)``, and ``max(|a|, |b|) = (|a + b| + |a - b|) / 2``. Every
-taut path is a chain of roots joined by straight pieces through intervals, which the search enumerates (up to
-merging equal ones and dropping roots reached more expensively), and the bound never overestimates: the first goal
-taken from the queue is optimal up to the queue's grid. Checked in the tests: never above the 8-neighbour grid's
-best time (an upper bound of the optimum), and equal to the linear programme of the plan's own cell sequence.
-
-**What is guaranteed.** Completeness, the clearance (exact, up to the membership tolerance
-``1e-12 · max(1, total length)`` of :mod:`mpa.freespace`: crossing points are clamped into their face intervals)
-and optimality for the objective (up to ``1e-12`` relative from the queue's grid and the tie-break weights).
-Search time is not bounded polynomially: on a 77-edge warehouse a few swaps with clearances that force the robots to
-negotiate take about a second.
-
-**One motion among equally fast ones.** A ``fastest`` plan that the search answered has its corners solved again
-in its own chain of cells (:func:`mpa.planners.corners.resolve_corners`): the same routes, makespan and travel within
-``1e-12`` of the search's, and among those motions the unique one of least sum of squared segment moves and
-durations, so that the corners move continuously with the query instead of following the queue's order.
-
-**Routes.** Each robot's route is a sequence of directed edges (a new piece at every edge change and every
-reversal); its route coordinate is the distance travelled, and the plan is a polyline in route coordinates
-(straight on each segment).
+Entry point :func:`plan_graph` (also :func:`mpa.plan` with ``planner="graph"`` or on a graph track). An any-angle
+A* over roots (face ends, corners) and intervals of faces in the free polygons of :mod:`mpa.freespace`, complete
+and optimal for the objective; each robot's independent fastest motion is tried first, and the corners of a
+searched ``fastest`` plan are re-solved by :mod:`mpa.planners.corners`. The search, its costs and tie-breaks, why
+it is optimal and what is guaranteed: docs/graphs.md, "The search in detail".
 """
 
 from __future__ import annotations
