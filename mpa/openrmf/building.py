@@ -1,50 +1,13 @@
-"""Open-RMF maps as layouts: building maps (``*.building.yaml``), navigation graphs and fleet configurations.
+"""Open-RMF building maps and navigation graphs as layouts.
 
-Three readers turn Open-RMF files into the layout dict of :meth:`mpa.GraphTrack.from_layout` (``{"vertices": ...,
-"edges": [...]}`` with the optional edge keys ``"oneway"`` and ``"speed_limit"``):
-
-- :func:`building_layout` reads a traffic-editor building map (``*.building.yaml``): one level (default: the
-  reference level) and the lanes of one navigation graph (``graph_idx``, default 0).
-- :func:`nav_graph_layout` reads the navigation graph that ``building_map_generator nav`` writes (``levels: {NAME:
-  {vertices: [[x, y, {name: ...}]], lanes: [[i, j, {...}]]}}``; metres; every two-way lane written as two one-way
-  lanes).
-- :func:`fleet_config` reads a fleet configuration (``rmf_fleet.limits.linear``, ``rmf_fleet.profile``).
-
-:func:`read_layout_file` tells the three file kinds our JSON, a building map and a navigation graph apart by their
-content and returns the layout dict; :meth:`mpa.GraphTrack.from_file` builds the track from it.
-
-**Coordinates** (metres, x east, y north), following the traffic editor's ``rmf_building_map_tools``:
-
-- ``reference_image`` (also when ``coordinate_system`` is absent): pixels. ``y`` is negated and every coordinate
-  multiplied by the reference level's scale, the mean over its ``measurements`` of the ``distance`` parameter
-  (metres) divided by the measurement's length in pixels. Another level is aligned to the reference level through
-  the fiducials the two levels share by name: rotation the circular mean of the bearing differences, scale the
-  reference scale divided by the mean ratio of the fiducial distances, translation the mean residual (the traffic
-  editor's ``Transform.set_from_fiducials``). A level without common fiducials keeps its own measurements' scale.
-- ``cartesian_meters``: coordinates are metres, as written.
-- ``wgs84``: vertices are ``[longitude, latitude]`` in degrees. They are projected onto the local tangent plane at the
-  centre of the level's lane vertices (east, north): ``x = N(φ0) cos φ0 Δλ``, ``y = M(φ0) Δφ`` with the WGS 84
-  ellipsoid's radii of curvature ``N`` and ``M``. Distances between projected points differ from distances on the
-  ellipsoid by a relative error of at most about ``|tan φ0| Δφmax + (dmax / R)²`` (``Δφmax`` the largest latitude
-  difference from the centre in radians, ``dmax`` the map's extent, ``R`` the Earth's radius): below 1e-4 for a
-  campus of a kilometre at latitudes below 60 degrees. :func:`building_layout` reports it as ``"projection_error"``
-  in its ``info``.
-
-**Lanes to edges.** Only the lanes of the chosen level and graph are kept, with the vertices they use; vertices keep
-their names (an unnamed vertex, or the second of two with one name, is called ``v<i>``, ``i`` its index in the
-level's vertex list). A lane is a straight edge with the Euclidean length of its ends, named ``lane<k>`` (``k`` the
-lane's index in the level's lane list). Lanes between the same two vertices merge into one edge: it is two-way when
-one of them is two-way or they run both ways, else one-way (``"oneway": true``, from the lanes' start to their end);
-its speed limit is the largest of theirs (none when one of them has none). A lane ``bidirectional: false`` is
-one-way; ``speed_limit`` 0 means no limit, a positive value is kept, a negative one is an error. Lanes whose ends
-coincide (zero length) are dropped. A disconnected graph is kept whole: a query between two parts is "no motion".
+Lanes merged into edges, vertex names, and coordinates in metres (from the reference image's scale, cartesian
+metres or WGS84).
 """
 
 from __future__ import annotations
 
 import json
 import math
-import threading
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -52,104 +15,19 @@ from typing import Any
 
 from mpa.errors import InvalidInputError
 from mpa.graph import _json_int
-
-__all__ = [
-    "FleetConfig",
-    "building_layout",
-    "fleet_config",
-    "layout_kind",
-    "nav_graph_layout",
-    "read_layout_file",
-    "read_yaml_file",
-]
+from mpa.openrmf.files import _load_yaml, _read_text
 
 #: WGS 84 ellipsoid: semi-major axis (m) and first eccentricity squared.
 WGS84_A = 6378137.0
+
+
 WGS84_E2 = 6.69437999014e-3
+
+
 EARTH_RADIUS = 6371008.8
+
+
 COORDINATE_SYSTEMS = ("reference_image", "cartesian_meters", "wgs84")
-
-
-#: Nesting bound (levels) up to which YAML is parsed by libyaml's C loader (PyYAML's ``CSafeLoader``, about 6x
-#: faster: the airport terminal's map 1.5 -> 0.26 s CPU) on a thread with :data:`C_LOADER_STACK` bytes of stack; the C
-#: loader recurses on the C stack, which a deeper text would overflow (a crash, not an error), so deeper texts go to
-#: the Python loader, whose recursion limit gives an error.
-C_LOADER_DEPTH = 20_000
-C_LOADER_STACK = 64 << 20
-
-
-def _nesting_bound(text: str) -> int:
-    """An upper bound of the nesting depth of a YAML text: every flow collection opens with ``[`` or ``{``, every
-    compact block entry needs a ``-`` or ``?``, and the other block levels need one more column of indentation each
-    (a mapping and the sequence it holds may share one), so at most twice the longest line."""
-    longest = max((len(line) for line in text.splitlines()), default=0)
-    return sum(text.count(c) for c in "[{-?") + 2 * longest + 2
-
-
-def _safe_load(text: str) -> object:
-    """``yaml.safe_load``, with libyaml's C loader when it is installed and the text's nesting is bounded (a text
-    the C loader refuses is read again by PyYAML's loader, so that the error names what PyYAML names)."""
-    import yaml
-
-    loader = getattr(yaml, "CSafeLoader", None)
-    if loader is None or _nesting_bound(text) > C_LOADER_DEPTH:
-        return yaml.safe_load(text)
-    out: list[object] = []
-    err: list[BaseException] = []
-
-    def run() -> None:
-        try:
-            out.append(yaml.load(text, Loader=loader))  # the safe loader, in C
-        except BaseException as exc:  # re-raised in the caller's thread
-            err.append(exc)
-
-    old = threading.stack_size(C_LOADER_STACK)
-    try:
-        worker = threading.Thread(target=run, name="yaml-c-loader", daemon=True)
-        worker.start()
-    finally:
-        threading.stack_size(old)
-    worker.join()
-    if err:
-        if isinstance(err[0], yaml.YAMLError):  # PyYAML's own message and mark for a text that is not valid
-            return yaml.safe_load(text)
-        raise err[0]
-    return out[0]
-
-
-def _load_yaml(text: str, what: str) -> object:
-    import yaml
-
-    try:
-        return _safe_load(text)
-    except RecursionError:
-        raise InvalidInputError(f"{what} is nested too deeply, expected at most a few hundred levels") from None
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1} column {mark.column + 1}" if mark is not None else ""
-        raise InvalidInputError(f"{what} is not valid YAML or JSON ({getattr(exc, 'problem', exc)}{where})") from None
-
-
-def read_yaml_file(path: str | Path, what: str) -> object:
-    """The decoded content of a UTF-8 YAML (or JSON) file; ``what`` names the file in the error messages.
-
-    Raises
-    ------
-    InvalidInputError
-        The file is missing, unreadable, or neither YAML nor JSON.
-    """
-    return _load_yaml(_read_text(path, what, "a UTF-8 YAML file"), f"{what} file {str(path)!r}")
-
-
-def _read_text(path: str | Path, what: str, expected: str) -> str:
-    """The text of a UTF-8 file; InvalidInputError naming it (``what`` file) when missing or unreadable."""
-    p = Path(path)
-    try:
-        return p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InvalidInputError(f"{what} file {str(p)!r} does not exist, expected {expected}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InvalidInputError(f"{what} file {str(p)!r} cannot be read ({exc}), expected {expected}") from None
 
 
 # ------------------------------------------------------------------------------------------------ helpers
@@ -653,82 +531,3 @@ def read_layout_file(
             )
         return nav_graph_layout(data, level)
     return building_layout(data, level, nav_graph)
-
-
-# ------------------------------------------------------------------------------------------- fleet files
-@dataclass(frozen=True)
-class FleetConfig:
-    """What a fleet configuration says about the robots' motion.
-
-    Attributes
-    ----------
-    name : str
-        ``rmf_fleet.name`` (empty if absent).
-    vmax, amax : float
-        ``rmf_fleet.limits.linear``: speed (m/s) and acceleration (m/s²) limits, > 0.
-    footprint, vicinity : float or None
-        ``rmf_fleet.profile``: disc radii (m) of the robot's body and of the space it wants kept clear.
-    reversible : bool
-        ``rmf_fleet.reversible`` (default true).
-    """
-
-    name: str
-    vmax: float
-    amax: float
-    footprint: float | None
-    vicinity: float | None
-    reversible: bool
-
-    def radius(self, which: str = "footprint") -> float:
-        """The disc radius (m) of ``"footprint"`` or ``"vicinity"``; InvalidInputError when the file has none."""
-        if which not in ("footprint", "vicinity"):
-            raise InvalidInputError(f"fleet radius is {which!r}, expected 'footprint' or 'vicinity'")
-        r = self.footprint if which == "footprint" else self.vicinity
-        if r is None:
-            raise InvalidInputError(
-                f"rmf_fleet.profile.{which} of the fleet file is missing, expected a disc radius in metres"
-            )
-        return r
-
-
-def fleet_config(data: object, what: str = "fleet file") -> FleetConfig:
-    """Read an Open-RMF fleet configuration (``rmf_fleet: {limits: {linear: [v, a]}, profile: {...}}``).
-
-    Raises
-    ------
-    InvalidInputError
-        No ``rmf_fleet``, no ``limits.linear`` or limits that are not two numbers > 0, radii that are not numbers > 0.
-    """
-    fleet = data.get("rmf_fleet") if isinstance(data, Mapping) else None
-    if not isinstance(fleet, Mapping):
-        raise InvalidInputError(f"{what} has no rmf_fleet section, expected an Open-RMF fleet configuration")
-    limits = fleet.get("limits")
-    linear = limits.get("linear") if isinstance(limits, Mapping) else None
-    if not isinstance(linear, list) or len(linear) != 2 or not all(_number(x) and float(x) > 0 for x in linear):
-        raise InvalidInputError(
-            f"rmf_fleet.limits.linear of the {what} is {linear!r}, expected [velocity, acceleration] > 0 (m/s, m/s^2)"
-        )
-    profile = fleet.get("profile")
-    radii: list[float | None] = []
-    for key in ("footprint", "vicinity"):
-        r = profile.get(key) if isinstance(profile, Mapping) else None
-        if r is not None and not (_number(r) and float(r) > 0):
-            raise InvalidInputError(f"rmf_fleet.profile.{key} of the {what} is {r!r}, expected a radius > 0 (metres)")
-        radii.append(None if r is None else float(r))
-    rev = fleet.get("reversible", True)
-    return FleetConfig(
-        name=str(fleet.get("name") or ""),
-        vmax=float(linear[0]),
-        amax=float(linear[1]),
-        footprint=radii[0],
-        vicinity=radii[1],
-        reversible=bool(rev),
-    )
-
-
-def read_fleet_file(path: str | Path) -> FleetConfig:
-    """:func:`fleet_config` of a YAML file (errors also for a missing or unreadable file)."""
-    return fleet_config(read_yaml_file(path, "fleet"), f"fleet file {str(path)!r}")
-
-
-__all__ += ["read_fleet_file"]
