@@ -21,7 +21,7 @@ import copy
 import dataclasses
 import time
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -34,7 +34,7 @@ from mpa.graph_track import GraphTrack
 from mpa.planners import Planner, make_planner
 from mpa.planners.factory import OBJECTIVES
 from mpa.planners.graph import GraphPlan, plan_graph
-from mpa.plans import Plan
+from mpa.plans import MotionPlan, Plan
 from mpa.tracks import Track
 from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
 from trajopt.export import Source, Trajectory, check_rate, time_grid, verified_rows
@@ -440,8 +440,8 @@ class TrajectoryGenerator:
 
     def _explain_rejection(self, plan: Plan | GraphPlan) -> str:
         """Why every candidate of ``plan`` fails the gate at this rate, if the caller can fix it ("" if not)."""
-        if self.footprint is not None and isinstance(plan, GraphPlan):
-            why = self._explain_plane(plan)
+        if self.footprint is not None:  # bodies are planned on layouts only: a graph plan
+            why = self._explain_plane(cast(GraphPlan, plan))
             if why:
                 return why
         best = self.lowest_rate(plan)
@@ -585,8 +585,10 @@ class TrajectoryGenerator:
                     raise
                 stats.clear()
                 stats["line_other_class"] = True
-        if not isinstance(plan, GraphPlan):
-            scaling, st = hard_path_scaling(plan, geom, sep, self.motion_limits, self._corridor_problem(), timings)
+        if not view.is_graph:  # the paper's plan: the corridor QP keeps its skeleton class (the gate checks it)
+            scaling, st = hard_path_scaling(
+                view.paper, geom, sep, self.motion_limits, self._corridor_problem(), timings
+            )
             stats.update(st, path="hard", line_clearance=line)
         else:
             # A graph plan is taut: it touches the clearance (plus the margin) at its corners, so the corridor has
@@ -709,7 +711,7 @@ class TrajectoryGenerator:
             clearance=self.clearance,
             rate=self.rate,
             motion_time=scaling.duration,
-            domain=int(getattr(plan, "domain", 0)),
+            domain=plan.domain or 0,  # the trajectory's domain is 0 on a layout (an int in summary.json)
             word=tuple(plan.word),
             source=source,
             fallback_reason=reason,
@@ -733,19 +735,20 @@ class _RejectedError(PlanningError):
     """Neither the optimised motion nor the re-timed plan passes the gate (the caller may be told why)."""
 
 
-def route_speed_limits(plan: Plan | GraphPlan, limits: Limits) -> Limits:
+def route_speed_limits(plan: MotionPlan, limits: Limits) -> Limits:
     """``limits`` with each robot's speed capped by the lowest speed limit of the edges its route travels.
 
     The setpoints then keep every lane's limit on every row (checked by the gate); on a route whose edges have
     different limits the robot drives its whole route at the lowest one (conservative, not time-optimal). Returns
     ``limits`` itself when no edge of the routes has a limit.
     """
-    if not isinstance(plan, GraphPlan) or not plan.track.has_rules:
+    layout = plan.layout
+    if not layout.has_rules:
         return limits
     caps = []
-    for route, v in zip((plan.route_a, plan.route_b), limits.vmax):
+    for route, v in zip(plan.layout_routes, limits.vmax):
         lengths = np.diff(route.breaks)
-        lims = [plan.track.speed_limits[int(e)] for e, ln in zip(route.edges, lengths) if ln > 0]
+        lims = [layout.speed_limits[int(e)] for e, ln in zip(route.edges, lengths) if ln > 0]
         caps.append(min([v, *[x for x in lims if x is not None]]))
     if tuple(caps) == tuple(limits.vmax):
         return limits

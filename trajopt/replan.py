@@ -145,7 +145,9 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
     PlanningError
         A cart's path would branch at P (no single route), or the spliced rows fail the gate (never observed).
     """
-    if not isinstance(trajectory.plan, Plan):  # a layout's GraphPlan
+    # The paper's re-planning is its own: the spliced rows keep track coordinates and the gate checks the skeleton
+    # word of the braking rows and the new plan; every other plan is re-planned on its layout.
+    if not isinstance(trajectory.plan, Plan):
         from trajopt.replan_graph import replan_graph
 
         return replan_graph(generator, trajectory, at_time, goal)

@@ -84,11 +84,11 @@ def replan_graph(generator: TrajectoryGenerator, trajectory: Trajectory, at_time
     t_start = time.perf_counter()
     at = _check_at_time(at_time, trajectory)
     old = trajectory.plan
-    if not isinstance(old, GraphPlan):
+    if not isinstance(old, GraphPlan):  # the spliced plan is a GraphPlan (cells and offsets of its segments)
         raise InvalidInputError("the trajectory is on a paper track, expected one on a layout (use trajopt.replan)")
-    if generator.track != old.track:
+    if generator.track != old.layout:
         raise InvalidInputError(f"the generator's track {generator.track!r} is not the trajectory's layout")
-    routes_old = (old.route_a, old.route_b)
+    routes_old = old.layout_routes
     s_now, v_now, a_now, _ = trajectory.sampler(np.array([min(at, trajectory.motion_time)]))
     s0, v0, a0 = s_now[0], v_now[0], a_now[0]
     if at >= trajectory.motion_time:
@@ -149,7 +149,9 @@ def _position(route: DirectedRoute, r: float) -> tuple[int, float]:
     return int(e), float(o)
 
 
-def _check_brake(generator: TrajectoryGenerator, routes: Any, brake: Brake, s0: FloatArray, at: float) -> None:
+def _check_brake(
+    generator: TrajectoryGenerator, routes: tuple[DirectedRoute, DirectedRoute], brake: Brake, s0: FloatArray, at: float
+) -> None:
     """Refuse (NoMotionError) a braking that leaves a route or comes closer than the clearance."""
     for r in (0, 1):
         lo, hi = float(routes[r].breaks[0]), float(routes[r].breaks[-1])
@@ -203,12 +205,12 @@ def _stretch(route: DirectedRoute, a: float, b: float) -> tuple[list[int], list[
     return edges, dirs, entry, lengths
 
 
-def _splice(routes_old: Any, s0: FloatArray, brake: Brake, plan: GraphPlan) -> _Splice:
+def _splice(routes_old: tuple[DirectedRoute, DirectedRoute], s0: FloatArray, brake: Brake, plan: GraphPlan) -> _Splice:
     """Per cart one route: the braking stretch of the old route, then the new route (coordinate 0 at ``s0``)."""
     routes: list[DirectedRoute] = []
     sign: list[float] = []
     corners: list[FloatArray] = []
-    for r, rn in enumerate((plan.route_a, plan.route_b)):
+    for r, rn in enumerate(plan.layout_routes):
         a, b = float(s0[r]), float(brake.stop[r])
         e, d, en, ln = _stretch(routes_old[r], a, b)
         for k, length in enumerate(np.diff(rn.breaks).tolist()):
@@ -223,7 +225,7 @@ def _splice(routes_old: Any, s0: FloatArray, brake: Brake, plan: GraphPlan) -> _
         routes.append(DirectedRoute.from_pieces(e, d, en, ln))
         sign.append(1.0 if b >= a else -1.0)
         rest = abs(b - a)
-        corners.append(np.concatenate([[0.0, rest], rest + np.asarray(plan.waypoints[:, r], dtype=float)]))
+        corners.append(np.concatenate([[0.0, rest], rest + np.asarray(plan.route_waypoints[:, r], dtype=float)]))
     return _Splice((routes[0], routes[1]), np.array(sign), np.ones(2), (corners[0], corners[1]))  # type: ignore[arg-type]
 
 

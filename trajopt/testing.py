@@ -25,13 +25,16 @@ Each check returns a message on failure; :func:`check_trajectory` applies them t
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa.homotopy import path_word
 from mpa.tracks import Track
+
+if TYPE_CHECKING:
+    from trajopt.result import Trajectory
 
 __all__ = [
     "LIMIT_RTOL",
@@ -449,17 +452,18 @@ def _direction_failures(
     return []
 
 
-def check_graph_trajectory(traj: Any, *, fine: int = 8) -> list[str]:
-    """Check a :class:`~trajopt.result.Trajectory` on a layout (rows and the continuous motion ``fine`` times denser).
+def check_graph_trajectory(traj: Trajectory, *, fine: int = 8) -> list[str]:
+    """Check a :class:`~trajopt.result.Trajectory` on its plan's layout (rows and the continuous motion ``fine``
+    times denser); any plan (:class:`mpa.MotionPlan`: a paper track's trajectory on the track's graph form too).
 
     The rows' positions are the trajectory's (:attr:`~trajopt.result.Trajectory.edges`, ``offsets``,
     ``directions``); the dense grid follows the plan's routes (:meth:`mpa.geometry.DirectedRoute.positions`).
     """
     plan = traj.plan
-    m = GraphMetric(plan.track)
+    m = GraphMetric(plan.layout)
     lim = traj.limits
     fails = check_graph_setpoints(
-        plan.track,
+        plan.layout,
         traj.t,
         traj.edges,
         traj.offsets,
@@ -472,8 +476,8 @@ def check_graph_trajectory(traj: Any, *, fine: int = 8) -> list[str]:
         vmax=lim.v,
         amax=lim.a,
         jmax=lim.j,
-        start=plan.start,
-        goal=plan.goal,
+        start=plan.layout_start,
+        goal=plan.layout_goal,
         dirs=traj.directions,
         metric=m,
     )
@@ -481,6 +485,7 @@ def check_graph_trajectory(traj: Any, *, fine: int = 8) -> list[str]:
     if fine > 0 and len(traj.t) > 1:
         tf = _dense_times(traj, fine)
         s, _v, _a, _j = traj.sampler(tf)
-        (ea, oa), (eb, ob) = plan.route_a.positions(s[:, 0]), plan.route_b.positions(s[:, 1])
+        ra, rb = plan.layout_routes
+        (ea, oa), (eb, ob) = ra.positions(s[:, 0]), rb.positions(s[:, 1])
         fails += _dense_separation_failures(tf, m(ea, oa, eb, ob), traj.clearance)
     return fails

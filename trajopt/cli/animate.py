@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 from mpa.errors import InvalidInputError
 from mpa.tracks import Track
@@ -22,6 +22,9 @@ from trajopt.cli.common import (
     output_error,
     query_from_args,
 )
+
+if TYPE_CHECKING:
+    from mpa.planners.graph import GraphPlan
 
 __all__ = ["DEFAULTS", "register"]
 
@@ -92,10 +95,10 @@ def _animate_graph(track: Any, start: Any, goal: Any, target: Path, args: argpar
     name = Path(args.graph).stem
     kw = {"fps": args.fps, "dpi": args.dpi, "max_frames": args.max_frames, "fmt": args.format}
     if args.raw_only:
-        raw: Any = gen.plan(start, goal)
+        raw = cast("GraphPlan", gen.plan(start, goal))  # a layout's plan
         return animate_graph_plan(raw, target, name=name, footprint=getattr(args, "footprints", None), **kw)
     traj = gen.generate(start, goal)
-    plan: Any = traj.plan
+    plan = traj.plan
     title = plan_title(plan, name).split("\n")[0] + (
         f"\nD = {traj.clearance:g} m, verified jerk-limited trajectory, {traj.makespan:.3g} s"
     )
@@ -103,9 +106,8 @@ def _animate_graph(track: Any, start: Any, goal: Any, target: Path, args: argpar
     if fps is not None:
         title += f", bodies {fps.spec()} m to scale"
     return animate_layout(
-        plan.track,
-        plan.route_a,
-        plan.route_b,
+        plan.layout,
+        *plan.layout_routes,
         traj.t,
         traj.s,
         target,
