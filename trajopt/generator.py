@@ -400,8 +400,8 @@ class TrajectoryGenerator:
 
     def _attempt(self, plan: Plan | GraphPlan) -> Trajectory:
         """:meth:`_generate` at this generator's rate (a graph plan is made again for this rate's margin)."""
-        if isinstance(plan, GraphPlan) and isinstance(self.planner, GraphPlanner):
-            plan = self.planner.plan(plan.start, plan.goal)
+        if isinstance(self.planner, GraphPlanner):  # its plans keep a margin that depends on the rate
+            plan = self.planner.plan(plan.layout_start, plan.layout_goal)
         return self._generate(plan, None)
 
     def lowest_rate(self, plan: Plan | GraphPlan, upto: float = 20_000.0) -> float | None:
@@ -726,8 +726,8 @@ class TrajectoryGenerator:
 
     def _retimer(self, plan: Plan | GraphPlan) -> Any:
         """``rate -> Trajectory``: the query again at another rate (a graph plan is made for that rate's margin)."""
-        if isinstance(plan, GraphPlan) and isinstance(self.planner, GraphPlanner):
-            return lambda r: self.at_rate(r).generate(plan.start, plan.goal)
+        if isinstance(self.planner, GraphPlanner):  # its plans keep a margin that depends on the rate
+            return lambda r: self.at_rate(r).generate(plan.layout_start, plan.layout_goal)
         return lambda r: self.at_rate(r).generate_from_plan(plan)
 
 

@@ -68,7 +68,7 @@ FloatArray = NDArray[np.float64]
 SNAP = 1e-6
 
 
-def _snap_to_pole(routes: Any, stop: FloatArray) -> FloatArray | None:
+def _snap_to_pole(routes: Sequence[Route], stop: FloatArray) -> FloatArray | None:
     """Stops within :data:`SNAP` of a junction of their route moved onto it (None if none is)."""
     out = np.array(stop, dtype=float)
     moved = False
@@ -87,14 +87,14 @@ def _lift(route: Route, sigma: float) -> Lift:
     return Lift("stick" if bool(is_stick[0]) else "line", int(k[0]), float(v[0]))
 
 
-def _normal(track: Any, lf: Lift) -> Lift:
+def _normal(track: Track, lf: Lift) -> Lift:
     c = getattr(track, "loop", 0.0)
     if lf.kind == "stick" and lf.v <= 1e-9 * max(1.0, track.total_length):
         return Lift("line", 0, lf.k * c)
     return lf
 
 
-def _deck(track: Any, frm: Lift, to: Lift) -> int:
+def _deck(track: Track, frm: Lift, to: Lift) -> int:
     """The deck transformation (shift by m turns) that maps ``frm`` onto ``to`` (same track point)."""
     if not isinstance(track, (Lollipop, Circle)):
         return 0
@@ -107,7 +107,7 @@ def _deck(track: Any, frm: Lift, to: Lift) -> int:
     raise PlanningError(f"cannot match the new route's start {frm} with the rest point {to}")
 
 
-def _shift(track: Any, lf: Lift, m: int) -> Lift:
+def _shift(track: Track, lf: Lift, m: int) -> Lift:
     if m == 0 or not isinstance(track, (Lollipop, Circle)):
         return lf
     if lf.kind == "stick":

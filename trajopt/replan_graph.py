@@ -32,7 +32,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa.errors import NoMotionError, PlanningError
-from mpa.geometry import DirectedRoute
+from mpa.geometry import DirectedRoute, RouteGeometry
+from mpa.graph_track import as_graph_track
 from mpa.planners.graph import GraphPlan
 from trajopt.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
 from trajopt.export import Trajectory, time_grid, verified_rows
@@ -174,11 +175,9 @@ def _check_brake(
         )
 
 
-def plan_view_routes(generator: TrajectoryGenerator, routes: Any) -> Any:
+def plan_view_routes(generator: TrajectoryGenerator, routes: tuple[DirectedRoute, DirectedRoute]) -> RouteGeometry:
     """The exact geometry (:class:`mpa.geometry.RouteGeometry`) of ``routes`` on the generator's layout."""
-    from mpa.geometry import RouteGeometry
-
-    return RouteGeometry(generator.track.geometry, tuple(routes))  # type: ignore[union-attr]
+    return RouteGeometry(as_graph_track(generator.track).geometry, routes)
 
 
 def _stretch(route: DirectedRoute, a: float, b: float) -> tuple[list[int], list[int], list[float], list[float]]:

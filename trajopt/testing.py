@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa.graph_track import GraphTrack
 from mpa.homotopy import path_word
 from mpa.tracks import Track
 
@@ -199,7 +200,7 @@ def _row_separation_failures(d: FloatArray, clearance: float) -> list[str]:
     return []
 
 
-def _makespan_failures(traj: Any) -> list[str]:
+def _makespan_failures(traj: Trajectory) -> list[str]:
     """The makespan is the motion time rounded up to the row grid."""
     if traj.makespan < traj.motion_time - 1e-12 or traj.makespan - traj.motion_time > 1.0 / traj.rate + 1e-12:
         return ["makespan is not the motion time rounded up to the grid"]
@@ -214,7 +215,7 @@ def _dense_separation_failures(tf: FloatArray, d: FloatArray, clearance: float) 
     return []
 
 
-def _dense_times(traj: Any, fine: int) -> FloatArray:
+def _dense_times(traj: Trajectory, fine: int) -> FloatArray:
     """A grid ``fine`` times denser than the rows over the whole motion."""
     return np.linspace(0.0, traj.makespan, max(2, fine * (len(traj.t) - 1) + 1))
 
@@ -308,7 +309,7 @@ class GraphMetric:
     track : GraphTrack
     """
 
-    def __init__(self, track: Any) -> None:
+    def __init__(self, track: GraphTrack) -> None:
         self.tails = np.asarray(track.tails, dtype=np.int64)
         self.heads = np.asarray(track.heads, dtype=np.int64)
         self.lengths = np.asarray(track.lengths, dtype=float)

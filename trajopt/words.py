@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -257,7 +257,7 @@ def describe_graph_rows(
     return out
 
 
-def describe_text(trajectory: Any) -> str:
+def describe_text(trajectory: Trajectory) -> str:
     """``"A: …\\nB: …"``."""
     d = describe(trajectory)
     return f"A: {d['A']}\nB: {d['B']}"

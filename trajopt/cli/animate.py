@@ -24,6 +24,7 @@ from trajopt.cli.common import (
 )
 
 if TYPE_CHECKING:
+    from mpa.graph_track import GraphTrack
     from mpa.planners.graph import GraphPlan
 
 __all__ = ["DEFAULTS", "register"]
@@ -48,7 +49,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
     target = d / f"animation{FORMATS[args.format]}"
     try:
         if args.graph is not None:
-            path = _animate_graph(track, start, goal, target, args)
+            path = _animate_graph(cast("GraphTrack", track), start, goal, target, args)  # --graph: a layout
         elif not isinstance(track, Track):
             raise InvalidInputError("mpa animate takes --track interval|circle|lollipop or --graph FILE")
         else:
@@ -78,7 +79,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
     return 0
 
 
-def _animate_graph(track: Any, start: Any, goal: Any, target: Path, args: argparse.Namespace) -> Path:
+def _animate_graph(track: GraphTrack, start: Any, goal: Any, target: Path, args: argparse.Namespace) -> Path:
     """The layout animation of a ``--graph`` query: the verified trajectory (or with ``--raw-only`` the plan)."""
     from trajopt.generator import TrajectoryGenerator
     from trajopt.timing import Limits
