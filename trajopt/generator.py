@@ -40,6 +40,7 @@ from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scali
 from trajopt.export import Source, Trajectory, check_rate, time_grid, verified_rows
 from trajopt.fastpath import straight_scaling
 from trajopt.planview import densify, plan_view
+from trajopt.rows import Setpoints
 from trajopt.switch import near_switch_scaling, switch_band
 from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling, reachable_speed
 from trajopt.verify import VerificationError, VerificationReport, class_failures_only, separation_margin
@@ -681,15 +682,10 @@ class TrajectoryGenerator:
         timings["sample"] = time.perf_counter() - t0
         t1 = time.perf_counter()
         rep: VerificationReport = view.verify(
-            t,
-            s,
-            v,
-            a,
-            j,
+            Setpoints(t, s, v, a, j, track=None if view.is_graph else tr),  # the rows' coordinates, as exported
             limits=self.limits,
             clearance=self.clearance,
             rate=self.rate,
-            track_pos=None if view.is_graph else tr,  # the rows' coordinates, as exported
         )
         timings["verify" if source is Source.OPTIMIZED else "fallback_verify"] = time.perf_counter() - t1
         if not rep.ok:

@@ -13,7 +13,7 @@ it) and so the gate (:func:`~trajopt.verify.verify_setpoints` in track coordinat
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import cast
 
 import numpy as np
@@ -25,6 +25,7 @@ from mpa.homotopy import path_word
 from mpa.plans import MotionPlan, Plan
 from mpa.routes import Route, directed_route
 from mpa.tracks import Track
+from trajopt.rows import Setpoints, rows_of
 from trajopt.sample_kernels import track_positions
 from trajopt.timing import Limits
 from trajopt.verify import VerificationReport, verify_graph_setpoints, verify_setpoints
@@ -169,12 +170,8 @@ class PlanView:
 
     def verify(
         self,
-        t: ArrayLike,
-        s: FloatArray,
-        v: FloatArray,
-        a: FloatArray,
-        j: FloatArray,
-        *,
+        rows: Setpoints | ArrayLike,
+        *arrays: ArrayLike,
         limits: Limits,
         clearance: float,
         rate: float,
@@ -182,20 +179,22 @@ class PlanView:
     ) -> VerificationReport:
         """The independent gate on rows of this plan's motion (see :mod:`trajopt.verify`).
 
-        ``track_pos`` (shape (N, 2), paper tracks only): the rows' track coordinates, if they are not
-        :meth:`track_coordinates` of ``s`` (default: they are).
+        ``rows``: a :class:`~trajopt.rows.Setpoints` (``t, s, v, a, j``), or positionally the arrays
+        ``t, s, v, a, j``. Paper plans: the rows' track coordinates are ``rows.track`` (or ``track_pos``, shape
+        (N, 2)) when given, else :meth:`track_coordinates` of ``s``; graph plans: the positions of ``s``
+        (:meth:`positions`).
         """
+        rows = rows_of(rows, arrays, ("t", "s", "v", "a", "j"))
+        if track_pos is not None:
+            rows = replace(rows, track=np.asarray(track_pos))
         if not self.is_graph:  # the paper's gate: track coordinates and the skeleton word too
             plan = self.paper
+            if rows.track is None:
+                rows = replace(rows, track=self.track_coordinates(rows.s))
             return verify_setpoints(
                 plan.track,
                 plan.routes,
-                t,
-                self.track_coordinates(s) if track_pos is None else track_pos,
-                s,
-                v,
-                a,
-                j,
+                rows,
                 limits=limits,
                 clearance=clearance,
                 start=plan.start,
@@ -203,17 +202,11 @@ class PlanView:
                 word=plan.word,
                 rate=rate,
             )
-        edges, offs = self.positions(s, v)
+        edges, offs = self.positions(rows.s, rows.v)
         return verify_graph_setpoints(
             self.graph.geometry,
             self.routes,
-            t,
-            edges,
-            offs,
-            s,
-            v,
-            a,
-            j,
+            replace(rows, edges=edges, offsets=offs),
             limits=limits,
             clearance=clearance,
             start=self.plan.layout_start,

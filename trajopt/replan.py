@@ -48,6 +48,7 @@ from mpa.routes import Lift, Route
 from mpa.tracks import Circle, Lollipop, Track
 from trajopt.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
 from trajopt.export import Trajectory, time_grid, verified_rows
+from trajopt.rows import Setpoints
 from trajopt.verify import (
     SEPARATION_TOL,
     VerificationError,
@@ -253,12 +254,7 @@ def _gate_from_moving_state(
     rep = verify_setpoints(
         cast(Track, generator.track),  # replan runs on the paper's tracks only
         routes,
-        t,
-        tr,
-        s,
-        v,
-        a,
-        j,
+        Setpoints(t, s, v, a, j, track=tr),
         limits=generator.limits,
         clearance=generator.clearance,
         start=tr[0],

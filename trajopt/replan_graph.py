@@ -38,6 +38,7 @@ from mpa.planners.graph import GraphPlan
 from trajopt.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
 from trajopt.export import Trajectory, time_grid, verified_rows
 from trajopt.planview import plan_view
+from trajopt.rows import Setpoints
 from trajopt.verify import SEPARATION_TOL, VerificationError, VerificationReport
 
 if TYPE_CHECKING:
@@ -269,9 +270,8 @@ def _gate(
     PlanningError
         Any other failure of the gate.
     """
-    s, v, a, j = svaj
     rep = plan_view(plan).verify(
-        t, s, v, a, j, limits=generator.limits, clearance=generator.clearance, rate=generator.rate
+        Setpoints(t, *svaj), limits=generator.limits, clearance=generator.clearance, rate=generator.rate
     )
     fails = tuple(f for f in rep.failures if not f.startswith("first row is not at rest"))
     if fails:

@@ -22,6 +22,7 @@ from mpa.plans import MotionPlan
 from trajopt.grid import check_rate, time_grid
 from trajopt.io.csvfile import CSV_COLUMNS, GRAPH_CSV_COLUMNS, HEADING_COLUMNS, XY_COLUMNS
 from trajopt.planview import plan_view
+from trajopt.rows import Setpoints
 from trajopt.timing import Limits
 from trajopt.verify import VerificationError, VerificationReport
 
@@ -189,7 +190,7 @@ class Trajectory:
         s, v, a, j = self.sampler(t)
         view = plan_view(self.plan)
         tr = view.track_coordinates(s)
-        rep = view.verify(t, s, v, a, j, limits=self.limits, clearance=self.clearance, rate=r, track_pos=tr)
+        rep = view.verify(Setpoints(t, s, v, a, j, track=tr), limits=self.limits, clearance=self.clearance, rate=r)
         plane = self.plane
         if rep.ok and self.footprint is not None:
             from trajopt.planar_gate import verify_plane
@@ -206,6 +207,10 @@ class Trajectory:
         new = self.retimer(r)
         new.solver_stats["retimed_for_rate"] = f"resampled at {r:g} Hz: {'; '.join(rep.failures)}"
         return new
+
+    def rows(self) -> Setpoints:
+        """The verified rows (``t, s, v, a, j``, ``track`` on a paper track) as one :class:`~trajopt.rows.Setpoints`."""
+        return Setpoints(self.t, self.s, self.v, self.a, self.j, track=None if self.is_graph else self.track)
 
     def resample(self, rate: float | None = None) -> tuple[FloatArray, ...]:
         """``t, track, s, v, a, j`` at another rate, verified at that rate (see :meth:`at_rate`).

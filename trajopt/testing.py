@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 from mpa.graph_track import GraphTrack
 from mpa.homotopy import path_word
 from mpa.tracks import Track
+from trajopt.rows import Setpoints, rows_of
 
 if TYPE_CHECKING:
     from trajopt.result import Trajectory
@@ -59,13 +60,8 @@ SEP_TOL = 1e-9
 
 def check_setpoints(
     track: Track,
-    t: ArrayLike,
-    pos: ArrayLike,
-    s: ArrayLike,
-    v: ArrayLike,
-    a: ArrayLike,
-    j: ArrayLike,
-    *,
+    rows: Setpoints | ArrayLike,
+    *arrays: ArrayLike,
     rate: float,
     clearance: float,
     vmax: ArrayLike,
@@ -79,12 +75,9 @@ def check_setpoints(
     Parameters
     ----------
     track : Track
-    t : array_like, shape (N,)
-        Times (s).
-    pos : array_like, shape (N, 2)
-        Track coordinates of A and B (m).
-    s, v, a, j : array_like, shape (N, 2)
-        Route coordinates and their derivatives (m, m/s, m/s², m/s³).
+    rows : Setpoints
+        ``t`` (N,): times (s); ``track`` (N, 2): track coordinates of A and B (m); ``s, v, a, j`` (N, 2): route
+        coordinates and their derivatives (m, m/s, m/s², m/s³). Or positionally the arrays ``t, track, s, v, a, j``.
     rate : float
         Row rate (Hz).
     clearance : float
@@ -94,7 +87,8 @@ def check_setpoints(
     start, goal : array_like, shape (2,)
         Track coordinates of the query.
     """
-    arrs = _rows_or_failure(t, (pos, s, v, a, j), shapes_of=())
+    rows = rows_of(rows, arrays, ("t", "track", "s", "v", "a", "j"))
+    arrs = _rows_or_failure(rows.t, (rows.track, *rows.svaj), shapes_of=())
     if isinstance(arrs, list):
         return arrs
     tt, (P, S, V, A, J) = arrs
@@ -119,12 +113,15 @@ def check_setpoints(
 
 
 def _rows_or_failure(
-    t: ArrayLike, columns: Sequence[ArrayLike], shapes_of: Sequence[Any]
+    t: ArrayLike, columns: Sequence[ArrayLike | None], shapes_of: Sequence[Any]
 ) -> list[str] | tuple[FloatArray, list[FloatArray]]:
-    """The times and the (N, 2) columns as float arrays, or the one failure when shapes or values are off.
+    """The times and the (N, 2) columns as float arrays, or the one failure when shapes or values are off (or a
+    column is missing).
 
     ``shapes_of`` are further arrays whose shapes the shape message names first (the edge indices on a layout).
     """
+    if any(x is None for x in columns):
+        return ["the rows miss the positions (track coordinates, or edges and offsets)"]
     tt = np.asarray(t, dtype=float)
     arrs = [np.asarray(x, dtype=float) for x in columns]
     n = len(tt)
@@ -331,15 +328,9 @@ class GraphMetric:
 
 
 def check_graph_setpoints(
-    track: Any,
-    t: ArrayLike,
-    edges: ArrayLike,
-    offsets: ArrayLike,
-    s: ArrayLike,
-    v: ArrayLike,
-    a: ArrayLike,
-    j: ArrayLike,
-    *,
+    track: GraphTrack,
+    rows: Setpoints | ArrayLike,
+    *arrays: ArrayLike,
     rate: float,
     clearance: float,
     vmax: ArrayLike,
@@ -362,21 +353,24 @@ def check_graph_setpoints(
     Parameters
     ----------
     track : GraphTrack
-    t : array_like, shape (N,)
-    edges : array_like of int, shape (N, 2)
-        Edge indices of A and B.
-    offsets : array_like, shape (N, 2)
-        Offsets from the edges' tails (m).
-    s, v, a, j : array_like, shape (N, 2)
+    rows : Setpoints
+        ``t`` (N,): times (s); ``edges`` (N, 2): edge indices of A and B; ``offsets`` (N, 2): offsets from the
+        edges' tails (m); ``s, v, a, j`` (N, 2); ``dirs`` (N, 2), optional: the directions of travel. Or
+        positionally the arrays ``t, edges, offsets, s, v, a, j``.
     rate, clearance : float
     vmax, amax, jmax : array_like, shape (2,)
     start, goal : pair of (edge index, offset)
     dirs : array_like of int, shape (N, 2), optional
+        The directions (instead of ``rows.dirs``).
     metric : GraphMetric, optional
         Re-used if given.
     """
-    E = np.asarray(edges, dtype=np.int64)
-    arrs = _rows_or_failure(t, (offsets, s, v, a, j), shapes_of=(E,))
+    rows = rows_of(rows, arrays, ("t", "edges", "offsets", "s", "v", "a", "j"))
+    dirs = rows.dirs if dirs is None else dirs
+    if rows.edges is None:
+        return ["the rows miss the positions (track coordinates, or edges and offsets)"]
+    E = np.asarray(rows.edges, dtype=np.int64)
+    arrs = _rows_or_failure(rows.t, (rows.offsets, *rows.svaj), shapes_of=(E,))
     if isinstance(arrs, list):
         return arrs
     tt, (OF, S, V, A, J) = arrs
