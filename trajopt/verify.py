@@ -57,6 +57,7 @@ __all__ = [
     "LIMIT_RTOL",
     "POSITION_TOL",
     "SEPARATION_TOL",
+    "Setpoints",
     "VerificationError",
     "VerificationReport",
     "between_rows_separation",
