@@ -3,7 +3,8 @@
 Layout follows the paper: :mod:`mpa.tracks` (physical spaces), :mod:`mpa.cspace` (configuration spaces),
 :mod:`mpa.skeleton` and :mod:`mpa.retraction` (the deformation onto the skeleton), :mod:`mpa.planners`
 (the algorithms and their domains of continuity; the function ``mpa.plan`` plans one query), :mod:`mpa.plans`
-(the result ``Plan``), :mod:`mpa.homotopy` (classes of paths as skeleton words), :mod:`mpa.topology`
+(``MotionPlan``, the interface every plan satisfies, and the paper planner's result ``Plan``),
+:mod:`mpa.homotopy` (classes of paths as skeleton words), :mod:`mpa.topology`
 (topological complexity of the tracks; homology and TC of two robots on any graph); shared pieces:
 :mod:`mpa.graph` (metric graphs), :mod:`mpa.routes` (a robot's route in unwrapped coordinates), :mod:`mpa.errors`
 (the error family). numpy only.
@@ -27,7 +28,7 @@ if TYPE_CHECKING:  # the names as type checkers see them
     from mpa.planar import PlanarFreeSpace, planar_free_space
     from mpa.planners import CirclePlanner, IntervalPlanner, LollipopPlanner, Planner, make_planner, plan
     from mpa.planners.graph import GraphPlan, plan_graph
-    from mpa.plans import Plan, PlanStep
+    from mpa.plans import MotionPlan, Plan, PlanStep
     from mpa.retraction import retract
     from mpa.routes import Route
     from mpa.skeleton import CircleSkeleton, IntervalSkeleton, LollipopSkeleton, Skeleton, skeleton_of
@@ -60,6 +61,7 @@ _LAZY = {
     "GraphTrack": "mpa.graph_track",
     "path_word": "mpa.homotopy",
     "reduce_word": "mpa.homotopy",
+    "MotionPlan": "mpa.plans",
     "Plan": "mpa.plans",
     "PlanStep": "mpa.plans",
     "CirclePlanner": "mpa.planners",
@@ -128,6 +130,7 @@ __all__ = [
     "LollipopSkeleton",
     "MPAError",
     "MetricGraph",
+    "MotionPlan",
     "NoMotionError",
     "Plan",
     "PlanStep",

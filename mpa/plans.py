@@ -1,22 +1,123 @@
-"""The result of the motion planner: a :class:`Plan` (frozen, plain numpy arrays)."""
+"""Plans of two robots: the interface every plan satisfies (:class:`MotionPlan`) and the paper planner's result
+:class:`Plan` (frozen, plain numpy arrays).
+
+:class:`MotionPlan` names what the paper's planner (:class:`Plan`) and the complete graph planner
+(:class:`~mpa.planners.graph.GraphPlan`) both say of a motion, with one meaning: the layout the robots move on (a
+paper track through :meth:`~mpa.tracks.Track.as_graph_track`), start and goal as positions on it, each robot's
+route as a sequence of directed edges (:class:`~mpa.geometry.DirectedRoute`), the path as a polyline in route
+coordinates, the class of the path as a word, the domain, the clearance and the exact minimum distance
+(docs/conventions.md, "Plans").
+"""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mpa.routes import RobotMove, Route, lift_moves, lift_position
+from mpa.errors import InvalidInputError
+from mpa.geometry import DirectedRoute
+from mpa.graph_track import GraphTrack, Position
+from mpa.routes import RobotMove, Route, directed_route, lift_moves, lift_position
 from mpa.skeleton import Skeleton
 from mpa.tracks import Track
 
-__all__ = ["JointMove", "Plan", "PlanStep", "build_plan"]
+__all__ = ["JointMove", "MotionPlan", "Plan", "PlanStep", "build_plan", "sample_parameter"]
 
 FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+#: Per robot ``(edge indices, offsets)`` on the layout: what :meth:`MotionPlan.positions` returns.
+LayoutPositions = tuple[tuple[IntArray, FloatArray], tuple[IntArray, FloatArray]]
 JointMove = tuple[RobotMove, RobotMove]
 STEP_NAMES = ("preliminary", "main", "final")
+
+
+@runtime_checkable
+class MotionPlan(Protocol):
+    """A collision-free motion of two robots (A first) on a layout, as every planner's plan describes it.
+
+    Satisfied by :class:`Plan` (the paper's planner on an interval, circle or lollipop) and
+    :class:`~mpa.planners.graph.GraphPlan` (the complete planner on any layout, also with lane rules or
+    footprints). A paper track is the layout :meth:`~mpa.tracks.Track.as_graph_track` (edges ``stick`` and
+    ``loop``). The path is a polyline in *route coordinates* ``σ = (σ_A, σ_B)`` (metres along each robot's route,
+    shape (2,)); between corners both robots move at constant speeds along their routes.
+
+    Attributes
+    ----------
+    layout : GraphTrack
+        The track the robots move on (a paper track's graph form).
+    layout_start, layout_goal : tuple of two (edge index, offset)
+        Start and goal of robot A and robot B as positions on ``layout`` (offset in metres from the edge's tail).
+    layout_routes : (DirectedRoute, DirectedRoute)
+        Each robot's route on ``layout``: the directed edges it travels in order, with the route coordinate of
+        every piece boundary (``breaks``; a paper plan's routes keep its σ, a graph plan's start at 0).
+    route_waypoints : ndarray, shape (K, 2)
+        Corners of the path in route coordinates (metres); the first is the start, the last the goal.
+    word : tuple of str
+        The path's class as a word: the reduced edge word in the skeleton graph for a paper plan (a homotopy
+        invariant, :mod:`mpa.homotopy`), the cells crossed for a graph plan (a label of the class).
+    domain : int or None
+        Domain of continuity of the paper's planner (docs/conventions.md, "Domains of continuity"); None for the
+        graph planner, whose plans are optimal rather than continuous on domains.
+    clearance : float
+        The clearance D the query asked for (metres).
+    """
+
+    @property
+    def layout(self) -> GraphTrack: ...
+
+    @property
+    def layout_start(self) -> tuple[Position, Position]: ...
+
+    @property
+    def layout_goal(self) -> tuple[Position, Position]: ...
+
+    @property
+    def layout_routes(self) -> tuple[DirectedRoute, DirectedRoute]: ...
+
+    @property
+    def route_waypoints(self) -> FloatArray: ...
+
+    @property
+    def word(self) -> tuple[str, ...]: ...
+
+    @property
+    def domain(self) -> int | None: ...
+
+    @property
+    def clearance(self) -> float: ...
+
+    def path_s(self, u: ArrayLike) -> FloatArray:
+        """Route coordinates at path parameter ``u ∈ [0, 1]`` (clipped; metres). Shape ``u.shape + (2,)``."""
+        ...
+
+    def positions(self, u: ArrayLike) -> LayoutPositions:
+        """Per robot ``(edge indices, offsets)`` on :attr:`layout` at path parameter ``u`` (each of ``u``'s shape)."""
+        ...
+
+    def sample_s(self, n: int) -> tuple[FloatArray, FloatArray]:
+        """``n >= 2`` values of ``u`` evenly in [0, 1] and the route coordinates there: shapes (n,) and (n, 2)."""
+        ...
+
+    def min_distance(self) -> float:
+        """Exact minimum graph distance between the robots along the whole path (metres)."""
+        ...
+
+
+def sample_parameter(n: object) -> FloatArray:
+    """``n`` values of the path parameter evenly in [0, 1] (shape (n,)); ``n`` must be an integer >= 2.
+
+    Raises
+    ------
+    InvalidInputError
+        ``n`` is not an integer >= 2.
+    """
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
+        raise InvalidInputError(f"number of samples is {n!r}, expected an integer >= 2")
+    return np.linspace(0.0, 1.0, int(n))
 
 
 @dataclass(frozen=True)
@@ -49,6 +150,11 @@ class Plan:
     Between consecutive corners every robot moves at constant speed along its route, so the path is the polyline
     ``waypoints_s`` in route coordinates, parametrized by ``u`` proportionally to the larger of the two robots'
     travel (``knots``).
+
+    A :class:`MotionPlan` (``layout``, ``layout_start``, ``layout_goal``, ``layout_routes``, ``route_waypoints``,
+    ``path_s``, ``positions``, ``sample_s``, ``word``, ``domain``, ``clearance``, exact ``min_distance()``).
+    Its own names speak in the paper's track coordinates: ``start``, ``goal``, ``waypoints``, :meth:`path` and
+    :meth:`sample` (states, not ``(u, σ)``), ``routes`` (:class:`~mpa.routes.Route` in the track's cover).
 
     Attributes
     ----------
@@ -129,7 +235,8 @@ class Plan:
         return out
 
     def sample(self, n: int = 400) -> FloatArray:
-        """α at ``n`` equally spaced values of u in [0, 1] (first = start, last = goal, exactly). Shape (n, 2)."""
+        """α at ``n`` equally spaced values of u in [0, 1] in track coordinates (first = start, last = goal,
+        exactly). Shape (n, 2). The plan's own sampling; :meth:`sample_s` is the one of :class:`MotionPlan`."""
         out = self.path(np.linspace(0.0, 1.0, max(int(n), 2)))
         out[0], out[-1] = self.start, self.goal
         return out
@@ -140,10 +247,60 @@ class Plan:
         step = fraction * self.track.total_length
         return int(np.ceil(self.length / step)) + 1
 
-    def min_distance(self, n: int = 20001) -> float:
-        """Smallest distance between the robots along the path, on ``n`` samples (metres)."""
-        st = self.sample(n)
-        return float(np.min(self.track.distance(st[:, 0], st[:, 1])))
+    def min_distance(self, n: int | None = None) -> float:
+        """Smallest graph distance between the robots along the path (metres).
+
+        Exact by default (:class:`MotionPlan`): the polyline ``waypoints_s`` on :attr:`layout_routes`, cut where
+        either robot changes edge, minimised exactly on every piece
+        (:meth:`mpa.geometry.GraphGeometry.route_min_distance`). With ``n``: the minimum over :meth:`sample`
+        ``(n)`` in track coordinates instead (at most the exact value plus one sample step of travel).
+        """
+        if n is not None:
+            st = self.sample(n)
+            return float(np.min(self.track.distance(st[:, 0], st[:, 1])))
+        ra, rb = self.layout_routes
+        return self.layout.geometry.route_min_distance(ra, rb, self.waypoints_s)
+
+    # ------------------------------------------------------------------ the MotionPlan interface
+    @property
+    def layout(self) -> GraphTrack:
+        """The track's graph form (:meth:`mpa.tracks.Track.as_graph_track`; edges ``stick`` and/or ``loop``)."""
+        return self.track.as_graph_track()
+
+    @property
+    def layout_start(self) -> tuple[Position, Position]:
+        """The start as positions ``((edge, offset) of A, (edge, offset) of B)`` on :attr:`layout`."""
+        return _layout_pair(self.track, self.start)
+
+    @property
+    def layout_goal(self) -> tuple[Position, Position]:
+        """The goal as positions ``((edge, offset) of A, (edge, offset) of B)`` on :attr:`layout`."""
+        return _layout_pair(self.track, self.goal)
+
+    @property
+    def layout_routes(self) -> tuple[DirectedRoute, DirectedRoute]:
+        """The routes of A and B as directed edges on :attr:`layout` (:func:`mpa.routes.directed_route`; route
+        coordinates σ kept)."""
+        return directed_route(self.routes[0]), directed_route(self.routes[1])
+
+    @property
+    def route_waypoints(self) -> FloatArray:
+        """Corners in route coordinates σ, shape (K, 2) (metres): :attr:`waypoints_s`."""
+        return self.waypoints_s
+
+    def positions(self, u: ArrayLike) -> LayoutPositions:
+        """Per robot ``(edge indices, offsets)`` on :attr:`layout` at path parameter ``u`` (each of ``u``'s shape)."""
+        s = self.path_s(u)
+        ra, rb = self.layout_routes
+        return ra.positions(s[..., 0]), rb.positions(s[..., 1])
+
+    def sample_s(self, n: int) -> tuple[FloatArray, FloatArray]:
+        """``n >= 2`` values of ``u`` evenly in [0, 1] and :meth:`path_s` there: shapes (n,) and (n, 2).
+
+        (:meth:`sample` gives the states in track coordinates instead.)
+        """
+        u = sample_parameter(n)
+        return u, self.path_s(u)
 
     def to_dict(self, samples: int = 400) -> dict[str, object]:
         """A JSON-ready description of the plan, with the path sampled at ``samples`` equally spaced u."""
@@ -175,6 +332,12 @@ class Plan:
             "length": self.length,
             "path": self.sample(samples).tolist(),
         }
+
+
+def _layout_pair(track: Track, q: FloatArray) -> tuple[Position, Position]:
+    """Track coordinates ``q`` (shape (2,)) as positions ``((edge, offset), (edge, offset))`` on the graph form."""
+    e, o = track.to_graph_position(np.asarray(q, dtype=float))
+    return (int(e[0]), float(o[0])), (int(e[1]), float(o[1]))
 
 
 def build_plan(

@@ -2,10 +2,11 @@
 
 The pipeline has one module per stage: :mod:`trajopt.fastpath` (a query whose straight route-coordinate motion
 keeps the clearance: one phase-synchronised ruckig profile), :mod:`trajopt.corridor` (the hard path: a strictly
-convex QP in a corridor fixed by the plan, continuous in the query), :mod:`trajopt.planview` (paper and graph
-plans in one route geometry, :class:`mpa.geometry.RouteGeometry`), :mod:`trajopt.timing` (C² paths and their
-jerk-limited timing),
-:mod:`trajopt.verify` (the independent gate), :mod:`trajopt.result` (the :class:`Trajectory` result),
+convex QP in a corridor fixed by the plan, continuous in the query), :mod:`trajopt.planview` (every
+:class:`mpa.MotionPlan` in one route geometry, :class:`mpa.geometry.RouteGeometry`),
+:mod:`trajopt.timing` (C² paths and their jerk-limited timing),
+:mod:`trajopt.verify` (the independent gate, on rows given as one :class:`~trajopt.rows.Setpoints`),
+:mod:`trajopt.result` (the :class:`Trajectory` result),
 :mod:`trajopt.io` (atomic writes, CSV, JSON summary) and :mod:`trajopt.generator` (the pipeline with its
 fallback); :mod:`trajopt.stability` measures continuity. The
 drawings (:mod:`trajopt.viz`) and the command line (:mod:`trajopt.cli`, one module per subcommand) sit on top; the
@@ -27,6 +28,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from trajopt.generator import GraphPlanner, TrajectoryGenerator, generate_trajectory
     from trajopt.io.csvfile import CSV_COLUMNS, GRAPH_CSV_COLUMNS, XY_COLUMNS
     from trajopt.result import Source, Trajectory
+    from trajopt.rows import Setpoints
     from trajopt.timing import Limits
     from trajopt.verify import VerificationError, VerificationReport, verify_graph_setpoints, verify_setpoints
 
@@ -36,6 +38,7 @@ _WHERE = {
     "XY_COLUMNS": "trajopt.io.csvfile",
     "GraphPlanner": "trajopt.generator",
     "verify_graph_setpoints": "trajopt.verify",
+    "Setpoints": "trajopt.rows",
     "Source": "trajopt.result",
     "Trajectory": "trajopt.result",
     "TrajectoryGenerator": "trajopt.generator",
@@ -52,6 +55,7 @@ __all__ = [
     "XY_COLUMNS",
     "GraphPlanner",
     "Limits",
+    "Setpoints",
     "Source",
     "Trajectory",
     "TrajectoryGenerator",

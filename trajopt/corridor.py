@@ -37,6 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from mpa.errors import PlanningError
 from mpa.geometry import RouteGeometry
+from mpa.plans import MotionPlan
 from trajopt.planview import plan_view
 
 __all__ = [
@@ -416,12 +417,14 @@ _ROTATE = np.array([[1.0, 1.0], [1.0, -1.0]])
 _EMPTY = np.zeros(0)
 
 
-def corridor_nodes(plan: Any, geom: RouteGeometry, separation: float, problem: CorridorProblem) -> CorridorResult:
+def corridor_nodes(
+    plan: MotionPlan, geom: RouteGeometry, separation: float, problem: CorridorProblem
+) -> CorridorResult:
     """The hard path's polyline and blend radii for one plan (see the module docstring).
 
     Parameters
     ----------
-    plan : Plan or GraphPlan
+    plan : MotionPlan
     geom : RouteGeometry
         Of the plan's routes (:attr:`trajopt.planview.PlanView.geom`).
     separation : float
@@ -491,7 +494,7 @@ def _unit_grid(n: int) -> FloatArray:
 
 
 def hard_path_scaling(
-    plan: Any,
+    plan: MotionPlan,
     geom: RouteGeometry,
     separation: float,
     limits: Any,
@@ -502,7 +505,7 @@ def hard_path_scaling(
 
     Parameters
     ----------
-    plan : Plan or GraphPlan
+    plan : MotionPlan
     geom : RouteGeometry
     separation : float
         Clearance plus the gate's margins (metres).

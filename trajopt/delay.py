@@ -79,15 +79,10 @@ def _as_caller(traj: Trajectory, gen: TrajectoryGenerator) -> Trajectory:
     """``traj`` (made with a larger clearance or lower limits) reported with ``gen``'s clearance and limits,
     re-verified at them (a gate pass at D' and lower limits implies one at D and the caller's limits)."""
     rep = plan_view(traj.plan).verify(
-        traj.t,
-        traj.s,
-        traj.v,
-        traj.a,
-        traj.j,
+        traj.rows(),
         limits=gen.limits,
         clearance=gen.clearance,
         rate=traj.rate,
-        track_pos=traj.track,
     )
     if not rep.ok:  # pragma: no cover - implied by the gate at D' and lower limits
         raise MPAError(f"a delay-tolerance candidate fails the gate at D = {gen.clearance:g}: {rep.failures}")

@@ -24,6 +24,7 @@ from numpy.typing import NDArray
 
 from mpa.errors import MPAError
 from mpa.geometry import RouteGeometry
+from mpa.plans import MotionPlan
 from trajopt.planview import plan_view
 from trajopt.timing import BlendedPath, Limits, TimeScaling, blend_polyline, rest_to_rest_profile
 
@@ -32,7 +33,7 @@ __all__ = ["straight_line_clearance", "straight_scaling"]
 FloatArray = NDArray[np.float64]
 
 
-def straight_line_clearance(plan: Any, geom: RouteGeometry | None = None) -> float:
+def straight_line_clearance(plan: MotionPlan, geom: RouteGeometry | None = None) -> float:
     """Exact minimum separation along the straight route-coordinate motion from start to goal (metres).
 
     Parameters
@@ -59,7 +60,7 @@ def straight_line_clearance(plan: Any, geom: RouteGeometry | None = None) -> flo
     return d if same else float("-inf")
 
 
-def straight_scaling(plan: Any, limits: Limits) -> TimeScaling:
+def straight_scaling(plan: MotionPlan, limits: Limits) -> TimeScaling:
     """One jerk-limited ruckig profile from start to goal (rest to rest) along the straight line.
 
     The line is parametrized by its Euclidean length ``s`` in route coordinates, unit direction ``u``; robot r

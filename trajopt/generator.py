@@ -21,7 +21,7 @@ import copy
 import dataclasses
 import time
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -34,12 +34,13 @@ from mpa.graph_track import GraphTrack
 from mpa.planners import Planner, make_planner
 from mpa.planners.factory import OBJECTIVES
 from mpa.planners.graph import GraphPlan, plan_graph
-from mpa.plans import Plan
+from mpa.plans import MotionPlan, Plan
 from mpa.tracks import Track
 from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
 from trajopt.export import Source, Trajectory, check_rate, time_grid, verified_rows
 from trajopt.fastpath import straight_scaling
 from trajopt.planview import densify, plan_view
+from trajopt.rows import Setpoints
 from trajopt.switch import near_switch_scaling, switch_band
 from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling, reachable_speed
 from trajopt.verify import VerificationError, VerificationReport, class_failures_only, separation_margin
@@ -473,8 +474,8 @@ class TrajectoryGenerator:
 
     def _attempt(self, plan: Plan | GraphPlan) -> Trajectory:
         """:meth:`_generate` at this generator's rate (a graph plan is made again for this rate's margin)."""
-        if isinstance(plan, GraphPlan) and isinstance(self.planner, GraphPlanner):
-            plan = self.planner.plan(plan.start, plan.goal)
+        if isinstance(self.planner, GraphPlanner):  # its plans keep a margin that depends on the rate
+            plan = self.planner.plan(plan.layout_start, plan.layout_goal)
         return self._generate(plan, None)
 
     def lowest_rate(self, plan: Plan | GraphPlan, upto: float = 20_000.0) -> float | None:
@@ -513,8 +514,8 @@ class TrajectoryGenerator:
 
     def _explain_rejection(self, plan: Plan | GraphPlan) -> str:
         """Why every candidate of ``plan`` fails the gate at this rate, if the caller can fix it ("" if not)."""
-        if self.footprint is not None and isinstance(plan, GraphPlan):
-            why = self._explain_plane(plan)
+        if self.footprint is not None:  # bodies are planned on layouts only: a graph plan
+            why = self._explain_plane(cast(GraphPlan, plan))
             if why:
                 return why
         best = self.lowest_rate(plan)
@@ -658,8 +659,10 @@ class TrajectoryGenerator:
                     raise
                 stats.clear()
                 stats["line_other_class"] = True
-        if not isinstance(plan, GraphPlan):
-            scaling, st = hard_path_scaling(plan, geom, sep, self.motion_limits, self._corridor_problem(), timings)
+        if not view.is_graph:  # the paper's plan: the corridor QP keeps its skeleton class (the gate checks it)
+            scaling, st = hard_path_scaling(
+                view.paper, geom, sep, self.motion_limits, self._corridor_problem(), timings
+            )
             stats.update(st, path="hard", line_clearance=line)
         else:
             # A graph plan is taut: it touches the clearance (plus the margin) at its corners, so the corridor has
@@ -752,15 +755,10 @@ class TrajectoryGenerator:
         timings["sample"] = time.perf_counter() - t0
         t1 = time.perf_counter()
         rep: VerificationReport = view.verify(
-            t,
-            s,
-            v,
-            a,
-            j,
+            Setpoints(t, s, v, a, j, track=None if view.is_graph else tr),  # the rows' coordinates, as exported
             limits=self.limits,
             clearance=self.clearance,
             rate=self.rate,
-            track_pos=None if view.is_graph else tr,  # the rows' coordinates, as exported
         )
         timings["verify" if source is Source.OPTIMIZED else "fallback_verify"] = time.perf_counter() - t1
         if not rep.ok:
@@ -782,7 +780,7 @@ class TrajectoryGenerator:
             clearance=self.clearance,
             rate=self.rate,
             motion_time=scaling.duration,
-            domain=int(getattr(plan, "domain", 0)),
+            domain=plan.domain or 0,  # the trajectory's domain is 0 on a layout (an int in summary.json)
             word=tuple(plan.word),
             source=source,
             fallback_reason=reason,
@@ -797,8 +795,8 @@ class TrajectoryGenerator:
 
     def _retimer(self, plan: Plan | GraphPlan) -> Any:
         """``rate -> Trajectory``: the query again at another rate (a graph plan is made for that rate's margin)."""
-        if isinstance(plan, GraphPlan) and isinstance(self.planner, GraphPlanner):
-            return lambda r: self.at_rate(r).generate(plan.start, plan.goal)
+        if isinstance(self.planner, GraphPlanner):  # its plans keep a margin that depends on the rate
+            return lambda r: self.at_rate(r).generate(plan.layout_start, plan.layout_goal)
         return lambda r: self.at_rate(r).generate_from_plan(plan)
 
 
@@ -806,19 +804,20 @@ class _RejectedError(PlanningError):
     """Neither the optimised motion nor the re-timed plan passes the gate (the caller may be told why)."""
 
 
-def route_speed_limits(plan: Plan | GraphPlan, limits: Limits) -> Limits:
+def route_speed_limits(plan: MotionPlan, limits: Limits) -> Limits:
     """``limits`` with each robot's speed capped by the lowest speed limit of the edges its route travels.
 
     The setpoints then keep every lane's limit on every row (checked by the gate); on a route whose edges have
     different limits the robot drives its whole route at the lowest one (conservative, not time-optimal). Returns
     ``limits`` itself when no edge of the routes has a limit.
     """
-    if not isinstance(plan, GraphPlan) or not plan.track.has_rules:
+    layout = plan.layout
+    if not layout.has_rules:
         return limits
     caps = []
-    for route, v in zip((plan.route_a, plan.route_b), limits.vmax):
+    for route, v in zip(plan.layout_routes, limits.vmax):
         lengths = np.diff(route.breaks)
-        lims = [plan.track.speed_limits[int(e)] for e, ln in zip(route.edges, lengths) if ln > 0]
+        lims = [layout.speed_limits[int(e)] for e, ln in zip(route.edges, lengths) if ln > 0]
         caps.append(min([v, *[x for x in lims if x is not None]]))
     if tuple(caps) == tuple(limits.vmax):
         return limits

@@ -1,21 +1,20 @@
 """One view of a plan for the pipeline: paper plans and graph plans in the same route geometry.
 
 The pipeline (fast path, corridor, fallback, gate, export) works in *route coordinates* ``σ = (σ_A, σ_B)`` on the
-exact geometry of :class:`mpa.geometry.RouteGeometry`, for every track: a paper track through its graph form
-(:meth:`mpa.tracks.Track.as_graph_track`, edges ``stick`` and ``loop``; routes from
-:func:`mpa.routes.directed_route`), a layout (:class:`mpa.GraphTrack`) with the routes of its
-:class:`~mpa.planners.graph.GraphPlan`. :func:`plan_view` builds the view once per plan (cached on it).
+exact geometry of :class:`mpa.geometry.RouteGeometry`, for every :class:`mpa.MotionPlan`: its layout
+(``plan.layout``; a paper track's graph form, edges ``stick`` and ``loop``), its routes (``plan.layout_routes``)
+and its corners (``plan.route_waypoints``). :func:`plan_view` builds the view once per plan (cached on it).
 
-What differs between the two kinds is small and lives here: the waypoints' attribute, the skeleton word (paper
-plans only: the fast path's line must keep the plan's homotopy class, the gate checks it), the gate
-(:func:`~trajopt.verify.verify_setpoints` in track coordinates, :func:`~trajopt.verify.verify_graph_setpoints`
-in positions), and the columns of the exported rows.
+What differs for the paper's plans (:class:`mpa.Plan`) is small and lives here: the track coordinates (the rows'
+``*_track`` columns), the skeleton word (the fast path's line must keep the plan's homotopy class, the gate checks
+it) and so the gate (:func:`~trajopt.verify.verify_setpoints` in track coordinates,
+:func:`~trajopt.verify.verify_graph_setpoints` in positions).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, replace
+from typing import cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -23,8 +22,10 @@ from numpy.typing import ArrayLike, NDArray
 from mpa.geometry import DirectedRoute, RouteGeometry, densify_polyline
 from mpa.graph_track import GraphTrack
 from mpa.homotopy import path_word
-from mpa.planners.graph import GraphPlan
-from mpa.routes import directed_route
+from mpa.plans import MotionPlan, Plan
+from mpa.routes import Route, directed_route
+from mpa.tracks import Track
+from trajopt.rows import Setpoints, rows_of
 from trajopt.sample_kernels import track_positions
 from trajopt.timing import Limits
 from trajopt.verify import VerificationReport, verify_graph_setpoints, verify_setpoints
@@ -52,9 +53,9 @@ class PlanView:
 
     Attributes
     ----------
-    plan : Plan or GraphPlan
+    plan : MotionPlan
     graph : GraphTrack
-        The track graph (a paper track's graph form).
+        The plan's layout (a paper track's graph form).
     routes : (DirectedRoute, DirectedRoute)
         The robots' routes; route coordinates as in the plan (σ for paper plans, distance travelled for graph plans).
     geom : RouteGeometry
@@ -62,10 +63,10 @@ class PlanView:
     waypoints : ndarray, shape (K, 2)
         The plan's polyline in route coordinates (metres).
     is_graph : bool
-        The plan is a :class:`~mpa.planners.graph.GraphPlan`.
+        The plan is not one of the paper's (:class:`mpa.Plan`): no track coordinates, no skeleton word.
     """
 
-    plan: Any
+    plan: MotionPlan
     graph: GraphTrack
     routes: tuple[DirectedRoute, DirectedRoute]
     geom: RouteGeometry
@@ -73,17 +74,22 @@ class PlanView:
     is_graph: bool
 
     @property
+    def paper(self) -> Plan:
+        """The plan as the paper's :class:`mpa.Plan` (only when not :attr:`is_graph`)."""
+        return cast(Plan, self.plan)
+
+    @property
     def lower(self) -> FloatArray:
         """Smallest route coordinate of each robot (metres). Shape (2,)."""
-        if not self.is_graph:
-            return np.array([self.plan.routes[0].sigma_min, self.plan.routes[1].sigma_min], dtype=float)
+        if not self.is_graph:  # the paper route's own σ range (its directed route's first break, exactly)
+            return np.array([self.paper.routes[0].sigma_min, self.paper.routes[1].sigma_min], dtype=float)
         return np.array([self.routes[0].breaks[0], self.routes[1].breaks[0]])
 
     @property
     def upper(self) -> FloatArray:
         """Largest route coordinate of each robot (metres). Shape (2,)."""
-        if not self.is_graph:
-            return np.array([self.plan.routes[0].sigma_max, self.plan.routes[1].sigma_max], dtype=float)
+        if not self.is_graph:  # the paper route's own σ range (not the sum of its pieces' lengths)
+            return np.array([self.paper.routes[0].sigma_max, self.paper.routes[1].sigma_max], dtype=float)
         return np.array([self.routes[0].breaks[-1], self.routes[1].breaks[-1]])
 
     def path_s(self, u: ArrayLike) -> FloatArray:
@@ -131,7 +137,7 @@ class PlanView:
         if self.is_graph:
             return self.positions(S)[1]
         (br_a, A_a, B_a, line_a, interval, stick, loop), (br_b, A_b, B_b, line_b, *_) = (
-            r.affine_form() for r in self.plan.routes
+            r.affine_form() for r in self.paper.routes
         )
         out = np.empty(S.shape)
         track_positions(
@@ -141,14 +147,7 @@ class PlanView:
 
     def endpoints(self) -> tuple[Pair, Pair]:
         """Start and goal as positions ``((edge, offset) of A, (edge, offset) of B)``."""
-        if self.is_graph:
-            return self.plan.start, self.plan.goal
-        track = self.plan.track
-        out = []
-        for q in (self.plan.start, self.plan.goal):
-            e, o = track.to_graph_position(np.asarray(q, dtype=float))
-            out.append(((int(e[0]), float(o[0])), (int(e[1]), float(o[1]))))
-        return out[0], out[1]
+        return self.plan.layout_start, self.plan.layout_goal
 
     def separation(self, which: str) -> float:
         """Graph distance between the robots at the ``"start"`` or the ``"goal"`` (metres)."""
@@ -165,18 +164,14 @@ class PlanView:
         """
         if self.is_graph:
             return True
-        track = self.plan.track
+        track = self.paper.track
         dense = densify(pts, 0.004 * track.total_length)
         return tuple(path_word(track, self.track_coordinates(dense))) == tuple(self.plan.word)
 
     def verify(
         self,
-        t: ArrayLike,
-        s: FloatArray,
-        v: FloatArray,
-        a: FloatArray,
-        j: FloatArray,
-        *,
+        rows: Setpoints | ArrayLike,
+        *arrays: ArrayLike,
         limits: Limits,
         clearance: float,
         rate: float,
@@ -184,20 +179,22 @@ class PlanView:
     ) -> VerificationReport:
         """The independent gate on rows of this plan's motion (see :mod:`trajopt.verify`).
 
-        ``track_pos`` (shape (N, 2), paper tracks only): the rows' track coordinates, if they are not
-        :meth:`track_coordinates` of ``s`` (default: they are).
+        ``rows``: a :class:`~trajopt.rows.Setpoints` (``t, s, v, a, j``), or positionally the arrays
+        ``t, s, v, a, j``. Paper plans: the rows' track coordinates are ``rows.track`` (or ``track_pos``, shape
+        (N, 2)) when given, else :meth:`track_coordinates` of ``s``; graph plans: the positions of ``s``
+        (:meth:`positions`).
         """
-        plan = self.plan
-        if not self.is_graph:
+        rows = rows_of(rows, arrays, ("t", "s", "v", "a", "j"))
+        if track_pos is not None:
+            rows = replace(rows, track=np.asarray(track_pos))
+        if not self.is_graph:  # the paper's gate: track coordinates and the skeleton word too
+            plan = self.paper
+            if rows.track is None:
+                rows = replace(rows, track=self.track_coordinates(rows.s))
             return verify_setpoints(
                 plan.track,
                 plan.routes,
-                t,
-                self.track_coordinates(s) if track_pos is None else track_pos,
-                s,
-                v,
-                a,
-                j,
+                rows,
                 limits=limits,
                 clearance=clearance,
                 start=plan.start,
@@ -205,21 +202,15 @@ class PlanView:
                 word=plan.word,
                 rate=rate,
             )
-        edges, offs = self.positions(s, v)
+        edges, offs = self.positions(rows.s, rows.v)
         return verify_graph_setpoints(
             self.graph.geometry,
             self.routes,
-            t,
-            edges,
-            offs,
-            s,
-            v,
-            a,
-            j,
+            replace(rows, edges=edges, offsets=offs),
             limits=limits,
             clearance=clearance,
-            start=plan.start,
-            goal=plan.goal,
+            start=self.plan.layout_start,
+            goal=self.plan.layout_goal,
             rate=rate,
             oneway=self.graph.oneway if self.graph.has_rules else None,
             speed_limits=self.graph.speed_limits if self.graph.has_rules else None,
@@ -255,7 +246,7 @@ class PlanView:
         return out
 
 
-def route_geometry(track: Any, routes: Any) -> RouteGeometry:
+def route_geometry(track: Track, routes: tuple[Route, Route]) -> RouteGeometry:
     """The :class:`mpa.geometry.RouteGeometry` of two paper-track routes (:class:`mpa.routes.Route`) on ``track``.
 
     Route coordinates stay the routes' σ; the metric is the track's graph form (:meth:`Track.as_graph_track`).
@@ -273,24 +264,20 @@ def _route_piece(route: DirectedRoute, s: FloatArray, v: FloatArray) -> tuple[Fl
     return x, np.clip(np.where(v < -REST_SPEED, left, right), 0, len(route.edges) - 1)
 
 
-def plan_view(plan: Any) -> PlanView:
-    """The :class:`PlanView` of a paper :class:`~mpa.plans.Plan` or a :class:`~mpa.planners.graph.GraphPlan`.
+def plan_view(plan: MotionPlan) -> PlanView:
+    """The :class:`PlanView` of a plan (:class:`mpa.MotionPlan`: a paper :class:`~mpa.plans.Plan`, a
+    :class:`~mpa.planners.graph.GraphPlan`).
 
     Built once per plan (cached on the plan object).
     """
     cached = plan.__dict__.get("_trajopt_view")
     if cached is not None:
-        return cached
-    if isinstance(plan, GraphPlan):
-        graph = plan.track
-        routes = (plan.route_a, plan.route_b)
-        waypoints = np.asarray(plan.waypoints, dtype=float)
-        is_graph = True
-    else:
-        graph = plan.track.as_graph_track()
-        routes = (directed_route(plan.routes[0]), directed_route(plan.routes[1]))
-        waypoints = np.asarray(plan.waypoints_s, dtype=float)
-        is_graph = False
+        return cast(PlanView, cached)
+    graph = plan.layout
+    routes = plan.layout_routes
+    waypoints = np.asarray(plan.route_waypoints, dtype=float)
+    # The paper's plans carry more than the interface: track coordinates and the skeleton word the gate checks.
+    is_graph = not isinstance(plan, Plan)
     view = PlanView(plan, graph, routes, RouteGeometry(graph.geometry, routes), waypoints, is_graph)
     object.__setattr__(plan, "_trajopt_view", view)
     return view

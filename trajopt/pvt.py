@@ -21,7 +21,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError
+from mpa.plans import Plan
 from trajopt.export import Trajectory, atomic_write_text
+from trajopt.rows import Setpoints
 from trajopt.timing import Limits
 from trajopt.verify import LIMIT_RTOL, VerificationReport, verify_setpoints
 
@@ -401,11 +403,12 @@ def _gate_on_reconstruction(
     it adds to the piece checks (its per-row limit messages repeat them; a re-plan starts moving by design)."""
     s, v, a_rows, j_rows = svaj
     lim = trajectory.limits
-    plan: Any = trajectory.plan
-    if not hasattr(plan, "routes"):  # a graph plan: the gate in positions on the layout (exact graph distance)
+    plan = trajectory.plan
+    if not isinstance(plan, Plan):  # a graph plan: the gate in positions on the layout (exact graph distance)
         from trajopt.planview import plan_view
 
-        rep = plan_view(plan).verify(tg, s, v, a_rows, j_rows, limits=lim, clearance=trajectory.clearance, rate=rate)
+        rows = Setpoints(tg, s, v, a_rows, j_rows)
+        rep = plan_view(plan).verify(rows, limits=lim, clearance=trajectory.clearance, rate=rate)
         moving = _starts_moving(trajectory)
         return rep, [
             f
@@ -419,12 +422,7 @@ def _gate_on_reconstruction(
     rep = verify_setpoints(
         plan.track,
         routes,
-        tg,
-        tr,
-        s,
-        v,
-        a_rows,
-        j_rows,
+        Setpoints(tg, s, v, a_rows, j_rows, track=tr),
         limits=lim,
         clearance=trajectory.clearance,
         start=plan.start,

@@ -48,6 +48,7 @@ from mpa.routes import Lift, Route
 from mpa.tracks import Circle, Lollipop, Track
 from trajopt.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
 from trajopt.export import Trajectory, time_grid, verified_rows
+from trajopt.rows import Setpoints
 from trajopt.verify import (
     SEPARATION_TOL,
     VerificationError,
@@ -68,7 +69,7 @@ FloatArray = NDArray[np.float64]
 SNAP = 1e-6
 
 
-def _snap_to_pole(routes: Any, stop: FloatArray) -> FloatArray | None:
+def _snap_to_pole(routes: Sequence[Route], stop: FloatArray) -> FloatArray | None:
     """Stops within :data:`SNAP` of a junction of their route moved onto it (None if none is)."""
     out = np.array(stop, dtype=float)
     moved = False
@@ -87,14 +88,14 @@ def _lift(route: Route, sigma: float) -> Lift:
     return Lift("stick" if bool(is_stick[0]) else "line", int(k[0]), float(v[0]))
 
 
-def _normal(track: Any, lf: Lift) -> Lift:
+def _normal(track: Track, lf: Lift) -> Lift:
     c = getattr(track, "loop", 0.0)
     if lf.kind == "stick" and lf.v <= 1e-9 * max(1.0, track.total_length):
         return Lift("line", 0, lf.k * c)
     return lf
 
 
-def _deck(track: Any, frm: Lift, to: Lift) -> int:
+def _deck(track: Track, frm: Lift, to: Lift) -> int:
     """The deck transformation (shift by m turns) that maps ``frm`` onto ``to`` (same track point)."""
     if not isinstance(track, (Lollipop, Circle)):
         return 0
@@ -107,7 +108,7 @@ def _deck(track: Any, frm: Lift, to: Lift) -> int:
     raise PlanningError(f"cannot match the new route's start {frm} with the rest point {to}")
 
 
-def _shift(track: Any, lf: Lift, m: int) -> Lift:
+def _shift(track: Track, lf: Lift, m: int) -> Lift:
     if m == 0 or not isinstance(track, (Lollipop, Circle)):
         return lf
     if lf.kind == "stick":
@@ -145,7 +146,9 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
     PlanningError
         A cart's path would branch at P (no single route), or the spliced rows fail the gate (never observed).
     """
-    if not isinstance(trajectory.plan, Plan):  # a layout's GraphPlan
+    # The paper's re-planning is its own: the spliced rows keep track coordinates and the gate checks the skeleton
+    # word of the braking rows and the new plan; every other plan is re-planned on its layout.
+    if not isinstance(trajectory.plan, Plan):
         from trajopt.replan_graph import replan_graph
 
         return replan_graph(generator, trajectory, at_time, goal)
@@ -251,12 +254,7 @@ def _gate_from_moving_state(
     rep = verify_setpoints(
         cast(Track, generator.track),  # replan runs on the paper's tracks only
         routes,
-        t,
-        tr,
-        s,
-        v,
-        a,
-        j,
+        Setpoints(t, s, v, a, j, track=tr),
         limits=generator.limits,
         clearance=generator.clearance,
         start=tr[0],

@@ -32,11 +32,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa.errors import NoMotionError, PlanningError
-from mpa.geometry import DirectedRoute
+from mpa.geometry import DirectedRoute, RouteGeometry
+from mpa.graph_track import as_graph_track
 from mpa.planners.graph import GraphPlan
 from trajopt.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
 from trajopt.export import Trajectory, time_grid, verified_rows
 from trajopt.planview import plan_view
+from trajopt.rows import Setpoints
 from trajopt.verify import SEPARATION_TOL, VerificationError, VerificationReport
 
 if TYPE_CHECKING:
@@ -84,11 +86,11 @@ def replan_graph(generator: TrajectoryGenerator, trajectory: Trajectory, at_time
     t_start = time.perf_counter()
     at = _check_at_time(at_time, trajectory)
     old = trajectory.plan
-    if not isinstance(old, GraphPlan):
+    if not isinstance(old, GraphPlan):  # the spliced plan is a GraphPlan (cells and offsets of its segments)
         raise InvalidInputError("the trajectory is on a paper track, expected one on a layout (use trajopt.replan)")
-    if generator.track != old.track:
+    if generator.track != old.layout:
         raise InvalidInputError(f"the generator's track {generator.track!r} is not the trajectory's layout")
-    routes_old = (old.route_a, old.route_b)
+    routes_old = old.layout_routes
     s_now, v_now, a_now, _ = trajectory.sampler(np.array([min(at, trajectory.motion_time)]))
     s0, v0, a0 = s_now[0], v_now[0], a_now[0]
     if at >= trajectory.motion_time:
@@ -149,7 +151,9 @@ def _position(route: DirectedRoute, r: float) -> tuple[int, float]:
     return int(e), float(o)
 
 
-def _check_brake(generator: TrajectoryGenerator, routes: Any, brake: Brake, s0: FloatArray, at: float) -> None:
+def _check_brake(
+    generator: TrajectoryGenerator, routes: tuple[DirectedRoute, DirectedRoute], brake: Brake, s0: FloatArray, at: float
+) -> None:
     """Refuse (NoMotionError) a braking that leaves a route or comes closer than the clearance."""
     for r in (0, 1):
         lo, hi = float(routes[r].breaks[0]), float(routes[r].breaks[-1])
@@ -172,11 +176,9 @@ def _check_brake(generator: TrajectoryGenerator, routes: Any, brake: Brake, s0: 
         )
 
 
-def plan_view_routes(generator: TrajectoryGenerator, routes: Any) -> Any:
+def plan_view_routes(generator: TrajectoryGenerator, routes: tuple[DirectedRoute, DirectedRoute]) -> RouteGeometry:
     """The exact geometry (:class:`mpa.geometry.RouteGeometry`) of ``routes`` on the generator's layout."""
-    from mpa.geometry import RouteGeometry
-
-    return RouteGeometry(generator.track.geometry, tuple(routes))  # type: ignore[union-attr]
+    return RouteGeometry(as_graph_track(generator.track).geometry, routes)
 
 
 def _stretch(route: DirectedRoute, a: float, b: float) -> tuple[list[int], list[int], list[float], list[float]]:
@@ -203,12 +205,12 @@ def _stretch(route: DirectedRoute, a: float, b: float) -> tuple[list[int], list[
     return edges, dirs, entry, lengths
 
 
-def _splice(routes_old: Any, s0: FloatArray, brake: Brake, plan: GraphPlan) -> _Splice:
+def _splice(routes_old: tuple[DirectedRoute, DirectedRoute], s0: FloatArray, brake: Brake, plan: GraphPlan) -> _Splice:
     """Per cart one route: the braking stretch of the old route, then the new route (coordinate 0 at ``s0``)."""
     routes: list[DirectedRoute] = []
     sign: list[float] = []
     corners: list[FloatArray] = []
-    for r, rn in enumerate((plan.route_a, plan.route_b)):
+    for r, rn in enumerate(plan.layout_routes):
         a, b = float(s0[r]), float(brake.stop[r])
         e, d, en, ln = _stretch(routes_old[r], a, b)
         for k, length in enumerate(np.diff(rn.breaks).tolist()):
@@ -223,7 +225,7 @@ def _splice(routes_old: Any, s0: FloatArray, brake: Brake, plan: GraphPlan) -> _
         routes.append(DirectedRoute.from_pieces(e, d, en, ln))
         sign.append(1.0 if b >= a else -1.0)
         rest = abs(b - a)
-        corners.append(np.concatenate([[0.0, rest], rest + np.asarray(plan.waypoints[:, r], dtype=float)]))
+        corners.append(np.concatenate([[0.0, rest], rest + np.asarray(plan.route_waypoints[:, r], dtype=float)]))
     return _Splice((routes[0], routes[1]), np.array(sign), np.ones(2), (corners[0], corners[1]))  # type: ignore[arg-type]
 
 
@@ -268,9 +270,8 @@ def _gate(
     PlanningError
         Any other failure of the gate.
     """
-    s, v, a, j = svaj
     rep = plan_view(plan).verify(
-        t, s, v, a, j, limits=generator.limits, clearance=generator.clearance, rate=generator.rate
+        Setpoints(t, *svaj), limits=generator.limits, clearance=generator.clearance, rate=generator.rate
     )
     fails = tuple(f for f in rep.failures if not f.startswith("first row is not at rest"))
     if fails:

@@ -18,11 +18,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from mpa.planners.graph import GraphPlan
-from mpa.plans import Plan
+from mpa.plans import MotionPlan
 from trajopt.grid import check_rate, time_grid
 from trajopt.io.csvfile import CSV_COLUMNS, GRAPH_CSV_COLUMNS, HEADING_COLUMNS, XY_COLUMNS
 from trajopt.planview import plan_view
+from trajopt.rows import Setpoints
 from trajopt.timing import Limits
 from trajopt.verify import VerificationError, VerificationReport
 
@@ -120,8 +120,8 @@ class Trajectory:
         Wall time of every stage (s).
     verification : dict
         The gate's report (:meth:`trajopt.verify.VerificationReport.to_dict`).
-    plan : Plan or GraphPlan
-        The plan the trajectory follows.
+    plan : MotionPlan
+        The plan the rows execute (:class:`mpa.Plan` on a paper track, :class:`mpa.GraphPlan` on a layout).
     sampler : callable
         ``sampler(t) -> (s, v, a, j)``: the continuous motion at any times (for analysis; exports go through
         :meth:`at_rate`, which verifies).
@@ -153,7 +153,7 @@ class Trajectory:
     solver_stats: dict[str, Any]
     timings: dict[str, Any]
     verification: dict[str, Any]
-    plan: Plan | GraphPlan
+    plan: MotionPlan
     sampler: Callable[[FloatArray], tuple[FloatArray, FloatArray, FloatArray, FloatArray]] = field(
         repr=False, compare=False
     )
@@ -190,7 +190,7 @@ class Trajectory:
         s, v, a, j = self.sampler(t)
         view = plan_view(self.plan)
         tr = view.track_coordinates(s)
-        rep = view.verify(t, s, v, a, j, limits=self.limits, clearance=self.clearance, rate=r, track_pos=tr)
+        rep = view.verify(Setpoints(t, s, v, a, j, track=tr), limits=self.limits, clearance=self.clearance, rate=r)
         plane = self.plane
         if rep.ok and self.footprint is not None:
             from trajopt.planar_gate import verify_plane
@@ -208,6 +208,10 @@ class Trajectory:
         new.solver_stats["retimed_for_rate"] = f"resampled at {r:g} Hz: {'; '.join(rep.failures)}"
         return new
 
+    def rows(self) -> Setpoints:
+        """The verified rows (``t, s, v, a, j``, ``track`` on a paper track) as one :class:`~trajopt.rows.Setpoints`."""
+        return Setpoints(self.t, self.s, self.v, self.a, self.j, track=None if self.is_graph else self.track)
+
     def resample(self, rate: float | None = None) -> tuple[FloatArray, ...]:
         """``t, track, s, v, a, j`` at another rate, verified at that rate (see :meth:`at_rate`).
 
@@ -224,8 +228,9 @@ class Trajectory:
     # ------------------------------------------------------------------------------- graph positions
     @property
     def is_graph(self) -> bool:
-        """Whether the trajectory is on a layout (:class:`mpa.GraphTrack`, a :class:`GraphPlan`)."""
-        return isinstance(self.plan, GraphPlan)
+        """Whether the trajectory is on a layout rather than in a paper track's coordinates (a plan other than the
+        paper's :class:`mpa.Plan`; :attr:`trajopt.planview.PlanView.is_graph`)."""
+        return plan_view(self.plan).is_graph
 
     def _positions(self) -> tuple[NDArray[np.int64], FloatArray, NDArray[np.int64]]:
         cached = self.__dict__.get("_pos")

@@ -10,13 +10,14 @@ is continuous in the query has gaps that shrink with ``δ`` (``gap/δ`` bounded)
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
 from mpa.errors import MPAError
 from mpa.planners import Planner
+from mpa.plans import Plan
 from mpa.tracks import Interval
 from trajopt.export import Trajectory
 
@@ -128,9 +129,9 @@ def trajectory_gap(a: Trajectory, b: Trajectory, samples: int = 1001) -> tuple[f
     pos = []
     for tr in (a, b):
         s = tr.sampler(tau * tr.motion_time)[0] if tr.motion_time > 0 else np.tile(tr.s[0], (samples, 1))
-        routes = tr.plan.routes  # type: ignore[union-attr]  # paper plans (the stability measure)
+        routes = cast(Plan, tr.plan).routes  # paper plans (the stability measure, in track coordinates)
         pos.append(np.stack([routes[0].position(s[:, 0]), routes[1].position(s[:, 1])], axis=1))
-    track: Any = a.plan.track
+    track = cast(Plan, a.plan).track
     gap = max(float(np.max(track.distance(pos[0][:, r], pos[1][:, r]))) for r in (0, 1))
     return gap, abs(a.motion_time - b.motion_time)
 

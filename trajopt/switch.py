@@ -31,6 +31,9 @@ from numpy.typing import NDArray
 
 from mpa.errors import PlanningError
 from mpa.geometry import RouteGeometry
+from mpa.graph_track import GraphTrack
+from mpa.plans import MotionPlan
+from mpa.tracks import Track
 from trajopt.corridor import CorridorProblem, corridor_nodes, hull_clearance
 from trajopt.planview import plan_view
 from trajopt.timing import Limits, TimeScaling, filtered_scaling, spline_path
@@ -43,7 +46,7 @@ FloatArray = NDArray[np.float64]
 SWITCH_BAND = 0.005
 
 
-def switch_band(track: Any) -> float:
+def switch_band(track: Track | GraphTrack) -> float:
     """Width ``b`` (metres) of each band of line margins over which the hard path turns into the fast path.
 
     :data:`SWITCH_BAND` times the track's total length (0.01 m on the paper's lollipop 1/1).
@@ -107,7 +110,7 @@ def blended_time_law(first: TimeScaling, second: TimeScaling, w: float) -> TimeS
 
 
 def near_switch_scaling(
-    plan: Any,
+    plan: MotionPlan,
     geom: RouteGeometry,
     separation: float,
     limits: Limits,

@@ -29,13 +29,18 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa.graph_track import GraphTrack
 from mpa.homotopy import path_word
 from mpa.tracks import Track
+from trajopt.rows import Setpoints, rows_of
+
+if TYPE_CHECKING:
+    from trajopt.result import Trajectory
 
 __all__ = [
     "LIMIT_RTOL",
@@ -64,13 +69,8 @@ SEP_TOL = 1e-9
 
 def check_setpoints(
     track: Track,
-    t: ArrayLike,
-    pos: ArrayLike,
-    s: ArrayLike,
-    v: ArrayLike,
-    a: ArrayLike,
-    j: ArrayLike,
-    *,
+    rows: Setpoints | ArrayLike,
+    *arrays: ArrayLike,
     rate: float,
     clearance: float,
     vmax: ArrayLike,
@@ -84,12 +84,9 @@ def check_setpoints(
     Parameters
     ----------
     track : Track
-    t : array_like, shape (N,)
-        Times (s).
-    pos : array_like, shape (N, 2)
-        Track coordinates of A and B (m).
-    s, v, a, j : array_like, shape (N, 2)
-        Route coordinates and their derivatives (m, m/s, m/s², m/s³).
+    rows : Setpoints
+        ``t`` (N,): times (s); ``track`` (N, 2): track coordinates of A and B (m); ``s, v, a, j`` (N, 2): route
+        coordinates and their derivatives (m, m/s, m/s², m/s³). Or positionally the arrays ``t, track, s, v, a, j``.
     rate : float
         Row rate (Hz).
     clearance : float
@@ -99,7 +96,8 @@ def check_setpoints(
     start, goal : array_like, shape (2,)
         Track coordinates of the query.
     """
-    arrs = _rows_or_failure(t, (pos, s, v, a, j), shapes_of=())
+    rows = rows_of(rows, arrays, ("t", "track", "s", "v", "a", "j"))
+    arrs = _rows_or_failure(rows.t, (rows.track, *rows.svaj), shapes_of=())
     if isinstance(arrs, list):
         return arrs
     tt, (P, S, V, A, J) = arrs
@@ -139,12 +137,15 @@ def read_setpoint_rows(path: str | os.PathLike[str]) -> tuple[FloatArray, ...]:
 
 
 def _rows_or_failure(
-    t: ArrayLike, columns: Sequence[ArrayLike], shapes_of: Sequence[Any]
+    t: ArrayLike, columns: Sequence[ArrayLike | None], shapes_of: Sequence[Any]
 ) -> list[str] | tuple[FloatArray, list[FloatArray]]:
-    """The times and the (N, 2) columns as float arrays, or the one failure when shapes or values are off.
+    """The times and the (N, 2) columns as float arrays, or the one failure when shapes or values are off (or a
+    column is missing).
 
     ``shapes_of`` are further arrays whose shapes the shape message names first (the edge indices on a layout).
     """
+    if any(x is None for x in columns):
+        return ["the rows miss the positions (track coordinates, or edges and offsets)"]
     tt = np.asarray(t, dtype=float)
     arrs = [np.asarray(x, dtype=float) for x in columns]
     n = len(tt)
@@ -220,7 +221,7 @@ def _row_separation_failures(d: FloatArray, clearance: float) -> list[str]:
     return []
 
 
-def _makespan_failures(traj: Any) -> list[str]:
+def _makespan_failures(traj: Trajectory) -> list[str]:
     """The makespan is the motion time rounded up to the row grid."""
     if traj.makespan < traj.motion_time - 1e-12 or traj.makespan - traj.motion_time > 1.0 / traj.rate + 1e-12:
         return ["makespan is not the motion time rounded up to the grid"]
@@ -235,7 +236,7 @@ def _dense_separation_failures(tf: FloatArray, d: FloatArray, clearance: float) 
     return []
 
 
-def _dense_times(traj: Any, fine: int) -> FloatArray:
+def _dense_times(traj: Trajectory, fine: int) -> FloatArray:
     """A grid ``fine`` times denser than the rows over the whole motion."""
     return np.linspace(0.0, traj.makespan, max(2, fine * (len(traj.t) - 1) + 1))
 
@@ -329,7 +330,7 @@ class GraphMetric:
     track : GraphTrack
     """
 
-    def __init__(self, track: Any) -> None:
+    def __init__(self, track: GraphTrack) -> None:
         self.tails = np.asarray(track.tails, dtype=np.int64)
         self.heads = np.asarray(track.heads, dtype=np.int64)
         self.lengths = np.asarray(track.lengths, dtype=float)
@@ -351,15 +352,9 @@ class GraphMetric:
 
 
 def check_graph_setpoints(
-    track: Any,
-    t: ArrayLike,
-    edges: ArrayLike,
-    offsets: ArrayLike,
-    s: ArrayLike,
-    v: ArrayLike,
-    a: ArrayLike,
-    j: ArrayLike,
-    *,
+    track: GraphTrack,
+    rows: Setpoints | ArrayLike,
+    *arrays: ArrayLike,
     rate: float,
     clearance: float,
     vmax: ArrayLike,
@@ -382,21 +377,24 @@ def check_graph_setpoints(
     Parameters
     ----------
     track : GraphTrack
-    t : array_like, shape (N,)
-    edges : array_like of int, shape (N, 2)
-        Edge indices of A and B.
-    offsets : array_like, shape (N, 2)
-        Offsets from the edges' tails (m).
-    s, v, a, j : array_like, shape (N, 2)
+    rows : Setpoints
+        ``t`` (N,): times (s); ``edges`` (N, 2): edge indices of A and B; ``offsets`` (N, 2): offsets from the
+        edges' tails (m); ``s, v, a, j`` (N, 2); ``dirs`` (N, 2), optional: the directions of travel. Or
+        positionally the arrays ``t, edges, offsets, s, v, a, j``.
     rate, clearance : float
     vmax, amax, jmax : array_like, shape (2,)
     start, goal : pair of (edge index, offset)
     dirs : array_like of int, shape (N, 2), optional
+        The directions (instead of ``rows.dirs``).
     metric : GraphMetric, optional
         Re-used if given.
     """
-    E = np.asarray(edges, dtype=np.int64)
-    arrs = _rows_or_failure(t, (offsets, s, v, a, j), shapes_of=(E,))
+    rows = rows_of(rows, arrays, ("t", "edges", "offsets", "s", "v", "a", "j"))
+    dirs = rows.dirs if dirs is None else dirs
+    if rows.edges is None:
+        return ["the rows miss the positions (track coordinates, or edges and offsets)"]
+    E = np.asarray(rows.edges, dtype=np.int64)
+    arrs = _rows_or_failure(rows.t, (rows.offsets, *rows.svaj), shapes_of=(E,))
     if isinstance(arrs, list):
         return arrs
     tt, (OF, S, V, A, J) = arrs
@@ -473,23 +471,31 @@ def _direction_failures(
     return []
 
 
-def check_graph_trajectory(traj: Any, *, fine: int = 8) -> list[str]:
-    """Check a :class:`~trajopt.result.Trajectory` on a layout (rows and the continuous motion ``fine`` times denser).
+def check_graph_trajectory(traj: Trajectory, *, fine: int = 8) -> list[str]:
+    """Check a :class:`~trajopt.result.Trajectory` on its plan's layout (rows and the continuous motion ``fine``
+    times denser); any plan (:class:`mpa.MotionPlan`: a paper track's trajectory on the track's graph form too).
 
     The rows' positions are the trajectory's (:attr:`~trajopt.result.Trajectory.edges`, ``offsets``,
     ``directions``); the dense grid follows the plan's routes (:meth:`mpa.geometry.DirectedRoute.positions`).
     """
     plan = traj.plan
-    m = GraphMetric(plan.track)
+    m = GraphMetric(plan.layout)
     rows = (traj.t, traj.edges, traj.offsets, traj.s, traj.v, traj.a, traj.j)
     fails = check_graph_setpoints(
-        plan.track, *rows, start=plan.start, goal=plan.goal, dirs=traj.directions, metric=m, **requirements(traj)
+        plan.layout,
+        *rows,
+        start=plan.layout_start,
+        goal=plan.layout_goal,
+        dirs=traj.directions,
+        metric=m,
+        **requirements(traj),
     )
     fails += _makespan_failures(traj)
     if fine > 0 and len(traj.t) > 1:
         tf = _dense_times(traj, fine)
         s, _v, _a, _j = traj.sampler(tf)
-        (ea, oa), (eb, ob) = plan.route_a.positions(s[:, 0]), plan.route_b.positions(s[:, 1])
+        ra, rb = plan.layout_routes
+        (ea, oa), (eb, ob) = ra.positions(s[:, 0]), rb.positions(s[:, 1])
         fails += _dense_separation_failures(tf, m(ea, oa, eb, ob), traj.clearance)
     return fails
 

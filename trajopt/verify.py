@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa import tolerance
-from mpa.errors import MPAError, PlanningError
+from mpa.errors import InvalidInputError, MPAError, PlanningError
 from mpa.geometry import DirectedRoute, GraphGeometry
 from mpa.homotopy import END_TOL, path_word, word_from_samples
 from mpa.routes import Route, directed_route
@@ -49,6 +49,7 @@ from trajopt.gate_kernels import (
     needs_densify,
     word_samples,
 )
+from trajopt.rows import Setpoints, rows_of
 from trajopt.timing import Limits
 
 __all__ = [
@@ -56,6 +57,7 @@ __all__ = [
     "LIMIT_RTOL",
     "POSITION_TOL",
     "SEPARATION_TOL",
+    "Setpoints",
     "VerificationError",
     "VerificationReport",
     "between_rows_separation",
@@ -190,13 +192,8 @@ def _graph_arrays(geometry: GraphGeometry) -> tuple[IntArray, IntArray, FloatArr
 def verify_setpoints(
     track: Track,
     routes: Sequence[Route],
-    t: ArrayLike,
-    track_pos: ArrayLike,
-    s: ArrayLike,
-    v: ArrayLike,
-    a: ArrayLike,
-    j: ArrayLike,
-    *,
+    rows: Setpoints | ArrayLike,
+    *arrays: ArrayLike,
     limits: Limits,
     clearance: float,
     start: ArrayLike,
@@ -214,12 +211,10 @@ def verify_setpoints(
     track : Track
     routes : sequence of Route
         Route of A and of B (the plan's).
-    t : array_like, shape (N,)
-        Times (s).
-    track_pos : array_like, shape (N, 2)
-        Track coordinates of A and B (metres).
-    s, v, a, j : array_like, shape (N, 2)
-        Route coordinates (m) and their derivatives (m/s, m/s², m/s³).
+    rows : Setpoints
+        ``t`` (N,) in s; ``track`` (N, 2): track coordinates of A and B (m); ``s, v, a, j`` (N, 2): route
+        coordinates (m) and their derivatives (m/s, m/s², m/s³). Or positionally the arrays
+        ``t, track, s, v, a, j``.
     limits : Limits
     clearance : float
         Required separation D (metres).
@@ -235,8 +230,9 @@ def verify_setpoints(
     VerificationReport
         Never raises for a failed check; ``ok`` is False and ``failures`` lists them.
     """
+    rows = rows_of(rows, arrays, ("t", "track", "s", "v", "a", "j"))
     geometry, droutes = _graph_form(track, routes)
-    P = np.asarray(track_pos, dtype=float)
+    P = np.asarray(rows.track, dtype=float)
     if P.ndim != 2 or P.shape[1:] != (2,):
         nan = float("nan")
         return VerificationReport(False, ("arrays have inconsistent shapes",), nan, nan, {}, ())
@@ -244,13 +240,7 @@ def verify_setpoints(
     rep = verify_graph_setpoints(
         geometry,
         droutes,
-        t,
-        edges,
-        offsets,
-        s,
-        v,
-        a,
-        j,
+        dataclasses.replace(rows, edges=edges, offsets=offsets),
         limits=limits,
         clearance=clearance,
         start=_graph_query_point(track, start),
@@ -259,7 +249,7 @@ def verify_setpoints(
     )
     if not np.isfinite(rep.min_separation):
         return rep
-    w, word_fails = _word_check(track, routes, np.asarray(s, dtype=float), word, P)
+    w, word_fails = _word_check(track, routes, np.asarray(rows.s, dtype=float), word, P)
     fails = [*rep.failures, *word_fails]
     return VerificationReport(
         not fails, tuple(fails), rep.min_separation, rep.min_separation_between, rep.peak_ratio, tuple(w)
@@ -362,14 +352,8 @@ def skeleton_word(track: Track, states: ArrayLike) -> tuple[str, ...]:
 def verify_graph_setpoints(
     geometry: GraphGeometry,
     routes: Sequence[DirectedRoute],
-    t: ArrayLike,
-    edges: ArrayLike,
-    offsets: ArrayLike,
-    s: ArrayLike,
-    v: ArrayLike,
-    a: ArrayLike,
-    j: ArrayLike,
-    *,
+    rows: Setpoints | ArrayLike,
+    *arrays: ArrayLike,
     limits: Limits,
     clearance: float,
     start: tuple[tuple[int, float], tuple[int, float]],
@@ -386,12 +370,10 @@ def verify_graph_setpoints(
         The exact metric of the track graph.
     routes : sequence of DirectedRoute
         Route of A and of B.
-    t : array_like, shape (N,)
-        Times (s).
-    edges, offsets : array_like, shape (N, 2)
-        Positions of A and B: edge index and offset from the edge's tail (m).
-    s, v, a, j : array_like, shape (N, 2)
-        Route coordinates (m) and their derivatives (m/s, m/s², m/s³).
+    rows : Setpoints
+        ``t`` (N,) in s; ``edges``, ``offsets`` (N, 2): positions of A and B, edge index and offset from the
+        edge's tail (m); ``s, v, a, j`` (N, 2): route coordinates (m) and their derivatives (m/s, m/s², m/s³). Or
+        positionally the arrays ``t, edges, offsets, s, v, a, j``.
     limits : Limits
     clearance : float
         Required separation D (metres).
@@ -412,10 +394,11 @@ def verify_graph_setpoints(
     VerificationReport
         Never raises for a failed check; ``ok`` is False and ``failures`` lists them; ``word`` is empty.
     """
-    rep = _verify_graph_rows(geometry, routes, t, edges, offsets, s, v, a, j, limits, clearance, start, goal, rate)
+    rows = rows_of(rows, arrays, ("t", "edges", "offsets", "s", "v", "a", "j"))
+    rep = _verify_graph_rows(geometry, routes, rows, limits, clearance, start, goal, rate)
     if oneway is None and speed_limits is None:
         return rep
-    rule_fails = lane_rule_failures(routes, s, v, oneway, speed_limits)
+    rule_fails = lane_rule_failures(routes, rows.s, rows.v, oneway, speed_limits)
     if not rule_fails:
         return rep
     return dataclasses.replace(rep, ok=False, failures=(*rep.failures, *rule_fails))
@@ -484,13 +467,7 @@ def lane_rule_failures(
 def _verify_graph_rows(
     geometry: GraphGeometry,
     routes: Sequence[DirectedRoute],
-    t: ArrayLike,
-    edges: ArrayLike,
-    offsets: ArrayLike,
-    s: ArrayLike,
-    v: ArrayLike,
-    a: ArrayLike,
-    j: ArrayLike,
+    rows: Setpoints,
     limits: Limits,
     clearance: float,
     start: tuple[tuple[int, float], tuple[int, float]],
@@ -498,9 +475,11 @@ def _verify_graph_rows(
     rate: float,
 ) -> VerificationReport:
     """:func:`verify_graph_setpoints` without the lane rules."""
-    tt = np.ascontiguousarray(t, dtype=float)
-    E = np.asarray(edges)
-    OFF, S, V, A, J = (_rows(x) for x in (offsets, s, v, a, j))
+    if rows.edges is None or rows.offsets is None:
+        raise InvalidInputError("rows have no edges and offsets, expected the robots' positions on the layout")
+    tt = np.ascontiguousarray(rows.t, dtype=float)
+    E = np.asarray(rows.edges)
+    OFF, S, V, A, J = (_rows(x) for x in (rows.offsets, *rows.svaj))
     n = len(tt)
     nan = float("nan")
     if n == 0 or tt.ndim != 1 or E.shape != (n, 2) or any(x.shape != (n, 2) for x in (OFF, S, V, A, J)):

@@ -30,13 +30,19 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa.geometry import DirectedRoute
+from mpa.graph_track import GraphTrack
+from mpa.plans import Plan
 from mpa.routes import Route
 from mpa.tracks import Circle, Lollipop, Track
+
+if TYPE_CHECKING:
+    from trajopt.result import Trajectory
 
 __all__ = ["STILL", "WAIT_MIN", "describe", "describe_graph_rows", "describe_rows", "describe_text"]
 
@@ -179,7 +185,7 @@ def _phrase(track: Track, edge: str, direction: int, length: float, pa: float, p
     return f"{word} {where} to {dest}"
 
 
-def describe(trajectory: Any) -> dict[str, str]:
+def describe(trajectory: Trajectory) -> dict[str, str]:
     """Plain words per cart for a :class:`~trajopt.result.Trajectory` (its rows and its plan's routes).
 
     Examples
@@ -190,16 +196,15 @@ def describe(trajectory: Any) -> dict[str, str]:
     {'A': 'up the stick to 0.30 m', 'B': 'up the stick to 0.80 m'}
     """
     plan = trajectory.plan
-    if hasattr(plan, "route_a"):  # a GraphPlan
-        return describe_graph_rows(plan.track, (plan.route_a, plan.route_b), trajectory.t, trajectory.s)
-    return describe_rows(plan.track, plan.routes, trajectory.t, trajectory.s)
+    if isinstance(plan, Plan):  # the paper's plans in the paper's words: the stick, the loop, track coordinates
+        return describe_rows(plan.track, plan.routes, trajectory.t, trajectory.s)
+    return describe_graph_rows(plan.layout, plan.layout_routes, trajectory.t, trajectory.s)
 
 
-def _graph_where(track: Any, route: Any, r: float) -> str:
+def _graph_where(track: GraphTrack, route: DirectedRoute, r: float) -> str:
     """The position at route coordinate ``r`` by name: a vertex within half a millimetre of an edge end, else
     ``EDGE:OFFSET`` with the offset in metres rounded to the millimetre (``spur:0.8``, not ``spur:0.80010000095``)."""
-    e, o = route.positions(r)
-    e, o = int(e), float(o)
+    e, o = route.position_scalar(float(r))
     length = float(track.lengths[e])
     if abs(o - length) < 5e-4:
         o = length
@@ -210,7 +215,9 @@ def _graph_where(track: Any, route: Any, r: float) -> str:
     return f"{track.edge_names[e]}:{np.format_float_positional(round(o, 3), precision=3, trim='-')}"
 
 
-def describe_graph_rows(track: Any, routes: Sequence[Any], t: ArrayLike, s: ArrayLike) -> dict[str, str]:
+def describe_graph_rows(
+    track: GraphTrack, routes: Sequence[DirectedRoute], t: ArrayLike, s: ArrayLike
+) -> dict[str, str]:
     """Plain words per cart on a layout for rows ``t`` (N,) and route coordinates ``s`` (N, 2) on ``routes``.
 
     Parameters
@@ -250,7 +257,7 @@ def describe_graph_rows(track: Any, routes: Sequence[Any], t: ArrayLike, s: Arra
     return out
 
 
-def describe_text(trajectory: Any) -> str:
+def describe_text(trajectory: Trajectory) -> str:
     """``"A: …\\nB: …"``."""
     d = describe(trajectory)
     return f"A: {d['A']}\nB: {d['B']}"

@@ -25,6 +25,7 @@ from mpa.footprint import footprints
 from mpa.freespace import FreeSpace, PolygonId, check_size, free_space
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, Position, as_graph_track
+from mpa.plans import sample_parameter
 
 __all__ = ["OBJECTIVES", "GraphPlan", "plan_graph"]
 
@@ -43,6 +44,10 @@ Coords = tuple[float, float]
 @dataclass(frozen=True, eq=False)
 class GraphPlan:
     """A collision-free motion of two robots on a graph track (frozen; plain numpy arrays).
+
+    A :class:`mpa.plans.MotionPlan` (``layout`` is :attr:`track`, ``layout_start``/``layout_goal`` are
+    :attr:`start`/:attr:`goal`, ``layout_routes`` is ``(route_a, route_b)``, ``route_waypoints`` is
+    :attr:`waypoints`, ``domain`` is None).
 
     Attributes
     ----------
@@ -128,16 +133,49 @@ class GraphPlan:
         r = self.path_s(u)
         return self.route_a.positions(r[..., 0]), self.route_b.positions(r[..., 1])
 
-    def sample(self, n: int) -> tuple[FloatArray, FloatArray]:
-        """``n`` points evenly in ``u``: returns ``(u, route coordinates)`` with shapes (n,) and (n, 2)."""
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
-            raise InvalidInputError(f"number of samples is {n!r}, expected an integer >= 2")
-        u = np.linspace(0.0, 1.0, int(n))
+    def sample_s(self, n: int) -> tuple[FloatArray, FloatArray]:
+        """``n >= 2`` values of ``u`` evenly in [0, 1] and :meth:`path_s` there: shapes (n,) and (n, 2)."""
+        u = sample_parameter(n)
         return u, self.path_s(u)
+
+    def sample(self, n: int) -> tuple[FloatArray, FloatArray]:
+        """The same as :meth:`sample_s` (``(u, route coordinates)``; the class's own name)."""
+        return self.sample_s(n)
 
     def min_distance(self) -> float:
         """Exact minimum graph distance between the robots along the whole path (metres)."""
         return self.track.geometry.route_min_distance(self.route_a, self.route_b, self.waypoints)
+
+    # ------------------------------------------------------------------ the MotionPlan interface
+    @property
+    def layout(self) -> GraphTrack:
+        """The track (:attr:`track`)."""
+        return self.track
+
+    @property
+    def layout_start(self) -> tuple[Position, Position]:
+        """:attr:`start`."""
+        return self.start
+
+    @property
+    def layout_goal(self) -> tuple[Position, Position]:
+        """:attr:`goal`."""
+        return self.goal
+
+    @property
+    def layout_routes(self) -> tuple[DirectedRoute, DirectedRoute]:
+        """``(route_a, route_b)``."""
+        return self.route_a, self.route_b
+
+    @property
+    def route_waypoints(self) -> FloatArray:
+        """Corners in route coordinates, shape (K, 2) (metres): :attr:`waypoints`."""
+        return self.waypoints
+
+    @property
+    def domain(self) -> None:
+        """None: the graph planner has no domains of continuity."""
+        return None
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-friendly summary (positions by canonical name, routes by edge name)."""

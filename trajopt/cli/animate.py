@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 from mpa.errors import InvalidInputError
 from mpa.tracks import Track
@@ -23,6 +23,10 @@ from trajopt.cli.common import (
     query_from_args,
     trajectory_options,
 )
+
+if TYPE_CHECKING:
+    from mpa.graph_track import GraphTrack
+    from mpa.planners.graph import GraphPlan
 
 __all__ = ["DEFAULTS", "register"]
 
@@ -46,7 +50,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
     target = d / f"animation{FORMATS[args.format]}"
     try:
         if args.graph is not None:
-            path = _animate_graph(track, start, goal, target, args)
+            path = _animate_graph(cast("GraphTrack", track), start, goal, target, args)  # --graph: a layout
         elif not isinstance(track, Track):
             raise InvalidInputError("mpa animate takes --track interval|circle|lollipop or --graph FILE")
         else:
@@ -72,7 +76,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
     return 0
 
 
-def _animate_graph(track: Any, start: Any, goal: Any, target: Path, args: argparse.Namespace) -> Path:
+def _animate_graph(track: GraphTrack, start: Any, goal: Any, target: Path, args: argparse.Namespace) -> Path:
     """The layout animation of a ``--graph`` query: the verified trajectory (or with ``--raw-only`` the plan)."""
     from trajopt.generator import TrajectoryGenerator
     from trajopt.timing import Limits
@@ -89,10 +93,10 @@ def _animate_graph(track: Any, start: Any, goal: Any, target: Path, args: argpar
     name = Path(args.graph).stem
     kw = {"fps": args.fps, "dpi": args.dpi, "max_frames": args.max_frames, "fmt": args.format}
     if args.raw_only:
-        raw: Any = gen.plan(start, goal)
+        raw = cast("GraphPlan", gen.plan(start, goal))  # a layout's plan
         return animate_graph_plan(raw, target, name=name, footprint=getattr(args, "footprints", None), **kw)
     traj = gen.generate(start, goal)
-    plan: Any = traj.plan
+    plan = traj.plan
     title = plan_title(plan, name).split("\n")[0] + (
         f"\nD = {traj.clearance:g} m, verified jerk-limited trajectory, {traj.makespan:.3g} s"
     )
@@ -100,9 +104,8 @@ def _animate_graph(track: Any, start: Any, goal: Any, target: Path, args: argpar
     if fps is not None:
         title += f", bodies {fps.spec()} m to scale"
     return animate_layout(
-        plan.track,
-        plan.route_a,
-        plan.route_b,
+        plan.layout,
+        *plan.layout_routes,
         traj.t,
         traj.s,
         target,

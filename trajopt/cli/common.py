@@ -277,7 +277,9 @@ def add_footprint_argument(p: argparse.ArgumentParser) -> None:
     )
 
 
-def footprint_query(args: argparse.Namespace, track: Any, start: Any, goal: Any) -> tuple[Any, Any, Any, Any]:
+def footprint_query(
+    args: argparse.Namespace, track: Track | GraphTrack, start: Any, goal: Any
+) -> tuple[Track | GraphTrack, Any, Any, Any]:
     """``(track, start, goal, footprints)`` with ``--footprint``: the spec parsed and checked against the drawing.
 
     A paper track (``--track``) is replaced by its graph form (:meth:`mpa.tracks.Track.as_graph_track`, which is

@@ -21,7 +21,7 @@ from mpa.graph_track import GraphTrack
 from mpa.planners import make_planner
 from mpa.planners.factory import OBJECTIVES, PLANNERS, plan
 from mpa.planners.graph import GraphPlan
-from mpa.plans import Plan
+from mpa.plans import MotionPlan, Plan
 from mpa.retraction import trace_info
 from mpa.tracks import Track
 from trajopt.cli.common import (
@@ -47,7 +47,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     if args.plot is not None:
         _check_plot_path(args.plot, graph_plan, args.dpi)
     p = plan_query(track, start, goal, args.clearance, args.planner, args.objective, args.neighbourhood, footprint=fps)
-    if isinstance(p, GraphPlan):
+    if not isinstance(p, Plan):  # the paper's plan prints its own pinned form (track coordinates, domain, rule)
         if args.plot is not None:
             _write_plot(p, args)
         rc = _print_graph_plan(p, args)
@@ -110,7 +110,7 @@ def plan_json(p: Plan | GraphPlan, samples: int = 400) -> dict[str, Any]:
     """
     if samples < 2:
         raise InvalidInputError(f"--samples is {samples}, expected an integer >= 2")
-    if isinstance(p, GraphPlan):
+    if not isinstance(p, Plan):  # the paper's JSON is pinned: the path in track coordinates, domain, rule
         return _graph_plan_json(p, max(samples, MIN_JSON_SAMPLES))
     n = max(samples, MIN_JSON_SAMPLES, p.samples_needed(0.01))
     out = p.to_dict(samples=n)
@@ -141,7 +141,7 @@ def _print_paper_plan(p: Plan) -> None:
     print(f"travel     A {p.travel[0]:.4g} m, B {p.travel[1]:.4g} m; min distance {p.min_distance():.4g} m")
 
 
-def _write_paper_plot(p: Any, args: argparse.Namespace) -> None:
+def _write_paper_plot(p: Plan, args: argparse.Namespace) -> None:
     """Draw a paper plan (track, configuration space with the path, the domain map of its goal) into ``--plot``."""
     from trajopt.viz.domains import plan_figure
     from trajopt.viz.plotting import save_figure
@@ -181,10 +181,10 @@ def _write_plot(p: GraphPlan, args: argparse.Namespace) -> None:
     save_figure(fig, args.plot, args.dpi, facecolor="white")
 
 
-def _route_text(plan: GraphPlan, robot: int) -> str:
+def _route_text(plan: MotionPlan, robot: int) -> str:
     """A robot's route as ``edge(+) -> edge(-) ...`` (+ along the edge's orientation, - against)."""
-    names = plan.track.edge_names
-    r = plan.route_a if robot == 0 else plan.route_b
+    names = plan.layout.edge_names
+    r = plan.layout_routes[robot]
     parts = [
         f"{names[e]}({'+' if d > 0 else '-'}) {hi - lo:.4g} m"
         for e, d, lo, hi in zip(r.edges, r.dirs, r.breaks[:-1], r.breaks[1:])
@@ -195,12 +195,11 @@ def _route_text(plan: GraphPlan, robot: int) -> str:
 
 def _graph_plan_json(p: GraphPlan, n: int) -> dict[str, Any]:
     """The JSON object of a graph plan with ``n`` path samples (see :func:`plan_json`)."""
-    tr = p.track
     out = p.to_dict()
     out["planner"] = "graph"
-    _, path_s = p.sample(n)
-    (ea, oa), (eb, ob) = p.route_a.positions(path_s[:, 0]), p.route_b.positions(path_s[:, 1])
-    names = tr.edge_names
+    u, path_s = p.sample_s(n)
+    (ea, oa), (eb, ob) = p.positions(u)
+    names = p.layout.edge_names
     out["path"] = [[[names[int(a)], float(x)], [names[int(b)], float(y)]] for a, x, b, y in zip(ea, oa, eb, ob)]
     out["path_s"] = path_s.tolist()
     out["samples"] = n
@@ -223,7 +222,8 @@ def _print_graph_plan(p: GraphPlan, args: argparse.Namespace) -> int:
     print(f"route A    {_route_text(p, 0)}")
     print(f"route B    {_route_text(p, 1)}")
     print(f"makespan   {p.makespan:.4g} s at speeds {p.speeds[0]:g}, {p.speeds[1]:g} m/s (no acceleration limits)")
-    print(f"travel     A {p.route_a.length:.4g} m, B {p.route_b.length:.4g} m; min distance {p.min_distance():.4g} m")
+    ra, rb = p.layout_routes
+    print(f"travel     A {ra.length:.4g} m, B {rb.length:.4g} m; min distance {p.min_distance():.4g} m")
     if p.lower_bound is not None:  # a layout with one-way lanes or speed limits
         unit = "s" if p.objective == "fastest" else "m"
         value = p.makespan if p.objective == "fastest" else p.length

@@ -237,7 +237,9 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
-def planner_query(track: Any, start: Any, goal: Any, planner: str | None) -> tuple[Any, Any, Any]:
+def planner_query(
+    track: Track | GraphTrack, start: Any, goal: Any, planner: str | None
+) -> tuple[Track | GraphTrack, Any, Any]:
     """The track and query the generator gets for ``--planner``.
 
     ``graph`` on a paper track: its graph form (:meth:`mpa.tracks.Track.as_graph_track`, edges ``stick`` and

@@ -10,7 +10,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from mpa.planners.graph import GraphPlan
 from trajopt.planview import plan_view
 
 if TYPE_CHECKING:
@@ -42,14 +41,15 @@ def summary(traj: Trajectory, *, margins: bool = False) -> dict[str, Any]:
     """
     view = plan_view(traj.plan)
     plan = traj.plan
-    if isinstance(plan, GraphPlan):
-        g = view.graph
+    if view.is_graph:
+        g = plan.layout
         track: Any = g.to_dict()
-        start: Any = [g.position_name(*p) for p in plan.start]
-        goal: Any = [g.position_name(*p) for p in plan.goal]
+        start: Any = [g.position_name(*p) for p in plan.layout_start]
+        goal: Any = [g.position_name(*p) for p in plan.layout_goal]
         units = {"time": "s", "offset": "m", "s": "m", "v": "m/s", "a": "m/s^2", "j": "m/s^3"}
-    else:
-        track, start, goal = plan.track.to_dict(), plan.start.tolist(), plan.goal.tolist()
+    else:  # the paper's files speak in its track coordinates (docs/conventions.md, "Command line and files")
+        paper = view.paper
+        track, start, goal = paper.track.to_dict(), paper.start.tolist(), paper.goal.tolist()
         units = {"time": "s", "track": "m", "offset": "m", "s": "m", "v": "m/s", "a": "m/s^2", "j": "m/s^3"}
     if "b_y" in traj.columns:
         units["x"] = units["y"] = "m"
@@ -60,7 +60,7 @@ def summary(traj: Trajectory, *, margins: bool = False) -> dict[str, Any]:
         gap = float(plane.get("min_gap_plane", float("nan")))
         from mpa.footprint import drawing_of
 
-        scale = float(np.max(np.hypot(*drawing_of(plan_view(plan).graph).piece_dir.T)))
+        scale = float(np.max(np.hypot(*drawing_of(plan.layout).piece_dir.T)))
         extra = {
             "footprint": traj.footprint.to_dict(),
             "min_gap_plane": gap,

@@ -20,7 +20,7 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -34,6 +34,9 @@ from mpa.skeleton import skeleton_of
 from mpa.tracks import Track
 from trajopt.viz import drawing as dr
 from trajopt.viz.movie import FORMATS, _Progress, _save_streaming, animation_format, ffmpeg_executable, movie_writer
+
+if TYPE_CHECKING:
+    from trajopt.result import Trajectory
 
 __all__ = [
     "FORMATS",
@@ -118,7 +121,7 @@ def plan_motion(plan: Plan, vmax: float, *, samples: int = 2000) -> Motion:
     return Motion(label, t, plan.path(u), speed)
 
 
-def trajectory_motion(traj: Any) -> Motion:
+def trajectory_motion(traj: Trajectory) -> Motion:
     """The jerk-limited :class:`trajopt.Trajectory` as a motion (its own time stamps and speeds)."""
     kind = "fallback: re-timed plan" if bool(getattr(traj, "fallback", False)) else "optimised"
     label = f"jerk-limited trajectory\n({kind}), makespan {float(traj.makespan):.2f} s"
@@ -407,7 +410,7 @@ def animate_query(
 
         traj = generate_trajectory(track, start, goal, clearance=clearance, vmax=vmax, amax=amax, jmax=jmax, rate=rate)
         p = traj.plan
-        assert isinstance(p, Plan)  # a paper track's query
+        assert isinstance(p, Plan)  # a paper track's query: the motion is drawn in its track coordinates
         motions = [plan_motion(p, vmax), trajectory_motion(traj)]
     else:
         p = make_planner(track, clearance).plan(start, goal)

@@ -2,18 +2,17 @@
 
 Everything is drawn in the layout's own plane, in metres, with equal aspect:
 
-- :func:`layout_geometry` turns a track into drawable polylines: the layout's coordinates and ``points`` when every
-  vertex has coordinates, else an automatic layout (classical multidimensional scaling of the graph distances between
-  vertices, refined by stress majorization; numpy only and deterministic). A loop without ``points`` is drawn as a
-  circle through its vertex, of circumference equal to its length; parallel edges without ``points`` are bent apart.
+- :func:`layout_geometry` (:mod:`trajopt.viz.layout_geometry`, re-exported here) turns a track into drawable
+  polylines: the layout's coordinates, or an automatic layout when some vertex has none.
 - :func:`draw_layout` draws the edges, a subtle arrowhead on each (``from`` -> ``to``), vertex names and (optionally)
   edge names.
 - :func:`draw_routes` draws two robots' routes (:class:`mpa.geometry.DirectedRoute`) beside the track, robot A
   on the left of each edge's orientation (solid, blue), robot B on the right (dashed, orange), so that routes that
   share a stretch both show; the switches used (a robot changes edges at a vertex) are marked with a diamond and
   listed in the legend ("A: switch at J: b_left → b_short").
-- :func:`draw_graph_plan` draws a :class:`mpa.GraphPlan`: layout, routes, start and goal markers labelled
-  "A start", "B goal", and a title with clearance, objective and makespan.
+- :func:`draw_graph_plan` draws a plan (:class:`mpa.MotionPlan`; a paper plan on its track's graph form): layout,
+  routes, start and goal markers labelled "A start", "B goal", and a title with clearance, objective and makespan
+  (a paper plan: its domain).
 - :func:`draw_configuration_cells` draws the cells ``A's edge × B's edge`` a plan crosses, side by side in offsets,
   with their exact free polygons (:mod:`mpa.freespace`) and the plan's path in them.
 
@@ -32,14 +31,16 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Polygon, Rectangle
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from mpa.errors import InvalidInputError
 from mpa.freespace import FreeSpace, free_space
 from mpa.geometry import DirectedRoute
-from mpa.graph_track import GraphTrack, as_graph_track
+from mpa.graph_track import GraphTrack, Position, as_graph_track
 from mpa.planners.graph import GraphPlan
+from mpa.plans import MotionPlan
 from trajopt.viz.drawing import COLLISION_COLOR, ROBOT_COLORS
+from trajopt.viz.layout_geometry import LayoutGeometry, _fractions, layout_geometry
 
 __all__ = [
     "ROUTE_STYLES",
@@ -69,212 +70,6 @@ class RouteStyle(TypedDict):
 ROUTE_STYLES: dict[str, RouteStyle] = {"A": {"ls": "-", "side": 1.0}, "B": {"ls": (0, (4.0, 2.0)), "side": -1.0}}
 EDGE_COLOR = "0.35"
 SWITCH_COLOR = "#2ca02c"
-#: Points per circle drawn for a loop without ``points``.
-CIRCLE_POINTS = 64
-
-
-# ------------------------------------------------------------------------------------------------ geometry
-@dataclass(frozen=True)
-class LayoutGeometry:
-    """Drawable polylines of a track's edges (metres).
-
-    Attributes
-    ----------
-    vertices : ndarray, shape (V, 2)
-        Vertex coordinates (the layout's, or the automatic layout's).
-    polylines : tuple of ndarray
-        Per edge, shape (n_i, 2), from its tail to its head.
-    fractions : tuple of ndarray
-        Per edge, shape (n_i,): cumulative drawn length of the polyline divided by its total (0 ... 1).
-    automatic : bool
-        Whether the vertex coordinates were computed (the layout has none or not all).
-    size : float
-        Diagonal of the bounding box of everything drawn (metres), a scale for offsets and markers.
-    """
-
-    vertices: FloatArray
-    polylines: tuple[FloatArray, ...]
-    fractions: tuple[FloatArray, ...]
-    automatic: bool
-    size: float
-
-    def embed(self, edge: ArrayLike, offset: ArrayLike, lengths: ArrayLike) -> FloatArray:
-        """Points of positions ``(edge, offset)``: at the same fraction of the drawn polyline as of the edge.
-
-        Parameters
-        ----------
-        edge : array_like of int
-        offset : array_like of float
-            Metres from the edge's tail.
-        lengths : array_like of float, shape (E,)
-            Edge lengths (metres).
-
-        Returns
-        -------
-        ndarray, shape ``broadcast(edge, offset).shape + (2,)``
-        """
-        e, o = np.broadcast_arrays(np.asarray(edge, dtype=np.int64), np.asarray(offset, dtype=float))
-        ln = np.asarray(lengths, dtype=float)
-        out = np.empty((*e.shape, 2))
-        for i in np.unique(e):
-            m = e == i
-            pts, frac = self.polylines[int(i)], self.fractions[int(i)]
-            f = np.clip(o[m] / ln[i], 0.0, 1.0)
-            out[m, 0] = np.interp(f, frac, pts[:, 0])
-            out[m, 1] = np.interp(f, frac, pts[:, 1])
-        return out
-
-    def normal(self, edge: ArrayLike, offset: ArrayLike, lengths: ArrayLike) -> FloatArray:
-        """Unit normals on the left of each edge's orientation at positions ``(edge, offset)``. Same shape as
-        :meth:`embed`."""
-        e, o = np.broadcast_arrays(np.asarray(edge, dtype=np.int64), np.asarray(offset, dtype=float))
-        ln = np.asarray(lengths, dtype=float)
-        out = np.empty((*e.shape, 2))
-        for i in np.unique(e):
-            m = e == i
-            pts, frac = self.polylines[int(i)], self.fractions[int(i)]
-            seg = np.diff(pts, axis=0)
-            f = np.clip(o[m] / ln[i], 0.0, 1.0)
-            j = np.clip(np.searchsorted(frac, f, side="right") - 1, 0, len(seg) - 1)
-            d = seg[j]
-            nrm = np.hypot(d[:, 0], d[:, 1])
-            nrm[nrm == 0] = 1.0
-            out[m, 0] = -d[:, 1] / nrm
-            out[m, 1] = d[:, 0] / nrm
-        return out
-
-
-def _fractions(pts: FloatArray) -> FloatArray:
-    seg = np.hypot(*np.diff(pts, axis=0).T)
-    cum = np.concatenate([[0.0], np.cumsum(seg)])
-    return cum / cum[-1] if cum[-1] > 0 else np.linspace(0.0, 1.0, len(pts))
-
-
-def _auto_vertices(track: GraphTrack) -> FloatArray:
-    """Deterministic planar-ish vertex coordinates from the graph distances (classical MDS + stress majorization)."""
-    n = track.graph.n_vertices
-    if n == 1:
-        return np.zeros((1, 2))
-    dv = np.array(track.geometry.dv, dtype=float)
-    finite = np.isfinite(dv)
-    big = float(dv[finite].max()) if np.any(finite & (dv > 0)) else 1.0
-    dv = np.where(finite, dv, 1.5 * big + 1.0)
-    # classical MDS
-    j = np.eye(n) - 1.0 / n
-    b = -0.5 * j @ (dv**2) @ j
-    w, v = np.linalg.eigh(b)
-    order = np.argsort(w)[::-1][:2]
-    x = v[:, order] * np.sqrt(np.maximum(w[order], 1e-12))
-    if x.shape[1] < 2:  # pragma: no cover - n >= 2 gives two eigenvectors
-        x = np.column_stack([x, np.zeros(n)])
-    # break ties of collinear layouts (a path) a little, deterministically
-    x = x + 1e-3 * big * np.column_stack([np.zeros(n), np.cos(np.arange(n))])
-    # stress majorization (SMACOF) with weights 1/d^2
-    with np.errstate(divide="ignore"):
-        wts = np.where(dv > 0, 1.0 / dv**2, 0.0)
-    lap = -wts.copy()
-    np.fill_diagonal(lap, wts.sum(axis=1))
-    lap_pinv = np.linalg.pinv(lap)
-    for _ in range(200):
-        diff = x[:, None, :] - x[None, :, :]
-        dist = np.hypot(diff[..., 0], diff[..., 1])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(dist > 0, wts * dv / dist, 0.0)
-        bz = -ratio
-        np.fill_diagonal(bz, ratio.sum(axis=1))
-        x_new = lap_pinv @ (bz @ x)
-        if np.max(np.abs(x_new - x)) < 1e-9 * big:
-            x = x_new
-            break
-        x = x_new
-    x -= x.mean(axis=0)
-    # canonical orientation: principal axis horizontal, signs fixed by the first vertex that is off an axis
-    _, _, vt = np.linalg.svd(x, full_matrices=False)
-    x = x @ vt.T
-    for k in range(2):
-        col = x[:, k]
-        i = int(np.argmax(np.abs(col) > 1e-9 * big)) if np.any(np.abs(col) > 1e-9 * big) else 0
-        if col[i] < 0:
-            x[:, k] = -col
-    return x
-
-
-def _loop_circle(centre_dir: FloatArray, at: FloatArray, length: float) -> FloatArray:
-    r = length / (2 * math.pi)
-    c = at + r * centre_dir
-    phase = math.atan2(-centre_dir[1], -centre_dir[0])
-    ang = phase + 2 * math.pi * np.linspace(0.0, 1.0, CIRCLE_POINTS + 1)
-    pts = np.column_stack([c[0] + r * np.cos(ang), c[1] + r * np.sin(ang)])
-    pts[0] = pts[-1] = at
-    return pts
-
-
-def layout_geometry(track: object) -> LayoutGeometry:
-    """Drawable polylines of a track: its coordinates, or an automatic layout when some vertex has none.
-
-    Parameters
-    ----------
-    track : GraphTrack, paper track, layout dict or path to a JSON layout
-
-    Returns
-    -------
-    LayoutGeometry
-    """
-    tr = as_graph_track(track)
-    automatic = not tr.has_coordinates
-    if automatic:
-        xy = _auto_vertices(tr)
-    else:
-        xy = np.array([c if c is not None else (np.nan, np.nan) for c in tr.coords], dtype=float)
-    tails, heads, lengths = tr.tails, tr.heads, tr.lengths
-    polys: list[FloatArray | None] = [None] * tr.n_edges
-    pair_count: dict[tuple[int, int], int] = {}
-    loops_at: dict[int, list[int]] = {}
-    for i in range(tr.n_edges):
-        u, v = int(tails[i]), int(heads[i])
-        if tr.points[i] and not automatic:
-            polys[i] = np.array([xy[u], *tr.points[i], xy[v]], dtype=float)
-        elif u == v:
-            loops_at.setdefault(u, []).append(i)
-        else:
-            key = (min(u, v), max(u, v))
-            k = pair_count.get(key, 0)
-            pair_count[key] = k + 1
-            a, b = xy[u], xy[v]
-            if k == 0:
-                polys[i] = np.array([a, b])
-            else:  # bend the k-th parallel edge: alternate sides, growing sagitta
-                side = 1.0 if k % 2 else -1.0
-                sag = side * 0.22 * ((k + 1) // 2) * float(np.hypot(*(b - a)))
-                lo, hi = (a, b) if u < v else (b, a)
-                nrm = np.array([-(hi - lo)[1], (hi - lo)[0]]) / max(float(np.hypot(*(hi - lo))), 1e-300)
-                q = np.linspace(0.0, 1.0, 25)[:, None]
-                mid = 0.5 * (lo + hi) + 2 * sag * nrm
-                curve = (1 - q) ** 2 * lo + 2 * q * (1 - q) * mid + q**2 * hi
-                polys[i] = curve if u < v else curve[::-1]
-    # loops: circles pointing away from the vertex's other edges, spread if several
-    for w, idx in loops_at.items():
-        away = np.zeros(2)
-        for i in range(tr.n_edges):
-            p = polys[i]
-            if p is None or tails[i] == heads[i]:
-                continue
-            if int(tails[i]) == w:
-                away -= (p[1] - p[0]) / max(float(np.hypot(*(p[1] - p[0]))), 1e-300)
-            if int(heads[i]) == w:
-                away -= (p[-2] - p[-1]) / max(float(np.hypot(*(p[-2] - p[-1]))), 1e-300)
-        alone = float(np.hypot(*away)) <= 1e-9
-        base = math.pi / 2 if alone else math.atan2(away[1], away[0])
-        n = len(idx)
-        for k, i in enumerate(idx):
-            # alone: spread evenly round the vertex (two loops: a figure eight); else fanned out away from its edges
-            ang = base + 2 * math.pi * k / n if alone else base + (k - (n - 1) / 2) * (math.pi / 2) / max(n - 1, 1)
-            polys[i] = _loop_circle(np.array([math.cos(ang), math.sin(ang)]), xy[w], float(lengths[i]))
-    done = tuple(np.asarray(p, dtype=float) for p in polys)
-    allpts = np.vstack([*done, xy[np.isfinite(xy[:, 0])]])
-    span = allpts.max(axis=0) - allpts.min(axis=0)
-    size = float(np.hypot(*span)) or 1.0
-    return LayoutGeometry(xy, done, tuple(_fractions(p) for p in done), automatic, size)
 
 
 # ------------------------------------------------------------------------------------------------- layout
@@ -592,16 +387,21 @@ def draw_routes(
 
 
 # --------------------------------------------------------------------------------------------------- plans
-def plan_title(plan: GraphPlan, name: str | None = None) -> str:
-    """E.g. ``"y_junction — A, B swap: left, right → right, left\\nD = 0.5 m, fastest, makespan 6.5 s at 1 m/s"``."""
-    tr = plan.track
-    a0, b0 = (tr.position_name(*p) for p in plan.start)
-    a1, b1 = (tr.position_name(*p) for p in plan.goal)
+def plan_title(plan: MotionPlan, name: str | None = None) -> str:
+    """E.g. ``"y_junction — A, B swap: left, right → right, left\\nD = 0.5 m, fastest, makespan 6.5 s at 1 m/s"``.
+
+    A paper plan (:class:`mpa.Plan`, no objective or speeds) says its domain instead: ``"D = 0.1 m, domain 2"``.
+    """
+    tr = plan.layout
+    a0, b0 = (tr.position_name(*p) for p in plan.layout_start)
+    a1, b1 = (tr.position_name(*p) for p in plan.layout_goal)
     swap = "A, B swap: " if (a0, b0) == (b1, a1) else ""
+    head = f"{name} — " if name else ""
+    if not isinstance(plan, GraphPlan):  # the paper's plans have a domain, not an objective or speeds
+        return f"{head}{swap}{a0}, {b0} → {a1}, {b1}\nD = {plan.clearance:g} m, domain {plan.domain}"
     speeds = (
         f"{plan.speeds[0]:g} m/s" if plan.speeds[0] == plan.speeds[1] else f"{plan.speeds[0]:g}/{plan.speeds[1]:g} m/s"
     )
-    head = f"{name} — " if name else ""
     return (
         f"{head}{swap}{a0}, {b0} → {a1}, {b1}\n"
         f"D = {plan.clearance:g} m, {plan.objective}, makespan {plan.makespan:.3g} s at {speeds}"
@@ -641,7 +441,7 @@ def _marker(
 
 def draw_graph_plan(
     ax: Axes,
-    plan: GraphPlan,
+    plan: MotionPlan,
     *,
     name: str | None = None,
     geometry: LayoutGeometry | None = None,
@@ -650,12 +450,13 @@ def draw_graph_plan(
     title: bool = True,
     footprint: object = None,
 ) -> list[Switch]:
-    """Draw a plan of the complete graph planner on its layout.
+    """Draw a plan on its layout (a paper plan on its track's graph form).
 
     Parameters
     ----------
     ax : Axes
-    plan : GraphPlan
+    plan : MotionPlan
+        A :class:`mpa.GraphPlan` or a paper :class:`mpa.Plan`.
     name : str, optional
         Layout name for the title (e.g. the file's stem).
     geometry : LayoutGeometry, optional
@@ -673,18 +474,18 @@ def draw_graph_plan(
     -------
     list of Switch
     """
-    if not isinstance(plan, GraphPlan):
-        raise InvalidInputError(f"plan is a {type(plan).__name__}, expected a GraphPlan (mpa.plan on a graph track)")
-    tr = plan.track
+    if not isinstance(plan, MotionPlan):
+        raise InvalidInputError(f"plan is a {type(plan).__name__}, expected a plan (an mpa.MotionPlan, from mpa.plan)")
+    tr = plan.layout
     geo = geometry if geometry is not None else layout_geometry(tr)
     draw_layout(ax, tr, geometry=geo, edge_labels=edge_labels)
     lane = 0.015 * geo.size
-    sw = draw_routes(ax, tr, plan.route_a, plan.route_b, geometry=geo, lane=lane)
+    sw = draw_routes(ax, tr, *plan.layout_routes, geometry=geo, lane=lane)
     for robot, k in (("A", 0), ("B", 1)):
-        _marker(ax, geo, tr, plan.start[k], robot, "start", lane)
-        _marker(ax, geo, tr, plan.goal[k], robot, "goal", lane)
+        _marker(ax, geo, tr, plan.layout_start[k], robot, "start", lane)
+        _marker(ax, geo, tr, plan.layout_goal[k], robot, "goal", lane)
     if footprint is not None:
-        _draw_end_bodies(ax, tr, plan.start, plan.goal, footprint)
+        _draw_end_bodies(ax, tr, plan.layout_start, plan.layout_goal, footprint)
     if legend:
         h = [
             Line2D([], [], marker="^", ls="none", color="0.3", ms=8, label="start"),
@@ -713,7 +514,9 @@ def draw_graph_plan(
     return sw
 
 
-def _draw_end_bodies(ax: Axes, tr: GraphTrack, start: Any, goal: Any, footprint: object) -> None:
+def _draw_end_bodies(
+    ax: Axes, tr: GraphTrack, start: tuple[Position, Position], goal: tuple[Position, Position], footprint: object
+) -> None:
     """The bodies at the start (filled) and at the goal (outlined, dashed), to scale."""
     from trajopt.viz.bodies import body_poses, draw_bodies
 

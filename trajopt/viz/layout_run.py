@@ -29,6 +29,8 @@ from mpa.graph_track import GraphTrack
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
+    from trajopt.result import Trajectory
+
 __all__ = ["SNAPSHOTS", "layout_run_figure", "routes_from_summary", "trajectory_figure"]
 
 FloatArray = NDArray[np.float64]
@@ -225,7 +227,7 @@ def _draw_run_bodies(
         draw_bodies(ax, footprint, xy[k], hd[k], colors, **style)
 
 
-def trajectory_figure(traj: Any, name: str | None = None) -> Figure:
+def trajectory_figure(traj: Trajectory, name: str | None = None) -> Figure:
     """The figure of any trajectory: a layout run (:func:`layout_run_figure`) or a paper track's
     (:func:`trajopt.viz.plotting.plot_trajectory`)."""
     if not traj.is_graph:
@@ -237,8 +239,8 @@ def trajectory_figure(traj: Any, name: str | None = None) -> Figure:
     view = plan_view(traj.plan)
     tr = view.graph
     plan = traj.plan
-    a0, b0 = (tr.position_name(*p) for p in plan.start)
-    a1, b1 = (tr.position_name(*p) for p in plan.goal)
+    a0, b0 = (tr.position_name(*p) for p in plan.layout_start)
+    a1, b1 = (tr.position_name(*p) for p in plan.layout_goal)
     head = f"{name}: " if name else ""
     title = (
         f"{head}A {a0} → {a1}, B {b0} → {b1} · clearance {traj.clearance:g} m · makespan {traj.makespan:.2f} s · "
