@@ -88,7 +88,8 @@ def plan_planar(
     NoMotionError
         Start and goal in different components; the message names the narrow place.
     """
-    from mpa.planners.graph import _assemble, _why_no_motion
+    from mpa.planners.graph.assemble import _assemble
+    from mpa.planners.graph.reasons import _why_no_motion
 
     space = planar_free_space(track, clearance, footprint)
     for what, (pa, pb) in (("start", start), ("goal", goal)):

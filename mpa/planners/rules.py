@@ -121,7 +121,7 @@ def single_robot_time(tr: GraphTrack, start: Position, goal: Position, speed: fl
 def _cost_function(tr: GraphTrack, objective: str, va: float, vb: float) -> Any:
     """``cost(polygon, p, q)`` of the straight move ``p -> q`` in the polygon's cell: seconds at the cell's speeds with
     the tie-breaks of :mod:`mpa.planners.graph` (``"fastest"``), or metres (``"shortest"``)."""
-    from mpa.planners.graph import TIE_BREAK, TIE_BREAK_2
+    from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2
 
     spa, spb = _cell_speeds(tr, va, vb)
 
@@ -146,7 +146,8 @@ def _search(
 ) -> list[list[Any]] | None:
     """Segments ``[polygon, from, to]`` (cell offsets) of the cheapest path through the candidate points, or None
     when the goal cannot be reached under the one-way rule."""
-    from mpa.planners.graph import TIE_BREAK, TIE_BREAK_2, _goal_terms
+    from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2
+    from mpa.planners.graph.search import _goal_terms
 
     oneway = tr.oneway
     cost = _cost_function(tr, objective, va, vb)
@@ -382,8 +383,9 @@ def plan_with_rules(
     NoMotionError
         Only the one-way rule can make the query impossible here; the message says so.
     """
-    from mpa.planners.graph import _assemble, _merge_same_polygon, _mesh
-    from mpa.planners.graph import _search as exact_search
+    from mpa.planners.graph.assemble import _assemble, _merge_same_polygon
+    from mpa.planners.graph.mesh import _mesh
+    from mpa.planners.graph.search import _search as exact_search
 
     va, vb = speeds
     mesh = _mesh(fs)

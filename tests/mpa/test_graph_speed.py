@@ -17,6 +17,7 @@ from mpa.errors import NoMotionError
 from mpa.freespace import FreeSpace, free_space
 from mpa.graph_track import GraphTrack
 from mpa.planners import graph as gp
+from mpa.planners.graph import shortcut as gp_shortcut
 from tests.helpers.graph_helpers import EXACT, random_layout, random_position
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -153,7 +154,7 @@ def test_equally_short_routes_are_tried_until_a_pair_keeps_the_clearance() -> No
     assert gp._fastest_alone(mesh, start[0], goal[0], 1e-9) is None
     assert gp._independent_motion(mesh, start, goal) is not None
     with pytest.MonkeyPatch.context() as mp:  # unique routes only: the tie is left to the search
-        mp.setattr(gp, "TIED_ROUTES", 1)
+        mp.setattr(gp_shortcut, "TIED_ROUTES", 1)  # where the shortcut reads it
         assert gp._independent_motion(mesh, start, goal) is None
     plan = gp.plan_graph(track, start, goal, 1.0)
     ref = _search_plan(track, fs, start, goal)

@@ -1,0 +1,161 @@
+"""The entry point :func:`plan_graph`: the query read and checked, then the shortcut or the search.
+
+When no motion exists, :func:`~mpa.planners.graph.reasons._why_no_motion` says why.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import cast
+
+import numpy as np
+
+from mpa.errors import InvalidInputError, NoMotionError, PlanningError
+from mpa.footprint import footprints
+from mpa.freespace import check_size, free_space
+from mpa.graph_track import GraphTrack, Position, as_graph_track
+from mpa.planners.graph.assemble import _assemble, _merge_same_polygon
+from mpa.planners.graph.base import OBJECTIVES, SPEED_RANGE, SPEED_RATIO
+from mpa.planners.graph.mesh import _mesh
+from mpa.planners.graph.reasons import _why_no_motion
+from mpa.planners.graph.result import GraphPlan
+from mpa.planners.graph.search import _search
+from mpa.planners.graph.shortcut import _independent_motion
+
+
+# ------------------------------------------------------------------------------------------------- API
+def _fits_float(x: int) -> bool:
+    try:
+        float(x)
+    except OverflowError:
+        return False
+    return True
+
+
+def _speeds(speeds: object) -> tuple[float, float]:
+    try:
+        va, vb = cast("tuple[object, object]", speeds)
+    except (TypeError, ValueError, OverflowError):
+        raise InvalidInputError(f"speeds is {speeds!r}, expected two positive numbers (vA, vB) in m/s") from None
+    out = []
+    for name, v in (("speed of robot A", va), ("speed of robot B", vb)):
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
+            raise InvalidInputError(f"{name} is {v!r}, expected a positive number (m/s)")
+        if isinstance(v, int) and not _fits_float(v):
+            raise InvalidInputError(
+                f"{name} is an integer of {len(str(abs(v)))} digits, expected a finite number > 0 (m/s)"
+            )
+        if not math.isfinite(float(v)) or float(v) <= 0:
+            raise InvalidInputError(f"{name} is {v!r}, expected a finite number > 0 (m/s)")
+        if not SPEED_RANGE[0] <= float(v) <= SPEED_RANGE[1]:
+            raise InvalidInputError(
+                f"{name} is {v!r}, expected a number in [{SPEED_RANGE[0]:g}, {SPEED_RANGE[1]:g}] m/s (the planner "
+                "works in times Δs/v, which overflow or lose all precision outside it)"
+            )
+        out.append(float(v))
+    if max(out) / min(out) > SPEED_RATIO:
+        raise InvalidInputError(
+            f"speeds are {out[0]!r} and {out[1]!r} m/s, expected a ratio of at most {SPEED_RATIO:g} (the slower "
+            "robot's times would swamp the faster one's)"
+        )
+    return out[0], out[1]
+
+
+def _pair(track: GraphTrack, value: object, what: str) -> tuple[Position, Position]:
+    if isinstance(value, str) or not isinstance(value, (tuple, list)) or len(value) != 2:
+        raise InvalidInputError(f"{what} is {value!r}, expected two positions (robot A, robot B)")
+    return (
+        track.position(value[0], f"{what} of robot A"),
+        track.position(value[1], f"{what} of robot B"),
+    )
+
+
+def plan_graph(
+    track: object,
+    start: object,
+    goal: object,
+    clearance: float = 0.0,
+    objective: str = "fastest",
+    speeds: object = (1.0, 1.0),
+    footprint: object = None,
+) -> GraphPlan:
+    """Plan a collision-free motion of two robots on a graph track (complete: finds one whenever one exists).
+
+    Parameters
+    ----------
+    track : GraphTrack, paper track, layout dict or path to a JSON layout
+    start, goal : pair of positions
+        ``(robot A, robot B)``; a position is ``(edge, offset)``, ``"EDGE:OFFSET"`` or a vertex name.
+    clearance : float
+        D (metres, >= 0): the graph distance between the robots stays >= D (D = 0: a tiny positive clearance, see
+        :mod:`mpa.freespace`).
+    objective : {"fastest", "shortest"}
+        Minimum time for the speed limits (weighted L∞), or minimum Euclidean length in offsets.
+    speeds : (float, float)
+        Speed limits ``(vA, vB)`` (m/s, > 0).
+    footprint : None, mpa.Disc, mpa.Rectangle, pair or spec string
+        The robots' bodies in the plane (:mod:`mpa.footprint`); the motion then also keeps the bodies apart in the
+        layout's drawing (:mod:`mpa.planar`: complete in that model; the path bends only at the free pieces' shared
+        points, so it is not the optimum of ``objective``). Needs vertex coordinates.
+
+    Returns
+    -------
+    GraphPlan
+
+    Raises
+    ------
+    InvalidInputError
+        Bad track, position, clearance, objective or speeds; robots closer than D at start or goal.
+    NoMotionError
+        Start and goal are in different path components of the free space; the message says why (different
+        components, order on a path-like layout, clearance too large for the only siding or loop, the one-way
+        lanes). On a track with one-way edges or speed limits the planner of :mod:`mpa.planners.rules` answers
+        (complete under the one-way rule; time exact at the edges' speed limits).
+
+    Examples
+    --------
+    >>> t = GraphTrack.from_layout({"edges": [["J", "a", 1.0], ["J", "b", 2.0], ["J", "c", 2.0]]})
+    >>> p = plan_graph(t, ("b", "c"), ("c", "b"), clearance=0.5)
+    >>> round(p.min_distance(), 6) >= 0.5
+    True
+    """
+    tr = as_graph_track(track)
+    check_size(tr)  # before the distances and the free space are built
+    if objective not in OBJECTIVES:
+        raise InvalidInputError(f"objective is {objective!r}, expected one of {list(OBJECTIVES)}")
+    va, vb = _speeds(speeds)
+    s = _pair(tr, start, "start")
+    gl = _pair(tr, goal, "goal")
+    fs = free_space(tr, clearance)
+    geo = tr.geometry
+    for what, (pa, pb) in (("start", s), ("goal", gl)):
+        if not fs.is_free(pa, pb):
+            d = geo.distance_scalar(pa[0], pa[1], pb[0], pb[1])
+            raise InvalidInputError(
+                f"{what} has the robots {d:.12g} m apart, expected at least the clearance {fs.clearance_used:.12g} m"
+            )
+    fps = footprints(footprint)
+    if fps is not None:
+        from mpa.planar.plan import plan_planar
+
+        return cast("GraphPlan", plan_planar(tr, s, gl, clearance, objective, (va, vb), fps))
+    ca, cb = fs.component_of(*s), fs.component_of(*gl)
+    if ca is None or ca != cb:
+        raise NoMotionError(_why_no_motion(tr, fs, s, gl))
+    if tr.has_rules:  # one-way edges or speed limits: the planner of mpa.planners.rules
+        from mpa.planners.rules import plan_with_rules
+
+        return cast("GraphPlan", plan_with_rules(tr, fs, s, gl, objective, (va, vb)))
+    mesh = _mesh(fs)
+    quick = _independent_motion(mesh, s, gl)
+    if quick is not None:
+        return _assemble(tr, fs, s, gl, objective, (va, vb), quick)
+    segs = _search(mesh, s, gl, objective, va, vb)
+    if segs is None:  # pragma: no cover - no budget given
+        raise PlanningError("search gave up")
+    segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])
+    if objective == "fastest":  # one motion among the equally fast ones of the chain, continuous in the query
+        from mpa.planners.corners import resolve_corners
+
+        segs = [x for x in resolve_corners(fs, segs, (va, vb)) if x[1] != x[2]]
+    return _assemble(tr, fs, s, gl, objective, (va, vb), segs)
