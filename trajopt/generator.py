@@ -18,27 +18,28 @@ clearance used (it then passes the gate only at a higher rate, which the error n
 from __future__ import annotations
 
 import copy
-import dataclasses
 import time
 from dataclasses import dataclass, field, replace
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from mpa import defaults
-from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
-from mpa.footprint import Footprints, drawing_of, footprints
+from mpa.errors import InvalidInputError, MPAError, PlanningError
+from mpa.footprint import drawing_of, footprints
 from mpa.geometry import RouteGeometry
 from mpa.graph_track import GraphTrack
 from mpa.planners import Planner, make_planner
 from mpa.planners.factory import OBJECTIVES
-from mpa.planners.graph import GraphPlan, plan_graph
-from mpa.plans import MotionPlan, Plan
+from mpa.planners.graph import GraphPlan
+from mpa.plans import Plan
 from mpa.tracks import Track
 from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
+from trajopt.explain import RATE_LADDER, _decimal_at_most, _ladder, _RejectedError, explain_rejection, explain_threshold  # noqa: F401
 from trajopt.export import Source, Trajectory, check_rate, time_grid, verified_rows
 from trajopt.fastpath import straight_scaling
+from trajopt.planning import GraphPlanner, _dedupe, route_speed_limits, view_waypoints
 from trajopt.planview import densify, plan_view
 from trajopt.rows import Setpoints
 from trajopt.switch import near_switch_scaling, switch_band
@@ -58,80 +59,6 @@ __all__ = [
 #: Factor of :attr:`TrajectoryGenerator.motion_limits`: accelerations above ``LIMIT_CAP·vmax·rate`` and jerks above
 #: ``LIMIT_CAP·amax·rate`` are not used.
 LIMIT_CAP = 10.0
-
-
-@dataclass(frozen=True, eq=False)
-class GraphPlanner:
-    """The complete graph planner on one layout, in the generator's planner interface (``plan(start, goal)``).
-
-    Plans with objective ``"fastest"`` for the speed limits, for the clearance plus ``margin`` (the gate's
-    between-rows margin at the generator's rate); if no motion keeps that, for the bare clearance (or raises the
-    planner's :class:`~mpa.errors.InvalidInputError` / :class:`~mpa.errors.NoMotionError` for it).
-
-    Parameters
-    ----------
-    track : GraphTrack
-    clearance : float
-        D (m, >= 0).
-    speeds : (float, float)
-        Speed limits of A and B (m/s).
-    margin : float
-        Extra separation asked of the plan (m, >= 0).
-    objective : {"fastest", "shortest"}
-        The graph planner's objective (:func:`mpa.planners.graph.plan_graph`).
-    """
-
-    track: GraphTrack
-    clearance: float
-    speeds: tuple[float, float]
-    margin: float = 0.0
-    objective: str = "fastest"
-    footprint: Footprints | None = None
-    plane_margin: float = 0.0
-
-    def __post_init__(self) -> None:
-        c = self.clearance
-        number = isinstance(c, (int, float, np.integer, np.floating)) and not isinstance(c, bool)
-        if not number or not np.isfinite(c) or c < 0:
-            raise InvalidInputError(f"clearance is {c!r}, expected a finite number >= 0 (metres)")
-        object.__setattr__(self, "clearance", float(c))
-
-    def plan(self, start: Any, goal: Any) -> GraphPlan:
-        """A :class:`~mpa.planners.graph.GraphPlan` from ``start`` to ``goal`` (pairs of positions, robot A first).
-
-        Raises
-        ------
-        InvalidInputError
-            Unknown edge or vertex, offset outside the edge, robots closer than the clearance at start or goal.
-        NoMotionError
-            No collision-free motion exists (the message says why).
-        """
-        fp = self.footprint
-        if fp is not None and self.plane_margin > 0:  # the bodies grown by the gate's between-rows margin first
-            # plus the planner's touching tolerance (bodies that close count as apart there, not at the gate)
-            from mpa.planar import TOUCH as PLANAR_TOUCH
-
-            grow = 0.5 * self.plane_margin + PLANAR_TOUCH * max(1.0, float(self.track.total_length))
-            try:
-                return plan_graph(
-                    self.track,
-                    start,
-                    goal,
-                    self.clearance + self.margin,
-                    self.objective,
-                    self.speeds,
-                    fp.inflated(grow),
-                )
-            except (InvalidInputError, NoMotionError):
-                pass  # the bare footprint decides (and names the error)
-        if self.margin > 0:
-            try:
-                return plan_graph(
-                    self.track, start, goal, self.clearance + self.margin, self.objective, self.speeds, fp
-                )
-            except (InvalidInputError, NoMotionError):
-                pass  # the bare clearance decides (and names the error)
-        return plan_graph(self.track, start, goal, self.clearance, self.objective, self.speeds, fp)
 
 
 @dataclass
@@ -349,7 +276,7 @@ class TrajectoryGenerator:
         try:
             first = self._generate(plan, timings)
         except _RejectedError as exc:
-            why = self._explain_rejection(plan) or self._explain_threshold(plan)
+            why = explain_rejection(self, plan) or explain_threshold(self, plan)
             if why:
                 raise InvalidInputError(why) from None
             raise PlanningError(str(exc)) from exc
@@ -420,30 +347,6 @@ class TrajectoryGenerator:
         }
         return second
 
-    def _explain_threshold(self, plan: Plan | GraphPlan) -> str:
-        """At a threshold clearance (the plan keeps exactly D somewhere while the robots move) no rate can be
-        verified: the gate's bound between rows loses ``a·Δt²/8``. Names a slightly lower clearance that gives
-        verified setpoints (tried here, at most three), or "" if the plan is not at a threshold or none works."""
-        margin = self.separation_margin()
-        if self.clearance <= 0 or float(plan.min_distance()) - self.clearance >= margin:
-            return ""
-        for drop in (2.0 * margin, 1e-3 * self.clearance, 1e-2 * self.clearance):
-            text = _decimal_at_most(self.clearance - drop)
-            lower = float(text)
-            if lower <= 0 or lower >= self.clearance:
-                continue
-            try:
-                gen = TrajectoryGenerator(self.track, clearance=lower, limits=self.limits, rate=self.rate)
-                gen._generate(gen.plan(plan.start, plan.goal), None)  # no explanation of its own (no recursion)
-            except (MPAError, _RejectedError):
-                continue
-            return (
-                f"clearance {self.clearance!r} m is at the threshold of this motion: the robots must pass exactly "
-                f"{self.clearance!r} m apart while moving, which setpoints at no rate can verify (between rows they "
-                f"may come closer); expected a clearance below it: {text} m works at {self.rate:g} Hz"
-            )
-        return ""
-
     def at_rate(self, rate: float) -> TrajectoryGenerator:
         """The same generator at another setpoint rate (Hz; the planner is shared)."""
         gen = TrajectoryGenerator.__new__(TrajectoryGenerator)
@@ -511,46 +414,6 @@ class TrajectoryGenerator:
             else:
                 lo = mid
         return ladder[hi]
-
-    def _explain_rejection(self, plan: Plan | GraphPlan) -> str:
-        """Why every candidate of ``plan`` fails the gate at this rate, if the caller can fix it ("" if not)."""
-        if self.footprint is not None:  # bodies are planned on layouts only: a graph plan
-            why = self._explain_plane(cast(GraphPlan, plan))
-            if why:
-                return why
-        best = self.lowest_rate(plan)
-        margin = self.separation_margin()
-        if best is not None:
-            slack = float(plan.min_distance()) - self.clearance
-            tight = ""
-            if slack < margin:  # the layout itself leaves (almost) no room: say so, and what clearance would do
-                lower = self.clearance + slack - 2.0 * margin
-                tight = (
-                    f" (the motion's closest approach keeps only {max(slack, 0.0):.3g} m beyond the clearance, the "
-                    f"most this track allows here, and setpoints at {self.rate:g} Hz need {margin:.3g} m"
-                    + (f"; or lower the clearance to about {lower:.6g} m)" if lower > 0.0 else ")")
-                )
-            return (
-                f"rate is {self.rate!r} Hz, too low for this motion: between rows the robots could come closer "
-                f"than the clearance {self.clearance!r} m; the lowest usable rate is {best:g} Hz{tight}"
-            )
-        view = plan_view(plan)
-        ends: tuple[Any, Any] = (plan.start, plan.goal)
-        for name, st in zip(("start", "goal"), ends):
-            d = view.separation(name)
-            if d < self.clearance + margin:
-                where = (
-                    f"({view.graph.position_name(*st[0])}, {view.graph.position_name(*st[1])})"
-                    if view.is_graph
-                    else f"({float(st[0])!r}, {float(st[1])!r})"
-                )
-                return (
-                    f"{name} {where} has the robots {d!r} apart, expected more than "
-                    f"the clearance {self.clearance!r} plus {margin:.3g} m: the gate cannot verify setpoints that "
-                    f"leave robots at rest exactly at the clearance (at {self.rate:g} Hz); lower the clearance "
-                    f"or move the {name} apart"
-                )
-        return ""
 
     def _generate(self, plan: Plan | GraphPlan, timings: dict[str, Any] | None = None) -> Trajectory:
         capped = route_speed_limits(plan, self.limits)
@@ -688,34 +551,6 @@ class TrajectoryGenerator:
             self._corridor = CorridorProblem(CORRIDOR_SEGMENTS, self.limits.v)
         return self._corridor
 
-    def _explain_plane(self, plan: GraphPlan) -> str:
-        """The bodies pass closer than the gate's between-rows margin at this rate ("" if they do not)."""
-        from mpa.planar import corner_sweep
-        from trajopt.planar_gate import row_gaps
-
-        assert self.footprint is not None
-        view = plan_view(plan)
-        e, o = view.positions(densify(view.waypoints, 0.01))
-        g = row_gaps(view.graph, self.footprint, e, o)
-        need = 0.5 * self._plane_margin(self.rate)
-        # a rectangle at rest on a corner at the start or goal: the gate bounds its turn by the disc of its reach
-        swept = ""
-        for (pa, pb), k in ((plan.start, 0), (plan.goal, len(g) - 1)):
-            _, depth = corner_sweep(view.graph, self.footprint, pa, pb)
-            if -depth < min(g[k], need):
-                g[k] = -depth
-                swept = " (a rectangle on a corner: the disc it sweeps turning there)"
-        low = float(np.min(g))
-        if low >= need:
-            return ""
-        where = "at the start" if g[0] < need else ("at the goal" if g[-1] < need else "on the only way there")
-        return (
-            f"footprint {self.footprint.spec()}: the bodies come within {max(low, 0.0):.3g} m of each other "
-            f"{where}{swept}, "
-            f"and setpoints at {self.rate:g} Hz are verified between rows only with {need:.3g} m between them; "
-            "use smaller bodies, start or goal further apart, or a higher rate"
-        )
-
     def _plane_chord_slack(self, view: Any, pts: np.ndarray) -> float:
         """How far the bodies stay beyond the plane margin along a polyline in route coordinates (negative: closer;
         the gate decides exactly).
@@ -800,60 +635,6 @@ class TrajectoryGenerator:
         return lambda r: self.at_rate(r).generate_from_plan(plan)
 
 
-class _RejectedError(PlanningError):
-    """Neither the optimised motion nor the re-timed plan passes the gate (the caller may be told why)."""
-
-
-def route_speed_limits(plan: MotionPlan, limits: Limits) -> Limits:
-    """``limits`` with each robot's speed capped by the lowest speed limit of the edges its route travels.
-
-    The setpoints then keep every lane's limit on every row (checked by the gate); on a route whose edges have
-    different limits the robot drives its whole route at the lowest one (conservative, not time-optimal). Returns
-    ``limits`` itself when no edge of the routes has a limit.
-    """
-    layout = plan.layout
-    if not layout.has_rules:
-        return limits
-    caps = []
-    for route, v in zip(plan.layout_routes, limits.vmax):
-        lengths = np.diff(route.breaks)
-        lims = [layout.speed_limits[int(e)] for e, ln in zip(route.edges, lengths) if ln > 0]
-        caps.append(min([v, *[x for x in lims if x is not None]]))
-    if tuple(caps) == tuple(limits.vmax):
-        return limits
-    return dataclasses.replace(limits, vmax=tuple(caps))
-
-
-def _ladder(lo: float, hi: float) -> list[float]:
-    """Round rates (Hz) from below ``lo`` up to ``hi``: 1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8 per decade."""
-    out: list[float] = []
-    e = int(np.floor(np.log10(max(lo, 1e-3))))
-    while True:
-        for m in RATE_LADDER:
-            r = float(f"{m * 10.0**e:.6g}")
-            if r > hi:
-                return out
-            out.append(r)
-        e += 1
-
-
-#: Mantissas of the round rates tried when a rate is too low (see :meth:`TrajectoryGenerator.lowest_rate`).
-RATE_LADDER = (1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0)
-
-
-def view_waypoints(plan: Plan | GraphPlan) -> np.ndarray:
-    """The plan's polyline in route coordinates (shape (K, 2))."""
-    return plan_view(plan).waypoints
-
-
-def _dedupe(pts: ArrayLike) -> np.ndarray:
-    p = np.atleast_2d(np.asarray(pts, dtype=float))
-    keep = np.concatenate([[True], np.linalg.norm(np.diff(p, axis=0), axis=1) > 1e-12])
-    out = p[keep]
-    out[-1] = p[-1]
-    return out
-
-
 def generate_trajectory(
     track: Track | GraphTrack,
     start: Any,
@@ -913,13 +694,3 @@ def generate_trajectory(
         track, clearance=clearance, limits=Limits(vmax, amax, jmax), rate=rate, footprint=footprint
     )
     return gen.generate(start, goal, delay_tolerance=delay_tolerance, min_margin=min_margin)
-
-
-def _decimal_at_most(x: float) -> str:
-    """The shortest decimal (6 to 17 significant digits) whose value is at most ``x``: the number a message names
-    is the number that was tried, and reading it back never gives more than ``x``."""
-    for digits in range(6, 18):
-        text = f"{x:.{digits}g}"
-        if float(text) <= x:
-            return text
-    return repr(x)

@@ -25,3 +25,15 @@ def test_no_conflict_markers_in_tracked_text_files() -> None:
             continue
         bad += [f"{name}:{text.count(chr(10), 0, m.start()) + 1}" for m in MARKER.finditer(text)]
     assert not bad, bad
+
+
+def test_no_module_of_the_packages_above_700_lines() -> None:
+    """One job per module: no module of ``mpa`` or ``trajopt`` is longer than 700 lines (docs/architecture.md)."""
+    root = Path(__file__).resolve().parents[2]
+    long = {
+        str(p.relative_to(root)): n
+        for package in ("mpa", "trajopt")
+        for p in sorted((root / package).rglob("*.py"))
+        if (n := len(p.read_text(encoding="utf-8").splitlines())) > 700
+    }
+    assert not long, long
