@@ -1,0 +1,150 @@
+"""The acceleration a motion is timed with, chosen per query: the fastest verified motion over a few caps.
+
+A trajectory declares the limits it was timed with (:attr:`trajopt.result.Trajectory.limits_used`, each at most
+the one asked for); the gate checks its rows against them and bounds the motion between rows with them, so a
+lower acceleration cap is a valid answer to the limits asked for. The plan keeps the between-rows margin of the
+cap (:func:`trajopt.verify.separation_margin`, about ``amax·Δt²/4`` per robot beyond the clearance). The motion
+time as a function of the cap is least at an interior optimum: below it a higher cap shortens the starts and
+stops (about ``vmax/amax`` each), above it the wider margin lengthens the path more than the acceleration saves
+(measured on the Y junction: about ``2·vmax·rate``). :func:`faster_caps` evaluates, besides the cap of
+:attr:`~trajopt.generator.TrajectoryGenerator.motion_limits`:
+
+- the **reached cap** (layouts, blended motions): each robot's largest ``|a|`` of the first motion's rows plus
+  ``jmax·Δt/2`` (the most its jerk adds between rows), when that lowers the margin;
+- the **grid**: the caps ``2^(k/2)`` m/s² (a fixed grid, the same for every query and every limit asked for) below
+  the motion limits' ``amax``, in descending order while the motion gets faster, when a robot's ``amax`` is above
+  :data:`SEARCH_FROM` ``· vmax · rate`` (below it the margin, ``amax·Δt²/4``, is a small fraction of the distance
+  a start covers in a row, and the acceleration's saving dominates).
+
+Each candidate is planned for its margin (layouts), timed with its cap, verified by the gate, and kept if it is
+optimised and faster. Straight motions (a lower cap times the same line slower) and motions with footprints (the
+plane's margin is that of the limits asked for) take neither. Because the grid does not depend on the limits asked
+for, a looser ``amax`` evaluates the same grid caps as a tighter one (and more): the result is monotone in
+``amax`` except between grid points (measured in docs/reliability.md).
+"""
+
+from __future__ import annotations
+
+import copy
+import time
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from mpa.errors import MPAError
+from mpa.planners.graph import GraphPlan
+from mpa.plans import Plan
+from trajopt.planning import GraphPlanner
+from trajopt.result import Source, Trajectory
+
+__all__ = ["GRID_RATIO", "MAX_GRID_STEPS", "SEARCH_FROM", "faster_caps", "grid_caps_below"]
+
+#: Ratio of consecutive caps of the grid ``2^(k/2)`` m/s².
+GRID_RATIO = float(np.sqrt(2.0))
+#: The grid is searched when a robot's ``amax`` (of the motion limits) exceeds ``SEARCH_FROM · vmax · rate``.
+SEARCH_FROM = 0.5
+#: At most this many grid caps are evaluated per query (the descent stops earlier at the first slower motion).
+MAX_GRID_STEPS = 12
+
+
+def grid_caps_below(top: float) -> list[float]:
+    """The grid caps ``2^(k/2)`` (m/s²) strictly below ``top``, descending (at most :data:`MAX_GRID_STEPS`).
+
+    Parameters
+    ----------
+    top : float
+        The highest acceleration (m/s²) of the motion limits.
+
+    Returns
+    -------
+    list of float
+    """
+    if not np.isfinite(top) or top <= 0.0:
+        return []
+    k = int(np.ceil(2.0 * np.log2(top)))
+    while 2.0 ** (k / 2.0) >= top:
+        k -= 1
+    return [2.0 ** ((k - i) / 2.0) for i in range(MAX_GRID_STEPS)]
+
+
+def _capped(gen: Any, plan: Plan | GraphPlan, cap: np.ndarray, t0: float) -> Trajectory | None:
+    """The motion of ``plan`` timed with accelerations capped at ``cap`` (m/s², shape (2,)), planned for the
+    margin of the cap on a layout; ``None`` when none is verified optimised."""
+    trial = copy.copy(gen)
+    trial._cap = (float(cap[0]), float(cap[1]))
+    try:
+        if isinstance(plan, GraphPlan) and isinstance(gen.planner, GraphPlanner):
+            trial.planner = replace(gen.planner, margin=trial.separation_margin())
+            plan = trial.planner.plan(plan.start, plan.goal)
+        out: Trajectory = trial._generate(plan, {"plan": time.perf_counter() - t0})
+    except MPAError:  # no motion or none verified for this cap: the others stand
+        return None
+    return out if out.source is Source.OPTIMIZED else None
+
+
+def faster_caps(gen: Any, plan: Plan | GraphPlan, first: Trajectory) -> Trajectory:
+    """The fastest verified motion of ``plan`` over the reached cap and the grid caps (see the module docstring).
+
+    Parameters
+    ----------
+    gen : TrajectoryGenerator
+        The generator ``first`` was made by (no cap of its own).
+    plan : Plan or GraphPlan
+        The plan ``first`` was made from (by ``gen``'s planner).
+    first : Trajectory
+        The verified motion of ``plan`` timed with ``gen.motion_limits``.
+
+    Returns
+    -------
+    Trajectory
+        ``first`` or a faster motion; ``solver_stats["reached_pass"]`` (the reached cap won: the caps in m/s², the
+        margin in m, ``first``'s motion time in s) or ``solver_stats["cap_search"]`` (a grid cap won: the caps, the
+        margin, ``first``'s motion time, and the ``[cap, motion time or None]`` pairs tried).
+    """
+    if (
+        gen.footprint is not None
+        or gen._cap is not None
+        or first.source is not Source.OPTIMIZED
+        or first.solver_stats.get("path") not in ("blend", "hard", "switch")
+    ):
+        return first
+    t0 = time.perf_counter()
+    limits = gen.motion_limits
+    a = np.asarray(limits.a, dtype=float)
+    best, record = first, None
+    if first.solver_stats.get("path") == "blend" and isinstance(plan, GraphPlan):
+        reached = np.minimum(a, np.max(np.abs(first.a), axis=0) + np.asarray(limits.j, dtype=float) / (2.0 * gen.rate))
+        if np.any(reached < a):
+            second = _capped(gen, plan, reached, t0)
+            if second is not None and second.motion_time <= best.motion_time:
+                best, record = second, "reached_pass"
+    tried: list[list[float | None]] = []
+    v = np.asarray(limits.v, dtype=float)
+    if np.any(a > SEARCH_FROM * v * gen.rate):
+        for x in grid_caps_below(float(np.max(a))):
+            cap = np.minimum(a, x)
+            trial = _capped(gen, plan, cap, t0)
+            tried.append([x, None if trial is None else trial.motion_time])
+            if trial is None or trial.motion_time >= best.motion_time:
+                break
+            best, record = trial, "cap_search"
+    if best is first:
+        return first
+    best.timings["total"] = best.timings.get("total", 0.0) + first.timings.get("total", 0.0)
+    info: dict[str, Any] = {
+        "amax": [float(x) for x in best.limits_used.a],
+        "margin": gen.separation_margin() if best is first else _margin(gen, best),
+        "first_motion_time": first.motion_time,
+    }
+    if record == "cap_search":
+        info["tried"] = tried
+    best.solver_stats[str(record)] = info
+    return best
+
+
+def _margin(gen: Any, traj: Trajectory) -> float:
+    """The between-rows margin (m) the plan of ``traj`` keeps: that of the accelerations it declares."""
+    trial = copy.copy(gen)
+    trial._cap = (float(traj.limits_used.a[0]), float(traj.limits_used.a[1]))
+    return float(trial.separation_margin())
