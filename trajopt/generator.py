@@ -282,9 +282,9 @@ class TrajectoryGenerator:
             if why:
                 raise InvalidInputError(why) from None
             raise PlanningError(str(exc)) from exc
-        return self._reached_pass(plan, first)
+        return self._faster_caps(plan, first)
 
-    def _reached_pass(self, plan: Plan | GraphPlan, first: Trajectory) -> Trajectory:
+    def _faster_caps(self, plan: Plan | GraphPlan, first: Trajectory) -> Trajectory:
         """The fastest verified motion of ``plan`` over the acceleration caps :func:`trajopt.caps.faster_caps`
         tries below :attr:`motion_limits` (``first`` is the motion timed with :attr:`motion_limits`)."""
         from trajopt.caps import faster_caps

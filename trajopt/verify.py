@@ -654,9 +654,9 @@ def separation_margin(limits: Limits, rate: float, gate: Limits | None = None) -
     rate : float
         Setpoint rate (Hz).
     gate : Limits, optional
-        The limits the gate checks, when higher than ``limits``
-        (:attr:`trajopt.generator.TrajectoryGenerator.motion_limits` below
-        :attr:`~trajopt.generator.TrajectoryGenerator.limits`); default ``limits``: the margin is
+        The limits the gate bounds the motion between rows with, when higher than ``limits``; default
+        ``limits`` (what the generator passes: the trajectory declares the limits it is timed with,
+        :attr:`trajopt.result.Trajectory.limits_used`, and the gate uses them): the margin is
         ``2·Σ amax·Δt²/8 + 1e-9``.
 
     Returns
