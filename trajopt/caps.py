@@ -14,13 +14,15 @@ stops (about ``vmax/amax`` each), above it the wider margin lengthens the path m
 - the **grid**: the caps ``2^(k/2)`` m/s² (a fixed grid, the same for every query and every limit asked for) below
   the motion limits' ``amax``, in descending order while the motion gets faster, when a robot's ``amax`` is above
   :data:`SEARCH_FROM` ``· vmax · rate`` (below it the margin, ``amax·Δt²/4``, is a small fraction of the distance
-  a start covers in a row, and the acceleration's saving dominates).
+  a start covers in a row, and the acceleration's saving dominates), then :data:`REFINE_STEPS` golden-section
+  steps (in ``log cap``) between the neighbours of the fastest cap found.
 
 Each candidate is planned for its margin (layouts), timed with its cap, verified by the gate, and kept if it is
 optimised and faster. Straight motions (a lower cap times the same line slower) and motions with footprints (the
 plane's margin is that of the limits asked for) take neither. Because the grid does not depend on the limits asked
-for, a looser ``amax`` evaluates the same grid caps as a tighter one (and more): the result is monotone in
-``amax`` except between grid points (measured in docs/reliability.md).
+for, a looser ``amax`` evaluates the same grid caps as a tighter one (and more); the refinement brings the
+chosen cap near the optimum of its bracket, so a tighter ``amax`` between grid points is rarely faster (measured
+in docs/reliability.md, with the other cause left: the plan's route changing with the margin).
 """
 
 from __future__ import annotations
@@ -38,7 +40,7 @@ from mpa.plans import Plan
 from trajopt.planning import GraphPlanner
 from trajopt.result import Source, Trajectory
 
-__all__ = ["GRID_RATIO", "MAX_GRID_STEPS", "SEARCH_FROM", "faster_caps", "grid_caps_below"]
+__all__ = ["GRID_RATIO", "MAX_GRID_STEPS", "REFINE_STEPS", "SEARCH_FROM", "faster_caps", "grid_caps_below"]
 
 #: Ratio of consecutive caps of the grid ``2^(k/2)`` m/s².
 GRID_RATIO = float(np.sqrt(2.0))
@@ -46,6 +48,10 @@ GRID_RATIO = float(np.sqrt(2.0))
 SEARCH_FROM = 0.5
 #: At most this many grid caps are evaluated per query (the descent stops earlier at the first slower motion).
 MAX_GRID_STEPS = 12
+#: Golden-section steps between the neighbours of the fastest grid cap.
+REFINE_STEPS = 4
+#: The golden section's inner fraction, ``(3 − √5)/2``.
+GOLDEN = (3.0 - np.sqrt(5.0)) / 2.0
 
 
 def grid_caps_below(top: float) -> list[float]:
@@ -122,13 +128,18 @@ def faster_caps(gen: Any, plan: Plan | GraphPlan, first: Trajectory) -> Trajecto
     tried: list[list[float | None]] = []
     v = np.asarray(limits.v, dtype=float)
     if np.any(a > SEARCH_FROM * v * gen.rate):
-        for x in grid_caps_below(float(np.max(a))):
-            cap = np.minimum(a, x)
-            trial = _capped(gen, plan, cap, t0)
+        top = float(np.max(a))
+        points: list[tuple[float, Trajectory | None]] = [(top, best)]  # descending caps and their motions
+        for x in grid_caps_below(top):
+            trial = _capped(gen, plan, np.minimum(a, x), t0)
             tried.append([x, None if trial is None else trial.motion_time])
+            points.append((x, trial))
             if trial is None or trial.motion_time >= best.motion_time:
                 break
             best, record = trial, "cap_search"
+        refined = _refine(gen, plan, a, points, best, t0, tried)
+        if refined is not best:
+            best, record = refined, "cap_search"
     if best is first:
         return first
     best.timings["total"] = best.timings.get("total", 0.0) + first.timings.get("total", 0.0)
@@ -140,6 +151,45 @@ def faster_caps(gen: Any, plan: Plan | GraphPlan, first: Trajectory) -> Trajecto
     if record == "cap_search":
         info["tried"] = tried
     best.solver_stats[str(record)] = info
+    return best
+
+
+def _refine(
+    gen: Any,
+    plan: Plan | GraphPlan,
+    a: np.ndarray,
+    points: list[tuple[float, Trajectory | None]],
+    best: Trajectory,
+    t0: float,
+    tried: list[list[float | None]],
+) -> Trajectory:
+    """Golden-section steps (in ``log cap``, :data:`REFINE_STEPS` of them) between the neighbours of the fastest
+    cap of ``points`` (descending caps and their motions); the fastest motion found."""
+    caps = [x for x, _ in points]
+    times = [np.inf if m is None else m.motion_time for _, m in points]
+    i = int(np.argmin(times))
+    if len(points) < 2 or not np.isfinite(times[i]):
+        return best
+    hi = np.log(caps[max(i - 1, 0)])
+    lo = np.log(caps[min(i + 1, len(caps) - 1)])
+    mid, t_mid = np.log(caps[i]), times[i]
+    for _ in range(REFINE_STEPS):
+        if hi - mid >= mid - lo:  # probe the wider side
+            x = mid + GOLDEN * (hi - mid)
+        else:
+            x = mid - GOLDEN * (mid - lo)
+        if not (lo < x < hi) or hi - lo < 1e-6:
+            break
+        trial = _capped(gen, plan, np.minimum(a, np.exp(x)), t0)
+        t_x = np.inf if trial is None else trial.motion_time
+        tried.append([float(np.exp(x)), None if trial is None else t_x])
+        if t_x < t_mid:
+            lo, hi = (mid, hi) if x > mid else (lo, mid)
+            mid, t_mid = x, t_x
+            if trial is not None and t_x < best.motion_time:
+                best = trial
+        else:
+            lo, hi = (lo, x) if x > mid else (x, hi)
     return best
 
 
