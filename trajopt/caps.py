@@ -17,8 +17,10 @@ stops (about ``vmax/amax`` each), above it the wider margin lengthens the path m
   a start covers in a row, and the acceleration's saving dominates), then :data:`REFINE_STEPS` golden-section
   steps (in ``log cap``) between the neighbours of the fastest cap found.
 
-Each candidate is planned for its margin (layouts), timed with its cap, verified by the gate, and kept if it is
-optimised and faster. Straight motions (a lower cap times the same line slower) and motions with footprints (the
+Each candidate is planned for its margin (layouts) and timed with its cap; the candidates are compared by their
+motion times before the rows are sampled (a probing generator raises :class:`MotionTime` there), and the fastest
+one below the first motion's time is made, verified by the gate and returned if it passes optimised (else the
+next one). Straight motions (a lower cap times the same line slower) and motions with footprints (the
 plane's margin is that of the limits asked for) take neither. Because the grid does not depend on the limits asked
 for, a looser ``amax`` evaluates the same grid caps as a tighter one (and more); the refinement brings the
 chosen cap near the optimum of its bracket, so a tighter ``amax`` between grid points is rarely faster (measured
@@ -40,7 +42,15 @@ from mpa.plans import Plan
 from trajopt.planning import GraphPlanner
 from trajopt.result import Source, Trajectory
 
-__all__ = ["GRID_RATIO", "MAX_GRID_STEPS", "REFINE_STEPS", "SEARCH_FROM", "faster_caps", "grid_caps_below"]
+__all__ = [
+    "GRID_RATIO",
+    "MAX_GRID_STEPS",
+    "REFINE_STEPS",
+    "SEARCH_FROM",
+    "MotionTime",
+    "faster_caps",
+    "grid_caps_below",
+]
 
 #: Ratio of consecutive caps of the grid ``2^(k/2)`` m/s².
 GRID_RATIO = float(np.sqrt(2.0))
@@ -74,15 +84,46 @@ def grid_caps_below(top: float) -> list[float]:
     return [2.0 ** ((k - i) / 2.0) for i in range(MAX_GRID_STEPS)]
 
 
-def _capped(gen: Any, plan: Plan | GraphPlan, cap: np.ndarray, t0: float) -> Trajectory | None:
-    """The motion of ``plan`` timed with accelerations capped at ``cap`` (m/s², shape (2,)), planned for the
-    margin of the cap on a layout; ``None`` when none is verified optimised."""
+class MotionTime(BaseException):  # a signal, not an error: no `except Exception` may swallow it
+    """Raised by a probing generator where it would sample and verify a motion: the motion's time and whether it
+    is the optimised motion (not the re-timed plan)."""
+
+    def __init__(self, duration: float, optimized: bool) -> None:
+        super().__init__(duration, optimized)
+        self.duration = float(duration)
+        self.optimized = optimized
+
+
+def _trial(gen: Any, plan: Plan | GraphPlan, cap: np.ndarray) -> tuple[Any, Plan | GraphPlan]:
+    """A copy of ``gen`` with accelerations capped at ``cap`` (m/s², shape (2,)) and its plan of the query (a
+    layout's plan is made for the cap's margin). Raises what the planner raises."""
     trial = copy.copy(gen)
     trial._cap = (float(cap[0]), float(cap[1]))
+    if isinstance(plan, GraphPlan) and isinstance(gen.planner, GraphPlanner):
+        trial.planner = replace(gen.planner, margin=trial.separation_margin())
+        plan = trial.planner.plan(plan.start, plan.goal)
+    return trial, plan
+
+
+def _predicted(gen: Any, plan: Plan | GraphPlan, cap: np.ndarray) -> float:
+    """The optimised motion's time (s) with accelerations capped at ``cap``, before its rows are sampled and
+    verified; ``inf`` when the pipeline does not reach an optimised motion."""
     try:
-        if isinstance(plan, GraphPlan) and isinstance(gen.planner, GraphPlanner):
-            trial.planner = replace(gen.planner, margin=trial.separation_margin())
-            plan = trial.planner.plan(plan.start, plan.goal)
+        trial, plan = _trial(gen, plan, cap)
+        trial._probe = True
+        trial._generate(plan, None)
+    except MotionTime as probe:
+        return probe.duration if probe.optimized else np.inf
+    except MPAError:
+        return np.inf
+    return np.inf  # pragma: no cover - a probing generator always raises
+
+
+def _capped(gen: Any, plan: Plan | GraphPlan, cap: np.ndarray, t0: float) -> Trajectory | None:
+    """The verified motion of ``plan`` timed with accelerations capped at ``cap`` (m/s², shape (2,)), planned for
+    the margin of the cap on a layout; ``None`` when none is verified optimised."""
+    try:
+        trial, plan = _trial(gen, plan, cap)
         out: Trajectory = trial._generate(plan, {"plan": time.perf_counter() - t0})
     except MPAError:  # no motion or none verified for this cap: the others stand
         return None
@@ -91,6 +132,9 @@ def _capped(gen: Any, plan: Plan | GraphPlan, cap: np.ndarray, t0: float) -> Tra
 
 def faster_caps(gen: Any, plan: Plan | GraphPlan, first: Trajectory) -> Trajectory:
     """The fastest verified motion of ``plan`` over the reached cap and the grid caps (see the module docstring).
+
+    The caps are compared by their optimised motions' times before sampling (:class:`MotionTime`); the fastest
+    one below ``first``'s time is then made and verified, and the next one tried if it fails the gate.
 
     Parameters
     ----------
@@ -106,11 +150,12 @@ def faster_caps(gen: Any, plan: Plan | GraphPlan, first: Trajectory) -> Trajecto
     Trajectory
         ``first`` or a faster motion; ``solver_stats["reached_pass"]`` (the reached cap won: the caps in m/s², the
         margin in m, ``first``'s motion time in s) or ``solver_stats["cap_search"]`` (a grid cap won: the caps, the
-        margin, ``first``'s motion time, and the ``[cap, motion time or None]`` pairs tried).
+        margin, ``first``'s motion time, and the ``[cap, motion time]`` pairs evaluated, ``inf`` for none).
     """
     if (
         gen.footprint is not None
         or gen._cap is not None
+        or gen._probe
         or first.source is not Source.OPTIMIZED
         or first.solver_stats.get("path") not in ("blend", "hard", "switch")
     ):
@@ -118,58 +163,52 @@ def faster_caps(gen: Any, plan: Plan | GraphPlan, first: Trajectory) -> Trajecto
     t0 = time.perf_counter()
     limits = gen.motion_limits
     a = np.asarray(limits.a, dtype=float)
-    best, record = first, None
+    cands: list[tuple[float, str, np.ndarray]] = []  # (predicted motion time, kind, cap)
     if first.solver_stats.get("path") == "blend" and isinstance(plan, GraphPlan):
         reached = np.minimum(a, np.max(np.abs(first.a), axis=0) + np.asarray(limits.j, dtype=float) / (2.0 * gen.rate))
         if np.any(reached < a):
-            second = _capped(gen, plan, reached, t0)
-            if second is not None and second.motion_time <= best.motion_time:
-                best, record = second, "reached_pass"
-    tried: list[list[float | None]] = []
+            cands.append((_predicted(gen, plan, reached), "reached_pass", reached))
+    tried: list[list[float]] = []
     v = np.asarray(limits.v, dtype=float)
     if np.any(a > SEARCH_FROM * v * gen.rate):
         top = float(np.max(a))
-        points: list[tuple[float, Trajectory | None]] = [(top, best)]  # descending caps and their motions
+        points = [(top, first.motion_time)]  # descending caps and their motion times
         for x in grid_caps_below(top):
-            trial = _capped(gen, plan, np.minimum(a, x), t0)
-            tried.append([x, None if trial is None else trial.motion_time])
-            points.append((x, trial))
-            if trial is None or trial.motion_time >= best.motion_time:
+            t_x = _predicted(gen, plan, np.minimum(a, x))
+            tried.append([x, t_x])
+            points.append((x, t_x))
+            if t_x >= min(t for _, t in points[:-1]):
                 break
-            best, record = trial, "cap_search"
-        refined = _refine(gen, plan, a, points, best, t0, tried)
-        if refined is not best:
-            best, record = refined, "cap_search"
-    if best is first:
-        return first
-    best.timings["total"] = best.timings.get("total", 0.0) + first.timings.get("total", 0.0)
-    info: dict[str, Any] = {
-        "amax": [float(x) for x in best.limits_used.a],
-        "margin": gen.separation_margin() if best is first else _margin(gen, best),
-        "first_motion_time": first.motion_time,
-    }
-    if record == "cap_search":
-        info["tried"] = tried
-    best.solver_stats[str(record)] = info
-    return best
-
-
-def _refine(
-    gen: Any,
-    plan: Plan | GraphPlan,
-    a: np.ndarray,
-    points: list[tuple[float, Trajectory | None]],
-    best: Trajectory,
-    t0: float,
-    tried: list[list[float | None]],
-) -> Trajectory:
-    """Golden-section steps (in ``log cap``, :data:`REFINE_STEPS` of them) between the neighbours of the fastest
-    cap of ``points`` (descending caps and their motions); the fastest motion found."""
-    caps = [x for x, _ in points]
-    times = [np.inf if m is None else m.motion_time for _, m in points]
-    i = int(np.argmin(times))
-    if len(points) < 2 or not np.isfinite(times[i]):
+        tried += _refine(gen, plan, a, points)
+        cands += [(t, "cap_search", np.minimum(a, x)) for x, t in tried]
+    for t_c, kind, cap in sorted(cands, key=lambda c: c[0]):
+        if not t_c < first.motion_time:
+            break
+        best = _capped(gen, plan, cap, t0)
+        if best is None or best.motion_time > first.motion_time:
+            continue
+        best.timings["total"] = best.timings.get("total", 0.0) + first.timings.get("total", 0.0)
+        info: dict[str, Any] = {
+            "amax": [float(x) for x in best.limits_used.a],
+            "margin": _margin(gen, cap),
+            "first_motion_time": first.motion_time,
+        }
+        if kind == "cap_search":
+            info["tried"] = tried
+        best.solver_stats[kind] = info
         return best
+    return first
+
+
+def _refine(gen: Any, plan: Plan | GraphPlan, a: np.ndarray, points: list[tuple[float, float]]) -> list[list[float]]:
+    """Golden-section steps (in ``log cap``, :data:`REFINE_STEPS` of them) between the neighbours of the fastest
+    cap of ``points`` (descending caps and their motion times); the ``[cap, motion time]`` pairs evaluated."""
+    caps = [x for x, _ in points]
+    times = [t for _, t in points]
+    i = int(np.argmin(times))
+    out: list[list[float]] = []
+    if len(points) < 2 or not np.isfinite(times[i]):
+        return out
     hi = np.log(caps[max(i - 1, 0)])
     lo = np.log(caps[min(i + 1, len(caps) - 1)])
     mid, t_mid = np.log(caps[i]), times[i]
@@ -180,21 +219,18 @@ def _refine(
             x = mid - GOLDEN * (mid - lo)
         if not (lo < x < hi) or hi - lo < 1e-6:
             break
-        trial = _capped(gen, plan, np.minimum(a, np.exp(x)), t0)
-        t_x = np.inf if trial is None else trial.motion_time
-        tried.append([float(np.exp(x)), None if trial is None else t_x])
+        t_x = _predicted(gen, plan, np.minimum(a, np.exp(x)))
+        out.append([float(np.exp(x)), t_x])
         if t_x < t_mid:
             lo, hi = (mid, hi) if x > mid else (lo, mid)
             mid, t_mid = x, t_x
-            if trial is not None and t_x < best.motion_time:
-                best = trial
         else:
             lo, hi = (lo, x) if x > mid else (x, hi)
-    return best
+    return out
 
 
-def _margin(gen: Any, traj: Trajectory) -> float:
-    """The between-rows margin (m) the plan of ``traj`` keeps: that of the accelerations it declares."""
+def _margin(gen: Any, cap: np.ndarray) -> float:
+    """The between-rows margin (m) a plan keeps for accelerations capped at ``cap`` (m/s², shape (2,))."""
     trial = copy.copy(gen)
-    trial._cap = (float(traj.limits_used.a[0]), float(traj.limits_used.a[1]))
+    trial._cap = (float(cap[0]), float(cap[1]))
     return float(trial.separation_margin())

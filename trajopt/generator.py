@@ -110,6 +110,8 @@ class TrajectoryGenerator:
     _corridor: CorridorProblem | None = field(default=None, init=False, repr=False)
     #: Per-robot cap (m/s²) on the motion's acceleration, below :attr:`limits` (:mod:`trajopt.caps`).
     _cap: tuple[float, float] | None = field(default=None, init=False, repr=False)
+    #: When true, the motion time is reported (:class:`trajopt.caps.MotionTime`) before the rows are sampled.
+    _probe: bool = field(default=False, init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.limits, Limits):
@@ -526,6 +528,10 @@ class TrajectoryGenerator:
         stats: dict[str, Any],
         timings: dict[str, Any],
     ) -> Trajectory:
+        if self._probe:  # the caps' search compares motion times; the chosen motion is made and verified after
+            from trajopt.caps import MotionTime
+
+            raise MotionTime(scaling.duration, source is Source.OPTIMIZED)
         t0 = time.perf_counter()
         t = time_grid(scaling.duration, self.rate)
         s, v, a, j = scaling.sample(t)
