@@ -12,7 +12,8 @@ stops (about ``vmax/amax`` each), above it the wider margin lengthens the path m
 - the **reached cap** (layouts, blended motions): each robot's largest ``|a|`` of the first motion's rows plus
   ``jmax·Δt/2`` (the most its jerk adds between rows), when that lowers the margin;
 - the **grid**: the caps ``2^(k/2)`` m/s² (a fixed grid, the same for every query and every limit asked for) below
-  the motion limits' ``amax``, in descending order while the motion gets faster, when a robot's ``amax`` is above
+  the motion limits' ``amax``, in descending order until :data:`PATIENCE` caps in a row are not faster, when a
+  robot's ``amax`` is above
   :data:`SEARCH_FROM` ``· vmax · rate`` (below it the margin, ``amax·Δt²/4``, is a small fraction of the distance
   a start covers in a row, and the acceleration's saving dominates), then :data:`REFINE_STEPS` golden-section
   steps (in ``log cap``) between the neighbours of the fastest cap found.
@@ -45,6 +46,7 @@ from trajopt.result import Source, Trajectory
 __all__ = [
     "GRID_RATIO",
     "MAX_GRID_STEPS",
+    "PATIENCE",
     "REFINE_STEPS",
     "SEARCH_FROM",
     "MotionTime",
@@ -58,6 +60,9 @@ GRID_RATIO = float(np.sqrt(2.0))
 SEARCH_FROM = 0.5
 #: At most this many grid caps are evaluated per query (the descent stops earlier at the first slower motion).
 MAX_GRID_STEPS = 12
+#: The descent over the grid stops after this many caps in a row that are not faster (the plan's route may change
+#: with the margin, so the motion time is not unimodal in the cap: one slower cap may hide faster ones below).
+PATIENCE = 2
 #: Golden-section steps between the neighbours of the fastest grid cap.
 REFINE_STEPS = 4
 #: The golden section's inner fraction, ``(3 − √5)/2``.
@@ -173,11 +178,13 @@ def faster_caps(gen: Any, plan: Plan | GraphPlan, first: Trajectory) -> Trajecto
     if np.any(a > SEARCH_FROM * v * gen.rate):
         top = float(np.max(a))
         points = [(top, first.motion_time)]  # descending caps and their motion times
+        worse = 0  # grid caps in a row that were not faster than the fastest before them
         for x in grid_caps_below(top):
             t_x = _predicted(gen, plan, np.minimum(a, x))
             tried.append([x, t_x])
+            worse = worse + 1 if t_x >= min(t for _, t in points) else 0
             points.append((x, t_x))
-            if t_x >= min(t for _, t in points[:-1]):
+            if worse >= PATIENCE:
                 break
         tried += _refine(gen, plan, a, points)
         cands += [(t, "cap_search", np.minimum(a, x)) for x, t in tried]
