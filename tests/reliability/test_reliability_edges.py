@@ -89,9 +89,9 @@ def test_extreme_limits_answer_within_10_s(args: list[str], tmp_path: Path) -> N
 
 
 SPAN = st.floats(min_value=-3.0, max_value=4.0)
-#: Examples of the limit property tests. CI runs 60 derandomized examples (fixed, so a counterexample is never a
+#: Examples of the limit property tests. CI runs 200 derandomized examples (fixed, so a counterexample is never a
 #: flaky failure); ``MPA_PROPERTY_EXAMPLES=2000`` draws that many random ones (a hunt for counterexamples).
-EXAMPLES = int(os.environ.get("MPA_PROPERTY_EXAMPLES", "60"))
+EXAMPLES = int(os.environ.get("MPA_PROPERTY_EXAMPLES", "200"))
 RANDOM = "MPA_PROPERTY_EXAMPLES" in os.environ
 DEFAULT_LIMITS = np.array([0.5, 1.0, 5.0])
 #: A paper query and a layout query (the Y junction: A from b_left to b_right, B from b_right to b_short).
