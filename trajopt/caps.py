@@ -161,6 +161,7 @@ def faster_caps(gen: Any, plan: Plan | GraphPlan, first: Trajectory) -> Trajecto
         gen.footprint is not None
         or gen._cap is not None
         or gen._probe
+        or gen._gate_asked
         or first.source is not Source.OPTIMIZED
         or first.solver_stats.get("path") not in ("blend", "hard", "switch")
     ):

@@ -112,6 +112,8 @@ class TrajectoryGenerator:
     _cap: tuple[float, float] | None = field(default=None, init=False, repr=False)
     #: When true, the motion time is reported (:class:`trajopt.caps.MotionTime`) before the rows are sampled.
     _probe: bool = field(default=False, init=False, repr=False)
+    #: When true, the plan keeps the margin of the gate's bound with :attr:`limits` (:meth:`for_asked_gate`).
+    _gate_asked: bool = field(default=False, init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.limits, Limits):
@@ -193,7 +195,21 @@ class TrajectoryGenerator:
         """The between-rows margin (m) the plan keeps beyond the clearance: :func:`separation_margin` of the motion's
         limits (:attr:`motion_limits`) at :attr:`rate`, for the gate's bound with those limits (the trajectory
         declares them, :attr:`Trajectory.limits_used <trajopt.result.Trajectory.limits_used>`)."""
-        return separation_margin(self.motion_limits, self.rate)
+        return separation_margin(self.motion_limits, self.rate, self.limits if self._gate_asked else None)
+
+    def for_asked_gate(self) -> TrajectoryGenerator:
+        """This generator with motions that also pass the gate with the limits asked for.
+
+        Its plans keep the margin of the gate's between-rows bound with :attr:`limits`
+        (``separation_margin(motion_limits, rate, gate=limits)``: ``min(amax, a + jmax·Δt/2)`` per robot, more than
+        the ``a`` the motion is timed with) and no lower acceleration cap is searched. The re-planners use it:
+        a spliced motion brakes with the limits asked for, so the gate checks it with them.
+        """
+        gen = copy.copy(self)
+        gen._gate_asked = True
+        if isinstance(self.planner, GraphPlanner):
+            gen.planner = replace(self.planner, margin=gen.separation_margin())
+        return gen
 
     @property
     def is_graph(self) -> bool:
@@ -308,6 +324,7 @@ class TrajectoryGenerator:
         gen.rate = check_rate(rate)
         gen._corridor = self._corridor
         gen._cap = None  # what a motion reaches between rows depends on the rate
+        gen._gate_asked = self._gate_asked
         if isinstance(self.planner, GraphPlanner):  # the plan's margin depends on the rate
             pl = self.planner
             gen.planner = GraphPlanner(

@@ -218,6 +218,23 @@ def test_the_tighter_motion_is_an_answer_to_the_looser_limits_with_its_declared_
     assert not over.ok and any(f.startswith("declared amax of robot A") for f in over.failures), over.failures
 
 
+@pytest.mark.parametrize("at", [0.1, 0.5, 0.7])
+def test_a_replan_of_a_motion_timed_below_the_asked_limits_passes_the_gate(at: float) -> None:
+    """The re-planned motion brakes with the limits asked for, so the spliced rows are checked with them: its new
+    motion keeps the margin of that bound (``for_asked_gate``). Timed with a lower cap and its margin, 5 of these
+    9 replans on the Y (amax 200, jmax 5e4) failed the gate between rows (PlanningError)."""
+    from trajopt.generator import TrajectoryGenerator
+    from trajopt.timing import Limits
+
+    track, q = LIMIT_QUERIES["y"]
+    gen = TrajectoryGenerator(track, limits=Limits(*PAST_THE_OPTIMUM["fast"][1]))
+    t = gen.generate(*q)
+    assert "cap_search" in t.solver_stats, t.solver_stats
+    for goal in [q[0], ((0, 0.8), (2, 2.9)), q[1]]:
+        r = gen.replan(t, at * t.makespan, goal)
+        assert r.verification["ok"] and r.limits_used == gen.limits, (at, goal, r.verification["failures"])
+
+
 def test_the_gate_checks_the_rows_against_the_declared_limits() -> None:
     """Rows above a declared limit fail the gate even when they are within the limits asked for."""
     from trajopt.planview import plan_view
