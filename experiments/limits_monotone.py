@@ -79,6 +79,8 @@ def main() -> None:
         if spans[1] > spans[0] + 1e-9:
             bad[key] = bad.get(key, 0) + 1
             print(f"{i}: COUNTEREXAMPLE {case} {base.tolist()} -> {looser.tolist()}: {spans}", flush=True)
+        if (i + 1) % 100 == 0:
+            print(f"after {i + 1} draws: {sum(bad.values())} counterexamples", flush=True)
     print(f"draws {args.draws}, seed {args.seed}, rate errors {errors}, counterexamples {sum(bad.values())}")
     for key in sorted(drawn):
         print(f"  {key}: {bad.get(key, 0)} of {drawn[key]}")
