@@ -4,7 +4,8 @@ Draws seeded limits ``(v, a, j)``, each ``10^u`` times its default with ``u`` un
 (:data:`mpa.defaults.LIMIT_RANGE`), plus the eight corners of the range, and runs ``mpa trajectory`` in process
 (``trajopt.cli.main.main``, files written to a temporary directory, after one warm-up run at the defaults that
 loads the compiled kernels) on the lollipop query
-``--start 0.2 0.5 --goal 0.5 0.2``. Prints each run's exit status, makespan, rows and wall time, then the median,
+``--start 0.2 0.5 --goal 0.5 0.2`` or (``--query y``) the Y junction's ``b_left:1.5 b_right:2 → b_right:2.5
+b_short:1``. Prints each run's exit status, makespan, rows and wall time, then the median,
 95th percentile and maximum wall and CPU time (the CPU time is the measure on a shared machine) and how many
 took over 10 s.
 
@@ -28,12 +29,27 @@ from mpa import defaults
 from trajopt.cli.main import main
 
 QUERY = ["--track", "lollipop", "--start", "0.2", "0.5", "--goal", "0.5", "0.2"]
+#: The queries by name: the lollipop's above, and on the Y junction A from b_left to b_right, B from b_right to
+#: b_short (the query of the limit property tests).
+QUERIES = {
+    "lollipop": QUERY,
+    "y": [
+        "--graph",
+        str(Path(__file__).resolve().parents[1] / "examples" / "tracks" / "y_junction.json"),
+        "--start",
+        "b_left:1.5",
+        "b_right:2",
+        "--goal",
+        "b_right:2.5",
+        "b_short:1",
+    ],
+}
 DEFAULTS = np.array([defaults.VMAX, defaults.AMAX, defaults.JMAX])
 
 
-def run_one(limits: np.ndarray, out: Path) -> dict[str, object]:
+def run_one(limits: np.ndarray, out: Path, query: list[str] = QUERY) -> dict[str, object]:
     """One ``mpa trajectory`` with these limits: exit status, wall time (s), makespan and rows (if a motion)."""
-    argv = ["trajectory", *QUERY, "--vmax", repr(float(limits[0])), "--amax", repr(float(limits[1]))]
+    argv = ["trajectory", *query, "--vmax", repr(float(limits[0])), "--amax", repr(float(limits[1]))]
     argv += ["--jmax", repr(float(limits[2])), "--out", str(out)]
     err = io.StringIO()
     t0, c0 = time.perf_counter(), time.process_time()
@@ -53,15 +69,17 @@ def main_(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--queries", type=int, default=40, help="random limit triples (plus the 8 corners)")
     ap.add_argument("--seed", type=int, default=28)
+    ap.add_argument("--query", choices=sorted(QUERIES), default="lollipop")
     args = ap.parse_args(argv)
+    query = QUERIES[args.query]
     rng = np.random.default_rng(args.seed)
     triples = [DEFAULTS * 10.0 ** np.array(c) for c in itertools.product((-3.0, 4.0), repeat=3)]
     triples += [DEFAULTS * 10.0 ** rng.uniform(-3.0, 4.0, 3) for _ in range(args.queries)]
     records = []
     with tempfile.TemporaryDirectory() as tmp:
-        run_one(DEFAULTS, Path(tmp) / "warm-up")  # imports, compiled kernels loaded (or compiled, first time)
+        run_one(DEFAULTS, Path(tmp) / "warm-up", query)  # imports, compiled kernels loaded (or compiled, first time)
         for i, lim in enumerate(triples):
-            rec = run_one(lim, Path(tmp) / f"o{i}")
+            rec = run_one(lim, Path(tmp) / f"o{i}", query)
             records.append(rec)
             what = f"makespan {rec['makespan']:.6g} s, {rec['rows']} rows" if rec["code"] == 0 else rec["message"]
             head = f"{i:3d} v {lim[0]:.3g} a {lim[1]:.3g} j {lim[2]:.3g}: exit {rec['code']}"

@@ -83,6 +83,7 @@ def _as_caller(traj: Trajectory, gen: TrajectoryGenerator) -> Trajectory:
         limits=gen.limits,
         clearance=gen.clearance,
         rate=traj.rate,
+        limits_used=traj.limits_used,
     )
     if not rep.ok:  # pragma: no cover - implied by the gate at D' and lower limits
         raise MPAError(f"a delay-tolerance candidate fails the gate at D = {gen.clearance:g}: {rep.failures}")

@@ -108,8 +108,12 @@ class TrajectoryGenerator:
     footprint: Any = None
     planner: Planner | GraphPlanner = field(init=False, repr=False)
     _corridor: CorridorProblem | None = field(default=None, init=False, repr=False)
-    #: Per-robot cap (m/s²) on the motion's acceleration: what a first motion reached (:meth:`_reached_pass`).
-    _reached: tuple[float, float] | None = field(default=None, init=False, repr=False)
+    #: Per-robot cap (m/s²) on the motion's acceleration, below :attr:`limits` (:mod:`trajopt.caps`).
+    _cap: tuple[float, float] | None = field(default=None, init=False, repr=False)
+    #: When true, the motion time is reported (:class:`trajopt.caps.MotionTime`) before the rows are sampled.
+    _probe: bool = field(default=False, init=False, repr=False)
+    #: When true, the plan keeps the margin of the gate's bound with :attr:`limits` (:meth:`for_asked_gate`).
+    _gate_asked: bool = field(default=False, init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.limits, Limits):
@@ -148,21 +152,22 @@ class TrajectoryGenerator:
         - speeds above ``v_L``, the peak speed of a time-optimal jerk-limited rest-to-rest profile over ``L`` with
           that acceleration, are lowered to ``v_L``;
         - jerks above ``CAP·amax·rate`` (the lowered ``amax``) are lowered to that;
-        - in the second pass of a layout query (:meth:`_reached_pass`), accelerations are also lowered to what the
-          first motion reached.
+        - in the motions :mod:`trajopt.caps` tries, accelerations are also lowered to a cap (what the first motion
+          reached, or a value of a fixed grid).
 
         A time-optimal jerk-limited rest-to-rest profile over a travel ``L`` never accelerates beyond ``a_L``
         (with jerk alone it covers ``L = 2·jmax·T³`` in ``4T`` and peaks at ``jmax·T``) nor beyond
         ``sqrt(vmax·jmax)`` (the speed limit is reached before), and never runs faster than ``v_L``; so those
         caps cost nothing. They keep the timing filters away from plateaus of ``amax/jmax`` seconds (amax 1e4 with
         jmax 5 gave a 4 097 s motion) and keep the between-rows margin (:func:`separation_margin`, about
-        ``amax·Δt²/8``) at what the motion can use, so a loosened ``amax`` does not make the straight motion fail
+        ``amax·Δt²/4``) at what the motion can use, so a loosened ``amax`` does not make the straight motion fail
         its margin and take a slower detour.
 
         A higher acceleration than ``CAP·vmax·rate`` reaches the speed limit in less than a tenth of a row, so it
         cannot shorten the motion by more than a row per start or stop; it would only widen the margin. The
-        motion keeps the lower values, so it also keeps :attr:`limits`, which the gate checks; the makespan does
-        not grow when a limit is loosened past them.
+        trajectory declares these limits (:attr:`Trajectory.limits_used <trajopt.result.Trajectory.limits_used>`,
+        each at most the one asked for); the gate checks the rows and bounds the motion between rows with them,
+        and checks them against :attr:`limits`.
 
         Returns
         -------
@@ -175,8 +180,8 @@ class TrajectoryGenerator:
         with np.errstate(over="ignore"):  # a huge rate: no cap (inf), the memory budget refuses it later
             a_eff = np.minimum(np.minimum(a, LIMIT_CAP * v * self.rate), np.sqrt(v * j))
             a_eff = np.minimum(a_eff, np.cbrt(j * j * length / 2.0))
-            if self._reached is not None:
-                a_eff = np.minimum(a_eff, self._reached)
+            if self._cap is not None:
+                a_eff = np.minimum(a_eff, self._cap)
             v_eff = np.minimum(v, reachable_speed(length, a_eff, j))
             j_eff = np.minimum(j, LIMIT_CAP * a_eff * self.rate)
         if np.array_equal(v_eff, v) and np.array_equal(a_eff, a) and np.array_equal(j_eff, j):
@@ -188,8 +193,23 @@ class TrajectoryGenerator:
 
     def separation_margin(self) -> float:
         """The between-rows margin (m) the plan keeps beyond the clearance: :func:`separation_margin` of the motion's
-        limits (:attr:`motion_limits`) at :attr:`rate`, for the gate's bound with the limits asked for."""
-        return separation_margin(self.motion_limits, self.rate, self.limits)
+        limits (:attr:`motion_limits`) at :attr:`rate`, for the gate's bound with those limits (the trajectory
+        declares them, :attr:`Trajectory.limits_used <trajopt.result.Trajectory.limits_used>`)."""
+        return separation_margin(self.motion_limits, self.rate, self.limits if self._gate_asked else None)
+
+    def for_asked_gate(self) -> TrajectoryGenerator:
+        """This generator with motions that also pass the gate with the limits asked for.
+
+        Its plans keep the margin of the gate's between-rows bound with :attr:`limits`
+        (``separation_margin(motion_limits, rate, gate=limits)``: ``min(amax, a + jmax·Δt/2)`` per robot, more than
+        the ``a`` the motion is timed with) and no lower acceleration cap is searched. The re-planners use it:
+        a spliced motion brakes with the limits asked for, so the gate checks it with them.
+        """
+        gen = copy.copy(self)
+        gen._gate_asked = True
+        if isinstance(self.planner, GraphPlanner):
+            gen.planner = replace(self.planner, margin=gen.separation_margin())
+        return gen
 
     @property
     def is_graph(self) -> bool:
@@ -280,72 +300,14 @@ class TrajectoryGenerator:
             if why:
                 raise InvalidInputError(why) from None
             raise PlanningError(str(exc)) from exc
-        return self._reached_pass(plan, first)
+        return self._faster_caps(plan, first)
 
-    def _reached_pass(self, plan: Plan | GraphPlan, first: Trajectory) -> Trajectory:
-        """The layout's plan again with the between-rows margin of the accelerations ``first`` reached; the faster
-        of the two verified motions.
+    def _faster_caps(self, plan: Plan | GraphPlan, first: Trajectory) -> Trajectory:
+        """The fastest verified motion of ``plan`` over the acceleration caps :func:`trajopt.caps.faster_caps`
+        tries below :attr:`motion_limits` (``first`` is the motion timed with :attr:`motion_limits`)."""
+        from trajopt.caps import faster_caps
 
-        The graph plan keeps :meth:`separation_margin` beyond the clearance, which grows with the ``amax`` the
-        motion is timed with (about ``amax·Δt²/4`` per robot). A blended motion whose pieces are short does not
-        reach that ``amax``; a wider margin then only lengthens the path, so loosening ``amax`` could slow the
-        motion down. Here each robot's acceleration is capped at what ``first`` reached: the largest ``|a|`` of
-        its rows plus ``jmax·Δt/2`` (the most the motion's jerk adds between rows, as the gate bounds it), no
-        more than :attr:`motion_limits`. If that lowers the margin, the query is planned for the lower margin,
-        timed with the capped accelerations (so the margin covers the gate's bound by construction) and verified
-        by the gate; that motion is returned if it passed optimised and is not slower than ``first``.
-
-        Only blended layout motions without footprints take this pass (a straight motion is already the fastest
-        of its routes; the plane's margin of bodies is that of :attr:`limits`, so it would not change).
-
-        Parameters
-        ----------
-        plan : Plan or GraphPlan
-            The plan ``first`` was made from (by this generator's planner).
-        first : Trajectory
-            The verified motion of ``plan``.
-
-        Returns
-        -------
-        Trajectory
-            ``first``, or the second motion (``solver_stats["reached_pass"]``: the capped accelerations in m/s²,
-            the margin in m and ``first``'s motion time in s).
-        """
-        if (
-            not isinstance(plan, GraphPlan)
-            or not isinstance(self.planner, GraphPlanner)
-            or self.footprint is not None
-            or self._reached is not None
-            or first.source is not Source.OPTIMIZED
-            or first.solver_stats.get("path") != "blend"
-        ):
-            return first
-        t0 = time.perf_counter()
-        limits = self.motion_limits
-        a = np.asarray(limits.a, dtype=float)
-        reached = np.minimum(a, np.max(np.abs(first.a), axis=0) + np.asarray(limits.j, dtype=float) / (2.0 * self.rate))
-        if not np.any(reached < a):
-            return first
-        gen = copy.copy(self)
-        gen._reached = (float(reached[0]), float(reached[1]))
-        margin = gen.separation_margin()
-        if not margin < self.separation_margin():
-            return first
-        gen.planner = replace(self.planner, margin=margin)
-        try:
-            second_plan = gen.planner.plan(plan.start, plan.goal)
-            second = gen._generate(second_plan, {"plan": time.perf_counter() - t0})
-        except MPAError:  # no motion or none verified for the lower margin: the first motion stands
-            return first
-        if second.source is not Source.OPTIMIZED or second.motion_time > first.motion_time:
-            return first
-        second.timings["total"] += first.timings.get("total", 0.0)
-        second.solver_stats["reached_pass"] = {
-            "amax": list(gen._reached),
-            "margin": margin,
-            "first_motion_time": first.motion_time,
-        }
-        return second
+        return faster_caps(self, plan, first)
 
     def at_rate(self, rate: float) -> TrajectoryGenerator:
         """The same generator at another setpoint rate (Hz; the planner is shared)."""
@@ -361,7 +323,8 @@ class TrajectoryGenerator:
         gen.footprint = self.footprint
         gen.rate = check_rate(rate)
         gen._corridor = self._corridor
-        gen._reached = None  # what a motion reaches between rows depends on the rate
+        gen._cap = None  # what a motion reaches between rows depends on the rate
+        gen._gate_asked = self._gate_asked
         if isinstance(self.planner, GraphPlanner):  # the plan's margin depends on the rate
             pl = self.planner
             gen.planner = GraphPlanner(
@@ -582,6 +545,10 @@ class TrajectoryGenerator:
         stats: dict[str, Any],
         timings: dict[str, Any],
     ) -> Trajectory:
+        if self._probe:  # the caps' search compares motion times; the chosen motion is made and verified after
+            from trajopt.caps import MotionTime
+
+            raise MotionTime(scaling.duration, source is Source.OPTIMIZED)
         t0 = time.perf_counter()
         t = time_grid(scaling.duration, self.rate)
         s, v, a, j = scaling.sample(t)
@@ -589,11 +556,13 @@ class TrajectoryGenerator:
         tr = view.track_coordinates(s)
         timings["sample"] = time.perf_counter() - t0
         t1 = time.perf_counter()
+        used = self.motion_limits  # the limits the motion is timed with, declared with the rows
         rep: VerificationReport = view.verify(
             Setpoints(t, s, v, a, j, track=None if view.is_graph else tr),  # the rows' coordinates, as exported
             limits=self.limits,
             clearance=self.clearance,
             rate=self.rate,
+            limits_used=used,
         )
         timings["verify" if source is Source.OPTIMIZED else "fallback_verify"] = time.perf_counter() - t1
         if not rep.ok:
@@ -626,6 +595,7 @@ class TrajectoryGenerator:
             retimer=self._retimer(plan),
             footprint=self.footprint,
             plane=plane,
+            limits_used=used,
         )
 
     def _retimer(self, plan: Plan | GraphPlan) -> Any:

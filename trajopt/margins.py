@@ -178,7 +178,7 @@ class _Motion:
         t = np.arange(max(n, 2)) / self.rate
         s, a = self.states(t, delay)
         d = self.dist(s)
-        lb = between_rows_separation(self.track, self.routes, s, a, 1.0 / self.rate, self.traj.limits)
+        lb = between_rows_separation(self.track, self.routes, s, a, 1.0 / self.rate, self.traj.limits_used)
         return t, d, lb
 
     def _near_rows(self, delay: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -211,7 +211,7 @@ class _Motion:
         t = k / self.rate
         s, a = self.states(t, delay)
         d = self.dist(s)
-        lb = between_rows_separation(self.track, self.routes, s, a, dt, self.traj.limits)
+        lb = between_rows_separation(self.track, self.routes, s, a, dt, self.traj.limits_used)
         lb = np.append(lb, np.inf).reshape(-1, 9)
         lb[:, 8] = np.inf  # no step across the gap to the next block
         return t, d, lb.ravel()[:-1]
@@ -245,7 +245,7 @@ class _Motion:
             if dd[m] < best:
                 best, t_best = float(dd[m]), float(tt[m])
             w /= 8.0
-            sub = between_rows_separation(self.track, self.routes, s, a, w, self.traj.limits)
+            sub = between_rows_separation(self.track, self.routes, s, a, w, self.traj.limits_used)
             sub = np.append(sub, np.inf).reshape(tt.shape)[:, :8]  # drop the pairs across candidates
             keep = sub < best - MIN_PRECISION
             lo, bound = tt[:, :8][keep], sub[keep]
@@ -345,7 +345,7 @@ class _Motion:
         k = (starts[:, None] + np.arange(9)[None, :]).ravel()
         t = k / self.rate
         s, a = self.states(t, delay)
-        lb = between_rows_separation(self.track, self.routes, s, a, dt, self.traj.limits)
+        lb = between_rows_separation(self.track, self.routes, s, a, dt, self.traj.limits_used)
         lb = np.append(lb, np.inf).reshape(-1, 9)[:, :8].ravel()
         tk = (starts[:, None] + np.arange(8)[None, :]).ravel() / self.rate
         speed = self._peak_speed(robot, tk - delta - h, tk + dt - delta)

@@ -176,8 +176,12 @@ class PlanView:
         clearance: float,
         rate: float,
         track_pos: ArrayLike | None = None,
+        limits_used: Limits | None = None,
     ) -> VerificationReport:
         """The independent gate on rows of this plan's motion (see :mod:`trajopt.verify`).
+
+        ``limits``: the limits asked for; ``limits_used``: the limits the motion declares it was timed with (the
+        rows and the bound between rows are checked with them, and each against ``limits``; default ``limits``).
 
         ``rows``: a :class:`~trajopt.rows.Setpoints` (``t, s, v, a, j``), or positionally the arrays
         ``t, s, v, a, j``. Paper plans: the rows' track coordinates are ``rows.track`` (or ``track_pos``, shape
@@ -201,6 +205,7 @@ class PlanView:
                 goal=plan.goal,
                 word=plan.word,
                 rate=rate,
+                limits_used=limits_used,
             )
         edges, offs = self.positions(rows.s, rows.v)
         return verify_graph_setpoints(
@@ -212,6 +217,7 @@ class PlanView:
             start=self.plan.layout_start,
             goal=self.plan.layout_goal,
             rate=rate,
+            limits_used=limits_used,
             oneway=self.graph.oneway if self.graph.has_rules else None,
             speed_limits=self.graph.speed_limits if self.graph.has_rules else None,
         )

@@ -160,7 +160,7 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
     # 1. brake on the current routes
     brake, brake_pos, p_rest = _brake_on_current_routes(generator, old.routes, s0, v0, a0, at, p_cur)
     # 2. the new motion from rest
-    new = generator.generate(p_rest, goal)
+    new = generator.for_asked_gate().generate(p_rest, goal)  # the splice is checked with the limits asked for
     plan = new.plan
     assert isinstance(plan, Plan)  # the generator's track is the trajectory's paper track
     # 3. one route per cart through the brake and the new motion

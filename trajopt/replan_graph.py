@@ -102,7 +102,7 @@ def replan_graph(generator: TrajectoryGenerator, trajectory: Trajectory, at_time
     p_cur = tuple(_position(routes_old[r], float(s0[r])) for r in (0, 1))
     p_rest = tuple(_position(routes_old[r], float(brake.stop[r])) for r in (0, 1))
     # 2. the new motion from rest
-    new = generator.generate(p_rest, goal)
+    new = generator.for_asked_gate().generate(p_rest, goal)  # the splice is checked with the limits asked for
     plan = new.plan
     assert isinstance(plan, GraphPlan)  # the generator's track is the trajectory's layout
     # 3. one route per cart through the brake and the new motion

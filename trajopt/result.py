@@ -94,6 +94,7 @@ class Trajectory:
     v, a, j : ndarray, shape (N, 2)
         First, second and third time derivatives of ``s`` (m/s, m/s², m/s³).
     limits : Limits
+        The limits asked for (m/s, m/s², m/s³ per robot).
     clearance : float
         Required separation D (m).
     rate : float
@@ -132,6 +133,11 @@ class Trajectory:
         The robots' bodies in the plane (:mod:`mpa.footprint`), when the motion was made with them.
     plane : dict or None
         The gate's check in the plane (:meth:`trajopt.planar_gate.PlaneReport.to_dict`), with a footprint.
+    limits_used : Limits
+        The limits the motion was timed with, per robot, each at most the one in :attr:`limits` (the generator
+        chooses them, :attr:`trajopt.generator.TrajectoryGenerator.motion_limits`; default :attr:`limits`). The
+        rows keep them, and the gate bounds the motion between rows with them: a controller that executes the
+        setpoints within these limits stays inside the verified envelope.
     """
 
     t: FloatArray
@@ -160,6 +166,11 @@ class Trajectory:
     retimer: Callable[[float], Trajectory] | None = field(default=None, repr=False, compare=False)
     footprint: Any = None
     plane: dict[str, Any] | None = None
+    limits_used: Limits = None  # type: ignore[assignment]  # default: limits (set in __post_init__)
+
+    def __post_init__(self) -> None:
+        if self.limits_used is None:
+            object.__setattr__(self, "limits_used", self.limits)
 
     @property
     def fallback(self) -> bool:
@@ -190,7 +201,13 @@ class Trajectory:
         s, v, a, j = self.sampler(t)
         view = plan_view(self.plan)
         tr = view.track_coordinates(s)
-        rep = view.verify(Setpoints(t, s, v, a, j, track=tr), limits=self.limits, clearance=self.clearance, rate=r)
+        rep = view.verify(
+            Setpoints(t, s, v, a, j, track=tr),
+            limits=self.limits,
+            clearance=self.clearance,
+            rate=r,
+            limits_used=self.limits_used,
+        )
         plane = self.plane
         if rep.ok and self.footprint is not None:
             from trajopt.planar_gate import verify_plane

@@ -6,7 +6,9 @@ robots' routes and the limits; it does not use any of the generator's geometry. 
 - the grid: finite values, ``t`` starts at 0 with constant step ``1/rate``;
 - consistency: ``track == route.position(s)`` for both robots (graph distance ≤ :data:`POSITION_TOL`);
 - endpoints: first row at the start and last row at the goal, both at rest (``v = a = 0``);
-- limits: ``|v|, |a|, |j| ≤ limit·(1 + LIMIT_RTOL)`` per robot at every row;
+- limits: ``|v|, |a|, |j| ≤ limit·(1 + LIMIT_RTOL)`` per robot at every row, ``limit`` the limits the motion
+  declares it was timed with (``limits_used``, each at most the limit asked for, which is checked too; default the
+  limits asked for);
 - separation at every row: ``d ≥ D − ε``, ``ε`` the tolerance of the layout's scale
   (:func:`mpa.tolerance.separation_tol`: 1e-9 m up to 125 m of track, ``8e-12·L`` beyond, shared with the planner);
 - separation between rows: the chord between two rows (both robots linear in ``s``) is cut where a robot passes a
@@ -14,8 +16,9 @@ robots' routes and the limits; it does not use any of the generator's geometry. 
   affine terms (and ``|s − t|`` on one edge), and its minimum is at an end unless the robots meet there
   (:meth:`mpa.geometry.GraphGeometry.segment_min`, exact; pieces where ``d_k + d_{k+1} > |Δs_A| + |Δs_B|``
   exclude meeting at once). The real motion deviates from the chord by at most ``a_int·Δt²/8`` per robot,
-  ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)``; the distance is 1-Lipschitz in each robot's
-  coordinate, so ``min_chord − Σ dev ≥ D − ε`` is required;
+  ``a_int = min(amax, max(|a_k|, |a_k+1|) + jmax·Δt/2)`` with the declared ``amax`` and ``jmax`` (a controller that
+  executes the rows within the declared limits stays inside this envelope); the distance is 1-Lipschitz in each
+  robot's coordinate, so ``min_chord − Σ dev ≥ D − ε`` is required;
 - homotopy class: the reduced skeleton word of the motion (:func:`skeleton_word`, the compiled twin of
   :func:`mpa.homotopy.path_word`; rows refined along the chords) equals the plan's.
 
@@ -62,6 +65,7 @@ __all__ = [
     "VerificationReport",
     "between_rows_separation",
     "class_failures_only",
+    "declared_limit_failures",
     "lane_rule_failures",
     "separation_margin",
     "skeleton_word",
@@ -200,6 +204,7 @@ def verify_setpoints(
     goal: ArrayLike,
     word: Sequence[str],
     rate: float,
+    limits_used: Limits | None = None,
 ) -> VerificationReport:
     """Check a setpoint grid on one of the paper's tracks (see the module docstring for the list of checks).
 
@@ -216,6 +221,7 @@ def verify_setpoints(
         coordinates (m) and their derivatives (m/s, m/s², m/s³). Or positionally the arrays
         ``t, track, s, v, a, j``.
     limits : Limits
+        The limits asked for (m/s, m/s², m/s³ per robot).
     clearance : float
         Required separation D (metres).
     start, goal : array_like, shape (2,)
@@ -224,6 +230,10 @@ def verify_setpoints(
         The plan's reduced skeleton word.
     rate : float
         Row rate (Hz).
+    limits_used : Limits, optional
+        The limits the motion declares it was timed with (:attr:`trajopt.result.Trajectory.limits_used`): the rows
+        are checked against them and the motion between rows is bounded with them; each must be at most the one
+        in ``limits``. Default ``limits``.
 
     Returns
     -------
@@ -246,6 +256,7 @@ def verify_setpoints(
         start=_graph_query_point(track, start),
         goal=_graph_query_point(track, goal),
         rate=rate,
+        limits_used=limits_used,
     )
     if not np.isfinite(rep.min_separation):
         return rep
@@ -361,6 +372,7 @@ def verify_graph_setpoints(
     rate: float,
     oneway: Sequence[bool] | None = None,
     speed_limits: Sequence[float | None] | None = None,
+    limits_used: Limits | None = None,
 ) -> VerificationReport:
     """Check a setpoint grid on any track graph (see the module docstring; no skeleton word on a graph).
 
@@ -375,6 +387,7 @@ def verify_graph_setpoints(
         edge's tail (m); ``s, v, a, j`` (N, 2): route coordinates (m) and their derivatives (m/s, m/s², m/s³). Or
         positionally the arrays ``t, edges, offsets, s, v, a, j``.
     limits : Limits
+        The limits asked for (m/s, m/s², m/s³ per robot).
     clearance : float
         Required separation D (metres).
     start, goal : pair of (int, float)
@@ -388,6 +401,9 @@ def verify_graph_setpoints(
     speed_limits : sequence of (float or None), optional
         Per edge: the speed limit (m/s). On every row ``|v|`` of a robot on (or at a vertex of) the edge its route
         piece runs on is at most the limit times ``1 + LIMIT_RTOL``.
+    limits_used : Limits, optional
+        The limits the motion declares it was timed with: the rows are checked against them and the motion
+        between rows is bounded with them; each must be at most the one in ``limits``. Default ``limits``.
 
     Returns
     -------
@@ -395,13 +411,41 @@ def verify_graph_setpoints(
         Never raises for a failed check; ``ok`` is False and ``failures`` lists them; ``word`` is empty.
     """
     rows = rows_of(rows, arrays, ("t", "edges", "offsets", "s", "v", "a", "j"))
-    rep = _verify_graph_rows(geometry, routes, rows, limits, clearance, start, goal, rate)
-    if oneway is None and speed_limits is None:
+    used = limits if limits_used is None else limits_used
+    rep = _verify_graph_rows(geometry, routes, rows, used, clearance, start, goal, rate)
+    fails = declared_limit_failures(limits, used)
+    if oneway is not None or speed_limits is not None:
+        fails += lane_rule_failures(routes, rows.s, rows.v, oneway, speed_limits)
+    if not fails:
         return rep
-    rule_fails = lane_rule_failures(routes, rows.s, rows.v, oneway, speed_limits)
-    if not rule_fails:
-        return rep
-    return dataclasses.replace(rep, ok=False, failures=(*rep.failures, *rule_fails))
+    return dataclasses.replace(rep, ok=False, failures=(*rep.failures, *fails))
+
+
+def declared_limit_failures(asked: Limits, used: Limits) -> list[str]:
+    """The failures where a declared limit (``used``, the limits a motion was timed with) exceeds the one asked
+    for (``asked``) by more than ``LIMIT_RTOL``, or is not a positive number.
+
+    Parameters
+    ----------
+    asked, used : Limits
+        Per-robot ``vmax`` (m/s), ``amax`` (m/s²), ``jmax`` (m/s³).
+
+    Returns
+    -------
+    list of str
+        One message per limit and robot; empty when every declared limit is within the one asked for.
+    """
+    if used is asked:
+        return []
+    fails = []
+    for name, unit in (("vmax", "m/s"), ("amax", "m/s^2"), ("jmax", "m/s^3")):
+        for r, (x, cap) in enumerate(zip(getattr(used, name), getattr(asked, name))):
+            if not (0.0 < float(x) <= float(cap) * (1 + LIMIT_RTOL)):
+                fails.append(
+                    f"declared {name} of robot {'AB'[r]} is {float(x):.9g} {unit}, expected a positive number at "
+                    f"most the {float(cap):g} {unit} asked for"
+                )
+    return fails
 
 
 def lane_rule_failures(
@@ -610,9 +654,9 @@ def separation_margin(limits: Limits, rate: float, gate: Limits | None = None) -
     rate : float
         Setpoint rate (Hz).
     gate : Limits, optional
-        The limits the gate checks, when higher than ``limits``
-        (:attr:`trajopt.generator.TrajectoryGenerator.motion_limits` below
-        :attr:`~trajopt.generator.TrajectoryGenerator.limits`); default ``limits``: the margin is
+        The limits the gate bounds the motion between rows with, when higher than ``limits``; default
+        ``limits`` (what the generator passes: the trajectory declares the limits it is timed with,
+        :attr:`trajopt.result.Trajectory.limits_used`, and the gate uses them): the margin is
         ``2·Σ amax·Δt²/8 + 1e-9``.
 
     Returns

@@ -83,6 +83,7 @@ def summary(traj: Trajectory, *, margins: bool = False) -> dict[str, Any]:
         "goal": goal,
         "clearance": traj.clearance,
         "limits": traj.limits.to_dict(),
+        "limits_used": traj.limits_used.to_dict(),
         "rate": traj.rate,
         "rows": len(traj.t),
         "columns": list(traj.columns),
