@@ -1,6 +1,6 @@
-"""The planar search over the pieces' shared points: A* with the robots' own distances as the bound, then scipy's
-Dijkstra over the moves as one sparse graph (:class:`_Moves`) in growing regions bounded by those distances and
-a few landmarks."""
+"""The planar search over the pieces' shared points: scipy's Dijkstra over the moves as one sparse graph
+(:class:`_Moves`) in growing regions bounded by the robots' own distances and a few landmarks (and, with
+:data:`ASTAR_BUDGET` > 0, A* with the robots' own distances as the bound before it)."""
 
 from __future__ import annotations
 
@@ -253,8 +253,11 @@ class _Moves:
         )
 
 
-#: Nodes A* expands before the search goes over to the sparse graph of moves (:func:`_dijkstra`).
-ASTAR_BUDGET = 100
+#: Nodes A* expands before the search goes over to the sparse graph of moves (:func:`_dijkstra`); 0: no A*. The
+#: queries A* finished within 100 nodes are the ones the independent motion now answers before any search
+#: (:func:`mpa.planar.shortcut.independent_motion`); on the others it rarely finishes and its nodes cost more than
+#: the first region's Dijkstra (docs/performance.md, "Footprints in the plane, third pass").
+ASTAR_BUDGET = 0
 
 
 def _search(
@@ -269,9 +272,10 @@ def _search(
 
     Every move keeps the one-way rule and costs its time at the cell's speeds (the edges' speed limits), or its
     length; a move that would keep a rectangle still on a corner while the other body passes its turning disc
-    goes by a point inside the piece (:meth:`PlanarFreeSpace.detour`). A* with the robots' own distances to the
-    goal as the bound; when it expands more than a few per cent of the nodes (a motion that must go round), the
-    same graph is searched by scipy's Dijkstra (:class:`_Moves`, compiled), which finds a path of the same cost.
+    goes by a point inside the piece (:meth:`PlanarFreeSpace.detour`). With :data:`ASTAR_BUDGET` > 0, A* with the
+    robots' own distances to the goal as the bound first; then (or when A* expands more than its budget) the same
+    graph is searched by scipy's Dijkstra (:class:`_Moves`, compiled) in growing regions, which finds a path of the
+    least cost over the whole graph.
     None when no path through the shared points keeps the one-way rule (:func:`_search_sets` decides).
     """
     tr = space.track
@@ -298,7 +302,9 @@ def _search(
 
     s_pl = space.placements(*start)
     g_pl = space.placements(*goal)
-    found = _astar(space, s_pl, g_pl, goal, objective, va, vb, spa, spb, move, budget=ASTAR_BUDGET)
+    found = None
+    if ASTAR_BUDGET > 0:
+        found = _astar(space, s_pl, g_pl, goal, objective, va, vb, spa, spb, move, budget=ASTAR_BUDGET)
     if found is None:
         (ea, sa), (eb, sb) = start
         (fa, ta), (fb, tb) = goal
