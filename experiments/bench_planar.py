@@ -1,13 +1,15 @@
 """Speed of the planar free space (footprints in the plane): build time per layout, plan median and tail.
 
-``python experiments/bench_planar.py [--queries N] [--seed S] [--repeat R]``: per layout and footprint the build
-time of :class:`mpa.planar.PlanarFreeSpace` (a fresh build, the smallest of R), then the median and 95th percentile
-of :func:`mpa.plan` with ``footprint=`` over N seeded random queries (the free space cached, as in a session that
-plans many queries on one layout, and the search's sparse graph of moves with its landmarks built beforehand:
-``graph ms``, a cost paid once per layout and speeds by the first query that needs it); queries refused (bodies
-overlapping at start or goal, no motion) are counted, not timed. The layouts: the Open-RMF office map (30 edges),
-the example layouts with many-point polylines (``circle``, ``lollipop``, ``figure_eight``, ``two_sidings``), the
-rail yard and the passing loop. Times are the process's CPU time (the code is single-threaded: the wall time on an
+``python experiments/bench_planar.py [--queries N] [--seed S] [--repeat R] [--random K]``: per layout and footprint
+the build time of :class:`mpa.planar.PlanarFreeSpace` (a fresh build, the smallest of R), then the median and 95th
+percentile of :func:`mpa.plan` with ``footprint=`` over N seeded random queries (the free space cached, as in a
+session that plans many queries on one layout, and the search's sparse graph of moves with its landmarks built
+beforehand: ``graph ms``, a cost paid once per layout and speeds by the first query that needs it); queries refused
+(bodies overlapping at start or goal, no motion) are counted, not timed. The layouts: the Open-RMF office map (30
+edges), the example layouts with many-point polylines (``circle``, ``lollipop``, ``figure_eight``,
+``two_sidings``), the rail yard and the passing loop; with ``--random K`` also K seeded random layouts of 30 edges
+drawn in metres (:func:`random_layout`: a jittered grid of aisles, a third of them bent), each with a disc of 0.3 m
+and a 0.6 x 0.4 m rectangle. Times are the process's CPU time (the code is single-threaded: the wall time on an
 idle machine; a shared machine inflates wall times, not these).
 """
 
@@ -37,6 +39,46 @@ CASES = (
 )
 
 
+def random_layout(rng: np.random.Generator, n_edges: int = 30) -> mpa.GraphTrack:
+    """A connected layout of ``n_edges`` edges drawn in metres: the vertices of a 6 x 5 grid 4 m apart, each moved
+    by up to 0.6 m; a random spanning tree of grid neighbours, then more neighbour pairs (no two edges cross); a
+    third of the edges bent (one polyline point 0.4-1.0 m off the chord's middle), lengths those of the drawing."""
+    nx, ny = 6, 5
+    xy = {
+        f"v{i}_{j}": [4.0 * i + float(rng.uniform(-0.6, 0.6)), 4.0 * j + float(rng.uniform(-0.6, 0.6))]
+        for i in range(nx)
+        for j in range(ny)
+    }
+    pairs = [((i, j), (i + 1, j)) for i in range(nx - 1) for j in range(ny)]
+    pairs += [((i, j), (i, j + 1)) for i in range(nx) for j in range(ny - 1)]
+    order = [pairs[k] for k in rng.permutation(len(pairs))]
+    parent = {(i, j): (i, j) for i in range(nx) for j in range(ny)}
+
+    def root(v: tuple[int, int]) -> tuple[int, int]:
+        while parent[v] != v:
+            v = parent[v]
+        return v
+
+    chosen = []
+    for a, b in order:  # Kruskal over a random order: a spanning tree
+        if root(a) != root(b):
+            parent[root(a)] = root(b)
+            chosen.append((a, b))
+    chosen += [p for p in order if p not in chosen][: n_edges - len(chosen)]
+    edges = []
+    for k, (a, b) in enumerate(chosen):
+        na, nb = f"v{a[0]}_{a[1]}", f"v{b[0]}_{b[1]}"
+        pa, pb = np.array(xy[na]), np.array(xy[nb])
+        edge: dict[str, object] = {"name": f"e{k}", "from": na, "to": nb}
+        if rng.random() < 1 / 3:
+            d = pb - pa
+            mid = 0.5 * (pa + pb) + float(rng.uniform(0.4, 1.0)) * np.array([-d[1], d[0]]) / float(np.hypot(*d))
+            edge["points"] = [mid.tolist()]
+            edge["length"] = float(np.hypot(*(mid - pa)) + np.hypot(*(pb - mid)))
+        edges.append(edge)
+    return mpa.GraphTrack.from_layout({"vertices": xy, "edges": edges})
+
+
 def _query(tr: mpa.GraphTrack, rng: np.random.Generator) -> list[tuple[int, float]]:
     q = []
     for _ in range(4):
@@ -50,13 +92,20 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--queries", type=int, default=100)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--random", type=int, default=0, help="also this many random 30-edge layouts (seeded)")
     args = ap.parse_args(argv)
+    rng_layouts = np.random.default_rng(args.seed)
+    cases: list[tuple[str, mpa.GraphTrack, str, float]] = [
+        (path.name.split(".")[0], mpa.GraphTrack.from_file(path), spec, clearance) for path, spec, clearance in CASES
+    ]
+    for k in range(args.random):
+        tr = random_layout(rng_layouts)
+        cases += [(f"random30 #{k}", tr, "0.3", 0.5), (f"random30 #{k}", tr, "0.6x0.4", 0.5)]
     print(
         f"{'layout':<22} {'footprint':<9} {'edges':>5} {'pieces':>6} {'build ms':>9} {'plan med':>9} "
         f"{'graph ms':>8} {'plan p95':>9} {'timed':>5} {'refused':>7}"
     )
-    for path, spec, clearance in CASES:
-        tr = mpa.GraphTrack.from_file(path)
+    for name, tr, spec, clearance in cases:
         builds = []
         for _ in range(args.repeat):
             t0 = time.process_time()
@@ -79,7 +128,7 @@ def main(argv: list[str] | None = None) -> int:
         med = 1e3 * float(np.median(plan_t)) if plan_t else float("nan")
         p95 = 1e3 * float(np.percentile(plan_t, 95)) if plan_t else float("nan")
         print(
-            f"{path.name.split('.')[0]:<22} {spec:<9} {tr.n_edges:>5} {len(space.pieces):>6} "
+            f"{name:<22} {spec:<9} {tr.n_edges:>5} {len(space.pieces):>6} "
             f"{1e3 * min(builds):>9.0f} {med:>9.1f} {graph_ms:>8.0f} {p95:>9.1f} {len(plan_t):>5} {refused:>7}",
             flush=True,
         )
