@@ -8,14 +8,16 @@ beforehand: ``graph ms``, a cost paid once per layout and speeds by the first qu
 (bodies overlapping at start or goal, no motion) are counted, not timed. The layouts: the Open-RMF office map (30
 edges), the example layouts with many-point polylines (``circle``, ``lollipop``, ``figure_eight``,
 ``two_sidings``), the rail yard and the passing loop; with ``--random K`` also K seeded random layouts of 30 edges
-drawn in metres (:func:`random_layout`: a jittered grid of aisles, a third of them bent), each with a disc of 0.3 m
-and a 0.6 x 0.4 m rectangle. Times are the process's CPU time (the code is single-threaded: the wall time on an
-idle machine; a shared machine inflates wall times, not these).
+of each kind of the scaling benchmark (``experiments/bench/graph_scale.py``: a warehouse aisle grid and a planar
+road map, drawn in metres; seeds S, S+1, ...), each with a disc of 0.3 m and a 0.6 x 0.4 m rectangle. Times are
+the process's CPU time (the code is single-threaded: the wall time on an idle machine; a shared machine inflates
+wall times, not these).
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from pathlib import Path
 
@@ -23,6 +25,9 @@ import numpy as np
 
 import mpa
 from mpa.planar import PlanarFreeSpace
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench.graph_scale import KINDS
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples" / "tracks"
@@ -37,46 +42,6 @@ CASES = (
     (EXAMPLES / "rail_yard.json", "2x0.8", 2.5),
     (EXAMPLES / "passing_loop.json", "2x1", 1.5),
 )
-
-
-def random_layout(rng: np.random.Generator, n_edges: int = 30) -> mpa.GraphTrack:
-    """A connected layout of ``n_edges`` edges drawn in metres: the vertices of a 6 x 5 grid 4 m apart, each moved
-    by up to 0.6 m; a random spanning tree of grid neighbours, then more neighbour pairs (no two edges cross); a
-    third of the edges bent (one polyline point 0.4-1.0 m off the chord's middle), lengths those of the drawing."""
-    nx, ny = 6, 5
-    xy = {
-        f"v{i}_{j}": [4.0 * i + float(rng.uniform(-0.6, 0.6)), 4.0 * j + float(rng.uniform(-0.6, 0.6))]
-        for i in range(nx)
-        for j in range(ny)
-    }
-    pairs = [((i, j), (i + 1, j)) for i in range(nx - 1) for j in range(ny)]
-    pairs += [((i, j), (i, j + 1)) for i in range(nx) for j in range(ny - 1)]
-    order = [pairs[k] for k in rng.permutation(len(pairs))]
-    parent = {(i, j): (i, j) for i in range(nx) for j in range(ny)}
-
-    def root(v: tuple[int, int]) -> tuple[int, int]:
-        while parent[v] != v:
-            v = parent[v]
-        return v
-
-    chosen = []
-    for a, b in order:  # Kruskal over a random order: a spanning tree
-        if root(a) != root(b):
-            parent[root(a)] = root(b)
-            chosen.append((a, b))
-    chosen += [p for p in order if p not in chosen][: n_edges - len(chosen)]
-    edges = []
-    for k, (a, b) in enumerate(chosen):
-        na, nb = f"v{a[0]}_{a[1]}", f"v{b[0]}_{b[1]}"
-        pa, pb = np.array(xy[na]), np.array(xy[nb])
-        edge: dict[str, object] = {"name": f"e{k}", "from": na, "to": nb}
-        if rng.random() < 1 / 3:
-            d = pb - pa
-            mid = 0.5 * (pa + pb) + float(rng.uniform(0.4, 1.0)) * np.array([-d[1], d[0]]) / float(np.hypot(*d))
-            edge["points"] = [mid.tolist()]
-            edge["length"] = float(np.hypot(*(mid - pa)) + np.hypot(*(pb - mid)))
-        edges.append(edge)
-    return mpa.GraphTrack.from_layout({"vertices": xy, "edges": edges})
 
 
 def _query(tr: mpa.GraphTrack, rng: np.random.Generator) -> list[tuple[int, float]]:
@@ -94,13 +59,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--random", type=int, default=0, help="also this many random 30-edge layouts (seeded)")
     args = ap.parse_args(argv)
-    rng_layouts = np.random.default_rng(args.seed)
     cases: list[tuple[str, mpa.GraphTrack, str, float]] = [
         (path.name.split(".")[0], mpa.GraphTrack.from_file(path), spec, clearance) for path, spec, clearance in CASES
     ]
     for k in range(args.random):
-        tr = random_layout(rng_layouts)
-        cases += [(f"random30 #{k}", tr, "0.3", 0.5), (f"random30 #{k}", tr, "0.6x0.4", 0.5)]
+        for kind, make in KINDS.items():
+            tr = make(30, args.seed + k)
+            cases += [(f"{kind} 30 #{k}", tr, "0.3", 0.5), (f"{kind} 30 #{k}", tr, "0.6x0.4", 0.5)]
     print(
         f"{'layout':<22} {'footprint':<9} {'edges':>5} {'pieces':>6} {'build ms':>9} {'plan med':>9} "
         f"{'graph ms':>8} {'plan p95':>9} {'timed':>5} {'refused':>7}"
