@@ -18,7 +18,8 @@ from mpa.planar import plan_planar, planar_free_space
 from mpa.planar.shortcut import _covered, independent_motion
 from tests.helpers.planar_checker import depth_many
 from tests.mpa.test_footprints import DEPTH_TOL, drawn_of, fp_tuple, random_layout
-from tests.mpa.test_planar_search import CASES, _queries, _whole_graph
+from tests.mpa.test_planar_search import CASES, _queries
+from tests.mpa.test_planar_search import test_regions_find_the_least_cost_of_the_whole_graph as _regions_vs_whole
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tracks"
 SPEEDS = (1.0, 0.7)
@@ -122,25 +123,11 @@ def test_a_rectangle_turning_into_the_other_body_is_left_to_the_search() -> None
 
 
 @pytest.mark.parametrize(("path", "spec", "clearance"), CASES, ids=lambda x: getattr(x, "stem", None))
+@pytest.mark.parametrize("objective", ["fastest", "shortest"])
 def test_the_search_alone_finds_the_least_cost_of_the_whole_graph(
-    path: Path, spec: str, clearance: float, monkeypatch: pytest.MonkeyPatch
+    path: Path, spec: str, clearance: float, objective: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """With the independent motion switched off, the search's regions give the whole graph's least cost also on
-    the queries the independent motion answers (fastest objective)."""
-    tr = GraphTrack.from_file(path)
-    fps = mpa.footprint.footprints(spec)
-    assert fps is not None
+    the queries the independent motion answers (the comparison of ``tests/mpa/test_planar_search.py``)."""
     _no_shortcut(monkeypatch)
-    planned = []
-    for q in _queries(tr, 29, 12):
-        try:
-            plan = plan_planar(tr, (q[0], q[1]), (q[2], q[3]), clearance, "fastest", SPEEDS, fps)
-        except (mpa.InvalidInputError, mpa.NoMotionError):
-            continue
-        planned.append((q, plan))
-    assert len(planned) >= 4
-    with monkeypatch.context() as m:
-        _whole_graph(m)
-        for q, plan in planned:
-            ref = plan_planar(tr, (q[0], q[1]), (q[2], q[3]), clearance, "fastest", SPEEDS, fps)
-            assert abs(plan.makespan - ref.makespan) <= 1e-9 * max(1.0, ref.makespan), (path.name, q)
+    _regions_vs_whole(path, spec, clearance, objective, monkeypatch)
