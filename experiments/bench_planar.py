@@ -1,19 +1,23 @@
 """Speed of the planar free space (footprints in the plane): build time per layout, plan median and tail.
 
-``python experiments/bench_planar.py [--queries N] [--seed S] [--repeat R]``: per layout and footprint the build
-time of :class:`mpa.planar.PlanarFreeSpace` (a fresh build, the smallest of R), then the median and 95th percentile
-of :func:`mpa.plan` with ``footprint=`` over N seeded random queries (the free space cached, as in a session that
-plans many queries on one layout, and the search's sparse graph of moves with its landmarks built beforehand:
-``graph ms``, a cost paid once per layout and speeds by the first query that needs it); queries refused (bodies
-overlapping at start or goal, no motion) are counted, not timed. The layouts: the Open-RMF office map (30 edges),
-the example layouts with many-point polylines (``circle``, ``lollipop``, ``figure_eight``, ``two_sidings``), the
-rail yard and the passing loop. Times are the process's CPU time (the code is single-threaded: the wall time on an
-idle machine; a shared machine inflates wall times, not these).
+``python experiments/bench_planar.py [--queries N] [--seed S] [--repeat R] [--random K]``: per layout and footprint
+the build time of :class:`mpa.planar.PlanarFreeSpace` (a fresh build, the smallest of R), then the median and 95th
+percentile of :func:`mpa.plan` with ``footprint=`` over N seeded random queries (the free space cached, as in a
+session that plans many queries on one layout, and the search's sparse graph of moves with its landmarks built
+beforehand: ``graph ms``, a cost paid once per layout and speeds by the first query that needs it); queries refused
+(bodies overlapping at start or goal, no motion) are counted, not timed. The layouts: the Open-RMF office map (30
+edges), the example layouts with many-point polylines (``circle``, ``lollipop``, ``figure_eight``,
+``two_sidings``), the rail yard and the passing loop; with ``--random K`` also K seeded random layouts of 30 edges
+of each kind of the scaling benchmark (``experiments/bench/graph_scale.py``: a warehouse aisle grid and a planar
+road map, drawn in metres; seeds S, S+1, ...), each with a disc of 0.3 m and a 0.6 x 0.4 m rectangle. Times are
+the process's CPU time (the code is single-threaded: the wall time on an idle machine; a shared machine inflates
+wall times, not these).
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from pathlib import Path
 
@@ -21,6 +25,9 @@ import numpy as np
 
 import mpa
 from mpa.planar import PlanarFreeSpace
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench.graph_scale import KINDS
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples" / "tracks"
@@ -50,13 +57,20 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--queries", type=int, default=100)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--random", type=int, default=0, help="also this many random 30-edge layouts (seeded)")
     args = ap.parse_args(argv)
+    cases: list[tuple[str, mpa.GraphTrack, str, float]] = [
+        (path.name.split(".")[0], mpa.GraphTrack.from_file(path), spec, clearance) for path, spec, clearance in CASES
+    ]
+    for k in range(args.random):
+        for kind, make in KINDS.items():
+            tr = make(30, args.seed + k)
+            cases += [(f"{kind} 30 #{k}", tr, "0.3", 0.5), (f"{kind} 30 #{k}", tr, "0.6x0.4", 0.5)]
     print(
         f"{'layout':<22} {'footprint':<9} {'edges':>5} {'pieces':>6} {'build ms':>9} {'plan med':>9} "
         f"{'graph ms':>8} {'plan p95':>9} {'timed':>5} {'refused':>7}"
     )
-    for path, spec, clearance in CASES:
-        tr = mpa.GraphTrack.from_file(path)
+    for name, tr, spec, clearance in cases:
         builds = []
         for _ in range(args.repeat):
             t0 = time.process_time()
@@ -79,7 +93,7 @@ def main(argv: list[str] | None = None) -> int:
         med = 1e3 * float(np.median(plan_t)) if plan_t else float("nan")
         p95 = 1e3 * float(np.percentile(plan_t, 95)) if plan_t else float("nan")
         print(
-            f"{path.name.split('.')[0]:<22} {spec:<9} {tr.n_edges:>5} {len(space.pieces):>6} "
+            f"{name:<22} {spec:<9} {tr.n_edges:>5} {len(space.pieces):>6} "
             f"{1e3 * min(builds):>9.0f} {med:>9.1f} {graph_ms:>8.0f} {p95:>9.1f} {len(plan_t):>5} {refused:>7}",
             flush=True,
         )

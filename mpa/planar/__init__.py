@@ -28,11 +28,15 @@ cells of two edges at that vertex meeting in an interval or a point of the other
 configurations are joined by a motion in the model iff their pieces are in one component, and the planner then finds
 one (**complete**; a shortest path through the pieces' shared points, straight inside each convex piece). The path
 is not the optimum of the objective (it bends only at the pieces' shared points: the ends and middle of each shared
-segment), but it is free by construction.
+segment), but it is free by construction. Before any search, the robots' own shortest routes driven at once (a
+straight line in route coordinates) are tried: when every segment of it lies in its cell's free pieces and a
+turning rectangle's sweep clears the other body wherever it passes a corner, that motion is the answer; its cost is
+the bound no motion undercuts, an optimum of the objective (:mod:`mpa.planar.shortcut`).
 
 **Modules.** :mod:`mpa.planar.polygons` (convex polygons of offsets), :mod:`mpa.planar.corners` (bodies at corners),
 :mod:`mpa.planar.build` (the free pieces), :mod:`mpa.planar.glue` (their adjacency and components),
-:mod:`mpa.planar.space` (:class:`PlanarFreeSpace`), :mod:`mpa.planar.search` (the search over shared points),
+:mod:`mpa.planar.space` (:class:`PlanarFreeSpace`), :mod:`mpa.planar.shortcut` (the robots' own routes at once,
+checked), :mod:`mpa.planar.search` (the search over shared points),
 :mod:`mpa.planar.oneway` (the search under one-way lanes), :mod:`mpa.planar.plan` (:func:`plan_planar`).
 """
 

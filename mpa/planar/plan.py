@@ -15,6 +15,7 @@ from mpa.planar.corners import start_refusal
 from mpa.planar.oneway import _search_sets, _why_one_way
 from mpa.planar.polygons import FloatArray
 from mpa.planar.search import _search
+from mpa.planar.shortcut import independent_motion
 from mpa.planar.space import PlanarFreeSpace, planar_free_space
 
 
@@ -107,7 +108,8 @@ def plan_planar(
         by_sets = _search_sets(space, start, goal)
         if by_sets is None:
             raise NoMotionError(_why_one_way(space, start, goal))
-    found = _search(space, start, goal, objective, speeds[0], speeds[1]) or by_sets
+    # the robots' own shortest routes at once when they are free (an optimum, no search), else the search
+    found = independent_motion(space, start, goal) or _search(space, start, goal, objective, *speeds) or by_sets
     if found is None:  # pragma: no cover - start and goal were checked to share a component
         raise PlanningError("the search ended without reaching the goal although start and goal share a component")
     segs = [x for x in found if x[1] != x[2]]

@@ -1,6 +1,6 @@
-"""The planar search over the pieces' shared points: A* with the robots' own distances as the bound, then scipy's
-Dijkstra over the moves as one sparse graph (:class:`_Moves`) in growing regions bounded by those distances and
-a few landmarks."""
+"""The planar search over the pieces' shared points: scipy's Dijkstra over the moves as one sparse graph
+(:class:`_Moves`) in growing regions bounded by the robots' own distances and a few landmarks (and, with
+:data:`ASTAR_BUDGET` > 0, A* with the robots' own distances as the bound before it)."""
 
 from __future__ import annotations
 
@@ -138,11 +138,14 @@ class _Moves:
         self.node_of = node
         self.node_edges = cells[self.node_piece].T.copy()  # (2, n): robot A's and robot B's edge at each node
         self.node_room = space.track.lengths[self.node_edges] - self.node_xy.T  # (2, n): metres to the edges' heads
-        # the nodes grouped by cell: those of cell (e, f) are cell_nodes[cell_start[e * E + f] : cell_start[... + 1]]
-        ne = space.track.n_edges
-        cid = self.node_edges[0] * ne + self.node_edges[1]
-        self.cell_nodes = np.argsort(cid, kind="stable")
-        self.cell_start = np.searchsorted(cid[self.cell_nodes], np.arange(ne * ne + 1))
+        # the nodes grouped by piece (those of piece i: piece_nodes[piece_start[i] : piece_start[i + 1]]), and per
+        # piece and robot the range of its nodes' offsets, shape (2, P) (+inf, -inf: a piece without nodes)
+        self.piece_nodes, self.piece_start = order_p, bounds
+        self.piece_edges = cells.T.copy()
+        self.piece_lo = np.full((2, len(pieces)), np.inf)
+        self.piece_hi = np.full((2, len(pieces)), -np.inf)
+        np.minimum.at(self.piece_lo.T, self.node_piece, self.node_xy)
+        np.maximum.at(self.piece_hi.T, self.node_piece, self.node_xy)
 
     def near(
         self,
@@ -153,24 +156,29 @@ class _Moves:
         ub: float,
     ) -> NDArray[np.bool_]:
         """The region of the nodes whose :meth:`lower` bounds from the start and to the goal (``ends``) sum to at
-        most ``ub``, shape ``(n,)``; the bounds computed only in the cells whose nearest points could be in it (per
-        edge the least distance of its points to a position is that of its nearer end, 0 on the position's own
-        edge)."""
-        least = []
+        most ``ub``, shape ``(n,)``; the bounds computed only in the pieces whose nodes could be in it: per piece and
+        robot the least distance to a position over the range of its nodes' offsets (the nearer end of the range
+        through the edge's tail or head, or the range's distance to the position on its own edge), a bound that
+        no node of the piece undercuts."""
+        lengths = tr.lengths
+        per_piece = np.zeros(self.piece_lo.shape[1])
         for pos in ends:
-            per = []
+            d = []
             for r in (0, 1):
                 tail, head = _from_ends(tr, pos[r])
-                m = np.minimum(tail, head)
-                m[pos[r][0]] = 0.0
-                per.append(m)
-            least.append(_move_cost(objective, per[0][:, None], per[1][None, :], speeds[0], speeds[1]))
-        cells = np.flatnonzero((least[0] + least[1]).ravel() * (1.0 - 1e-9) <= ub)
-        lo, hi = self.cell_start[cells], self.cell_start[cells + 1]
-        cnt = hi - lo
+                e, lo, hi = self.piece_edges[r], self.piece_lo[r], self.piece_hi[r]
+                dr = np.minimum(lo + tail[e], (lengths[e] - hi) + head[e])
+                same = e == pos[r][0]
+                gs = pos[r][1]
+                dr[same] = np.minimum(dr[same], np.maximum(np.maximum(lo[same] - gs, gs - hi[same]), 0.0))
+                d.append(dr)
+            per_piece += _move_cost(objective, d[0], d[1], speeds[0], speeds[1])
+        pieces = np.flatnonzero(per_piece * (1.0 - 2e-9) <= ub)
+        lo_i, hi_i = self.piece_start[pieces], self.piece_start[pieces + 1]
+        cnt = hi_i - lo_i
         stop = np.cumsum(cnt)
         total = int(stop[-1]) if len(stop) else 0
-        nodes = self.cell_nodes[np.repeat(lo - (stop - cnt), cnt) + np.arange(total)]
+        nodes = self.piece_nodes[np.repeat(lo_i - (stop - cnt), cnt) + np.arange(total)]
         region = np.zeros(self.n, dtype=bool)
         if total:
             through = self.lower(tr, ends[0], speeds, objective, nodes)
@@ -253,8 +261,11 @@ class _Moves:
         )
 
 
-#: Nodes A* expands before the search goes over to the sparse graph of moves (:func:`_dijkstra`).
-ASTAR_BUDGET = 100
+#: Nodes A* expands before the search goes over to the sparse graph of moves (:func:`_dijkstra`); 0: no A*. The
+#: queries A* finished within 100 nodes are the ones the independent motion now answers before any search
+#: (:func:`mpa.planar.shortcut.independent_motion`); on the others it rarely finishes and its nodes cost more than
+#: the first region's Dijkstra (docs/performance.md, "Footprints in the plane, third pass").
+ASTAR_BUDGET = 0
 
 
 def _search(
@@ -269,9 +280,10 @@ def _search(
 
     Every move keeps the one-way rule and costs its time at the cell's speeds (the edges' speed limits), or its
     length; a move that would keep a rectangle still on a corner while the other body passes its turning disc
-    goes by a point inside the piece (:meth:`PlanarFreeSpace.detour`). A* with the robots' own distances to the
-    goal as the bound; when it expands more than a few per cent of the nodes (a motion that must go round), the
-    same graph is searched by scipy's Dijkstra (:class:`_Moves`, compiled), which finds a path of the same cost.
+    goes by a point inside the piece (:meth:`PlanarFreeSpace.detour`). With :data:`ASTAR_BUDGET` > 0, A* with the
+    robots' own distances to the goal as the bound first; then (or when A* expands more than its budget) the same
+    graph is searched by scipy's Dijkstra (:class:`_Moves`, compiled) in growing regions, which finds a path of the
+    least cost over the whole graph.
     None when no path through the shared points keeps the one-way rule (:func:`_search_sets` decides).
     """
     tr = space.track
@@ -298,7 +310,9 @@ def _search(
 
     s_pl = space.placements(*start)
     g_pl = space.placements(*goal)
-    found = _astar(space, s_pl, g_pl, goal, objective, va, vb, spa, spb, move, budget=ASTAR_BUDGET)
+    found = None
+    if ASTAR_BUDGET > 0:
+        found = _astar(space, s_pl, g_pl, goal, objective, va, vb, spa, spb, move, budget=ASTAR_BUDGET)
     if found is None:
         (ea, sa), (eb, sb) = start
         (fa, ta), (fb, tb) = goal

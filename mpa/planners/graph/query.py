@@ -95,8 +95,9 @@ def plan_graph(
         Speed limits ``(vA, vB)`` (m/s, > 0).
     footprint : None, mpa.Disc, mpa.Rectangle, pair or spec string
         The robots' bodies in the plane (:mod:`mpa.footprint`); the motion then also keeps the bodies apart in the
-        layout's drawing (:mod:`mpa.planar`: complete in that model; the path bends only at the free pieces' shared
-        points, so it is not the optimum of ``objective``). Needs vertex coordinates.
+        layout's drawing (:mod:`mpa.planar`: complete in that model; the robots' own shortest routes at once when
+        they are free there, an optimum of ``objective``, else a path that bends only at the free pieces' shared
+        points, not the optimum). Needs vertex coordinates.
 
     Returns
     -------
