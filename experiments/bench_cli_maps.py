@@ -15,7 +15,7 @@ waits for a core). ``--root DIR`` runs the code of another checkout (``PYTHONPAT
 The checkout's modules are byte-compiled first (``compileall``) and the processes run with bytecode enabled
 (``PYTHONDONTWRITEBYTECODE`` removed from their environment), as an installed package runs: compiling the
 pipeline's ~80 modules from source costs a process 0.4-0.7 s CPU that no installed ``mpa`` pays. The layout
-cache (:mod:`mpa.layout_cache`) goes to a fresh temporary directory per run of this script (``MPA_CACHE_DIR``):
+cache (:mod:`mpa.openrmf.cache`) goes to a fresh temporary directory per run of this script (``MPA_CACHE_DIR``):
 the warm-up run fills it, the recorded runs find the map's layout there, as every run after a user's first does;
 ``--cold`` disables it (``MPA_CACHE_DIR=off``) to measure the first run on a map; ``--no-bytecode`` deletes the
 checkout's compiled modules of ``mpa`` and ``trajopt`` and runs the processes with ``PYTHONDONTWRITEBYTECODE=1`` (a
