@@ -12,7 +12,8 @@ the cached layout is read back in about 2 ms. The cache is an optimisation only 
   entry or none); a cache directory that cannot be created or written leaves the map converted in memory.
 
 The directory is ``$MPA_CACHE_DIR`` when set (``off`` or the empty string turn the cache off), otherwise
-``$XDG_CACHE_HOME/lollipop-mpa/layouts`` (``~/.cache/lollipop-mpa/layouts``). Maps that fail to convert are never
+``$XDG_CACHE_HOME/lollipop-mpa/layouts`` (``~/.cache/lollipop-mpa/layouts``; no cache without a home directory
+or where the converter's source files cannot be read). Maps that fail to convert are never
 cached (their error is raised every time); our JSON layouts are not cached (reading them is as fast as the cache).
 """
 
@@ -46,7 +47,12 @@ def cache_dir() -> Path | None:
     env = os.environ.get(CACHE_ENV)
     if env is not None:
         return None if env.strip() in ("", "off") else Path(env).expanduser()
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    base = os.environ.get("XDG_CACHE_HOME")
+    if not base:
+        try:
+            base = str(Path.home() / ".cache")
+        except (RuntimeError, KeyError):  # no home directory to be found: no cache
+            return None
     return Path(base) / "lollipop-mpa" / "layouts"
 
 
@@ -143,7 +149,10 @@ def cached_layout(text: str, level: str | None, nav_graph: int | None, convert: 
     directory = cache_dir()
     if directory is None:
         return convert()
-    key = entry_key(text, level, nav_graph)
+    try:
+        key = entry_key(text, level, nav_graph)
+    except OSError:  # the converter's source cannot be read (e.g. a zipped install): no key, no cache
+        return convert()
     path = directory / f"{key}.json"
     hit = _read_entry(path, key)
     if hit is not None:
