@@ -4,8 +4,9 @@ Converting a map costs its YAML parse and the conversion (the airport terminal's
 the cached layout is read back in about 2 ms. The cache is an optimisation only and is never trusted:
 
 - an entry's name and its first line hold the key: the SHA-256 of the file's text, the level and navigation graph
-  asked for, :data:`CACHE_FORMAT` and the source code of the converter (:mod:`mpa.openrmf`), so an edited map, a
-  different level or a changed converter never finds an old entry;
+  asked for, :data:`CACHE_FORMAT`, the source code of the converter (:mod:`mpa.openrmf`) and where PyYAML is
+  installed (path, size and time of its ``__init__``), so an edited map, a different level, a changed converter or
+  a reinstalled PyYAML never finds an old entry;
 - the first line also holds the SHA-256 of the rest of the entry; an entry whose key or digest does not match,
   that does not parse, or whose content is not a layout and its description, is ignored and written anew;
 - entries are written to a temporary file in the cache directory and renamed into place (a reader sees a whole
@@ -57,13 +58,20 @@ def cache_dir() -> Path | None:
 
 
 def _source_digest() -> str:
-    """SHA-256 of the converter's source files (:mod:`mpa.openrmf` and the layout reading it uses)."""
+    """SHA-256 of the converter's source files (:mod:`mpa.openrmf`) and of where PyYAML is installed (its
+    ``__init__``'s path, size and modification time: a reinstalled PyYAML gives new keys without importing it)."""
     if not _SOURCE_DIGEST:
+        import importlib.util
+
         h = hashlib.sha256()
         here = Path(__file__).resolve().parent
         for p in sorted(here.glob("*.py")):
             h.update(p.name.encode())
             h.update(p.read_bytes())
+        spec = importlib.util.find_spec("yaml")
+        if spec is not None and spec.origin:
+            st = os.stat(spec.origin)
+            h.update(f"{spec.origin}\0{st.st_size}\0{st.st_mtime_ns}".encode())
         _SOURCE_DIGEST.append(h.hexdigest())
     return _SOURCE_DIGEST[0]
 

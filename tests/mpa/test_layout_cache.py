@@ -203,3 +203,21 @@ def test_the_command_line_plans_the_same_from_the_cache(
         o.pop("time_ms", None)
     assert outs[0] == outs[1] == outs[2]
     assert len(_entries(tmp_path)) == 1
+
+
+def test_a_reinstalled_pyyaml_gives_new_keys(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import importlib.machinery
+    import importlib.util
+
+    import mpa.openrmf.cache as cache
+
+    keys = []
+    for i, body in enumerate(["# one", "# another version"]):
+        fake = tmp_path / f"yaml{i}" / "__init__.py"
+        fake.parent.mkdir()
+        fake.write_text(body)
+        spec = importlib.machinery.ModuleSpec("yaml", None, origin=str(fake))
+        monkeypatch.setattr(importlib.util, "find_spec", lambda name, package=None, s=spec: s)
+        monkeypatch.setattr(cache, "_SOURCE_DIGEST", [])
+        keys.append(entry_key("levels: {}", "L1", None))
+    assert keys[0] != keys[1]
