@@ -14,10 +14,10 @@ import importlib
 import importlib.util
 from typing import TYPE_CHECKING, Any
 
-from mpa._version import __version__
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, PlanningError
 
 if TYPE_CHECKING:  # the names as type checkers see them
+    from mpa._version import __version__
     from mpa.batch import BatchPlans, plan_many
     from mpa.cspace import ConfigurationSpace
     from mpa.footprint import Disc, Footprints, Rectangle, parse_footprint
@@ -43,7 +43,9 @@ if TYPE_CHECKING:  # the names as type checkers see them
 
 # The rest of the public names are imported on first use (PEP 562): ``import mpa`` (and so every ``mpa``
 # command's start-up, and ``mpa --help``) does not import numpy and the planners until they are needed.
+# ``__version__`` too: reading the package metadata imports ``importlib.metadata`` and ``email`` (about 30 ms).
 _LAZY = {
+    "__version__": "mpa._version",
     "BatchPlans": "mpa.batch",
     "plan_many": "mpa.batch",
     "ConfigurationSpace": "mpa.cspace",

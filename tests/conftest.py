@@ -2,9 +2,23 @@
 
 from __future__ import annotations
 
+import os
+from collections.abc import Iterator
 from typing import Any
 
 import pytest
+
+
+@pytest.fixture(scope="session", autouse=True)
+def layout_cache_dir(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
+    """The converted maps' cache (:mod:`mpa.openrmf.cache`) in a directory of the session, not the user's."""
+    old = os.environ.get("MPA_CACHE_DIR")
+    os.environ["MPA_CACHE_DIR"] = str(tmp_path_factory.mktemp("layout-cache"))
+    yield
+    if old is None:
+        os.environ.pop("MPA_CACHE_DIR", None)
+    else:
+        os.environ["MPA_CACHE_DIR"] = old
 
 
 @pytest.fixture(scope="module")

@@ -491,7 +491,9 @@ def read_layout_file(
     Returns
     -------
     layout, info : dict
-        ``info["kind"]`` is ``"layout"``, ``"building"`` or ``"nav_graph"``.
+        ``info["kind"]`` is ``"layout"``, ``"building"`` or ``"nav_graph"``. Open-RMF maps are converted once and
+        then read from the on-disk cache of :mod:`mpa.openrmf.cache` (``$MPA_CACHE_DIR``; a stale or damaged
+        entry is converted again, never trusted).
 
     Raises
     ------
@@ -500,8 +502,17 @@ def read_layout_file(
         or ``nav_graph`` for a navigation graph, and the errors of :func:`building_layout` and
         :func:`nav_graph_layout`.
     """
+    from mpa.openrmf.cache import cached_layout
+
     p = Path(path)
     text = _read_text(p, "layout", "a UTF-8 JSON or YAML layout file")
+    return cached_layout(text, level, nav_graph, lambda: _convert_text(p, text, level, nav_graph))
+
+
+def _convert_text(
+    p: Path, text: str, level: str | None, nav_graph: int | None
+) -> tuple[dict[str, Any], dict[str, Any]]:
+    """:func:`read_layout_file` of the text ``text`` of file ``p``, without the cache."""
     try:
         data: object = json.loads(text, parse_int=_json_int)
     except RecursionError:

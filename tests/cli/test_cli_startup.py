@@ -53,6 +53,25 @@ def test_help_and_version_import_no_numpy() -> None:
     assert _run(code) == "[]"
 
 
+def test_the_version_is_read_only_by_version() -> None:
+    code = (
+        "import contextlib, io, sys\n"
+        "from trajopt.cli.main import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):\n"
+        "    main(['--help'])\n"
+        "assert 'mpa._version' not in sys.modules and 'email' not in sys.modules, 'read by --help'\n"
+        "buf = io.StringIO()\n"
+        "with contextlib.redirect_stdout(buf), contextlib.suppress(SystemExit):\n"
+        "    main(['--version'])\n"
+        "import mpa\n"
+        "from importlib import metadata\n"
+        "assert buf.getvalue() == f'mpa (lollipop-mpa) {mpa.__version__}\\n', buf.getvalue()\n"
+        "assert mpa.__version__ == metadata.version('lollipop-mpa')\n"
+        "print('ok')\n"
+    )
+    assert _run(code) == "ok"
+
+
 def test_lazy_package_names() -> None:
     code = (
         "import mpa, sys, types\n"

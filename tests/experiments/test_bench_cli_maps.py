@@ -33,7 +33,9 @@ def test_queries_are_valid_positions_at_least_the_clearance_apart(i: int) -> Non
 
 
 @pytest.mark.slow
-def test_one_run_of_the_command_line_is_timed() -> None:
+def test_one_run_of_the_command_line_is_timed(tmp_path: Path) -> None:
     name, path, options, clearance = MAPS[1]
-    wall, cpu = _run(ROOT, path, options, clearance, _queries(name, path, options, clearance, 1)[0])
+    query = _queries(name, path, options, clearance, 1)[0]
+    wall, cpu = _run(ROOT, path, options, clearance, query, str(tmp_path))
     assert 0.0 < cpu and 0.0 < wall, (wall, cpu)
+    assert len(list(tmp_path.glob("*.json"))) == 1  # the map's layout cached for the recorded runs

@@ -25,8 +25,8 @@ import argparse
 import importlib
 import sys
 from collections.abc import Sequence
+from typing import Any
 
-from mpa import __version__
 from mpa.errors import MPAError, NoMotionError, PlanningError
 
 __all__ = ["EXIT_INTERNAL", "EXIT_INTERRUPTED", "EXIT_NO_MOTION", "EXIT_USAGE", "build_parser", "main"]
@@ -80,6 +80,16 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"error: {message}\n")
 
 
+class _VersionAction(argparse.Action):
+    """``--version``: prints ``mpa (lollipop-mpa) VERSION`` and exits 0; the version is read only when asked for."""
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: Any, **kwargs: Any) -> None:
+        from mpa import __version__
+
+        print(f"mpa (lollipop-mpa) {__version__}")
+        parser.exit()
+
+
 def build_parser(command: str | None = None, *, full: bool = True) -> argparse.ArgumentParser:
     """The argument parser of the ``mpa`` command.
 
@@ -94,7 +104,7 @@ def build_parser(command: str | None = None, *, full: bool = True) -> argparse.A
     parser = _Parser(
         prog="mpa", description="Topological motion planning for two robots on a track (Boughrira & Colman)."
     )
-    parser.add_argument("--version", action="version", version=f"mpa (lollipop-mpa) {__version__}")
+    parser.add_argument("--version", action=_VersionAction, nargs=0, help="show the program's version and exit")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     if full:
         for name in SUBCOMMAND_MODULES:
