@@ -1,276 +1,317 @@
-"""A lower bound on the cost to the goal that knows the robots must pass each other: distances in the faces' graph.
+"""A lower bound on the time to the goal that knows the robots must pass each other (the "fastest" objective).
 
-The search's own bound at a configuration is each robot's exact distance to its goal alone, combined by the
-objective's cost (``max(dA/vA, dB/vB)`` plus the tie-break terms, or ``hypot(dA, dB)``). It ignores the other robot,
-so on a swap or a crossing (one robot must step aside at a branch while the other passes) every configuration whose
-two distances are small enough looks promising and the search expands them all before the goal.
+The search's own bound at a configuration ``(a, b)`` is each robot's exact distance to its goal alone, combined by
+the objective's cost (``max(dA/vA, dB/vB)`` plus the tie-break terms). It ignores the other robot, so on a swap or a
+crossing (one robot must step aside at a branch while the other passes) every configuration whose two distances are
+small enough looks promising, and the search expands all of them before it reaches the goal.
 
-:class:`FaceBound` relaxes the free space instead of the other robot. Every path of the free space that goes from one
-free polygon to another crosses a *face* (one robot on a vertex, the other on an edge, in the free interval
-``[lo, hi]`` of its offsets) or a *corner* (both on vertices). The faces' graph has one node per face and per free
-corner; inside each free polygon its sides (faces) are joined by the objective's cost of the least displacement
-between them (two axis-parallel segments: per robot the gap between its two ranges), and a corner is joined to the
-faces it lies on at cost 0. A path of the free space crosses a chain of faces and corners, and its piece inside a
-polygon costs at least the least displacement between the two sides it joins (the cost is a norm of the
-displacement), so the Dijkstra distance ``H(F)`` from the goal in this graph is at most the cost of every path from
-a point of ``F`` to the goal: an admissible bound. Unlike the robots' distances alone it cannot leave out the
-side-step: a robot that gives way must reach a branch's face while the other robot's faces on the shared corridor
-are blocked by the clearance.
+**The passing lemma.** Let ``φ = d(x, ·)`` be the graph distance from a vertex ``x``. Along any motion from
+``(a, b)`` to the goal ``(a1, b1)`` the difference ``φ(A) - φ(B)`` is continuous; when it has one sign at the start
+(or is 0) and the other, strictly, at the goal, it is 0 at some moment: the robots are then at a *passing
+configuration* ``m = (p, q)``, at equal distance from ``x`` and at least the clearance apart (on a corridor two such
+points exist only where it branches: one robot has stepped aside into a branch or a loop the other passes). The
+motion's cost is at least ``c(a, b → p, q) + c(p, q → a1, b1)``, and each part at least the objective's cost of the
+robots' graph distances. So
 
-The graph's shape and the displacements are built once per free space (:func:`face_graph`, cached with it); a query
-weighs them with its speeds and objective and runs one Dijkstra (``scipy.sparse.csgraph``) from the goal.
+    h(a, b) = min over passing configurations m of  comb(d(a, p), d(b, q)) + W(m),   W(m) = comb(d(p, a1), d(q, b1))
+
+is a lower bound on the cost to the goal, for every configuration on the start's side of ``φ(A) = φ(B)``.
+
+**Computed exactly per cell, relaxed per node.** In a cell ``e × f`` (A on edge e at offset u, B on f at v) the
+distance ``φ`` is a tent on each edge, so ``φ(p) = φ(q)`` is at most four straight pieces ``v = ±u + β``, and the
+clearance keeps an interval of each (the cell's four distance terms and, on one edge, ``|u - v|``, are affine in u
+along the piece). These *passing segments* ``k`` are built once per query (numpy over all cells); ``W_k``, the least
+``W`` along segment ``k``, is exact: along a segment every distance is a minimum of affine functions of u and the cost
+is a maximum of two of them plus a linear term, so its least value is at one of the finitely many points where two of
+these affine functions cross, or at an end. At a search node the bound is
+``min_k comb(d(a, P_k), d(b, Q_k)) + W_k`` (``P_k``, ``Q_k``: the segment's stretches of e and f), which relaxes the
+coupling of p and q along the segment and is therefore still a lower bound. The tie-break term in ``hypot`` is left
+out (it is >= 0), so the bound never exceeds the search's cost of a motion. Of the vertices at the ends of the
+start's and the goal's edges, the one whose bound at the start is largest is used.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from dataclasses import dataclass
-from typing import cast
+from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
-from mpa.freespace import FreeSpace, PolygonId
 from mpa.graph_track import Position
-from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2, FaceKey, FloatArray, Key
+from mpa.planners.graph.base import TIE_BREAK, FloatArray, Key
 from mpa.planners.graph.mesh import _Mesh
 
-__all__ = ["BOUND_SAFETY", "UNREACHABLE", "FaceBound", "FaceGraph", "face_graph"]
+__all__ = ["BOUND_SAFETY", "PassingBound", "passing_bound"]
 
-#: The face bound is scaled by ``1 - BOUND_SAFETY`` so that rounding in the Dijkstra sums never lifts it above a
-#: motion's cost (the search's order is on a grid of ``F_GRID = 1e-12`` of the start's bound).
-BOUND_SAFETY = 1e-10
+#: The bound is scaled by ``1 - BOUND_SAFETY`` so that rounding never lifts it above a motion's cost (the search's
+#: order is on a grid of ``F_GRID = 1e-12`` of the start's bound).
+BOUND_SAFETY = 1e-13
 
-#: A bound standing for "the goal cannot be reached from here" (finite, so that the search's queue key stays an int).
-UNREACHABLE = 1e200
+#: Segments whose exact least cost is computed at once (module docstring).
+EXACT_CHUNK = 32
 
-
-@dataclass(frozen=True)
-class FaceGraph:
-    """The faces' graph of one free space, without weights (they depend on the query's speeds and objective).
-
-    Attributes
-    ----------
-    node_of : dict
-        Compact node number of each face ``(axis, vertex, other edge)`` and corner ``("C", vertex A, vertex B)``.
-    n_nodes : int
-        Faces and corners; node ``n_nodes`` is the goal's (added per query).
-    indptr, indices : ndarray of int, shapes (n_nodes + 1,) and (M,)
-        The joins in compressed rows (both directions of each; a pair of faces joined in several polygons keeps
-        every join, and Dijkstra takes the cheapest).
-    ds, dt : ndarray of float, shape (M,)
-        Least displacement of robot A and of robot B along each join (metres; 0 for a corner's joins).
-    """
-
-    node_of: dict[Key, int]
-    n_nodes: int
-    indptr: NDArray[np.int64]
-    indices: NDArray[np.int64]
-    ds: FloatArray
-    dt: FloatArray
+_SLOPES = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))  # the cell terms' slopes, as in mpa.freespace
 
 
-def _gap(lo0: FloatArray, hi0: FloatArray, lo1: FloatArray, hi1: FloatArray) -> FloatArray:
-    """Distance between the intervals ``[lo0, hi0]`` and ``[lo1, hi1]`` (0 when they meet), elementwise."""
-    return np.maximum(0.0, np.maximum(lo0 - hi1, lo1 - hi0))
+def _vertex_dist(mesh: _Mesh, pos: Position) -> FloatArray:
+    """Graph distance from a position to every vertex (metres), shape (V,)."""
+    g = mesh.g
+    e, s = pos
+    return np.minimum(s + g.dv[g._t[e]], g._L[e] - s + g.dv[g._h[e]])
 
 
-def _build(fs: FreeSpace) -> FaceGraph:
-    g = fs.geometry
-    n_e, n_v = g.n_edges, g.n_vertices
-    pe, pf, pk = fs._pe, fs._pf, fs._pk
-    lengths, tails, heads = g.lengths, g.tails, g.heads
-    lo, hi, ok = fs.faces.lo, fs.faces.hi, fs.faces.ok
-    same = pe == pf
-    n_a = n_v * n_e  # raw numbers: A's faces w * E + f, then B's faces n_a + e * V + w, then corners
-    n_f = 2 * n_a
-    # the polygons' sides as in FreeSpace._components: A on the tail / head of e, B on the tail / head of f;
-    # per side (robot on the vertex, active, raw face number, fixed coordinate, free range of the other robot)
-    zero = np.zeros(len(pe))
-    sides = []
-    for w, val, use in ((tails[pe], zero, ~same | (pk == 1)), (heads[pe], lengths[pe], ~same | (pk == 0))):
-        sides.append((0, use & ok[w, pf], w * n_e + pf, val, lo[w, pf], hi[w, pf]))
-    for w, val, use in ((tails[pf], zero, ~same | (pk == 0)), (heads[pf], lengths[pf], ~same | (pk == 1))):
-        sides.append((1, use & ok[w, pe], n_a + pe * n_v + w, val, lo[w, pe], hi[w, pe]))
-    rows, cols, dss, dts = [], [], [], []
-    for i in range(4):
-        for j in range(i + 1, 4):
-            ax_i, act_i, id_i, v_i, lo_i, hi_i = sides[i]
-            ax_j, act_j, id_j, v_j, lo_j, hi_j = sides[j]
-            m = act_i & act_j
-            if ax_i == ax_j:  # two sides of one robot: it crosses the cell, the other closes the ranges' gap
-                fixed = np.abs(v_i[m] - v_j[m])
-                free = _gap(lo_i[m], hi_i[m], lo_j[m], hi_j[m])
-                ds, dt = (fixed, free) if ax_i == 0 else (free, fixed)
-            else:  # side i is A's (s = v_i, t in [lo_i, hi_i]), side j is B's (t = v_j, s in [lo_j, hi_j])
-                ds = _gap(v_i[m], v_i[m], lo_j[m], hi_j[m])
-                dt = _gap(v_j[m], v_j[m], lo_i[m], hi_i[m])
-            rows.append(id_i[m])
-            cols.append(id_j[m])
-            dss.append(ds)
-            dts.append(dt)
-    # a free corner on the faces holding it (cost 0): A's face (w, f) holds corner (w, tail f) when its range starts
-    # at 0 and (w, head f) when it ends at L_f; B's face (w, e) holds (tail e, w) and (head e, w) the same way
-    w_o, x_o = np.nonzero(ok)
-    for at_end, end in ((lo[w_o, x_o] == 0.0, tails[x_o]), (hi[w_o, x_o] == lengths[x_o], heads[x_o])):
-        for face, corner in ((w_o * n_e + x_o, n_f + w_o * n_v + end), (n_a + x_o * n_v + w_o, n_f + end * n_v + w_o)):
-            rows.append(face[at_end])
-            cols.append(corner[at_end])
-            dss.append(np.zeros(int(at_end.sum())))
-            dts.append(dss[-1])
-    r = np.concatenate(rows).astype(np.int64)
-    c = np.concatenate(cols).astype(np.int64)
-    ds = np.concatenate(dss)
-    dt = np.concatenate(dts)
-    used, inv = np.unique(np.concatenate([r, c]), return_inverse=True)
-    n = len(used)
-    src = np.concatenate([inv[: len(r)], inv[len(r) :]])
-    dst = np.concatenate([inv[len(r) :], inv[: len(r)]])
-    order = np.argsort(src, kind="stable")
-    indptr = np.zeros(n + 2, dtype=np.int64)  # the goal's row (n) is empty here; its joins are appended per query
-    np.cumsum(np.bincount(src, minlength=n + 1), out=indptr[1:])
-    node_of: dict[Key, int] = {}
-    for k, raw in enumerate(used.tolist()):
-        if raw < n_a:
-            node_of[(0, raw // n_e, raw % n_e)] = k
-        elif raw < n_f:
-            x = raw - n_a
-            node_of[(1, x % n_v, x // n_v)] = k
-        else:
-            x = raw - n_f
-            node_of[("C", x // n_v, x % n_v)] = k
-    return FaceGraph(
-        node_of=node_of,
-        n_nodes=n,
-        indptr=indptr,
-        indices=dst[order].astype(np.int64),
-        ds=np.concatenate([ds, ds])[order],
-        dt=np.concatenate([dt, dt])[order],
-    )
+def _pieces(
+    e: np.ndarray, vd: FloatArray, pos: Position, lengths: FloatArray, tails: np.ndarray, heads: np.ndarray
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """``u -> d((e, u), pos)`` per row: ``min(u + c_t, -u + c_h)``, and on the position's own edge also
+    ``|sigma u + kappa|`` (``sigma = 1, kappa = -offset``). Returns ``sl, cs`` of shape (N, 4) (the affine pieces; the
+    last two, ``±(u - offset)``, copies of the first off the position's edge) and ``sigma, kappa`` of shape (N,)
+    (``kappa`` NaN off the position's edge)."""
+    le = lengths[e]
+    c_t = vd[tails[e]]
+    c_h = le + vd[heads[e]]
+    same = e == pos[0]
+    one = np.ones(len(e))
+    sl = np.stack([one, -one, one, np.where(same, -1.0, 1.0)], axis=1)
+    cs = np.stack([c_t, c_h, np.where(same, -pos[1], c_t), np.where(same, pos[1], c_t)], axis=1)
+    return sl, cs, one, np.where(same, -pos[1], np.nan)
 
 
-def face_graph(fs: FreeSpace) -> FaceGraph:
-    """The faces' graph of a free space, built on first use and kept with it."""
-    fg = getattr(fs, "_face_graph", None)
-    if fg is None:
-        fg = _build(fs)
-        fs._face_graph = fg  # type: ignore[attr-defined]
-    return cast("FaceGraph", fg)
+def _eval(sl: FloatArray, cs: FloatArray, sigma: FloatArray, kappa: FloatArray, u: FloatArray) -> FloatArray:
+    """The distance at candidate points ``u`` of shape (N, C): ``min(sl0 u + cs0, sl1 u + cs1, |sigma u + kappa|)``
+    (the last only where ``kappa`` is a number). Shape (N, C)."""
+    d = np.minimum(sl[:, 0:1] * u + cs[:, 0:1], sl[:, 1:2] * u + cs[:, 1:2])
+    on = ~np.isnan(kappa)
+    if on.any():
+        d[on] = np.minimum(d[on], np.abs(sigma[on, None] * u[on] + kappa[on, None]))
+    return d
 
 
-def _dist(y: float, lo: float, hi: float) -> float:
-    """Distance from ``y`` to the interval ``[lo, hi]`` (metres)."""
-    return lo - y if y < lo else (y - hi if y > hi else 0.0)
+def _crossings(s1: FloatArray, c1: FloatArray, s2: FloatArray, c2: FloatArray) -> FloatArray:
+    """Where ``s1[:, i] u + c1[:, i] = s2[:, j] u + c2[:, j]`` for all pairs ``i, j``; NaN where parallel. (N, I*J)."""
+    ds = s1[:, :, None] - s2[:, None, :]
+    dc = c2[:, None, :] - c1[:, :, None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = np.where(ds != 0.0, dc / np.where(ds != 0.0, ds, 1.0), np.nan)
+    return u.reshape(len(s1), -1)
 
 
-def _side_cost(
-    comb: Callable[[float, float], float], ax: int, a: float, lo: float, hi: float, s: float, t: float
-) -> float:
-    """The cost of the least displacement from ``(s, t)`` to the side ``ax = a`` whose other coordinate is in
-    ``[lo, hi]``."""
-    if ax == 0:
-        return comb(abs(s - a), _dist(t, lo, hi))
-    return comb(_dist(s, lo, hi), abs(t - a))
+Pieces = tuple[FloatArray, FloatArray, FloatArray, FloatArray]
 
 
-class FaceBound:
-    """The faces' graph distances to one query's goal, and the bounds the search asks for.
+def _in_u(p: Pieces, al: FloatArray, be: FloatArray) -> Pieces:
+    """Robot B's distance pieces in v turned into pieces in u along ``v = al u + be``."""
+    sl, cs, sigma, kappa = p
+    return sl * al[:, None], sl * be[:, None] + cs, sigma * al, sigma * be + kappa
+
+
+def _least(u0: FloatArray, u1: FloatArray, terms: list[tuple[Pieces, Pieces]], va: float, vb: float) -> FloatArray:
+    """The least over ``u in [u0, u1]`` of ``sum over terms of max(tA, tB) + TIE_BREAK (tA + tB)`` per row (s),
+    ``tA = dA(u) / va``, ``tB = dB(u) / vb``: exact, every distance being a minimum of affine pieces (or an absolute
+    value), so the sum is affine between the points where two pieces of one distance, or ``tA`` and ``tB``, cross."""
+    cand = [u0[:, None], u1[:, None]]
+    for pa, pb in terms:
+        for sl, cs, _, _ in (pa, pb):
+            cand.append(_crossings(sl, cs, sl, cs))
+        cand.append(_crossings(pa[0] / va, pa[1] / va, pb[0] / vb, pb[1] / vb))
+    u = np.concatenate(cand, axis=1)
+    u = np.clip(np.where(np.isnan(u), u0[:, None], u), u0[:, None], u1[:, None])
+    total = np.zeros(u.shape)
+    for pa, pb in terms:
+        ta = _eval(*pa, u) / va
+        tb = _eval(*pb, u) / vb
+        total += np.maximum(ta, tb) + TIE_BREAK * (ta + tb)
+    return np.min(total, axis=1)
+
+
+class PassingBound:
+    """The passing lemma's lower bound for one query (module docstring), built from its free space.
 
     Parameters
     ----------
     mesh : _Mesh
         The free space as the search sees it.
-    goal : (Position, Position)
-        The goal ``(robot A, robot B)``.
-    objective : {"fastest", "shortest"}
-        The search's cost: ``max(tA, tB)`` plus the tie-break terms (``tX = |dX| / vX``, s), or ``hypot(dA, dB)`` (m).
+    start, goal : (Position, Position)
+        The query ``(robot A, robot B)``.
     va, vb : float
-        The speed limits (m/s).
+        The speed limits (m/s); the bound is in seconds, the search's "fastest" cost.
 
     Attributes
     ----------
-    h : ndarray of float, shape (n_nodes,)
-        ``H`` per face and corner node (the search's cost units); :data:`UNREACHABLE` where the goal is not reached.
+    vertex : int or None
+        The vertex ``x`` of ``φ = d(x, ·)``; None when no vertex at the ends of the query's edges separates the start
+        from the goal (the bound is then 0).
+    n_segments : int
+        Passing segments kept.
+    at_start : float
+        The bound at the start (s).
     """
 
-    def __init__(self, mesh: _Mesh, goal: tuple[Position, Position], objective: str, va: float, vb: float) -> None:
-        from scipy.sparse import csr_matrix
-        from scipy.sparse.csgraph import dijkstra
-
+    def __init__(
+        self, mesh: _Mesh, start: tuple[Position, Position], goal: tuple[Position, Position], va: float, vb: float
+    ) -> None:
         self.mesh = mesh
-        if objective == "shortest":
+        self.start = start
+        self.va, self.vb = va, vb
+        g = mesh.g
+        self._dv = g.dv
+        self.vertex: int | None = None
+        self.at_start = 0.0
+        self.n_segments = 0
+        self._cache: dict[Key, float] = {}
+        vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
+        self._goal_vd = vd[2:]
+        candidates = sorted({int(g._t[p[0]]) for p in (*start, *goal)} | {int(g._h[p[0]]) for p in (*start, *goal)})
+        best: tuple[float, int, tuple[Any, ...]] | None = None
+        for x in candidates:
+            phi = [float(v[x]) for v in vd]
+            s0, s1 = phi[0] - phi[1], phi[2] - phi[3]
+            if s0 * s1 >= 0.0 or s1 == 0.0:
+                continue
+            segs = self._segments(x, goal)
+            if segs is None:
+                continue
+            h0 = self._value(segs, start[0], start[1], vd[0], vd[1])
+            if best is None or h0 > best[0]:
+                best = (h0, x, segs)
+        if best is not None:
+            self.at_start, self.vertex, self._segs = best
+            self._sign = 1.0 if float(vd[2][best[1]] - vd[3][best[1]]) > 0.0 else -1.0
+            self.n_segments = len(self._segs[0])
 
-            def comb(xa: float, xb: float) -> float:
-                return math.hypot(xa, xb)
+    # ------------------------------------------------------------------------------------------ segments
+    def _segments(self, x: int, goal: tuple[Position, Position]) -> tuple[Any, ...] | None:
+        """The passing segments of ``φ = d(x, ·)`` and their least goal cost ``W_k``: arrays ``(e, u0, u1, f, v0,
+        v1, W)`` over the segments, None when there are none."""
+        mesh = self.mesh
+        g = mesh.g
+        fs = mesh.fs
+        lengths, tails, heads = g.lengths, g.tails, g.heads
+        ee, ff = np.nonzero(fs.status != 0)
+        c0 = g.cell_terms_array(ee, ff)
+        dmin = fs._dmin
+        slack = 1e-12 * mesh.scale
+        phi_t, phi_h = g.dv[x, tails], g.dv[x, heads]
+        mid = np.clip(0.5 * (lengths + phi_h - phi_t), 0.0, lengths)
+        rows: list[tuple[FloatArray, ...]] = []
+        same = ee == ff
+        for pe in (0, 1):
+            se = 1.0 if pe == 0 else -1.0
+            ce = phi_t[ee] if pe == 0 else lengths[ee] + phi_h[ee]
+            ua = np.zeros(len(ee)) if pe == 0 else mid[ee]
+            ub = mid[ee] if pe == 0 else lengths[ee]
+            for pf in (0, 1):
+                sf = 1.0 if pf == 0 else -1.0
+                cf = phi_t[ff] if pf == 0 else lengths[ff] + phi_h[ff]
+                va_ = np.zeros(len(ff)) if pf == 0 else mid[ff]
+                vb_ = mid[ff] if pf == 0 else lengths[ff]
+                alpha = se * sf
+                beta = sf * (ce - cf)  # v = alpha u + beta on the piece
+                if alpha > 0:
+                    lo, hi = np.maximum(ua, va_ - beta), np.minimum(ub, vb_ - beta)
+                else:
+                    lo, hi = np.maximum(ua, beta - vb_), np.minimum(ub, beta - va_)
+                ok = np.ones(len(ee), dtype=bool)
+                for j, (ca, cb) in enumerate(_SLOPES):  # c0 + ca u + cb v >= dmin
+                    k = ca + cb * alpha
+                    rhs = dmin - slack - c0[:, j] - cb * beta
+                    if k > 0:
+                        lo = np.maximum(lo, rhs / k)
+                    elif k < 0:
+                        hi = np.minimum(hi, rhs / k)
+                    else:
+                        ok &= rhs <= 0.0
+                # one edge: |u - v| >= dmin, u - v = (1 - alpha) u - beta; the two sides are two cases
+                for case in (0, 1, -1):
+                    m = ok & (~same if case == 0 else same)
+                    lo_c, hi_c = lo.copy(), hi.copy()
+                    if case != 0:
+                        k = case * (1.0 - alpha)
+                        rhs = dmin - slack + case * beta
+                        if k > 0:
+                            lo_c = np.maximum(lo_c, rhs / k)
+                        elif k < 0:
+                            hi_c = np.minimum(hi_c, rhs / k)
+                        else:
+                            m &= rhs <= 0.0
+                    m &= lo_c <= hi_c
+                    if m.any():
+                        b = beta[m]
+                        rows.append((ee[m], lo_c[m], hi_c[m], ff[m], np.full(int(m.sum()), alpha), b))
+        if not rows:
+            return None
+        e = np.concatenate([r[0] for r in rows])
+        u0 = np.concatenate([r[1] for r in rows])
+        u1 = np.concatenate([r[2] for r in rows])
+        f = np.concatenate([r[3] for r in rows])
+        al = np.concatenate([r[4] for r in rows])
+        be = np.concatenate([r[5] for r in rows])
+        g = self.mesh.g
+        goal_a = _pieces(e, self._goal_vd[0], goal[0], g.lengths, g.tails, g.heads)
+        goal_b = _in_u(_pieces(f, self._goal_vd[1], goal[1], g.lengths, g.tails, g.heads), al, be)
+        w = _least(u0, u1, [(goal_a, goal_b)], self.va, self.vb)
+        v_a, v_b = al * u0 + be, al * u1 + be
+        return e, u0, u1, f, np.minimum(v_a, v_b), np.maximum(v_a, v_b), w, al, be, goal_a, goal_b
 
-        else:
+    # ------------------------------------------------------------------------------------------ the bound
+    def _value(self, segs: tuple[Any, ...], pa: Position, pb: Position, vda: FloatArray, vdb: FloatArray) -> float:
+        """``min_k`` over the segments of the least cost through segment k (s): first the relaxed value of each
+        (``comb(d(a, P_k), d(b, Q_k)) + W_k``, a lower bound of the exact one), then the exact least of
+        ``comb(d(a, p), d(b, q)) + comb(d(p, a1), d(q, b1))`` along the segments in the order of their relaxed
+        values, until the next relaxed value is no smaller than the best exact one."""
+        e, u0, u1, f, v0, v1, w, al, be, goal_a, goal_b = segs
+        g = self.mesh.g
+        lengths, tails, heads = g.lengths, g.tails, g.heads
+        da = np.minimum(vda[tails[e]] + u0, vda[heads[e]] + lengths[e] - u1)
+        on = e == pa[0]
+        if on.any():
+            da[on] = np.minimum(da[on], np.maximum(0.0, np.maximum(u0[on] - pa[1], pa[1] - u1[on])))
+        db = np.minimum(vdb[tails[f]] + v0, vdb[heads[f]] + lengths[f] - v1)
+        on = f == pb[0]
+        if on.any():
+            db[on] = np.minimum(db[on], np.maximum(0.0, np.maximum(v0[on] - pb[1], pb[1] - v1[on])))
+        ta, tb = da / self.va, db / self.vb
+        relaxed = np.maximum(ta, tb) + TIE_BREAK * (ta + tb) + w
+        order = np.argsort(relaxed, kind="stable")
+        best = math.inf
+        for i in range(0, len(order), EXACT_CHUNK):
+            idx = order[i : i + EXACT_CHUNK]
+            if relaxed[idx[0]] >= best:
+                break
+            here_a = _pieces(e[idx], vda, pa, lengths, tails, heads)
+            here_b = _in_u(_pieces(f[idx], vdb, pb, lengths, tails, heads), al[idx], be[idx])
+            ga = tuple(x[idx] for x in goal_a)
+            gb = tuple(x[idx] for x in goal_b)
+            exact = _least(u0[idx], u1[idx], [(here_a, here_b), (ga, gb)], self.va, self.vb)
+            best = min(best, float(exact.min()))
+        return best * (1.0 - BOUND_SAFETY)
 
-            def comb(xa: float, xb: float) -> float:
-                ta, tb_ = xa / va, xb / vb
-                return max(ta, tb_) + TIE_BREAK * (ta + tb_) + TIE_BREAK_2 * math.hypot(ta, tb_)
-
-        self.comb = comb
-        fg = face_graph(mesh.fs)
-        self.node_of = fg.node_of
-        self.goal_at: dict[PolygonId, list[tuple[float, float]]] = {}
-        for pid, c in mesh.placements(*goal):
-            self.goal_at.setdefault(pid, []).append(c)
-        if objective == "shortest":
-            w = np.hypot(fg.ds, fg.dt)
-        else:
-            ta, tb = fg.ds / va, fg.dt / vb
-            w = np.maximum(ta, tb) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * np.hypot(ta, tb)
-        g_cols, g_w = [], []
-        for pid, pts in self.goal_at.items():
-            for pt in pts:
-                for ax, a, face, lo, hi in mesh.sides(pid):
-                    node = fg.node_of.get(face)
-                    if node is not None:
-                        g_cols.append(node)
-                        g_w.append(_side_cost(comb, ax, a, lo, hi, pt[0], pt[1]))
-        n = fg.n_nodes + 1
-        indptr = fg.indptr.copy()
-        indptr[-1] += len(g_cols)
-        # explicit zeros are edges of weight 0 for csgraph, and of repeated entries Dijkstra takes the cheapest
-        graph = csr_matrix(
-            (
-                np.concatenate([w, np.asarray(g_w, dtype=float)]),
-                np.concatenate([fg.indices, np.asarray(g_cols, dtype=np.int64)]),
-                indptr,
-            ),
-            shape=(n, n),
-        )
-        dist = dijkstra(graph, directed=True, indices=fg.n_nodes)[: fg.n_nodes]
-        self.h = np.where(np.isfinite(dist), dist * (1.0 - BOUND_SAFETY), UNREACHABLE)
-        self._h = self.h.tolist()
-        self._points: dict[Key, float] = {}
-
-    def face(self, face: FaceKey) -> float:
-        """``H`` of a face (the search's cost units)."""
-        node = self.node_of.get(face)
-        return UNREACHABLE if node is None else self._h[node]
+    def at(self, pa: Position, pb: Position) -> float:
+        """The bound at the configuration ``(pa, pb)`` (s); 0 on the goal's side of ``φ(A) = φ(B)``."""
+        if self.vertex is None:
+            return 0.0
+        x = self.vertex
+        vda, vdb = _vertex_dist(self.mesh, pa), _vertex_dist(self.mesh, pb)
+        if (vda[x] - vdb[x]) * self._sign > 0.0:
+            return 0.0
+        return self._value(self._segs, pa, pb, vda, vdb)
 
     def point(self, key: Key) -> float:
-        """A lower bound on the cost from the point named ``key`` (a face end or corner of the search) to the goal:
-        the least over the polygons holding it of the way to the goal inside the polygon or through one of its
-        sides."""
-        out = self._points.get(key)
+        """The bound at the search's point named ``key`` (the start ``("S",)``, a face end or a corner), cached."""
+        out = self._cache.get(key)
         if out is None:
-            out = UNREACHABLE
-            comb = self.comb
-            for pid, (s, t) in self.mesh.members(key):
-                for pt in self.goal_at.get(pid, ()):
-                    out = min(out, comb(abs(pt[0] - s), abs(pt[1] - t)))
-                for ax, a, face, lo, hi in self.mesh.sides(pid):
-                    hf = self.face(face)
-                    if hf >= out:
-                        continue
-                    out = min(out, _side_cost(comb, ax, a, lo, hi, s, t) * (1.0 - BOUND_SAFETY) + hf)
-            self._points[key] = out
+            if key == ("S",):
+                out = self.at(*self.start)
+            else:
+                (e, f, _), (s, t) = self.mesh.members(key)[0]
+                out = self.at((e, s), (f, t))
+            self._cache[key] = out
         return out
 
-    def interval(self, face: FaceKey, ax: int, a: float, r: tuple[float, float], y0: float, y1: float) -> float:
-        """A lower bound on the cost from the root ``r`` (in the page's frame) through the part ``[y0, y1]`` of the
-        face ``face`` (side ``ax = a``) to the goal."""
-        return _side_cost(self.comb, ax, a, y0, y1, r[0], r[1]) * (1.0 - BOUND_SAFETY) + self.face(face)
+
+def passing_bound(
+    mesh: _Mesh, start: tuple[Position, Position], goal: tuple[Position, Position], va: float, vb: float
+) -> PassingBound | None:
+    """The :class:`PassingBound` of a query, or None when no vertex separates its start from its goal."""
+    b = PassingBound(mesh, start, goal, va, vb)
+    return None if b.vertex is None else b

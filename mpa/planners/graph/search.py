@@ -16,7 +16,7 @@ from mpa.planners.graph.base import F_GRID, TIE_BREAK, TIE_BREAK_2, Coords, Face
 from mpa.planners.graph.mesh import _Mesh
 
 if TYPE_CHECKING:
-    from mpa.planners.graph.bounds import FaceBound
+    from mpa.planners.graph.bounds import PassingBound
 
 
 def _uncovered(
@@ -71,13 +71,13 @@ def _search(
     va: float,
     vb: float,
     budget: int | None = None,
-    bound: FaceBound | None = None,
+    bound: PassingBound | None = None,
 ) -> list[list[Any]] | None:
     """Exact shortest path (for the objective's cost) in the free space: an any-angle A* over *roots* (start, face
     ends and corners, where a taut path can bend) and *intervals* (the part of a face seen straight from a root
     through the faces crossed so far, unfolded across faces). With ``budget``: None after that many expansions. With
-    ``bound`` (:class:`~mpa.planners.graph.bounds.FaceBound` of this goal): each node's bound is also the faces'
-    graph's, whichever is larger."""
+    ``bound`` (:class:`~mpa.planners.graph.bounds.PassingBound` of this query): a node's bound is the larger of the
+    robots' distances' and the passing bound at its point (at its root, for a face entry)."""
     g = mesh.g
     eps = mesh.eps
     ctol = 1e-12 * mesh.scale * mesh.scale
@@ -193,7 +193,7 @@ def _search(
             xa = min_along(face[2], y0, y1, r[0], 0)
         f = groot + comb(xa, xb)
         if bound is not None:
-            f = max(f, groot + bound.interval(face, ax, a, r, y0, y1))
+            f = max(f, groot + bound.point(rkey))
         nodes.append([3, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin])
         heapq.heappush(heap, queue_key(f, groot, len(nodes) - 1))
 
