@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from mpa.graph_track import Position
-from mpa.planners.graph.base import TIE_BREAK, FloatArray, Key
+from mpa.planners.graph.base import TIE_BREAK, FaceKey, FloatArray, Key
 from mpa.planners.graph.mesh import _Mesh
 
 __all__ = ["BOUND_SAFETY", "PassingBound", "passing_bound"]
@@ -147,6 +147,9 @@ class PassingBound:
         The bound at the start (s).
     """
 
+    #: Whether the bound at a search node is the exact least cost through the segments (True) or the relaxed one.
+    exact_points = False
+
     def __init__(
         self, mesh: _Mesh, start: tuple[Position, Position], goal: tuple[Position, Position], va: float, vb: float
     ) -> None:
@@ -159,6 +162,8 @@ class PassingBound:
         self.at_start = 0.0
         self.n_segments = 0
         self._cache: dict[Key, float] = {}
+        self._face_parts: dict[FaceKey, tuple[Any, ...]] = {}
+        self._entries: dict[tuple[FaceKey, float, float], float] = {}
         vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
         self._goal_vd = vd[2:]
         candidates = sorted({int(g._t[p[0]]) for p in (*start, *goal)} | {int(g._h[p[0]]) for p in (*start, *goal)})
@@ -171,7 +176,7 @@ class PassingBound:
             segs = self._segments(x, goal)
             if segs is None:
                 continue
-            h0 = self._value(segs, start[0], start[1], vd[0], vd[1])
+            h0 = self._value(segs, start[0], start[1], vd[0], vd[1], True)
             if best is None or h0 > best[0]:
                 best = (h0, x, segs)
         if best is not None:
@@ -254,7 +259,9 @@ class PassingBound:
         return e, u0, u1, f, np.minimum(v_a, v_b), np.maximum(v_a, v_b), w, al, be, goal_a, goal_b
 
     # ------------------------------------------------------------------------------------------ the bound
-    def _value(self, segs: tuple[Any, ...], pa: Position, pb: Position, vda: FloatArray, vdb: FloatArray) -> float:
+    def _value(
+        self, segs: tuple[Any, ...], pa: Position, pb: Position, vda: FloatArray, vdb: FloatArray, exact: bool
+    ) -> float:
         """``min_k`` over the segments of the least cost through segment k (s): first the relaxed value of each
         (``comb(d(a, P_k), d(b, Q_k)) + W_k``, a lower bound of the exact one), then the exact least of
         ``comb(d(a, p), d(b, q)) + comb(d(p, a1), d(q, b1))`` along the segments in the order of their relaxed
@@ -272,6 +279,8 @@ class PassingBound:
             db[on] = np.minimum(db[on], np.maximum(0.0, np.maximum(v0[on] - pb[1], pb[1] - v1[on])))
         ta, tb = da / self.va, db / self.vb
         relaxed = np.maximum(ta, tb) + TIE_BREAK * (ta + tb) + w
+        if not exact:
+            return float(relaxed.min()) * (1.0 - BOUND_SAFETY)
         order = np.argsort(relaxed, kind="stable")
         best = math.inf
         for i in range(0, len(order), EXACT_CHUNK):
@@ -294,7 +303,7 @@ class PassingBound:
         vda, vdb = _vertex_dist(self.mesh, pa), _vertex_dist(self.mesh, pb)
         if (vda[x] - vdb[x]) * self._sign > 0.0:
             return 0.0
-        return self._value(self._segs, pa, pb, vda, vdb)
+        return self._value(self._segs, pa, pb, vda, vdb, self.exact_points)
 
     def point(self, key: Key) -> float:
         """The bound at the search's point named ``key`` (the start ``("S",)``, a face end or a corner), cached."""
@@ -307,6 +316,72 @@ class PassingBound:
                 out = self.at((e, s), (f, t))
             self._cache[key] = out
         return out
+
+    def entry(self, face: FaceKey, y0: float, y1: float) -> float:
+        """A lower bound on the cost to the goal from any configuration of the part ``[y0, y1]`` of ``face`` (one
+        robot on the face's vertex, the other on its edge), relaxed per segment: ``min_k comb(d(w, P_k), d(I, Q_k))
+        + W_k`` with robots exchanged as the face says; 0 when part of the face lies on the goal's side."""
+        if self.vertex is None:
+            return 0.0
+        key = (face, y0, y1)
+        out = self._entries.get(key)
+        if out is None:
+            out = self._entries[key] = self._entry(face, y0, y1)
+        return out
+
+    def _entry(self, face: FaceKey, y0: float, y1: float) -> float:
+        ax, w, other = face
+        g = self.mesh.g
+        x = self.vertex
+        dvx = self._dv[x]
+        # φ along the edge is a tent: least at an end, largest at its peak when inside
+        lo_e = float(dvx[g._t[other]])
+        hi_e = float(dvx[g._h[other]])
+        le = g._L[other]
+        ph0 = min(y0 + lo_e, le - y0 + hi_e)
+        ph1 = min(y1 + lo_e, le - y1 + hi_e)
+        peak = 0.5 * (le + hi_e - lo_e)
+        top = max(ph0, ph1, min(peak + lo_e, le - peak + hi_e) if y0 < peak < y1 else -math.inf)
+        # configurations (robot on the vertex, robot on the edge): start side when sign * (φ(A) - φ(B)) <= 0
+        if ax == 0:  # A on w: sign (φ(w) - φ(y)) <= 0 for every y
+            ok = self._sign * float(dvx[w]) <= (self._sign * min(ph0, ph1) if self._sign > 0 else -top)
+        else:  # B on w: sign (φ(y) - φ(w)) <= 0 for every y
+            ok = (self._sign * top if self._sign > 0 else -min(ph0, ph1)) <= self._sign * float(dvx[w])
+        if not ok:
+            return 0.0
+        parts = self._face_parts.get(face)
+        if parts is None:
+            parts = self._face_parts[face] = self._parts(face)
+        dw, d_t, d_h, on, ub0, ub1, wk = parts
+        di = np.minimum(y0 + d_t, le - y1 + d_h)
+        if on is not None:
+            di[on] = np.minimum(di[on], np.maximum(0.0, np.maximum(ub0 - y1, y0 - ub1)))
+        if ax == 0:
+            ta, tb = dw / self.va, di / self.vb
+        else:
+            ta, tb = di / self.va, dw / self.vb
+        return float(np.min(np.maximum(ta, tb) + TIE_BREAK * (ta + tb) + wk)) * (1.0 - BOUND_SAFETY)
+
+    def _parts(self, face: FaceKey) -> tuple[Any, ...]:
+        """What :meth:`entry` needs of a face, per segment: the vertex robot's distance to its stretch, the distances
+        from the edge's two ends to the other stretch, the segments on the face's own edge (their stretch there)."""
+        ax, w, other = face
+        g = self.mesh.g
+        e_, u0, u1, f_, v0, v1, wk = self._segs[:7]
+        lengths, tails, heads = g.lengths, g.tails, g.heads
+        dv = self._dv
+        if ax == 0:
+            ea, ua0, ua1, eb, ub0, ub1 = e_, u0, u1, f_, v0, v1
+        else:
+            ea, ua0, ua1, eb, ub0, ub1 = f_, v0, v1, e_, u0, u1
+        dw = np.minimum(dv[w, tails[ea]] + ua0, dv[w, heads[ea]] + lengths[ea] - ua1)
+        to, ho = g._t[other], g._h[other]
+        d_t = np.minimum(dv[to, tails[eb]] + ub0, dv[to, heads[eb]] + lengths[eb] - ub1)
+        d_h = np.minimum(dv[ho, tails[eb]] + ub0, dv[ho, heads[eb]] + lengths[eb] - ub1)
+        on = eb == other
+        if on.any():
+            return dw, d_t, d_h, on, ub0[on], ub1[on], wk
+        return dw, d_t, d_h, None, None, None, wk
 
 
 def passing_bound(

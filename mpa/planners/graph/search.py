@@ -193,7 +193,12 @@ def _search(
             xa = min_along(face[2], y0, y1, r[0], 0)
         f = groot + comb(xa, xb)
         if bound is not None:
-            f = max(f, groot + bound.point(rkey))
+            x_a, x_b = (
+                (abs(r[0] - a), max(0.0, y0 - r[1], r[1] - y1))
+                if ax == 0
+                else (max(0.0, y0 - r[0], r[0] - y1), abs(r[1] - a))
+            )
+            f = max(f, groot + bound.point(rkey), groot + comb(x_a, x_b) + bound.entry(face, y0, y1))
         nodes.append([3, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin])
         heapq.heappush(heap, queue_key(f, groot, len(nodes) - 1))
 
