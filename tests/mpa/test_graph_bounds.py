@@ -215,3 +215,44 @@ def test_passing_segments_are_free_at_equal_distance_and_their_least_goal_cost_i
             assert w[k] >= sampled.min() - 2.0 * step / 0.7 - 1e-9, (name, k, w[k], sampled.min())
             checked += 1
     assert checked >= 20, checked
+
+
+@pytest.mark.parametrize("name", ["passing_loop", "two_sidings", "y_junction", "rail_yard"])
+def test_the_planner_with_the_bound_from_the_first_pop_plans_as_fast(
+    name: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``plan_graph`` with the passing bound on every search (``PASSING_BOUND_AFTER = 1``) and without it (None):
+    the same makespans on seeded swaps and random queries, and the plans keep the clearance."""
+    from mpa.errors import NoMotionError
+    from mpa.planners.graph import query as graph_query
+    from mpa.planners.graph.query import plan_graph
+
+    track = _layout(name)
+    rng = np.random.default_rng(99 + len(name))
+    med = float(np.median(track.lengths))
+    compared = 0
+    for frac in (0.2, 0.5, 1.0):
+        fs = free_space(track, frac * med)
+        for k in range(8):
+            q = random_free_query(track, fs, rng)
+            if q is None:
+                continue
+            s, g = q
+            if k % 2 == 0:
+                g = (s[1], s[0])
+            spans = []
+            for after in (None, 1):
+                monkeypatch.setattr(graph_query, "PASSING_BOUND_AFTER", after)
+                try:
+                    p = plan_graph(track, s, g, frac * med)
+                except NoMotionError:
+                    spans.append(None)
+                    continue
+                assert p.min_distance() >= p.clearance_used - 1e-9, (name, s, g, after)
+                spans.append(p.makespan)
+            if spans[0] is None or spans[1] is None:
+                assert spans[0] is None and spans[1] is None, (name, s, g, spans)
+                continue
+            assert spans[1] == pytest.approx(spans[0], rel=1e-9, abs=1e-12), (name, s, g, frac, spans)
+            compared += 1
+    assert compared >= 10, compared
