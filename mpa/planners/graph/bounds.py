@@ -289,10 +289,10 @@ class PassingBound:
                 break
             here_a = _pieces(e[idx], vda, pa, lengths, tails, heads)
             here_b = _in_u(_pieces(f[idx], vdb, pb, lengths, tails, heads), al[idx], be[idx])
-            ga = tuple(x[idx] for x in goal_a)
-            gb = tuple(x[idx] for x in goal_b)
-            exact = _least(u0[idx], u1[idx], [(here_a, here_b), (ga, gb)], self.va, self.vb)
-            best = min(best, float(exact.min()))
+            ga: Pieces = (goal_a[0][idx], goal_a[1][idx], goal_a[2][idx], goal_a[3][idx])
+            gb: Pieces = (goal_b[0][idx], goal_b[1][idx], goal_b[2][idx], goal_b[3][idx])
+            least = _least(u0[idx], u1[idx], [(here_a, here_b), (ga, gb)], self.va, self.vb)
+            best = min(best, float(least.min()))
         return best * (1.0 - BOUND_SAFETY)
 
     def at(self, pa: Position, pb: Position) -> float:

@@ -23,7 +23,6 @@ from mpa.planners.graph.result import GraphPlan
 from mpa.planners.graph.search import _search
 from mpa.planners.graph.shortcut import _independent_motion
 
-
 #: Queue pops after which a "fastest" search starts again with the passing bound (:mod:`mpa.planners.graph.bounds`:
 #: building it costs a few ms, so only searches that negotiate long get it); None: never.
 PASSING_BOUND_AFTER: int | None = 5000
