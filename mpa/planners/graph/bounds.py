@@ -41,7 +41,7 @@ from mpa.graph_track import Position
 from mpa.planners.graph.base import TIE_BREAK, FaceKey, FloatArray, Key
 from mpa.planners.graph.mesh import _Mesh
 
-__all__ = ["BOUND_SAFETY", "PassingBound", "passing_bound"]
+__all__ = ["BOUND_SAFETY", "PassingBound", "passing_bound", "separating_vertices"]
 
 #: The bound is scaled by ``1 - BOUND_SAFETY`` so that rounding never lifts it above a motion's cost (the search's
 #: order is on a grid of ``F_GRID = 1e-12`` of the start's bound).
@@ -124,6 +124,27 @@ def _least(u0: FloatArray, u1: FloatArray, terms: list[tuple[Pieces, Pieces]], v
     return np.min(total, axis=1)
 
 
+def separating_vertices(
+    mesh: _Mesh,
+    start: tuple[Position, Position],
+    goal: tuple[Position, Position],
+    vd: list[FloatArray] | None = None,
+) -> list[int]:
+    """The vertices ``x`` at the ends of the query's four edges for which ``φ(A) - φ(B)``, ``φ = d(x, ·)``, changes
+    sign strictly between start and goal (the passing lemma applies); ``vd``: the four positions' vertex distances,
+    when already at hand."""
+    g = mesh.g
+    if vd is None:
+        vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
+    ends = {int(g._t[p[0]]) for p in (*start, *goal)} | {int(g._h[p[0]]) for p in (*start, *goal)}
+    out = []
+    for x in sorted(ends):
+        s0, s1 = float(vd[0][x] - vd[1][x]), float(vd[2][x] - vd[3][x])
+        if s0 * s1 < 0.0:
+            out.append(x)
+    return out
+
+
 class PassingBound:
     """The passing lemma's lower bound for one query (module docstring), built from its free space.
 
@@ -166,13 +187,8 @@ class PassingBound:
         self._entries: dict[tuple[FaceKey, float, float], float] = {}
         vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
         self._goal_vd = vd[2:]
-        candidates = sorted({int(g._t[p[0]]) for p in (*start, *goal)} | {int(g._h[p[0]]) for p in (*start, *goal)})
         best: tuple[float, int, tuple[Any, ...]] | None = None
-        for x in candidates:
-            phi = [float(v[x]) for v in vd]
-            s0, s1 = phi[0] - phi[1], phi[2] - phi[3]
-            if s0 * s1 >= 0.0 or s1 == 0.0:
-                continue
+        for x in separating_vertices(mesh, start, goal, vd):
             segs = self._segments(x, goal)
             if segs is None:
                 continue

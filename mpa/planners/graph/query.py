@@ -16,7 +16,7 @@ from mpa.freespace import check_size, free_space
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 from mpa.planners.graph.assemble import _assemble, _merge_same_polygon
 from mpa.planners.graph.base import OBJECTIVES, SPEED_RANGE, SPEED_RATIO
-from mpa.planners.graph.bounds import passing_bound
+from mpa.planners.graph.bounds import passing_bound, separating_vertices
 from mpa.planners.graph.mesh import _mesh
 from mpa.planners.graph.reasons import _why_no_motion
 from mpa.planners.graph.result import GraphPlan
@@ -24,7 +24,8 @@ from mpa.planners.graph.search import _search
 from mpa.planners.graph.shortcut import _independent_motion
 
 #: Queue pops after which a "fastest" search starts again with the passing bound (:mod:`mpa.planners.graph.bounds`:
-#: building it costs a few ms, so only searches that negotiate long get it); None: never.
+#: building it costs a few ms, so only searches that negotiate long get it; a query that no vertex separates, where
+#: the bound is 0, is searched once without it); None: never.
 PASSING_BOUND_AFTER: int | None = 5000
 
 
@@ -155,7 +156,7 @@ def plan_graph(
     quick = _independent_motion(mesh, s, gl)
     if quick is not None:
         return _assemble(tr, fs, s, gl, objective, (va, vb), quick)
-    after = PASSING_BOUND_AFTER if objective == "fastest" else None
+    after = PASSING_BOUND_AFTER if objective == "fastest" and separating_vertices(mesh, s, gl) else None
     segs = _search(mesh, s, gl, objective, va, vb, budget=after)
     if segs is None:  # a long negotiation: again, with the bound that knows the robots must pass
         segs = _search(mesh, s, gl, objective, va, vb, bound=passing_bound(mesh, s, gl, va, vb))
