@@ -27,7 +27,8 @@ these affine functions cross, or at an end. At a search node the bound is
 ``min_k comb(d(a, P_k), d(b, Q_k)) + W_k`` (``P_k``, ``Q_k``: the segment's stretches of e and f), which relaxes the
 coupling of p and q along the segment and is therefore still a lower bound. The tie-break term in ``hypot`` is left
 out (it is >= 0), so the bound never exceeds the search's cost of a motion. Of the vertices at the ends of the
-start's and the goal's edges, the one whose bound at the start is largest is used.
+start's and the goal's edges that separate them, the two clearest are tried and the one whose bound at the start is
+largest is used.
 """
 
 from __future__ import annotations
@@ -46,6 +47,9 @@ __all__ = ["BOUND_SAFETY", "PassingBound", "passing_bound", "separating_vertices
 #: The bound is scaled by ``1 - BOUND_SAFETY`` so that rounding never lifts it above a motion's cost (the search's
 #: order is on a grid of ``F_GRID = 1e-12`` of the start's bound).
 BOUND_SAFETY = 1e-13
+
+#: Separating vertices tried per query (the clearest first); the bound of the one largest at the start is kept.
+VERTICES_TRIED = 2
 
 #: Segments whose exact least cost is computed at once (module docstring).
 EXACT_CHUNK = 32
@@ -131,8 +135,8 @@ def separating_vertices(
     vd: list[FloatArray] | None = None,
 ) -> list[int]:
     """The vertices ``x`` at the ends of the query's four edges for which ``φ(A) - φ(B)``, ``φ = d(x, ·)``, changes
-    sign strictly between start and goal (the passing lemma applies); ``vd``: the four positions' vertex distances,
-    when already at hand."""
+    sign strictly between start and goal (the passing lemma applies), the clearest first (the larger of the two
+    differences' smaller size); ``vd``: the four positions' vertex distances, when already at hand."""
     g = mesh.g
     if vd is None:
         vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
@@ -141,8 +145,8 @@ def separating_vertices(
     for x in sorted(ends):
         s0, s1 = float(vd[0][x] - vd[1][x]), float(vd[2][x] - vd[3][x])
         if s0 * s1 < 0.0:
-            out.append(x)
-    return out
+            out.append((-min(abs(s0), abs(s1)), x))
+    return [x for _, x in sorted(out)]
 
 
 class PassingBound:
@@ -188,7 +192,7 @@ class PassingBound:
         vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
         self._goal_vd = vd[2:]
         best: tuple[float, int, tuple[Any, ...]] | None = None
-        for x in separating_vertices(mesh, start, goal, vd):
+        for x in separating_vertices(mesh, start, goal, vd)[:VERTICES_TRIED]:
             segs = self._segments(x, goal)
             if segs is None:
                 continue

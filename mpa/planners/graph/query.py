@@ -28,6 +28,9 @@ from mpa.planners.graph.shortcut import _independent_motion
 #: the bound is 0, is searched once without it); None: never.
 PASSING_BOUND_AFTER: int | None = 5000
 
+#: The passing bound is used when at the start it is above this multiple of the robots' own bound (s / s).
+BOUND_GAIN = 1.001
+
 
 # ------------------------------------------------------------------------------------------------- API
 def _fits_float(x: int) -> bool:
@@ -158,8 +161,12 @@ def plan_graph(
         return _assemble(tr, fs, s, gl, objective, (va, vb), quick)
     after = PASSING_BOUND_AFTER if objective == "fastest" and separating_vertices(mesh, s, gl) else None
     segs = _search(mesh, s, gl, objective, va, vb, budget=after)
-    if segs is None:  # a long negotiation: again, with the bound that knows the robots must pass
-        segs = _search(mesh, s, gl, objective, va, vb, bound=passing_bound(mesh, s, gl, va, vb))
+    if segs is None:  # a long negotiation: again, with the bound that knows the robots must pass, if it knows more
+        passing = passing_bound(mesh, s, gl, va, vb)
+        own = max(geo.distance_scalar(*s[0], *gl[0]) / va, geo.distance_scalar(*s[1], *gl[1]) / vb)
+        segs = _search(
+            mesh, s, gl, objective, va, vb, bound=passing if passing and passing.at_start > own * BOUND_GAIN else None
+        )
     if segs is None:  # pragma: no cover - no budget given
         raise PlanningError("search gave up")
     segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])
