@@ -29,23 +29,12 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT.parent))
 
 import bench_plan_tails  # noqa: E402
-from bench.graph_runner import CLEARANCE_FRACTIONS, make_graph_queries  # noqa: E402
 
 from mpa.freespace import free_space  # noqa: E402
 from mpa.planners.graph import search as search_module  # noqa: E402
-from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2  # noqa: E402
-from mpa.planners.graph.bounds import PassingBound  # noqa: E402
+from mpa.planners.graph.bounds import PassingBound, fastest_cost  # noqa: E402
 from mpa.planners.graph.mesh import _mesh  # noqa: E402
 from mpa.planners.graph.shortcut import _independent_motion  # noqa: E402
-
-
-def path_cost(segs: list[list[Any]], va: float, vb: float) -> float:
-    """The search's "fastest" cost of its segments ``[polygon, (s, t) from, (s, t) to]`` (s)."""
-    total = 0.0
-    for _, p, q in segs:
-        ta, tb = abs(q[0] - p[0]) / va, abs(q[1] - p[1]) / vb
-        total += max(ta, tb) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
-    return total
 
 
 class _Pops:
@@ -64,13 +53,7 @@ def run(queries: int, seed: int, budget: int, only: set[str] | None) -> list[dic
     records: list[dict[str, Any]] = []
     pops = _Pops()
     search_module.heapq.heappop = pops  # type: ignore[attr-defined]
-    for li, (name, track, ds) in enumerate(bench_plan_tails.layouts()):
-        if only and name not in only:
-            continue
-        if ds is None:
-            med = float(np.median(track.lengths))
-            ds = [round(f * med, 6) for f in CLEARANCE_FRACTIONS]
-        qs = make_graph_queries(track, queries + 1, seed * 1000 + li, ds)
+    for name, track, _, qs in bench_plan_tails.layout_queries(queries, seed, only):
         rows = []
         geo = track.geometry
         for q in qs[1:]:
@@ -95,9 +78,9 @@ def run(queries: int, seed: int, budget: int, only: set[str] | None) -> list[dic
             )
             t3 = time.perf_counter()
             base = max(geo.distance_scalar(*s[0], *g[0]), geo.distance_scalar(*s[1], *g[1]))
-            opt = path_cost(with_bound, 1.0, 1.0) if with_bound is not None else math.nan
+            opt = fastest_cost(with_bound, 1.0, 1.0) if with_bound is not None else math.nan
             if plain is not None and with_bound is not None:
-                c0 = path_cost(plain, 1.0, 1.0)
+                c0 = fastest_cost(plain, 1.0, 1.0)
                 if abs(c0 - opt) > 1e-9 * max(1.0, opt):
                     raise AssertionError(f"{name} query {q['id']}: cost {c0!r} without, {opt!r} with the bound")
             rows.append(

@@ -22,6 +22,7 @@ import argparse
 import json
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -62,6 +63,20 @@ def layouts() -> list[tuple[str, GraphTrack, list[float] | None]]:
     return out
 
 
+def layout_queries(
+    queries: int, seed: int, only: set[str] | None = None
+) -> Iterator[tuple[str, GraphTrack, list[float], list[dict[str, Any]]]]:
+    """Per layout (those named in ``only``, or all): ``(name, track, clearances, queries + 1 seeded queries)``, the
+    first query the unrecorded warm-up."""
+    for li, (name, track, ds) in enumerate(layouts()):
+        if only and name not in only:
+            continue
+        if ds is None:
+            med = float(np.median(track.lengths))
+            ds = [round(f * med, 6) for f in CLEARANCE_FRACTIONS]
+        yield name, track, ds, make_graph_queries(track, queries + 1, seed * 1000 + li, ds)
+
+
 def _stats(times: list[float], cpu: list[float]) -> dict[str, float]:
     ts, cs = np.array(times), np.array(cpu)
     return {
@@ -78,13 +93,7 @@ def run(queries: int, seed: int, only: set[str] | None = None, compare: bool = F
     records = []
     after = graph_query.PASSING_BOUND_AFTER
     arms = (None, after) if compare else (after,)
-    for li, (name, track, ds) in enumerate(layouts()):
-        if only and name not in only:
-            continue
-        if ds is None:
-            med = float(np.median(track.lengths))
-            ds = [round(f * med, 6) for f in CLEARANCE_FRACTIONS]
-        qs = make_graph_queries(track, queries + 1, seed * 1000 + li, ds)
+    for name, track, ds, qs in layout_queries(queries, seed, only):
         for d in ds:
             free_space(track, d)
         _plan(track, qs[0], (1.0, 1.0))

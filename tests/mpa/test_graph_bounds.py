@@ -12,7 +12,6 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pytest
@@ -21,8 +20,8 @@ from hypothesis import strategies as st
 
 from mpa.freespace import FreeSpace, free_space
 from mpa.graph_track import GraphTrack, Position
-from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2
-from mpa.planners.graph.bounds import PassingBound, passing_bound
+from mpa.planners.graph.base import TIE_BREAK
+from mpa.planners.graph.bounds import PassingBound, fastest_cost, passing_bound
 from mpa.planners.graph.mesh import _mesh
 from mpa.planners.graph.search import _search
 from tests.helpers.graph_helpers import random_free_query, random_layout, random_position
@@ -35,15 +34,6 @@ def _layout(name: str) -> GraphTrack:
     return GraphTrack.from_layout(json.loads((ROOT / "examples" / "tracks" / f"{name}.json").read_text()))
 
 
-def _cost(segs: list[list[Any]], va: float, vb: float) -> float:
-    """The search's "fastest" cost of its segments (s)."""
-    total = 0.0
-    for _, p, q in segs:
-        ta, tb = abs(q[0] - p[0]) / va, abs(q[1] - p[1]) / vb
-        total += max(ta, tb) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
-    return total
-
-
 def _optimum(fs: FreeSpace, s: tuple[Position, Position], g: tuple[Position, Position], va: float, vb: float) -> float:
     """The exact optimum's cost from ``s`` to ``g`` (inf when they are in different components)."""
     comp = fs.component_of(*s)
@@ -53,7 +43,7 @@ def _optimum(fs: FreeSpace, s: tuple[Position, Position], g: tuple[Position, Pos
         return 0.0
     segs = _search(_mesh(fs), s, g, "fastest", va, vb)
     assert segs is not None
-    return _cost(segs, va, vb)
+    return fastest_cost(segs, va, vb)
 
 
 def _check_query(
@@ -169,7 +159,7 @@ def test_the_bound_closes_the_gap_of_a_swap_at_a_siding() -> None:
         assert pb.at_start > base + 0.5 * (opt - base), (s, base, pb.at_start, opt)
         segs = _search(_mesh(fs), s, g, "fastest", 1.0, 1.0, bound=pb)
         assert segs is not None
-        assert _cost(segs, 1.0, 1.0) == pytest.approx(opt, rel=1e-9), (s, opt)
+        assert fastest_cost(segs, 1.0, 1.0) == pytest.approx(opt, rel=1e-9), (s, opt)
         found += 1
     assert found >= 3, found
 

@@ -37,12 +37,13 @@ import math
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from mpa.graph_track import Position
-from mpa.planners.graph.base import TIE_BREAK, FaceKey, FloatArray, Key
+from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2, FaceKey, FloatArray, Key
 from mpa.planners.graph.mesh import _Mesh
 
-__all__ = ["BOUND_SAFETY", "PassingBound", "passing_bound", "separating_vertices"]
+__all__ = ["BOUND_SAFETY", "PassingBound", "fastest_cost", "passing_bound", "separating_vertices"]
 
 #: The bound is scaled by ``1 - BOUND_SAFETY`` so that rounding never lifts it above a motion's cost (the search's
 #: order is on a grid of ``F_GRID = 1e-12`` of the start's bound).
@@ -98,6 +99,28 @@ def _crossings(s1: FloatArray, c1: FloatArray, s2: FloatArray, c2: FloatArray) -
     with np.errstate(divide="ignore", invalid="ignore"):
         u = np.where(ds != 0.0, dc / np.where(ds != 0.0, ds, 1.0), np.nan)
     return u.reshape(len(s1), -1)
+
+
+def _keep(
+    lo: FloatArray, hi: FloatArray, ok: NDArray[np.bool_], k: float, rhs: FloatArray
+) -> tuple[FloatArray, FloatArray, NDArray[np.bool_]]:
+    """The interval ``[lo, hi]`` of u cut by ``k u >= rhs`` per row (``k`` one number); rows where ``k = 0`` and
+    ``rhs > 0`` are dropped from ``ok``."""
+    if k > 0:
+        return np.maximum(lo, rhs / k), hi, ok
+    if k < 0:
+        return lo, np.minimum(hi, rhs / k), ok
+    return lo, hi, ok & (rhs <= 0.0)
+
+
+def fastest_cost(segs: list[list[Any]], va: float, vb: float) -> float:
+    """The search's "fastest" cost of a motion's segments ``[polygon, (s, t) from, (s, t) to]`` (offsets in metres;
+    seconds): ``max(tA, tB)`` plus the tie-break terms, summed."""
+    total = 0.0
+    for _, p, q in segs:
+        ta, tb = abs(q[0] - p[0]) / va, abs(q[1] - p[1]) / vb
+        total += max(ta, tb) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
+    return total
 
 
 Pieces = tuple[FloatArray, FloatArray, FloatArray, FloatArray]
@@ -238,27 +261,13 @@ class PassingBound:
                     lo, hi = np.maximum(ua, beta - vb_), np.minimum(ub, beta - va_)
                 ok = np.ones(len(ee), dtype=bool)
                 for j, (ca, cb) in enumerate(_SLOPES):  # c0 + ca u + cb v >= dmin
-                    k = ca + cb * alpha
-                    rhs = dmin - slack - c0[:, j] - cb * beta
-                    if k > 0:
-                        lo = np.maximum(lo, rhs / k)
-                    elif k < 0:
-                        hi = np.minimum(hi, rhs / k)
-                    else:
-                        ok &= rhs <= 0.0
+                    lo, hi, ok = _keep(lo, hi, ok, ca + cb * alpha, dmin - slack - c0[:, j] - cb * beta)
                 # one edge: |u - v| >= dmin, u - v = (1 - alpha) u - beta; the two sides are two cases
                 for case in (0, 1, -1):
                     m = ok & (~same if case == 0 else same)
-                    lo_c, hi_c = lo.copy(), hi.copy()
+                    lo_c, hi_c = lo, hi
                     if case != 0:
-                        k = case * (1.0 - alpha)
-                        rhs = dmin - slack + case * beta
-                        if k > 0:
-                            lo_c = np.maximum(lo_c, rhs / k)
-                        elif k < 0:
-                            hi_c = np.minimum(hi_c, rhs / k)
-                        else:
-                            m &= rhs <= 0.0
+                        lo_c, hi_c, m = _keep(lo, hi, m, case * (1.0 - alpha), dmin - slack + case * beta)
                     m &= lo_c <= hi_c
                     if m.any():
                         b = beta[m]
