@@ -1,6 +1,6 @@
 """Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
 
-    python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
+    python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...] [--compare]
 
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
 10 / 30 / 100 / 150 edges, three seeds each), the seeded warehouse grids and road maps of
@@ -11,7 +11,9 @@ layout ``--queries`` seeded queries (``graph_runner.make_graph_queries``: every 
 the free space built and cached before the clock starts, one unrecorded warm-up query. Per layout: median, p95 and
 max of ``mpa.plan(..., planner="graph")`` in milliseconds, wall time and the process's CPU time (the machine is
 shared: CPU time leaves out the waits for a core), and the slowest query (to profile it). Prints a Markdown
-table; ``--out FILE`` also writes ``FILE.json`` with every record.
+table; ``--out FILE`` also writes ``FILE.json`` with every record. ``--compare``: every query planned twice in a row,
+without the passing bound (``mpa.planners.graph.query.PASSING_BOUND_AFTER = None``, before) and with it (after), the
+order alternating from query to query; the table gives before → after and the makespans must agree.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import argparse
 import json
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -34,6 +37,7 @@ from bench.graph_scale import road_map_layout, warehouse_layout  # noqa: E402
 
 from mpa.freespace import free_space  # noqa: E402
 from mpa.graph_track import GraphTrack  # noqa: E402
+from mpa.planners.graph import query as graph_query  # noqa: E402
 
 DATA = ROOT.parent / "tests" / "data" / "openrmf"
 EXAMPLES = ROOT.parent / "examples" / "tracks"
@@ -59,46 +63,91 @@ def layouts() -> list[tuple[str, GraphTrack, list[float] | None]]:
     return out
 
 
-def run(queries: int, seed: int, only: set[str] | None = None) -> list[dict[str, Any]]:
-    records = []
+def layout_queries(
+    queries: int, seed: int, only: set[str] | None = None
+) -> Iterator[tuple[str, GraphTrack, list[float], list[dict[str, Any]]]]:
+    """Per layout (those named in ``only``, or all): ``(name, track, clearances, queries + 1 seeded queries)``, the
+    first query the unrecorded warm-up."""
     for li, (name, track, ds) in enumerate(layouts()):
         if only and name not in only:
             continue
         if ds is None:
             med = float(np.median(track.lengths))
             ds = [round(f * med, 6) for f in CLEARANCE_FRACTIONS]
-        qs = make_graph_queries(track, queries + 1, seed * 1000 + li, ds)
+        yield name, track, ds, make_graph_queries(track, queries + 1, seed * 1000 + li, ds)
+
+
+def _stats(times: list[float], cpu: list[float]) -> dict[str, float]:
+    ts, cs = np.array(times), np.array(cpu)
+    return {
+        "median_ms": 1e3 * float(np.median(ts)),
+        "p95_ms": 1e3 * float(np.percentile(ts, 95)),
+        "max_ms": 1e3 * float(ts.max()),
+        "cpu_median_ms": 1e3 * float(np.median(cs)),
+        "cpu_p95_ms": 1e3 * float(np.percentile(cs, 95)),
+        "cpu_max_ms": 1e3 * float(cs.max()),
+    }
+
+
+def run(queries: int, seed: int, only: set[str] | None = None, compare: bool = False) -> list[dict[str, Any]]:
+    records = []
+    after = graph_query.PASSING_BOUND_AFTER
+    arms = (None, after) if compare else (after,)
+    for name, track, ds, qs in layout_queries(queries, seed, only):
         for d in ds:
             free_space(track, d)
         _plan(track, qs[0], (1.0, 1.0))
-        times, cpu = [], []
-        for q in qs[1:]:
-            t0, c0 = time.perf_counter(), time.process_time()
-            p = _plan(track, q, (1.0, 1.0))
-            cpu.append(time.process_time() - c0)
-            times.append((time.perf_counter() - t0, q, None if p is None else p.makespan))
-        ts = np.array([t for t, _, _ in times])
-        cs = np.array(cpu)
-        worst = max(times, key=lambda x: x[0])
-        rec = {
+        times: list[list[float]] = [[] for _ in arms]
+        cpu: list[list[float]] = [[] for _ in arms]
+        spans: list[list[float | None]] = [[] for _ in arms]
+        for qi, q in enumerate(qs[1:]):
+            order = range(len(arms)) if qi % 2 == 0 else reversed(range(len(arms)))
+            for k in order:
+                graph_query.PASSING_BOUND_AFTER = arms[k]
+                t0, c0 = time.perf_counter(), time.process_time()
+                p = _plan(track, q, (1.0, 1.0))
+                cpu[k].append(time.process_time() - c0)
+                times[k].append(time.perf_counter() - t0)
+                spans[k].append(None if p is None else p.makespan)
+        graph_query.PASSING_BOUND_AFTER = after
+        worst = int(np.argmax(times[-1]))
+        rec: dict[str, Any] = {
             "layout": name,
             "edges": track.n_edges,
-            "queries": len(ts),
-            "median_ms": 1e3 * float(np.median(ts)),
-            "p95_ms": 1e3 * float(np.percentile(ts, 95)),
-            "max_ms": 1e3 * float(ts.max()),
-            "cpu_median_ms": 1e3 * float(np.median(cs)),
-            "cpu_p95_ms": 1e3 * float(np.percentile(cs, 95)),
-            "cpu_max_ms": 1e3 * float(cs.max()),
-            "worst": {"start": worst[1]["start"], "goal": worst[1]["goal"], "clearance": worst[1]["clearance"]},
-            "makespans": [m for _, _, m in times],
+            "queries": len(times[-1]),
+            **_stats(times[-1], cpu[-1]),
+            "worst": {
+                "start": qs[1 + worst]["start"],
+                "goal": qs[1 + worst]["goal"],
+                "clearance": qs[1 + worst]["clearance"],
+            },
+            "makespans": spans[-1],
         }
+        if compare:
+            rec["before"] = _stats(times[0], cpu[0])
+            rec["makespan_differences"] = sum(
+                1
+                for x, y in zip(spans[0], spans[1], strict=True)
+                if (x is None) != (y is None) or (x is not None and y is not None and abs(x - y) > 1e-9 * max(1.0, x))
+            )
+            b4 = rec["before"]
+            print(
+                f"| {name} | {rec['edges']} | {rec['queries']} | "
+                f"{b4['cpu_median_ms']:.2f} → {rec['cpu_median_ms']:.2f} | "
+                f"{b4['cpu_p95_ms']:.1f} → {rec['cpu_p95_ms']:.1f} | "
+                f"{b4['cpu_max_ms']:.1f} → {rec['cpu_max_ms']:.1f} | "
+                f"{b4['median_ms']:.2f} → {rec['median_ms']:.2f} | {b4['p95_ms']:.1f} → {rec['p95_ms']:.1f} | "
+                f"{b4['max_ms']:.1f} → {rec['max_ms']:.1f} | {rec['makespan_differences']} |",
+                flush=True,
+            )
+        else:
+            print(
+                f"| {name} | {rec['edges']} | {rec['queries']} | {rec['median_ms']:.2f} | {rec['p95_ms']:.1f} | "
+                f"{rec['max_ms']:.1f} | {rec['cpu_median_ms']:.2f} | {rec['cpu_p95_ms']:.1f} | "
+                f"{rec['cpu_max_ms']:.1f} |",
+                flush=True,
+            )
         records.append(rec)
-        print(
-            f"| {name} | {rec['edges']} | {rec['queries']} | {rec['median_ms']:.2f} | {rec['p95_ms']:.1f} | "
-            f"{rec['max_ms']:.1f} | {rec['cpu_median_ms']:.2f} | {rec['cpu_p95_ms']:.1f} | {rec['cpu_max_ms']:.1f} |",
-            flush=True,
-        )
     return records
 
 
@@ -108,14 +157,22 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--only", default=None, help="comma-separated layout names")
     ap.add_argument("--out", default=None)
+    ap.add_argument("--compare", action="store_true", help="without and with the passing bound, side by side")
     args = ap.parse_args()
-    print(
-        "| layout | edges | queries | wall median (ms) | wall p95 (ms) | wall max (ms) | CPU median (ms) | "
-        "CPU p95 (ms) | CPU max (ms) |"
-    )
-    print("|---|---|---|---|---|---|---|---|---|")
+    if args.compare:
+        print(
+            "| layout | edges | queries | CPU median (ms) before → after | CPU p95 (ms) | CPU max (ms) | "
+            "wall median (ms) | wall p95 (ms) | wall max (ms) | makespans differing |"
+        )
+        print("|---|---|---|---|---|---|---|---|---|---|")
+    else:
+        print(
+            "| layout | edges | queries | wall median (ms) | wall p95 (ms) | wall max (ms) | CPU median (ms) | "
+            "CPU p95 (ms) | CPU max (ms) |"
+        )
+        print("|---|---|---|---|---|---|---|---|---|")
     only = set(args.only.split(",")) if args.only else None
-    records = run(args.queries, args.seed, only)
+    records = run(args.queries, args.seed, only, args.compare)
     if args.out:
         Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
 

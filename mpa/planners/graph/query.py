@@ -16,11 +16,20 @@ from mpa.freespace import check_size, free_space
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 from mpa.planners.graph.assemble import _assemble, _merge_same_polygon
 from mpa.planners.graph.base import OBJECTIVES, SPEED_RANGE, SPEED_RATIO
+from mpa.planners.graph.bounds import passing_bound, separating_vertices
 from mpa.planners.graph.mesh import _mesh
 from mpa.planners.graph.reasons import _why_no_motion
 from mpa.planners.graph.result import GraphPlan
 from mpa.planners.graph.search import _search
 from mpa.planners.graph.shortcut import _independent_motion
+
+#: Queue pops after which a "fastest" search starts again with the passing bound (:mod:`mpa.planners.graph.bounds`:
+#: building it costs a few ms, so only searches that negotiate long get it; a query that no vertex separates, where
+#: the bound is 0, is searched once without it); None: never.
+PASSING_BOUND_AFTER: int | None = 5000
+
+#: The passing bound is used when at the start it is above this multiple of the robots' own bound (s / s).
+BOUND_GAIN = 1.001
 
 
 # ------------------------------------------------------------------------------------------------- API
@@ -151,7 +160,14 @@ def plan_graph(
     quick = _independent_motion(mesh, s, gl)
     if quick is not None:
         return _assemble(tr, fs, s, gl, objective, (va, vb), quick)
-    segs = _search(mesh, s, gl, objective, va, vb)
+    after = PASSING_BOUND_AFTER if objective == "fastest" and separating_vertices(mesh, s, gl) else None
+    segs = _search(mesh, s, gl, objective, va, vb, budget=after)
+    if segs is None:  # a long negotiation: again, with the bound that knows the robots must pass, if it knows more
+        passing = passing_bound(mesh, s, gl, va, vb)
+        own = max(geo.distance_scalar(*s[0], *gl[0]) / va, geo.distance_scalar(*s[1], *gl[1]) / vb)
+        segs = _search(
+            mesh, s, gl, objective, va, vb, bound=passing if passing and passing.at_start > own * BOUND_GAIN else None
+        )
     if segs is None:  # pragma: no cover - no budget given
         raise PlanningError("search gave up")
     segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])

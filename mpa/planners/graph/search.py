@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import heapq
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -14,6 +14,9 @@ from mpa.graph_track import Position
 from mpa.planners.graph.assemble import _unwind
 from mpa.planners.graph.base import F_GRID, TIE_BREAK, TIE_BREAK_2, Coords, FaceKey, Key
 from mpa.planners.graph.mesh import _Mesh
+
+if TYPE_CHECKING:
+    from mpa.planners.graph.bounds import PassingBound
 
 
 def _uncovered(
@@ -68,10 +71,13 @@ def _search(
     va: float,
     vb: float,
     budget: int | None = None,
+    bound: PassingBound | None = None,
 ) -> list[list[Any]] | None:
     """Exact shortest path (for the objective's cost) in the free space: an any-angle A* over *roots* (start, face
     ends and corners, where a taut path can bend) and *intervals* (the part of a face seen straight from a root
-    through the faces crossed so far, unfolded across faces). With ``budget``: None after that many expansions."""
+    through the faces crossed so far, unfolded across faces). With ``budget``: None after that many expansions. With
+    ``bound`` (:class:`~mpa.planners.graph.bounds.PassingBound` of this query): a node's bound is the larger of the
+    robots' distances' and the passing bound at its point (at its root, for a face entry)."""
     g = mesh.g
     eps = mesh.eps
     ctol = 1e-12 * mesh.scale * mesh.scale
@@ -148,6 +154,8 @@ def _search(
             best[key] = gval
             nodes.append([0, key, gval, seg])
             f = gval + comb(dist_a(pid[0], pt[0]), dist_b(pid[1], pt[1]))
+            if bound is not None:
+                f = max(f, gval + bound.point(key))
             heapq.heappush(heap, queue_key(f, gval, len(nodes) - 1))
 
     def push_goal(gval: float, seg: tuple[Any, ...]) -> None:
@@ -183,8 +191,16 @@ def _search(
         else:
             xb = abs(r[1] - a) + vdb[w]
             xa = min_along(face[2], y0, y1, r[0], 0)
+        f = groot + comb(xa, xb)
+        if bound is not None:
+            x_a, x_b = (
+                (abs(r[0] - a), max(0.0, y0 - r[1], r[1] - y1))
+                if ax == 0
+                else (max(0.0, y0 - r[0], r[0] - y1), abs(r[1] - a))
+            )
+            f = max(f, groot + bound.point(rkey), groot + comb(x_a, x_b) + bound.entry(face, y0, y1))
         nodes.append([3, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin])
-        heapq.heappush(heap, queue_key(groot + comb(xa, xb), groot, len(nodes) - 1))
+        heapq.heappush(heap, queue_key(f, groot, len(nodes) - 1))
 
     def open_face(nd: list[Any]) -> None:
         """Interval nodes of a queued face entry into each other page (unfolding the root), expanded at once."""

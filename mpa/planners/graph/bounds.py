@@ -1,0 +1,421 @@
+"""A lower bound on the time to the goal that knows the robots must pass each other (the "fastest" objective).
+
+The search's own bound at a configuration ``(a, b)`` is each robot's exact distance to its goal alone, combined by
+the objective's cost (``max(dA/vA, dB/vB)`` plus the tie-break terms). It ignores the other robot, so on a swap or a
+crossing (one robot must step aside at a branch while the other passes) every configuration whose two distances are
+small enough looks promising, and the search expands all of them before it reaches the goal.
+
+**The passing lemma.** Let ``φ = d(x, ·)`` be the graph distance from a vertex ``x``. Along any motion from
+``(a, b)`` to the goal ``(a1, b1)`` the difference ``φ(A) - φ(B)`` is continuous; when it has one sign at the start
+(or is 0) and the other, strictly, at the goal, it is 0 at some moment: the robots are then at a *passing
+configuration* ``m = (p, q)``, at equal distance from ``x`` and at least the clearance apart (on a corridor two such
+points exist only where it branches: one robot has stepped aside into a branch or a loop the other passes). The
+motion's cost is at least ``c(a, b → p, q) + c(p, q → a1, b1)``, and each part at least the objective's cost of the
+robots' graph distances. So
+
+    h(a, b) = min over passing configurations m of  comb(d(a, p), d(b, q)) + W(m),   W(m) = comb(d(p, a1), d(q, b1))
+
+is a lower bound on the cost to the goal, for every configuration on the start's side of ``φ(A) = φ(B)``.
+
+**Computed exactly per cell, relaxed per node.** In a cell ``e × f`` (A on edge e at offset u, B on f at v) the
+distance ``φ`` is a tent on each edge, so ``φ(p) = φ(q)`` is at most four straight pieces ``v = ±u + β``, and the
+clearance keeps an interval of each (the cell's four distance terms and, on one edge, ``|u - v|``, are affine in u
+along the piece). These *passing segments* ``k`` are built once per query (numpy over all cells); ``W_k``, the least
+``W`` along segment ``k``, is exact: along a segment every distance is a minimum of affine functions of u and the cost
+is a maximum of two of them plus a linear term, so its least value is at one of the finitely many points where two of
+these affine functions cross, or at an end. At a search node the bound is
+``min_k comb(d(a, P_k), d(b, Q_k)) + W_k`` (``P_k``, ``Q_k``: the segment's stretches of e and f), which relaxes the
+coupling of p and q along the segment and is therefore still a lower bound. The tie-break term in ``hypot`` is left
+out (it is >= 0), so the bound never exceeds the search's cost of a motion. Of the vertices at the ends of the
+start's and the goal's edges that separate them, the two clearest are tried and the one whose bound at the start is
+largest is used.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from mpa.graph_track import Position
+from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2, FaceKey, FloatArray, Key
+from mpa.planners.graph.mesh import _Mesh
+
+__all__ = ["BOUND_SAFETY", "PassingBound", "fastest_cost", "passing_bound", "separating_vertices"]
+
+#: The bound is scaled by ``1 - BOUND_SAFETY`` so that rounding never lifts it above a motion's cost (the search's
+#: order is on a grid of ``F_GRID = 1e-12`` of the start's bound).
+BOUND_SAFETY = 1e-13
+
+#: Separating vertices tried per query (the clearest first); the bound of the one largest at the start is kept.
+VERTICES_TRIED = 2
+
+#: Segments whose exact least cost is computed at once (module docstring).
+EXACT_CHUNK = 32
+
+_SLOPES = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))  # the cell terms' slopes, as in mpa.freespace
+
+
+def _vertex_dist(mesh: _Mesh, pos: Position) -> FloatArray:
+    """Graph distance from a position to every vertex (metres), shape (V,)."""
+    g = mesh.g
+    e, s = pos
+    return np.minimum(s + g.dv[g._t[e]], g._L[e] - s + g.dv[g._h[e]])
+
+
+def _pieces(
+    e: np.ndarray, vd: FloatArray, pos: Position, lengths: FloatArray, tails: np.ndarray, heads: np.ndarray
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """``u -> d((e, u), pos)`` per row: ``min(u + c_t, -u + c_h)``, and on the position's own edge also
+    ``|sigma u + kappa|`` (``sigma = 1, kappa = -offset``). Returns ``sl, cs`` of shape (N, 4) (the affine pieces; the
+    last two, ``±(u - offset)``, copies of the first off the position's edge) and ``sigma, kappa`` of shape (N,)
+    (``kappa`` NaN off the position's edge)."""
+    le = lengths[e]
+    c_t = vd[tails[e]]
+    c_h = le + vd[heads[e]]
+    same = e == pos[0]
+    one = np.ones(len(e))
+    sl = np.stack([one, -one, one, np.where(same, -1.0, 1.0)], axis=1)
+    cs = np.stack([c_t, c_h, np.where(same, -pos[1], c_t), np.where(same, pos[1], c_t)], axis=1)
+    return sl, cs, one, np.where(same, -pos[1], np.nan)
+
+
+def _eval(sl: FloatArray, cs: FloatArray, sigma: FloatArray, kappa: FloatArray, u: FloatArray) -> FloatArray:
+    """The distance at candidate points ``u`` of shape (N, C): ``min(sl0 u + cs0, sl1 u + cs1, |sigma u + kappa|)``
+    (the last only where ``kappa`` is a number). Shape (N, C)."""
+    d = np.minimum(sl[:, 0:1] * u + cs[:, 0:1], sl[:, 1:2] * u + cs[:, 1:2])
+    on = ~np.isnan(kappa)
+    if on.any():
+        d[on] = np.minimum(d[on], np.abs(sigma[on, None] * u[on] + kappa[on, None]))
+    return d
+
+
+def _crossings(s1: FloatArray, c1: FloatArray, s2: FloatArray, c2: FloatArray) -> FloatArray:
+    """Where ``s1[:, i] u + c1[:, i] = s2[:, j] u + c2[:, j]`` for all pairs ``i, j``; NaN where parallel. (N, I*J)."""
+    ds = s1[:, :, None] - s2[:, None, :]
+    dc = c2[:, None, :] - c1[:, :, None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = np.where(ds != 0.0, dc / np.where(ds != 0.0, ds, 1.0), np.nan)
+    return u.reshape(len(s1), -1)
+
+
+def _keep(
+    lo: FloatArray, hi: FloatArray, ok: NDArray[np.bool_], k: float, rhs: FloatArray
+) -> tuple[FloatArray, FloatArray, NDArray[np.bool_]]:
+    """The interval ``[lo, hi]`` of u cut by ``k u >= rhs`` per row (``k`` one number); rows where ``k = 0`` and
+    ``rhs > 0`` are dropped from ``ok``."""
+    if k > 0:
+        return np.maximum(lo, rhs / k), hi, ok
+    if k < 0:
+        return lo, np.minimum(hi, rhs / k), ok
+    return lo, hi, ok & (rhs <= 0.0)
+
+
+def fastest_cost(segs: list[list[Any]], va: float, vb: float) -> float:
+    """The search's "fastest" cost of a motion's segments ``[polygon, (s, t) from, (s, t) to]`` (offsets in metres;
+    seconds): ``max(tA, tB)`` plus the tie-break terms, summed."""
+    total = 0.0
+    for _, p, q in segs:
+        ta, tb = abs(q[0] - p[0]) / va, abs(q[1] - p[1]) / vb
+        total += max(ta, tb) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
+    return total
+
+
+Pieces = tuple[FloatArray, FloatArray, FloatArray, FloatArray]
+
+
+def _in_u(p: Pieces, al: FloatArray, be: FloatArray) -> Pieces:
+    """Robot B's distance pieces in v turned into pieces in u along ``v = al u + be``."""
+    sl, cs, sigma, kappa = p
+    return sl * al[:, None], sl * be[:, None] + cs, sigma * al, sigma * be + kappa
+
+
+def _least(u0: FloatArray, u1: FloatArray, terms: list[tuple[Pieces, Pieces]], va: float, vb: float) -> FloatArray:
+    """The least over ``u in [u0, u1]`` of ``sum over terms of max(tA, tB) + TIE_BREAK (tA + tB)`` per row (s),
+    ``tA = dA(u) / va``, ``tB = dB(u) / vb``: exact, every distance being a minimum of affine pieces (or an absolute
+    value), so the sum is affine between the points where two pieces of one distance, or ``tA`` and ``tB``, cross."""
+    cand = [u0[:, None], u1[:, None]]
+    for pa, pb in terms:
+        for sl, cs, _, _ in (pa, pb):
+            cand.append(_crossings(sl, cs, sl, cs))
+        cand.append(_crossings(pa[0] / va, pa[1] / va, pb[0] / vb, pb[1] / vb))
+    u = np.concatenate(cand, axis=1)
+    u = np.clip(np.where(np.isnan(u), u0[:, None], u), u0[:, None], u1[:, None])
+    total = np.zeros(u.shape)
+    for pa, pb in terms:
+        ta = _eval(*pa, u) / va
+        tb = _eval(*pb, u) / vb
+        total += np.maximum(ta, tb) + TIE_BREAK * (ta + tb)
+    return np.min(total, axis=1)
+
+
+def separating_vertices(
+    mesh: _Mesh,
+    start: tuple[Position, Position],
+    goal: tuple[Position, Position],
+    vd: list[FloatArray] | None = None,
+) -> list[int]:
+    """The vertices ``x`` at the ends of the query's four edges for which ``φ(A) - φ(B)``, ``φ = d(x, ·)``, changes
+    sign strictly between start and goal (the passing lemma applies), the clearest first (the larger of the two
+    differences' smaller size); ``vd``: the four positions' vertex distances, when already at hand."""
+    g = mesh.g
+    if vd is None:
+        vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
+    ends = {int(g._t[p[0]]) for p in (*start, *goal)} | {int(g._h[p[0]]) for p in (*start, *goal)}
+    out = []
+    for x in sorted(ends):
+        s0, s1 = float(vd[0][x] - vd[1][x]), float(vd[2][x] - vd[3][x])
+        if s0 * s1 < 0.0:
+            out.append((-min(abs(s0), abs(s1)), x))
+    return [x for _, x in sorted(out)]
+
+
+class PassingBound:
+    """The passing lemma's lower bound for one query (module docstring), built from its free space.
+
+    Parameters
+    ----------
+    mesh : _Mesh
+        The free space as the search sees it.
+    start, goal : (Position, Position)
+        The query ``(robot A, robot B)``.
+    va, vb : float
+        The speed limits (m/s); the bound is in seconds, the search's "fastest" cost.
+
+    Attributes
+    ----------
+    vertex : int or None
+        The vertex ``x`` of ``φ = d(x, ·)``; None when no vertex at the ends of the query's edges separates the start
+        from the goal (the bound is then 0).
+    n_segments : int
+        Passing segments kept.
+    at_start : float
+        The bound at the start (s).
+    """
+
+    #: Whether the bound at a search node is the exact least cost through the segments (True) or the relaxed one.
+    exact_points = False
+
+    def __init__(
+        self, mesh: _Mesh, start: tuple[Position, Position], goal: tuple[Position, Position], va: float, vb: float
+    ) -> None:
+        self.mesh = mesh
+        self.start = start
+        self.va, self.vb = va, vb
+        g = mesh.g
+        self._dv = g.dv
+        self.vertex: int | None = None
+        self.at_start = 0.0
+        self.n_segments = 0
+        self._cache: dict[Key, float] = {}
+        self._face_parts: dict[FaceKey, tuple[Any, ...]] = {}
+        self._entries: dict[tuple[FaceKey, float, float], float] = {}
+        vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
+        self._goal_vd = vd[2:]
+        best: tuple[float, int, tuple[Any, ...]] | None = None
+        for x in separating_vertices(mesh, start, goal, vd)[:VERTICES_TRIED]:
+            segs = self._segments(x, goal)
+            if segs is None:
+                continue
+            h0 = self._value(segs, start[0], start[1], vd[0], vd[1], True)
+            if best is None or h0 > best[0]:
+                best = (h0, x, segs)
+        if best is not None:
+            self.at_start, self.vertex, self._segs = best
+            self._sign = 1.0 if float(vd[2][best[1]] - vd[3][best[1]]) > 0.0 else -1.0
+            self.n_segments = len(self._segs[0])
+
+    # ------------------------------------------------------------------------------------------ segments
+    def _segments(self, x: int, goal: tuple[Position, Position]) -> tuple[Any, ...] | None:
+        """The passing segments of ``φ = d(x, ·)`` and their least goal cost ``W_k``: arrays ``(e, u0, u1, f, v0,
+        v1, W)`` over the segments, None when there are none."""
+        mesh = self.mesh
+        g = mesh.g
+        fs = mesh.fs
+        lengths, tails, heads = g.lengths, g.tails, g.heads
+        ee, ff = np.nonzero(fs.status != 0)
+        c0 = g.cell_terms_array(ee, ff)
+        dmin = fs._dmin
+        slack = 1e-12 * mesh.scale
+        phi_t, phi_h = g.dv[x, tails], g.dv[x, heads]
+        mid = np.clip(0.5 * (lengths + phi_h - phi_t), 0.0, lengths)
+        rows: list[tuple[FloatArray, ...]] = []
+        same = ee == ff
+        for pe in (0, 1):
+            se = 1.0 if pe == 0 else -1.0
+            ce = phi_t[ee] if pe == 0 else lengths[ee] + phi_h[ee]
+            ua = np.zeros(len(ee)) if pe == 0 else mid[ee]
+            ub = mid[ee] if pe == 0 else lengths[ee]
+            for pf in (0, 1):
+                sf = 1.0 if pf == 0 else -1.0
+                cf = phi_t[ff] if pf == 0 else lengths[ff] + phi_h[ff]
+                va_ = np.zeros(len(ff)) if pf == 0 else mid[ff]
+                vb_ = mid[ff] if pf == 0 else lengths[ff]
+                alpha = se * sf
+                beta = sf * (ce - cf)  # v = alpha u + beta on the piece
+                if alpha > 0:
+                    lo, hi = np.maximum(ua, va_ - beta), np.minimum(ub, vb_ - beta)
+                else:
+                    lo, hi = np.maximum(ua, beta - vb_), np.minimum(ub, beta - va_)
+                ok = np.ones(len(ee), dtype=bool)
+                for j, (ca, cb) in enumerate(_SLOPES):  # c0 + ca u + cb v >= dmin
+                    lo, hi, ok = _keep(lo, hi, ok, ca + cb * alpha, dmin - slack - c0[:, j] - cb * beta)
+                # one edge: |u - v| >= dmin, u - v = (1 - alpha) u - beta; the two sides are two cases
+                for case in (0, 1, -1):
+                    m = ok & (~same if case == 0 else same)
+                    lo_c, hi_c = lo, hi
+                    if case != 0:
+                        lo_c, hi_c, m = _keep(lo, hi, m, case * (1.0 - alpha), dmin - slack + case * beta)
+                    m &= lo_c <= hi_c
+                    if m.any():
+                        b = beta[m]
+                        rows.append((ee[m], lo_c[m], hi_c[m], ff[m], np.full(int(m.sum()), alpha), b))
+        if not rows:
+            return None
+        e = np.concatenate([r[0] for r in rows])
+        u0 = np.concatenate([r[1] for r in rows])
+        u1 = np.concatenate([r[2] for r in rows])
+        f = np.concatenate([r[3] for r in rows])
+        al = np.concatenate([r[4] for r in rows])
+        be = np.concatenate([r[5] for r in rows])
+        g = self.mesh.g
+        goal_a = _pieces(e, self._goal_vd[0], goal[0], g.lengths, g.tails, g.heads)
+        goal_b = _in_u(_pieces(f, self._goal_vd[1], goal[1], g.lengths, g.tails, g.heads), al, be)
+        w = _least(u0, u1, [(goal_a, goal_b)], self.va, self.vb)
+        v_a, v_b = al * u0 + be, al * u1 + be
+        return e, u0, u1, f, np.minimum(v_a, v_b), np.maximum(v_a, v_b), w, al, be, goal_a, goal_b
+
+    # ------------------------------------------------------------------------------------------ the bound
+    def _value(
+        self, segs: tuple[Any, ...], pa: Position, pb: Position, vda: FloatArray, vdb: FloatArray, exact: bool
+    ) -> float:
+        """``min_k`` over the segments of the least cost through segment k (s): first the relaxed value of each
+        (``comb(d(a, P_k), d(b, Q_k)) + W_k``, a lower bound of the exact one), then the exact least of
+        ``comb(d(a, p), d(b, q)) + comb(d(p, a1), d(q, b1))`` along the segments in the order of their relaxed
+        values, until the next relaxed value is no smaller than the best exact one."""
+        e, u0, u1, f, v0, v1, w, al, be, goal_a, goal_b = segs
+        g = self.mesh.g
+        lengths, tails, heads = g.lengths, g.tails, g.heads
+        da = np.minimum(vda[tails[e]] + u0, vda[heads[e]] + lengths[e] - u1)
+        on = e == pa[0]
+        if on.any():
+            da[on] = np.minimum(da[on], np.maximum(0.0, np.maximum(u0[on] - pa[1], pa[1] - u1[on])))
+        db = np.minimum(vdb[tails[f]] + v0, vdb[heads[f]] + lengths[f] - v1)
+        on = f == pb[0]
+        if on.any():
+            db[on] = np.minimum(db[on], np.maximum(0.0, np.maximum(v0[on] - pb[1], pb[1] - v1[on])))
+        ta, tb = da / self.va, db / self.vb
+        relaxed = np.maximum(ta, tb) + TIE_BREAK * (ta + tb) + w
+        if not exact:
+            return float(relaxed.min()) * (1.0 - BOUND_SAFETY)
+        order = np.argsort(relaxed, kind="stable")
+        best = math.inf
+        for i in range(0, len(order), EXACT_CHUNK):
+            idx = order[i : i + EXACT_CHUNK]
+            if relaxed[idx[0]] >= best:
+                break
+            here_a = _pieces(e[idx], vda, pa, lengths, tails, heads)
+            here_b = _in_u(_pieces(f[idx], vdb, pb, lengths, tails, heads), al[idx], be[idx])
+            ga: Pieces = (goal_a[0][idx], goal_a[1][idx], goal_a[2][idx], goal_a[3][idx])
+            gb: Pieces = (goal_b[0][idx], goal_b[1][idx], goal_b[2][idx], goal_b[3][idx])
+            least = _least(u0[idx], u1[idx], [(here_a, here_b), (ga, gb)], self.va, self.vb)
+            best = min(best, float(least.min()))
+        return best * (1.0 - BOUND_SAFETY)
+
+    def at(self, pa: Position, pb: Position) -> float:
+        """The bound at the configuration ``(pa, pb)`` (s); 0 on the goal's side of ``φ(A) = φ(B)``."""
+        if self.vertex is None:
+            return 0.0
+        x = self.vertex
+        vda, vdb = _vertex_dist(self.mesh, pa), _vertex_dist(self.mesh, pb)
+        if (vda[x] - vdb[x]) * self._sign > 0.0:
+            return 0.0
+        return self._value(self._segs, pa, pb, vda, vdb, self.exact_points)
+
+    def point(self, key: Key) -> float:
+        """The bound at the search's point named ``key`` (the start ``("S",)``, a face end or a corner), cached."""
+        out = self._cache.get(key)
+        if out is None:
+            if key == ("S",):
+                out = self.at(*self.start)
+            else:
+                (e, f, _), (s, t) = self.mesh.members(key)[0]
+                out = self.at((e, s), (f, t))
+            self._cache[key] = out
+        return out
+
+    def entry(self, face: FaceKey, y0: float, y1: float) -> float:
+        """A lower bound on the cost to the goal from any configuration of the part ``[y0, y1]`` of ``face`` (one
+        robot on the face's vertex, the other on its edge), relaxed per segment: ``min_k comb(d(w, P_k), d(I, Q_k))
+        + W_k`` with robots exchanged as the face says; 0 when part of the face lies on the goal's side."""
+        if self.vertex is None:
+            return 0.0
+        key = (face, y0, y1)
+        out = self._entries.get(key)
+        if out is None:
+            out = self._entries[key] = self._entry(face, y0, y1)
+        return out
+
+    def _entry(self, face: FaceKey, y0: float, y1: float) -> float:
+        ax, w, other = face
+        g = self.mesh.g
+        x = self.vertex
+        dvx = self._dv[x]
+        # φ along the edge is a tent: least at an end, largest at its peak when inside
+        lo_e = float(dvx[g._t[other]])
+        hi_e = float(dvx[g._h[other]])
+        le = g._L[other]
+        ph0 = min(y0 + lo_e, le - y0 + hi_e)
+        ph1 = min(y1 + lo_e, le - y1 + hi_e)
+        peak = 0.5 * (le + hi_e - lo_e)
+        top = max(ph0, ph1, min(peak + lo_e, le - peak + hi_e) if y0 < peak < y1 else -math.inf)
+        # configurations (robot on the vertex, robot on the edge): start side when sign * (φ(A) - φ(B)) <= 0
+        if ax == 0:  # A on w: sign (φ(w) - φ(y)) <= 0 for every y
+            ok = self._sign * float(dvx[w]) <= (self._sign * min(ph0, ph1) if self._sign > 0 else -top)
+        else:  # B on w: sign (φ(y) - φ(w)) <= 0 for every y
+            ok = (self._sign * top if self._sign > 0 else -min(ph0, ph1)) <= self._sign * float(dvx[w])
+        if not ok:
+            return 0.0
+        parts = self._face_parts.get(face)
+        if parts is None:
+            parts = self._face_parts[face] = self._parts(face)
+        dw, d_t, d_h, on, ub0, ub1, wk = parts
+        di = np.minimum(y0 + d_t, le - y1 + d_h)
+        if on is not None:
+            di[on] = np.minimum(di[on], np.maximum(0.0, np.maximum(ub0 - y1, y0 - ub1)))
+        if ax == 0:
+            ta, tb = dw / self.va, di / self.vb
+        else:
+            ta, tb = di / self.va, dw / self.vb
+        return float(np.min(np.maximum(ta, tb) + TIE_BREAK * (ta + tb) + wk)) * (1.0 - BOUND_SAFETY)
+
+    def _parts(self, face: FaceKey) -> tuple[Any, ...]:
+        """What :meth:`entry` needs of a face, per segment: the vertex robot's distance to its stretch, the distances
+        from the edge's two ends to the other stretch, the segments on the face's own edge (their stretch there)."""
+        ax, w, other = face
+        g = self.mesh.g
+        e_, u0, u1, f_, v0, v1, wk = self._segs[:7]
+        lengths, tails, heads = g.lengths, g.tails, g.heads
+        dv = self._dv
+        if ax == 0:
+            ea, ua0, ua1, eb, ub0, ub1 = e_, u0, u1, f_, v0, v1
+        else:
+            ea, ua0, ua1, eb, ub0, ub1 = f_, v0, v1, e_, u0, u1
+        dw = np.minimum(dv[w, tails[ea]] + ua0, dv[w, heads[ea]] + lengths[ea] - ua1)
+        to, ho = g._t[other], g._h[other]
+        d_t = np.minimum(dv[to, tails[eb]] + ub0, dv[to, heads[eb]] + lengths[eb] - ub1)
+        d_h = np.minimum(dv[ho, tails[eb]] + ub0, dv[ho, heads[eb]] + lengths[eb] - ub1)
+        on = eb == other
+        if on.any():
+            return dw, d_t, d_h, on, ub0[on], ub1[on], wk
+        return dw, d_t, d_h, None, None, None, wk
+
+
+def passing_bound(
+    mesh: _Mesh, start: tuple[Position, Position], goal: tuple[Position, Position], va: float, vb: float
+) -> PassingBound | None:
+    """The :class:`PassingBound` of a query, or None when no vertex separates its start from its goal."""
+    b = PassingBound(mesh, start, goal, va, vb)
+    return None if b.vertex is None else b

@@ -1,0 +1,248 @@
+"""The passing bound (``mpa.planners.graph.bounds``): admissible against the exact optimum, exact on its segments.
+
+Admissible: at the start and at random configurations on the start's side, the bound is never above the cost of
+the search's optimal motion from there (the search without the bound, which is the planner's). Exact: every passing
+segment's points keep the clearance and are at equal distance from the bound's vertex, and ``W_k`` is the least
+goal cost along the segment (a fine sampling never goes below it, and comes within its step of it). The search with
+the bound finds a motion of the same cost.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from mpa.freespace import FreeSpace, free_space
+from mpa.graph_track import GraphTrack, Position
+from mpa.planners.graph.base import TIE_BREAK
+from mpa.planners.graph.bounds import PassingBound, fastest_cost, passing_bound
+from mpa.planners.graph.mesh import _mesh
+from mpa.planners.graph.search import _search
+from tests.helpers.graph_helpers import random_free_query, random_layout, random_position
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ("y_junction", "passing_loop", "two_sidings", "theta", "lollipop", "figure_eight", "rail_yard")
+
+
+def _layout(name: str) -> GraphTrack:
+    return GraphTrack.from_layout(json.loads((ROOT / "examples" / "tracks" / f"{name}.json").read_text()))
+
+
+def _optimum(fs: FreeSpace, s: tuple[Position, Position], g: tuple[Position, Position], va: float, vb: float) -> float:
+    """The exact optimum's cost from ``s`` to ``g`` (inf when they are in different components)."""
+    comp = fs.component_of(*s)
+    if comp is None or comp != fs.component_of(*g):
+        return math.inf
+    if s == g:
+        return 0.0
+    segs = _search(_mesh(fs), s, g, "fastest", va, vb)
+    assert segs is not None
+    return fastest_cost(segs, va, vb)
+
+
+def _check_query(
+    track: GraphTrack,
+    fs: FreeSpace,
+    s: tuple[Position, Position],
+    g: tuple[Position, Position],
+    va: float,
+    vb: float,
+    rng: np.random.Generator,
+    extra: int,
+) -> int:
+    """Check the bound at the start and at ``extra`` random free configurations; the number of checks made."""
+    opt = _optimum(fs, s, g, va, vb)
+    if not math.isfinite(opt):
+        return 0
+    pb = PassingBound(_mesh(fs), s, g, va, vb)
+    assert pb.at_start <= opt * (1.0 + 1e-12) + 1e-12, ("start", s, g, fs.clearance, va, vb, pb.at_start, opt)
+    checks = 1
+    for _ in range(extra):
+        c = (random_position(track, rng), random_position(track, rng))
+        if not fs.is_free(*c):
+            continue
+        oc = _optimum(fs, c, g, va, vb)
+        if not math.isfinite(oc):
+            continue
+        hc = pb.at(*c)
+        assert hc <= oc * (1.0 + 1e-12) + 1e-12, ("config", c, s, g, fs.clearance, va, vb, hc, oc)
+        checks += 1
+    return checks
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_the_bound_is_admissible_on_the_example_layouts(name: str) -> None:
+    """Seeded swaps and random queries at four clearances: the bound <= the optimum at the start and elsewhere."""
+    track = _layout(name)
+    rng = np.random.default_rng(2500 + EXAMPLES.index(name))
+    med = float(np.median(track.lengths))
+    checks = 0
+    for frac in (0.05, 0.2, 0.5, 1.0):
+        fs = free_space(track, frac * med)
+        for k in range(12):
+            q = random_free_query(track, fs, rng)
+            if q is None:
+                continue
+            s, g = q
+            if k % 2 == 0:
+                g = (s[1], s[0])  # a swap
+            va, vb = (1.0, 1.0) if k % 3 else (float(rng.uniform(0.4, 1.0)), float(rng.uniform(0.4, 1.0)))
+            checks += _check_query(track, fs, s, g, va, vb, rng, extra=2)
+    assert checks >= 40, checks
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", range(8))
+def test_the_bound_is_admissible_on_thousands_of_random_queries(seed: int) -> None:
+    """Random small multigraphs (loops, parallel edges), random clearances and speeds, about 300 checks a seed."""
+    rng = np.random.default_rng(25000 + seed)
+    checks = 0
+    for _ in range(30):
+        track = random_layout(rng)
+        fs = free_space(track, float(rng.uniform(0.05, 0.8)))
+        for k in range(4):
+            q = random_free_query(track, fs, rng, vertex_p=0.15)
+            if q is None:
+                continue
+            s, g = q
+            if k % 2 == 0:
+                g = (s[1], s[0])
+            va, vb = (1.0, 1.0) if k == 0 else (float(rng.uniform(0.3, 2.0)), float(rng.uniform(0.3, 2.0)))
+            checks += _check_query(track, fs, s, g, va, vb, rng, extra=2)
+    assert checks >= 150, checks
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 2**31 - 1), st.floats(0.02, 0.9), st.floats(0.3, 2.0), st.floats(0.3, 2.0), st.booleans())
+def test_the_bound_is_admissible_property(seed: int, clearance: float, va: float, vb: float, swap: bool) -> None:
+    """Hypothesis over random layouts, clearances, speeds and queries (swaps or not; positions on vertices too)."""
+    rng = np.random.default_rng(seed)
+    track = random_layout(rng)
+    fs = free_space(track, clearance)
+    q = random_free_query(track, fs, rng, vertex_p=0.2)
+    if q is None:
+        return
+    s, g = q
+    if swap:
+        g = (s[1], s[0])
+    _check_query(track, fs, s, g, va, vb, rng, extra=1)
+
+
+def test_the_bound_closes_the_gap_of_a_swap_at_a_siding() -> None:
+    """The passing loop's swap: the robots' distances alone bound the time by the corridor; the passing bound is
+    the optimum at the start (one robot waits in the siding), and the search with it costs the same."""
+    track = _layout("passing_loop")
+    rng = np.random.default_rng(7)
+    fs = free_space(track, 0.5 * float(np.median(track.lengths)))
+    found = 0
+    for _ in range(40):
+        q = random_free_query(track, fs, rng)
+        if q is None:
+            continue
+        s = q[0]
+        g = (s[1], s[0])
+        opt = _optimum(fs, s, g, 1.0, 1.0)
+        if not math.isfinite(opt):
+            continue
+        geo = track.geometry
+        base = max(geo.distance_scalar(*s[0], *g[0]), geo.distance_scalar(*s[1], *g[1]))
+        if opt <= base * (1.0 + 1e-3):
+            continue  # no waiting needed
+        pb = passing_bound(_mesh(fs), s, g, 1.0, 1.0)
+        assert pb is not None
+        assert pb.at_start > base + 0.5 * (opt - base), (s, base, pb.at_start, opt)
+        segs = _search(_mesh(fs), s, g, "fastest", 1.0, 1.0, bound=pb)
+        assert segs is not None
+        assert fastest_cost(segs, 1.0, 1.0) == pytest.approx(opt, rel=1e-9), (s, opt)
+        found += 1
+    assert found >= 3, found
+
+
+@pytest.mark.parametrize("name", ["y_junction", "theta", "rail_yard"])
+def test_passing_segments_are_free_at_equal_distance_and_their_least_goal_cost_is_exact(name: str) -> None:
+    """Sampled along every segment: clearance kept, ``φ(p) = φ(q)``; ``W_k`` <= every sample and within the
+    sampling step's change of the least sample."""
+    track = _layout(name)
+    geo = track.geometry
+    rng = np.random.default_rng(31)
+    fs = free_space(track, 0.3 * float(np.median(track.lengths)))
+    checked = 0
+    for _ in range(10):
+        q = random_free_query(track, fs, rng)
+        if q is None:
+            continue
+        s = q[0]
+        g = (s[1], s[0])
+        pb = PassingBound(_mesh(fs), s, g, 1.0, 0.7)
+        if pb.vertex is None:
+            continue
+        x = pb.vertex
+        e, u0, u1, f, _, _, w, al, be, _, _ = pb._segs
+        n = 201
+        for k in range(len(e)):
+            u = np.linspace(u0[k], u1[k], n)
+            v = al[k] * u + be[k]
+            ek, fk = np.full(n, int(e[k])), np.full(n, int(f[k]))
+            d = geo.distance(ek, u, fk, v)
+            assert np.all(d >= fs._dmin - 1e-9), (name, k, float(d.min()), fs._dmin)
+            vx = np.zeros(n, dtype=np.int64) + x
+            # φ(p) = d(x, p) through the edge's ends
+            phi_p = np.minimum(u + geo.dv[x, geo.tails[ek]], geo.lengths[ek] - u + geo.dv[x, geo.heads[ek]])
+            phi_q = np.minimum(v + geo.dv[x, geo.tails[fk]], geo.lengths[fk] - v + geo.dv[x, geo.heads[fk]])
+            assert np.allclose(phi_p, phi_q, atol=1e-9), (name, k)
+            del vx
+            ta = np.array([geo.distance_scalar(int(e[k]), float(ui), g[0][0], g[0][1]) for ui in u]) / 1.0
+            tb = np.array([geo.distance_scalar(int(f[k]), float(vi), g[1][0], g[1][1]) for vi in v]) / 0.7
+            sampled = np.maximum(ta, tb) + TIE_BREAK * (ta + tb)
+            step = (u1[k] - u0[k]) / (n - 1)
+            assert w[k] <= sampled.min() + 1e-9, (name, k, w[k], sampled.min())
+            assert w[k] >= sampled.min() - 2.0 * step / 0.7 - 1e-9, (name, k, w[k], sampled.min())
+            checked += 1
+    assert checked >= 20, checked
+
+
+@pytest.mark.parametrize("name", ["passing_loop", "two_sidings", "y_junction", "rail_yard"])
+def test_the_planner_with_the_bound_from_the_first_pop_plans_as_fast(
+    name: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``plan_graph`` with the passing bound on every search (``PASSING_BOUND_AFTER = 1``) and without it (None):
+    the same makespans on seeded swaps and random queries, and the plans keep the clearance."""
+    from mpa.errors import NoMotionError
+    from mpa.planners.graph import query as graph_query
+    from mpa.planners.graph.query import plan_graph
+
+    track = _layout(name)
+    rng = np.random.default_rng(99 + len(name))
+    med = float(np.median(track.lengths))
+    compared = 0
+    for frac in (0.2, 0.5, 1.0):
+        fs = free_space(track, frac * med)
+        for k in range(8):
+            q = random_free_query(track, fs, rng)
+            if q is None:
+                continue
+            s, g = q
+            if k % 2 == 0:
+                g = (s[1], s[0])
+            spans = []
+            for after in (None, 1):
+                monkeypatch.setattr(graph_query, "PASSING_BOUND_AFTER", after)
+                try:
+                    p = plan_graph(track, s, g, frac * med)
+                except NoMotionError:
+                    spans.append(None)
+                    continue
+                assert p.min_distance() >= p.clearance_used - 1e-9, (name, s, g, after)
+                spans.append(p.makespan)
+            if spans[0] is None or spans[1] is None:
+                assert spans[0] is None and spans[1] is None, (name, s, g, spans)
+                continue
+            assert spans[1] == pytest.approx(spans[0], rel=1e-9, abs=1e-12), (name, s, g, frac, spans)
+            compared += 1
+    assert compared >= 10, compared
