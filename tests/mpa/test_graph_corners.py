@@ -150,6 +150,10 @@ def test_resolved_corners_are_valid_and_a_fixed_point(
 ) -> None:
     track = _track(name)
     lengths = np.asarray(track.lengths)
+    # Offsets closer to a vertex than 1e-9 of the edge are put on the vertex: below the planner's tolerance the
+    # search's chain of cells there is degenerate (a segment of 1e-38 m from the start to the vertex) and the
+    # re-solve of such a chain is not a fixed point (two equally fast corner sets; docs/graphs.md, "Stability").
+    fr = [0.0 if f < 1e-9 else 1.0 if f > 1.0 - 1e-9 else f for f in fr]
     pos = [(e % len(lengths), float(f * lengths[e % len(lengths)])) for e, f in zip(edges, fr)]
     if swap:  # swaps make the robots negotiate: the search answers
         pos[2], pos[3] = pos[1], pos[0]
