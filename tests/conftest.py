@@ -7,6 +7,13 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
+from hypothesis import settings
+
+# Property tests draw the same examples on every run (a red CI run can be reproduced, and a green one stays green);
+# MPA_HYPOTHESIS_RANDOM=1 draws new ones, as when hunting for counterexamples. A test's own settings still apply.
+settings.register_profile("derandomized", derandomize=True, print_blob=True)
+settings.register_profile("random", print_blob=True)
+settings.load_profile("random" if os.environ.get("MPA_HYPOTHESIS_RANDOM") == "1" else "derandomized")
 
 
 @pytest.fixture(scope="session", autouse=True)
