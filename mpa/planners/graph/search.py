@@ -74,14 +74,10 @@ class PointNode:
 
 
 @dataclass(slots=True)
-class FaceEntry:
-    """The part ``[y0, y1]`` of a face seen straight from a root, queued once for all the face's pages.
-
-    The root is the point node ``root`` (key ``root_key``, reached at ``g_root``), at ``r`` in the frame of the
-    polygon ``polygon`` the line leaves, unfolded with the signs ``sig`` per axis; the face ``face`` is that polygon's
-    side ``ax = a`` (``ax`` 0: robot A on a vertex), free over ``[lo, hi]``; ``parent``: the node the line came
-    through (the interval node before, or the root), ``origin``: the root's polygon and coordinates.
-    """
+class _Sight:
+    """The part ``[y0, y1]`` of a face seen straight from a root: the point node ``root`` (key ``root_key``, reached
+    at ``g_root``), at ``r`` in the frame of the polygon ``polygon``, unfolded with the signs ``sig`` per axis; the
+    face is ``polygon``'s side ``ax = a`` (``ax`` 0: robot A on a vertex)."""
 
     root: int
     root_key: Key
@@ -93,6 +89,14 @@ class FaceEntry:
     y0: float
     y1: float
     polygon: PolygonId
+
+
+@dataclass(slots=True)
+class FaceEntry(_Sight):
+    """A face seen from a root, queued once for all its pages: the line leaves ``polygon`` through its side
+    ``face``, free over ``[lo, hi]``; ``parent``: the node the line came through (the interval node before, or the
+    root), ``origin``: the root's polygon and coordinates."""
+
     face: FaceKey
     lo: float
     hi: float
@@ -101,24 +105,11 @@ class FaceEntry:
 
 
 @dataclass(slots=True)
-class IntervalNode:
-    """The part ``[y0, y1]`` of a face seen straight from a root, in one page: the polygon ``polygon`` entered
-    through its side ``ax = a`` from the polygon ``prev_polygon`` (its side ``ax = prev_a``).
+class IntervalNode(_Sight):
+    """A face seen from a root, in one page: ``polygon`` entered through its side ``ax = a`` from the polygon
+    ``prev_polygon`` (its side ``ax = prev_a``); ``lo``, ``hi``, ``parent`` and ``origin`` as in
+    :class:`FaceEntry`."""
 
-    ``root``, ``root_key``, ``g_root``, ``lo``, ``hi``, ``parent`` and ``origin`` as in :class:`FaceEntry`; ``r`` and
-    ``sig`` the root unfolded into ``polygon``'s frame.
-    """
-
-    root: int
-    root_key: Key
-    g_root: float
-    r: Coords
-    sig: Coords
-    ax: int
-    a: float
-    y0: float
-    y1: float
-    polygon: PolygonId
     prev_polygon: PolygonId
     prev_a: float
     lo: float
