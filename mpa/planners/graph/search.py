@@ -155,6 +155,8 @@ class AnyAngleSearch:
         self.cost = cost_function(objective, va, vb)
         self.to_goal = (GoalDistance(mesh.g, goal[0]), GoalDistance(mesh.g, goal[1]))
         self._at_a, self._at_b = self.to_goal[0].at, self.to_goal[1].at
+        self._vd_a, self._vd_b = self.to_goal[0].vd, self.to_goal[1].vd
+        self._along_a, self._along_b = self.to_goal[0].min_along, self.to_goal[1].min_along
         self.goal_at: dict[PolygonId, list[Coords]] = {}
         for pid, c in mesh.placements(*goal):
             self.goal_at.setdefault(pid, []).append(c)
@@ -178,14 +180,9 @@ class AnyAngleSearch:
         """A lower bound of the cost from the root at ``r`` through the part ``[y0, y1]`` of ``face`` (the side
         ``ax = a`` of the root's polygon) to the goal: the robot on the face's vertex is as far from its goal on every
         page, the other one goes through the nearest point of ``[y0, y1]`` (:meth:`GoalDistance.min_along`)."""
-        w = face[1]
         if ax == 0:
-            xa = abs(r[0] - a) + self.to_goal[0].vd[w]
-            xb = self.to_goal[1].min_along(face[2], y0, y1, r[1])
-        else:
-            xb = abs(r[1] - a) + self.to_goal[1].vd[w]
-            xa = self.to_goal[0].min_along(face[2], y0, y1, r[0])
-        return self.cost(xa, xb)
+            return self.cost(abs(r[0] - a) + self._vd_a[face[1]], self._along_b(face[2], y0, y1, r[1]))
+        return self.cost(self._along_a(face[2], y0, y1, r[0]), abs(r[1] - a) + self._vd_b[face[1]])
 
     def queue_key(self, f: float, depth: float, nid: int) -> tuple[int, float, int]:
         """The search's order, in one place: the bound ``f`` on a grid of ``F_GRID`` of the start's bound (so that
