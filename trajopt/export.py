@@ -1,4 +1,5 @@
-"""Compatibility re-exports: the names ``trajopt.export`` held before the result type and the files were split.
+"""Compatibility re-exports: the result type and the files' writers (:mod:`trajopt.result`, :mod:`trajopt.grid`,
+:mod:`trajopt.io`) under the names of ``trajopt.export``.
 
 :class:`~trajopt.result.Trajectory`, :class:`~trajopt.result.Source` and :func:`~trajopt.result.verified_rows`
 live in :mod:`trajopt.result`; the rate and the time grid in :mod:`trajopt.grid`; atomic writes, the CSV, output

@@ -14,32 +14,17 @@ from numpy.typing import NDArray
 from mpa.footprint import Disc
 from mpa.graph_track import GraphTrack, Position
 from mpa.planar.polygons import Coords, FloatArray
+from mpa.planners.search_common import cell_speeds as _cell_speeds
+from mpa.planners.search_common import move_cost as _move_cost
 
 if TYPE_CHECKING:
     from mpa.planar.space import PlanarFreeSpace
-
-
-def _cell_speeds(tr: GraphTrack, va: float, vb: float) -> tuple[list[float], list[float]]:
-    """Per edge the speed of robot A and of robot B on it (m/s): their limit capped by the edge's speed limit."""
-    lim = [math.inf if v is None else float(v) for v in tr.speed_limits]
-    return [min(va, x) for x in lim], [min(vb, x) for x in lim]
 
 
 def _forward(tr: GraphTrack, cell: tuple[int, int, int], p: Coords, q: Coords) -> bool:
     """Whether the straight move ``p -> q`` in ``cell`` keeps the one-way rule (no robot backs along a one-way
     edge; standing still is allowed)."""
     return (not tr.oneway[cell[0]] or q[0] >= p[0]) and (not tr.oneway[cell[1]] or q[1] >= p[1])
-
-
-def _move_cost(objective: str, ds: Any, dt: Any, va: Any, vb: Any) -> Any:
-    """Cost of straight moves by ``ds``, ``dt`` metres (scalars or arrays): the length, or the time at speeds
-    ``va``, ``vb`` with two tie-breaks (the summed and the Euclidean time, 1e-6 and 1e-9 of it)."""
-    if objective == "shortest":
-        return np.hypot(ds, dt) if isinstance(ds, np.ndarray) else math.hypot(ds, dt)
-    ta, tb = ds / va, dt / vb
-    if isinstance(ta, np.ndarray):
-        return np.maximum(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * np.hypot(ta, tb)
-    return max(ta, tb) + 1e-6 * (ta + tb) + 1e-9 * math.hypot(ta, tb)
 
 
 def _from_ends(tr: GraphTrack, pos: Position) -> tuple[FloatArray, FloatArray]:

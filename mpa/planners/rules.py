@@ -47,16 +47,11 @@ import numpy as np
 from mpa.errors import NoMotionError, PlanningError
 from mpa.freespace import FreeSpace, PolygonId
 from mpa.graph_track import GraphTrack, Position
+from mpa.planners.search_common import GoalDistance, cell_speeds, move_cost
 
 __all__ = ["plan_with_rules", "single_robot_time"]
 
 Coords = tuple[float, float]
-
-
-def _cell_speeds(tr: GraphTrack, va: float, vb: float) -> tuple[list[float], list[float]]:
-    """Per edge the speed of robot A and of robot B on it (m/s): their limit capped by the edge's."""
-    lim = [math.inf if v is None else v for v in tr.speed_limits]
-    return [min(va, x) for x in lim], [min(vb, x) for x in lim]
 
 
 def single_robot_time(tr: GraphTrack, start: Position, goal: Position, speed: float) -> float:
@@ -119,18 +114,12 @@ def single_robot_time(tr: GraphTrack, start: Position, goal: Position, speed: fl
 
 
 def _cost_function(tr: GraphTrack, objective: str, va: float, vb: float) -> Any:
-    """``cost(polygon, p, q)`` of the straight move ``p -> q`` in the polygon's cell: seconds at the cell's speeds with
-    the tie-breaks of :mod:`mpa.planners.graph` (``"fastest"``), or metres (``"shortest"``)."""
-    from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2
-
-    spa, spb = _cell_speeds(tr, va, vb)
+    """``cost(polygon, p, q)`` of the straight move ``p -> q`` in the polygon's cell: :func:`move_cost` at the cell's
+    speeds (:func:`cell_speeds`), seconds (``"fastest"``) or metres (``"shortest"``)."""
+    spa, spb = cell_speeds(tr, va, vb)
 
     def cost(pid: PolygonId, p: Coords, q: Coords) -> float:
-        ds, dt = q[0] - p[0], q[1] - p[1]
-        if objective == "shortest":
-            return math.hypot(ds, dt)
-        ta, tb = abs(ds) / spa[pid[0]], abs(dt) / spb[pid[1]]
-        return max(ta, tb) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
+        return float(move_cost(objective, abs(q[0] - p[0]), abs(q[1] - p[1]), spa[pid[0]], spb[pid[1]]))
 
     return cost
 
@@ -146,29 +135,13 @@ def _search(
 ) -> list[list[Any]] | None:
     """Segments ``[polygon, from, to]`` (cell offsets) of the cheapest path through the candidate points, or None
     when the goal cannot be reached under the one-way rule."""
-    from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2
-    from mpa.planners.graph.search import _goal_terms
-
     oneway = tr.oneway
     cost = _cost_function(tr, objective, va, vb)
-
-    (gea, gsa), (geb, gsb) = goal
-    cpa, cma, _ = _goal_terms(mesh.g, goal[0])
-    cpb, cmb, _ = _goal_terms(mesh.g, goal[1])
+    to_a, to_b = GoalDistance(mesh.g, goal[0]), GoalDistance(mesh.g, goal[1])
 
     def bound(pid: PolygonId, p: Coords) -> float:
         """Admissible: each robot's graph distance to its goal at its top speed (lanes two-way, no limits)."""
-        e, f, _ = pid
-        da = min(p[0] + cpa[e], cma[e] - p[0])
-        db = min(p[1] + cpb[f], cmb[f] - p[1])
-        if e == gea:
-            da = min(da, abs(p[0] - gsa))
-        if f == geb:
-            db = min(db, abs(p[1] - gsb))
-        if objective == "shortest":
-            return math.hypot(da, db)
-        ta, tb = da / va, db / vb
-        return max(ta, tb) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
+        return float(move_cost(objective, to_a.at(pid[0], p[0]), to_b.at(pid[1], p[1]), va, vb))
 
     def allowed(pid: PolygonId, p: Coords, q: Coords) -> bool:
         return (not oneway[pid[0]] or q[0] >= p[0]) and (not oneway[pid[1]] or q[1] >= p[1])
@@ -427,7 +400,7 @@ def plan_with_rules(
 def timed_at_limits(plan: Any, tr: GraphTrack, speeds: tuple[float, float]) -> Any:
     """The plan with its waypoint times and makespan at the cells' speeds: each straight move takes
     ``max(|Δs| / min(vA, v_e), |Δt| / min(vB, v_f))`` seconds (``v_e`` the speed limit of edge ``e``, if any)."""
-    spa, spb = _cell_speeds(tr, speeds[0], speeds[1])
+    spa, spb = cell_speeds(tr, speeds[0], speeds[1])
     offs = plan.segment_offsets
     d = np.abs(offs[:, 1] - offs[:, 0]) if len(offs) else np.zeros((0, 2))
     sa = np.array([spa[c[0]] for c in plan.segment_cells], dtype=float)

@@ -10,6 +10,7 @@ circle through its vertex, of circumference equal to its length; parallel edges 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -63,35 +64,44 @@ class LayoutGeometry:
         -------
         ndarray, shape ``broadcast(edge, offset).shape + (2,)``
         """
-        e, o = np.broadcast_arrays(np.asarray(edge, dtype=np.int64), np.asarray(offset, dtype=float))
-        ln = np.asarray(lengths, dtype=float)
-        out = np.empty((*e.shape, 2))
-        for i in np.unique(e):
-            m = e == i
-            pts, frac = self.polylines[int(i)], self.fractions[int(i)]
-            f = np.clip(o[m] / ln[i], 0.0, 1.0)
-            out[m, 0] = np.interp(f, frac, pts[:, 0])
-            out[m, 1] = np.interp(f, frac, pts[:, 1])
-        return out
+        return self._along_polylines(edge, offset, lengths, _point_at)
 
     def normal(self, edge: ArrayLike, offset: ArrayLike, lengths: ArrayLike) -> FloatArray:
         """Unit normals on the left of each edge's orientation at positions ``(edge, offset)``. Same shape as
         :meth:`embed`."""
+        return self._along_polylines(edge, offset, lengths, _normal_at)
+
+    def _along_polylines(
+        self,
+        edge: ArrayLike,
+        offset: ArrayLike,
+        lengths: ArrayLike,
+        value: Callable[[FloatArray, FloatArray, FloatArray], FloatArray],
+    ) -> FloatArray:
+        """``value(polyline, fractions, f)`` (shape ``(k, 2)``) of each edge's drawn polyline at the fractions ``f``
+        (shape ``(k,)``) of its length, for positions ``(edge, offset)``; shape
+        ``broadcast(edge, offset).shape + (2,)``."""
         e, o = np.broadcast_arrays(np.asarray(edge, dtype=np.int64), np.asarray(offset, dtype=float))
         ln = np.asarray(lengths, dtype=float)
         out = np.empty((*e.shape, 2))
         for i in np.unique(e):
             m = e == i
-            pts, frac = self.polylines[int(i)], self.fractions[int(i)]
-            seg = np.diff(pts, axis=0)
-            f = np.clip(o[m] / ln[i], 0.0, 1.0)
-            j = np.clip(np.searchsorted(frac, f, side="right") - 1, 0, len(seg) - 1)
-            d = seg[j]
-            nrm = np.hypot(d[:, 0], d[:, 1])
-            nrm[nrm == 0] = 1.0
-            out[m, 0] = -d[:, 1] / nrm
-            out[m, 1] = d[:, 0] / nrm
+            out[m] = value(self.polylines[int(i)], self.fractions[int(i)], np.clip(o[m] / ln[i], 0.0, 1.0))
         return out
+
+
+def _point_at(pts: FloatArray, frac: FloatArray, f: FloatArray) -> FloatArray:
+    """Points at the fractions ``f`` of a polyline ``pts`` (shape ``(n, 2)``) whose vertices lie at ``frac``."""
+    return np.stack([np.interp(f, frac, pts[:, 0]), np.interp(f, frac, pts[:, 1])], axis=-1)
+
+
+def _normal_at(pts: FloatArray, frac: FloatArray, f: FloatArray) -> FloatArray:
+    """Unit normals on the left of a polyline ``pts`` (shape ``(n, 2)``) at the fractions ``f``."""
+    seg = np.diff(pts, axis=0)
+    d = seg[np.clip(np.searchsorted(frac, f, side="right") - 1, 0, len(seg) - 1)]
+    nrm = np.hypot(d[:, 0], d[:, 1])
+    nrm[nrm == 0] = 1.0
+    return np.stack([-d[:, 1] / nrm, d[:, 0] / nrm], axis=-1)
 
 
 def _fractions(pts: FloatArray) -> FloatArray:

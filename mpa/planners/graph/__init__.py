@@ -9,7 +9,7 @@ it is optimal and what is guaranteed: docs/graphs.md, "The search in detail".
 
 from __future__ import annotations
 
-from mpa.planners.graph.assemble import _assemble, _merge_same_polygon, _route, _unwind, _word  # noqa: F401
+from mpa.planners.graph.assemble import _assemble, _merge_same_polygon, _route, _word  # noqa: F401
 from mpa.planners.graph.base import (  # noqa: F401
     F_GRID,
     OBJECTIVES,
@@ -23,13 +23,14 @@ from mpa.planners.graph.base import (  # noqa: F401
     FloatArray,
     Key,
     Piece,
+    Segment,
     Side,
 )
 from mpa.planners.graph.mesh import _Mesh, _mesh  # noqa: F401
 from mpa.planners.graph.query import _fits_float, _pair, _speeds, plan_graph  # noqa: F401
 from mpa.planners.graph.reasons import _path_like, _why_no_motion  # noqa: F401
 from mpa.planners.graph.result import GraphPlan
-from mpa.planners.graph.search import _goal_terms, _search, _uncovered  # noqa: F401
+from mpa.planners.graph.search import AnyAngleSearch, _search, _uncovered  # noqa: F401
 from mpa.planners.graph.shortcut import _fastest_alone, _independent_motion, _shortest_routes, _straight_motion  # noqa: F401
 
 __all__ = ["OBJECTIVES", "GraphPlan", "plan_graph"]

@@ -1,4 +1,4 @@
-"""From the search's segments to a plan: unwinding, merging, routes, the cell word and the :class:`GraphPlan`."""
+"""From the search's segments to a plan: merging, routes, the cell word and the :class:`GraphPlan`."""
 
 from __future__ import annotations
 
@@ -9,55 +9,7 @@ import numpy as np
 from mpa.freespace import FreeSpace, PolygonId
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, Position
-from mpa.planners.graph.mesh import _Mesh
 from mpa.planners.graph.result import GraphPlan
-
-
-def _unwind(mesh: _Mesh, nodes: list[list[Any]], nid: int, start_members: Any) -> list[list[Any]]:
-    """The path's straight segments ``[polygon, from, to]`` (offsets in the polygon's cell), start to goal."""
-    runs: list[list[list[Any]]] = []
-    while nid != 0:
-        seg = nodes[nid][3]
-        if seg[0] == "direct":
-            _, rid, q, rc, pt = seg
-            runs.append([[q, rc, pt]])
-            nid = rid
-            continue
-        _, rid, last, pid, q = seg
-        chain = []
-        i = last
-        while i != rid:
-            chain.append(nodes[i])
-            i = nodes[i][15]
-        chain.reverse()
-        q0, r0 = chain[0][16]
-        rk, sk = chain[-1][4], chain[-1][5]
-        d0 = (sk[0] * (q[0] - rk[0]), sk[1] * (q[1] - rk[1]))
-        segs: list[list[Any]] = []
-        prev_pid, prev_pt = q0, r0
-        for nd in chain:
-            r, sig, ax, a, pid_i, prev_a, lo, hi = nd[4], nd[5], nd[6], nd[7], nd[10], nd[12], nd[13], nd[14]
-            di = (sig[0] * d0[0], sig[1] * d0[1])
-            if di[ax] != 0.0:
-                lam = (a - r[ax]) / di[ax]
-                y = r[1 - ax] + lam * di[1 - ax]
-            else:  # pragma: no cover - a crossing line is never parallel to its face
-                y = r[1 - ax]
-            y = min(max(y, lo), hi)
-            exit_pt = (prev_a, y) if ax == 0 else (y, prev_a)
-            entry = (a, y) if ax == 0 else (y, a)
-            segs.append([prev_pid, prev_pt, exit_pt])
-            prev_pid, prev_pt = pid_i, entry
-        segs.append([prev_pid, prev_pt, q])
-        runs.append(segs)
-        nid = rid
-    out: list[list[Any]] = []
-    for run in reversed(runs):
-        out.extend(run)
-    if not out:
-        pid, c = start_members[0]
-        out.append([pid, c, c])
-    return out
 
 
 def _merge_same_polygon(segs: list[list[Any]]) -> list[list[Any]]:

@@ -7,13 +7,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from mpa.planners.search_common import TIE_BREAK as TIE_BREAK
+from mpa.planners.search_common import TIE_BREAK_2 as TIE_BREAK_2
+
 FloatArray = NDArray[np.float64]
 
 
 OBJECTIVES = ("fastest", "shortest")
-
-
-TIE_BREAK = 1e-6
 
 
 #: Supported speeds (m/s) of the graph planner, and their largest ratio.
@@ -23,16 +23,17 @@ SPEED_RANGE = (1e-6, 1e6)
 SPEED_RATIO = 1e8
 
 
-TIE_BREAK_2 = 1e-9  # then towards the straightest (Euclidean in time units): one timing among equally fast ones
-
-
-F_GRID = 1e-12  # relative resolution of the search's order (see _search)
+F_GRID = 1e-12  # relative resolution of the search's order (see AnyAngleSearch.queue_key)
 
 
 Key = tuple[Any, ...]
 
 
 Coords = tuple[float, float]
+
+
+#: A straight segment of a path: ``[polygon, from, to]``, the cell's polygon and the ends' offsets in it (m).
+Segment = list[Any]
 
 
 # ------------------------------------------------------------------------------------------------ search

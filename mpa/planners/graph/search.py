@@ -1,22 +1,30 @@
-"""The exact any-angle A* over roots and intervals of faces (docs/graphs.md, "The search in detail")."""
+"""The exact any-angle A* over roots and intervals of faces (docs/graphs.md, "The search in detail").
+
+:class:`AnyAngleSearch` holds one query's search; its nodes are :class:`PointNode` (a root: the start, a face end or
+corner, or the goal), :class:`FaceEntry` (a face seen from a root, queued; its pages are opened when it is taken) and
+:class:`IntervalNode` (the part of a face seen straight from a root, unfolded into one of its pages).
+"""
 
 from __future__ import annotations
 
 import heapq
 import math
-from typing import TYPE_CHECKING, Any
-
-import numpy as np
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from mpa.errors import PlanningError
 from mpa.freespace import PolygonId
 from mpa.graph_track import Position
-from mpa.planners.graph.assemble import _unwind
-from mpa.planners.graph.base import F_GRID, TIE_BREAK, TIE_BREAK_2, Coords, FaceKey, Key
+from mpa.planners.graph.base import F_GRID, Coords, FaceKey, Key, Segment
 from mpa.planners.graph.mesh import _Mesh
+from mpa.planners.search_common import GoalDistance, cost_function
 
 if TYPE_CHECKING:
     from mpa.planners.graph.bounds import PassingBound
+
+#: The keys of the start's and the goal's point nodes.
+START: Key = ("S",)
+GOAL: Key = ("G",)
 
 
 def _uncovered(
@@ -50,184 +58,231 @@ def _uncovered(
     return out
 
 
-def _goal_terms(g: Any, goal: Position) -> tuple[list[float], list[float], list[float]]:
-    """Per edge ``(cp, cm)`` with ``d((e, x), goal) = min(x + cp[e], cm[e] - x)`` off the goal's edge; per vertex its
-    distance to the goal."""
-    ge, gs = goal
-    lg = g._L[ge]
-    dv = g.dv
-    tg, hg = g._t[ge], g._h[ge]
-    cp = np.minimum(dv[g.tails, tg] + gs, dv[g.tails, hg] + lg - gs)
-    cm = g.lengths + np.minimum(dv[g.heads, tg] + gs, dv[g.heads, hg] + lg - gs)
-    vd = np.minimum(dv[:, tg] + gs, dv[:, hg] + lg - gs)
-    return cp.tolist(), cm.tolist(), vd.tolist()
+@dataclass(slots=True)
+class PointNode:
+    """A root reached at cost ``g``: the start (``key`` :data:`START`), a face end or corner (``key`` from
+    :meth:`_Mesh.point_key`) or the goal (:data:`GOAL`).
+
+    It is reached by a straight run from the point node ``root`` (-1: none, the start): inside the polygon
+    ``polygon`` from ``frm`` to ``to`` (offsets in the polygon's cell, metres) when ``last`` is -1, else through
+    faces, the run's last face crossed in the interval node ``last``, ending at ``to`` in ``polygon``.
+    """
+
+    key: Key
+    g: float
+    root: int
+    last: int
+    polygon: PolygonId | None
+    frm: Coords | None
+    to: Coords | None
 
 
-def _search(
-    mesh: _Mesh,
-    start: tuple[Position, Position],
-    goal: tuple[Position, Position],
-    objective: str,
-    va: float,
-    vb: float,
-    budget: int | None = None,
-    bound: PassingBound | None = None,
-) -> list[list[Any]] | None:
-    """Exact shortest path (for the objective's cost) in the free space: an any-angle A* over *roots* (start, face
-    ends and corners, where a taut path can bend) and *intervals* (the part of a face seen straight from a root
-    through the faces crossed so far, unfolded across faces). With ``budget``: None after that many expansions. With
-    ``bound`` (:class:`~mpa.planners.graph.bounds.PassingBound` of this query): a node's bound is the larger of the
-    robots' distances' and the passing bound at its point (at its root, for a face entry)."""
-    g = mesh.g
-    eps = mesh.eps
-    ctol = 1e-12 * mesh.scale * mesh.scale
-    if objective == "shortest":
+@dataclass(slots=True)
+class _Sight:
+    """The part ``[y0, y1]`` of a face seen straight from a root: the point node ``root`` (key ``root_key``, reached
+    at ``g_root``), at ``r`` in the frame of the polygon ``polygon``, unfolded with the signs ``sig`` per axis; the
+    face is ``polygon``'s side ``ax = a`` (``ax`` 0: robot A on a vertex)."""
 
-        def cost(ds: float, dt: float) -> float:
-            return math.hypot(ds, dt)
+    root: int
+    root_key: Key
+    g_root: float
+    r: Coords
+    sig: Coords
+    ax: int
+    a: float
+    y0: float
+    y1: float
+    polygon: PolygonId
 
-        def comb(xa: float, xb: float) -> float:
-            return math.hypot(xa, xb)
 
-    else:
+@dataclass(slots=True)
+class FaceEntry(_Sight):
+    """A face seen from a root, queued once for all its pages: the line leaves ``polygon`` through its side
+    ``face``, free over ``[lo, hi]``; ``parent``: the node the line came through (the interval node before, or the
+    root), ``origin``: the root's polygon and coordinates."""
 
-        def cost(ds: float, dt: float) -> float:
-            ta, tb_ = abs(ds) / va, abs(dt) / vb
-            return max(ta, tb_) + TIE_BREAK * (ta + tb_) + TIE_BREAK_2 * math.hypot(ta, tb_)
+    face: FaceKey
+    lo: float
+    hi: float
+    parent: int
+    origin: tuple[PolygonId, Coords]
 
-        def comb(xa: float, xb: float) -> float:
-            ta, tb_ = xa / va, xb / vb
-            return max(ta, tb_) + TIE_BREAK * (ta + tb_) + TIE_BREAK_2 * math.hypot(ta, tb_)
 
-    (gea, gsa), (geb, gsb) = goal
-    cpa, cma, vda = _goal_terms(g, goal[0])
-    cpb, cmb, vdb = _goal_terms(g, goal[1])
+@dataclass(slots=True)
+class IntervalNode(_Sight):
+    """A face seen from a root, in one page: ``polygon`` entered through its side ``ax = a`` from the polygon
+    ``prev_polygon`` (its side ``ax = prev_a``); ``lo``, ``hi``, ``parent`` and ``origin`` as in
+    :class:`FaceEntry`."""
 
-    def dist_a(e: int, y: float) -> float:
-        d = min(y + cpa[e], cma[e] - y)
-        return min(d, abs(y - gsa)) if e == gea else d
+    prev_polygon: PolygonId
+    prev_a: float
+    lo: float
+    hi: float
+    parent: int
+    origin: tuple[PolygonId, Coords]
 
-    def dist_b(e: int, y: float) -> float:
-        d = min(y + cpb[e], cmb[e] - y)
-        return min(d, abs(y - gsb)) if e == geb else d
 
-    def min_along(e: int, y0: float, y1: float, r: float, robot: int) -> float:
-        """``min over y in [y0, y1] of |y - r| + d_robot((e, y), goal)``: ``d = min(y + cp, cm - y)`` off the goal's
-        edge, and ``min |y - r| + y = r + 2 max(0, y0 - r)``, ``min |y - r| - y = -r + 2 max(0, r - y1)``."""
-        if robot == 0:
-            cp, cm, ge, gs = cpa[e], cma[e], gea, gsa
-        else:
-            cp, cm, ge, gs = cpb[e], cmb[e], geb, gsb
-        v = min(cp + r + 2.0 * max(0.0, y0 - r), cm - r + 2.0 * max(0.0, r - y1))
-        if e == ge:  # |y - r| + |y - gs| is convex, least between r and gs: the clamp of r is a minimiser
-            y = min(max(r, y0), y1)
-            v = min(v, abs(y - r) + abs(y - gs))
-        return v
+Node = PointNode | FaceEntry | IntervalNode
 
-    def queue_key(f: float, depth: float, nid: int) -> tuple[int, float, int]:
+
+class AnyAngleSearch:
+    """The exact shortest path (for the objective's cost) of one query in the free space.
+
+    An any-angle A* over *roots* (start, face ends and corners, where a taut path can bend) and *intervals* (the part
+    of a face seen straight from a root through the faces crossed so far, unfolded across faces). The queue's order
+    is the lower bound (:meth:`lower_bound`, :meth:`face_lower_bound`) plus the cost so far (:meth:`queue_key`).
+
+    Parameters
+    ----------
+    mesh : _Mesh
+        The free space as the search sees it.
+    start, goal : (Position, Position)
+        Robot A's and robot B's positions ``(edge, offset in metres)``, free.
+    objective : {"fastest", "shortest"}
+    va, vb : float
+        The robots' speeds (m/s), > 0.
+    """
+
+    def __init__(
+        self,
+        mesh: _Mesh,
+        start: tuple[Position, Position],
+        goal: tuple[Position, Position],
+        objective: str,
+        va: float,
+        vb: float,
+        bound: PassingBound | None = None,
+    ) -> None:
+        self.mesh = mesh
+        self.bound = bound
+        self.start = start
+        self.eps = mesh.eps
+        self.ctol = 1e-12 * mesh.scale * mesh.scale
+        self.cost = cost_function(objective, va, vb)
+        self.to_goal = (GoalDistance(mesh.g, goal[0]), GoalDistance(mesh.g, goal[1]))
+        self._at_a, self._at_b = self.to_goal[0].at, self.to_goal[1].at
+        self._vd_a, self._vd_b = self.to_goal[0].vd, self.to_goal[1].vd
+        self._along_a, self._along_b = self.to_goal[0].min_along, self.to_goal[1].min_along
+        self.goal_at: dict[PolygonId, list[Coords]] = {}
+        for pid, c in mesh.placements(*goal):
+            self.goal_at.setdefault(pid, []).append(c)
+        self.nodes: list[Node] = []
+        # interval nodes by (root, page, side, root position in the page's frame): routes of equal lengths (a
+        # lattice's Manhattan ties) unfold to the same node; keep one
+        self.seen: dict[Key, list[tuple[float, float]]] = {}
+        self.quantum = 1.0 / (1e-9 * mesh.scale)
+        self.best: dict[Key, float] = {}
+        self.heap: list[tuple[int, float, int]] = []
+        (sa_e, sa_s), (sb_e, sb_s) = start
+        self.fq = 1.0 / (F_GRID * max(1e-3, self.cost(self.to_goal[0].at(sa_e, sa_s), self.to_goal[1].at(sb_e, sb_s))))
+
+    # ------------------------------------------------------------------------------------------- the lower bound
+    def lower_bound(self, pid: PolygonId, pt: Coords) -> float:
+        """A lower bound of the cost from the configuration at ``pt`` (offsets in the cell ``pid``) to the goal: the
+        cost of the robots' graph distances to their goals (each move costs at least what it takes off them)."""
+        return self.cost(self._at_a(pid[0], pt[0]), self._at_b(pid[1], pt[1]))
+
+    def face_lower_bound(self, r: Coords, ax: int, a: float, face: FaceKey, y0: float, y1: float) -> float:
+        """A lower bound of the cost from the root at ``r`` through the part ``[y0, y1]`` of ``face`` (the side
+        ``ax = a`` of the root's polygon) to the goal: the robot on the face's vertex is as far from its goal on every
+        page, the other one goes through the nearest point of ``[y0, y1]`` (:meth:`GoalDistance.min_along`)."""
+        if ax == 0:
+            return self.cost(abs(r[0] - a) + self._vd_a[face[1]], self._along_b(face[2], y0, y1, r[1]))
+        return self.cost(self._along_a(face[2], y0, y1, r[0]), abs(r[1] - a) + self._vd_b[face[1]])
+
+    def queue_key(self, f: float, depth: float, nid: int) -> tuple[int, float, int]:
         """The search's order, in one place: the bound ``f`` on a grid of ``F_GRID`` of the start's bound (so that
         near-equal bounds count as ties), then deeper first (larger cost from the start of the root, ``depth``): on
         the plateaus of equally fast motions (a robot with slack may take any of many routes) the search dives to the
         goal instead of widening; the plan is optimal up to that grid."""
-        return (math.floor(f * fq), -depth, nid)
+        return (math.floor(f * self.fq), -depth, nid)
 
-    goal_at: dict[PolygonId, list[Coords]] = {}
-    for pid, c in mesh.placements(*goal):
-        goal_at.setdefault(pid, []).append(c)
-
-    # node records
-    #   point:    [0, key, g, seg]             seg = (kind, ...) the straight run that ends here
-    #   interval: [1, root id, root key, g_root, r, sig, ax, a, y0, y1, pid, prev pid, prev a, lo, hi, parent, origin]
-    #   face entry (queued, opens the intervals into its pages):
-    #             [3, root id, root key, g_root, r, sig, ax, a, y0, y1, prev pid, face, lo, hi, parent, origin]
-    #   goal:     [2, None, g, seg]
-    nodes: list[list[Any]] = []
-    # interval nodes by (root, page, side, root position in the page's frame): routes of equal lengths (a lattice's
-    # Manhattan ties) unfold to the same node; keep one
-    seen: dict[Key, list[tuple[float, float]]] = {}
-    quantum = 1.0 / (1e-9 * mesh.scale)
-    best: dict[Key, float] = {}
-    heap: list[tuple[int, float, int]] = []
-
-    def push_point(key: Key, gval: float, pid: PolygonId, pt: Coords, seg: tuple[Any, ...]) -> None:
+    # ---------------------------------------------------------------------------------------------- the queue
+    def push_point(
+        self, key: Key, gval: float, root: int, last: int, pid: PolygonId, frm: Coords | None, pt: Coords
+    ) -> None:
+        """Queue the point ``key`` (at ``pt`` in ``pid``) reached at cost ``gval`` (a :class:`PointNode` with these
+        fields) if more cheaply than before; the goal (``key`` :data:`GOAL`) with its cost as its bound."""
+        best = self.best
         if gval < best.get(key, math.inf):
             best[key] = gval
-            nodes.append([0, key, gval, seg])
-            f = gval + comb(dist_a(pid[0], pt[0]), dist_b(pid[1], pt[1]))
-            if bound is not None:
-                f = max(f, gval + bound.point(key))
-            heapq.heappush(heap, queue_key(f, gval, len(nodes) - 1))
+            nodes = self.nodes
+            nodes.append(PointNode(key, gval, root, last, pid, frm, pt))
+            f = gval if key is GOAL else gval + self.lower_bound(pid, pt)
+            if self.bound is not None and key is not GOAL:
+                f = max(f, gval + self.bound.point(key))
+            heapq.heappush(self.heap, self.queue_key(f, gval, len(nodes) - 1))
 
-    def push_goal(gval: float, seg: tuple[Any, ...]) -> None:
-        if gval < best.get(("G",), math.inf):
-            best[("G",)] = gval
-            nodes.append([2, ("G",), gval, seg])
-            heapq.heappush(heap, queue_key(gval, gval, len(nodes) - 1))
-
-    def push_intervals(
-        rid: int,
-        rkey: Key,
-        groot: float,
-        r: Coords,
-        sig: Coords,
-        pid: PolygonId,
-        ax: int,
-        a: float,
-        face: FaceKey,
-        y0: float,
-        y1: float,
-        lo: float,
-        hi: float,
-        parent: int,
-        origin: tuple[PolygonId, Coords],
-    ) -> None:
-        """Queue the part [y0, y1] of face ``face`` (side ``ax = a`` of ``pid``) seen from the root, once for all the
-        face's other pages: the bound is the same for each (the robot on the vertex is as far from its goal, and the
-        other robot's edge is the face's), so the pages are opened only when the entry is taken from the queue."""
-        w = face[1]
-        if ax == 0:
-            xa = abs(r[0] - a) + vda[w]
-            xb = min_along(face[2], y0, y1, r[1], 1)
-        else:
-            xb = abs(r[1] - a) + vdb[w]
-            xa = min_along(face[2], y0, y1, r[0], 0)
-        f = groot + comb(xa, xb)
-        if bound is not None:
+    def push_face(self, entry: FaceEntry) -> None:
+        """Queue the part ``[y0, y1]`` of a face seen from a root, once for all the face's other pages: the bound is
+        the same for each (the robot on the vertex is as far from its goal, and the other robot's edge is the
+        face's), so the pages are opened only when the entry is taken from the queue (:meth:`open_face`)."""
+        nodes = self.nodes
+        nodes.append(entry)
+        g_root = entry.g_root
+        f = g_root + self.face_lower_bound(entry.r, entry.ax, entry.a, entry.face, entry.y0, entry.y1)
+        if self.bound is not None:  # the passing bound at the root, and through the face's part [y0, y1]
+            r, a, y0, y1 = entry.r, entry.a, entry.y0, entry.y1
             x_a, x_b = (
                 (abs(r[0] - a), max(0.0, y0 - r[1], r[1] - y1))
-                if ax == 0
+                if entry.ax == 0
                 else (max(0.0, y0 - r[0], r[0] - y1), abs(r[1] - a))
             )
-            f = max(f, groot + bound.point(rkey), groot + comb(x_a, x_b) + bound.entry(face, y0, y1))
-        nodes.append([3, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin])
-        heapq.heappush(heap, queue_key(f, groot, len(nodes) - 1))
+            f = max(
+                f,
+                g_root + self.bound.point(entry.root_key),
+                g_root + self.cost(x_a, x_b) + self.bound.entry(entry.face, y0, y1),
+            )
+        heapq.heappush(self.heap, self.queue_key(f, g_root, len(nodes) - 1))
 
-    def open_face(nd: list[Any]) -> None:
-        """Interval nodes of a queued face entry into each other page (unfolding the root), expanded at once."""
-        _, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, face, lo, hi, parent, origin = nd
+    # ----------------------------------------------------------------------------------------------- expansion
+    def open_face(self, entry: FaceEntry) -> None:
+        """The interval nodes of a queued face entry in each other page (the root unfolded), expanded at once."""
+        mesh, r, sig, ax, a, pid = self.mesh, entry.r, entry.sig, entry.ax, entry.a, entry.polygon
         n1 = 1.0 if a == 0.0 else -1.0
-        for pid2, b in mesh.pages(face):
+        for pid2, b in mesh.pages(entry.face):
             if pid2 == pid and b == a:
                 continue
-            if len(mesh.sides(pid2)) == 1 and pid2 not in goal_at:
+            if len(mesh.sides(pid2)) == 1 and pid2 not in self.goal_at:
                 continue  # a dead end: a straight line entering it cannot leave
-            sg = n1 if b == 0.0 else -n1  # -n1 * n2
-            sg = -sg
+            sg = -n1 if b == 0.0 else n1  # -n1 * n2, n2 the page's side normal
             if ax == 0:
                 r2 = (b + sg * (r[0] - a), r[1])
                 sig2 = (sg * sig[0], sig[1])
             else:
                 r2 = (r[0], b + sg * (r[1] - a))
                 sig2 = (sig[0], sg * sig[1])
-            sk = (rid, pid2, ax, b, round(r2[0] * quantum), round(r2[1] * quantum))
-            for z0, z1 in _uncovered(seen, sk, y0, y1, eps):  # parts not seen the same way from this root before
-                nodes.append([1, rid, rkey, groot, r2, sig2, ax, b, z0, z1, pid2, pid, a, lo, hi, parent, origin])
-                expand_interval(len(nodes) - 1, nodes[-1])
+            sk = (entry.root, pid2, ax, b, round(r2[0] * self.quantum), round(r2[1] * self.quantum))
+            for z0, z1 in _uncovered(self.seen, sk, entry.y0, entry.y1, self.eps):  # parts not seen so before
+                node = IntervalNode(
+                    entry.root,
+                    entry.root_key,
+                    entry.g_root,
+                    r2,
+                    sig2,
+                    ax,
+                    b,
+                    z0,
+                    z1,
+                    pid2,
+                    pid,
+                    a,
+                    entry.lo,
+                    entry.hi,
+                    entry.parent,
+                    entry.origin,
+                )
+                self.nodes.append(node)
+                self.expand_interval(len(self.nodes) - 1, node)
 
-    def expand_point(nid: int, key: Key, gval: float, members: list[tuple[PolygonId, Coords]]) -> None:
+    def expand_point(self, nid: int, key: Key, gval: float, members: list[tuple[PolygonId, Coords]]) -> None:
+        """Straight runs from the root ``nid`` (at cost ``gval``) in each polygon holding it: to the goal, to every
+        face end, and into every face it does not lie on."""
+        mesh, cost, eps = self.mesh, self.cost, self.eps
+        push_point, push_face = self.push_point, self.push_face
         for q, rc in members:
-            for pt in goal_at.get(q, ()):
-                push_goal(gval + cost(pt[0] - rc[0], pt[1] - rc[1]), ("direct", nid, q, rc, pt))
+            for pt in self.goal_at.get(q, ()):
+                push_point(GOAL, gval + cost(pt[0] - rc[0], pt[1] - rc[1]), nid, -1, q, rc, pt)
             for ax2, a2, face2, lo2, hi2 in mesh.sides(q):
                 on_line = rc[ax2] == a2
                 for y in (lo2, hi2) if hi2 > lo2 else (lo2,):
@@ -235,13 +290,19 @@ def _search(
                     if pt == rc:
                         continue
                     k2 = mesh.point_key(face2, y)
-                    push_point(k2, gval + cost(pt[0] - rc[0], pt[1] - rc[1]), q, pt, ("direct", nid, q, rc, pt))
+                    push_point(k2, gval + cost(pt[0] - rc[0], pt[1] - rc[1]), nid, -1, q, rc, pt)
                 if on_line or hi2 - lo2 <= eps:
                     continue
-                push_intervals(nid, key, gval, rc, (1.0, 1.0), q, ax2, a2, face2, lo2, hi2, lo2, hi2, nid, (q, rc))
+                push_face(
+                    FaceEntry(nid, key, gval, rc, (1.0, 1.0), ax2, a2, lo2, hi2, q, face2, lo2, hi2, nid, (q, rc))
+                )
 
-    def expand_interval(nid: int, nd: list[Any]) -> None:
-        _, rid, rkey, groot, r, sig, ax, a, y0, y1, pid, _, _, _, _, _, origin = nd
+    def expand_interval(self, nid: int, nd: IntervalNode) -> None:
+        """The interval node ``nid``: the goal and the face ends it sees in its polygon, and the parts of the
+        polygon's other faces it sees (queued as face entries)."""
+        mesh, cost, eps, ctol = self.mesh, self.cost, self.eps, self.ctol
+        push_point = self.push_point
+        rid, r, ax, a, y0, y1, pid, groot = nd.root, nd.r, nd.ax, nd.a, nd.y0, nd.y1, nd.polygon, nd.g_root
         rs, rt = r
         if ax == 0:
             u0 = (a - rs, y0 - rt)
@@ -253,16 +314,10 @@ def _search(
         if abs(cr) <= ctol:
             return
         sgn = 1.0 if cr > 0 else -1.0
-
-        def inside(q: Coords) -> bool:
-            dx, dy = q[0] - rs, q[1] - rt
-            c0 = sgn * (u0[0] * dy - u0[1] * dx)
-            c1 = -sgn * (u1[0] * dy - u1[1] * dx)
-            return c0 >= -ctol and c1 >= -ctol
-
-        for pt in goal_at.get(pid, ()):
-            if inside(pt):
-                push_goal(groot + cost(pt[0] - rs, pt[1] - rt), ("chain", rid, nid, pid, pt))
+        for pt in self.goal_at.get(pid, ()):
+            dx, dy = pt[0] - rs, pt[1] - rt
+            if sgn * (u0[0] * dy - u0[1] * dx) >= -ctol and -sgn * (u1[0] * dy - u1[1] * dx) >= -ctol:  # in the cone
+                push_point(GOAL, groot + cost(pt[0] - rs, pt[1] - rt), rid, nid, pid, None, pt)
         for ax2, a2, face2, lo2, hi2 in mesh.sides(pid):
             if ax2 == ax and a2 == a:
                 continue
@@ -288,46 +343,122 @@ def _search(
                 yl = lo2
                 pt = (a2, lo2) if ax2 == 0 else (lo2, a2)
                 k2 = mesh.point_key(face2, lo2)
-                push_point(k2, groot + cost(pt[0] - rs, pt[1] - rt), pid, pt, ("chain", rid, nid, pid, pt))
+                push_point(k2, groot + cost(pt[0] - rs, pt[1] - rt), rid, nid, pid, None, pt)
             if yh >= hi2 - eps:
                 yh = hi2
                 pt = (a2, hi2) if ax2 == 0 else (hi2, a2)
                 k2 = mesh.point_key(face2, hi2)
-                push_point(k2, groot + cost(pt[0] - rs, pt[1] - rt), pid, pt, ("chain", rid, nid, pid, pt))
+                push_point(k2, groot + cost(pt[0] - rs, pt[1] - rt), rid, nid, pid, None, pt)
             if yh - yl <= eps:
                 continue
-            push_intervals(rid, rkey, groot, r, sig, pid, ax2, a2, face2, yl, yh, lo2, hi2, nid, origin)
+            self.push_face(
+                FaceEntry(rid, nd.root_key, groot, r, nd.sig, ax2, a2, yl, yh, pid, face2, lo2, hi2, nid, nd.origin)
+            )
 
-    # the queue's order: f on a grid of F_GRID of the start's bound (so that near-equal bounds count as ties), then
-    # deeper first (larger g): on the plateaus of equally fast motions (a robot with slack may take any of many
-    # routes) the search dives to the goal instead of widening; the plan is optimal up to that grid
-    (sa_e, sa_s), (sb_e, sb_s) = start
-    fq = 1.0 / (F_GRID * max(1e-3, comb(dist_a(sa_e, sa_s), dist_b(sb_e, sb_s))))
-    start_members = mesh.placements(*start)
-    best[("S",)] = 0.0
-    nodes.append([0, ("S",), 0.0, None])
-    expand_point(0, ("S",), 0.0, start_members)
-    found = -1
-    expanded = 0
-    while heap:
-        _, _, nid = heapq.heappop(heap)
-        expanded += 1
-        if budget is not None and expanded > budget:
-            return None
-        nd = nodes[nid]
-        kind = nd[0]
-        if kind == 2:
-            found = nid
-            break
-        if kind == 0:
-            key = nd[1]
-            if nd[2] > best[key]:
-                continue  # reached more cheaply since (a root reached again more cheaply is expanded again)
-            expand_point(nid, key, nd[2], mesh.members(key))
-        else:
-            if nd[3] > best[nd[2]]:
-                continue  # its root was reached more cheaply since
-            open_face(nd)
-    if found < 0:
-        raise PlanningError("search ended without reaching the goal although it is in the start's component (a bug)")
-    return _unwind(mesh, nodes, found, start_members)
+    # --------------------------------------------------------------------------------------------------- run
+    def run(self, budget: int | None = None) -> list[Segment] | None:
+        """The path's straight segments start to goal (:func:`_unwind`); with ``budget``: None after that many
+        expansions.
+
+        Raises
+        ------
+        PlanningError
+            The goal was not reached although the caller found it in the start's component (a bug).
+        """
+        start_members = self.mesh.placements(*self.start)
+        self.best[START] = 0.0
+        self.nodes.append(PointNode(START, 0.0, -1, -1, None, None, None))
+        self.expand_point(0, START, 0.0, start_members)
+        nodes, best, heap = self.nodes, self.best, self.heap
+        found = -1
+        expanded = 0
+        while heap:
+            _, _, nid = heapq.heappop(heap)
+            expanded += 1
+            if budget is not None and expanded > budget:
+                return None
+            nd = nodes[nid]
+            if type(nd) is PointNode:
+                if nd.key is GOAL:
+                    found = nid
+                    break
+                if nd.g > best[nd.key]:
+                    continue  # reached more cheaply since (a root reached again more cheaply is expanded again)
+                self.expand_point(nid, nd.key, nd.g, self.mesh.members(nd.key))
+            else:
+                assert type(nd) is FaceEntry
+                if nd.g_root > best[nd.root_key]:
+                    continue  # its root was reached more cheaply since
+                self.open_face(nd)
+        if found < 0:
+            raise PlanningError(
+                "search ended without reaching the goal although it is in the start's component (a bug)"
+            )
+        return self.segments(found, start_members)
+
+    def segments(self, nid: int, start_members: list[tuple[PolygonId, Coords]]) -> list[Segment]:
+        """The path's straight segments ``[polygon, from, to]`` (offsets in the polygon's cell, metres), start to
+        goal, read back from the point node ``nid``: a run through faces is folded back from its interval nodes."""
+        nodes = self.nodes
+        runs: list[list[Segment]] = []
+        while nid != 0:
+            nd = nodes[nid]
+            assert type(nd) is PointNode
+            if nd.last < 0:
+                runs.append([[nd.polygon, nd.frm, nd.to]])
+                nid = nd.root
+                continue
+            rid, q = nd.root, nd.to
+            assert q is not None
+            chain: list[IntervalNode] = []
+            i = nd.last
+            while i != rid:
+                it = nodes[i]
+                assert type(it) is IntervalNode
+                chain.append(it)
+                i = it.parent
+            chain.reverse()
+            q0, r0 = chain[0].origin
+            rk, sk = chain[-1].r, chain[-1].sig
+            d0 = (sk[0] * (q[0] - rk[0]), sk[1] * (q[1] - rk[1]))
+            segs: list[Segment] = []
+            prev_pid, prev_pt = q0, r0
+            for it in chain:
+                r, ax, a = it.r, it.ax, it.a
+                di = (it.sig[0] * d0[0], it.sig[1] * d0[1])
+                if di[ax] != 0.0:
+                    lam = (a - r[ax]) / di[ax]
+                    y = r[1 - ax] + lam * di[1 - ax]
+                else:  # pragma: no cover - a crossing line is never parallel to its face
+                    y = r[1 - ax]
+                y = min(max(y, it.lo), it.hi)
+                exit_pt = (it.prev_a, y) if ax == 0 else (y, it.prev_a)
+                entry = (a, y) if ax == 0 else (y, a)
+                segs.append([prev_pid, prev_pt, exit_pt])
+                prev_pid, prev_pt = it.polygon, entry
+            segs.append([prev_pid, prev_pt, q])
+            runs.append(segs)
+            nid = rid
+        out: list[Segment] = []
+        for run in reversed(runs):
+            out.extend(run)
+        if not out:
+            pid, c = start_members[0]
+            out.append([pid, c, c])
+        return out
+
+
+def _search(
+    mesh: _Mesh,
+    start: tuple[Position, Position],
+    goal: tuple[Position, Position],
+    objective: str,
+    va: float,
+    vb: float,
+    budget: int | None = None,
+    bound: PassingBound | None = None,
+) -> list[Segment] | None:
+    """The exact shortest path's straight segments (:class:`AnyAngleSearch`); with ``budget``: None after that many
+    expansions. With ``bound`` (:class:`~mpa.planners.graph.bounds.PassingBound` of this query): a node's bound is the
+    larger of the robots' distances' and the passing bound at its point (at its root, for a face entry)."""
+    return AnyAngleSearch(mesh, start, goal, objective, va, vb, bound=bound).run(budget)

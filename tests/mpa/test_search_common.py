@@ -1,0 +1,113 @@
+"""What the layout searches share (:mod:`mpa.planners.search_common`) and the graph search's typed nodes.
+
+The goal distance is checked against the exact geometry and a brute-force minimum, the scalar cost against the
+array cost, on seeded random layouts (failing cases printed).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from mpa.freespace import free_space
+from mpa.planners.graph import mesh as gmesh
+from mpa.planners.graph.search import GOAL, START, AnyAngleSearch, FaceEntry, IntervalNode, PointNode
+from mpa.planners.search_common import TIE_BREAK, TIE_BREAK_2, GoalDistance, cell_speeds, cost_function, move_cost
+from tests.helpers.graph_helpers import random_layout, random_position
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_goal_distance_is_the_exact_graph_distance(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    tr = random_layout(rng)
+    geo = tr.geometry
+    goal = random_position(tr, rng)
+    dist = GoalDistance(geo, goal)
+    for _ in range(40):
+        e, y = random_position(tr, rng)
+        exact = geo.distance_scalar(e, y, goal[0], goal[1])
+        assert dist.at(e, y) == pytest.approx(exact, abs=1e-12), (seed, goal, (e, y))
+    for e in range(tr.n_edges):  # each vertex as an edge's tail and head
+        for w, y in ((int(geo._t[e]), 0.0), (int(geo._h[e]), float(tr.lengths[e]))):
+            exact = geo.distance_scalar(e, y, goal[0], goal[1])
+            assert dist.vd[w] == pytest.approx(exact, abs=1e-12), (seed, goal, w)
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_min_along_is_the_least_way_through_the_interval(seed: int) -> None:
+    rng = np.random.default_rng(100 + seed)
+    tr = random_layout(rng)
+    goal = random_position(tr, rng)
+    dist = GoalDistance(tr.geometry, goal)
+    for _ in range(30):
+        e = int(rng.integers(0, tr.n_edges)) if rng.random() < 0.7 else goal[0]
+        length = float(tr.lengths[e])
+        y0, y1 = sorted(rng.uniform(0.0, length, size=2).tolist())
+        r = float(rng.uniform(-0.5, length + 0.5))
+        ys = np.concatenate([np.linspace(y0, y1, 2001), [min(max(r, y0), y1), min(max(goal[1], y0), y1)]])
+        brute = min(abs(y - r) + dist.at(e, float(y)) for y in ys.tolist())
+        got = dist.min_along(e, y0, y1, r)
+        assert got <= brute + 1e-12, (seed, e, y0, y1, r, got, brute)
+        assert got >= brute - 1e-3 * (y1 - y0) - 1e-12, (seed, e, y0, y1, r, got, brute)  # the grid's resolution
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    ds=st.floats(-50.0, 50.0),
+    dt=st.floats(-50.0, 50.0),
+    va=st.floats(1e-3, 1e3),
+    vb=st.floats(1e-3, 1e3),
+    objective=st.sampled_from(["fastest", "shortest"]),
+)
+def test_scalar_cost_equals_the_array_cost(ds: float, dt: float, va: float, vb: float, objective: str) -> None:
+    cost = cost_function(objective, va, vb)
+    scalar = cost(ds, dt)
+    array = move_cost(objective, np.array([abs(ds)]), np.array([abs(dt)]), va, vb)[0]
+    assert scalar == move_cost(objective, abs(ds), abs(dt), va, vb)
+    assert scalar == pytest.approx(float(array), rel=1e-15, abs=0.0)
+    if objective == "fastest":
+        ta, tb = abs(ds) / va, abs(dt) / vb
+        assert max(ta, tb) <= scalar <= (max(ta, tb) + (TIE_BREAK + TIE_BREAK_2) * (ta + tb)) * (1.0 + 1e-15)
+    else:
+        assert scalar == math.hypot(ds, dt)
+
+
+def test_cell_speeds_cap_the_robots_at_the_edges_limits() -> None:
+    from mpa.graph_track import GraphTrack
+
+    tr = GraphTrack.from_layout(
+        {"edges": [{"name": "a", "from": "X", "to": "Y", "length": 1.0, "speed_limit": 0.4}, ["Y", "Z", 2.0]]}
+    )
+    spa, spb = cell_speeds(tr, 1.0, 0.3)
+    assert spa == [0.4, 1.0]
+    assert spb == [0.3, 0.3]
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_search_nodes_are_typed_and_read_back_to_the_path(seed: int) -> None:
+    rng = np.random.default_rng(300 + seed)
+    tr = random_layout(rng)
+    fs = free_space(tr, 0.2)
+    while True:
+        s = (random_position(tr, rng), random_position(tr, rng))
+        g = (random_position(tr, rng), random_position(tr, rng))
+        if fs.is_free(*s) and fs.is_free(*g) and fs.component_of(*s) == fs.component_of(*g) is not None:
+            break
+    search = AnyAngleSearch(gmesh._mesh(fs), s, g, "fastest", 1.0, 0.5)
+    segs = search.run()
+    assert segs is not None
+    kinds = {type(nd) for nd in search.nodes}
+    assert kinds <= {PointNode, FaceEntry, IntervalNode}, kinds
+    assert search.nodes[0].key == START  # type: ignore[union-attr]
+    goals = [nd for nd in search.nodes if isinstance(nd, PointNode) and nd.key is GOAL]
+    assert goals, (seed, s, g)
+    # the path's cost is the goal's cost in the search, and the bound at the start never exceeds it
+    cost = search.cost
+    total = sum(cost(b[0] - a[0], b[1] - a[1]) for _, a, b in segs)
+    assert total == pytest.approx(search.best[GOAL], rel=1e-9, abs=1e-12), (seed, s, g)
+    start_pid, start_c = search.mesh.placements(*s)[0]
+    assert search.lower_bound(start_pid, start_c) <= search.best[GOAL] * (1 + 1e-12) + 1e-12, (seed, s, g)
