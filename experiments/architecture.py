@@ -115,7 +115,7 @@ _MODULE_ALLOWED = {
     "mpa.geometry": {"scipy"},
     "mpa.planar.search": {"scipy"},
     "mpa.planners.corners": {"scipy"},
-    "trajopt.pvt": {"scipy"},
+    "trajopt.io.pvt": {"scipy"},
 }
 
 

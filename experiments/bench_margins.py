@@ -2,7 +2,7 @@
 
 Two carts swap ends of a 160 m layout (two 60 m spurs joined by a 40 m link and a 60 m siding) at a speed limit
 chosen for the makespan (about 36 s, 360 s, 3 600 s), and two swaps on the example warehouse at 0.2 m/s. For each:
-the makespan, the rows at 100 Hz, :func:`trajopt.margins.margins` in-process (median of ``--repeat``) and the
+the makespan, the rows at 100 Hz, :func:`trajopt.analysis.margins.margins` in-process (median of ``--repeat``) and the
 wall time of ``python -m trajopt.cli trajectory ... --out DIR`` (process start to files written, one run).
 
     python experiments/bench_margins.py [--repeat 3] [--no-cli]
@@ -24,8 +24,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from mpa.graph_track import GraphTrack  # noqa: E402
+from trajopt.analysis.margins import margins  # noqa: E402
 from trajopt.generator import TrajectoryGenerator  # noqa: E402
-from trajopt.margins import margins  # noqa: E402
 from trajopt.timing import Limits  # noqa: E402
 
 LONG = {"edges": [["a0", "a1", 60.0], ["b0", "b1", 60.0], ["a1", "b1", 40.0], ["a1", "c", 30.0], ["c", "b1", 30.0]]}

@@ -1,4 +1,4 @@
-"""Time and peak memory of :func:`trajopt.ros.write_mcap` on a long layout motion.
+"""Time and peak memory of :func:`trajopt.io.ros.write_mcap` on a long layout motion.
 
 Draws the longest of six seeded warehouse queries (``examples/tracks/warehouse.json``, default limits), then writes
 its bag at each ``--rates`` Hz ``--repeat`` times: the median wall and CPU time, and the peak of the Python heap
@@ -23,7 +23,7 @@ import numpy as np
 from mpa import GraphTrack
 from mpa.errors import MPAError
 from trajopt import generate_trajectory
-from trajopt.ros import write_mcap
+from trajopt.io.ros import write_mcap
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -12,7 +12,8 @@ time, s) against
 (c) with ``--compare old.json`` (this script's JSON from another version, same seed and size): the per-query
     ratio new/old (the issue's goal: median and p99 <= 1.001).
 
-``--pairs K`` also measures continuity on K seeded perturbation pairs per domain (:mod:`trajopt.stability`): the
+``--pairs K`` also measures continuity on K seeded perturbation pairs per domain (:mod:`trajopt.analysis.stability`):
+the
 sup gap of the trajectories (normalised time) and of the motion times for δ = 1e-3 … 1e-7, and ``gap/δ``.
 
 Usage::
@@ -49,7 +50,7 @@ def _q(x: np.ndarray) -> tuple[float, float]:
 
 def continuity(gen: TrajectoryGenerator, kind: str, pairs: int, seed: int) -> dict[str, object]:
     """Gaps on ``pairs`` seeded perturbation pairs per domain (see the module docstring)."""
-    from trajopt.stability import perturbation_pairs, trajectory_gap
+    from trajopt.analysis.stability import perturbation_pairs, trajectory_gap
 
     out: dict[str, object] = {}
     for dom in DOMAINS.get(kind, (1,)):

@@ -1,7 +1,7 @@
 """Benchmark: ours against the planners a robotics engineer would pick instead, side by side in one run.
 
 Every method turns the same seeded queries into jerk-limited setpoints through the same time parametrization
-(``trajopt.timing``) and the same verification gate (``trajopt.verify.verify_setpoints``):
+(``trajopt.timing``) and the same verification gate (``trajopt.verify.gate.verify_setpoints``):
 
 - ``ours``: plan → fast path (one ruckig profile on the straight route-coordinate line) or hard path (corridor QP in
   the plan's homotopy class, B-spline, filtered jerk-limited timing) → the gate (``trajopt.TrajectoryGenerator``);

@@ -2,7 +2,7 @@
 
 For a few lollipop queries (ℓ = c = 1, D = 0.05, default limits, 100 Hz) and requested tolerances T, prints the
 ordinary motion's delay tolerance and makespan, then for each T: the tolerance reached, the effective clearance
-and slowdown used (:mod:`trajopt.delay`), the makespan, the candidates tried and the wall time, or the
+and slowdown used (:mod:`trajopt.analysis.delay`), the makespan, the candidates tried and the wall time, or the
 ``NoMotionError`` message.
 
 Usage::

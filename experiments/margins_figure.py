@@ -2,7 +2,7 @@
 
 Left: the separation d(t) of the two carts along the motion, the clearance D, the closest approach d_min and the
 tracking margin r = (d_min − D)/2. Right: the smallest separation when cart A (or B) runs late by δ, against δ,
-with the delay tolerances τ_A, τ_B found by :func:`trajopt.margins.margins`.
+with the delay tolerances τ_A, τ_B found by :func:`trajopt.analysis.margins.margins`.
 
 Usage::
 
@@ -28,7 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from mpa import Lollipop
 from trajopt import generate_trajectory
-from trajopt.margins import margins
+from trajopt.analysis.margins import margins
 from trajopt.viz.plotting import save_and_close
 
 #: The query drawn: A goes up into the loop while B comes down from it, passing close to each other near P.

@@ -102,7 +102,7 @@ GRAPH_QUERIES = [
 def graph_curve(traj, t0: float, n: int = 600):  # type: ignore[no-untyped-def]
     """A layout trajectory's path from ``t0``: per cart the edges visited in order (the class) and ``n`` positions
     ``(edges, offsets)``, each shape (n, 2), equally spaced in route travel."""
-    from trajopt.planview import plan_view
+    from trajopt.path.planview import plan_view
 
     t = np.append(np.arange(t0, traj.motion_time, 1 / 2000.0), traj.motion_time)
     s, v, _, _ = traj.sampler(t)

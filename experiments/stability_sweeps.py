@@ -1,11 +1,13 @@
 """Stability sweeps: the fast/hard switch on the paper tracks and δ-twins on every example layout (headless).
 
-(a) Switch (:func:`trajopt.stability.switch_points`): per track and clearance, ``--draws`` seeded draws of a start and
+(a) Switch (:func:`trajopt.analysis.stability.switch_points`): per track and clearance, ``--draws`` seeded draws of a
+start and
     two nearby goals; where the straight route-coordinate line stops keeping the separation between them (same
     domain and word), bisection to a bracket of 1e-9 m and the gap of the trajectories on both sides (sup over
     normalised time of the robots' graph distance, and the motion-time change). Tracks: circle 1; lollipops 1/1,
     1.3/0.9, 0.4/1.7; clearances 0.05 and 0.15.
-(b) Layout twins (:func:`trajopt.stability.layout_twins`): per example layout ``--queries`` seeded queries (clearances
+(b) Layout twins (:func:`trajopt.analysis.stability.layout_twins`): per example layout ``--queries`` seeded queries
+(clearances
     0.05, 0.2, 0.5, 1 × the median edge length; every fourth a swap) and their twins with every position moved by
     δ = 1e-3, 1e-5, 1e-7 along its edge; counts, for random queries and for swap queries apart (a swap with equal
     speeds lies on a tie of the objective: its mirror motion is as fast), the twins whose routes change and, among
@@ -30,7 +32,7 @@ import numpy as np
 from mpa.graph_track import GraphTrack
 from mpa.tracks import Circle, Lollipop, Track
 from trajopt import TrajectoryGenerator
-from trajopt.stability import layout_queries, layout_twins, switch_points
+from trajopt.analysis.stability import layout_queries, layout_twins, switch_points
 
 ROOT = Path(__file__).resolve().parents[1]
 TRACKS: tuple[Track, ...] = (Circle(1.0), Lollipop(1.0, 1.0), Lollipop(1.3, 0.9), Lollipop(0.4, 1.7))

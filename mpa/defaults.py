@@ -26,5 +26,5 @@ LIMIT_RANGE = (1e-3, 1e4)
 RATE = 100.0
 #: Absolute tolerance (m) of the clearance test of a start or goal: robots at least ``D − CLEARANCE_TOL`` apart
 #: count as the clearance apart (so ``(0.2, 0.25)`` keeps ``D = 0.05`` although ``0.25 − 0.2 < 0.05`` in floating
-#: point). Far below any physical scale and below the gate's :data:`trajopt.verify.SEPARATION_TOL` (1e-9 m).
+#: point). Far below any physical scale and below the gate's :data:`trajopt.verify.gate.SEPARATION_TOL` (1e-9 m).
 CLEARANCE_TOL = 1e-12

@@ -539,7 +539,7 @@ def affine_position(
     """Scalar twin of :meth:`Route.position`: the track coordinate at route coordinate ``sigma`` (metres).
 
     The same cases and operations on one float, in plain Python, so that it can also be compiled
-    (:mod:`trajopt.sample_kernels`). The arguments are :meth:`Route.affine_form` (``stick = 0`` on a circle).
+    (:mod:`trajopt.verify.sampling`). The arguments are :meth:`Route.affine_form` (``stick = 0`` on a circle).
     """
     if len(A) == 1:
         idx = 0

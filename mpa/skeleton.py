@@ -330,7 +330,7 @@ def lollipop_point_index(h: float, ell: float, a: float, b: float) -> tuple[int,
     """Edge index (into :class:`LollipopSkeleton`'s graph) and ``t`` of a model state on the skeleton.
 
     Scalar twin of :meth:`LollipopSkeleton.points_of_model_states` (the same cases, the same operations), in
-    plain Python on floats only, so that it can also be compiled (:mod:`trajopt.gate_kernels`).
+    plain Python on floats only, so that it can also be compiled (:mod:`trajopt.verify.kernels`).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""numba's ``njit`` for the compiled kernels (:mod:`trajopt.gate_kernels`, :mod:`trajopt.sample_kernels`).
+"""numba's ``njit`` for the compiled kernels (:mod:`trajopt.verify.kernels`, :mod:`trajopt.verify.sampling`).
 
 The kernels ask for numba's on-disk cache (``cache=True``: compiled once per install, in ``__pycache__`` beside
 the source or in numba's user cache directory). Where numba finds no writable place for it (a read-only install

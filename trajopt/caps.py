@@ -3,7 +3,7 @@
 A trajectory declares the limits it was timed with (:attr:`trajopt.result.Trajectory.limits_used`, each at most
 the one asked for); the gate checks its rows against them and bounds the motion between rows with them, so a
 lower acceleration cap is a valid answer to the limits asked for. The plan keeps the between-rows margin of the
-cap (:func:`trajopt.verify.separation_margin`, about ``amax·Δt²/4`` per robot beyond the clearance). The motion
+cap (:func:`trajopt.verify.gate.separation_margin`, about ``amax·Δt²/4`` per robot beyond the clearance). The motion
 time as a function of the cap is least at an interior optimum: below it a higher cap shortens the starts and
 stops (about ``vmax/amax`` each), above it the wider margin lengthens the path more than the acceleration saves
 (measured on the Y junction: about ``2·vmax·rate``). :func:`faster_caps` evaluates, besides the cap of
@@ -40,7 +40,7 @@ import numpy as np
 from mpa.errors import MPAError
 from mpa.planners.graph import GraphPlan
 from mpa.plans import Plan
-from trajopt.planning import GraphPlanner
+from trajopt.path.planning import GraphPlanner
 from trajopt.result import Source, Trajectory
 
 __all__ = [

@@ -11,7 +11,7 @@ import numpy as np
 from mpa.errors import MPAError, PlanningError
 from mpa.planners.graph import GraphPlan
 from mpa.plans import Plan
-from trajopt.planview import densify, plan_view
+from trajopt.path.planview import densify, plan_view
 
 if TYPE_CHECKING:
     from trajopt.generator import TrajectoryGenerator
@@ -119,7 +119,7 @@ def explain_rejection(gen: TrajectoryGenerator, plan: Plan | GraphPlan) -> str:
 def explain_plane(gen: TrajectoryGenerator, plan: GraphPlan) -> str:
     """The bodies pass closer than the gate's between-rows margin at this rate ("" if they do not)."""
     from mpa.planar import corner_sweep
-    from trajopt.planar_gate import row_gaps
+    from trajopt.verify.planar import row_gaps
 
     assert gen.footprint is not None
     view = plan_view(plan)

@@ -4,9 +4,9 @@
 corridor QP) and answers many queries; :func:`generate_trajectory` is the one-shot call. Tracks: the paper's
 (:class:`~mpa.tracks.Interval`, ``Circle``, ``Lollipop``; the paper's planner) and any layout
 (:class:`mpa.GraphTrack`; the complete graph planner, :func:`mpa.planners.graph.plan_graph`). Both run through
-the same geometry (:class:`mpa.geometry.RouteGeometry`, via :func:`trajopt.planview.plan_view`).
-If any optimisation stage fails or its setpoints fail the gate (:func:`trajopt.verify.verify_setpoints`, on a
-layout :func:`trajopt.verify.verify_graph_setpoints`), the plan itself is re-timed (every straight step rest to
+the same geometry (:class:`mpa.geometry.RouteGeometry`, via :func:`trajopt.path.planview.plan_view`).
+If any optimisation stage fails or its setpoints fail the gate (:func:`trajopt.verify.gate.verify_setpoints`, on a
+layout :func:`trajopt.verify.gate.verify_graph_setpoints`), the plan itself is re-timed (every straight step rest to
 rest along the plan's polyline, which is collision-free by construction), marked as the fallback with the reason,
 and verified too. Nothing unverified is returned.
 
@@ -35,16 +35,16 @@ from mpa.planners.factory import OBJECTIVES
 from mpa.planners.graph import GraphPlan
 from mpa.plans import Plan
 from mpa.tracks import Track
-from trajopt.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
 from trajopt.explain import RATE_LADDER, _decimal_at_most, _ladder, _RejectedError, explain_rejection, explain_threshold  # noqa: F401
 from trajopt.export import Source, Trajectory, check_rate, time_grid, verified_rows
-from trajopt.fastpath import straight_scaling
-from trajopt.planning import GraphPlanner, _dedupe, route_speed_limits, view_waypoints
-from trajopt.planview import densify, plan_view
-from trajopt.rows import Setpoints
-from trajopt.switch import near_switch_scaling, switch_band
+from trajopt.path.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
+from trajopt.path.fastpath import straight_scaling
+from trajopt.path.planning import GraphPlanner, _dedupe, route_speed_limits, view_waypoints
+from trajopt.path.planview import densify, plan_view
+from trajopt.path.switch import near_switch_scaling, switch_band
 from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_scaling, reachable_speed
-from trajopt.verify import VerificationError, VerificationReport, class_failures_only, separation_margin
+from trajopt.verify.gate import VerificationError, VerificationReport, class_failures_only, separation_margin
+from trajopt.verify.rows import Setpoints
 
 __all__ = [
     "RATE_LADDER",
@@ -83,7 +83,7 @@ class TrajectoryGenerator:
         A paper track planned by the graph planner is its layout form, ``track.as_graph_track()``.
     footprint : None, mpa.Disc, mpa.Rectangle, pair or spec string
         The robots' bodies in the plane (layouts with coordinates): the plan keeps them apart in the drawing
-        (:mod:`mpa.planar`) and the gate checks it at and between rows (:mod:`trajopt.planar_gate`).
+        (:mod:`mpa.planar`) and the gate checks it at and between rows (:mod:`trajopt.verify.planar`).
 
     Raises
     ------
@@ -233,7 +233,7 @@ class TrajectoryGenerator:
     def _plane_margin(self, rate: float) -> float:
         if self.footprint is None or not isinstance(self.track, GraphTrack):
             return 0.0
-        from trajopt.planar_gate import plane_margin
+        from trajopt.verify.planar import plane_margin
 
         d = drawing_of(self.track)
         scale = float(np.max(np.hypot(*d.piece_dir.T)))
@@ -253,9 +253,9 @@ class TrajectoryGenerator:
         ``(edge, offset)``, ``"EDGE:OFFSET"`` or vertex names.
 
         With ``delay_tolerance`` (s), one whose delay tolerance (:meth:`Trajectory.margins`) is at least that
-        (:func:`trajopt.delay.generate_with_delay_tolerance`: a larger effective clearance, then slower).
+        (:func:`trajopt.analysis.delay.generate_with_delay_tolerance`: a larger effective clearance, then slower).
         With ``min_margin`` (m), one whose tracking margin is at least that
-        (:func:`trajopt.min_margin.generate_with_min_margin`: the effective clearance ``D + 2·min_margin``).
+        (:func:`trajopt.analysis.min_margin.generate_with_min_margin`: the effective clearance ``D + 2·min_margin``).
 
         Raises
         ------
@@ -270,11 +270,11 @@ class TrajectoryGenerator:
             Even the re-timed plan fails verification (never expected).
         """
         if min_margin is not None:
-            from trajopt.min_margin import generate_with_min_margin
+            from trajopt.analysis.min_margin import generate_with_min_margin
 
             return generate_with_min_margin(self, start, goal, min_margin, delay_tolerance)
         if delay_tolerance is not None:
-            from trajopt.delay import generate_with_delay_tolerance
+            from trajopt.analysis.delay import generate_with_delay_tolerance
 
             return generate_with_delay_tolerance(self, start, goal, delay_tolerance)
         t0 = time.perf_counter()
@@ -523,7 +523,7 @@ class TrajectoryGenerator:
         bound between them, a rectangle's turn at a corner included, so the blend keeps the plane margin along the
         whole path and not only at its samples.
         """
-        from trajopt.planar_gate import verify_plane
+        from trajopt.verify.planar import verify_plane
 
         assert self.footprint is not None
         dense = densify(pts, 0.01)
@@ -569,7 +569,7 @@ class TrajectoryGenerator:
             raise VerificationError(rep)
         plane = None
         if self.footprint is not None:
-            from trajopt.planar_gate import verify_plane
+            from trajopt.verify.planar import verify_plane
 
             e, o = view.positions(s, v)
             t2 = time.perf_counter()
@@ -634,9 +634,9 @@ def generate_trajectory(
     rate : float
         Setpoint rate (Hz).
     delay_tolerance : float, optional
-        Ask for a delay tolerance of at least this (s; see :mod:`trajopt.delay`).
+        Ask for a delay tolerance of at least this (s; see :mod:`trajopt.analysis.delay`).
     min_margin : float, optional
-        Ask for a tracking margin of at least this (m; see :mod:`trajopt.min_margin`).
+        Ask for a tracking margin of at least this (m; see :mod:`trajopt.analysis.min_margin`).
     footprint : None, mpa.Disc, mpa.Rectangle, pair or spec string
         The robots' bodies in the plane (layouts with coordinates; see :class:`TrajectoryGenerator`).
 

@@ -26,7 +26,7 @@ at rest at the new goal. Its time 0 is ``at_time`` of the old one.
    braking ends at rest, where the new motion starts at rest. If a cart would come back through P onto a third
    branch (its path is then no single route) :class:`~mpa.errors.NoMotionError` says so (a limit of the
    one-route-coordinate setpoint format, not a failure: the command line answers exit 3, re-plan at another time).
-4. **Gate** on the spliced rows, with every check of :func:`~trajopt.verify.verify_setpoints` except "first row
+4. **Gate** on the spliced rows, with every check of :func:`~trajopt.verify.gate.verify_setpoints` except "first row
    at rest" (the first row is the moving state by construction); the homotopy class checked is the reduced
    word of the braking rows followed by the new plan's path (``mpa.path_word``).
 """
@@ -46,16 +46,16 @@ from mpa.homotopy import path_word
 from mpa.plans import Plan, PlanStep
 from mpa.routes import Lift, Route
 from mpa.tracks import Circle, Lollipop, Track
-from trajopt.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
 from trajopt.export import Trajectory, time_grid, verified_rows
-from trajopt.rows import Setpoints
-from trajopt.verify import (
+from trajopt.path.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
+from trajopt.verify.gate import (
     SEPARATION_TOL,
     VerificationError,
     VerificationReport,
     between_rows_separation,
     verify_setpoints,
 )
+from trajopt.verify.rows import Setpoints
 
 if TYPE_CHECKING:
     from trajopt.generator import TrajectoryGenerator

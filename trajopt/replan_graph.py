@@ -15,7 +15,7 @@ The same four steps and guarantees as on the paper's tracks (:mod:`trajopt.repla
    travelled from the state at ``at_time`` (0 there). The braking profile starts exactly at the old state, so
    position, velocity and acceleration are continuous at the splice (to rounding) and the jerk is limited; the
    new motion starts at rest where the braking ends.
-4. **Gate** (:func:`trajopt.verify.verify_graph_setpoints`) on the spliced rows: every check except "first row at
+4. **Gate** (:func:`trajopt.verify.gate.verify_graph_setpoints`) on the spliced rows: every check except "first row at
    rest" (the first row is the moving state by construction).
 
 The result's plan is the new :class:`GraphPlan` re-stated for the spliced motion (start: the positions at
@@ -35,11 +35,11 @@ from mpa.errors import NoMotionError, PlanningError
 from mpa.geometry import DirectedRoute, RouteGeometry
 from mpa.graph_track import as_graph_track
 from mpa.planners.graph import GraphPlan
-from trajopt.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
 from trajopt.export import Trajectory, time_grid, verified_rows
-from trajopt.planview import plan_view
-from trajopt.rows import Setpoints
-from trajopt.verify import SEPARATION_TOL, VerificationError, VerificationReport
+from trajopt.path.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
+from trajopt.path.planview import plan_view
+from trajopt.verify.gate import SEPARATION_TOL, VerificationError, VerificationReport
+from trajopt.verify.rows import Setpoints
 
 if TYPE_CHECKING:
     from trajopt.generator import TrajectoryGenerator

@@ -21,10 +21,10 @@ from numpy.typing import NDArray
 from mpa.plans import MotionPlan
 from trajopt.grid import check_rate, time_grid
 from trajopt.io.csvfile import CSV_COLUMNS, GRAPH_CSV_COLUMNS, HEADING_COLUMNS, XY_COLUMNS
-from trajopt.planview import plan_view
-from trajopt.rows import Setpoints
+from trajopt.path.planview import plan_view
 from trajopt.timing import Limits
-from trajopt.verify import VerificationError, VerificationReport
+from trajopt.verify.gate import VerificationError, VerificationReport
+from trajopt.verify.rows import Setpoints
 
 FloatArray = NDArray[np.float64]
 
@@ -120,7 +120,7 @@ class Trajectory:
     timings : dict
         Wall time of every stage (s).
     verification : dict
-        The gate's report (:meth:`trajopt.verify.VerificationReport.to_dict`).
+        The gate's report (:meth:`trajopt.verify.gate.VerificationReport.to_dict`).
     plan : MotionPlan
         The plan the rows execute (:class:`mpa.Plan` on a paper track, :class:`mpa.GraphPlan` on a layout).
     sampler : callable
@@ -132,7 +132,7 @@ class Trajectory:
     footprint : Footprints or None
         The robots' bodies in the plane (:mod:`mpa.footprint`), when the motion was made with them.
     plane : dict or None
-        The gate's check in the plane (:meth:`trajopt.planar_gate.PlaneReport.to_dict`), with a footprint.
+        The gate's check in the plane (:meth:`trajopt.verify.planar.PlaneReport.to_dict`), with a footprint.
     limits_used : Limits
         The limits the motion was timed with, per robot, each at most the one in :attr:`limits` (the generator
         chooses them, :attr:`trajopt.generator.TrajectoryGenerator.motion_limits`; default :attr:`limits`). The
@@ -181,7 +181,7 @@ class Trajectory:
         """This trajectory with its setpoints at another rate, verified at that rate.
 
         The same continuous motion is sampled every ``1/rate`` seconds and passed through the gate
-        (:func:`trajopt.verify.verify_setpoints`) at that rate. If the gate rejects it (at a low rate the
+        (:func:`trajopt.verify.gate.verify_setpoints`) at that rate. If the gate rejects it (at a low rate the
         robots may come closer between rows than the rows show), the plan is re-timed for that rate by the
         generator (optimised with the separation margin the rate needs, else the re-timed plan), verified again;
         ``solver_stats["retimed_for_rate"]`` then holds the reason. No rows the gate rejects are ever returned.
@@ -210,7 +210,7 @@ class Trajectory:
         )
         plane = self.plane
         if rep.ok and self.footprint is not None:
-            from trajopt.planar_gate import verify_plane
+            from trajopt.verify.planar import verify_plane
 
             e, o = view.positions(s, v)
             prep = verify_plane(view.graph, self.footprint, e, o, v, amax=self.limits.a, rate=r)
@@ -226,7 +226,8 @@ class Trajectory:
         return new
 
     def rows(self) -> Setpoints:
-        """The verified rows (``t, s, v, a, j``, ``track`` on a paper track) as one :class:`~trajopt.rows.Setpoints`."""
+        """The verified rows (``t, s, v, a, j``, ``track`` on a paper track) as one
+        :class:`~trajopt.verify.rows.Setpoints`."""
         return Setpoints(self.t, self.s, self.v, self.a, self.j, track=None if self.is_graph else self.track)
 
     def resample(self, rate: float | None = None) -> tuple[FloatArray, ...]:
@@ -246,7 +247,7 @@ class Trajectory:
     @property
     def is_graph(self) -> bool:
         """Whether the trajectory is on a layout rather than in a paper track's coordinates (a plan other than the
-        paper's :class:`mpa.Plan`; :attr:`trajopt.planview.PlanView.is_graph`)."""
+        paper's :class:`mpa.Plan`; :attr:`trajopt.path.planview.PlanView.is_graph`)."""
         return plan_view(self.plan).is_graph
 
     def _positions(self) -> tuple[NDArray[np.int64], FloatArray, NDArray[np.int64]]:
@@ -341,21 +342,22 @@ class Trajectory:
         write_csv(self, path, rate)
 
     def margins(self) -> Any:
-        """Tracking margin and delay tolerance (:func:`trajopt.margins.margins`; computed once)."""
+        """Tracking margin and delay tolerance (:func:`trajopt.analysis.margins.margins`; computed once)."""
         cached = self.__dict__.get("_margins")
         if cached is None:
-            from trajopt.margins import margins
+            from trajopt.analysis.margins import margins
 
             cached = margins(self)
             object.__setattr__(self, "_margins", cached)
         return cached
 
     def description(self) -> dict[str, str]:
-        """The motion in plain words per cart, ``{"A": ..., "B": ...}`` (:func:`trajopt.words.describe`; computed
+        """The motion in plain words per cart, ``{"A": ..., "B": ...}`` (:func:`trajopt.analysis.words.describe`;
+        computed
         once). Not to be confused with :attr:`word`, the homotopy class."""
         cached = self.__dict__.get("_words")
         if cached is None:
-            from trajopt.words import describe
+            from trajopt.analysis.words import describe
 
             cached = describe(self)
             object.__setattr__(self, "_words", cached)

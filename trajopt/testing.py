@@ -1,6 +1,6 @@
 """An independent checker of exported setpoints, for the test suite and the soak script (not the gate).
 
-:func:`check_setpoints` re-checks what :func:`trajopt.verify.verify_setpoints` promises, written separately
+:func:`check_setpoints` re-checks what :func:`trajopt.verify.gate.verify_setpoints` promises, written separately
 and with other means, so that a bug in the gate does not hide a bad file:
 
 - the time grid: ``t_k = k / rate`` from 0, every array finite and of the right shape;
@@ -37,7 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 from mpa.graph_track import GraphTrack
 from mpa.homotopy import path_word
 from mpa.tracks import Track
-from trajopt.rows import Setpoints, rows_of
+from trajopt.verify.rows import Setpoints, rows_of
 
 if TYPE_CHECKING:
     from trajopt.result import Trajectory

@@ -49,7 +49,7 @@ from bench.geometry import (
 from bench.ompl_tools import joint_state_space, simplify_vertices
 from mpa.routes import RobotMove
 from mpa.tracks import Circle, Lollipop, Track
-from trajopt.planview import route_geometry
+from trajopt.path.planview import route_geometry
 
 __all__ = ["GridPlanner", "GridResult", "OmplPlanner", "OmplResult", "shortcut_segment"]
 

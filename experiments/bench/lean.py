@@ -18,7 +18,7 @@
 5. setpoints at the rate and *dense verification* of them: the separation ``d ≥ D`` at every row, the
    displacement between rows within what ``vmax`` allows, the ends at the start and the goal.
 
-Not included (ours does them; a lean user does not): the full gate of :func:`trajopt.verify.verify_setpoints`
+Not included (ours does them; a lean user does not): the full gate of :func:`trajopt.verify.gate.verify_setpoints`
 (route consistency, homotopy class of the rows, acceleration and jerk re-checked from the rows), the homotopy
 word of the result, reproducible per-query seeding (the objects are built once, so a query's random stream
 depends on what ran before it in the process: a δ-twin is therefore a *re-seeded* twin).

@@ -10,7 +10,7 @@ coordinates, so it goes through exactly the stages ``trajopt.TrajectoryGenerator
   exact minimum separation), toppra's profile as speed caps, then ruckig, exactly as ``trajopt`` times its
   smoothed path.
 
-Every segment is sampled at the controller rate and passed through :func:`trajopt.verify.verify_setpoints`
+Every segment is sampled at the controller rate and passed through :func:`trajopt.verify.gate.verify_setpoints`
 (limits, separation at and between rows, endpoints at rest, route consistency, homotopy class of the rows). The
 robots stop between segments (a robot turning back must stop).
 """
@@ -31,7 +31,7 @@ from mpa.routes import Route
 from mpa.tracks import Track
 from trajopt import Limits, Trajectory, verify_setpoints
 from trajopt.export import time_grid
-from trajopt.planview import densify, route_geometry
+from trajopt.path.planview import densify, route_geometry
 from trajopt.timing import blend_polyline, jerk_limited_scaling, toppra_profile
 
 __all__ = ["Motion", "TimedSegment", "time_segments"]

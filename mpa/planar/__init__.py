@@ -19,7 +19,7 @@ the closed convex pieces ``{g_k >= 0, g_j <= 0 for j < k}`` (cut along the obsta
 corner (a polyline corner or a vertex) belongs to the sub-cells of every piece there; the planner moves from one to
 the other only through configurations free in both (the two pieces touch there), so at the instant the body turns
 it is clear of the other body in both orientations. The turn itself is instantaneous in this model: the gate
-(:mod:`trajopt.planar_gate`) bounds the sweep of a real turn between rows.
+(:mod:`trajopt.verify.planar`) bounds the sweep of a real turn between rows.
 
 **Gluing and completeness.** Two free pieces are adjacent when they share a point: inside one cell (they touch
 along a cut, across a polyline corner, or at a point), or across a face (a robot on a vertex, the pieces of the

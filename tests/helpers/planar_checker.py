@@ -1,5 +1,5 @@
 """An independent checker of bodies in the plane, for the tests (shares no code with mpa.footprint, mpa.planar or
-trajopt.planar_gate): poses from the layout's own coordinates, discs exactly, rectangles as polygons with their own
+trajopt.verify.planar): poses from the layout's own coordinates, discs exactly, rectangles as polygons with their own
 separating-axis distance, a robot on a corner in every orientation there.
 
 Along a motion (``depth_many(..., along=True)``) a robot on a vertex or a polyline corner takes the orientations of

@@ -309,7 +309,7 @@ def test_complete_against_grid(fp: Disc | Rectangle) -> None:
 # ------------------------------------------------------------------------------------------- the gate
 def test_gate_rejects_larger_bodies_and_exports() -> None:
     from trajopt import generate_trajectory
-    from trajopt.planar_gate import verify_plane
+    from trajopt.verify.planar import verify_plane
 
     tr = GraphTrack.from_json(EXAMPLES / "passing_loop.json")
     traj = generate_trajectory(tr, ("W", "E"), ("E", "W"), clearance=1.5, footprint=Rectangle(2.0, 1.0))

@@ -23,7 +23,7 @@ from mpa.graph_track import GraphTrack
 from mpa.planners import graph as graph_planner
 from mpa.planners.corners import RESOLVE_TOL, _routes, resolve_corners
 from mpa.planners.graph import plan_graph
-from trajopt.stability import _route_key, layout_queries, layout_twins
+from trajopt.analysis.stability import _route_key, layout_queries, layout_twins
 
 TRACKS = Path(__file__).resolve().parents[2] / "examples" / "tracks"
 

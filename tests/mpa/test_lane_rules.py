@@ -19,7 +19,7 @@ import mpa
 from mpa.graph_track import GraphTrack
 from trajopt import generate_trajectory
 from trajopt.cli.main import main
-from trajopt.verify import lane_rule_failures
+from trajopt.verify.gate import lane_rule_failures
 
 H = 0.25  # grid step of the oracle (m)
 

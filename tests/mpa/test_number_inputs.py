@@ -9,9 +9,9 @@ import pytest
 
 from mpa import Lollipop
 from mpa.errors import InvalidInputError, nonnegative_number, positive_number
-from trajopt.delay import check_delay_tolerance
+from trajopt.analysis.delay import check_delay_tolerance
+from trajopt.analysis.min_margin import check_min_margin
 from trajopt.grid import check_rate
-from trajopt.min_margin import check_min_margin
 
 
 @pytest.mark.parametrize(

@@ -1,5 +1,5 @@
 """The independent checker (``tests/helpers/planar_checker.py``: its own geometry, no code of ``mpa.footprint``,
-``mpa.planar`` or ``trajopt.planar_gate``) on thousands of seeded plans and on trajectories at and between rows, over
+``mpa.planar`` or ``trajopt.verify.planar``) on thousands of seeded plans and on trajectories at and between rows, over
 the example layouts drawn in metres and random sidings, with discs and rectangles."""
 
 from __future__ import annotations

@@ -200,7 +200,7 @@ def test_the_tighter_motion_is_an_answer_to_the_looser_limits_with_its_declared_
     for ``"slow"``) fails the gate at amax 200 (2) when it is taken to use the limits asked for (the gate
     subtracts ``min(amax, |a_k| + jmax·Δt/2)·Δt²/8`` per robot), and passes it with the limits it declares,
     which are within the looser limits asked for. A declaration above the limits asked for fails."""
-    from trajopt.planview import plan_view
+    from trajopt.path.planview import plan_view
     from trajopt.timing import Limits
 
     track, q = LIMIT_QUERIES["y"]
@@ -237,7 +237,7 @@ def test_a_replan_of_a_motion_timed_below_the_asked_limits_passes_the_gate(at: f
 
 def test_the_gate_checks_the_rows_against_the_declared_limits() -> None:
     """Rows above a declared limit fail the gate even when they are within the limits asked for."""
-    from trajopt.planview import plan_view
+    from trajopt.path.planview import plan_view
     from trajopt.timing import Limits
 
     track, q = LIMIT_QUERIES["y"]

@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import trajopt.corridor as corridor
 import trajopt.generator as genmod
+import trajopt.path.corridor as corridor
 import trajopt.timing as timing
 from mpa import Lollipop, PlanningError
 from trajopt import TrajectoryGenerator

@@ -1,7 +1,7 @@
 """The MCAP bag written a chunk at a time is, byte for byte, the bag of one ``rosbags`` message object per point.
 
 The reference below is the per-point writer (a ``JointTrajectoryPoint`` object per row, ``serialize_cdr``, one
-``Writer.write`` per message); :func:`trajopt.ros.write_mcap` encodes the CDR itself and writes the points' records
+``Writer.write`` per message); :func:`trajopt.io.ros.write_mcap` encodes the CDR itself and writes the points' records
 a chunk at a time, and must give the same file.
 """
 
@@ -18,10 +18,10 @@ from hypothesis import strategies as st
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
-import trajopt.ros as ros
+import trajopt.io.ros as ros
 from mpa import GraphTrack, Lollipop
 from trajopt import generate_trajectory
-from trajopt.ros import JointPoints, joint_points, joint_trajectory_cdr, joint_trajectory_point_cdr, split_ns
+from trajopt.io.ros import JointPoints, joint_points, joint_trajectory_cdr, joint_trajectory_point_cdr, split_ns
 
 ROOT = Path(__file__).resolve().parents[2]
 TS = get_typestore(Stores.ROS2_HUMBLE)

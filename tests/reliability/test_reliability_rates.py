@@ -78,8 +78,8 @@ def test_every_rate_verified_or_lowest_rate_named(track: Track, clearance: float
 def test_resample_rejected_by_gate_is_retimed(monkeypatch) -> None:  # type: ignore[no-untyped-def]
     """Force the resampled rows to fail the gate: the export is then the re-timed plan, verified."""
     traj = generate_trajectory(Lollipop(1.0, 1.0), (0.2, 0.5), (0.5, 0.2))
-    import trajopt.planview as ex  # Trajectory.at_rate verifies through PlanView.verify
-    from trajopt.verify import VerificationReport
+    import trajopt.path.planview as ex  # Trajectory.at_rate verifies through PlanView.verify
+    from trajopt.verify.gate import VerificationReport
 
     real = ex.verify_setpoints
     calls = {"n": 0}

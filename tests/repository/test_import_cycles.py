@@ -127,11 +127,11 @@ def test_the_cycle_finder_finds_a_cycle(tmp_path: Path) -> None:
 def test_the_cycles_this_layout_removed_stay_removed() -> None:
     joined = {m for c in import_cycles() for m in c}
     for pair in [
-        ("trajopt.export", "trajopt.margins"),
-        ("trajopt.result", "trajopt.margins"),
+        ("trajopt.export", "trajopt.analysis.margins"),
+        ("trajopt.result", "trajopt.analysis.margins"),
         ("trajopt.viz.animation", "trajopt.viz.layout_animation"),
         ("trajopt.replan", "trajopt.replan_graph"),
-        ("trajopt.delay", "trajopt.generator"),
-        ("trajopt.generator", "trajopt.min_margin"),
+        ("trajopt.analysis.delay", "trajopt.generator"),
+        ("trajopt.generator", "trajopt.analysis.min_margin"),
     ]:
         assert not set(pair) <= joined, pair

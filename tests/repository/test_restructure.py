@@ -39,7 +39,7 @@ def test_the_gates_margin_and_the_reachable_speed_keep_their_generator_names() -
     """``separation_margin`` lives with the gate and ``reachable_speed`` with the jerk-limited timing; the
     generator's names are the same objects, and the margin is ``2·Σ amax·Δt²/8 + 1e-9`` for equal limits."""
     import trajopt.generator as generator
-    import trajopt.verify as verify
+    import trajopt.verify.gate as verify
     from trajopt.timing import Limits
 
     assert generator.separation_margin is verify.separation_margin

@@ -22,8 +22,8 @@ from mpa import GraphTrack, Lollipop
 from mpa.footprint import Disc
 from trajopt import generate_trajectory
 from trajopt.cli.main import main
-from trajopt.csv_kernels import csv_rows, format_g12, text_column
 from trajopt.export import Streamed, Trajectory, csv_field, csv_line
+from trajopt.io.csv_kernels import csv_rows, format_g12, text_column
 
 ROOT = Path(__file__).resolve().parents[2]
 TRACKS = ROOT / "examples" / "tracks"
@@ -164,7 +164,7 @@ def test_rows_join_cells_with_commas_and_end_in_newlines() -> None:
 
 def reference_points_yaml(tr: Trajectory) -> str:
     """The ``points`` of the ROS 2 YAML as the point-by-point writer made them."""
-    from trajopt.ros import _f, joint_points, split_ns
+    from trajopt.io.ros import _f, joint_points, split_ns
 
     pts = joint_points(tr)
     out = []
@@ -186,7 +186,7 @@ def reference_points_yaml(tr: Trajectory) -> str:
 def test_ros2_yaml_points_are_byte_identical_to_the_point_by_point_writer(
     case: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import trajopt.ros as ros
+    import trajopt.io.ros as ros
 
     tr = CASES[case]()
     monkeypatch.setattr(ros, "_POINTS_PER_PIECE", 5)
@@ -195,7 +195,7 @@ def test_ros2_yaml_points_are_byte_identical_to_the_point_by_point_writer(
 
 
 def test_ros2_yaml_floats_are_reprs_with_a_point_before_the_exponent() -> None:
-    from trajopt.ros import _f, _floats_yaml
+    from trajopt.io.ros import _f, _floats_yaml
 
     x = np.array([0.0, -0.0, 1e-4, 9.9e-5, 1e16, 9999999999999998.0, -3e-300, 5e-324, 2.5, np.inf, -np.inf, np.nan])
     assert _floats_yaml(x) == [_f(v) for v in x.tolist()]

@@ -9,14 +9,14 @@ import pytest
 
 from mpa import Circle, GraphTrack, Lollipop, MPAError, make_planner
 from trajopt import Limits, TrajectoryGenerator
-from trajopt.planview import plan_view
-from trajopt.verify import between_rows_separation
+from trajopt.path.planview import plan_view
+from trajopt.verify.gate import between_rows_separation
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tracks"
 
 
 def _deviation_from_chords(a: np.ndarray, dt: float, lim: Limits) -> np.ndarray:
-    """The gate's bound of how far both robots leave the chord (module docstring of trajopt.verify)."""
+    """The gate's bound of how far both robots leave the chord (module docstring of trajopt.verify.gate)."""
     a_int = np.minimum(lim.a, np.maximum(np.abs(a[:-1]), np.abs(a[1:])) + lim.j * dt / 2)
     return np.sum(a_int, axis=1) * dt * dt / 8.0
 
@@ -110,7 +110,7 @@ def test_head_on_robots_are_caught_when_rounding_hides_the_meeting() -> None:
 
 
 def test_class_failures_only_tells_the_class_from_other_failures() -> None:
-    from trajopt.verify import VerificationReport, class_failures_only
+    from trajopt.verify.gate import VerificationReport, class_failures_only
 
     def rep(*fails: str) -> VerificationReport:
         return VerificationReport(not fails, fails, 0.1, 0.1, {}, ())

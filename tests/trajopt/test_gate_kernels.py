@@ -1,10 +1,10 @@
-"""The gate's compiled row pass (:mod:`trajopt.gate_kernels`) against mpa's own functions, numba or not.
+"""The gate's compiled row pass (:mod:`trajopt.verify.kernels`) against mpa's own functions, numba or not.
 
-- :func:`trajopt.verify.skeleton_word` gives exactly :func:`mpa.homotopy.path_word` (the same word, or the same
+- :func:`trajopt.verify.gate.skeleton_word` gives exactly :func:`mpa.homotopy.path_word` (the same word, or the same
   exception) on thousands of random paths on the paper tracks: dense collision-free ones, ones that pass within
   1e-6 m of a collision, coarse ones that path_word must refine, ones through collisions, and real trajectories'
   rows;
-- :func:`trajopt.verify.between_rows_separation` plus the deviation bound is the exact chord minimum of
+- :func:`trajopt.verify.gate.between_rows_separation` plus the deviation bound is the exact chord minimum of
   :meth:`mpa.geometry.GraphGeometry.route_min_distance` for every pair of consecutive rows, on plans of the paper
   tracks and of the example layouts and on random routes (junctions, robots head-on, robots following closely);
 - the gate's reports are the same, to the last bit, with the kernels compiled and in plain Python (numba blocked in
@@ -34,8 +34,8 @@ from mpa.routes import directed_route
 from mpa.skeleton import skeleton_of
 from mpa.tracks import Track
 from trajopt import Limits, TrajectoryGenerator
-from trajopt.planview import plan_view
-from trajopt.verify import between_rows_separation, skeleton_word, verify_graph_setpoints, verify_setpoints
+from trajopt.path.planview import plan_view
+from trajopt.verify.gate import between_rows_separation, skeleton_word, verify_graph_setpoints, verify_setpoints
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples" / "tracks"
@@ -231,7 +231,7 @@ def test_skeleton_word_is_path_word_on_generated_trajectories(track: Track) -> N
 
 # ------------------------------------------------------------------------------------------ between rows
 def _deviation(a: FloatArray, dt: float, lim: Limits) -> FloatArray:
-    """The gate's bound of how far both robots leave the chord (module docstring of trajopt.verify)."""
+    """The gate's bound of how far both robots leave the chord (module docstring of trajopt.verify.gate)."""
     a_int = np.minimum(lim.a, np.maximum(np.abs(a[:-1]), np.abs(a[1:])) + lim.j * dt / 2)
     return (a_int[:, 0] + a_int[:, 1]) * (dt * dt / 8.0)
 
@@ -397,9 +397,9 @@ def _position(geo: GraphGeometry, rng: np.random.Generator) -> tuple[int, float]
 #: each report's ``to_dict()`` as JSON (or the exception raised) into ``argv[3]``.
 _PLAIN_PYTHON_GATE = r"""
 import json, sys
-sys.modules["numba"] = None  # import numba fails: trajopt.gate_kernels runs as plain Python
+sys.modules["numba"] = None  # import numba fails: trajopt.verify.kernels runs as plain Python
 import numpy as np
-import trajopt.gate_kernels as gk
+import trajopt.verify.kernels as gk
 from tests.trajopt.test_gate_kernels import run_gate_cases
 assert not hasattr(gk.check_rows, "py_func"), "numba was not blocked"
 meta = json.loads(open(sys.argv[1]).read())
@@ -612,7 +612,7 @@ def gate_cases() -> tuple[list[dict[str, Any]], dict[str, FloatArray], list[tupl
 
 def test_gate_reports_are_the_same_with_and_without_numba(gate_cases: Any, tmp_path: Path) -> None:
     pytest.importorskip("numba")
-    import trajopt.gate_kernels as gk
+    import trajopt.verify.kernels as gk
 
     assert hasattr(gk.check_rows, "py_func")  # compiled here
     metas, arrays, kinds, trajs = gate_cases
@@ -675,7 +675,7 @@ def test_non_finite_values_are_reported_before_float_edge_indices() -> None:
     # the kernel reports non-finite values before edge indices; float edges are caught before it: same order
     from mpa.geometry import DirectedRoute, GraphGeometry
     from trajopt import Limits
-    from trajopt.verify import verify_graph_setpoints
+    from trajopt.verify.gate import verify_graph_setpoints
 
     geo = GraphGeometry(2, [0], [1], [1.0])
     route = DirectedRoute.from_pieces([0], [1], [0.0], [1.0])

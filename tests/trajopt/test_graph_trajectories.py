@@ -264,9 +264,9 @@ def test_margins_use_the_graph_distance() -> None:
 def test_ros_and_pvt_exports_use_the_route_coordinates() -> None:
     import yaml
 
-    from trajopt.pvt import check_pvt, pvt_table
+    from trajopt.io.pvt import check_pvt, pvt_table
+    from trajopt.io.ros import ros2_yaml_text
     from trajopt.replan import replan
-    from trajopt.ros import ros2_yaml_text
 
     track = GraphTrack.from_json(Y)
     gen = TrajectoryGenerator(track, clearance=0.3)
@@ -417,8 +417,8 @@ def test_cli_animate_graph(tmp_path, capsys) -> None:  # type: ignore[no-untyped
 
 def test_unverified_output_never_leaves(monkeypatch) -> None:  # type: ignore[no-untyped-def]
     """If every candidate fails the gate, the generator raises instead of returning rows."""
-    import trajopt.planview as pv
-    from trajopt.verify import VerificationReport
+    import trajopt.path.planview as pv
+    from trajopt.verify.gate import VerificationReport
 
     def reject(self, *a, **k):  # type: ignore[no-untyped-def]
         return VerificationReport(False, ("forced",), 0.0, 0.0, {}, ())

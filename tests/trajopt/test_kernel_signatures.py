@@ -24,8 +24,10 @@ WORKLOAD = """
 import json
 import numpy as np
 from mpa import Circle, GraphTrack, Interval, Lollipop, MPAError
-from trajopt import Limits, TrajectoryGenerator, gate_kernels, sample_kernels
-from trajopt.verify import between_rows_separation
+from trajopt import Limits, TrajectoryGenerator
+from trajopt.verify import kernels as gate_kernels
+from trajopt.verify import sampling as sample_kernels
+from trajopt.verify.gate import between_rows_separation
 
 rng = np.random.default_rng(4)
 done = 0

@@ -11,7 +11,7 @@ import pytest
 from mpa import GraphTrack, InvalidInputError, Lollipop, NoMotionError
 from tests.helpers.cli import run_main as _run
 from trajopt import TrajectoryGenerator
-from trajopt.min_margin import largest_clearance
+from trajopt.analysis.min_margin import largest_clearance
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tracks"
 Y = str(EXAMPLES / "y_junction.json")  # branches b_short 1, b_left 2, b_right 3 at J: a swap needs D <= 1

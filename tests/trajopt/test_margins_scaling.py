@@ -13,10 +13,10 @@ from mpa.errors import MPAError
 from mpa.graph_track import GraphTrack
 from tests.helpers.graph_helpers import random_layout, random_position
 from trajopt import generate_trajectory
+from trajopt.analysis.margins import DELAY_PRECISION, DELAY_STEP, DENSE_RATE, MAX_DELAY_STEPS, _Motion
 from trajopt.generator import TrajectoryGenerator
-from trajopt.margins import DELAY_PRECISION, DELAY_STEP, DENSE_RATE, MAX_DELAY_STEPS, _Motion
 from trajopt.timing import Limits
-from trajopt.verify import SEPARATION_TOL, between_rows_separation
+from trajopt.verify.gate import SEPARATION_TOL, between_rows_separation
 
 
 def _window_max(x: np.ndarray, w: int) -> np.ndarray:
@@ -126,7 +126,7 @@ def test_cost_does_not_follow_the_length_of_the_motion() -> None:
 
 def reference_exact_min(m: _Motion) -> tuple[float, float]:
     """The minimum of the full 1 kHz grid refined as :meth:`_Motion.exact_min` does (every row bounded)."""
-    from trajopt.margins import MIN_PRECISION
+    from trajopt.analysis.margins import MIN_PRECISION
 
     delay = np.zeros(2)
     t, d, lb = m.grid(delay)

@@ -9,7 +9,7 @@ from matplotlib.figure import Figure
 from mpa import Lollipop, MPAError, plan
 from trajopt import Limits, TrajectoryGenerator
 from trajopt.generator import route_speed_limits
-from trajopt.planview import plan_view
+from trajopt.path.planview import plan_view
 from trajopt.testing import check_graph_trajectory
 from trajopt.viz.layout import draw_graph_plan, plan_title
 

@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from mpa import Lollipop
 from trajopt import generate_trajectory
 from trajopt.cli import main
-from trajopt.pvt import _series, check_pvt, largest_pvt_interval, pvt_knots, pvt_table, time_text
+from trajopt.io.pvt import _series, check_pvt, largest_pvt_interval, pvt_knots, pvt_table, time_text
 
 QUERY = ["--track", "lollipop", "--stick", "1.3", "--loop", "0.9", "--start", "0.35", "1.75", "--goal", "1.75", "0.35"]
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tracks"

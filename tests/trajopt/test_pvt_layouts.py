@@ -2,7 +2,7 @@
 
 The motions there ride their acceleration limit, where cubics through exact samples overshoot ``amax`` at any
 interval; the written rows (fitted velocities, exact positions) must keep every limit, checked here from the file
-alone (per-piece Hermite peaks, independent of :mod:`trajopt.pvt`).
+alone (per-piece Hermite peaks, independent of :mod:`trajopt.io.pvt`).
 """
 
 from __future__ import annotations

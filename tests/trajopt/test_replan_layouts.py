@@ -11,7 +11,7 @@ import pytest
 from mpa import GraphTrack, InvalidInputError, NoMotionError
 from tests.helpers.cli import run_main as _run
 from trajopt import TrajectoryGenerator
-from trajopt.planview import plan_view
+from trajopt.path.planview import plan_view
 from trajopt.testing import check_graph_trajectory
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tracks"

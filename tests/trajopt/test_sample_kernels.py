@@ -1,4 +1,4 @@
-"""The compiled sampler (trajopt.sample_kernels) against the numpy formulas it replaced, and track coordinates
+"""The compiled sampler (trajopt.verify.sampling) against the numpy formulas it replaced, and track coordinates
 against mpa's Route.position, on the fast path, the hard path and the fallback, at grid and random times."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import numpy as np
 from mpa import Circle, Lollipop, MPAError
 from trajopt import Limits, TrajectoryGenerator
 from trajopt.generator import time_grid
-from trajopt.planview import plan_view
+from trajopt.path.planview import plan_view
 
 
 def _numpy_sample(sc, t):  # type: ignore[no-untyped-def]

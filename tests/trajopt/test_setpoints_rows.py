@@ -10,10 +10,10 @@ import pytest
 
 from mpa import GraphTrack, InvalidInputError, Lollipop, MPAError
 from trajopt import Limits, TrajectoryGenerator
-from trajopt.planview import plan_view
-from trajopt.rows import Setpoints, rows_of
+from trajopt.path.planview import plan_view
 from trajopt.testing import check_graph_setpoints, check_setpoints
-from trajopt.verify import verify_graph_setpoints, verify_setpoints
+from trajopt.verify.gate import verify_graph_setpoints, verify_setpoints
+from trajopt.verify.rows import Setpoints, rows_of
 
 Y = {"edges": [["J", "a", 1.0], ["J", "b", 1.5], ["J", "c", 2.0]]}
 

@@ -1,4 +1,5 @@
-"""The measuring tools of :mod:`trajopt.stability`: the bisection to the fast/hard switch and the layout δ-twins."""
+"""The measuring tools of :mod:`trajopt.analysis.stability`: the bisection to the fast/hard switch and the layout
+δ-twins."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import numpy as np
 from mpa import Lollipop
 from mpa.graph_track import GraphTrack
 from trajopt import TrajectoryGenerator
-from trajopt.stability import layout_queries, layout_twins, switch_points
+from trajopt.analysis.stability import layout_queries, layout_twins, switch_points
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 from mpa import Circle, Lollipop, MPAError
 from trajopt import TrajectoryGenerator
-from trajopt.stability import route_coordinate_gap, trajectory_gap
+from trajopt.analysis.stability import route_coordinate_gap, trajectory_gap
 
 _GENS: dict[tuple[str, float], TrajectoryGenerator] = {}
 
@@ -115,7 +115,7 @@ def test_plan_route_coordinates_of_twins(
 
 def test_fast_hard_switch_reproducer() -> None:
     """Lollipop 1/1, clearance 0.05: the two sides of a switch point, same domain and word (the hard path against the
-    hard path turned into the line, :mod:`trajopt.switch`; the hard path against the bare fast path differed by
+    hard path turned into the line, :mod:`trajopt.path.switch`; the hard path against the bare fast path differed by
     0.057 m and 2.398 s against 2.205 s). Gap <= 1e-4 m, motion time change <= 1e-3 s."""
     gen = _gen(Lollipop(1.0, 1.0), 0.05)
     one = gen.generate((1.934012862928031, 1.0823599379948243), (0.9203486504460147, 0.32972931268485045))

@@ -1,5 +1,6 @@
-"""Continuity across the fast/hard switch (:mod:`trajopt.switch`): shrinking-δ twins across the switch points that
-:func:`trajopt.stability.switch_points` finds and across both edges of the bands of line margins, and the time-law
+"""Continuity across the fast/hard switch (:mod:`trajopt.path.switch`): shrinking-δ twins across the switch points that
+:func:`trajopt.analysis.stability.switch_points` finds and across both edges of the bands of line margins, and the
+time-law
 blend's limits."""
 
 from __future__ import annotations
@@ -14,10 +15,10 @@ from hypothesis import strategies as st
 from mpa import Lollipop, MPAError
 from tests.trajopt.test_stability_reproducers import _gen
 from trajopt import Limits, TrajectoryGenerator
-from trajopt.fastpath import _line_path, straight_line_clearance
+from trajopt.analysis.stability import switch_points, trajectory_gap
 from trajopt.generator import separation_margin
-from trajopt.stability import switch_points, trajectory_gap
-from trajopt.switch import blended_time_law, switch_band
+from trajopt.path.fastpath import _line_path, straight_line_clearance
+from trajopt.path.switch import blended_time_law, switch_band
 from trajopt.timing import TimeScaling, filtered_scaling, rest_to_rest_profile, spline_path
 
 DELTAS = (1e-3, 1e-5, 1e-7, 1e-9)

@@ -11,15 +11,15 @@ import pytest
 from mpa import Lollipop
 from tests.helpers.common import random_plans
 from trajopt import Limits
-from trajopt.corridor import (
+from trajopt.generator import separation_margin
+from trajopt.path.corridor import (
     CORRIDOR_ITERATIONS,
     CORRIDOR_SEGMENTS,
     CorridorProblem,
     corridor_radii,
     hull_clearance,
 )
-from trajopt.generator import separation_margin
-from trajopt.planview import plan_view
+from trajopt.path.planview import plan_view
 
 TRACKS = [Lollipop(1.0, 1.0), Lollipop(1.5, 0.8)]
 LIMITS = Limits(0.5, 1.0, 5.0)

@@ -8,7 +8,7 @@ import pytest
 from mpa import Interval, Lollipop
 from mpa.errors import InvalidInputError, NoMotionError
 from trajopt import TrajectoryGenerator, generate_trajectory
-from trajopt.delay import check_delay_tolerance
+from trajopt.analysis.delay import check_delay_tolerance
 
 CHECK_RATE = 20_000.0  # Hz of the independent dense check
 TOL = 1e-9

@@ -7,8 +7,8 @@ import pytest
 
 from mpa import Circle, Lollipop
 from trajopt import TrajectoryGenerator
-from trajopt.fastpath import straight_line_clearance
-from trajopt.planview import route_geometry
+from trajopt.path.fastpath import straight_line_clearance
+from trajopt.path.planview import route_geometry
 from trajopt.timing import min_time_rest_to_rest
 
 
@@ -52,7 +52,7 @@ def test_most_random_queries_take_the_fast_path() -> None:
 def test_a_free_line_of_another_class_takes_the_hard_path(monkeypatch: pytest.MonkeyPatch) -> None:
     # The gate decides the line's homotopy class (the fast path does not check it in advance). Make the gate's class
     # check fail once, on the fast path's rows: the generator must take the hard path, not fall back or raise.
-    import trajopt.verify as verify
+    import trajopt.verify.gate as verify
 
     gen = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05)
     real = verify._word_check
@@ -71,7 +71,7 @@ def test_a_free_line_of_another_class_takes_the_hard_path(monkeypatch: pytest.Mo
 
 
 def test_other_gate_failures_on_the_fast_path_fall_back(monkeypatch: pytest.MonkeyPatch) -> None:
-    import trajopt.verify as verify
+    import trajopt.verify.gate as verify
 
     gen = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05)
     real = verify._limit_check
@@ -88,7 +88,7 @@ def test_other_gate_failures_on_the_fast_path_fall_back(monkeypatch: pytest.Monk
 
 
 def test_line_path_is_blend_polyline_of_the_two_ends() -> None:
-    from trajopt.fastpath import _line_path
+    from trajopt.path.fastpath import _line_path
     from trajopt.timing import blend_polyline
 
     rng = np.random.default_rng(8)

@@ -11,7 +11,7 @@ import pytest
 from mpa import Circle, Lollipop
 from tests.helpers.scripts import is_png, run_script
 from trajopt import generate_trajectory
-from trajopt.margins import margins, min_separation
+from trajopt.analysis.margins import margins, min_separation
 
 CHECK_RATE = 20_000.0  # Hz of the independent dense checks
 L = Lollipop(1.0, 1.0)

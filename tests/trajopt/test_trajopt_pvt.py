@@ -11,7 +11,7 @@ import pytest
 
 from mpa import InvalidInputError, Lollipop, MPAError
 from trajopt import generate_trajectory
-from trajopt.pvt import (
+from trajopt.io.pvt import (
     PVT_COLUMNS,
     check_pvt,
     hermite_eval,
@@ -234,7 +234,7 @@ def test_file_round_trip(canon, tmp_path) -> None:  # type: ignore[no-untyped-de
 def test_pvt_of_a_replan_starts_moving() -> None:
     """A re-planned motion starts moving: its first PVT row keeps the velocity, and the check accepts it."""
     from trajopt import TrajectoryGenerator
-    from trajopt.pvt import hermite_eval
+    from trajopt.io.pvt import hermite_eval
 
     gen = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05)
     new = gen.replan(gen.generate((0.2, 0.5), (0.5, 0.2)), 1.3, (0.7, 0.35))

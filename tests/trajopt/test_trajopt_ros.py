@@ -13,7 +13,7 @@ from rosbags.typesys import Stores, get_typestore
 
 from mpa import Circle, InvalidInputError, Lollipop
 from trajopt import generate_trajectory
-from trajopt.ros import ros2_yaml_text, split_ns, write_mcap, write_ros2_yaml
+from trajopt.io.ros import ros2_yaml_text, split_ns, write_mcap, write_ros2_yaml
 
 NS = 1e-9  # one nanosecond (s)
 
@@ -80,7 +80,7 @@ def test_yaml_options() -> None:
     assert "header" not in msg and msg["joint_names"] == ["left", "right"]
     msg = yaml.safe_load(ros2_yaml_text(tr, frame_id="it's", stamp_ns=5_000_000_001))
     assert msg["header"] == {"stamp": {"sec": 5, "nanosec": 1}, "frame_id": "it's"}
-    assert yaml.safe_load("x: " + __import__("trajopt.ros", fromlist=["_f"])._f(1e-5))["x"] == 1e-5
+    assert yaml.safe_load("x: " + __import__("trajopt.io.ros", fromlist=["_f"])._f(1e-5))["x"] == 1e-5
 
 
 @pytest.mark.parametrize(

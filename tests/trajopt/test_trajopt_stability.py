@@ -1,6 +1,7 @@
 """Stability end to end: inside a domain the executed trajectory moves continuously with (start, goal).
 
-Seeded perturbation pairs (:mod:`trajopt.stability`): a query and the query moved by δ in a random direction, both
+Seeded perturbation pairs (:mod:`trajopt.analysis.stability`): a query and the query moved by δ in a random direction,
+both
 in the same domain. The gap (sup over normalised time of the robots' graph distance, and the motion-time change)
 must be at most :data:`GAP_AT_1E7` for δ = 1e-7 and ``gap/δ`` must not grow as δ shrinks from 1e-5 to 1e-7 (a
 jump would make it grow like 1/δ; the measured local Lipschitz constants reach about 100 in domain 2).
@@ -14,7 +15,7 @@ import pytest
 
 from mpa import Circle, Interval, Lollipop, MPAError, Track
 from trajopt import TrajectoryGenerator
-from trajopt.stability import perturbation_pairs, trajectory_gap
+from trajopt.analysis.stability import perturbation_pairs, trajectory_gap
 
 #: The issue's goal: sup gap at δ = 1e-7 (metres, and seconds for the motion time).
 GAP_AT_1E7 = 1e-4
@@ -112,9 +113,9 @@ def test_perturbation_pairs_slow(track: Track, domain: int) -> None:
 
 def _switch_queries(n: int, seed: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """Queries on both sides of the fast/hard switch: the straight line's clearance crosses the required one."""
-    from trajopt.fastpath import straight_line_clearance
     from trajopt.generator import separation_margin
-    from trajopt.planview import route_geometry
+    from trajopt.path.fastpath import straight_line_clearance
+    from trajopt.path.planview import route_geometry
 
     gen = _gen(Lollipop(1.0, 1.0))
     sep = gen.clearance + separation_margin(gen.limits, gen.rate)
@@ -156,7 +157,7 @@ def test_hard_path_converges_to_the_line_at_the_switch() -> None:
 
     The re-centred corridor converges to the line (the QP returns the line exactly once the corridor contains it;
     near the contact point the balls shrink, so a finite number of re-centrings leaves up to
-    :data:`LINE_AT_SWITCH`). On the line's side the switch bands (:mod:`trajopt.switch`) start from that same
+    :data:`LINE_AT_SWITCH`). On the line's side the switch bands (:mod:`trajopt.path.switch`) start from that same
     corridor path, so the two sides agree: gap at most 1e-4 m and motion-time change at most 1e-3 s.
     """
     gen = _gen(Lollipop(1.0, 1.0))

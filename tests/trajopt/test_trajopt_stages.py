@@ -12,7 +12,7 @@ import pytest
 from mpa import Circle, Interval, Lollipop, make_planner
 from tests.helpers.common import random_plans
 from trajopt import Limits, TrajectoryGenerator, verify_setpoints
-from trajopt.planview import densify, route_geometry
+from trajopt.path.planview import densify, route_geometry
 from trajopt.timing import (
     blend_polyline,
     jerk_limited_scaling,

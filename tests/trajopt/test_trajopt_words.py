@@ -10,7 +10,7 @@ import pytest
 from mpa import Circle, Interval, Lollipop
 from mpa.routes import Lift, Route
 from trajopt import generate_trajectory
-from trajopt.words import describe, describe_rows, describe_text
+from trajopt.analysis.words import describe, describe_rows, describe_text
 
 L = Lollipop(1.0, 1.0)
 RATE = 100.0

@@ -7,9 +7,10 @@ into ``--out DIR`` besides ``summary.json`` (always):
 format        file                    content
 ============  ======================  ===========================================================================
 csv           ``setpoints.csv``       the setpoints (:meth:`Trajectory.csv_text`)
-ros2-yaml     ``trajectory.yaml``     a ``trajectory_msgs/msg/JointTrajectory`` (:func:`trajopt.ros.ros2_yaml_text`)
-mcap          ``trajectory.mcap``     the MCAP file of a rosbag2 bag (:func:`trajopt.ros.write_mcap`; extra ``[ros]``)
-pvt           ``pvt.csv``             PVT rows every ``--pvt-interval`` s (:func:`trajopt.pvt.pvt_table`)
+ros2-yaml     ``trajectory.yaml``     a ``trajectory_msgs/msg/JointTrajectory`` (:func:`trajopt.io.ros.ros2_yaml_text`)
+mcap          ``trajectory.mcap``     the MCAP file of a rosbag2 bag (:func:`trajopt.io.ros.write_mcap`; extra
+``[ros]``)
+pvt           ``pvt.csv``             PVT rows every ``--pvt-interval`` s (:func:`trajopt.io.pvt.pvt_table`)
 ============  ======================  ===========================================================================
 
 ``--plot`` adds ``trajectory.png`` (:func:`trajopt.viz.layout_run.trajectory_figure`: a paper track's figure, or
@@ -19,7 +20,7 @@ any work (:func:`check_output_options`); every file is computed (:func:`output_f
 (:func:`trajopt.cli.trajectory.write_outputs`).
 
 ``summary.json`` is :meth:`Trajectory.summary` plus ``files`` (what was written), ``pvt`` (interval, stretch,
-rows, ``velocity_change``: :attr:`trajopt.pvt.PVTTable.velocity_change`) and ``recipe``: the query that rebuilds
+rows, ``velocity_change``: :attr:`trajopt.io.pvt.PVTTable.velocity_change`) and ``recipe``: the query that rebuilds
 the motion deterministically (``start``, ``goal``, ``delay_tolerance`` and the chain of ``replans``
 ``{at, goal}``), read by ``mpa replan --from DIR``.
 """
@@ -145,8 +146,8 @@ def check_output_options(args: argparse.Namespace) -> OutputOptions:
     InvalidInputError
         Unknown format, bad joint names, topic, PVT interval or stretch; ``mcap`` without ``rosbags``.
     """
-    from trajopt.pvt import check_interval
-    from trajopt.ros import check_joint_names, check_topic
+    from trajopt.io.pvt import check_interval
+    from trajopt.io.ros import check_joint_names, check_topic
 
     formats = parse_formats(args.format)
     names = check_joint_names(args.joint_names)
@@ -169,7 +170,7 @@ def check_output_options(args: argparse.Namespace) -> OutputOptions:
 
 def _mcap_bytes(traj: Trajectory, opts: OutputOptions) -> bytes:
     """The MCAP file of a rosbag2 bag of ``traj`` (written in a temporary directory, read back, removed)."""
-    from trajopt.ros import write_mcap
+    from trajopt.io.ros import write_mcap
 
     tmp = Path(tempfile.mkdtemp(prefix="mpa-mcap-"))
     try:
@@ -202,13 +203,13 @@ def output_files(traj: Trajectory, opts: OutputOptions, recipe: dict[str, Any]) 
         if fmt == "csv":
             files[name] = Streamed(traj.csv_chunks)  # formatted piece by piece as it is written
         elif fmt == "ros2-yaml":
-            from trajopt.ros import ros2_yaml_text
+            from trajopt.io.ros import ros2_yaml_text
 
             files[name] = ros2_yaml_text(traj, joint_names=opts.joint_names)
         elif fmt == "mcap":
             files[name] = _mcap_bytes(traj, opts)
         elif fmt == "pvt":
-            from trajopt.pvt import pvt_table
+            from trajopt.io.pvt import pvt_table
 
             try:
                 tab = pvt_table(traj, opts.pvt_interval, max_stretch=opts.pvt_stretch)

@@ -18,6 +18,7 @@ from mpa import defaults
 from mpa.errors import InvalidInputError
 from mpa.graph_track import GraphTrack
 from mpa.tracks import Lollipop, Track
+from trajopt.analysis.delay import check_delay_tolerance
 from trajopt.cli.common import (
     TRAJECTORY_DEFAULTS,
     add_footprint_argument,
@@ -33,7 +34,6 @@ from trajopt.cli.outputs import (
     output_files,
     summary_text,
 )
-from trajopt.delay import check_delay_tolerance
 from trajopt.export import (
     Content,
     Streamed,
@@ -286,7 +286,7 @@ def add_planner_arguments(p: argparse.ArgumentParser) -> None:
 
 def check_margin_option(value: float) -> float:
     """``--min-margin``: a finite number of metres >= 0 (InvalidInputError naming the option otherwise)."""
-    from trajopt.min_margin import check_min_margin
+    from trajopt.analysis.min_margin import check_min_margin
 
     try:
         return check_min_margin(value)
@@ -295,7 +295,7 @@ def check_margin_option(value: float) -> float:
 
 
 def add_min_margin_argument(p: argparse.ArgumentParser) -> None:
-    """``--min-margin M`` (see :mod:`trajopt.min_margin`)."""
+    """``--min-margin M`` (see :mod:`trajopt.analysis.min_margin`)."""
     p.add_argument(
         "--min-margin",
         type=float,
@@ -307,7 +307,7 @@ def add_min_margin_argument(p: argparse.ArgumentParser) -> None:
 
 
 def add_delay_tolerance_argument(p: argparse.ArgumentParser) -> None:
-    """``--delay-tolerance T`` (see :mod:`trajopt.delay`)."""
+    """``--delay-tolerance T`` (see :mod:`trajopt.analysis.delay`)."""
     p.add_argument(
         "--delay-tolerance",
         type=float,

@@ -1,6 +1,6 @@
 """Stage 5, the files: atomic writes (:mod:`~trajopt.io.atomic`), the setpoints CSV (:mod:`~trajopt.io.csvfile`),
 output paths and run directories (:mod:`~trajopt.io.directory`) and the JSON summary (:mod:`~trajopt.io.summary`).
-The ROS 2 and PVT exports are :mod:`trajopt.ros` and :mod:`trajopt.pvt`.
+The ROS 2 and PVT exports are :mod:`trajopt.io.ros` and :mod:`trajopt.io.pvt`.
 """
 
 from __future__ import annotations

@@ -99,9 +99,9 @@ def csv_chunks(traj: Trajectory) -> Iterator[bytes]:
     """The CSV text of ``traj``'s rows (UTF-8) in pieces of at most :data:`CSV_CHUNK_ROWS` rows, the header first.
 
     Each piece is formatted when it is asked for. Numbers are ``"%.12g"``, the edge names RFC 4180 fields
-    (:func:`csv_field`), ``*_dir`` integers (:mod:`trajopt.csv_kernels`).
+    (:func:`csv_field`), ``*_dir`` integers (:mod:`trajopt.io.csv_kernels`).
     """
-    from trajopt.csv_kernels import csv_rows, format_g12, text_column
+    from trajopt.io.csv_kernels import csv_rows, format_g12, text_column
 
     columns = traj.columns
     names = [csv_field(n) for n in traj.edge_names]

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from trajopt.planview import plan_view
+from trajopt.path.planview import plan_view
 
 if TYPE_CHECKING:
     from trajopt.result import Trajectory
@@ -36,7 +36,7 @@ def summary(traj: Trajectory, *, margins: bool = False) -> dict[str, Any]:
     (+1 along the edge, -1 against), the ``entry`` offset and the route coordinates ``from_s``/``to_s`` where
     the robot is on it (what a controller needs to set the switches). On a layout ``start`` and ``goal`` are
     position names (``EDGE:OFFSET`` or a vertex) and ``track`` is the layout. ``margins=True`` adds
-    ``"margins"``: the tracking margin and delay tolerance (:func:`trajopt.margins.margins`, 0.4-2 s the first
+    ``"margins"``: the tracking margin and delay tolerance (:func:`trajopt.analysis.margins.margins`, 0.4-2 s the first
     time; ``summary.json`` of the command line has them).
     """
     view = plan_view(traj.plan)

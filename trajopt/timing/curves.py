@@ -9,7 +9,7 @@ leaves and joins the straight lines with the same tangent and zero curvature (CÂ
 minimum along its sampled polyline minus the chord deviation bound); otherwise its radius is halved, and a corner
 that cannot be blended is passed at rest (:func:`blend_polyline`).
 
-The continuous hard path (:mod:`trajopt.corridor`) uses :func:`spline_path`: a cubic B-spline of the corridor's
+The continuous hard path (:mod:`trajopt.path.corridor`) uses :func:`spline_path`: a cubic B-spline of the corridor's
 nodes, every span one piece.
 """
 
@@ -266,7 +266,7 @@ def blend_polyline(
         Given blend radii (the caller vouches that they are collision-free): no check, no halving, and every
         interior corner with a positive radius gets a blend piece, a straight one included, so the piece
         structure depends only on which radii are positive (the continuous hard path,
-        :mod:`trajopt.corridor`). Corners with radius 0 are passed at rest.
+        :mod:`trajopt.path.corridor`). Corners with radius 0 are passed at rest.
 
     Returns
     -------

@@ -11,11 +11,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from trajopt.sample_kernels import sample_rows
 from trajopt.timing.curves import (
     _FALLING_ARRAY,
     BlendedPath,
 )
+from trajopt.verify.sampling import sample_rows
 
 FloatArray = NDArray[np.float64]
 
@@ -78,7 +78,7 @@ class TimeScaling:
     def sample(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         """Route coordinates and their first three time derivatives at ``t``. Each shape ``t.shape + (2,)``.
 
-        Row by row in one compiled call (:func:`trajopt.sample_kernels.sample_rows`): the phase's polynomial
+        Row by row in one compiled call (:func:`trajopt.verify.sampling.sample_rows`): the phase's polynomial
         (:meth:`param`), the path's derivatives at ``s`` (:meth:`BlendedPath.derivatives`, Horner's scheme) and
         the chain rule.
         """

@@ -234,7 +234,7 @@ def trajectory_figure(traj: Trajectory, name: str | None = None) -> Figure:
         from trajopt.viz.plotting import plot_trajectory
 
         return plot_trajectory(traj)
-    from trajopt.planview import plan_view
+    from trajopt.path.planview import plan_view
 
     view = plan_view(traj.plan)
     tr = view.graph

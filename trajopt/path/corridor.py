@@ -38,7 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 from mpa.errors import PlanningError
 from mpa.geometry import RouteGeometry
 from mpa.plans import MotionPlan
-from trajopt.planview import plan_view
+from trajopt.path.planview import plan_view
 
 __all__ = [
     "CORRIDOR_SEGMENTS",
@@ -426,7 +426,7 @@ def corridor_nodes(
     ----------
     plan : MotionPlan
     geom : RouteGeometry
-        Of the plan's routes (:attr:`trajopt.planview.PlanView.geom`).
+        Of the plan's routes (:attr:`trajopt.path.planview.PlanView.geom`).
     separation : float
         Separation the path keeps where the plan does (metres): the clearance plus the gate's margins.
     problem : CorridorProblem

@@ -23,9 +23,9 @@ from numpy.typing import NDArray
 from mpa.errors import InvalidInputError
 from mpa.plans import Plan
 from trajopt.export import Trajectory, atomic_write_text
-from trajopt.rows import Setpoints
 from trajopt.timing import Limits
-from trajopt.verify import LIMIT_RTOL, VerificationReport, verify_setpoints
+from trajopt.verify.gate import LIMIT_RTOL, VerificationReport, verify_setpoints
+from trajopt.verify.rows import Setpoints
 
 __all__ = [
     "AUTO",
@@ -203,7 +203,7 @@ def hermite_eval(
 
 #: Factor on each limit in :func:`fit_row_velocities`: a motion may touch its limits (a cruise at ``vmax``
 #: makes the mean velocity of a piece ``vmax``), and this plus the LP solver's feasibility tolerance (1e-7,
-#: limits scaled to 1) stays inside :data:`trajopt.verify.LIMIT_RTOL`.
+#: limits scaled to 1) stays inside :data:`trajopt.verify.gate.LIMIT_RTOL`.
 FIT_SHARE = 1.0 + 1e-7
 #: Rounds of velocity cuts added at the pieces' velocity vertices (:func:`fit_row_velocities`).
 FIT_ROUNDS = 12
@@ -405,7 +405,7 @@ def _gate_on_reconstruction(
     lim = trajectory.limits
     plan = trajectory.plan
     if not isinstance(plan, Plan):  # a graph plan: the gate in positions on the layout (exact graph distance)
-        from trajopt.planview import plan_view
+        from trajopt.path.planview import plan_view
 
         rows = Setpoints(tg, s, v, a_rows, j_rows)
         rep = plan_view(plan).verify(rows, limits=lim, clearance=trajectory.clearance, rate=rate)

@@ -22,7 +22,7 @@ robots' routes and the limits; it does not use any of the generator's geometry. 
 - homotopy class: the reduced skeleton word of the motion (:func:`skeleton_word`, the compiled twin of
   :func:`mpa.homotopy.path_word`; rows refined along the chords) equals the plan's.
 
-The checks over the rows run as one compiled pass (:func:`trajopt.gate_kernels.check_rows`, numba); this module
+The checks over the rows run as one compiled pass (:func:`trajopt.verify.kernels.check_rows`, numba); this module
 validates the inputs, calls it and writes the messages from the numbers it returns.
 """
 
@@ -42,7 +42,8 @@ from mpa.homotopy import END_TOL, path_word, word_from_samples
 from mpa.routes import Route, directed_route
 from mpa.skeleton import CircleSkeleton, LollipopSkeleton, skeleton_of
 from mpa.tracks import Track
-from trajopt.gate_kernels import (
+from trajopt.timing import Limits
+from trajopt.verify.kernels import (
     RES,
     between_rows,
     check_rows,
@@ -52,8 +53,7 @@ from trajopt.gate_kernels import (
     needs_densify,
     word_samples,
 )
-from trajopt.rows import Setpoints, rows_of
-from trajopt.timing import Limits
+from trajopt.verify.rows import Setpoints, rows_of
 
 __all__ = [
     "CLASS_FAILURE_PREFIXES",
@@ -335,7 +335,7 @@ def _word_check(
 def skeleton_word(track: Track, states: ArrayLike) -> tuple[str, ...]:
     """:func:`mpa.homotopy.path_word` of densely sampled states (track coordinates, shape (N, 2)), compiled.
 
-    ``H₁`` of every state (:func:`trajopt.gate_kernels.lollipop_skeleton_points`, ``circle_skeleton_points``:
+    ``H₁`` of every state (:func:`trajopt.verify.kernels.lollipop_skeleton_points`, ``circle_skeleton_points``:
     mpa's own steps, one state at a time), then the word of the samples around the edge changes
     (:func:`mpa.homotopy.word_from_samples`). Where two consecutive samples retract to skeleton edges without a
     common vertex (a gap to refine), at a collision, and on the interval: :func:`mpa.homotopy.path_word` itself.

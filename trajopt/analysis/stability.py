@@ -304,7 +304,7 @@ class SwitchPoint:
         Change of the motion time (s).
     paths : (str, str)
         ``solver_stats["path"]`` of the two trajectories (``"switch"``: the line's side, within the switch bands of
-        :mod:`trajopt.switch`; ``"hard"``; another value if one fell back).
+        :mod:`trajopt.path.switch`; ``"hard"``; another value if one fell back).
     """
 
     fast_start: FloatArray
@@ -324,7 +324,7 @@ def switch_points(
 
     Each draw is a start, a goal and a second goal moved from it by a normal step of standard deviation ``reach``
     (metres, per coordinate); when the straight line's clearance
-    (:func:`trajopt.fastpath.straight_line_clearance`) is at least the separation the generator asks of it at one
+    (:func:`trajopt.path.fastpath.straight_line_clearance`) is at least the separation the generator asks of it at one
     goal and below it at the other, with the same domain and word at both, the segment between the goals is bisected
     until the two sides are ``width`` apart (every midpoint must keep the domain and word, else the pair is
     dropped). The trajectories of the two sides are then generated and compared.
@@ -343,8 +343,8 @@ def switch_points(
     -------
     list of SwitchPoint
     """
-    from trajopt.fastpath import straight_line_clearance
-    from trajopt.verify import separation_margin
+    from trajopt.path.fastpath import straight_line_clearance
+    from trajopt.verify.gate import separation_margin
 
     track = gen.track
     hi = np.nextafter(track.total_length, 0.0)

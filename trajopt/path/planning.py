@@ -16,7 +16,7 @@ from mpa.graph_track import GraphTrack
 from mpa.planners.graph import GraphPlan, plan_graph
 from mpa.plans import MotionPlan, Plan
 from trajopt.explain import _decimal_at_most, _RejectedError, explain_rejection, explain_threshold  # noqa: F401
-from trajopt.planview import plan_view
+from trajopt.path.planview import plan_view
 from trajopt.timing import Limits
 
 __all__ = ["GraphPlanner", "route_speed_limits", "view_waypoints"]

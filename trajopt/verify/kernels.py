@@ -1,12 +1,12 @@
 """The verification gate's pass over the rows, compiled (numba), in one call per grid.
 
-:func:`trajopt.verify.verify_graph_setpoints` checks a few hundred rows per trajectory; written with numpy it
+:func:`trajopt.verify.gate.verify_graph_setpoints` checks a few hundred rows per trajectory; written with numpy it
 took about 150 array calls, and their fixed cost (not the arithmetic) was most of the gate's time. Here the same
 checks run as one loop over the rows: the route positions of the route coordinates, the exact graph distance
 (:meth:`mpa.geometry.GraphGeometry.distance`, the same formula and the same order of operations), the rows'
 consistency with their routes, the endpoints, the limits, and the exact minimum of the distance along each chord
 between consecutive rows, cut where a robot changes edge (:meth:`mpa.geometry.GraphGeometry.segment_min`). The
-messages are written by :mod:`trajopt.verify` from the few numbers returned here.
+messages are written by :mod:`trajopt.verify.gate` from the few numbers returned here.
 
 Without numba (:mod:`trajopt._numba`) the same functions run as plain Python: the same results, about a hundred
 times slower.

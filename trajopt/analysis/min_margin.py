@@ -2,7 +2,8 @@
 
 :meth:`TrajectoryGenerator.generate(start, goal, min_margin=M) <trajopt.generator.TrajectoryGenerator.generate>`
 (and ``mpa trajectory --min-margin M``) asks for a verified trajectory whose tracking margin
-(:func:`trajopt.margins.margins`: how far either cart may be off its setpoint along its route, at every instant,
+(:func:`trajopt.analysis.margins.margins`: how far either cart may be off its setpoint along its route, at every
+instant,
 with the separation still ``>= D``) is at least ``M`` metres.
 
 Mechanism
@@ -22,7 +23,8 @@ Mechanism
        bisection's resolution).
 
 With ``delay_tolerance`` as well, every candidate is made by the delay-tolerance search
-(:mod:`trajopt.delay`) at the effective clearance, so both requests hold. ``solver_stats["min_margin"]`` records
+(:mod:`trajopt.analysis.delay`) at the effective clearance, so both requests hold. ``solver_stats["min_margin"]``
+records
 the request, the margin reached and the effective clearance.
 """
 
@@ -31,7 +33,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from mpa.errors import InvalidInputError, NoMotionError, nonnegative_number
-from trajopt.delay import _as_caller, rest_separation
+from trajopt.analysis.delay import _as_caller, rest_separation
 from trajopt.export import Trajectory
 
 if TYPE_CHECKING:

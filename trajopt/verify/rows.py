@@ -1,11 +1,12 @@
 """The rows of a setpoint grid as one object: :class:`Setpoints` (times, route coordinates and their derivatives per
 robot, and the positions where the caller has them).
 
-The gate (:func:`trajopt.verify.verify_setpoints`, :func:`trajopt.verify.verify_graph_setpoints`), the plan's view
-(:meth:`trajopt.planview.PlanView.verify`) and the independent checker (:func:`trajopt.testing.check_setpoints`,
+The gate (:func:`trajopt.verify.gate.verify_setpoints`, :func:`trajopt.verify.gate.verify_graph_setpoints`), the plan's
+view
+(:meth:`trajopt.path.planview.PlanView.verify`) and the independent checker (:func:`trajopt.testing.check_setpoints`,
 :func:`trajopt.testing.check_graph_setpoints`) take the rows in this form (or, positionally, as their arrays);
 :meth:`trajopt.result.Trajectory.rows` gives a trajectory's. The compiled kernels under them
-(:func:`trajopt.gate_kernels.check_rows`, :func:`trajopt.sample_kernels.sample_rows`) keep plain arrays. Nothing is
+(:func:`trajopt.verify.kernels.check_rows`, :func:`trajopt.verify.sampling.sample_rows`) keep plain arrays. Nothing is
 validated here: the gate reports inconsistent shapes and non-finite values as failures.
 """
 

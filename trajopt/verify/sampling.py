@@ -1,7 +1,7 @@
 """Sampling a timed path at the setpoint rate, compiled (numba), in one call per grid.
 
 :meth:`trajopt.timing.TimeScaling.sample` (the jerk phases ``s(t)``, then the path's derivatives by Horner's scheme
-and the chain rule) and :meth:`trajopt.planview.PlanView.track_coordinates` (each robot's route position,
+and the chain rule) and :meth:`trajopt.path.planview.PlanView.track_coordinates` (each robot's route position,
 :func:`mpa.routes.affine_position` compiled) on a few hundred rows: as numpy they were some thirty array calls each,
 and their fixed cost was most of the time. The same formulas, row by row.
 """

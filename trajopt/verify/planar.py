@@ -1,6 +1,6 @@
 """The gate's check in the plane: the robots' bodies (footprints) stay apart at every row and between rows.
 
-Next to the along-track clearance (:mod:`trajopt.verify`) a trajectory with a footprint passes this check before it
+Next to the along-track clearance (:mod:`trajopt.verify.gate`) a trajectory with a footprint passes this check before it
 leaves the library. It reads only the rows (edges, offsets, speeds), the layout's drawing
 (:class:`mpa.footprint.Drawing`) and the footprints; it shares no code with the planner (:mod:`mpa.planar`).
 

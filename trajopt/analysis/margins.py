@@ -2,7 +2,7 @@
 
 Both margins are computed on the continuous motion (:attr:`Trajectory.sampler`), with the exact graph metric of
 the track, on a dense time grid of :data:`DENSE_RATE` Hz plus the gate's rigorous between-rows bound
-(:func:`trajopt.verify.between_rows_separation`: chord minimum minus the deviation ``a_int·Δt²/8``).
+(:func:`trajopt.verify.gate.between_rows_separation`: chord minimum minus the deviation ``a_int·Δt²/8``).
 
 Tracking margin ``r`` (m)
     The largest ``r`` such that both carts, each anywhere within ``r`` of its setpoint *along its own route*, at
@@ -24,7 +24,7 @@ Tracking margin ``r`` (m)
 Delay tolerance ``τ`` (s)
     The largest ``τ`` such that delaying either cart's whole motion by any ``δ ∈ [0, τ]`` (the other on time,
     each cart at rest at its start before and at its goal after its own motion) keeps the separation ``>= D``
-    (to the gate's tolerance :data:`~trajopt.verify.SEPARATION_TOL`). With ``F(δ) = min_t d(A(t − δ), B(t))``
+    (to the gate's tolerance :data:`~trajopt.verify.gate.SEPARATION_TOL`). With ``F(δ) = min_t d(A(t − δ), B(t))``
     (A delayed; likewise B), ``τ_A = sup{τ : F ≥ D on [0, τ]}`` is found by interval stepping on ``δ`` with a
     rigorous bound: over ``[δ, δ + h]`` the delayed cart's position at time ``t`` changes by at most
     ``h·V(t)``, with ``V(t)`` its peak speed over the times ``[t − δ − h, t − δ]`` of its own motion (largest
@@ -50,8 +50,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from trajopt.planview import plan_view
-from trajopt.verify import SEPARATION_TOL, between_rows_separation
+from trajopt.path.planview import plan_view
+from trajopt.verify.gate import SEPARATION_TOL, between_rows_separation
 
 if TYPE_CHECKING:  # the result type calls margins() (Trajectory.margins): a type here, no import at run time
     from trajopt.result import Trajectory

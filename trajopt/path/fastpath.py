@@ -9,8 +9,8 @@ qualifies): the generator leaves that to the gate, which checks the class of the
 sends a line of another class to the hard path (:meth:`trajopt.TrajectoryGenerator.generate`);
 :func:`straight_line_clearance` checks both at once.
 The line and the phase-synchronised profile move continuously with the query. Where the line keeps the separation
-by less than two bands (:func:`trajopt.switch.switch_band`), :mod:`trajopt.switch` turns the hard path
-(:mod:`trajopt.corridor`) into this one, so the motion is continuous across the switch.
+by less than two bands (:func:`trajopt.path.switch.switch_band`), :mod:`trajopt.path.switch` turns the hard path
+(:mod:`trajopt.path.corridor`) into this one, so the motion is continuous across the switch.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 from mpa.errors import MPAError
 from mpa.geometry import RouteGeometry
 from mpa.plans import MotionPlan
-from trajopt.planview import plan_view
+from trajopt.path.planview import plan_view
 from trajopt.timing import BlendedPath, Limits, TimeScaling, blend_polyline, rest_to_rest_profile
 
 __all__ = ["straight_line_clearance", "straight_scaling"]
@@ -40,7 +40,7 @@ def straight_line_clearance(plan: MotionPlan, geom: RouteGeometry | None = None)
     ----------
     plan : Plan or GraphPlan
     geom : RouteGeometry, optional
-        The plan's route geometry (default: :func:`trajopt.planview.plan_view`'s).
+        The plan's route geometry (default: :func:`trajopt.path.planview.plan_view`'s).
 
     Returns
     -------

@@ -1,7 +1,7 @@
 """Continuity across the fast/hard switch: the hard path turned into the fast path over a band of line margins.
 
-The fast path (:mod:`trajopt.fastpath`: the straight route-coordinate line, one ruckig profile) is taken when the
-line keeps the separation ``sep``; the hard path (:mod:`trajopt.corridor`: the corridor QP's nodes, their cubic
+The fast path (:mod:`trajopt.path.fastpath`: the straight route-coordinate line, one ruckig profile) is taken when the
+line keeps the separation ``sep``; the hard path (:mod:`trajopt.path.corridor`: the corridor QP's nodes, their cubic
 B-spline, :func:`trajopt.timing.filtered_scaling`) otherwise. The two differ at the switch (where the line's
 clearance equals ``sep``): the corridor's nodes do not reach the line in a fixed number of re-centrings (they stay
 millimetres to centimetres off it, and the curved path is timed slower), and on a short line the filtered timing
@@ -12,7 +12,7 @@ two bands of width ``b`` (:func:`switch_band`):
 1. ``0 ≤ m < b`` (geometry): the nodes ``(1 − λ)·N + λ·L``, ``λ = m/b``, between the corridor's nodes ``N`` and
    the evenly spaced nodes ``L`` of the line (the same count); their spline, timed by ``filtered_scaling``. At
    ``m = 0`` it is the hard path; at ``λ = 1`` the line itself (evenly spaced collinear nodes give the line at unit
-   speed). The blended nodes' spans are checked exactly (:func:`trajopt.corridor.hull_clearance` of every four
+   speed). The blended nodes' spans are checked exactly (:func:`trajopt.path.corridor.hull_clearance` of every four
    consecutive nodes keeps ``sep``), as the corridor's are.
 2. ``b ≤ m < 2b`` (timing): the line, timed by the power-mean blend of the two time laws
    (:func:`blended_time_law`) with weight ``w = m/b − 1``: the filtered timing at ``w = 0``, ruckig's profile at
@@ -34,8 +34,8 @@ from mpa.geometry import RouteGeometry
 from mpa.graph_track import GraphTrack
 from mpa.plans import MotionPlan
 from mpa.tracks import Track
-from trajopt.corridor import CorridorProblem, corridor_nodes, hull_clearance
-from trajopt.planview import plan_view
+from trajopt.path.corridor import CorridorProblem, corridor_nodes, hull_clearance
+from trajopt.path.planview import plan_view
 from trajopt.timing import Limits, TimeScaling, filtered_scaling, spline_path
 
 __all__ = ["SWITCH_BAND", "blended_time_law", "near_switch_scaling", "switch_band"]
@@ -141,7 +141,7 @@ def near_switch_scaling(
     band : float
         :func:`switch_band` of the track (metres, ``> 0``).
     fast : TimeScaling
-        :func:`trajopt.fastpath.straight_scaling` of the plan (ruckig's profile on the line).
+        :func:`trajopt.path.fastpath.straight_scaling` of the plan (ruckig's profile on the line).
     timings : dict, optional
         Filled with the stage times (s).
 

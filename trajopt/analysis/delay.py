@@ -2,7 +2,7 @@
 
 :meth:`TrajectoryGenerator.generate(start, goal, delay_tolerance=T) <trajopt.generator.TrajectoryGenerator.generate>`
 (and ``mpa trajectory --delay-tolerance T``) asks for a verified trajectory whose delay tolerance
-(:func:`trajopt.margins.margins`: how late either cart may run, its whole motion shifted in time, with the
+(:func:`trajopt.analysis.margins.margins`: how late either cart may run, its whole motion shifted in time, with the
 separation still ``>= D``) is at least ``T`` seconds.
 
 Mechanism
@@ -20,7 +20,7 @@ Mechanism
 
     Every candidate is an ordinary verified trajectory (gate at ``D'``, which implies ``D``; limits at most the
     caller's). It is reported with the caller's clearance ``D`` and limits, re-verified at ``D``, and its
-    margins are measured exactly (:func:`trajopt.margins.margins`) on that final object; the first candidate
+    margins are measured exactly (:func:`trajopt.analysis.margins.margins`) on that final object; the first candidate
     with ``delay_tolerance >= T`` is returned, with ``solver_stats["delay_tolerance"]`` recording the request,
     the value reached, the effective clearance, the slowdown and every candidate tried. If none reaches ``T``,
     :class:`~mpa.errors.NoMotionError` states the best value found.
@@ -44,9 +44,9 @@ from mpa.errors import InvalidInputError, MPAError, NoMotionError, nonnegative_n
 from mpa.graph_track import GraphTrack
 from mpa.tracks import Track
 from trajopt.export import Trajectory
-from trajopt.planview import plan_view
+from trajopt.path.planview import plan_view
 from trajopt.timing import Limits
-from trajopt.verify import separation_margin
+from trajopt.verify.gate import separation_margin
 
 if TYPE_CHECKING:
     from trajopt.generator import TrajectoryGenerator

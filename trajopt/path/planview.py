@@ -7,8 +7,8 @@ and its corners (``plan.route_waypoints``). :func:`plan_view` builds the view on
 
 What differs for the paper's plans (:class:`mpa.Plan`) is small and lives here: the track coordinates (the rows'
 ``*_track`` columns), the skeleton word (the fast path's line must keep the plan's homotopy class, the gate checks
-it) and so the gate (:func:`~trajopt.verify.verify_setpoints` in track coordinates,
-:func:`~trajopt.verify.verify_graph_setpoints` in positions).
+it) and so the gate (:func:`~trajopt.verify.gate.verify_setpoints` in track coordinates,
+:func:`~trajopt.verify.gate.verify_graph_setpoints` in positions).
 """
 
 from __future__ import annotations
@@ -25,10 +25,10 @@ from mpa.homotopy import path_word
 from mpa.plans import MotionPlan, Plan
 from mpa.routes import Route, directed_route
 from mpa.tracks import Track
-from trajopt.rows import Setpoints, rows_of
-from trajopt.sample_kernels import track_positions
 from trajopt.timing import Limits
-from trajopt.verify import VerificationReport, verify_graph_setpoints, verify_setpoints
+from trajopt.verify.gate import VerificationReport, verify_graph_setpoints, verify_setpoints
+from trajopt.verify.rows import Setpoints, rows_of
+from trajopt.verify.sampling import track_positions
 
 __all__ = ["REST_SPEED", "PlanView", "densify", "plan_view", "route_geometry"]
 
@@ -178,12 +178,12 @@ class PlanView:
         track_pos: ArrayLike | None = None,
         limits_used: Limits | None = None,
     ) -> VerificationReport:
-        """The independent gate on rows of this plan's motion (see :mod:`trajopt.verify`).
+        """The independent gate on rows of this plan's motion (see :mod:`trajopt.verify.gate`).
 
         ``limits``: the limits asked for; ``limits_used``: the limits the motion declares it was timed with (the
         rows and the bound between rows are checked with them, and each against ``limits``; default ``limits``).
 
-        ``rows``: a :class:`~trajopt.rows.Setpoints` (``t, s, v, a, j``), or positionally the arrays
+        ``rows``: a :class:`~trajopt.verify.rows.Setpoints` (``t, s, v, a, j``), or positionally the arrays
         ``t, s, v, a, j``. Paper plans: the rows' track coordinates are ``rows.track`` (or ``track_pos``, shape
         (N, 2)) when given, else :meth:`track_coordinates` of ``s``; graph plans: the positions of ``s``
         (:meth:`positions`).
