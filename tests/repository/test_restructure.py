@@ -108,3 +108,22 @@ def test_atomic_path_removes_a_dead_writers_temporary(tmp_path: Path) -> None:
     with atomic_path(target, suffix=".png") as tmp:
         tmp.write_text("x")
     assert not stale.exists() and target.read_text() == "x"
+
+
+def test_former_flat_names_are_the_moved_modules() -> None:
+    """``trajopt.margins`` & co. (the modules before they moved into trajopt.path, .verify, .analysis and .io)
+    import as the very module objects of their new places, by ``import`` and by ``from trajopt import``."""
+    import importlib
+
+    from trajopt._aliases import FORMER_NAMES
+
+    assert len(FORMER_NAMES) == 18
+    for old, new in FORMER_NAMES.items():
+        assert importlib.import_module(f"trajopt.{old}") is importlib.import_module(new), old
+    from trajopt import gate_kernels, stability
+    from trajopt.analysis import stability as moved
+    from trajopt.verify import kernels
+
+    assert stability is moved and gate_kernels is kernels
+    with pytest.raises(ModuleNotFoundError):
+        importlib.import_module("trajopt.no_such_module")
