@@ -32,6 +32,7 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError
 from mpa.graph_track import GraphTrack, as_graph_track
 
@@ -49,7 +50,6 @@ __all__ = [
     "parse_footprint",
 ]
 
-FloatArray = NDArray[np.float64]
 
 #: Sides of the polygon circumscribed about a disc (or a sum of discs) in the planner's free space: the polygon
 #: reaches at most ``R / cos(pi / DISC_SIDES) - R`` (0.48 % of R) beyond the disc of radius R, and exactly R across

@@ -35,12 +35,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa import tolerance
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 
 __all__ = ["MAX_CELLS", "FreeSpace", "PolygonId", "check_size", "free_space"]
 
-FloatArray = NDArray[np.float64]
 #: ``(e, f, k)``: robot A's edge, robot B's edge, piece (0 unless ``e == f``; then 0: ``s > t``, 1: ``t > s``).
 PolygonId = tuple[int, int, int]
 

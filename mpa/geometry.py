@@ -32,14 +32,12 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from mpa._arrays import FloatArray, IntArray
 from mpa.errors import InvalidInputError
 
 __all__ = ["DirectedRoute", "GraphGeometry", "RouteGeometry", "densify_polyline", "vertex_distance_matrix"]
-
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 
 
 def densify_polyline(pts: ArrayLike, step: float) -> FloatArray:

@@ -36,13 +36,13 @@ from typing import Any, TypeGuard
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError
 from mpa.geometry import GraphGeometry
 from mpa.graph import Edge, MetricGraph, read_json_file
 
 __all__ = ["GraphTrack", "Position", "paper_from_graph_position", "paper_to_graph_position", "paper_track_as_graph"]
 
-FloatArray = NDArray[np.float64]
 Position = tuple[int, float]
 _EDGE_KEYS = {"name", "from", "to", "length", "points", "oneway", "speed_limit"}
 #: Largest coordinate and edge length of a layout (m): sums of lengths and squared coordinates stay finite.

@@ -16,8 +16,9 @@ from dataclasses import dataclass, field, replace
 from typing import Protocol, runtime_checkable
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from mpa._arrays import FloatArray, IntArray
 from mpa.errors import InvalidInputError
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, Position
@@ -27,8 +28,6 @@ from mpa.tracks import Track
 
 __all__ = ["JointMove", "MotionPlan", "Plan", "PlanStep", "build_plan", "sample_parameter"]
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 #: Per robot ``(edge indices, offsets)`` on the layout: what :meth:`MotionPlan.positions` returns.
 LayoutPositions = tuple[tuple[IntArray, FloatArray], tuple[IntArray, FloatArray]]
 JointMove = tuple[RobotMove, RobotMove]

@@ -29,8 +29,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError, PlanningError
 from mpa.routes import RobotMove
 from mpa.skeleton import LollipopSkeleton, skeleton_of
@@ -45,8 +46,6 @@ __all__ = [
     "trace_info",
     "trace_moves",
 ]
-
-FloatArray = NDArray[np.float64]
 
 
 def circle_trace(track: Circle, states: ArrayLike) -> FloatArray:

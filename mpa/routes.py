@@ -26,13 +26,13 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError, PlanningError
 from mpa.geometry import DirectedRoute
 from mpa.tracks import Circle, Interval, Lollipop, Track
 
 __all__ = ["Lift", "RobotMove", "Route", "affine_position", "directed_route", "lift_moves", "lift_position"]
 
-FloatArray = NDArray[np.float64]
 #: Tolerance (metres) for deciding that a lifted point sits on a junction.
 LIFT_TOL = 1e-9
 

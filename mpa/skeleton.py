@@ -25,6 +25,7 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError, PlanningError
 from mpa.graph import Edge, MetricGraph
 from mpa.routes import RobotMove
@@ -40,7 +41,6 @@ __all__ = [
     "skeleton_of",
 ]
 
-FloatArray = NDArray[np.float64]
 #: Tolerance (model metres) for snapping skeleton points to vertices.
 VERTEX_TOL = 1e-9
 

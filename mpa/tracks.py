@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError, positive_number
 from mpa.graph import Edge, MetricGraph
 
@@ -33,7 +34,6 @@ if TYPE_CHECKING:
 
 __all__ = ["Circle", "Interval", "Lollipop", "Track", "make_track"]
 
-FloatArray = NDArray[np.float64]
 #: Positions this close to the end of a half-open coordinate range are wrapped (metres).
 WRAP_TOL = 1e-12
 

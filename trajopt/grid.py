@@ -8,11 +8,9 @@ import os
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError, positive_number
-
-FloatArray = NDArray[np.float64]
 
 #: Largest number of rows a grid may have.
 MAX_ROWS = 20_000_000

@@ -39,8 +39,9 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError, NoMotionError, PlanningError
 from mpa.homotopy import path_word
 from mpa.plans import Plan, PlanStep
@@ -61,8 +62,6 @@ if TYPE_CHECKING:
     from trajopt.generator import TrajectoryGenerator
 
 __all__ = ["Brake", "brake_profile", "replan"]
-
-FloatArray = NDArray[np.float64]
 
 
 #: A stop closer than this to the pole P (m) is moved onto P (the planner treats nearer starts as P).

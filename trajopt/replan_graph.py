@@ -29,8 +29,8 @@ import time
 from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
-from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import NoMotionError, PlanningError
 from mpa.geometry import DirectedRoute, RouteGeometry
 from mpa.graph_track import as_graph_track
@@ -46,7 +46,6 @@ if TYPE_CHECKING:
 
 __all__ = ["replan_graph"]
 
-FloatArray = NDArray[np.float64]
 #: Route coordinates (m) within which a braking stop counts as on the route's end.
 END_TOL = 1e-9
 

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.plans import MotionPlan
 from trajopt.grid import check_rate, time_grid
 from trajopt.io.csvfile import CSV_COLUMNS, GRAPH_CSV_COLUMNS, HEADING_COLUMNS, XY_COLUMNS
@@ -25,8 +26,6 @@ from trajopt.path.planview import plan_view
 from trajopt.timing import Limits
 from trajopt.verify.gate import VerificationError, VerificationReport
 from trajopt.verify.rows import Setpoints
-
-FloatArray = NDArray[np.float64]
 
 
 class Source(enum.Enum):

@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.graph_track import GraphTrack
 from mpa.homotopy import path_word
 from mpa.tracks import Track
@@ -58,7 +59,6 @@ __all__ = [
     "travel_curve",
 ]
 
-FloatArray = NDArray[np.float64]
 #: Relative tolerance of the limit checks.
 LIMIT_RTOL = 1e-6
 #: Absolute tolerance of positions and rest (m, m/s, m/s²).

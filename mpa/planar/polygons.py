@@ -8,11 +8,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.freespace import _clip
 
-FloatArray = NDArray[np.float64]
 Coords = tuple[float, float]
 TOUCH = 1e-9  # times max(1, total length): bodies this close count as apart
 

@@ -45,14 +45,13 @@ import math
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 from scipy.optimize import nnls
 
+from mpa._arrays import FloatArray
 from mpa.freespace import PolygonId
 
 __all__ = ["RESOLVE_TOL", "resolve_corners"]
 
-FloatArray = NDArray[np.float64]
 Coords = tuple[float, float]
 #: Relative tolerance of the re-solve: makespan and travel at most ``(1 + RESOLVE_TOL)`` times the search's.
 RESOLVE_TOL = 1e-12

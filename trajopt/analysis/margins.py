@@ -48,8 +48,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from trajopt.path.planview import plan_view
 from trajopt.verify.gate import SEPARATION_TOL, between_rows_separation
 
@@ -66,7 +66,6 @@ __all__ = [
     "tracking_margin",
 ]
 
-FloatArray = NDArray[np.float64]
 #: Rate of the dense grid (Hz).
 DENSE_RATE = 1000.0
 #: Largest number of rows of a dense grid: longer motions get a lower dense rate (a bounded cost).

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 from typing import Any, cast
 
 import numpy as np
-from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import MPAError
 from mpa.planners import Planner
 from mpa.plans import Plan
@@ -32,8 +32,6 @@ __all__ = [
     "switch_points",
     "trajectory_gap",
 ]
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

@@ -33,8 +33,9 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from mpa._arrays import FloatArray
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack
 from mpa.plans import Plan
@@ -46,7 +47,6 @@ if TYPE_CHECKING:
 
 __all__ = ["STILL", "WAIT_MIN", "describe", "describe_graph_rows", "describe_rows", "describe_text"]
 
-FloatArray = NDArray[np.float64]
 #: A row step moving less than this is still (m).
 STILL = 1e-9
 #: Shortest stop reported as a wait (s).

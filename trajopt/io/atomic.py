@@ -14,11 +14,6 @@ import tempfile
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 
-import numpy as np
-from numpy.typing import NDArray
-
-FloatArray = NDArray[np.float64]
-
 
 class Streamed:
     """A file's content made piece by piece while it is written, so the whole of it is never in memory.

@@ -20,6 +20,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from mpa._arrays import IntArray
 from trajopt._numba import njit
 
 __all__ = ["TIE_BAND", "WIDTH", "csv_rows", "format_g12", "text_column"]
@@ -30,7 +31,6 @@ WIDTH = 24
 TIE_BAND = 0.01
 
 ByteMatrix = NDArray[np.uint8]
-IntArray = NDArray[np.int64]
 
 
 @njit(cache=True)

@@ -20,15 +20,12 @@ from collections.abc import Iterable, Iterator
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from trajopt.io.directory import check_output_path, write_output_file
 
 if TYPE_CHECKING:
     from trajopt.result import Trajectory
 from trajopt.io.atomic import Streamed
-
-FloatArray = NDArray[np.float64]
 
 #: The pinned CSV columns of the paper's tracks, in order.
 CSV_COLUMNS = (

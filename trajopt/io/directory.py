@@ -13,9 +13,6 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-from numpy.typing import NDArray
-
 from mpa.errors import InvalidInputError
 from trajopt.io.atomic import (
     Content,
@@ -24,8 +21,6 @@ from trajopt.io.atomic import (
     atomic_write,
     glob_escape,
 )
-
-FloatArray = NDArray[np.float64]
 
 #: Files of a run that :func:`write_directory` owns: a new run replaces them all, and those of formats not asked for
 #: are not carried over from an older run. Any other file in the directory is kept.

@@ -18,8 +18,8 @@ from dataclasses import dataclass
 from typing import Any, SupportsFloat, SupportsIndex
 
 import numpy as np
-from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray, IntArray
 from mpa.errors import InvalidInputError
 from mpa.plans import Plan
 from trajopt.export import Trajectory, atomic_write_text
@@ -44,8 +44,6 @@ __all__ = [
     "write_pvt",
 ]
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 #: Columns of the PVT file.
 PVT_COLUMNS = ("time", "a_s", "a_v", "b_s", "b_v")
 #: Default interval (s); the largest ``"auto"`` takes.

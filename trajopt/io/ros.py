@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError
 from trajopt.export import Trajectory, atomic_write_text
 from trajopt.io.directory import atomic_directory
@@ -53,7 +54,6 @@ __all__ = [
     "write_ros2_yaml",
 ]
 
-FloatArray = NDArray[np.float64]
 #: Joint names of robot A and robot B.
 DEFAULT_JOINT_NAMES = ("cart_a", "cart_b")
 #: Topic of the whole ``JointTrajectory`` message in the bag.

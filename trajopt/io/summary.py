@@ -8,15 +8,12 @@ import os
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from trajopt.path.planview import plan_view
 
 if TYPE_CHECKING:
     from trajopt.result import Trajectory
 from trajopt.io.directory import check_output_path, write_output_file
-
-FloatArray = NDArray[np.float64]
 
 
 def _json_default(obj: Any) -> Any:

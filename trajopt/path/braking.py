@@ -10,14 +10,12 @@ from collections.abc import Callable
 from typing import Any, NamedTuple
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError, PlanningError
 from mpa.routes import Route
 from trajopt.result import Trajectory
-
-FloatArray = NDArray[np.float64]
-
 
 _REST = 1e-12
 

@@ -35,6 +35,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import PlanningError
 from mpa.geometry import RouteGeometry
 from mpa.plans import MotionPlan
@@ -48,7 +49,6 @@ __all__ = [
     "corridor_radii",
 ]
 
-FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
 #: Number of segments of the hard path (nodes ``n + 1``), the same for every query.
 CORRIDOR_SEGMENTS = 32

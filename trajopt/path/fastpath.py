@@ -20,8 +20,8 @@ import time
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import MPAError
 from mpa.geometry import RouteGeometry
 from mpa.plans import MotionPlan
@@ -29,8 +29,6 @@ from trajopt.path.planview import plan_view
 from trajopt.timing import BlendedPath, Limits, TimeScaling, blend_polyline, rest_to_rest_profile
 
 __all__ = ["straight_line_clearance", "straight_scaling"]
-
-FloatArray = NDArray[np.float64]
 
 
 def straight_line_clearance(plan: MotionPlan, geom: RouteGeometry | None = None) -> float:

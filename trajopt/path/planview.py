@@ -17,8 +17,9 @@ from dataclasses import dataclass, replace
 from typing import cast
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from mpa._arrays import FloatArray, IntArray
 from mpa.geometry import DirectedRoute, RouteGeometry, densify_polyline
 from mpa.graph_track import GraphTrack
 from mpa.homotopy import path_word
@@ -32,8 +33,6 @@ from trajopt.verify.sampling import track_positions
 
 __all__ = ["REST_SPEED", "PlanView", "densify", "plan_view", "route_geometry"]
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 Pair = tuple[tuple[int, float], tuple[int, float]]
 #: Speeds (m/s) at or below which a robot counts as at rest (its ``*_dir`` is 0).
 REST_SPEED = 1e-9

@@ -27,7 +27,6 @@ import time
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from mpa.errors import PlanningError
 from mpa.geometry import RouteGeometry
@@ -40,7 +39,6 @@ from trajopt.timing import Limits, TimeScaling, filtered_scaling, spline_path
 
 __all__ = ["SWITCH_BAND", "blended_time_law", "near_switch_scaling", "switch_band"]
 
-FloatArray = NDArray[np.float64]
 
 #: Width of each of the two bands of line margins, as a share of the track's total length.
 SWITCH_BAND = 0.005

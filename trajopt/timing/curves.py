@@ -23,9 +23,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import PlanningError
-
-FloatArray = NDArray[np.float64]
 
 #: Bézier samples used to check a blend for collisions.
 BLEND_SAMPLES = 64

@@ -7,8 +7,8 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from trajopt.timing.curves import (
     BlendedPath,
 )
@@ -21,8 +21,6 @@ from trajopt.timing.filters import (
 )
 from trajopt.timing.limits import Limits, PieceLimits, piece_limits
 from trajopt.timing.scaling import TimeScaling
-
-FloatArray = NDArray[np.float64]
 
 
 def filtered_scaling(

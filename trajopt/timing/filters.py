@@ -10,9 +10,8 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import PlanningError
-
-FloatArray = NDArray[np.float64]
 
 
 def _window_min(values: FloatArray, breaks: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:

@@ -13,15 +13,13 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from mpa import defaults
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError, PlanningError
 from trajopt.timing.curves import (
     BlendedPath,
 )
-
-FloatArray = NDArray[np.float64]
 
 
 def _pair(name: str, value: Any, unit: str, default: float) -> tuple[float, float]:

@@ -14,16 +14,15 @@ import time
 from typing import NamedTuple
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from mpa._arrays import FloatArray
 from mpa.errors import PlanningError
 from trajopt.timing.curves import (
     BlendedPath,
 )
 from trajopt.timing.limits import Limits, PieceLimits, piece_limits
 from trajopt.timing.scaling import TimeScaling
-
-FloatArray = NDArray[np.float64]
 
 
 def _dmin(v0: float, v1: float, a: float, j: float) -> float:

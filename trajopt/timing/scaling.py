@@ -11,13 +11,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from trajopt.timing.curves import (
     _FALLING_ARRAY,
     BlendedPath,
 )
 from trajopt.verify.sampling import sample_rows
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

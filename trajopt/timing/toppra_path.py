@@ -6,15 +6,13 @@ the speeds at the piece boundaries.
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import PlanningError
 from trajopt.timing.curves import (
     BlendedPath,
 )
 from trajopt.timing.limits import Limits
-
-FloatArray = NDArray[np.float64]
 
 
 def toppra_profile(

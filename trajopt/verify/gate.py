@@ -36,6 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mpa import tolerance
+from mpa._arrays import FloatArray, IntArray
 from mpa.errors import InvalidInputError, MPAError, PlanningError
 from mpa.geometry import DirectedRoute, GraphGeometry
 from mpa.homotopy import END_TOL, path_word, word_from_samples
@@ -73,8 +74,6 @@ __all__ = [
     "verify_setpoints",
 ]
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 #: Relative tolerance of the limit checks.
 LIMIT_RTOL = 1e-6
 #: Tolerance (metres) of the separation checks on layouts up to 125 m; on larger ones

@@ -19,6 +19,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray, IntArray
 from mpa.retraction import lollipop_trace_scalar
 from mpa.routes import affine_position
 from mpa.skeleton import lollipop_point_index
@@ -35,8 +36,6 @@ __all__ = [
     "word_samples",
 ]
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 #: A graph as the kernels take it: ``tails, heads, lengths, dv`` (:class:`mpa.geometry.GraphGeometry`).
 Graph = tuple[IntArray, IntArray, FloatArray, FloatArray]
 #: A route as the kernels take it: ``breaks, edges, dirs, entry`` (:class:`mpa.geometry.DirectedRoute`).

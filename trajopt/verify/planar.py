@@ -29,12 +29,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.footprint import Disc, Drawing, Footprint, Footprints, drawing_of
 from mpa.graph_track import GraphTrack
 
 __all__ = ["PLANE_TOL", "PlaneReport", "plane_margin", "row_gaps", "verify_plane"]
 
-FloatArray = NDArray[np.float64]
 #: Tolerance (metres) of the plane checks.
 PLANE_TOL = 1e-9
 

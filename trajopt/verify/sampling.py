@@ -13,13 +13,12 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray, IntArray
 from mpa.routes import affine_position
 from trajopt._numba import njit
 
 __all__ = ["sample_rows", "track_positions"]
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 
 _position = njit(cache=True)(affine_position)
 

@@ -25,9 +25,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
-from numpy.typing import NDArray
 
 from mpa import defaults
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError
 from mpa.plans import Plan
 from mpa.skeleton import skeleton_of
@@ -48,8 +48,6 @@ __all__ = [
     "query_title",
     "trajectory_motion",
 ]
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

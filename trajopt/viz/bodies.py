@@ -14,13 +14,12 @@ from typing import Any
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.patches import Circle, Patch, Polygon
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from mpa._arrays import FloatArray
 from mpa.footprint import Disc, Footprint, Footprints, body_polygon, drawing_of, footprints
 
 __all__ = ["body_patch", "body_poses", "draw_bodies", "move_body"]
-
-FloatArray = NDArray[np.float64]
 
 
 def body_patch(fp: Footprint, xy: ArrayLike, heading: float, **style: Any) -> Patch:

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.batch import plan_many
 from mpa.errors import InvalidInputError, NoMotionError
 from mpa.planners import make_planner
@@ -43,7 +44,6 @@ __all__ = [
     "plan_figure",
 ]
 
-FloatArray = NDArray[np.float64]
 #: Colours of the domains 1, 2, 3 (colour-blind safe), of the collision band and of "no motion".
 DOMAIN_COLORS = {1: "#4477aa", 2: "#ccbb44", 3: "#66ccee", 0: "#bbbbbb", -1: "#ffffff"}
 #: Grid value of a state closer than the clearance (the collision band).

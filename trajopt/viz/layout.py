@@ -30,8 +30,8 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError
 from mpa.freespace import free_space
 from mpa.geometry import DirectedRoute
@@ -55,8 +55,6 @@ __all__ = [
     "plan_title",
     "route_switches",
 ]
-
-FloatArray = NDArray[np.float64]
 
 
 class RouteStyle(TypedDict):

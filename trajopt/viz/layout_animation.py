@@ -29,6 +29,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, as_graph_track
@@ -40,7 +41,6 @@ from trajopt.viz.movie import StreamingGifWriter, _Progress, _save_streaming, an
 
 __all__ = ["StreamingGifWriter", "animate_graph_plan", "animate_layout", "graph_plan_motion"]
 
-FloatArray = NDArray[np.float64]
 #: Points along a robot's body.
 BODY_POINTS = 15
 #: Default figure width (inches): 800 px at the default 80 dpi.

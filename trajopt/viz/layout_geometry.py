@@ -14,13 +14,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from mpa._arrays import FloatArray
 from mpa.graph_track import GraphTrack, as_graph_track
 
 __all__ = ["CIRCLE_POINTS", "LayoutGeometry", "layout_geometry"]
 
-FloatArray = NDArray[np.float64]
 #: Points per circle drawn for a loop without ``points``.
 CIRCLE_POINTS = 64
 

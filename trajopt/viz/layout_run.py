@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack
@@ -33,7 +34,6 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["SNAPSHOTS", "layout_run_figure", "routes_from_summary", "trajectory_figure"]
 
-FloatArray = NDArray[np.float64]
 #: Number of times inside the motion at which the carts are drawn on the layout (start and goal have markers).
 SNAPSHOTS = 4
 

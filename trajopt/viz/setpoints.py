@@ -15,8 +15,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -24,7 +24,6 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["plot_rows", "read_rows"]
 
-FloatArray = NDArray[np.float64]
 _PROFILES = (("s", "m"), ("v", "m/s"), ("a", "m/s²"), ("j", "m/s³"))
 
 

@@ -9,6 +9,7 @@ it is optimal and what is guaranteed: docs/graphs.md, "The search in detail".
 
 from __future__ import annotations
 
+from mpa._arrays import FloatArray  # noqa: F401
 from mpa.planners.graph.assemble import _assemble, _merge_same_polygon, _route, _word  # noqa: F401
 from mpa.planners.graph.base import (  # noqa: F401
     F_GRID,
@@ -20,7 +21,6 @@ from mpa.planners.graph.base import (  # noqa: F401
     TIED_ROUTES,
     Coords,
     FaceKey,
-    FloatArray,
     Key,
     Piece,
     Segment,

@@ -4,14 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-from numpy.typing import NDArray
-
 from mpa.planners.search_common import TIE_BREAK as TIE_BREAK
 from mpa.planners.search_common import TIE_BREAK_2 as TIE_BREAK_2
-
-FloatArray = NDArray[np.float64]
-
 
 OBJECTIVES = ("fastest", "shortest")
 

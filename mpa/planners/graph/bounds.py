@@ -39,8 +39,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.graph_track import Position
-from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2, FaceKey, FloatArray, Key
+from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2, FaceKey, Key
 from mpa.planners.graph.mesh import _Mesh
 
 __all__ = ["BOUND_SAFETY", "PassingBound", "fastest_cost", "passing_bound", "separating_vertices"]

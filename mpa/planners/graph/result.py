@@ -8,10 +8,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from mpa._arrays import FloatArray
 from mpa.freespace import PolygonId
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, Position
-from mpa.planners.graph.base import FloatArray
 from mpa.plans import sample_parameter
 
 

@@ -11,11 +11,9 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._arrays import FloatArray
 from mpa.errors import InvalidInputError
 from mpa.tracks import Circle, Interval, Lollipop, Track
-
-FloatArray = NDArray[np.float64]
-
 
 #: Colours of robots A and B.
 ROBOT_COLORS = {"A": "#1f77b4", "B": "#ff7f0e"}
