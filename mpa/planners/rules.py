@@ -358,7 +358,7 @@ def plan_with_rules(
     """
     from mpa.planners.graph.assemble import _assemble, _merge_same_polygon
     from mpa.planners.graph.mesh import _mesh
-    from mpa.planners.graph.search import _search as exact_search
+    from mpa.planners.graph.search import AnyAngleSearch
 
     va, vb = speeds
     mesh = _mesh(fs)
@@ -381,7 +381,7 @@ def plan_with_rules(
     def path_cost(path: list[list[Any]]) -> float:
         return sum(seg_cost(x[0], x[1], x[2]) for x in path)
 
-    raw = exact_search(mesh, start, goal, objective, va, vb)
+    raw = AnyAngleSearch(mesh, start, goal, objective, va, vb).run()
     if raw is None:  # pragma: no cover - the component check guarantees a path without the rules
         raise PlanningError("the search without the rules found no path although it exists")
     raw = _merge_same_polygon([x for x in raw if x[1] != x[2]])

@@ -23,7 +23,7 @@ from mpa.graph_track import GraphTrack, Position
 from mpa.planners.graph.base import TIE_BREAK
 from mpa.planners.graph.bounds import PassingBound, fastest_cost, passing_bound
 from mpa.planners.graph.mesh import _mesh
-from mpa.planners.graph.search import _search
+from mpa.planners.graph.search import AnyAngleSearch
 from tests.helpers.graph_helpers import random_free_query, random_layout, random_position
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -41,7 +41,7 @@ def _optimum(fs: FreeSpace, s: tuple[Position, Position], g: tuple[Position, Pos
         return math.inf
     if s == g:
         return 0.0
-    segs = _search(_mesh(fs), s, g, "fastest", va, vb)
+    segs = AnyAngleSearch(_mesh(fs), s, g, "fastest", va, vb).run()
     assert segs is not None
     return fastest_cost(segs, va, vb)
 
@@ -157,7 +157,7 @@ def test_the_bound_closes_the_gap_of_a_swap_at_a_siding() -> None:
         pb = passing_bound(_mesh(fs), s, g, 1.0, 1.0)
         assert pb is not None
         assert pb.at_start > base + 0.5 * (opt - base), (s, base, pb.at_start, opt)
-        segs = _search(_mesh(fs), s, g, "fastest", 1.0, 1.0, bound=pb)
+        segs = AnyAngleSearch(_mesh(fs), s, g, "fastest", 1.0, 1.0, bound=pb).run()
         assert segs is not None
         assert fastest_cost(segs, 1.0, 1.0) == pytest.approx(opt, rel=1e-9), (s, opt)
         found += 1

@@ -125,7 +125,7 @@ def test_seeded_twins_of_random_queries_keep_routes_and_barely_move() -> None:
 def _search_segments(track: GraphTrack, D: float, start: object, goal: object) -> tuple[object, list[list[object]]]:
     fs = free_space(track, D)
     mesh = graph_planner._mesh(fs)
-    segs = graph_planner._search(mesh, start, goal, "fastest", 1.0, 1.0)  # type: ignore[arg-type]
+    segs = graph_planner.AnyAngleSearch(mesh, start, goal, "fastest", 1.0, 1.0).run()  # type: ignore[arg-type]
     assert segs is not None
     return fs, graph_planner._merge_same_polygon([x for x in segs if x[1] != x[2]])
 

@@ -26,7 +26,7 @@ LAYOUTS = ["y_junction", "theta", "two_sidings", "passing_loop", "figure_eight",
 
 def _search_plan(track: GraphTrack, fs: FreeSpace, start, goal) -> gp.GraphPlan:  # type: ignore[no-untyped-def]
     """The plan of the full search (no shortcut), as ``plan_graph`` assembles it."""
-    segs = gp._search(gp._mesh(fs), start, goal, "fastest", 1.0, 1.0)
+    segs = gp.AnyAngleSearch(gp._mesh(fs), start, goal, "fastest", 1.0, 1.0).run()
     assert segs is not None
     segs = gp._merge_same_polygon([x for x in segs if x[1] != x[2]])
     return gp._assemble(track, fs, start, goal, "fastest", (1.0, 1.0), segs)

@@ -30,7 +30,7 @@ from mpa.planners.graph.mesh import _Mesh, _mesh  # noqa: F401
 from mpa.planners.graph.query import _fits_float, _pair, _speeds, plan_graph  # noqa: F401
 from mpa.planners.graph.reasons import _path_like, _why_no_motion  # noqa: F401
 from mpa.planners.graph.result import GraphPlan
-from mpa.planners.graph.search import AnyAngleSearch, _search, _uncovered  # noqa: F401
+from mpa.planners.graph.search import AnyAngleSearch, _uncovered  # noqa: F401
 from mpa.planners.graph.shortcut import _fastest_alone, _independent_motion, _shortest_routes, _straight_motion  # noqa: F401
 
 __all__ = ["OBJECTIVES", "GraphPlan", "plan_graph"]

@@ -20,7 +20,7 @@ from mpa.planners.graph.bounds import passing_bound, separating_vertices
 from mpa.planners.graph.mesh import _mesh
 from mpa.planners.graph.reasons import _why_no_motion
 from mpa.planners.graph.result import GraphPlan
-from mpa.planners.graph.search import _search
+from mpa.planners.graph.search import AnyAngleSearch
 from mpa.planners.graph.shortcut import _independent_motion
 
 #: Queue pops after which a "fastest" search starts again with the passing bound (:mod:`mpa.planners.graph.bounds`:
@@ -161,13 +161,12 @@ def plan_graph(
     if quick is not None:
         return _assemble(tr, fs, s, gl, objective, (va, vb), quick)
     after = PASSING_BOUND_AFTER if objective == "fastest" and separating_vertices(mesh, s, gl) else None
-    segs = _search(mesh, s, gl, objective, va, vb, budget=after)
+    segs = AnyAngleSearch(mesh, s, gl, objective, va, vb).run(after)
     if segs is None:  # a long negotiation: again, with the bound that knows the robots must pass, if it knows more
         passing = passing_bound(mesh, s, gl, va, vb)
         own = max(geo.distance_scalar(*s[0], *gl[0]) / va, geo.distance_scalar(*s[1], *gl[1]) / vb)
-        segs = _search(
-            mesh, s, gl, objective, va, vb, bound=passing if passing and passing.at_start > own * BOUND_GAIN else None
-        )
+        bound = passing if passing and passing.at_start > own * BOUND_GAIN else None
+        segs = AnyAngleSearch(mesh, s, gl, objective, va, vb, bound=bound).run()
     if segs is None:  # pragma: no cover - no budget given
         raise PlanningError("search gave up")
     segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])

@@ -141,6 +141,9 @@ class AnyAngleSearch:
     objective : {"fastest", "shortest"}
     va, vb : float
         The robots' speeds (m/s), > 0.
+    bound : PassingBound, optional
+        The passing bound of this query (:mod:`mpa.planners.graph.bounds`): a node's bound is then the larger of the
+        robots' distances' and the passing bound at its point (at its root, for a face entry).
     """
 
     def __init__(
@@ -357,7 +360,7 @@ class AnyAngleSearch:
 
     # --------------------------------------------------------------------------------------------------- run
     def run(self, budget: int | None = None) -> list[Segment] | None:
-        """The path's straight segments start to goal (:func:`_unwind`); with ``budget``: None after that many
+        """The path's straight segments start to goal (:meth:`segments`); with ``budget``: None after that many
         expansions.
 
         Raises
@@ -446,19 +449,3 @@ class AnyAngleSearch:
             pid, c = start_members[0]
             out.append([pid, c, c])
         return out
-
-
-def _search(
-    mesh: _Mesh,
-    start: tuple[Position, Position],
-    goal: tuple[Position, Position],
-    objective: str,
-    va: float,
-    vb: float,
-    budget: int | None = None,
-    bound: PassingBound | None = None,
-) -> list[Segment] | None:
-    """The exact shortest path's straight segments (:class:`AnyAngleSearch`); with ``budget``: None after that many
-    expansions. With ``bound`` (:class:`~mpa.planners.graph.bounds.PassingBound` of this query): a node's bound is the
-    larger of the robots' distances' and the passing bound at its point (at its root, for a face entry)."""
-    return AnyAngleSearch(mesh, start, goal, objective, va, vb, bound=bound).run(budget)
