@@ -21,7 +21,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from mpa import GraphTrack
 from trajopt import TrajectoryGenerator
-from trajopt.viz.layout_animation import _frame_times, animate_layout
+from trajopt.viz.layout_animation import animate_layout
+from trajopt.viz.movie import frame_times
 
 ROOT = Path(__file__).resolve().parents[1] / "examples" / "tracks"
 QUERIES = [
@@ -41,7 +42,7 @@ def main(argv: list[str] | None = None) -> int:
             track = GraphTrack.from_json(str(ROOT / name))
             traj = TrajectoryGenerator(track, clearance=clearance).generate(start, goal)
             p = traj.plan
-            frames = len(_frame_times(traj.t, 20.0, args.max_frames)[0])
+            frames = len(frame_times(float(traj.t[0]), float(traj.t[-1]), 20.0, args.max_frames)[0])
             out = Path(tmp) / f"{name}.gif"
             w0, c0 = time.perf_counter(), time.process_time()
             animate_layout(

@@ -95,7 +95,7 @@ def profile_stages(track, n: int, seed: int) -> dict[str, float]:  # type: ignor
     st = pstats.Stats(pr)
     total = max(st.total_tt, 1e-12)  # type: ignore[attr-defined]
     wanted = {
-        "validation": "check_query",
+        "validation": "validate_query",
         "preliminary traces": "lollipop_trace_scalar",
         "skeleton routing": "route_in_skeleton",
         "routes (lift + geodesic)": "build_plan",

@@ -78,8 +78,8 @@ def _as_states(name: str, value: ArrayLike) -> NDArray[np.float64]:
     return arr
 
 
-def _check(planner: Planner, name: str, st: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The vectorised twin of :meth:`mpa.cspace.ConfigurationSpace.check_state` (raises for the first bad row)."""
+def _validate_states(planner: Planner, name: str, st: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The vectorised twin of :meth:`mpa.cspace.ConfigurationSpace.validate_state` (raises for the first bad row)."""
     tr = planner.track
     bad = ~np.all(np.isfinite(st), axis=1)
     out = np.stack([tr.normalize(st[:, 0]), tr.normalize(st[:, 1])], axis=1)
@@ -87,13 +87,13 @@ def _check(planner: Planner, name: str, st: NDArray[np.float64]) -> NDArray[np.f
         bad = ~np.all(tr._valid_mask(out), axis=1)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
-        planner.cspace.check_state(st[i], f"{name}[{i}]")  # raises with the scalar message
+        planner.cspace.validate_state(st[i], f"{name}[{i}]")  # raises with the scalar message
         raise InvalidInputError(f"{name}[{i}] is {st[i].tolist()}, expected track coordinates")  # pragma: no cover
     d = tr.distance(out[:, 0], out[:, 1])
     low = (d <= 0.0) | (d < planner.clearance)
     if low.any():
         i = int(np.flatnonzero(low)[0])
-        planner.cspace.check_state(st[i], f"{name}[{i}]")
+        planner.cspace.validate_state(st[i], f"{name}[{i}]")
     return out
 
 
@@ -139,15 +139,15 @@ def plan_many(
     g = _as_states("goals", goals)
     if s.shape != g.shape:
         raise InvalidInputError(f"starts has shape {s.shape} and goals {g.shape}, expected equal shapes")
-    s = _check(planner, "starts", s)
-    g = _check(planner, "goals", g)
+    s = _validate_states(planner, "starts", s)
+    g = _validate_states(planner, "goals", g)
     n = len(s)
     if isinstance(planner, IntervalPlanner):
         flip = (s[:, 0] < s[:, 1]) != (g[:, 0] < g[:, 1])
         if flip.any():
             i = int(np.flatnonzero(flip)[0])
             try:
-                planner.cspace.check_query(s[i], g[i])
+                planner.cspace.validate_query(s[i], g[i])
             except NoMotionError as exc:
                 raise NoMotionError(f"query {i}: {exc}") from None
         return BatchPlans(planner, s, g, np.ones(n, dtype=np.int64), ((),) * n)

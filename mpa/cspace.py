@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mpa._deprecation import deprecated_alias
 from mpa.defaults import CLEARANCE_TOL
 from mpa.errors import InvalidInputError, NoMotionError
 from mpa.tracks import Circle, Interval, Lollipop, Track
@@ -59,7 +60,7 @@ class ConfigurationSpace:
         d = self.distance(states)
         return (d >= self.clearance) & (d > 0.0)
 
-    def check_state(self, state: ArrayLike, name: str = "state") -> NDArray[np.float64]:
+    def validate_state(self, state: ArrayLike, name: str = "state") -> NDArray[np.float64]:
         """Validate one state ``(a, b)`` and return it normalized.
 
         Raises
@@ -105,7 +106,7 @@ class ConfigurationSpace:
             return 1 if min(a, ell) < min(b, ell) or (a <= ell < b) else -1
         return 0
 
-    def check_query(self, start: ArrayLike, goal: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    def validate_query(self, start: ArrayLike, goal: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Validate a query and decide whether a collision-free motion exists.
 
         Returns
@@ -116,12 +117,12 @@ class ConfigurationSpace:
         Raises
         ------
         InvalidInputError
-            Bad start or goal (see :meth:`check_state`).
+            Bad start or goal (see :meth:`validate_state`).
         NoMotionError
             The robots would have to change order where they cannot.
         """
-        s = self.check_state(start, "start")
-        g = self.check_state(goal, "goal")
+        s = self.validate_state(start, "start")
+        g = self.validate_state(goal, "goal")
         tr = self.track
         os_, og = self.order(s), self.order(g)
         if isinstance(tr, Interval) and os_ != og:
@@ -138,3 +139,8 @@ class ConfigurationSpace:
         if isinstance(tr, Circle) and self.clearance > tr.half:  # pragma: no cover - states already invalid
             raise NoMotionError(f"clearance {self.clearance:g} exceeds half the loop {tr.half:g}")
         return s, g
+
+    #: Deprecated name of :meth:`validate_state` (warns).
+    check_state = deprecated_alias(validate_state, "ConfigurationSpace.check_state")
+    #: Deprecated name of :meth:`validate_query` (warns).
+    check_query = deprecated_alias(validate_query, "ConfigurationSpace.check_query")

@@ -36,10 +36,11 @@ from numpy.typing import NDArray
 
 from mpa import tolerance
 from mpa._arrays import FloatArray
+from mpa._deprecation import deprecated_alias
 from mpa.errors import InvalidInputError
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 
-__all__ = ["MAX_CELLS", "FreeSpace", "PolygonId", "check_size", "free_space"]
+__all__ = ["MAX_CELLS", "FreeSpace", "PolygonId", "free_space", "validate_size"]
 
 #: ``(e, f, k)``: robot A's edge, robot B's edge, piece (0 unless ``e == f``; then 0: ``s > t``, 1: ``t > s``).
 PolygonId = tuple[int, int, int]
@@ -230,7 +231,7 @@ class FreeSpace:
 
     def __init__(self, track: object, clearance: float) -> None:
         tr = as_graph_track(track)
-        check_size(tr)
+        validate_size(tr)
         if isinstance(clearance, bool) or not isinstance(clearance, (int, float, np.integer, np.floating)):
             raise InvalidInputError(f"clearance is {clearance!r}, expected a finite number >= 0 (metres)")
         dd = float(clearance)
@@ -471,7 +472,7 @@ class FreeSpace:
 MAX_CELLS = 1_500_000
 
 
-def check_size(track: GraphTrack) -> None:
+def validate_size(track: GraphTrack) -> None:
     """Refuse, before any work, a layout whose free space would exceed :data:`MAX_CELLS` cells (E² edge pairs).
 
     Raises
@@ -486,6 +487,10 @@ def check_size(track: GraphTrack) -> None:
             f"(about {int(MAX_CELLS**0.5)} edges): larger layouts are not supported yet (merge chains of edges "
             "between junctions into single edges, or plan on a part of the layout)"
         )
+
+
+#: Deprecated name of :func:`validate_size` (warns).
+check_size = deprecated_alias(validate_size, "check_size")
 
 
 @lru_cache(maxsize=16)

@@ -8,7 +8,8 @@ directories and the JSON summary in :mod:`trajopt.io`. New code imports from the
 
 from __future__ import annotations
 
-from trajopt.grid import check_rate, time_grid
+from trajopt.grid import check_rate as check_rate  # deprecated name of validate_rate
+from trajopt.grid import time_grid, validate_rate
 from trajopt.io.atomic import Content, Streamed, atomic_write_bytes, atomic_write_text, content_text
 from trajopt.io.csvfile import (
     CSV_CHUNK_ROWS,
@@ -19,7 +20,8 @@ from trajopt.io.csvfile import (
     csv_field,
     csv_line,
 )
-from trajopt.io.directory import PAUSE_ENV, check_output_path, directory_lock, write_directory, write_output_file
+from trajopt.io.directory import PAUSE_ENV, directory_lock, validate_output_path, write_directory, write_output_file
+from trajopt.io.directory import check_output_path as check_output_path  # deprecated: validate_output_path
 from trajopt.io.summary import _json_default as _json_default
 from trajopt.result import Source, Trajectory, verified_rows
 
@@ -36,13 +38,13 @@ __all__ = [
     "Trajectory",
     "atomic_write_bytes",
     "atomic_write_text",
-    "check_output_path",
-    "check_rate",
     "content_text",
     "csv_field",
     "csv_line",
     "directory_lock",
     "time_grid",
+    "validate_output_path",
+    "validate_rate",
     "verified_rows",
     "write_directory",
     "write_output_file",

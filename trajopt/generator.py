@@ -36,7 +36,7 @@ from mpa.planners.graph import GraphPlan
 from mpa.plans import Plan
 from mpa.tracks import Track
 from trajopt.explain import RATE_LADDER, _decimal_at_most, _ladder, _RejectedError, explain_rejection, explain_threshold  # noqa: F401
-from trajopt.export import Source, Trajectory, check_rate, time_grid, verified_rows
+from trajopt.export import Source, Trajectory, time_grid, validate_rate, verified_rows
 from trajopt.path.corridor import CORRIDOR_SEGMENTS, CorridorProblem, hard_path_scaling
 from trajopt.path.fastpath import straight_scaling
 from trajopt.path.planning import GraphPlanner, _dedupe, route_speed_limits, view_waypoints
@@ -118,7 +118,7 @@ class TrajectoryGenerator:
     def __post_init__(self) -> None:
         if not isinstance(self.limits, Limits):
             raise InvalidInputError(f"limits is {self.limits!r}, expected a trajopt.Limits")
-        self.rate = check_rate(self.rate)
+        self.rate = validate_rate(self.rate)
         if self.objective not in OBJECTIVES:
             raise InvalidInputError(f"objective is {self.objective!r}, expected one of {', '.join(OBJECTIVES)}")
         self.footprint = footprints(self.footprint)
@@ -321,7 +321,7 @@ class TrajectoryGenerator:
             self.planner,
         )
         gen.footprint = self.footprint
-        gen.rate = check_rate(rate)
+        gen.rate = validate_rate(rate)
         gen._corridor = self._corridor
         gen._cap = None  # what a motion reaches between rows depends on the rate
         gen._gate_asked = self._gate_asked

@@ -1,4 +1,4 @@
-"""The setpoint grid: a rate checked (:func:`check_rate`), the times ``k / rate`` of a motion
+"""The setpoint grid: a rate checked (:func:`validate_rate`), the times ``k / rate`` of a motion
 (:func:`time_grid`), and the memory budget the rows must fit (:func:`memory_budget`).
 """
 
@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from mpa._arrays import FloatArray
+from mpa._deprecation import deprecated_alias
 from mpa.errors import InvalidInputError, positive_number
 
 #: Largest number of rows a grid may have.
@@ -25,7 +26,7 @@ MEMORY_BUDGET = 4.0 * 2**30
 BUDGET_ENV = "MPA_MEMORY_BUDGET"
 
 
-def check_rate(rate: Any, name: str = "rate") -> float:
+def validate_rate(rate: Any, name: str = "rate") -> float:
     """Validate a setpoint rate (Hz): a positive finite number.
 
     Raises
@@ -33,6 +34,10 @@ def check_rate(rate: Any, name: str = "rate") -> float:
     InvalidInputError
     """
     return positive_number(rate, name, "Hz")
+
+
+#: Deprecated name of :func:`validate_rate` (warns).
+check_rate = deprecated_alias(validate_rate, "check_rate")
 
 
 def memory_budget() -> float:

@@ -48,7 +48,7 @@ from mpa.plans import Plan, PlanStep
 from mpa.routes import Lift, Route
 from mpa.tracks import Circle, Lollipop, Track
 from trajopt.export import Trajectory, time_grid, verified_rows
-from trajopt.path.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
+from trajopt.path.braking import Brake, _Splice, _spliced_sampler, _validate_at_time, brake_profile
 from trajopt.verify.gate import (
     SEPARATION_TOL,
     VerificationError,
@@ -152,7 +152,7 @@ def replan(generator: TrajectoryGenerator, trajectory: Trajectory, at_time: floa
 
         return replan_graph(generator, trajectory, at_time, goal)
     t_start = time.perf_counter()
-    at = _check_at_time(at_time, trajectory)
+    at = _validate_at_time(at_time, trajectory)
     old = _paper_plan_for(generator, trajectory)
     track = old.track
     s0, v0, a0, p_cur = _state_at(trajectory, old, at)

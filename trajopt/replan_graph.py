@@ -36,7 +36,7 @@ from mpa.geometry import DirectedRoute, RouteGeometry
 from mpa.graph_track import as_graph_track
 from mpa.planners.graph import GraphPlan
 from trajopt.export import Trajectory, time_grid, verified_rows
-from trajopt.path.braking import Brake, _check_at_time, _Splice, _spliced_sampler, brake_profile
+from trajopt.path.braking import Brake, _Splice, _spliced_sampler, _validate_at_time, brake_profile
 from trajopt.path.planview import plan_view
 from trajopt.verify.gate import SEPARATION_TOL, VerificationError, VerificationReport
 from trajopt.verify.rows import Setpoints
@@ -83,7 +83,7 @@ def replan_graph(generator: TrajectoryGenerator, trajectory: Trajectory, at_time
     from mpa.errors import InvalidInputError
 
     t_start = time.perf_counter()
-    at = _check_at_time(at_time, trajectory)
+    at = _validate_at_time(at_time, trajectory)
     old = trajectory.plan
     if not isinstance(old, GraphPlan):  # the spliced plan is a GraphPlan (cells and offsets of its segments)
         raise InvalidInputError("the trajectory is on a paper track, expected one on a layout (use trajopt.replan)")

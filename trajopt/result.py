@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from mpa._arrays import FloatArray
 from mpa.plans import MotionPlan
-from trajopt.grid import check_rate, time_grid
+from trajopt.grid import time_grid, validate_rate
 from trajopt.io.csvfile import CSV_COLUMNS, GRAPH_CSV_COLUMNS, HEADING_COLUMNS, XY_COLUMNS
 from trajopt.path.planview import plan_view
 from trajopt.timing import Limits
@@ -193,7 +193,7 @@ class Trajectory:
         PlanningError
             No verified setpoints at that rate could be made (never expected).
         """
-        r = check_rate(rate)
+        r = validate_rate(rate)
         if r == self.rate:
             return self
         t = time_grid(self.motion_time, r)

@@ -202,7 +202,7 @@ def _reference_scale(level: Mapping[str, Any], vertices: list[Any], name: str) -
     return sum(ratios) / len(ratios) if ratios else None
 
 
-def _check_vertices(level: Mapping[str, Any], name: str, lon_lat: bool) -> list[Any]:
+def _validate_vertices(level: Mapping[str, Any], name: str, lon_lat: bool) -> list[Any]:
     vertices = level.get("vertices") or []
     if not isinstance(vertices, list):
         raise InvalidInputError(f"vertices of level {name!r} is {vertices!r}, expected a list of [x, y, z, name]")
@@ -230,7 +230,7 @@ def _fiducials(level: Mapping[str, Any]) -> dict[str, tuple[float, float]]:
 def _pixel_transform(levels: Mapping[str, Any], name: str, ref: str) -> tuple[float, float, float, float]:
     """``(scale, rotation, tx, ty)``: pixel ``p = (x, -y)`` of level ``name`` is at ``R(rotation) p · scale + t``."""
     ref_level = levels[ref]
-    ref_vertices = _check_vertices(ref_level, ref, False)
+    ref_vertices = _validate_vertices(ref_level, ref, False)
     ref_scale = _reference_scale(ref_level, ref_vertices, ref)
     if ref_scale is None:
         raise InvalidInputError(
@@ -242,7 +242,7 @@ def _pixel_transform(levels: Mapping[str, Any], name: str, ref: str) -> tuple[fl
     f_ref, f_lvl = _fiducials(ref_level), _fiducials(levels[name])
     pairs = [(f_ref[k], f_lvl[k]) for k in f_ref if k in f_lvl]
     if len(pairs) < 2:
-        own = _reference_scale(levels[name], _check_vertices(levels[name], name, False), name)
+        own = _reference_scale(levels[name], _validate_vertices(levels[name], name, False), name)
         return (own if own is not None else ref_scale), 0.0, 0.0, 0.0
     bearings = []
     ratios = []
@@ -335,7 +335,7 @@ def building_layout(
     if isinstance(nav_graph, bool) or (nav_graph is not None and not isinstance(nav_graph, int)):
         raise InvalidInputError(f"nav graph is {nav_graph!r}, expected a graph index (an integer)")
     graph_idx = 0 if nav_graph is None else int(nav_graph)
-    vertices = _check_vertices(lvl, name, system == "wgs84")
+    vertices = _validate_vertices(lvl, name, system == "wgs84")
     raw_lanes = lvl.get("lanes") or []
     if not isinstance(raw_lanes, list):
         raise InvalidInputError(f"lanes of level {name!r} is {raw_lanes!r}, expected a list of [i, j, {{params}}]")

@@ -36,7 +36,7 @@ class CirclePlanner(Planner):
         return 2, dccw if dccw <= h else dccw - c
 
     def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
-        s, g = self.cspace.check_query(start, goal)
+        s, g = self.cspace.validate_query(start, goal)
         tr = self.track
         if not isinstance(tr, Circle):
             raise InvalidInputError(f"track is {tr!r}, expected a Circle")

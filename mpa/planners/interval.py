@@ -21,7 +21,7 @@ class IntervalPlanner(Planner):
     """Two robots on an interval: one rule, straight translation, same order only."""
 
     def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
-        s, g = self.cspace.check_query(start, goal)
+        s, g = self.cspace.validate_query(start, goal)
         tr = self.track
         sk = skeleton_of(tr)
         mv = (RobotMove("stick", s[0], g[0] - s[0]), RobotMove("stick", s[1], g[1] - s[1]))

@@ -398,7 +398,7 @@ class LollipopPlanner(Planner):
 
     # --- the plan ---------------------------------------------------------------------------------
     def plan(self, start: ArrayLike, goal: ArrayLike) -> Plan:
-        s, g = self.cspace.check_query(start, goal)
+        s, g = self.cspace.validate_query(start, goal)
         tr = self.track
         if not isinstance(tr, Lollipop):
             raise InvalidInputError(f"track is {tr!r}, expected a Lollipop")

@@ -9,9 +9,9 @@ import pytest
 
 from mpa import Lollipop
 from mpa.errors import InvalidInputError, nonnegative_number, positive_number
-from trajopt.analysis.delay import check_delay_tolerance
-from trajopt.analysis.min_margin import check_min_margin
-from trajopt.grid import check_rate
+from trajopt.analysis.delay import validate_delay_tolerance
+from trajopt.analysis.min_margin import validate_min_margin
+from trajopt.grid import validate_rate
 
 
 @pytest.mark.parametrize(
@@ -19,14 +19,17 @@ from trajopt.grid import check_rate
     [
         (lambda: Lollipop(stick=-1.0), "stick length is -1.0, expected a positive finite number (metres)"),
         (lambda: Lollipop(loop="x"), "loop length is 'x', expected a positive finite number (metres)"),
-        (lambda: check_rate(0), "rate is 0.0, expected a positive finite number (Hz)"),
-        (lambda: check_rate(None, "--rate"), "--rate is None, expected a positive finite number (Hz)"),
-        (lambda: check_min_margin(-0.5), "min_margin is -0.5, expected a finite number of metres >= 0"),
-        (lambda: check_min_margin([1]), "min_margin is [1], expected a number of metres >= 0"),
-        (lambda: check_delay_tolerance(math.inf), "delay tolerance is inf, expected a finite number of seconds >= 0"),
-        (lambda: check_delay_tolerance("soon"), "delay tolerance is 'soon', expected a number of seconds >= 0"),
+        (lambda: validate_rate(0), "rate is 0.0, expected a positive finite number (Hz)"),
+        (lambda: validate_rate(None, "--rate"), "--rate is None, expected a positive finite number (Hz)"),
+        (lambda: validate_min_margin(-0.5), "min_margin is -0.5, expected a finite number of metres >= 0"),
+        (lambda: validate_min_margin([1]), "min_margin is [1], expected a number of metres >= 0"),
+        (
+            lambda: validate_delay_tolerance(math.inf),
+            "delay tolerance is inf, expected a finite number of seconds >= 0",
+        ),
+        (lambda: validate_delay_tolerance("soon"), "delay tolerance is 'soon', expected a number of seconds >= 0"),
         # a Python int too large for a float is bad input too, not an OverflowError
-        (lambda: check_min_margin(10**400), "min_margin is 1000"),
+        (lambda: validate_min_margin(10**400), "min_margin is 1000"),
     ],
 )
 def test_bad_numbers_name_the_quantity_the_value_and_what_was_expected(call, message: str) -> None:  # type: ignore[no-untyped-def]

@@ -8,7 +8,7 @@ import pytest
 from mpa import Interval, Lollipop
 from mpa.errors import InvalidInputError, NoMotionError
 from trajopt import TrajectoryGenerator, generate_trajectory
-from trajopt.analysis.delay import check_delay_tolerance
+from trajopt.analysis.delay import validate_delay_tolerance
 
 CHECK_RATE = 20_000.0  # Hz of the independent dense check
 TOL = 1e-9
@@ -78,7 +78,7 @@ def test_impossible_tolerance_says_the_best_value() -> None:
 @pytest.mark.parametrize("bad", [-0.1, float("nan"), float("inf"), "x", None])
 def test_bad_tolerance(bad) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(InvalidInputError, match="delay tolerance"):
-        check_delay_tolerance(bad)
+        validate_delay_tolerance(bad)
 
 
 def test_bad_tolerance_in_api(gen) -> None:  # type: ignore[no-untyped-def]

@@ -40,6 +40,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from mpa._deprecation import deprecated_alias
 from mpa.errors import InvalidInputError, MPAError, NoMotionError, nonnegative_number
 from mpa.graph_track import GraphTrack
 from mpa.tracks import Track
@@ -54,9 +55,9 @@ if TYPE_CHECKING:
 __all__ = [
     "CLEARANCE_STEPS",
     "MAX_SLOWDOWN",
-    "check_delay_tolerance",
     "generate_with_delay_tolerance",
     "rest_separation",
+    "validate_delay_tolerance",
 ]
 
 #: Fractions f of ``max(vmax)·T`` added to the clearance, in order (f = 1 guarantees T when feasible).
@@ -65,7 +66,7 @@ CLEARANCE_STEPS = (0.25, 0.5, 1.0)
 MAX_SLOWDOWN = 4.0
 
 
-def check_delay_tolerance(value: Any) -> float:
+def validate_delay_tolerance(value: Any) -> float:
     """A requested delay tolerance: a finite number of seconds >= 0.
 
     Raises
@@ -73,6 +74,10 @@ def check_delay_tolerance(value: Any) -> float:
     InvalidInputError
     """
     return nonnegative_number(value, "delay tolerance", "seconds")
+
+
+#: Deprecated name of :func:`validate_delay_tolerance` (warns).
+check_delay_tolerance = deprecated_alias(validate_delay_tolerance, "check_delay_tolerance")
 
 
 def _as_caller(traj: Trajectory, gen: TrajectoryGenerator) -> Trajectory:
@@ -139,7 +144,7 @@ def generate_with_delay_tolerance(
     NoMotionError
         No motion exists, or no candidate reaches ``tolerance`` (the message states the best value found).
     """
-    T = check_delay_tolerance(tolerance)
+    T = validate_delay_tolerance(tolerance)
     search = _CandidateSearch(gen, start, goal, T)
     out = search.attempt(gen.clearance, 1.0)
     if out is not None:

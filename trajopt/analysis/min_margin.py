@@ -32,6 +32,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from mpa._deprecation import deprecated_alias
 from mpa.errors import InvalidInputError, NoMotionError, nonnegative_number
 from trajopt.analysis.delay import _as_caller, rest_separation
 from trajopt.export import Trajectory
@@ -39,7 +40,7 @@ from trajopt.export import Trajectory
 if TYPE_CHECKING:
     from trajopt.generator import TrajectoryGenerator
 
-__all__ = ["BISECTIONS", "RETRIES", "SLACK", "check_min_margin", "generate_with_min_margin", "largest_clearance"]
+__all__ = ["BISECTIONS", "RETRIES", "SLACK", "generate_with_min_margin", "largest_clearance", "validate_min_margin"]
 
 #: Added to the effective clearance ``D + 2M`` (m): the margins are measured to about 1e-9 m.
 SLACK = 1e-7
@@ -49,7 +50,7 @@ RETRIES = 3
 BISECTIONS = 30
 
 
-def check_min_margin(value: Any) -> float:
+def validate_min_margin(value: Any) -> float:
     """A requested tracking margin: a finite number of metres >= 0.
 
     Raises
@@ -57,6 +58,10 @@ def check_min_margin(value: Any) -> float:
     InvalidInputError
     """
     return nonnegative_number(value, "min_margin", "metres")
+
+
+#: Deprecated name of :func:`validate_min_margin` (warns).
+check_min_margin = deprecated_alias(validate_min_margin, "check_min_margin")
 
 
 def _at_clearance(gen: TrajectoryGenerator, clearance: float) -> TrajectoryGenerator:
@@ -117,7 +122,7 @@ def generate_with_min_margin(
         No motion exists, or none keeps ``min_margin`` (the message names the largest tracking margin that can
         be had).
     """
-    M = check_min_margin(min_margin)
+    M = validate_min_margin(min_margin)
     D = gen.clearance
     traj = _candidate(gen, start, goal, D, delay_tolerance)
     if traj.margins().tracking_margin >= M:

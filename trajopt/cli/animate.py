@@ -17,11 +17,11 @@ from trajopt.cli.common import (
     TRAJECTORY_DEFAULTS,
     add_footprint_argument,
     add_trajectory_arguments,
-    check_output_dir,
     footprint_query,
     output_error,
     query_from_args,
     trajectory_options,
+    validate_output_dir,
 )
 
 if TYPE_CHECKING:
@@ -35,7 +35,7 @@ DEFAULTS = TRAJECTORY_DEFAULTS
 
 
 def _cmd_animate(args: argparse.Namespace) -> int:
-    check_output_dir(args.out)
+    validate_output_dir(args.out)
     track, start, goal = query_from_args(args)
     if getattr(args, "footprint", None) is not None and args.graph is None:
         raise InvalidInputError("--footprint needs a layout drawn in metres, expected --graph FILE with it")

@@ -55,10 +55,10 @@ from trajopt.cli.common import (
     add_clearance_argument,
     add_footprint_argument,
     add_map_arguments,
-    check_output_dir,
     graph_from_args,
     output_error,
     trajectory_options,
+    validate_output_dir,
 )
 
 __all__ = [
@@ -450,7 +450,7 @@ def run_batch(
 
 
 def _cmd_batch(args: argparse.Namespace) -> int:
-    check_output_dir(args.out)
+    validate_output_dir(args.out)
     track = graph_from_args(args)
     queries = read_queries(args.queries)
     progress = not args.no_progress and sys.stderr.isatty()

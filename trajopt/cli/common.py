@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from mpa import defaults
+from mpa._deprecation import deprecated_alias
 from mpa.errors import InvalidInputError
 from mpa.graph_track import GraphTrack
 from mpa.tracks import Track, make_track
@@ -22,13 +23,13 @@ __all__ = [
     "add_query_arguments",
     "add_trajectory_arguments",
     "apply_fleet",
-    "check_output_dir",
     "footprint_query",
     "graph_from_args",
     "output_error",
     "parse_coordinates",
     "query_from_args",
     "track_from_args",
+    "validate_output_dir",
 ]
 
 
@@ -223,7 +224,7 @@ def output_error(option: str, path: str | os.PathLike[str], exc: OSError) -> Inv
     return InvalidInputError(f"{option}: cannot write {str(path)!r}: {reason}")
 
 
-def check_output_dir(out: str, option: str = "--out") -> Path:
+def validate_output_dir(out: str, option: str = "--out") -> Path:
     """Check, before any work, that directory ``out`` can be created (if needed) and written into.
 
     Probes by creating the missing directories and a temporary file, then removes everything it created, so
@@ -264,6 +265,10 @@ def check_output_dir(out: str, option: str = "--out") -> Path:
             except OSError:
                 pass
     return d
+
+
+#: Deprecated name of :func:`validate_output_dir` (warns).
+check_output_dir = deprecated_alias(validate_output_dir, "check_output_dir")
 
 
 def add_footprint_argument(p: argparse.ArgumentParser) -> None:

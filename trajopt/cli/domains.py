@@ -19,14 +19,14 @@ __all__ = ["register"]
 
 
 def _cmd_domains(args: argparse.Namespace) -> int:
-    from trajopt.cli.plan import _check_plot_path
+    from trajopt.cli.plan import _validate_plot_path
 
     if args.samples < 10:
         raise InvalidInputError(f"--samples is {args.samples}, expected an integer >= 10")
     if (args.goal is None) == (args.start is None):
         raise InvalidInputError("give exactly one of --goal A B (the map of starts) and --start A B (the map of goals)")
     if args.plot is not None:
-        _check_plot_path(args.plot, True, args.dpi)
+        _validate_plot_path(args.plot, True, args.dpi)
     track = track_from_args(args)
     fixed = parse_coordinates(args.goal if args.goal is not None else args.start, "--goal" if args.goal else "--start")
     from trajopt.viz.domains import domain_grid

@@ -15,7 +15,7 @@ pvt           ``pvt.csv``             PVT rows every ``--pvt-interval`` s (:func
 
 ``--plot`` adds ``trajectory.png`` (:func:`trajopt.viz.layout_run.trajectory_figure`: a paper track's figure, or
 a layout run's). Every option is checked before
-any work (:func:`check_output_options`); every file is computed (:func:`output_files`; ``setpoints.csv`` is
+any work (:func:`validate_output_options`); every file is computed (:func:`output_files`; ``setpoints.csv`` is
 :class:`trajopt.io.atomic.Streamed`, formatted piece by piece while it is written) and then written all or nothing
 (:func:`trajopt.cli.trajectory.write_outputs`).
 
@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from mpa._deprecation import deprecated_alias
 from mpa.errors import InvalidInputError
 from trajopt.export import Content, Streamed, Trajectory
 
@@ -44,11 +45,11 @@ __all__ = [
     "FORMAT_FILES",
     "OutputOptions",
     "add_output_arguments",
-    "check_output_options",
     "json_text",
     "output_files",
     "parse_formats",
     "summary_text",
+    "validate_output_options",
 ]
 
 #: File written for each ``--format``.
@@ -59,7 +60,7 @@ PLOT_FILE = "trajectory.png"
 
 @dataclass(frozen=True)
 class OutputOptions:
-    """The checked output options (see :func:`check_output_options`)."""
+    """The checked output options (see :func:`validate_output_options`)."""
 
     formats: tuple[str, ...] = ("csv",)
     pvt_interval: float | str = "auto"
@@ -138,7 +139,7 @@ def _rosbags_available() -> bool:
         return False
 
 
-def check_output_options(args: argparse.Namespace) -> OutputOptions:
+def validate_output_options(args: argparse.Namespace) -> OutputOptions:
     """Check the output options before any work.
 
     Raises
@@ -146,15 +147,15 @@ def check_output_options(args: argparse.Namespace) -> OutputOptions:
     InvalidInputError
         Unknown format, bad joint names, topic, PVT interval or stretch; ``mcap`` without ``rosbags``.
     """
-    from trajopt.io.pvt import check_interval
-    from trajopt.io.ros import check_joint_names, check_topic
+    from trajopt.io.pvt import validate_interval
+    from trajopt.io.ros import validate_joint_names, validate_topic
 
     formats = parse_formats(args.format)
-    names = check_joint_names(args.joint_names)
-    topic = check_topic(args.topic, "--topic")
+    names = validate_joint_names(args.joint_names)
+    topic = validate_topic(args.topic, "--topic")
     try:
         auto = isinstance(args.pvt_interval, str) and args.pvt_interval.strip().lower() == "auto"
-        interval: float | str = "auto" if auto else check_interval(args.pvt_interval)
+        interval: float | str = "auto" if auto else validate_interval(args.pvt_interval)
     except InvalidInputError as exc:
         raise InvalidInputError(str(exc).replace("PVT interval", "--pvt-interval", 1)) from None
     k = float(args.pvt_stretch)
@@ -166,6 +167,10 @@ def check_output_options(args: argparse.Namespace) -> OutputOptions:
             "pip install 'lollipop-mpa[ros]' (or drop mcap from --format)"
         )
     return OutputOptions(formats, interval, k, names, topic, bool(getattr(args, "plot", False)))
+
+
+#: Deprecated name of :func:`validate_output_options` (warns).
+check_output_options = deprecated_alias(validate_output_options, "check_output_options")
 
 
 def _mcap_bytes(traj: Trajectory, opts: OutputOptions) -> bytes:

@@ -45,7 +45,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     track, start, goal, fps = footprint_query(args, track, start, goal)
     graph_plan = args.planner == "graph" or not isinstance(track, Track)
     if args.plot is not None:
-        _check_plot_path(args.plot, graph_plan, args.dpi)
+        _validate_plot_path(args.plot, graph_plan, args.dpi)
     p = plan_query(track, start, goal, args.clearance, args.planner, args.objective, args.neighbourhood, footprint=fps)
     if not isinstance(p, Plan):  # the paper's plan prints its own pinned form (track coordinates, domain, rule)
         if args.plot is not None:
@@ -152,7 +152,7 @@ def _write_paper_plot(p: Plan, args: argparse.Namespace) -> None:
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 
 
-def _check_plot_path(path: str, graph_plan: bool, dpi: float) -> None:
+def _validate_plot_path(path: str, graph_plan: bool, dpi: float) -> None:
     """Fail before planning if ``--plot`` cannot be honoured (bad suffix or resolution, folder not writable).
 
     ``graph_plan``: whether a graph plan is drawn (a paper plan is drawn as well; kept for the callers)."""

@@ -31,8 +31,8 @@ import numpy as np
 from mpa.errors import InvalidInputError, MPAError
 from mpa.graph import parse_json
 from mpa.tracks import make_track
-from trajopt.cli.common import check_output_dir, parse_coordinates
-from trajopt.cli.outputs import add_output_arguments, check_output_options, output_files, summary_text
+from trajopt.cli.common import parse_coordinates, validate_output_dir
+from trajopt.cli.outputs import add_output_arguments, output_files, summary_text, validate_output_options
 from trajopt.cli.replan_layout import (
     is_layout_summary,
     layout_goal,
@@ -206,12 +206,12 @@ def load_trajectory(directory: str | Path, option: str = "--from") -> tuple[Traj
 
 
 def _cmd_replan(args: argparse.Namespace) -> int:
-    opts = check_output_options(args)
+    opts = validate_output_options(args)
     goal: Any = _goal_for_run(args.from_dir, args.goal)
     at = float(args.at)
     if not math.isfinite(at):
         raise InvalidInputError(f"--at is {args.at!r}, expected a time in seconds")
-    check_output_dir(args.out)
+    validate_output_dir(args.out)
     gen, traj, recipe = load_trajectory(args.from_dir)
     if not 0.0 <= at <= traj.makespan:
         raise InvalidInputError(f"--at is {at!r} s, expected a time in [0, {traj.makespan:g}] s (the motion of --from)")

@@ -18,12 +18,13 @@ import webbrowser
 from pathlib import Path
 from typing import Any
 
+from mpa._deprecation import deprecated_alias
 from mpa.errors import InvalidInputError
 
-__all__ = ["check_serve_extra", "register"]
+__all__ = ["register", "validate_serve_extra"]
 
 
-def check_serve_extra() -> None:
+def validate_serve_extra() -> None:
     """Raise :class:`InvalidInputError` naming the extra to install when Starlette or uvicorn is missing."""
     missing = [m for m in ("starlette", "uvicorn") if importlib.util.find_spec(m) is None]
     if missing:
@@ -31,6 +32,14 @@ def check_serve_extra() -> None:
             f"mpa serve needs the optional dependencies starlette and uvicorn ({', '.join(missing)} not installed): "
             "pip install 'lollipop-mpa[serve]'"
         )
+
+
+#: Deprecated name of :func:`validate_serve_extra` (warns).
+#: Deprecated name of :func:`validate_serve_extra` (warns).
+check_serve_extra = deprecated_alias(validate_serve_extra, "check_serve_extra")
+
+
+check_serve_extra = deprecated_alias(validate_serve_extra, "check_serve_extra")
 
 
 def _initial(args: argparse.Namespace) -> dict[str, Any]:
@@ -78,7 +87,7 @@ def _open_browser(url: str) -> None:
 
 
 def _cmd_serve(args: argparse.Namespace) -> int:
-    check_serve_extra()
+    validate_serve_extra()
     initial = _initial(args)
     import uvicorn
 

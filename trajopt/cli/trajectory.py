@@ -18,21 +18,21 @@ from mpa import defaults
 from mpa.errors import InvalidInputError
 from mpa.graph_track import GraphTrack
 from mpa.tracks import Lollipop, Track
-from trajopt.analysis.delay import check_delay_tolerance
+from trajopt.analysis.delay import validate_delay_tolerance
 from trajopt.cli.common import (
     TRAJECTORY_DEFAULTS,
     add_footprint_argument,
     add_trajectory_arguments,
-    check_output_dir,
     footprint_query,
     query_from_args,
+    validate_output_dir,
 )
 from trajopt.cli.outputs import (
     OutputOptions,
     add_output_arguments,
-    check_output_options,
     output_files,
     summary_text,
+    validate_output_options,
 )
 from trajopt.export import (
     Content,
@@ -107,10 +107,10 @@ def _json(obj: Any) -> str:
 
 
 def _cmd_trajectory(args: argparse.Namespace) -> int:
-    opts = check_output_options(args)
-    tolerance = None if args.delay_tolerance is None else check_delay_tolerance(args.delay_tolerance)
-    margin = None if args.min_margin is None else check_margin_option(args.min_margin)
-    check_output_dir(args.out)
+    opts = validate_output_options(args)
+    tolerance = None if args.delay_tolerance is None else validate_delay_tolerance(args.delay_tolerance)
+    margin = None if args.min_margin is None else validate_margin_option(args.min_margin)
+    validate_output_dir(args.out)
     track, start, goal = query_from_args(args)
     track, start, goal, fps = footprint_query(args, track, start, goal)
     limits = Limits(args.vmax, args.amax, args.jmax)
@@ -166,7 +166,7 @@ def trajectory_files(
     rate : float
         ``--rate`` of the setpoints (Hz).
     opts : OutputOptions
-        The checked output options (:func:`trajopt.cli.outputs.check_output_options`).
+        The checked output options (:func:`trajopt.cli.outputs.validate_output_options`).
     tolerance : float, optional
         ``--delay-tolerance`` (s), already checked.
     planner : {None, "paper", "graph"}
@@ -213,7 +213,7 @@ def trajectory_files(
 def _cmd_demo(args: argparse.Namespace) -> int:
     from trajopt.viz.plotting import figure_png, plot_trajectory
 
-    check_output_dir(args.out)
+    validate_output_dir(args.out)
     job = DEMO_JOB
     track = Lollipop(job["stick"], job["loop"])
     gen = TrajectoryGenerator(
@@ -284,12 +284,12 @@ def add_planner_arguments(p: argparse.ArgumentParser) -> None:
     )
 
 
-def check_margin_option(value: float) -> float:
+def validate_margin_option(value: float) -> float:
     """``--min-margin``: a finite number of metres >= 0 (InvalidInputError naming the option otherwise)."""
-    from trajopt.analysis.min_margin import check_min_margin
+    from trajopt.analysis.min_margin import validate_min_margin
 
     try:
-        return check_min_margin(value)
+        return validate_min_margin(value)
     except InvalidInputError as exc:
         raise InvalidInputError(str(exc).replace("min_margin", "--min-margin", 1)) from None
 

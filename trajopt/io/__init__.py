@@ -25,7 +25,14 @@ from trajopt.io.csvfile import (
     csv_line,
     write_csv,
 )
-from trajopt.io.directory import atomic_directory, check_output_path, directory_lock, write_directory, write_output_file
+from trajopt.io.directory import (
+    atomic_directory,
+    directory_lock,
+    validate_output_path,
+    write_directory,
+    write_output_file,
+)
+from trajopt.io.directory import check_output_path as check_output_path  # deprecated: validate_output_path
 from trajopt.io.summary import summary, write_json
 
 __all__ = [
@@ -41,13 +48,13 @@ __all__ = [
     "atomic_write",
     "atomic_write_bytes",
     "atomic_write_text",
-    "check_output_path",
     "content_text",
     "csv_chunks",
     "csv_field",
     "csv_line",
     "directory_lock",
     "summary",
+    "validate_output_path",
     "write_csv",
     "write_directory",
     "write_json",

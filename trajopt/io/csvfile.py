@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from trajopt.io.directory import check_output_path, write_output_file
+from trajopt.io.directory import validate_output_path, write_output_file
 
 if TYPE_CHECKING:
     from trajopt.result import Trajectory
@@ -152,6 +152,6 @@ def write_csv(traj: Trajectory, path: str | os.PathLike[str], rate: float | None
         ``path`` is not a file path (empty, a directory, not a string or path), the file cannot be written
         (the message names the path and the reason), or ``rate`` is invalid or too low.
     """
-    target = check_output_path(path)
+    target = validate_output_path(path)
     chunks = traj.csv_chunks(rate)  # verified at the rate before anything is written
     write_output_file(target, Streamed(lambda: chunks))

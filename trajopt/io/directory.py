@@ -13,6 +13,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
+from mpa._deprecation import deprecated_alias
 from mpa.errors import InvalidInputError
 from trajopt.io.atomic import (
     Content,
@@ -336,7 +337,7 @@ def directory_lock(directory: str | os.PathLike[str]) -> Iterator[None]:
         os.close(fd)  # releases the lock
 
 
-def check_output_path(path: Any, what: str = "path") -> Path:
+def validate_output_path(path: Any, what: str = "path") -> Path:
     """Check an output file's path before any work: a non-empty ``str`` or path-like that is not a directory.
 
     Raises
@@ -359,6 +360,10 @@ def check_output_path(path: Any, what: str = "path") -> Path:
     if is_dir or text.endswith(os.sep):
         raise InvalidInputError(f"{what} is {text!r}, which is a directory, expected a file path")
     return p
+
+
+#: Deprecated name of :func:`validate_output_path` (warns).
+check_output_path = deprecated_alias(validate_output_path, "check_output_path")
 
 
 def write_output_file(path: Path, content: Content, what: str = "path") -> None:

@@ -130,7 +130,7 @@ def _to_float(x: object) -> float:
     return float(x)
 
 
-def check_interval(interval: object) -> float:
+def validate_interval(interval: object) -> float:
     """Validate a PVT interval: a finite number >= :data:`MIN_INTERVAL` (s).
 
     Raises
@@ -355,8 +355,8 @@ def check_pvt(trajectory: Trajectory, interval: float = DEFAULT_INTERVAL, stretc
     InvalidInputError
         ``interval`` not a finite number >= 1 ms, ``stretch`` not a finite number >= 1.
     """
-    dlt = check_interval(interval)
-    k_st = _check_stretch(stretch)
+    dlt = validate_interval(interval)
+    k_st = _validate_stretch(stretch)
     tab = pvt_rows(trajectory, dlt, k_st)
     peak, fails = _piece_limit_check(tab, trajectory.limits)
     # the gate on a dense grid of the reconstruction
@@ -486,7 +486,7 @@ def _grid_row_peaks(tab: PVTTable, tg: FloatArray) -> tuple[FloatArray, FloatArr
     return a_rows, j_rows
 
 
-def _check_stretch(stretch: object, name: str = "stretch") -> float:
+def _validate_stretch(stretch: object, name: str = "stretch") -> float:
     try:
         k = _to_float(stretch)
     except (TypeError, ValueError):
@@ -514,7 +514,7 @@ def largest_pvt_interval(trajectory: Trajectory, upto: float = DEFAULT_INTERVAL,
     """The largest round interval (mantissas :data:`ROUND_MANTISSAS`: …, 0.1, 0.08, 0.05, 0.04, 0.025, 0.02,
     0.01, …, 1 ms) not above ``upto`` that passes :func:`check_pvt` (at time-stretch ``stretch``), or None if none
     does."""
-    for x in _series(check_interval(upto)):
+    for x in _series(validate_interval(upto)):
         if check_pvt(trajectory, x, stretch).ok:
             return x
     return None
@@ -522,7 +522,7 @@ def largest_pvt_interval(trajectory: Trajectory, upto: float = DEFAULT_INTERVAL,
 
 def smallest_pvt_stretch(trajectory: Trajectory, interval: float, max_stretch: float = 2.0) -> float | None:
     """The smallest factor of :data:`STRETCHES` not above ``max_stretch`` with which ``interval`` passes, or None."""
-    cap = _check_stretch(max_stretch, "max_stretch")
+    cap = _validate_stretch(max_stretch, "max_stretch")
     for k in STRETCHES:
         if k <= cap * (1 + 1e-12) and check_pvt(trajectory, interval, k).ok:
             return k
@@ -565,7 +565,7 @@ def pvt_table(
         best = largest_pvt_interval(trajectory, DEFAULT_INTERVAL)
         if best is not None:
             return pvt_rows(trajectory, best)
-        cap = _check_stretch(max_stretch, "max_stretch")
+        cap = _validate_stretch(max_stretch, "max_stretch")
         k = smallest_pvt_stretch(trajectory, DEFAULT_INTERVAL, cap) if cap > 1.0 else None
         if k is not None:
             return pvt_rows(trajectory, DEFAULT_INTERVAL, k)
@@ -581,8 +581,8 @@ def pvt_table(
             f"clearance and limits in the cubic reconstruction (at {DEFAULT_INTERVAL:g} s: {chk.failures[0]}), "
             f"expected a motion a PVT drive can follow{hint}"
         )
-    dlt = check_interval(interval)
-    cap = _check_stretch(max_stretch, "max_stretch")
+    dlt = validate_interval(interval)
+    cap = _validate_stretch(max_stretch, "max_stretch")
     chk = check_pvt(trajectory, dlt)
     if chk.ok:
         return pvt_rows(trajectory, dlt)

@@ -35,6 +35,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa._arrays import FloatArray
+from mpa._deprecation import deprecated_alias
 from mpa.errors import InvalidInputError
 from trajopt.export import Trajectory, atomic_write_text
 from trajopt.io.directory import atomic_directory
@@ -45,11 +46,11 @@ __all__ = [
     "DEFAULT_TOPIC",
     "MAX_STAMP_NS",
     "JointPoints",
-    "check_joint_names",
-    "check_topic",
     "joint_points",
     "ros2_yaml_text",
     "split_ns",
+    "validate_joint_names",
+    "validate_topic",
     "write_mcap",
     "write_ros2_yaml",
 ]
@@ -96,7 +97,7 @@ def split_ns(ns: int) -> tuple[int, int]:
     return sec, nsec
 
 
-def check_joint_names(joint_names: Any) -> tuple[str, str]:
+def validate_joint_names(joint_names: Any) -> tuple[str, str]:
     """Validate the joint names: two distinct ROS names (letters, digits, ``_``; not starting with a digit).
 
     Raises
@@ -121,7 +122,11 @@ def check_joint_names(joint_names: Any) -> tuple[str, str]:
     return names[0], names[1]
 
 
-def check_topic(topic: Any, name: str = "topic") -> str:
+#: Deprecated name of :func:`validate_joint_names` (warns).
+check_joint_names = deprecated_alias(validate_joint_names, "check_joint_names")
+
+
+def validate_topic(topic: Any, name: str = "topic") -> str:
     """Validate a ROS 2 topic name (``/a/b_c``: tokens of letters, digits and ``_``, not starting with a digit).
 
     Raises
@@ -131,6 +136,10 @@ def check_topic(topic: Any, name: str = "topic") -> str:
     if not isinstance(topic, str) or not _TOPIC_RE.match(topic):
         raise InvalidInputError(f"{name} is {topic!r}, expected a ROS 2 topic name such as '/joint_trajectory'")
     return topic if topic.startswith("/") else "/" + topic
+
+
+#: Deprecated name of :func:`validate_topic` (warns).
+check_topic = deprecated_alias(validate_topic, "check_topic")
 
 
 def _f(x: float) -> str:
@@ -186,8 +195,8 @@ def ros2_yaml_text(
     InvalidInputError
         Bad joint names, stamp or rate.
     """
-    names = check_joint_names(joint_names)
-    stamp = _check_stamp(stamp_ns)
+    names = validate_joint_names(joint_names)
+    stamp = _validate_stamp(stamp_ns)
     pts = joint_points(trajectory, rate)
     out: list[str] = []
     if header:
@@ -236,7 +245,7 @@ def write_ros2_yaml(trajectory: Trajectory, path: str | os.PathLike[str], **kwar
     atomic_write_text(path, text)
 
 
-def _check_stamp(stamp_ns: Any) -> int:
+def _validate_stamp(stamp_ns: Any) -> int:
     try:
         v = int(stamp_ns)
     except (TypeError, ValueError, OverflowError):
@@ -301,11 +310,11 @@ def write_mcap(
         does not exist, or the bag cannot be written there (``bag path PATH: cannot write: reason``); ``path`` is
         then unchanged.
     """
-    names = check_joint_names(joint_names)
-    topic, point_topic = _check_topics(topic, point_topic)
-    stamp = _check_stamp(stamp_ns)
+    names = validate_joint_names(joint_names)
+    topic, point_topic = _validate_topics(topic, point_topic)
+    stamp = _validate_stamp(stamp_ns)
     pts = joint_points(trajectory, rate)
-    target = _check_bag_path(path)
+    target = _validate_bag_path(path)
     ts = _typestore()
     try:
         with atomic_directory(target) as bag:
@@ -316,11 +325,11 @@ def write_mcap(
     return target / f"{target.name}.mcap"
 
 
-def _check_topics(topic: str, point_topic: str | None) -> tuple[str, str | None]:
+def _validate_topics(topic: str, point_topic: str | None) -> tuple[str, str | None]:
     """The trajectory's topic and the points' topic (or None), checked, and distinct."""
-    topic = check_topic(topic)
+    topic = validate_topic(topic)
     if point_topic is not None:
-        point_topic = check_topic(point_topic, "point topic")
+        point_topic = validate_topic(point_topic, "point topic")
         if point_topic == topic:
             raise InvalidInputError(f"point topic is {point_topic!r}, expected a topic other than {topic!r}")
     return topic, point_topic
@@ -535,7 +544,7 @@ def _write_records(storage: Any, cid: int, stamps: NDArray[np.uint64], data: NDA
     return k + count
 
 
-def _check_bag_path(path: str | os.PathLike[str]) -> Path:
+def _validate_bag_path(path: str | os.PathLike[str]) -> Path:
     """The bag directory: a new path or an existing rosbag2 bag (to be replaced)."""
     target = Path(path)
     parent = target.parent if str(target.parent) else Path(".")

@@ -13,7 +13,7 @@ from trajopt.path.planview import plan_view
 
 if TYPE_CHECKING:
     from trajopt.result import Trajectory
-from trajopt.io.directory import check_output_path, write_output_file
+from trajopt.io.directory import validate_output_path, write_output_file
 
 
 def _json_default(obj: Any) -> Any:
@@ -110,5 +110,5 @@ def write_json(traj: Trajectory, path: str | os.PathLike[str], *, margins: bool 
     InvalidInputError
         ``path`` is not a file path, or the file cannot be written (the message names the path and the reason).
     """
-    target = check_output_path(path)
+    target = validate_output_path(path)
     write_output_file(target, json.dumps(summary(traj, margins=margins), indent=2, default=_json_default) + "\n")

@@ -128,7 +128,7 @@ def brake_profile(s: ArrayLike, v: ArrayLike, a: ArrayLike, limits: Any, target:
     )
 
 
-def _check_at_time(at_time: float, trajectory: Trajectory) -> float:
+def _validate_at_time(at_time: float, trajectory: Trajectory) -> float:
     """``at_time`` as seconds in ``[0, makespan]`` (InvalidInputError otherwise)."""
     try:
         at = float(at_time)

@@ -33,7 +33,15 @@ from mpa.plans import Plan
 from mpa.skeleton import skeleton_of
 from mpa.tracks import Track
 from trajopt.viz import drawing as dr
-from trajopt.viz.movie import FORMATS, _Progress, _save_streaming, animation_format, ffmpeg_executable, movie_writer
+from trajopt.viz.movie import (
+    FORMATS,
+    _Progress,
+    _save_streaming,
+    ffmpeg_executable,
+    frame_times,
+    movie_writer,
+    validate_movie_options,
+)
 
 if TYPE_CHECKING:
     from trajopt.result import Trajectory
@@ -126,13 +134,6 @@ def trajectory_motion(traj: Trajectory) -> Motion:
     return Motion(label, np.asarray(traj.t, dtype=float), np.asarray(traj.track, dtype=float), np.asarray(traj.v))
 
 
-def _check(name: str, value: float, lo: float, *, integer: bool = False) -> None:
-    ok = np.isfinite(value) and value >= lo and (not integer or float(value).is_integer())
-    if not ok:
-        what = "an integer" if integer else "a finite number"
-        raise InvalidInputError(f"{name} is {value!r}, expected {what} >= {lo:g}")
-
-
 def animate_motions(
     track: Track,
     motions: Sequence[Motion],
@@ -181,9 +182,11 @@ def animate_motions(
         Bad fps, dpi, frame count or format; mp4 without an ffmpeg executable.
     """
     out = Path(out)
-    fmt = _check_animation_options(out, motions, fps=fps, dpi=dpi, max_frames=max_frames, fmt=fmt)
+    fmt, fps, dpi, max_frames = validate_movie_options(out, fmt, fps, dpi, max_frames)
+    if not motions:
+        raise InvalidInputError("motions is empty, expected at least one motion to animate")
     writer = movie_writer(fmt, fps)
-    times, speedup = _frame_times(motions, fps, max_frames)
+    times, speedup = frame_times(0.0, max(max(m.duration for m in motions), 1e-9), fps, max_frames)
     fig, artists = _motions_figure(track, motions, plan, float(times[-1]), title, speedup)
     canvas, background = _freeze_background(fig, dpi, artists)
     bar = _Progress(len(times), "animate", progress)
@@ -239,31 +242,6 @@ def _freeze_background(fig: Figure, dpi: float, artists: Sequence[dict[str, Any]
     canvas.draw()
     fig.set_layout_engine("none")  # freeze the layout: frames differ only in the moving artists
     return canvas, canvas.copy_from_bbox(fig.bbox)
-
-
-def _check_animation_options(
-    out: Path, motions: Sequence[Motion], *, fps: float, dpi: float, max_frames: int | None, fmt: str | None
-) -> str:
-    """Validate the options of :func:`animate_motions`; returns the format."""
-    fmt = animation_format(out, fmt)
-    _check("fps", float(fps), 1.0)
-    _check("dpi", float(dpi), 10.0)
-    if max_frames is not None:
-        _check("max_frames", float(max_frames), 2.0, integer=True)
-    if not motions:
-        raise InvalidInputError("motions is empty, expected at least one motion to animate")
-    return fmt
-
-
-def _frame_times(motions: Sequence[Motion], fps: float, max_frames: int | None) -> tuple[FloatArray, float]:
-    """Times of the frames (s, shape (F,)) on the shared clock, and how much faster than real time they play."""
-    duration = max(max(m.duration for m in motions), 1e-9)
-    n_frames = int(np.ceil(duration * fps)) + 1
-    speedup = 1.0
-    if max_frames is not None and n_frames > max_frames:
-        speedup = (n_frames - 1) / (max_frames - 1)
-        n_frames = int(max_frames)
-    return np.linspace(0.0, duration, n_frames), speedup
 
 
 def _draw_motion_row(
@@ -399,10 +377,8 @@ def animate_query(
     """
     from mpa.planners import make_planner
 
-    _check("fps", float(kw.get("fps", 20.0)), 1.0)  # fail before the (slower) planning and optimisation
-    _check("dpi", float(kw.get("dpi", 80.0)), 10.0)
-    if kw.get("max_frames") is not None:
-        _check("max_frames", float(kw["max_frames"]), 2.0, integer=True)
+    # fail before the (slower) planning and optimisation
+    validate_movie_options(Path(out), kw.get("fmt"), kw.get("fps", 20.0), kw.get("dpi", 80.0), kw.get("max_frames"))
     if trajectory:
         from trajopt.generator import generate_trajectory
 

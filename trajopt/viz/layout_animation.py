@@ -17,7 +17,6 @@ run leaves no file behind.
 
 from __future__ import annotations
 
-import math
 import os
 from pathlib import Path
 from typing import Any
@@ -37,7 +36,15 @@ from mpa.planners.graph import GraphPlan
 from trajopt.viz.drawing import ROBOT_COLORS
 from trajopt.viz.labels import separate_labels
 from trajopt.viz.layout import ROUTE_STYLES, LayoutGeometry, draw_layout, draw_routes, layout_geometry
-from trajopt.viz.movie import StreamingGifWriter, _Progress, _save_streaming, animation_format, movie_writer
+from trajopt.viz.movie import (
+    StreamingGifWriter,
+    _Progress,
+    _save_streaming,
+    frame_times,
+    movie_writer,
+    validate_movie_options,
+    validate_number,
+)
 
 __all__ = ["StreamingGifWriter", "animate_graph_plan", "animate_layout", "graph_plan_motion"]
 
@@ -53,17 +60,7 @@ LABEL_SIZE = 10.0
 BORDER_PAD = 0.15
 
 
-def _check_number(name: str, value: object, lo: float, *, integer: bool = False) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InvalidInputError(f"{name} is {value!r}, expected a number >= {lo:g}")
-    v = float(value)
-    if not (math.isfinite(v) and v >= lo) or (integer and not v.is_integer()):
-        what = "an integer" if integer else "a finite number"
-        raise InvalidInputError(f"{name} is {value!r}, expected {what} >= {lo:g}")
-    return v
-
-
-def _check_motion(t: ArrayLike, s: ArrayLike) -> tuple[FloatArray, FloatArray]:
+def _validate_motion(t: ArrayLike, s: ArrayLike) -> tuple[FloatArray, FloatArray]:
     tt = np.asarray(t, dtype=float)
     ss = np.asarray(s, dtype=float)
     if tt.ndim != 1 or len(tt) < 1:
@@ -93,19 +90,9 @@ def graph_plan_motion(plan: GraphPlan, samples: int = 400) -> tuple[FloatArray, 
     s : ndarray, shape (samples, 2)
         Route coordinates of A and B (m).
     """
-    _check_number("samples", samples, 2, integer=True)
+    validate_number("samples", samples, 2, integer=True)
     u, s = plan.sample(int(samples))
     return u * plan.makespan, s
-
-
-def _frame_times(t: FloatArray, fps: float, max_frames: int | None) -> tuple[FloatArray, float]:
-    duration = float(t[-1] - t[0])
-    n = math.ceil(duration * fps) + 1
-    speedup = 1.0
-    if max_frames is not None and n > max_frames:
-        speedup = (n - 1) / max(max_frames - 1, 1)
-        n = int(max_frames)
-    return np.linspace(float(t[0]), float(t[-1]), max(n, 1)), speedup
 
 
 def _body_points(tr: GraphTrack, route: DirectedRoute, r: float, half: float) -> tuple[NDArray[np.int64], FloatArray]:
@@ -187,18 +174,14 @@ def animate_layout(
         Bad shapes or values of ``t``/``s``, fps, dpi, frame count or format; mp4 without an ffmpeg executable.
     """
     tr = as_graph_track(track)
-    tt, ss = _check_motion(t, s)
+    tt, ss = _validate_motion(t, s)
     out = Path(out)
-    fmt = animation_format(out, fmt)
-    fps = _check_number("fps", fps, 1.0)
-    dpi = _check_number("dpi", dpi, 10.0)
-    if max_frames is not None:
-        max_frames = int(_check_number("max_frames", max_frames, 2.0, integer=True))
+    fmt, fps, dpi, max_frames = validate_movie_options(out, fmt, fps, dpi, max_frames)
     half = 0.0
     if clearance is not None:
-        half = 0.5 * _check_number("clearance", clearance, 0.0)
+        half = 0.5 * validate_number("clearance", clearance, 0.0)
     writer: AbstractMovieWriter = movie_writer(fmt, fps, round(fps))
-    times, speedup = _frame_times(tt, fps, max_frames)
+    times, speedup = frame_times(float(tt[0]), float(tt[-1]), fps, max_frames)
 
     geo = layout_geometry(tr)
     fig = _static_figure(tr, geo, route_a, route_b, title, speedup, size)

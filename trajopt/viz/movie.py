@@ -6,6 +6,7 @@ Shared by :mod:`trajopt.viz.animation` (the paper's tracks) and :mod:`trajopt.vi
 
 from __future__ import annotations
 
+import math
 import shutil
 import sys
 import time
@@ -48,6 +49,44 @@ def animation_format(out: Path, fmt: str | None) -> str:
     if fmt not in FORMATS:
         raise InvalidInputError(f"format is {fmt!r}, expected one of {sorted(FORMATS)}")
     return fmt
+
+
+def validate_number(name: str, value: object, lo: float, *, integer: bool = False) -> float:
+    """``value`` as a float when it is a finite number ``>= lo`` (an integer if ``integer``), else
+    InvalidInputError naming ``name``, the value and what was expected."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InvalidInputError(f"{name} is {value!r}, expected a number >= {lo:g}")
+    v = float(value)
+    if not (math.isfinite(v) and v >= lo) or (integer and not v.is_integer()):
+        what = "an integer" if integer else "a finite number"
+        raise InvalidInputError(f"{name} is {value!r}, expected {what} >= {lo:g}")
+    return v
+
+
+def validate_movie_options(
+    out: Path, fmt: str | None, fps: object, dpi: object, max_frames: object
+) -> tuple[str, float, float, int | None]:
+    """The options every animation takes, validated: ``(format, fps, dpi, max_frames)``.
+
+    ``format`` from :func:`animation_format`; ``fps`` (frames per second) ``>= 1``; ``dpi`` ``>= 10``;
+    ``max_frames`` None or an integer ``>= 2``. InvalidInputError naming the first bad one.
+    """
+    fmt = animation_format(out, fmt)
+    fps_ = validate_number("fps", fps, 1.0)
+    dpi_ = validate_number("dpi", dpi, 10.0)
+    frames = None if max_frames is None else int(validate_number("max_frames", max_frames, 2.0, integer=True))
+    return fmt, fps_, dpi_, frames
+
+
+def frame_times(t0: float, t1: float, fps: float, max_frames: int | None) -> tuple[NDArray[np.float64], float]:
+    """Times of the frames from ``t0`` to ``t1`` (s, shape (F,), both ends included) at ``fps`` frames per second,
+    at most ``max_frames`` of them, and how much faster than real time they play (1 unless capped)."""
+    n = math.ceil((t1 - t0) * fps) + 1
+    speedup = 1.0
+    if max_frames is not None and n > max_frames:
+        speedup = (n - 1) / max(max_frames - 1, 1)
+        n = int(max_frames)
+    return np.linspace(t0, t1, max(n, 1)), speedup
 
 
 def movie_writer(fmt: str, fps: float, ffmpeg_fps: float | None = None) -> Any:

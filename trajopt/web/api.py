@@ -416,7 +416,7 @@ def cspace_answer(body: Any) -> dict[str, Any]:
     from mpa.planners import make_planner
 
     planner = make_planner(track, q.clearance, q.neighbourhood)
-    goal = np.asarray(planner.cspace.check_state(q.goal, "goal"), dtype=float).reshape(2)
+    goal = np.asarray(planner.cspace.validate_state(q.goal, "goal"), dtype=float).reshape(2)
     total = track.total_length
     c = (np.arange(cells) + 0.5) * total / cells
     a, b = np.meshgrid(c, c)  # row = B, column = A

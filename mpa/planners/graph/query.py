@@ -12,7 +12,7 @@ import numpy as np
 
 from mpa.errors import InvalidInputError, NoMotionError, PlanningError
 from mpa.footprint import footprints
-from mpa.freespace import check_size, free_space
+from mpa.freespace import free_space, validate_size
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 from mpa.planners.graph.assemble import _assemble, _merge_same_polygon
 from mpa.planners.graph.base import OBJECTIVES, SPEED_RANGE, SPEED_RATIO
@@ -130,7 +130,7 @@ def plan_graph(
     True
     """
     tr = as_graph_track(track)
-    check_size(tr)  # before the distances and the free space are built
+    validate_size(tr)  # before the distances and the free space are built
     if objective not in OBJECTIVES:
         raise InvalidInputError(f"objective is {objective!r}, expected one of {list(OBJECTIVES)}")
     va, vb = _speeds(speeds)
