@@ -28,8 +28,8 @@ from mpa.routes import Route, directed_route
 from mpa.tracks import Track
 from trajopt.timing import Limits
 from trajopt.verify.gate import VerificationReport, verify_graph_setpoints, verify_setpoints
+from trajopt.verify.kernels import track_positions
 from trajopt.verify.rows import Setpoints, rows_of
-from trajopt.verify.sampling import track_positions
 
 __all__ = ["REST_SPEED", "PlanView", "densify", "plan_view", "route_geometry"]
 

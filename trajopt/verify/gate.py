@@ -49,9 +49,10 @@ from trajopt.verify.kernels import (
     between_rows,
     check_rows,
     circle_skeleton_points,
-    dense_track_states,
+    dense_polyline,
     lollipop_skeleton_points,
     needs_densify,
+    track_positions,
     word_samples,
 )
 from trajopt.verify.rows import Setpoints, rows_of
@@ -319,7 +320,9 @@ def _word_check(
             (br_a, A_a, B_a, ln_a, interval, stick, loop), (br_b, A_b, B_b, ln_b, *_) = (
                 r.affine_form() for r in routes
             )
-            states = dense_track_states(S, step, br_a, A_a, B_a, ln_a, br_b, A_b, B_b, ln_b, interval, stick, loop)
+            dense = dense_polyline(S, step)
+            states = np.empty(dense.shape)
+            track_positions(dense, br_a, A_a, B_a, ln_a, br_b, A_b, B_b, ln_b, interval, stick, loop, states)
         else:
             states = np.zeros((0, 2))
         w = skeleton_word(track, states)

@@ -30,9 +30,10 @@ __all__ = [
     "between_rows",
     "check_rows",
     "circle_skeleton_points",
-    "dense_track_states",
+    "dense_polyline",
     "lollipop_skeleton_points",
     "needs_densify",
+    "track_positions",
     "word_samples",
 ]
 
@@ -480,27 +481,10 @@ _route_position = njit(cache=True)(affine_position)
 
 
 @njit(cache=True)
-def dense_track_states(
-    S: FloatArray,
-    step: float,
-    breaks_a: FloatArray,
-    A_a: FloatArray,
-    B_a: FloatArray,
-    line_a: NDArray[np.bool_],
-    breaks_b: FloatArray,
-    A_b: FloatArray,
-    B_b: FloatArray,
-    line_b: NDArray[np.bool_],
-    interval: bool,
-    stick: float,
-    loop: float,
-) -> FloatArray:
-    """Track coordinates along the polyline of route coordinates ``S`` (shape (N, 2)) refined to ``step``.
-
-    The points of :func:`mpa.geometry.densify_polyline` (every leg cut into ``max(1, ⌈|leg|_∞ / step⌉)`` equal
-    parts), each robot's mapped by :meth:`mpa.routes.Route.position` (:func:`mpa.routes.affine_position`, its
-    route given as :meth:`mpa.routes.Route.affine_form`). Shape (M, 2).
-    """
+def dense_polyline(S: FloatArray, step: float) -> FloatArray:
+    """The polyline of route coordinates ``S`` (shape (N, 2)) refined to ``step`` (m): the points of
+    :func:`mpa.geometry.densify_polyline` (every leg cut into ``max(1, ⌈|leg|_∞ / step⌉)`` equal parts).
+    Shape (M, 2)."""
     n = len(S)
     counts = np.ones(max(n - 1, 0), dtype=np.int64)
     total = 1
@@ -515,9 +499,34 @@ def dense_track_states(
         la, lb = S[k + 1, 0] - S[k, 0], S[k + 1, 1] - S[k, 1]
         for q in range(nk):
             frac = q / nk
-            out[m, 0] = _route_position(breaks_a, A_a, B_a, line_a, interval, stick, loop, S[k, 0] + frac * la)
-            out[m, 1] = _route_position(breaks_b, A_b, B_b, line_b, interval, stick, loop, S[k, 1] + frac * lb)
+            out[m, 0] = S[k, 0] + frac * la
+            out[m, 1] = S[k, 1] + frac * lb
             m += 1
-    out[m, 0] = _route_position(breaks_a, A_a, B_a, line_a, interval, stick, loop, S[n - 1, 0])
-    out[m, 1] = _route_position(breaks_b, A_b, B_b, line_b, interval, stick, loop, S[n - 1, 1])
+    out[m, 0] = S[n - 1, 0]
+    out[m, 1] = S[n - 1, 1]
     return out
+
+
+@njit(cache=True)
+def track_positions(
+    S: FloatArray,
+    breaks_a: FloatArray,
+    A_a: FloatArray,
+    B_a: FloatArray,
+    line_a: NDArray[np.bool_],
+    breaks_b: FloatArray,
+    A_b: FloatArray,
+    B_b: FloatArray,
+    line_b: NDArray[np.bool_],
+    interval: bool,
+    stick: float,
+    loop: float,
+    out: FloatArray,
+) -> None:
+    """Track coordinates of route coordinates ``S`` (shape (N, 2)) into ``out`` (shape (N, 2)):
+    :meth:`mpa.routes.Route.position` of each robot's route, given as :meth:`mpa.routes.Route.affine_form`
+    (:func:`mpa.routes.affine_position`, compiled). The gate's word check and the pipeline's rows
+    (:meth:`trajopt.path.planview.PlanView.track_coordinates`) both read positions through it."""
+    for r in range(len(S)):
+        out[r, 0] = _route_position(breaks_a, A_a, B_a, line_a, interval, stick, loop, S[r, 0])
+        out[r, 1] = _route_position(breaks_b, A_b, B_b, line_b, interval, stick, loop, S[r, 1])

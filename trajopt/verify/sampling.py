@@ -1,9 +1,9 @@
 """Sampling a timed path at the setpoint rate, compiled (numba), in one call per grid.
 
 :meth:`trajopt.timing.TimeScaling.sample` (the jerk phases ``s(t)``, then the path's derivatives by Horner's scheme
-and the chain rule) and :meth:`trajopt.path.planview.PlanView.track_coordinates` (each robot's route position,
-:func:`mpa.routes.affine_position` compiled) on a few hundred rows: as numpy they were some thirty array calls each,
-and their fixed cost was most of the time. The same formulas, row by row.
+and the chain rule) on a few hundred rows: as numpy it was some thirty array calls, and their fixed cost was most of
+the time. The same formulas, row by row. The rows' track coordinates are
+:func:`trajopt.verify.kernels.track_positions`.
 """
 
 from __future__ import annotations
@@ -11,16 +11,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numpy.typing import NDArray
 
 from mpa._arrays import FloatArray, IntArray
-from mpa.routes import affine_position
 from trajopt._numba import njit
 
-__all__ = ["sample_rows", "track_positions"]
-
-
-_position = njit(cache=True)(affine_position)
+__all__ = ["sample_rows"]
 
 
 @njit(cache=True)
@@ -111,26 +106,3 @@ def sample_rows(
             else:
                 A[r, col] = q[2] * vel**2 + q[1] * acc
                 J[r, col] = q[3] * math.pow(vel, 3.0) + 3 * q[2] * vel * acc + q[1] * jk
-
-
-@njit(cache=True)
-def track_positions(
-    S: FloatArray,
-    breaks_a: FloatArray,
-    A_a: FloatArray,
-    B_a: FloatArray,
-    line_a: NDArray[np.bool_],
-    breaks_b: FloatArray,
-    A_b: FloatArray,
-    B_b: FloatArray,
-    line_b: NDArray[np.bool_],
-    interval: bool,
-    stick: float,
-    loop: float,
-    out: FloatArray,
-) -> None:
-    """Track coordinates of route coordinates ``S`` (shape (N, 2)) into ``out`` (:meth:`mpa.routes.Route.position`
-    of each robot's route, given as :meth:`mpa.routes.Route.affine_form`)."""
-    for r in range(len(S)):
-        out[r, 0] = _position(breaks_a, A_a, B_a, line_a, interval, stick, loop, S[r, 0])
-        out[r, 1] = _position(breaks_b, A_b, B_b, line_b, interval, stick, loop, S[r, 1])

@@ -16,19 +16,11 @@ inner side; where both robots' curves share axes, A is solid and B dashed (:data
 
 from __future__ import annotations
 
-from trajopt.viz.drawing.cspace import (  # noqa: F401
-    _lollipop_flat_axes,
-    _shade_clearance_band,
-    _shade_interval_components,
-    draw_flat_cspace,
-    draw_flat_path,
-    draw_state,
-    draw_traces,
-)
-from trajopt.viz.drawing.labels import _label_spots, _text_anchor_px, free_offset  # noqa: F401
+from trajopt.viz.drawing.cspace import draw_flat_cspace, draw_flat_path, draw_state, draw_traces
+from trajopt.viz.drawing.labels import free_offset
 from trajopt.viz.drawing.skeleton import block_of_edge, chain_layout, draw_chain, draw_skeleton, sample_skeleton
-from trajopt.viz.drawing.steps import StepStyle, _draw_query_states, _step_range, draw_plan_step  # noqa: F401
-from trajopt.viz.drawing.style import (  # noqa: F401
+from trajopt.viz.drawing.steps import StepStyle, draw_plan_step
+from trajopt.viz.drawing.style import (
     BLOCK_COLORS,
     COLLISION_COLOR,
     ROBOT_COLORS,
@@ -36,10 +28,6 @@ from trajopt.viz.drawing.style import (  # noqa: F401
     STEP_COLORS,
     TRACK_COLOR,
     TRAJECTORY_COLOR,
-    FloatArray,
-    _loop_centre,
-    _scale,
-    _xy,
     coordinate_extent,
     embed_offset,
     lane_unit,
@@ -61,7 +49,11 @@ from trajopt.viz.drawing.track import (
 
 __all__ = [
     "BLOCK_COLORS",
+    "COLLISION_COLOR",
     "ROBOT_COLORS",
+    "ROBOT_LINESTYLES",
+    "STEP_COLORS",
+    "TRACK_COLOR",
     "TRAJECTORY_COLOR",
     "StepStyle",
     "arrow_along",
