@@ -43,6 +43,7 @@ __all__ = [
     "run_price",
     "run_scaling",
     "run_y_oracle",
+    "spanning_then_extra",
 ]
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -530,6 +531,38 @@ def price_markdown(records: list[dict[str, Any]]) -> str:
 
 
 # ------------------------------------------------------------------------------------------------- scaling
+def spanning_then_extra(
+    n_vertices: int,
+    cand: list[tuple[int, int]],
+    n_edges: int,
+    rng: np.random.Generator,
+    extra_order: Callable[[tuple[int, int]], float] | None = None,
+) -> list[tuple[int, int]]:
+    """A random spanning forest of the candidate edges ``cand`` (vertices ``0 … n_vertices − 1``; Kruskal in the
+    order of ``rng.permutation``), then the other candidates (in ``extra_order`` if given, else in that random
+    order) up to ``n_edges`` edges."""
+    parent = list(range(n_vertices))
+
+    def find(x: int) -> int:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    chosen, rest = [], []
+    for k in rng.permutation(len(cand)):
+        a, b = cand[k]
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[ra] = rb
+            chosen.append(cand[k])
+        else:
+            rest.append(cand[k])
+    if extra_order is not None:
+        rest.sort(key=extra_order)
+    return chosen + rest[: max(0, n_edges - len(chosen))]
+
+
 def grid_layout(n_edges: int, seed: int) -> GraphTrack:
     """A seeded building-like navigation graph with ``n_edges`` edges: a random spanning tree of a lattice with
     uneven spacings (4–12 m) plus random extra lattice edges (corridors); lengths are straight distances."""
@@ -542,29 +575,11 @@ def grid_layout(n_edges: int, seed: int) -> GraphTrack:
         cols -= 1
     xs = np.concatenate([[0.0], np.cumsum(rng.uniform(4.0, 12.0, cols - 1))])
     ys = np.concatenate([[0.0], np.cumsum(rng.uniform(4.0, 12.0, rows - 1))])
-    names = {(i, j): f"v{i}_{j}" for i in range(rows) for j in range(cols)}
-    cand = [((i, j), (i, j + 1)) for i in range(rows) for j in range(cols - 1)]
-    cand += [((i, j), (i + 1, j)) for i in range(rows - 1) for j in range(cols)]
-    order = rng.permutation(len(cand))
-    parent = {v: v for v in names}
-
-    def find(x: tuple[int, int]) -> tuple[int, int]:
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
-    chosen, rest = [], []
-    for k in order:
-        a, b = cand[k]
-        ra, rb = find(a), find(b)
-        if ra != rb:
-            parent[ra] = rb
-            chosen.append(cand[k])
-        else:
-            rest.append(cand[k])
-    chosen += rest[: max(0, n_edges - len(chosen))]
-    verts = {names[v]: [float(xs[v[1]]), float(ys[v[0]])] for v in names}
+    names = [f"v{i}_{j}" for i in range(rows) for j in range(cols)]
+    cand = [(i * cols + j, i * cols + j + 1) for i in range(rows) for j in range(cols - 1)]
+    cand += [(i * cols + j, (i + 1) * cols + j) for i in range(rows - 1) for j in range(cols)]
+    chosen = spanning_then_extra(rows * cols, cand, n_edges, rng)
+    verts = {names[v]: [float(xs[v % cols]), float(ys[v // cols])] for v in range(rows * cols)}
     used = {names[a] for a, _ in chosen} | {names[b] for _, b in chosen}
     verts = {k: v for k, v in verts.items() if k in used}
     return GraphTrack.from_layout({"vertices": verts, "edges": [[names[a], names[b]] for a, b in chosen]})

@@ -20,38 +20,12 @@ from typing import Any
 
 import numpy as np
 
-from bench.graph_runner import make_graph_queries, plan_times, timed_build
+from bench.graph_runner import make_graph_queries, plan_times, spanning_then_extra, timed_build
 from mpa.errors import MPAError
 from mpa.freespace import FreeSpace, free_space
 from mpa.graph_track import GraphTrack
 
 __all__ = ["KINDS", "road_map_layout", "run_scale", "scale_markdown", "warehouse_layout"]
-
-
-def _spanning_then_extra(
-    n_vertices: int, cand: list[tuple[int, int]], n_edges: int, rng: np.random.Generator, extra_order: Any = None
-) -> list[tuple[int, int]]:
-    """A random spanning tree of the candidate edges, then other candidates (in ``extra_order``) up to ``n_edges``."""
-    parent = list(range(n_vertices))
-
-    def find(x: int) -> int:
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
-    chosen, rest = [], []
-    for k in rng.permutation(len(cand)):
-        a, b = cand[k]
-        ra, rb = find(a), find(b)
-        if ra != rb:
-            parent[ra] = rb
-            chosen.append(cand[k])
-        else:
-            rest.append(cand[k])
-    if extra_order is not None:
-        rest.sort(key=extra_order)
-    return chosen + rest[: max(0, n_edges - len(chosen))]
 
 
 def warehouse_layout(n_edges: int, seed: int) -> GraphTrack:
@@ -112,7 +86,7 @@ def road_map_layout(n_edges: int, seed: int) -> GraphTrack:
     def length(e: tuple[int, int]) -> float:
         return float(np.hypot(*(pts[e[0]] - pts[e[1]])))
 
-    edges = _spanning_then_extra(n_pts, cand, n_edges, rng, extra_order=length)
+    edges = spanning_then_extra(n_pts, cand, n_edges, rng, extra_order=length)
     names = [f"p{i}" for i in range(n_pts)]
     verts = {names[i]: [float(pts[i, 0]), float(pts[i, 1])] for i in range(n_pts)}
     return GraphTrack.from_layout({"vertices": verts, "edges": [[names[u], names[v]] for u, v in edges]})

@@ -125,30 +125,9 @@ def test_cost_does_not_follow_the_length_of_the_motion() -> None:
 
 
 def reference_exact_min(m: _Motion) -> tuple[float, float]:
-    """The minimum of the full 1 kHz grid refined as :meth:`_Motion.exact_min` does (every row bounded)."""
-    from trajopt.analysis.margins import MIN_PRECISION
-
+    """The minimum of the full 1 kHz grid refined as :meth:`_Motion.exact_min` refines its rows near contact."""
     delay = np.zeros(2)
-    t, d, lb = m.grid(delay)
-    k = int(np.argmin(d))
-    best, t_best = float(d[k]), float(t[k])
-    lo = t[:-1][lb < best - MIN_PRECISION]
-    w = 1.0 / DENSE_RATE
-    u = np.arange(9) / 8.0
-    for _ in range(4):
-        if len(lo) == 0:
-            break
-        tt = lo[:, None] + w * u[None, :]
-        s, a = m.states(tt.ravel(), delay)
-        dd = m.dist(s).reshape(tt.shape)
-        i = np.unravel_index(int(np.argmin(dd)), dd.shape)
-        if dd[i] < best:
-            best, t_best = float(dd[i]), float(tt[i])
-        w /= 8.0
-        sub = between_rows_separation(m.track, m.routes, s, a, w, m.traj.limits)
-        sub = np.append(sub, np.inf).reshape(tt.shape)[:, :8]
-        lo = tt[:, :8][sub < best - MIN_PRECISION]
-    return best, t_best
+    return m.refine_min(m.grid(delay), delay)
 
 
 @pytest.mark.parametrize("i", range(len(CASES)))

@@ -224,7 +224,12 @@ class _Motion:
         the minimum for a long time), the smallest of their lower bounds is returned instead, with its step's
         time: below the true minimum by at most the between-rows slack of that level (conservative).
         """
-        t, d, lb = self._near_rows(delay)
+        return self.refine_min(self._near_rows(delay), delay)
+
+    def refine_min(self, rows: tuple[FloatArray, FloatArray, FloatArray], delay: FloatArray) -> tuple[float, float]:
+        """The branch and bound of :meth:`exact_min` from the rows ``(t, d, lb)`` of :meth:`grid` (or of the rows
+        near contact): minimum separation (m) and its time (s)."""
+        t, d, lb = rows
         k = int(np.argmin(d))
         best, t_best = float(d[k]), float(t[k])
         keep = lb < best - MIN_PRECISION
