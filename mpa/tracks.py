@@ -20,7 +20,7 @@ vectorized over numpy arrays.
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -45,6 +45,8 @@ class Track:
     """
 
     kind: str
+    #: Whether the track contains a cycle (the only place where the robots can change order).
+    has_loop: ClassVar[bool]
     _total_length: float
 
     def __post_init__(self) -> None:
@@ -58,11 +60,6 @@ class Track:
     def total_length(self) -> float:
         """Total length of the track (metres): the sum of its lengths."""
         return self._total_length
-
-    @property
-    def has_loop(self) -> bool:
-        """Whether the track contains a cycle (the only place where the robots can change order)."""
-        raise NotImplementedError
 
     def distance(self, p: ArrayLike, q: ArrayLike) -> FloatArray:
         """Graph distance between positions ``p`` and ``q`` (broadcast, metres)."""
@@ -89,8 +86,8 @@ class Track:
         raise NotImplementedError
 
     def to_dict(self) -> dict[str, object]:
-        """Parameters as a JSON-ready dict (``{"track": kind, ...}``)."""
-        raise NotImplementedError
+        """Parameters as a JSON-ready dict: ``{"track": kind}`` and the lengths (``stick``, ``loop``) in metres."""
+        return {"track": self.kind, **{f.name: getattr(self, f.name) for f in fields(self)}}  # type: ignore[arg-type]
 
     def validate(self, p: ArrayLike, name: str = "position") -> FloatArray:
         """Check that ``p`` holds finite coordinates on the track and return them normalized.
@@ -209,10 +206,7 @@ class Interval(Track):
 
     stick: float = 1.0
     kind = "interval"
-
-    @property
-    def has_loop(self) -> bool:
-        return False
+    has_loop = False
 
     def distance(self, p: ArrayLike, q: ArrayLike) -> FloatArray:
         return np.abs(np.asarray(q, dtype=float) - np.asarray(p, dtype=float))
@@ -243,9 +237,6 @@ class Interval(Track):
     def as_graph(self) -> MetricGraph:
         return MetricGraph(("F", "E"), (Edge("stick", "F", "E", self.stick),))
 
-    def to_dict(self) -> dict[str, object]:
-        return {"track": self.kind, "stick": self.stick}
-
 
 @dataclass(frozen=True)
 class Circle(Track):
@@ -259,15 +250,12 @@ class Circle(Track):
 
     loop: float = 1.0
     kind = "circle"
+    has_loop = True
 
     @property
     def half(self) -> float:
         """Half the circumference, ``h = c/2``: the antipodal distance."""
         return 0.5 * self.loop
-
-    @property
-    def has_loop(self) -> bool:
-        return True
 
     def distance(self, p: ArrayLike, q: ArrayLike) -> FloatArray:
         c = self.loop
@@ -304,9 +292,6 @@ class Circle(Track):
     def as_graph(self) -> MetricGraph:
         return MetricGraph(("P",), (Edge("loop", "P", "P", self.loop),))
 
-    def to_dict(self) -> dict[str, object]:
-        return {"track": self.kind, "loop": self.loop}
-
 
 @dataclass(frozen=True)
 class Lollipop(Track):
@@ -323,15 +308,12 @@ class Lollipop(Track):
     stick: float = 1.0
     loop: float = 1.0
     kind = "lollipop"
+    has_loop = True
 
     @property
     def half(self) -> float:
         """Half the loop, ``h = c/2`` (the paper's "half unit")."""
         return 0.5 * self.loop
-
-    @property
-    def has_loop(self) -> bool:
-        return True
 
     def theta(self, p: ArrayLike) -> FloatArray:
         """Loop angle ``θ = p − ℓ`` in ``[0, c)`` for positions on the loop (0 at P); NaN on the open stick."""
@@ -418,9 +400,6 @@ class Lollipop(Track):
 
     def as_graph(self) -> MetricGraph:
         return MetricGraph(("F", "P"), (Edge("stick", "F", "P", self.stick), Edge("loop", "P", "P", self.loop)))
-
-    def to_dict(self) -> dict[str, object]:
-        return {"track": self.kind, "stick": self.stick, "loop": self.loop}
 
 
 def make_track(kind: str, stick: float | None = None, loop: float | None = None) -> Track:
