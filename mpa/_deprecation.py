@@ -25,7 +25,7 @@ def deprecated_alias(func: F, old_name: str) -> F:
     func : callable
         The function (or method, when the alias is assigned in a class body) under its current name.
     old_name : str
-        The former name as a caller wrote it, e.g. ``"check_rate"`` or ``"CSpace.check_state"``.
+        The former name as a caller wrote it, e.g. ``"check_rate"`` or ``"ConfigurationSpace.check_state"``.
 
     Returns
     -------

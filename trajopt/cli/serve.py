@@ -35,10 +35,6 @@ def validate_serve_extra() -> None:
 
 
 #: Deprecated name of :func:`validate_serve_extra` (warns).
-#: Deprecated name of :func:`validate_serve_extra` (warns).
-check_serve_extra = deprecated_alias(validate_serve_extra, "check_serve_extra")
-
-
 check_serve_extra = deprecated_alias(validate_serve_extra, "check_serve_extra")
 
 
