@@ -399,7 +399,8 @@ def resolve_corners(
     n = len(segs)
     if n < 2:
         return segs
-    va, vb = speeds
+    va, vb = _unit_speeds(speeds)
+    speeds = (va, vb)
     g = fs.geometry
     d = np.array([np.subtract(x[2], x[1]) for x in segs], dtype=float)
     m_search = float(np.sum(np.maximum(np.abs(d[:, 0]) / va, np.abs(d[:, 1]) / vb)))
@@ -416,6 +417,22 @@ def resolve_corners(
         if got is not None and (best is None or got[0] < best[0] * (1.0 - 1e-12)) and _routes(got[1]) == routes:
             best = got
     return segs if best is None else best[1]
+
+
+def _unit_speeds(speeds: tuple[float, float]) -> tuple[float, float]:
+    """The speeds divided by the faster one: ``(vA / v, vB / v)`` with ``v = max(vA, vB)`` (m/s in, unitless out).
+
+    The rule is solved with durations in metres at the faster speed (``v·T``) instead of seconds: the plateau, the
+    minimiser and the checks are the same for ``(vA, vB)`` and ``(k·vA, k·vB)`` (every term of the rule scales by
+    ``1/k`` or ``1/k²``), so the corners do not depend on the common scale of the speeds, and the least-distance
+    programme keeps the conditioning of speeds near 1 m/s: the durations' rows and the clearance's rows of ``G``
+    are of one size. In seconds, speeds of a few mm/s (durations thousands of times the lengths) left the solve's
+    rounding above :data:`RESOLVE_TOL` of the makespan, so the check refused the re-solved chain or kept it by a hair
+    of the clearance, and the corners jumped between the search's and the rule's.
+    """
+    va, vb = float(speeds[0]), float(speeds[1])
+    top = max(va, vb)
+    return va / top, vb / top
 
 
 def _routes(segs: list[list[Any]]) -> tuple[tuple[tuple[int, int], ...], ...]:
