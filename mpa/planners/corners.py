@@ -24,10 +24,11 @@ cannot change.
    of one edge), so every segment lies in its convex polygon;
 
 and among those motions the one of least ``sum (ΔA_i / vA)² + (ΔB_i / vB)² + T_i²`` (squared segment lengths and
-durations, seconds²). The function is strictly convex in the free corners and the durations and the feasible set is
-a polyhedron that moves continuously with the query, so the minimiser is unique and continuous in the query. It is a
-least-distance programme, solved exactly (a finite active-set method) by Lawson and Hanson's reduction to
-non-negative least squares (:func:`scipy.optimize.nnls`): with ``R`` from the QR factorisation of the map from the
+durations, seconds²; solved with durations in metres at the faster speed, :func:`_unit_speeds`, so that the
+corners do not depend on the speeds' common scale). The function is strictly convex in the free corners and the
+durations and the feasible set is a polyhedron that moves continuously with the query, so the minimiser is unique
+and continuous in the query. It is a least-distance programme, solved exactly (a finite active-set method) by
+Lawson and Hanson's reduction to non-negative least squares (:func:`scipy.optimize.nnls`): with ``R`` from the QR factorisation of the map from the
 free corners to the scaled segment moves, ``min |y|`` subject to ``G y >= h`` is ``y = -r[:n] / r[n]`` for the
 residual ``r = E u - (0, ..., 0, 1)`` of the non-negative least squares problem with ``E = [Gᵀ; hᵀ]``.
 
@@ -426,9 +427,10 @@ def _unit_speeds(speeds: tuple[float, float]) -> tuple[float, float]:
     minimiser and the checks are the same for ``(vA, vB)`` and ``(k·vA, k·vB)`` (every term of the rule scales by
     ``1/k`` or ``1/k²``), so the corners do not depend on the common scale of the speeds, and the least-distance
     programme keeps the conditioning of speeds near 1 m/s: the durations' rows and the clearance's rows of ``G``
-    are of one size. In seconds, speeds of a few mm/s (durations thousands of times the lengths) left the solve's
-    rounding above :data:`RESOLVE_TOL` of the makespan, so the check refused the re-solved chain or kept it by a hair
-    of the clearance, and the corners jumped between the search's and the rule's.
+    are of one size. Solved in seconds, speeds of a few mm/s (durations thousands of times the lengths) leave the
+    solve's rounding above :data:`RESOLVE_TOL` of the makespan (measured: 1.2e-11 on the Y junction at 1.75 mm/s),
+    so the check refuses the rule's corners for some clearances and keeps them for others a micrometre away, and
+    the plan jumps between the search's corners and the rule's.
     """
     va, vb = float(speeds[0]), float(speeds[1])
     top = max(va, vb)
