@@ -28,9 +28,10 @@ durations, seconds²; solved with durations in metres at the faster speed, :func
 corners do not depend on the speeds' common scale). The function is strictly convex in the free corners and the
 durations and the feasible set is a polyhedron that moves continuously with the query, so the minimiser is unique
 and continuous in the query. It is a least-distance programme, solved exactly (a finite active-set method) by
-Lawson and Hanson's reduction to non-negative least squares (:func:`scipy.optimize.nnls`): with ``R`` from the QR factorisation of the map from the
-free corners to the scaled segment moves, ``min |y|`` subject to ``G y >= h`` is ``y = -r[:n] / r[n]`` for the
-residual ``r = E u - (0, ..., 0, 1)`` of the non-negative least squares problem with ``E = [Gᵀ; hᵀ]``.
+Lawson and Hanson's reduction to non-negative least squares (:func:`scipy.optimize.nnls`): with ``R`` from the QR
+factorisation of the map from the free corners to the scaled segment moves, ``min |y|`` subject to ``G y >= h`` is
+``y = -r[:n] / r[n]`` for the residual ``r = E u - (0, ..., 0, 1)`` of the non-negative least squares problem with
+``E = [Gᵀ; hᵀ]``.
 
 **Checks.** The free coordinates are clamped into the face intervals of :mod:`mpa.freespace` (as the search clamps
 its crossings), and the result is kept only if every segment keeps the clearance (exact per cell,
