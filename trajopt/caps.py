@@ -25,7 +25,7 @@ next one). Straight motions (a lower cap times the same line slower) and motions
 plane's margin is that of the limits asked for) take neither. Because the grid does not depend on the limits asked
 for, a looser ``amax`` evaluates the same grid caps as a tighter one (and more); the refinement brings the
 chosen cap near the optimum of its bracket, so a tighter ``amax`` between grid points is rarely faster (measured
-in docs/reliability.md, with the other cause left: the plan's route changing with the margin).
+in docs/reliability.md, "the makespan when a limit is loosened").
 """
 
 from __future__ import annotations

@@ -24,12 +24,14 @@ cannot change.
    of one edge), so every segment lies in its convex polygon;
 
 and among those motions the one of least ``sum (ΔA_i / vA)² + (ΔB_i / vB)² + T_i²`` (squared segment lengths and
-durations, seconds²). The function is strictly convex in the free corners and the durations and the feasible set is
-a polyhedron that moves continuously with the query, so the minimiser is unique and continuous in the query. It is a
-least-distance programme, solved exactly (a finite active-set method) by Lawson and Hanson's reduction to
-non-negative least squares (:func:`scipy.optimize.nnls`): with ``R`` from the QR factorisation of the map from the
-free corners to the scaled segment moves, ``min |y|`` subject to ``G y >= h`` is ``y = -r[:n] / r[n]`` for the
-residual ``r = E u - (0, ..., 0, 1)`` of the non-negative least squares problem with ``E = [Gᵀ; hᵀ]``.
+durations, seconds²; solved with durations in metres at the faster speed, :func:`_unit_speeds`, so that the
+corners do not depend on the speeds' common scale). The function is strictly convex in the free corners and the
+durations and the feasible set is a polyhedron that moves continuously with the query, so the minimiser is unique
+and continuous in the query. It is a least-distance programme, solved exactly (a finite active-set method) by
+Lawson and Hanson's reduction to non-negative least squares (:func:`scipy.optimize.nnls`): with ``R`` from the QR
+factorisation of the map from the free corners to the scaled segment moves, ``min |y|`` subject to ``G y >= h`` is
+``y = -r[:n] / r[n]`` for the residual ``r = E u - (0, ..., 0, 1)`` of the non-negative least squares problem with
+``E = [Gᵀ; hᵀ]``.
 
 **Checks.** The free coordinates are clamped into the face intervals of :mod:`mpa.freespace` (as the search clamps
 its crossings), and the result is kept only if every segment keeps the clearance (exact per cell,
@@ -399,7 +401,8 @@ def resolve_corners(
     n = len(segs)
     if n < 2:
         return segs
-    va, vb = speeds
+    va, vb = _unit_speeds(speeds)
+    speeds = (va, vb)
     g = fs.geometry
     d = np.array([np.subtract(x[2], x[1]) for x in segs], dtype=float)
     m_search = float(np.sum(np.maximum(np.abs(d[:, 0]) / va, np.abs(d[:, 1]) / vb)))
@@ -416,6 +419,23 @@ def resolve_corners(
         if got is not None and (best is None or got[0] < best[0] * (1.0 - 1e-12)) and _routes(got[1]) == routes:
             best = got
     return segs if best is None else best[1]
+
+
+def _unit_speeds(speeds: tuple[float, float]) -> tuple[float, float]:
+    """The speeds divided by the faster one: ``(vA / v, vB / v)`` with ``v = max(vA, vB)`` (m/s in, unitless out).
+
+    The rule is solved with durations in metres at the faster speed (``v·T``) instead of seconds: the plateau, the
+    minimiser and the checks are the same for ``(vA, vB)`` and ``(k·vA, k·vB)`` (every term of the rule scales by
+    ``1/k`` or ``1/k²``), so the corners do not depend on the common scale of the speeds, and the least-distance
+    programme keeps the conditioning of speeds near 1 m/s: the durations' rows and the clearance's rows of ``G``
+    are of one size. Solved in seconds, speeds of a few mm/s (durations thousands of times the lengths) leave the
+    solve's rounding above :data:`RESOLVE_TOL` of the makespan (measured: 1.2e-11 on the Y junction at 1.75 mm/s),
+    so the check refuses the rule's corners for some clearances and keeps them for others a micrometre away, and
+    the plan jumps between the search's corners and the rule's.
+    """
+    va, vb = float(speeds[0]), float(speeds[1])
+    top = max(va, vb)
+    return va / top, vb / top
 
 
 def _routes(segs: list[list[Any]]) -> tuple[tuple[tuple[int, int], ...], ...]:

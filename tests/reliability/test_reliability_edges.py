@@ -218,6 +218,47 @@ def test_the_tighter_motion_is_an_answer_to_the_looser_limits_with_its_declared_
     assert not over.ok and any(f.startswith("declared amax of robot A") for f in over.failures), over.failures
 
 
+#: The counterexamples ``experiments/limits_monotone.py`` found on the Y (seed 28: draws 54 and 181; seed 29: draws
+#: 134, 383 and 1996): tighter limits, looser limits and the makespans (s) they gave. The plans kept the same routes,
+#: but the corners' re-solve (:mod:`mpa.planners.corners`), then solved in seconds, failed its check by rounding at
+#: speeds of a few mm/s for one margin and passed it for another, so the corner jumped between the search's
+#: (a straight line from the short branch, 5.2526 m of polyline in route coordinates) and the rule's (5.3928 m).
+FORMER_COUNTEREXAMPLES = [
+    (
+        [0.001747987800949159, 0.0017128686559488196, 138.45262725769226],
+        "amax",
+        0.06501315564406823,
+        (2607.08, 2862.22),
+    ),
+    ([0.0071661362156995026, 0.026645776925786183, 410.8466427334775], "amax", 0.19016660014678002, (636.02, 698.26)),
+    ([0.01358216619417877, 0.00167662583017108, 2.08854711630107], "amax", 0.1644232074207363, (366.55, 368.85)),
+    ([0.019597242519288374, 42.16775149256919, 3508.341044566386], "jmax", 50000.0, (232.22, 232.24)),
+    ([0.00672869629085945, 3759.1882655150744, 0.011634740600142308], "jmax", 0.19031430857312967, (682.30, 744.68)),
+]
+
+
+@pytest.mark.parametrize(("base", "which", "value", "before"), FORMER_COUNTEREXAMPLES)
+def test_former_counterexamples_on_the_y_keep_the_makespan_and_the_corner(
+    base: list[float], which: str, value: float, before: tuple[float, float]
+) -> None:
+    """The looser limits' makespan is at most the tighter's, and both plans turn the rule's corner (robot A 1.25 m
+    past the junction when B is back on it), the corner the plan has at the default limits."""
+    looser = np.array(base)
+    looser[("vmax", "amax", "jmax").index(which)] = value
+    track, q = LIMIT_QUERIES["y"]
+    spans = []
+    for x in (np.array(base), looser):
+        t = generate_trajectory(track, *q, vmax=x[0], amax=x[1], jmax=x[2])
+        assert t.verification["ok"] and not check_graph_trajectory(t)
+        w = np.asarray(t.plan.route_waypoints)
+        print(x.tolist(), t.makespan, np.round(w, 6).tolist(), "before:", before)
+        assert w.shape == (5, 2) and abs(w[3, 0] - 2.75) < 1e-4, w
+        spans.append(t.makespan)
+    assert spans[1] <= spans[0] + 1e-9, (base, looser.tolist(), spans, before)
+    default = generate_trajectory(track, *q).plan.route_waypoints
+    assert abs(default[3][0] - 2.75) < 1e-4, default
+
+
 @pytest.mark.parametrize("at", [0.1, 0.5, 0.7])
 def test_a_replan_of_a_motion_timed_below_the_asked_limits_passes_the_gate(at: float) -> None:
     """The re-planned motion brakes with the limits asked for, so the spliced rows are checked with them: its new
