@@ -16,7 +16,15 @@ from hypothesis import strategies as st
 from mpa.freespace import free_space
 from mpa.planners.graph import mesh as gmesh
 from mpa.planners.graph.search import GOAL, START, AnyAngleSearch, FaceEntry, IntervalNode, PointNode
-from mpa.planners.search_common import TIE_BREAK, TIE_BREAK_2, GoalDistance, cell_speeds, cost_function, move_cost
+from mpa.planners.search_common import (
+    TIE_BREAK,
+    TIE_BREAK_2,
+    GoalDistance,
+    SearchQuery,
+    cell_speeds,
+    cost_function,
+    move_cost,
+)
 from tests.helpers.graph_helpers import random_layout, random_position
 
 
@@ -97,7 +105,7 @@ def test_the_search_nodes_are_typed_and_read_back_to_the_path(seed: int) -> None
         g = (random_position(tr, rng), random_position(tr, rng))
         if fs.is_free(*s) and fs.is_free(*g) and fs.component_of(*s) == fs.component_of(*g) is not None:
             break
-    search = AnyAngleSearch(gmesh._mesh(fs), s, g, "fastest", 1.0, 0.5)
+    search = AnyAngleSearch(gmesh._mesh(fs), SearchQuery(tr, fs, s, g, "fastest", (1.0, 0.5)))
     segs = search.run()
     assert segs is not None
     kinds = {type(nd) for nd in search.nodes}
