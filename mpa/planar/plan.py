@@ -79,9 +79,24 @@ def plan_planar(
 ) -> Any:
     """Plan in the planar model (called by :func:`mpa.planners.graph.plan_graph` with ``footprint=``).
 
+    Parameters
+    ----------
+    track : GraphTrack
+        A layout with vertex coordinates.
+    start, goal : (Position, Position)
+        Robot A's and robot B's positions ``(edge, offset in metres)``.
+    clearance : float
+        D (metres, >= 0): the graph distance the robots keep, as in :func:`~mpa.planners.graph.plan_graph`.
+    objective : {"fastest", "shortest"}
+    speeds : (float, float)
+        The robots' speed limits ``(vA, vB)`` (m/s, > 0).
+    footprint : Footprints
+        The robots' bodies in the plane (:func:`mpa.footprint.footprints`).
+
     Returns
     -------
     GraphPlan
+        The motion, its bodies apart in the plane; timed at the edges' speed limits on a track with lane rules.
 
     Raises
     ------

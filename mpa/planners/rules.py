@@ -57,10 +57,10 @@ Coords = tuple[float, float]
 def single_robot_time(tr: GraphTrack, start: Position, goal: Position, speed: float) -> float:
     """The least time (s) one robot alone needs from ``start`` to ``goal`` under the track's rules.
 
-    Dijkstra over the vertices, an edge ``e`` costing ``length / min(speed, v_e)`` and usable only from ``from`` to
-    ``to`` when one-way; a move along the start's edge straight to the goal counts when both are on it. ``inf``
-    when the one-way lanes leave no way. Both robots of a plan must make their own journeys, so the larger of the
-    two times bounds the ``fastest`` makespan from below, speed limits included.
+    Dijkstra (scipy's) over the vertices, an edge ``e`` costing ``length / min(speed, v_e)`` and usable only from
+    ``from`` to ``to`` when one-way; a move along the start's edge straight to the goal counts when both are on it.
+    ``inf`` when the one-way lanes leave no way. Both robots of a plan must make their own journeys, so the larger of
+    the two times bounds the ``fastest`` makespan from below, speed limits included.
 
     Parameters
     ----------
@@ -70,15 +70,24 @@ def single_robot_time(tr: GraphTrack, start: Position, goal: Position, speed: fl
     speed : float
         The robot's speed limit (m/s), > 0.
     """
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import dijkstra
+
     spd = [min(speed, math.inf if v is None else v) for v in tr.speed_limits]
     tails, heads, lengths = tr.tails, tr.heads, tr.lengths
     n = tr.graph.n_vertices
-    adj: list[list[tuple[int, float]]] = [[] for _ in range(n)]
+    # the arcs between the vertices (the faster of parallel ones) and from a source, node n, to the start's ends
+    arcs: dict[tuple[int, int], float] = {}
+
+    def arc(u: int, w: int, t: float) -> None:
+        if t < arcs.get((u, w), math.inf):
+            arcs[(u, w)] = t
+
     for e in range(tr.n_edges):
         t_e = float(lengths[e]) / spd[e]
-        adj[int(tails[e])].append((int(heads[e]), t_e))
+        arc(int(tails[e]), int(heads[e]), t_e)
         if not tr.oneway[e]:
-            adj[int(heads[e])].append((int(tails[e]), t_e))
+            arc(int(heads[e]), int(tails[e]), t_e)
 
     def ends(pos: Position, leaving: bool) -> list[tuple[int, float]]:
         """(vertex, time) from ``pos`` to its edge's ends (``leaving``) or from the ends to ``pos``."""
@@ -94,22 +103,13 @@ def single_robot_time(tr: GraphTrack, start: Position, goal: Position, speed: fl
     (es, xs), (eg, xg) = start, goal
     if es == eg and (not tr.oneway[es] or xg >= xs):
         best = abs(xg - xs) / spd[es]
-    dist = [math.inf] * n
-    heap: list[tuple[float, int]] = []
     for v, t_v in ends(start, True):
-        if t_v < dist[v]:
-            dist[v] = t_v
-            heapq.heappush(heap, (t_v, v))
-    while heap:
-        d, u = heapq.heappop(heap)
-        if d > dist[u]:
-            continue
-        for w, t_e in adj[u]:
-            if d + t_e < dist[w]:
-                dist[w] = d + t_e
-                heapq.heappush(heap, (d + t_e, w))
+        arc(n, v, t_v)
+    (rows, cols), times = zip(*arcs.keys()), list(arcs.values())
+    graph = csr_matrix((times, (rows, cols)), shape=(n + 1, n + 1))  # explicit zeros stay arcs
+    dist = dijkstra(graph, directed=True, indices=n)
     for v, t_v in ends(goal, False):
-        best = min(best, dist[v] + t_v)
+        best = min(best, float(dist[v]) + t_v)
     return best
 
 

@@ -42,12 +42,16 @@ def _fastest(track: GraphTrack, fs: FreeSpace, s: Query, g: Query, speeds: tuple
     return SearchQuery(track, fs, s, g, "fastest", speeds)
 
 
-def _swaps(track: GraphTrack, fs: FreeSpace, rng: np.random.Generator, n: int) -> Iterator[Query]:
-    """Up to ``n`` swaps ``(a, b) -> (b, a)`` from random free starts (a draw without a free start gives none)."""
-    for _ in range(n):
-        q = random_free_query(track, fs, rng)
+def _queries(
+    track: GraphTrack, fs: FreeSpace, rng: np.random.Generator, n: int, swap_every: int = 2, vertex_p: float = 0.0
+) -> Iterator[tuple[int, Query, Query]]:
+    """``(k, start, goal)`` of ``n`` draws of a random free query (:func:`random_free_query`; a draw without one gives
+    none); when ``k % swap_every == 0`` a swap: the goal is the start with the robots' positions exchanged."""
+    for k in range(n):
+        q = random_free_query(track, fs, rng, vertex_p=vertex_p)
         if q is not None:
-            yield q[0]
+            s, g = q
+            yield k, s, ((s[1], s[0]) if k % swap_every == 0 else g)
 
 
 def _optimum(query: SearchQuery) -> float:
@@ -94,13 +98,7 @@ def test_the_bound_is_admissible_on_the_example_layouts(name: str) -> None:
     checks = 0
     for frac in (0.05, 0.2, 0.5, 1.0):
         fs = free_space(track, frac * med)
-        for k in range(12):
-            q = random_free_query(track, fs, rng)
-            if q is None:
-                continue
-            s, g = q
-            if k % 2 == 0:
-                g = (s[1], s[0])  # a swap
+        for k, s, g in _queries(track, fs, rng, 12):
             va, vb = (1.0, 1.0) if k % 3 else (float(rng.uniform(0.4, 1.0)), float(rng.uniform(0.4, 1.0)))
             checks += _check_query(_fastest(track, fs, s, g, (va, vb)), rng, extra=2)
     assert checks >= 40, checks
@@ -115,13 +113,7 @@ def test_the_bound_is_admissible_on_thousands_of_random_queries(seed: int) -> No
     for _ in range(30):
         track = random_layout(rng)
         fs = free_space(track, float(rng.uniform(0.05, 0.8)))
-        for k in range(4):
-            q = random_free_query(track, fs, rng, vertex_p=0.15)
-            if q is None:
-                continue
-            s, g = q
-            if k % 2 == 0:
-                g = (s[1], s[0])
+        for k, s, g in _queries(track, fs, rng, 4, vertex_p=0.15):
             va, vb = (1.0, 1.0) if k == 0 else (float(rng.uniform(0.3, 2.0)), float(rng.uniform(0.3, 2.0)))
             checks += _check_query(_fastest(track, fs, s, g, (va, vb)), rng, extra=2)
     assert checks >= 150, checks
@@ -150,8 +142,7 @@ def test_the_bound_closes_the_gap_of_a_swap_at_a_siding() -> None:
     rng = np.random.default_rng(7)
     fs = free_space(track, 0.5 * float(np.median(track.lengths)))
     found = 0
-    for s in _swaps(track, fs, rng, 40):
-        g = (s[1], s[0])
+    for _, s, g in _queries(track, fs, rng, 40, swap_every=1):
         opt = _optimum(_fastest(track, fs, s, g, (1.0, 1.0)))
         if not math.isfinite(opt):
             continue
@@ -178,8 +169,7 @@ def test_passing_segments_are_free_at_equal_distance_and_their_least_goal_cost_i
     rng = np.random.default_rng(31)
     fs = free_space(track, 0.3 * float(np.median(track.lengths)))
     checked = 0
-    for s in _swaps(track, fs, rng, 10):
-        g = (s[1], s[0])
+    for _, s, g in _queries(track, fs, rng, 10, swap_every=1):
         pb = PassingBound(_mesh(fs), s, g, 1.0, 0.7)
         if pb.vertex is None:
             continue
@@ -224,13 +214,7 @@ def test_the_planner_with_the_bound_from_the_first_pop_plans_as_fast(
     compared = 0
     for frac in (0.2, 0.5, 1.0):
         fs = free_space(track, frac * med)
-        for k in range(8):
-            q = random_free_query(track, fs, rng)
-            if q is None:
-                continue
-            s, g = q
-            if k % 2 == 0:
-                g = (s[1], s[0])
+        for _, s, g in _queries(track, fs, rng, 8):
             spans = []
             for after in (None, 1):
                 monkeypatch.setattr(graph_query, "PASSING_BOUND_AFTER", after)
