@@ -35,6 +35,7 @@ from mpa.planners.graph import search as search_module  # noqa: E402
 from mpa.planners.graph.bounds import PassingBound, fastest_cost  # noqa: E402
 from mpa.planners.graph.mesh import _mesh  # noqa: E402
 from mpa.planners.graph.shortcut import _independent_motion  # noqa: E402
+from mpa.planners.search_common import SearchQuery  # noqa: E402
 
 
 class _Pops:
@@ -67,15 +68,16 @@ def run(queries: int, seed: int, budget: int, only: set[str] | None) -> list[dic
                 continue
             pops.n = 0
             t0 = time.perf_counter()
-            plain = search_module.AnyAngleSearch(mesh, s, g, "fastest", 1.0, 1.0).run(budget)
+            query = SearchQuery(track, fs, s, g, "fastest", (1.0, 1.0))
+            plain = search_module.AnyAngleSearch(mesh, query).run(budget)
             t1 = time.perf_counter()
             n_plain = pops.n
             pb = PassingBound(mesh, s, g, 1.0, 1.0)
             t2 = time.perf_counter()
             pops.n = 0
-            with_bound = search_module.AnyAngleSearch(
-                mesh, s, g, "fastest", 1.0, 1.0, bound=pb if pb.vertex is not None else None
-            ).run(budget)
+            with_bound = search_module.AnyAngleSearch(mesh, query, bound=pb if pb.vertex is not None else None).run(
+                budget
+            )
             t3 = time.perf_counter()
             base = max(geo.distance_scalar(*s[0], *g[0]), geo.distance_scalar(*s[1], *g[1]))
             opt = fastest_cost(with_bound, 1.0, 1.0) if with_bound is not None else math.nan

@@ -17,6 +17,7 @@ from mpa.planar.polygons import FloatArray
 from mpa.planar.search import _search
 from mpa.planar.shortcut import independent_motion
 from mpa.planar.space import PlanarFreeSpace, planar_free_space
+from mpa.planners.search_common import SearchQuery
 
 
 def _why_not(space: PlanarFreeSpace) -> str:
@@ -78,9 +79,24 @@ def plan_planar(
 ) -> Any:
     """Plan in the planar model (called by :func:`mpa.planners.graph.plan_graph` with ``footprint=``).
 
+    Parameters
+    ----------
+    track : GraphTrack
+        A layout with vertex coordinates.
+    start, goal : (Position, Position)
+        Robot A's and robot B's positions ``(edge, offset in metres)``.
+    clearance : float
+        D (metres, >= 0): the graph distance the robots keep, as in :func:`~mpa.planners.graph.plan_graph`.
+    objective : {"fastest", "shortest"}
+    speeds : (float, float)
+        The robots' speed limits ``(vA, vB)`` (m/s, > 0).
+    footprint : Footprints
+        The robots' bodies in the plane (:func:`mpa.footprint.footprints`).
+
     Returns
     -------
     GraphPlan
+        The motion, its bodies apart in the plane; timed at the edges' speed limits on a track with lane rules.
 
     Raises
     ------
@@ -109,13 +125,14 @@ def plan_planar(
         if by_sets is None:
             raise NoMotionError(_why_one_way(space, start, goal))
     # the robots' own shortest routes at once when they are free (an optimum, no search), else the search
-    found = independent_motion(space, start, goal) or _search(space, start, goal, objective, *speeds) or by_sets
+    query = SearchQuery(track, space.base, start, goal, objective, speeds)
+    found = independent_motion(space, start, goal) or _search(space, query) or by_sets
     if found is None:  # pragma: no cover - start and goal were checked to share a component
         raise PlanningError("the search ended without reaching the goal although start and goal share a component")
     segs = [x for x in found if x[1] != x[2]]
-    plan = _assemble(track, space.base, start, goal, objective, speeds, segs)
+    plan = _assemble(query, segs)
     if not track.has_rules:
         return plan
     from mpa.planners.rules import timed_at_limits
 
-    return timed_at_limits(plan, track, speeds)  # the time at the edges' speed limits
+    return timed_at_limits(plan)  # the time at the edges' speed limits

@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 from mpa.footprint import Disc
 from mpa.graph_track import GraphTrack, Position
 from mpa.planar.polygons import Coords, FloatArray
+from mpa.planners.search_common import SearchQuery
 from mpa.planners.search_common import cell_speeds as _cell_speeds
 from mpa.planners.search_common import move_cost as _move_cost
 
@@ -132,22 +133,16 @@ class _Moves:
         np.minimum.at(self.piece_lo.T, self.node_piece, self.node_xy)
         np.maximum.at(self.piece_hi.T, self.node_piece, self.node_xy)
 
-    def near(
-        self,
-        tr: GraphTrack,
-        ends: tuple[tuple[Position, Position], tuple[Position, Position]],
-        speeds: tuple[float, float],
-        objective: str,
-        ub: float,
-    ) -> NDArray[np.bool_]:
-        """The region of the nodes whose :meth:`lower` bounds from the start and to the goal (``ends``) sum to at
-        most ``ub``, shape ``(n,)``; the bounds computed only in the pieces whose nodes could be in it: per piece and
+    def near(self, query: SearchQuery, ub: float) -> NDArray[np.bool_]:
+        """The region of the nodes whose :meth:`lower` bounds from the query's start and to its goal sum to at most
+        ``ub``, shape ``(n,)``; the bounds computed only in the pieces whose nodes could be in it: per piece and
         robot the least distance to a position over the range of its nodes' offsets (the nearer end of the range
         through the edge's tail or head, or the range's distance to the position on its own edge), a bound that
         no node of the piece undercuts."""
+        tr = query.track
         lengths = tr.lengths
         per_piece = np.zeros(self.piece_lo.shape[1])
-        for pos in ends:
+        for pos in (query.start, query.goal):
             d = []
             for r in (0, 1):
                 tail, head = _from_ends(tr, pos[r])
@@ -157,7 +152,7 @@ class _Moves:
                 gs = pos[r][1]
                 dr[same] = np.minimum(dr[same], np.maximum(np.maximum(lo[same] - gs, gs - hi[same]), 0.0))
                 d.append(dr)
-            per_piece += _move_cost(objective, d[0], d[1], speeds[0], speeds[1])
+            per_piece += _move_cost(query.objective, d[0], d[1], query.va, query.vb)
         pieces = np.flatnonzero(per_piece * (1.0 - 2e-9) <= ub)
         lo_i, hi_i = self.piece_start[pieces], self.piece_start[pieces + 1]
         cnt = hi_i - lo_i
@@ -166,29 +161,24 @@ class _Moves:
         nodes = self.piece_nodes[np.repeat(lo_i - (stop - cnt), cnt) + np.arange(total)]
         region = np.zeros(self.n, dtype=bool)
         if total:
-            through = self.lower(tr, ends[0], speeds, objective, nodes)
-            through += self.lower(tr, ends[1], speeds, objective, nodes)
+            through = self.lower(query, query.start, nodes)
+            through += self.lower(query, query.goal, nodes)
             region[nodes[through <= ub]] = True
         return region
 
     def lower(
-        self,
-        tr: GraphTrack,
-        pos: tuple[Position, Position],
-        speeds: tuple[float, float],
-        objective: str,
-        nodes: NDArray[np.int64] | None = None,
+        self, query: SearchQuery, pos: tuple[Position, Position], nodes: NDArray[np.int64] | None = None
     ) -> FloatArray:
-        """A lower bound of the cost between every node (or the ``nodes``) and the configuration ``pos``, shape
-        ``(n,)`` (or ``nodes.shape``): the cost (:func:`_move_cost` at the robots' own limits ``speeds``, m/s) of the
-        robots' graph distances to it, shrunk by 1e-9 of itself (rounding). Every move costs at least the cost of
-        what it changes the two distances (the cost is a monotone norm of the two travels, and the edges' speed
-        limits only make a move dearer), so a path between a node and ``pos`` in either direction costs at least
-        this."""
+        """A lower bound of the cost between every node (or the ``nodes``) and the configuration ``pos`` (the query's
+        start or goal), shape ``(n,)`` (or ``nodes.shape``): the cost (:func:`_move_cost` of the query's objective at
+        the robots' own limits, m/s) of the robots' graph distances to it, shrunk by 1e-9 of itself (rounding). Every
+        move costs at least the cost of what it changes the two distances (the cost is a monotone norm of the two
+        travels, and the edges' speed limits only make a move dearer), so a path between a node and ``pos`` in either
+        direction costs at least this."""
         d = []
         for r in (0, 1):
             g, gs = pos[r]
-            from_tail, from_head = _from_ends(tr, pos[r])
+            from_tail, from_head = _from_ends(query.track, pos[r])
             e, x, room = self.node_edges[r], self.node_xy[:, r], self.node_room[r]
             if nodes is not None:
                 e, x, room = e[nodes], x[nodes], room[nodes]
@@ -196,7 +186,7 @@ class _Moves:
             same = e == g
             dr[same] = np.minimum(dr[same], np.abs(x[same] - gs))
             d.append(dr)
-        return _move_cost(objective, d[0], d[1], speeds[0], speeds[1]) * (1.0 - 1e-9)
+        return _move_cost(query.objective, d[0], d[1], query.va, query.vb) * (1.0 - 1e-9)
 
     LANDMARKS = 6  # nodes whose distances to and from every node bound the cost of a query (:meth:`landmarks`)
 
@@ -253,15 +243,51 @@ class _Moves:
 ASTAR_BUDGET = 0
 
 
-def _search(
-    space: PlanarFreeSpace,
-    start: tuple[Position, Position],
-    goal: tuple[Position, Position],
-    objective: str,
-    va: float,
-    vb: float,
-) -> list[list[Any]] | None:
-    """The cheapest path over the pieces' shared points: its straight segments ``[cell, from, to]``.
+class _QueryMoves:
+    """One query's moves in the planar free space: the robots' speeds per edge, the start's and the goal's
+    placements, and the rule and cost of a straight move inside a piece (:meth:`move`).
+
+    Parameters
+    ----------
+    space : PlanarFreeSpace
+    query : SearchQuery
+        Its start and goal (free in ``space``), objective and the robots' speed limits.
+    """
+
+    __slots__ = ("bodies_turn", "g_pl", "objective", "query", "rules", "s_pl", "spa", "space", "spb")
+
+    def __init__(self, space: PlanarFreeSpace, query: SearchQuery) -> None:
+        tr = space.track
+        self.space, self.query, self.objective = space, query, query.objective
+        self.spa, self.spb = _cell_speeds(tr, query.va, query.vb)
+        self.rules = any(tr.oneway)
+        self.bodies_turn = not (isinstance(space.footprints.a, Disc) and isinstance(space.footprints.b, Disc))
+        self.s_pl = space.placements(*query.start)
+        self.g_pl = space.placements(*query.goal)
+
+    def cost(self, cell: tuple[int, int, int], p: Coords, q: Coords) -> float:
+        """The cost of the straight move ``p -> q`` in ``cell`` at the cell's speeds (:func:`_move_cost`)."""
+        return float(
+            _move_cost(self.objective, abs(q[0] - p[0]), abs(q[1] - p[1]), self.spa[cell[0]], self.spb[cell[1]])
+        )
+
+    def move(self, i: int, c: Coords, q: Coords) -> tuple[float, Coords | None] | None:
+        """The cost of the move ``c -> q`` inside piece ``i`` and its detour point, None if it is not allowed."""
+        space = self.space
+        cell = space.pieces[i].cell
+        if self.rules and not _forward(space.track, cell, c, q):
+            return None
+        if not self.bodies_turn or space.segment_ok(i, c, q):
+            return self.cost(cell, c, q), None
+        w = space.detour(i, c, q)
+        if w is None:
+            return None
+        return self.cost(cell, c, w) + self.cost(cell, w, q), w
+
+
+def _search(space: PlanarFreeSpace, query: SearchQuery) -> list[list[Any]] | None:
+    """The cheapest path over the pieces' shared points of ``space`` from the query's start to its goal: its straight
+    segments ``[cell, from, to]``.
 
     Every move keeps the one-way rule and costs its time at the cell's speeds (the edges' speed limits), or its
     length; a move that would keep a rectangle still on a corner while the other body passes its turning disc
@@ -271,65 +297,33 @@ def _search(
     least cost over the whole graph.
     None when no path through the shared points keeps the one-way rule (:func:`_search_sets` decides).
     """
-    tr = space.track
-    spa, spb = _cell_speeds(tr, va, vb)
-    rules = any(tr.oneway)
-
-    def cost(cell: tuple[int, int, int], p: Coords, q: Coords) -> float:
-        return float(_move_cost(objective, abs(q[0] - p[0]), abs(q[1] - p[1]), spa[cell[0]], spb[cell[1]]))
-
-    pieces = space.pieces
-    bodies_turn = not (isinstance(space.footprints.a, Disc) and isinstance(space.footprints.b, Disc))
-
-    def move(i: int, c: Coords, q: Coords) -> tuple[float, Coords | None] | None:
-        """The cost of the move ``c -> q`` inside piece ``i`` and its detour point, None if it is not allowed."""
-        cell = pieces[i].cell
-        if rules and not _forward(tr, cell, c, q):
-            return None
-        if not bodies_turn or space.segment_ok(i, c, q):
-            return cost(cell, c, q), None
-        w = space.detour(i, c, q)
-        if w is None:
-            return None
-        return cost(cell, c, w) + cost(cell, w, q), w
-
-    s_pl = space.placements(*start)
-    g_pl = space.placements(*goal)
+    moves = _QueryMoves(space, query)
     found = None
     if ASTAR_BUDGET > 0:
-        found = _astar(space, s_pl, g_pl, goal, objective, va, vb, spa, spb, move, budget=ASTAR_BUDGET)
+        found = _astar(moves, budget=ASTAR_BUDGET)
     if found is None:
-        (ea, sa), (eb, sb) = start
-        (fa, ta), (fb, tb) = goal
-        da = tr.geometry.distance_scalar(ea, sa, fa, ta)
-        db = tr.geometry.distance_scalar(eb, sb, fb, tb)
-        lower = math.hypot(da, db) if objective == "shortest" else max(da / va, db / vb)
-        found = _dijkstra(space, (start, goal), (s_pl, g_pl), objective, (va, vb), (spa, spb), move, lower)
+        (ea, sa), (eb, sb) = query.start
+        (fa, ta), (fb, tb) = query.goal
+        geo = space.track.geometry
+        da = geo.distance_scalar(ea, sa, fa, ta)
+        db = geo.distance_scalar(eb, sb, fb, tb)
+        lower = math.hypot(da, db) if query.objective == "shortest" else max(da / query.va, db / query.vb)
+        found = _dijkstra(moves, lower)
     if found is None:
         return None
-    return [[pieces[i].cell, a, b] for i, a, b in found]
+    return [[space.pieces[i].cell, a, b] for i, a, b in found]
 
 
-def _astar(
-    space: PlanarFreeSpace,
-    s_pl: list[tuple[int, Coords]],
-    g_pl: list[tuple[int, Coords]],
-    goal: tuple[Position, Position],
-    objective: str,
-    va: float,
-    vb: float,
-    spa: list[float],
-    spb: list[float],
-    move: Any,
-    budget: int,
-) -> list[tuple[int, Coords, Coords]] | None:
-    """A* over the shared points; the moves ``(piece, from, to)``, or None when it expands more than ``budget``
-    nodes or the goal is not reached."""
-    tr = space.track
-    rules = any(tr.oneway)
+def _astar(moves: _QueryMoves, budget: int) -> list[tuple[int, Coords, Coords]] | None:
+    """A* over the shared points of one query's ``moves``; the moves ``(piece, from, to)``, or None when it expands
+    more than ``budget`` nodes or the goal is not reached."""
+    space, query, move = moves.space, moves.query, moves.move
+    tr, rules = space.track, moves.rules
+    s_pl, g_pl, spa, spb = moves.s_pl, moves.g_pl, moves.spa, moves.spb
+    goal, (va, vb) = query.goal, query.speeds
     (ga_e, ga_s), (gb_e, gb_s) = goal
     pieces = space.pieces
-    shortest = objective == "shortest"
+    shortest = query.objective == "shortest"
     hcache: dict[tuple[int, Coords], float] = {}
     # per edge the robots' distances from its tail and head to their goal positions (metres), per robot
     (ta_l, ha_l), (tb_l, hb_l) = (tuple(x.tolist() for x in _from_ends(tr, goal[r])) for r in (0, 1))
@@ -359,7 +353,7 @@ def _astar(
             hcache[key] = h
         return h
 
-    bodies_turn = not (isinstance(space.footprints.a, Disc) and isinstance(space.footprints.b, Disc))
+    bodies_turn = moves.bodies_turn
     near = 10.0 * space.tol  # a robot this close to standing still may stand on a corner (segment_ok decides)
     flat = space.moves()
     goal_in: dict[int, list[Coords]] = {}
@@ -463,21 +457,11 @@ def _in_order(
 _REGIONS = (2_000, 6_000, 18_000)
 
 
-def _dijkstra(
-    space: PlanarFreeSpace,
-    ends: tuple[tuple[Position, Position], tuple[Position, Position]],
-    places: tuple[list[tuple[int, Coords]], list[tuple[int, Coords]]],
-    objective: str,
-    speeds: tuple[float, float],
-    cell_speeds: tuple[list[float], list[float]],
-    move: Any,
-    lower: float,
-) -> list[tuple[int, Coords, Coords]] | None:
+def _dijkstra(moves: _QueryMoves, lower: float) -> list[tuple[int, Coords, Coords]] | None:
     """Dijkstra (scipy, compiled) over :class:`_Moves` from a source node joined to the start's moves; the moves
     ``(piece, from, to)`` of a cheapest path, or None when the goal is not reached.
 
-    ``ends``: start and goal configurations, ``places``: their placements, ``speeds``: the robots' limits (m/s),
-    ``cell_speeds``: per edge, ``lower``: a lower bound of the cost (the cost of the robots' own distances). First
+    ``moves``: the query's moves, ``lower``: a lower bound of the cost (the cost of the robots' own distances). First
     in growing *regions*: the nodes whose bounds from the start and to the goal (:meth:`_Moves.lower`) sum to at
     most ``ub``; every node of a path that costs at most ``ub`` lies in that region, so a goal reached there at a cost
     within ``ub`` is reached at its least cost over the whole graph. Then, when no region reaches it, the whole
@@ -485,8 +469,9 @@ def _dijkstra(
     """
     from scipy.sparse.csgraph import dijkstra
 
-    s_pl, g_pl = places
-    spa, spb = cell_speeds
+    space, query, move = moves.space, moves.query, moves.move
+    s_pl, g_pl, spa, spb = moves.s_pl, moves.g_pl, moves.spa, moves.spb
+    objective = query.objective
     G = space.search_graph(objective, spa, spb)
     flat = space.moves()
     n = G.n
@@ -532,14 +517,13 @@ def _dijkstra(
                         best = (float(dist[k] + mv[0]), k, i, xy, gc, mv[1])
         return best
 
-    tr = space.track
     # first the region just above the robots' own bound: most queries end there
     ub = lower * (1.0 + 1e-3) + 1e-9 * (1.0 + lower)
-    dist, pred = _region_search(G, G.near(tr, ends, speeds, objective, ub), fk, fw)
+    dist, pred = _region_search(G, G.near(query, ub), fk, fw)
     best = arrival(dist)
     if best is not None and best[0] <= ub:
         return _read_back(G, first, best, pred, s_pl)
-    from_start, to_goal = G.lower(tr, ends[0], speeds, objective), G.lower(tr, ends[1], speeds, objective)
+    from_start, to_goal = G.lower(query, query.start), G.lower(query, query.goal)
     # the landmarks' bounds (Goldberg and Harrelson's ALT): to the goal out[l, T] - out[l, u] with out[l, T]
     # through the goal pieces' nodes and a straight last move (never dearer than the move taken), from the start
     # back[l, S] - back[l, u] with back[l, S] through the source's arcs; 1e-9 of the larger term kept for rounding

@@ -45,9 +45,9 @@ from typing import Any
 import numpy as np
 
 from mpa.errors import NoMotionError, PlanningError
-from mpa.freespace import FreeSpace, PolygonId
+from mpa.freespace import PolygonId
 from mpa.graph_track import GraphTrack, Position
-from mpa.planners.search_common import GoalDistance, cell_speeds, move_cost
+from mpa.planners.search_common import GoalDistance, SearchQuery, cell_speeds, move_cost
 
 __all__ = ["plan_with_rules", "single_robot_time"]
 
@@ -57,10 +57,10 @@ Coords = tuple[float, float]
 def single_robot_time(tr: GraphTrack, start: Position, goal: Position, speed: float) -> float:
     """The least time (s) one robot alone needs from ``start`` to ``goal`` under the track's rules.
 
-    Dijkstra over the vertices, an edge ``e`` costing ``length / min(speed, v_e)`` and usable only from ``from`` to
-    ``to`` when one-way; a move along the start's edge straight to the goal counts when both are on it. ``inf``
-    when the one-way lanes leave no way. Both robots of a plan must make their own journeys, so the larger of the
-    two times bounds the ``fastest`` makespan from below, speed limits included.
+    Dijkstra (scipy's) over the vertices, an edge ``e`` costing ``length / min(speed, v_e)`` and usable only from
+    ``from`` to ``to`` when one-way; a move along the start's edge straight to the goal counts when both are on it.
+    ``inf`` when the one-way lanes leave no way. Both robots of a plan must make their own journeys, so the larger of
+    the two times bounds the ``fastest`` makespan from below, speed limits included.
 
     Parameters
     ----------
@@ -70,15 +70,24 @@ def single_robot_time(tr: GraphTrack, start: Position, goal: Position, speed: fl
     speed : float
         The robot's speed limit (m/s), > 0.
     """
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import dijkstra
+
     spd = [min(speed, math.inf if v is None else v) for v in tr.speed_limits]
     tails, heads, lengths = tr.tails, tr.heads, tr.lengths
     n = tr.graph.n_vertices
-    adj: list[list[tuple[int, float]]] = [[] for _ in range(n)]
+    # the arcs between the vertices (the faster of parallel ones) and from a source, node n, to the start's ends
+    arcs: dict[tuple[int, int], float] = {}
+
+    def arc(u: int, w: int, t: float) -> None:
+        if t < arcs.get((u, w), math.inf):
+            arcs[(u, w)] = t
+
     for e in range(tr.n_edges):
         t_e = float(lengths[e]) / spd[e]
-        adj[int(tails[e])].append((int(heads[e]), t_e))
+        arc(int(tails[e]), int(heads[e]), t_e)
         if not tr.oneway[e]:
-            adj[int(heads[e])].append((int(tails[e]), t_e))
+            arc(int(heads[e]), int(tails[e]), t_e)
 
     def ends(pos: Position, leaving: bool) -> list[tuple[int, float]]:
         """(vertex, time) from ``pos`` to its edge's ends (``leaving``) or from the ends to ``pos``."""
@@ -94,29 +103,21 @@ def single_robot_time(tr: GraphTrack, start: Position, goal: Position, speed: fl
     (es, xs), (eg, xg) = start, goal
     if es == eg and (not tr.oneway[es] or xg >= xs):
         best = abs(xg - xs) / spd[es]
-    dist = [math.inf] * n
-    heap: list[tuple[float, int]] = []
     for v, t_v in ends(start, True):
-        if t_v < dist[v]:
-            dist[v] = t_v
-            heapq.heappush(heap, (t_v, v))
-    while heap:
-        d, u = heapq.heappop(heap)
-        if d > dist[u]:
-            continue
-        for w, t_e in adj[u]:
-            if d + t_e < dist[w]:
-                dist[w] = d + t_e
-                heapq.heappush(heap, (d + t_e, w))
+        arc(n, v, t_v)
+    (rows, cols), times = zip(*arcs.keys()), list(arcs.values())
+    graph = csr_matrix((times, (rows, cols)), shape=(n + 1, n + 1))  # explicit zeros stay arcs
+    dist = dijkstra(graph, directed=True, indices=n)
     for v, t_v in ends(goal, False):
-        best = min(best, dist[v] + t_v)
+        best = min(best, float(dist[v]) + t_v)
     return best
 
 
-def _cost_function(tr: GraphTrack, objective: str, va: float, vb: float) -> Any:
+def _cost_function(query: SearchQuery) -> Any:
     """``cost(polygon, p, q)`` of the straight move ``p -> q`` in the polygon's cell: :func:`move_cost` at the cell's
     speeds (:func:`cell_speeds`), seconds (``"fastest"``) or metres (``"shortest"``)."""
-    spa, spb = cell_speeds(tr, va, vb)
+    spa, spb = cell_speeds(query.track, query.va, query.vb)
+    objective = query.objective
 
     def cost(pid: PolygonId, p: Coords, q: Coords) -> float:
         return float(move_cost(objective, abs(q[0] - p[0]), abs(q[1] - p[1]), spa[pid[0]], spb[pid[1]]))
@@ -124,19 +125,12 @@ def _cost_function(tr: GraphTrack, objective: str, va: float, vb: float) -> Any:
     return cost
 
 
-def _search(
-    mesh: Any,
-    tr: GraphTrack,
-    start: tuple[Position, Position],
-    goal: tuple[Position, Position],
-    objective: str,
-    va: float,
-    vb: float,
-) -> list[list[Any]] | None:
-    """Segments ``[polygon, from, to]`` (cell offsets) of the cheapest path through the candidate points, or None
-    when the goal cannot be reached under the one-way rule."""
-    oneway = tr.oneway
-    cost = _cost_function(tr, objective, va, vb)
+def _search(mesh: Any, query: SearchQuery) -> list[list[Any]] | None:
+    """Segments ``[polygon, from, to]`` (cell offsets) of the cheapest path through the candidate points of ``mesh``
+    (the query's free space as the search sees it), or None when the goal cannot be reached under the one-way rule."""
+    start, goal, objective, (va, vb) = query.start, query.goal, query.objective, query.speeds
+    oneway = query.track.oneway
+    cost = _cost_function(query)
     to_a, to_b = GoalDistance(mesh.g, goal[0]), GoalDistance(mesh.g, goal[1])
 
     def bound(pid: PolygonId, p: Coords) -> float:
@@ -339,17 +333,11 @@ def _smooth(
     return segs
 
 
-def plan_with_rules(
-    tr: GraphTrack,
-    fs: FreeSpace,
-    start: tuple[Position, Position],
-    goal: tuple[Position, Position],
-    objective: str,
-    speeds: tuple[float, float],
-) -> Any:
+def plan_with_rules(query: SearchQuery) -> Any:
     """A :class:`~mpa.planners.graph.GraphPlan` under the track's one-way edges and speed limits (see the module).
 
-    ``start`` and ``goal`` are validated positions in one path component of ``fs`` (without the rules).
+    ``query.start`` and ``query.goal`` are validated positions in one path component of ``query.free_space`` (without
+    the rules).
 
     Raises
     ------
@@ -360,9 +348,9 @@ def plan_with_rules(
     from mpa.planners.graph.mesh import _mesh
     from mpa.planners.graph.search import AnyAngleSearch
 
-    va, vb = speeds
-    mesh = _mesh(fs)
-    segs = _search(mesh, tr, start, goal, objective, va, vb)
+    tr, start, goal, objective, (va, vb) = query.track, query.start, query.goal, query.objective, query.speeds
+    mesh = _mesh(query.free_space)
+    segs = _search(mesh, query)
     if segs is None:
         names = ", ".join(tr.position_name(*p) for p in start)
         gnames = ", ".join(tr.position_name(*p) for p in goal)
@@ -372,7 +360,7 @@ def plan_with_rules(
             f"the one-way lanes forbid it: start ({names}) and goal ({gnames}) are connected when every lane may be "
             f"driven both ways, but no motion drives the one-way lanes ({listed}) only from 'from' to 'to'"
         )
-    seg_cost = _cost_function(tr, objective, va, vb)
+    seg_cost = _cost_function(query)
 
     def smoothed(path: list[list[Any]]) -> list[list[Any]]:
         path = _merge_same_polygon([x for x in path if x[1] != x[2]])
@@ -381,11 +369,11 @@ def plan_with_rules(
     def path_cost(path: list[list[Any]]) -> float:
         return sum(seg_cost(x[0], x[1], x[2]) for x in path)
 
-    raw = AnyAngleSearch(mesh, start, goal, objective, va, vb).run()
+    raw = AnyAngleSearch(mesh, query).run()
     if raw is None:  # pragma: no cover - the component check guarantees a path without the rules
         raise PlanningError("the search without the rules found no path although it exists")
     raw = _merge_same_polygon([x for x in raw if x[1] != x[2]])
-    free = _assemble(tr, fs, start, goal, objective, speeds, raw)
+    free = _assemble(query, raw)
     bound = free.makespan if objective == "fastest" else free.length
     if objective == "fastest":  # each robot's own journey under the limits bounds the makespan too
         bound = max(bound, single_robot_time(tr, start[0], goal[0], va), single_robot_time(tr, start[1], goal[1], vb))
@@ -393,14 +381,15 @@ def plan_with_rules(
     if all(allowed_path(tr, x) for x in raw):  # the optimum without the rules keeps the one-way rule: start there
         candidates.append(smoothed(raw))
     segs = min(candidates, key=path_cost)
-    plan = _assemble(tr, fs, start, goal, objective, speeds, segs)
-    return dataclasses.replace(timed_at_limits(plan, tr, speeds), lower_bound=bound)
+    plan = _assemble(query, segs)
+    return dataclasses.replace(timed_at_limits(plan), lower_bound=bound)
 
 
-def timed_at_limits(plan: Any, tr: GraphTrack, speeds: tuple[float, float]) -> Any:
-    """The plan with its waypoint times and makespan at the cells' speeds: each straight move takes
-    ``max(|Δs| / min(vA, v_e), |Δt| / min(vB, v_f))`` seconds (``v_e`` the speed limit of edge ``e``, if any)."""
-    spa, spb = cell_speeds(tr, speeds[0], speeds[1])
+def timed_at_limits(plan: Any) -> Any:
+    """The plan (a :class:`~mpa.planners.graph.GraphPlan`) with its waypoint times and makespan at the cells' speeds:
+    each straight move takes ``max(|Δs| / min(vA, v_e), |Δt| / min(vB, v_f))`` seconds (``vA, vB`` the plan's
+    ``speeds``, ``v_e`` the speed limit of edge ``e`` of its track, if any)."""
+    spa, spb = cell_speeds(plan.track, plan.speeds[0], plan.speeds[1])
     offs = plan.segment_offsets
     d = np.abs(offs[:, 1] - offs[:, 0]) if len(offs) else np.zeros((0, 2))
     sa = np.array([spa[c[0]] for c in plan.segment_cells], dtype=float)

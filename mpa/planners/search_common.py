@@ -1,5 +1,6 @@
-"""What the layout planners' searches share: the objective's cost of a straight move, each robot's graph distance to
-its goal (the searches' lower bounds are built from it), and the robots' speeds on each edge under speed limits.
+"""What the layout planners' searches share: the query they answer (:class:`SearchQuery`), the objective's cost of a
+straight move, each robot's graph distance to its goal (the searches' lower bounds are built from it), and the robots'
+speeds on each edge under speed limits.
 
 Used by the exact any-angle search (:mod:`mpa.planners.graph.search`), the search under lane rules
 (:mod:`mpa.planners.rules`) and the search with footprints (:mod:`mpa.planar.search`).
@@ -9,11 +10,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 if TYPE_CHECKING:
+    from mpa.freespace import FreeSpace
     from mpa.geometry import GraphGeometry
     from mpa.graph_track import GraphTrack, Position
 
@@ -22,6 +25,43 @@ TIE_BREAK = 1e-6
 
 #: The second tie-break: ``1e-9`` of the Euclidean time ``hypot(tA, tB)`` (s): one timing among equally fast ones.
 TIE_BREAK_2 = 1e-9
+
+
+@dataclass(frozen=True, slots=True)
+class SearchQuery:
+    """One checked query of the layout planners, built once by the entry points (:func:`mpa.planners.graph.plan_graph`,
+    :func:`mpa.planar.plan_planar`) and passed to the searches and to the plan's assembly.
+
+    Parameters
+    ----------
+    track : GraphTrack
+        The layout (its one-way edges and speed limits are the lane rules).
+    free_space : FreeSpace
+        The free space of the robots on the track at the query's clearance (in the planar model: the one without the
+        bodies, :attr:`mpa.planar.PlanarFreeSpace.base`); its clearances are the plan's.
+    start, goal : (Position, Position)
+        Robot A's and robot B's positions ``(edge, offset in metres)``, free.
+    objective : {"fastest", "shortest"}
+    speeds : (float, float)
+        The robots' speed limits ``(vA, vB)`` (m/s, > 0).
+    """
+
+    track: GraphTrack
+    free_space: FreeSpace
+    start: tuple[Position, Position]
+    goal: tuple[Position, Position]
+    objective: str
+    speeds: tuple[float, float]
+
+    @property
+    def va(self) -> float:
+        """Robot A's speed limit (m/s)."""
+        return self.speeds[0]
+
+    @property
+    def vb(self) -> float:
+        """Robot B's speed limit (m/s)."""
+        return self.speeds[1]
 
 
 def move_cost(objective: str, ds: Any, dt: Any, va: Any, vb: Any) -> Any:

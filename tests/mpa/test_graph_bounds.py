@@ -9,8 +9,10 @@ the bound finds a motion of the same cost.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -24,8 +26,10 @@ from mpa.planners.graph.base import TIE_BREAK
 from mpa.planners.graph.bounds import PassingBound, fastest_cost, passing_bound
 from mpa.planners.graph.mesh import _mesh
 from mpa.planners.graph.search import AnyAngleSearch
+from mpa.planners.search_common import SearchQuery
 from tests.helpers.graph_helpers import random_free_query, random_layout, random_position
 
+Query = tuple[Position, Position]
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ("y_junction", "passing_loop", "two_sidings", "theta", "lollipop", "figure_eight", "rail_yard")
 
@@ -34,30 +38,39 @@ def _layout(name: str) -> GraphTrack:
     return GraphTrack.from_layout(json.loads((ROOT / "examples" / "tracks" / f"{name}.json").read_text()))
 
 
-def _optimum(fs: FreeSpace, s: tuple[Position, Position], g: tuple[Position, Position], va: float, vb: float) -> float:
-    """The exact optimum's cost from ``s`` to ``g`` (inf when they are in different components)."""
+def _fastest(track: GraphTrack, fs: FreeSpace, s: Query, g: Query, speeds: tuple[float, float]) -> SearchQuery:
+    return SearchQuery(track, fs, s, g, "fastest", speeds)
+
+
+def _queries(
+    track: GraphTrack, fs: FreeSpace, rng: np.random.Generator, n: int, swap_every: int = 2, vertex_p: float = 0.0
+) -> Iterator[tuple[int, Query, Query]]:
+    """``(k, start, goal)`` of ``n`` draws of a random free query (:func:`random_free_query`; a draw without one gives
+    none); when ``k % swap_every == 0`` a swap: the goal is the start with the robots' positions exchanged."""
+    for k in range(n):
+        q = random_free_query(track, fs, rng, vertex_p=vertex_p)
+        if q is not None:
+            s, g = q
+            yield k, s, ((s[1], s[0]) if k % swap_every == 0 else g)
+
+
+def _optimum(query: SearchQuery) -> float:
+    """The exact optimum's cost of the fastest ``query`` (inf when start and goal are in different components)."""
+    fs, s, g = query.free_space, query.start, query.goal
     comp = fs.component_of(*s)
     if comp is None or comp != fs.component_of(*g):
         return math.inf
     if s == g:
         return 0.0
-    segs = AnyAngleSearch(_mesh(fs), s, g, "fastest", va, vb).run()
+    segs = AnyAngleSearch(_mesh(fs), query).run()
     assert segs is not None
-    return fastest_cost(segs, va, vb)
+    return fastest_cost(segs, query.va, query.vb)
 
 
-def _check_query(
-    track: GraphTrack,
-    fs: FreeSpace,
-    s: tuple[Position, Position],
-    g: tuple[Position, Position],
-    va: float,
-    vb: float,
-    rng: np.random.Generator,
-    extra: int,
-) -> int:
+def _check_query(query: SearchQuery, rng: np.random.Generator, extra: int) -> int:
     """Check the bound at the start and at ``extra`` random free configurations; the number of checks made."""
-    opt = _optimum(fs, s, g, va, vb)
+    track, fs, s, g, (va, vb) = query.track, query.free_space, query.start, query.goal, query.speeds
+    opt = _optimum(query)
     if not math.isfinite(opt):
         return 0
     pb = PassingBound(_mesh(fs), s, g, va, vb)
@@ -67,7 +80,7 @@ def _check_query(
         c = (random_position(track, rng), random_position(track, rng))
         if not fs.is_free(*c):
             continue
-        oc = _optimum(fs, c, g, va, vb)
+        oc = _optimum(dataclasses.replace(query, start=c))
         if not math.isfinite(oc):
             continue
         hc = pb.at(*c)
@@ -85,15 +98,9 @@ def test_the_bound_is_admissible_on_the_example_layouts(name: str) -> None:
     checks = 0
     for frac in (0.05, 0.2, 0.5, 1.0):
         fs = free_space(track, frac * med)
-        for k in range(12):
-            q = random_free_query(track, fs, rng)
-            if q is None:
-                continue
-            s, g = q
-            if k % 2 == 0:
-                g = (s[1], s[0])  # a swap
+        for k, s, g in _queries(track, fs, rng, 12):
             va, vb = (1.0, 1.0) if k % 3 else (float(rng.uniform(0.4, 1.0)), float(rng.uniform(0.4, 1.0)))
-            checks += _check_query(track, fs, s, g, va, vb, rng, extra=2)
+            checks += _check_query(_fastest(track, fs, s, g, (va, vb)), rng, extra=2)
     assert checks >= 40, checks
 
 
@@ -106,15 +113,9 @@ def test_the_bound_is_admissible_on_thousands_of_random_queries(seed: int) -> No
     for _ in range(30):
         track = random_layout(rng)
         fs = free_space(track, float(rng.uniform(0.05, 0.8)))
-        for k in range(4):
-            q = random_free_query(track, fs, rng, vertex_p=0.15)
-            if q is None:
-                continue
-            s, g = q
-            if k % 2 == 0:
-                g = (s[1], s[0])
+        for k, s, g in _queries(track, fs, rng, 4, vertex_p=0.15):
             va, vb = (1.0, 1.0) if k == 0 else (float(rng.uniform(0.3, 2.0)), float(rng.uniform(0.3, 2.0)))
-            checks += _check_query(track, fs, s, g, va, vb, rng, extra=2)
+            checks += _check_query(_fastest(track, fs, s, g, (va, vb)), rng, extra=2)
     assert checks >= 150, checks
 
 
@@ -131,7 +132,7 @@ def test_the_bound_is_admissible_property(seed: int, clearance: float, va: float
     s, g = q
     if swap:
         g = (s[1], s[0])
-    _check_query(track, fs, s, g, va, vb, rng, extra=1)
+    _check_query(_fastest(track, fs, s, g, (va, vb)), rng, extra=1)
 
 
 def test_the_bound_closes_the_gap_of_a_swap_at_a_siding() -> None:
@@ -141,13 +142,8 @@ def test_the_bound_closes_the_gap_of_a_swap_at_a_siding() -> None:
     rng = np.random.default_rng(7)
     fs = free_space(track, 0.5 * float(np.median(track.lengths)))
     found = 0
-    for _ in range(40):
-        q = random_free_query(track, fs, rng)
-        if q is None:
-            continue
-        s = q[0]
-        g = (s[1], s[0])
-        opt = _optimum(fs, s, g, 1.0, 1.0)
+    for _, s, g in _queries(track, fs, rng, 40, swap_every=1):
+        opt = _optimum(_fastest(track, fs, s, g, (1.0, 1.0)))
         if not math.isfinite(opt):
             continue
         geo = track.geometry
@@ -157,7 +153,7 @@ def test_the_bound_closes_the_gap_of_a_swap_at_a_siding() -> None:
         pb = passing_bound(_mesh(fs), s, g, 1.0, 1.0)
         assert pb is not None
         assert pb.at_start > base + 0.5 * (opt - base), (s, base, pb.at_start, opt)
-        segs = AnyAngleSearch(_mesh(fs), s, g, "fastest", 1.0, 1.0, bound=pb).run()
+        segs = AnyAngleSearch(_mesh(fs), _fastest(track, fs, s, g, (1.0, 1.0)), bound=pb).run()
         assert segs is not None
         assert fastest_cost(segs, 1.0, 1.0) == pytest.approx(opt, rel=1e-9), (s, opt)
         found += 1
@@ -173,12 +169,7 @@ def test_passing_segments_are_free_at_equal_distance_and_their_least_goal_cost_i
     rng = np.random.default_rng(31)
     fs = free_space(track, 0.3 * float(np.median(track.lengths)))
     checked = 0
-    for _ in range(10):
-        q = random_free_query(track, fs, rng)
-        if q is None:
-            continue
-        s = q[0]
-        g = (s[1], s[0])
+    for _, s, g in _queries(track, fs, rng, 10, swap_every=1):
         pb = PassingBound(_mesh(fs), s, g, 1.0, 0.7)
         if pb.vertex is None:
             continue
@@ -223,13 +214,7 @@ def test_the_planner_with_the_bound_from_the_first_pop_plans_as_fast(
     compared = 0
     for frac in (0.2, 0.5, 1.0):
         fs = free_space(track, frac * med)
-        for k in range(8):
-            q = random_free_query(track, fs, rng)
-            if q is None:
-                continue
-            s, g = q
-            if k % 2 == 0:
-                g = (s[1], s[0])
+        for _, s, g in _queries(track, fs, rng, 8):
             spans = []
             for after in (None, 1):
                 monkeypatch.setattr(graph_query, "PASSING_BOUND_AFTER", after)

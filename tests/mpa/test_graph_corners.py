@@ -23,6 +23,7 @@ from mpa.graph_track import GraphTrack
 from mpa.planners import graph as graph_planner
 from mpa.planners.corners import RESOLVE_TOL, _routes, resolve_corners
 from mpa.planners.graph import plan_graph
+from mpa.planners.search_common import SearchQuery
 from trajopt.analysis.stability import _route_key, layout_queries, layout_twins
 
 TRACKS = Path(__file__).resolve().parents[2] / "examples" / "tracks"
@@ -125,7 +126,8 @@ def test_seeded_twins_of_random_queries_keep_routes_and_barely_move() -> None:
 def _search_segments(track: GraphTrack, D: float, start: object, goal: object) -> tuple[object, list[list[object]]]:
     fs = free_space(track, D)
     mesh = graph_planner._mesh(fs)
-    segs = graph_planner.AnyAngleSearch(mesh, start, goal, "fastest", 1.0, 1.0).run()  # type: ignore[arg-type]
+    query = SearchQuery(track, fs, start, goal, "fastest", (1.0, 1.0))  # type: ignore[arg-type]
+    segs = graph_planner.AnyAngleSearch(mesh, query).run()
     assert segs is not None
     return fs, graph_planner._merge_same_polygon([x for x in segs if x[1] != x[2]])
 

@@ -18,18 +18,25 @@ from mpa.freespace import FreeSpace, free_space
 from mpa.graph_track import GraphTrack
 from mpa.planners import graph as gp
 from mpa.planners.graph import shortcut as gp_shortcut
+from mpa.planners.search_common import SearchQuery
 from tests.helpers.graph_helpers import EXACT, random_layout, random_position
 
 ROOT = Path(__file__).resolve().parents[2]
 LAYOUTS = ["y_junction", "theta", "two_sidings", "passing_loop", "figure_eight", "warehouse"]
 
 
+def _query(track: GraphTrack, fs: FreeSpace, start, goal) -> SearchQuery:  # type: ignore[no-untyped-def]
+    """The query ``start`` -> ``goal`` for the fastest motion at unit speeds."""
+    return SearchQuery(track, fs, start, goal, "fastest", (1.0, 1.0))
+
+
 def _search_plan(track: GraphTrack, fs: FreeSpace, start, goal) -> gp.GraphPlan:  # type: ignore[no-untyped-def]
     """The plan of the full search (no shortcut), as ``plan_graph`` assembles it."""
-    segs = gp.AnyAngleSearch(gp._mesh(fs), start, goal, "fastest", 1.0, 1.0).run()
+    query = _query(track, fs, start, goal)
+    segs = gp.AnyAngleSearch(gp._mesh(fs), query).run()
     assert segs is not None
     segs = gp._merge_same_polygon([x for x in segs if x[1] != x[2]])
-    return gp._assemble(track, fs, start, goal, "fastest", (1.0, 1.0), segs)
+    return gp._assemble(query, segs)
 
 
 @pytest.mark.parametrize("name", LAYOUTS)
@@ -54,7 +61,7 @@ def test_the_independent_motion_is_the_search_s_answer(name: str) -> None:
         quick = gp._independent_motion(gp._mesh(fs), start, goal)
         took = quick is not None
         if took:  # kept the clearance cell by cell: so along the whole motion (an independent exact check)
-            motion = gp._assemble(track, fs, start, goal, "fastest", (1.0, 1.0), quick)  # type: ignore[arg-type]
+            motion = gp._assemble(_query(track, fs, start, goal), quick)  # type: ignore[arg-type]
             assert motion.min_distance() >= fs._dmin - 1e-12, f"{name} D={d!r} start={start!r} goal={goal!r}"
         used += took
         searched += not took
@@ -185,7 +192,7 @@ def test_tied_routes_shortcut_matches_the_search_on_random_layouts() -> None:
             took += 1
             tied += any(gp._fastest_alone(mesh, p, q, 1e-9 * mesh.scale) is None for p, q in zip(start, goal))
             case = f"{track.to_dict()} D={d!r} start={start!r} goal={goal!r}"
-            plan = gp._assemble(track, fs, start, goal, "fastest", (1.0, 1.0), quick)  # type: ignore[arg-type]
+            plan = gp._assemble(_query(track, fs, start, goal), quick)  # type: ignore[arg-type]
             ref = _search_plan(track, fs, start, goal)
             assert math.isclose(plan.makespan, ref.makespan, rel_tol=1e-9, abs_tol=1e-12), case
             assert plan.min_distance() >= fs._dmin - 1e-12, case

@@ -12,6 +12,7 @@ import pytest
 from mpa.graph_track import GraphTrack
 from mpa.planar import planar_free_space
 from mpa.planar.search import _cell_speeds
+from mpa.planners.search_common import SearchQuery
 from tests.mpa.test_planar_search import _queries
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tracks"
@@ -34,12 +35,12 @@ def test_near_is_the_region_of_every_node(name: str, spec: str, clearance: float
     G = space.search_graph(objective, *_cell_speeds(tr, *speeds))
     sizes = []
     for q in _queries(tr, 5, 15):
-        ends = ((q[0], q[1]), (q[2], q[3]))
-        through = G.lower(tr, ends[0], speeds, objective) + G.lower(tr, ends[1], speeds, objective)
+        query = SearchQuery(tr, space.base, (q[0], q[1]), (q[2], q[3]), objective, speeds)
+        through = G.lower(query, query.start) + G.lower(query, query.goal)
         least = float(np.min(through))
         for factor in (1.0, 1.001, 1.2, 2.0, 10.0):
             ub = least * factor
-            region = G.near(tr, ends, speeds, objective, ub)
+            region = G.near(query, ub)
             want = through <= ub
             bad = np.flatnonzero(region != want)
             assert not len(bad), (name, q, factor, bad[:5], through[bad[:5]], ub)

@@ -75,12 +75,13 @@ def test_the_search_over_shared_segments_keeps_the_rule_and_decides() -> None:
     """The complete search over shared segments (the fallback of the search over shared points) finds a motion
     that keeps the one-way rule where one exists, and none out of the one-way branch."""
     from mpa.planar import _search, _search_sets, planar_free_space
+    from mpa.planners.search_common import SearchQuery
 
     tr = _y(True)
     space = planar_free_space(tr, 0.5, Disc(0.2))
     s = (tr.position("left"), tr.position("b_right:1"))
     g = (tr.position("b_right:1.5"), tr.position("short"))
-    by_points = _search(space, s, g, "fastest", 1.0, 1.0)
+    by_points = _search(space, SearchQuery(tr, space.base, s, g, "fastest", (1.0, 1.0)))
     by_sets = _search_sets(space, s, g)
     assert by_points is not None and by_sets is not None
     for cell, p, q in by_sets:

@@ -6,6 +6,7 @@ array cost, on seeded random layouts (failing cases printed).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -16,7 +17,15 @@ from hypothesis import strategies as st
 from mpa.freespace import free_space
 from mpa.planners.graph import mesh as gmesh
 from mpa.planners.graph.search import GOAL, START, AnyAngleSearch, FaceEntry, IntervalNode, PointNode
-from mpa.planners.search_common import TIE_BREAK, TIE_BREAK_2, GoalDistance, cell_speeds, cost_function, move_cost
+from mpa.planners.search_common import (
+    TIE_BREAK,
+    TIE_BREAK_2,
+    GoalDistance,
+    SearchQuery,
+    cell_speeds,
+    cost_function,
+    move_cost,
+)
 from tests.helpers.graph_helpers import random_layout, random_position
 
 
@@ -97,7 +106,7 @@ def test_the_search_nodes_are_typed_and_read_back_to_the_path(seed: int) -> None
         g = (random_position(tr, rng), random_position(tr, rng))
         if fs.is_free(*s) and fs.is_free(*g) and fs.component_of(*s) == fs.component_of(*g) is not None:
             break
-    search = AnyAngleSearch(gmesh._mesh(fs), s, g, "fastest", 1.0, 0.5)
+    search = AnyAngleSearch(gmesh._mesh(fs), SearchQuery(tr, fs, s, g, "fastest", (1.0, 0.5)))
     segs = search.run()
     assert segs is not None
     kinds = {type(nd) for nd in search.nodes}
@@ -111,3 +120,32 @@ def test_the_search_nodes_are_typed_and_read_back_to_the_path(seed: int) -> None
     assert total == pytest.approx(search.best[GOAL], rel=1e-9, abs=1e-12), (seed, s, g)
     start_pid, start_c = search.mesh.placements(*s)[0]
     assert search.lower_bound(start_pid, start_c) <= search.best[GOAL] * (1 + 1e-12) + 1e-12, (seed, s, g)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_search_query_is_frozen_and_its_plan_carries_it(seed: int) -> None:
+    """A :class:`SearchQuery` cannot change after it is built (frozen, slotted), and the plan assembled from the
+    search of a query carries its track, start, goal, objective, speeds and the free space's clearances."""
+    from mpa.planners.graph.assemble import _assemble
+
+    rng = np.random.default_rng(900 + seed)
+    tr = random_layout(rng)
+    fs = free_space(tr, 0.15)
+    while True:
+        s = (random_position(tr, rng), random_position(tr, rng))
+        g = (random_position(tr, rng), random_position(tr, rng))
+        if fs.is_free(*s) and fs.is_free(*g) and fs.component_of(*s) == fs.component_of(*g) is not None:
+            break
+    speeds = (float(rng.uniform(0.3, 2.0)), float(rng.uniform(0.3, 2.0)))
+    objective = "fastest" if seed % 2 else "shortest"
+    query = SearchQuery(tr, fs, s, g, objective, speeds)
+    assert (query.va, query.vb) == speeds
+    assert not hasattr(query, "__dict__")
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        query.start = g  # type: ignore[misc]
+    segs = AnyAngleSearch(gmesh._mesh(fs), query).run()
+    assert segs is not None
+    plan = _assemble(query, segs)
+    got = (plan.track, plan.start, plan.goal, plan.objective, plan.speeds, plan.clearance, plan.clearance_used)
+    assert got == (tr, s, g, objective, speeds, fs.clearance, fs.clearance_used), (seed, s, g)
+    assert plan.min_distance() >= fs.clearance_used - 1e-9, (seed, s, g)

@@ -6,10 +6,11 @@ from typing import Any
 
 import numpy as np
 
-from mpa.freespace import FreeSpace, PolygonId
+from mpa.freespace import PolygonId
 from mpa.geometry import DirectedRoute
 from mpa.graph_track import GraphTrack, Position
 from mpa.planners.graph.result import GraphPlan
+from mpa.planners.search_common import SearchQuery
 
 
 def _merge_same_polygon(segs: list[list[Any]]) -> list[list[Any]]:
@@ -66,16 +67,11 @@ def _word(track: GraphTrack, cells: list[PolygonId]) -> tuple[str, ...]:
     return tuple(out)
 
 
-def _assemble(
-    tr: GraphTrack,
-    fs: FreeSpace,
-    start: tuple[Position, Position],
-    goal: tuple[Position, Position],
-    objective: str,
-    speeds: tuple[float, float],
-    segs: list[list[Any]],
-) -> GraphPlan:
-    va, vb = speeds
+def _assemble(query: SearchQuery, segs: list[list[Any]]) -> GraphPlan:
+    """The :class:`GraphPlan` of ``query`` along the search's straight segments ``segs`` ``[polygon, from, to]``
+    (offsets in the polygon's cell, metres), timed at the robots' speeds."""
+    start = query.start
+    va, vb = query.speeds
     cells = [tuple(x[0]) for x in segs]
     offs = np.array([[x[1], x[2]] for x in segs], dtype=float).reshape(-1, 2, 2)
     route_a, at_a = _route([(c[0], o[0, 0], o[1, 0]) for c, o in zip(cells, offs)], start[0])
@@ -85,19 +81,19 @@ def _assemble(
     seg_t = np.maximum(d[:, 0] / va, d[:, 1] / vb)
     times = np.concatenate([[0.0], np.cumsum(seg_t)])
     return GraphPlan(
-        track=tr,
+        track=query.track,
         start=start,
-        goal=goal,
-        clearance=fs.clearance,
-        clearance_used=fs.clearance_used,
-        objective=objective,
-        speeds=speeds,
+        goal=query.goal,
+        clearance=query.free_space.clearance,
+        clearance_used=query.free_space.clearance_used,
+        objective=query.objective,
+        speeds=query.speeds,
         segment_cells=tuple(cells),
         segment_offsets=offs,
         waypoints=waypoints,
         route_a=route_a,
         route_b=route_b,
-        word=_word(tr, cells),
+        word=_word(query.track, cells),
         makespan=float(times[-1]),
         length=float(np.hypot(d[:, 0], d[:, 1]).sum()),
         _times=times,

@@ -22,6 +22,7 @@ from mpa.planners.graph.reasons import _why_no_motion
 from mpa.planners.graph.result import GraphPlan
 from mpa.planners.graph.search import AnyAngleSearch
 from mpa.planners.graph.shortcut import _independent_motion
+from mpa.planners.search_common import SearchQuery
 
 #: Queue pops after which a "fastest" search starts again with the passing bound (:mod:`mpa.planners.graph.bounds`:
 #: building it costs a few ms, so only searches that negotiate long get it; a query that no vertex separates, where
@@ -152,21 +153,22 @@ def plan_graph(
     ca, cb = fs.component_of(*s), fs.component_of(*gl)
     if ca is None or ca != cb:
         raise NoMotionError(_why_no_motion(tr, fs, s, gl))
+    query = SearchQuery(tr, fs, s, gl, objective, (va, vb))
     if tr.has_rules:  # one-way edges or speed limits: the planner of mpa.planners.rules
         from mpa.planners.rules import plan_with_rules
 
-        return cast("GraphPlan", plan_with_rules(tr, fs, s, gl, objective, (va, vb)))
+        return cast("GraphPlan", plan_with_rules(query))
     mesh = _mesh(fs)
     quick = _independent_motion(mesh, s, gl)
     if quick is not None:
-        return _assemble(tr, fs, s, gl, objective, (va, vb), quick)
+        return _assemble(query, quick)
     after = PASSING_BOUND_AFTER if objective == "fastest" and separating_vertices(mesh, s, gl) else None
-    segs = AnyAngleSearch(mesh, s, gl, objective, va, vb).run(after)
+    segs = AnyAngleSearch(mesh, query).run(after)
     if segs is None:  # a long negotiation: again, with the bound that knows the robots must pass, if it knows more
         passing = passing_bound(mesh, s, gl, va, vb)
         own = max(geo.distance_scalar(*s[0], *gl[0]) / va, geo.distance_scalar(*s[1], *gl[1]) / vb)
         bound = passing if passing and passing.at_start > own * BOUND_GAIN else None
-        segs = AnyAngleSearch(mesh, s, gl, objective, va, vb, bound=bound).run()
+        segs = AnyAngleSearch(mesh, query, bound=bound).run()
     if segs is None:  # pragma: no cover - no budget given
         raise PlanningError("search gave up")
     segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])
@@ -174,4 +176,4 @@ def plan_graph(
         from mpa.planners.corners import resolve_corners
 
         segs = [x for x in resolve_corners(fs, segs, (va, vb)) if x[1] != x[2]]
-    return _assemble(tr, fs, s, gl, objective, (va, vb), segs)
+    return _assemble(query, segs)

@@ -14,10 +14,9 @@ from typing import TYPE_CHECKING
 
 from mpa.errors import PlanningError
 from mpa.freespace import PolygonId
-from mpa.graph_track import Position
 from mpa.planners.graph.base import F_GRID, Coords, FaceKey, Key, Segment
 from mpa.planners.graph.mesh import _Mesh
-from mpa.planners.search_common import GoalDistance, cost_function
+from mpa.planners.search_common import GoalDistance, SearchQuery, cost_function
 
 if TYPE_CHECKING:
     from mpa.planners.graph.bounds import PassingBound
@@ -136,32 +135,21 @@ class AnyAngleSearch:
     ----------
     mesh : _Mesh
         The free space as the search sees it.
-    start, goal : (Position, Position)
-        Robot A's and robot B's positions ``(edge, offset in metres)``, free.
-    objective : {"fastest", "shortest"}
-    va, vb : float
-        The robots' speeds (m/s), > 0.
+    query : SearchQuery
+        The start, the goal, the objective and the robots' speeds.
     bound : PassingBound, optional
         The passing bound of this query (:mod:`mpa.planners.graph.bounds`): a node's bound is then the larger of the
         robots' distances' and the passing bound at its point (at its root, for a face entry).
     """
 
-    def __init__(
-        self,
-        mesh: _Mesh,
-        start: tuple[Position, Position],
-        goal: tuple[Position, Position],
-        objective: str,
-        va: float,
-        vb: float,
-        bound: PassingBound | None = None,
-    ) -> None:
+    def __init__(self, mesh: _Mesh, query: SearchQuery, bound: PassingBound | None = None) -> None:
+        start, goal = query.start, query.goal
         self.mesh = mesh
         self.bound = bound
         self.start = start
         self.eps = mesh.eps
         self.ctol = 1e-12 * mesh.scale * mesh.scale
-        self.cost = cost_function(objective, va, vb)
+        self.cost = cost_function(query.objective, query.va, query.vb)
         self.to_goal = (GoalDistance(mesh.g, goal[0]), GoalDistance(mesh.g, goal[1]))
         self._at_a, self._at_b = self.to_goal[0].at, self.to_goal[1].at
         self._vd_a, self._vd_b = self.to_goal[0].vd, self.to_goal[1].vd
