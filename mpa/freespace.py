@@ -27,9 +27,10 @@ i.e. some component is mapped to itself by the swap ``(x, y) -> (y, x)``.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
+from typing import overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -141,24 +142,29 @@ def _label_components(n: int, rows: NDArray[np.int64], cols: NDArray[np.int64]) 
 
 
 class _PolygonIndex:
-    """The number of each free polygon ``(e, f, k)`` (a read-only mapping), from the polygons' arrays sorted by
-    ``(e, f, k)``: per cell its first polygon (-1 when empty), per edge the second piece of its own cell, instead of a
-    dictionary of E² entries (nested lists: a look-up is two list indexings)."""
+    """The number of each free polygon ``(e, f, k)`` (a read-only mapping) without a Python object per polygon.
 
-    def __init__(self, pe: NDArray[np.int64], pf: NDArray[np.int64], pk: NDArray[np.int64], n_e: int) -> None:
-        first = np.full((n_e, n_e), -1, dtype=np.int64)
+    Per cell ``e × f`` the number of its first polygon (-1 when empty) in an ``(E, E)`` integer array, per cell
+    whether that polygon is piece 0 (a bit array), per edge the number of the second piece of its own cell; a row of
+    the first array becomes a list (two list indexings per look-up) only when a look-up reads it.
+    """
+
+    def __init__(self, pe: NDArray[np.integer], pf: NDArray[np.integer], pk: NDArray[np.integer], n_e: int) -> None:
         n = len(pe)
+        dt = np.int32 if n < 2**31 - 1 else np.int64
+        first = np.full((n_e, n_e), -1, dtype=dt)
         head = np.ones(n, dtype=bool)
         if n > 1:
             head[1:] = (pe[1:] != pe[:-1]) | (pf[1:] != pf[:-1])
         idx = np.nonzero(head)[0]
         first[pe[idx], pf[idx]] = idx
-        self._first: list[list[int]] = first.tolist()
+        self._first = first
         k0 = np.zeros((n_e, n_e), dtype=bool)
         k0[pe[idx], pf[idx]] = pk[idx] == 0
-        self._k0: list[list[bool]] = k0.tolist()  # per cell: whether its first polygon is piece 0
+        self._k0 = k0  # per cell: whether its first polygon is piece 0
         second = np.nonzero(~head)[0]  # (e, e, 1) after (e, e, 0)
         self._second = {int(pe[i]): int(i) for i in second}
+        self._rows: list[list[int] | None] = [None] * n_e
         self._n = n
         self._n_e = n_e
 
@@ -170,10 +176,13 @@ class _PolygonIndex:
             return default
         if not (0 <= e < self._n_e and 0 <= f < self._n_e):
             return default
-        i = self._first[e][f]
+        row = self._rows[e]
+        if row is None:
+            row = self._rows[e] = self._first[e].tolist()
+        i = row[f]
         if i < 0:
             return default
-        if (k == 0) == self._k0[e][f]:
+        if (k == 0) == bool(self._k0[e, f]):
             return i
         if k == 1 and e == f:
             return self._second.get(e, default)
@@ -190,6 +199,46 @@ class _PolygonIndex:
 
     def __len__(self) -> int:
         return self._n
+
+
+class _PolygonIds(Sequence[PolygonId]):
+    """The free polygons ``(e, f, k)`` in the order of their numbers, read from three compact arrays (no tuple is
+    kept per polygon: a tuple is made when an element is read)."""
+
+    def __init__(self, pe: NDArray[np.integer], pf: NDArray[np.integer], pk: NDArray[np.integer]) -> None:
+        self._pe, self._pf, self._pk = pe, pf, pk
+
+    def __len__(self) -> int:
+        return len(self._pe)
+
+    @overload
+    def __getitem__(self, i: int) -> PolygonId: ...
+
+    @overload
+    def __getitem__(self, i: slice) -> list[PolygonId]: ...
+
+    def __getitem__(self, i: int | slice) -> PolygonId | list[PolygonId]:
+        if isinstance(i, slice):
+            return list(zip(self._pe[i].tolist(), self._pf[i].tolist(), self._pk[i].tolist()))
+        return (int(self._pe[i]), int(self._pf[i]), int(self._pk[i]))
+
+    def __iter__(self) -> Iterator[PolygonId]:
+        step = 1 << 16
+        for i0 in range(0, len(self._pe), step):
+            yield from self[i0 : i0 + step]
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, _PolygonIds):
+            return bool(
+                np.array_equal(self._pe, other._pe)
+                and np.array_equal(self._pf, other._pf)
+                and np.array_equal(self._pk, other._pk)
+            )
+        if isinstance(other, Sequence):
+            return len(other) == len(self) and all(a == tuple(b) for a, b in zip(self, other))
+        return NotImplemented
+
+    __hash__ = None  # type: ignore[assignment]
 
 
 @dataclass(frozen=True)
@@ -220,8 +269,8 @@ class FreeSpace:
         Membership tolerance (metres): free means ``d >= clearance_used - tol``.
     status : ndarray of int, shape (E, E)
         Per cell ``e × f``: 0 empty, 1 entirely free (the box), 2 clipped.
-    polygon_ids : list of PolygonId
-        The non-empty free polygons; the index in this list is the polygon's number.
+    polygon_ids : sequence of PolygonId
+        The non-empty free polygons; the index in this sequence is the polygon's number.
 
     Notes
     -----
@@ -281,16 +330,8 @@ class FreeSpace:
             block[empty] = _EMPTY
             for r, f in zip(*np.nonzero(block == _PARTIAL)):
                 self._clip_cell(i0 + int(r), int(f), c0[r, f].tolist(), tmin[r, f].tolist())
-        # the polygons in the order of their cells (row-major), pieces 0 then 1: entirely free cells and clipped
-        # cells of two edges hold piece 0; a clipped cell of one edge the pieces that survived clipping
-        ee_f, ff_f = np.nonzero(status == _FULL)
-        clipped = sorted(self._vertices)
-        pe = np.concatenate([ee_f, np.array([p[0] for p in clipped], dtype=np.int64)])
-        pf = np.concatenate([ff_f, np.array([p[1] for p in clipped], dtype=np.int64)])
-        pk = np.concatenate([np.zeros(len(ee_f), dtype=np.int64), np.array([p[2] for p in clipped], dtype=np.int64)])
-        order = np.lexsort((pk, pf, pe))
-        self._pe, self._pf, self._pk = pe[order], pf[order], pk[order]
-        # the number of each polygon: a dictionary when small (fastest to look up), else one int32 per cell
+        self._polygon_arrays()
+        # the number of each polygon: a dictionary when small (fastest to look up), else compact arrays per cell
         self._index: Mapping[PolygonId, int] | _PolygonIndex
         if len(self._pe) <= INDEX_DICT_POLYGONS:
             self._index = {pid: i for i, pid in enumerate(self.polygon_ids)}
@@ -298,10 +339,46 @@ class FreeSpace:
             self._index = _PolygonIndex(self._pe, self._pf, self._pk, n_e)
         self._components()
 
+    def _polygon_arrays(self) -> None:
+        """The polygons' edges and pieces ``_pe, _pf, _pk`` in the order of their cells (row-major), pieces 0 then 1.
+
+        Entirely free cells and clipped cells of two edges hold piece 0; a clipped cell of one edge the pieces that
+        survived clipping. Compact: int32 edges and int8 pieces, read from :attr:`status` a block of rows at a time.
+        """
+        status = self.status
+        n_e = status.shape[0]
+        rows = max(1, CELL_BLOCK // max(1, n_e))
+        pe_parts, pf_parts = [], []
+        for i0 in range(0, n_e, rows):
+            r, f = np.nonzero(status[i0 : i0 + rows])
+            pe_parts.append((r + i0).astype(np.int32))
+            pf_parts.append(f.astype(np.int32))
+        pe, pf = np.concatenate(pe_parts), np.concatenate(pf_parts)
+        del pe_parts, pf_parts
+        pk = np.zeros(len(pe), dtype=np.int8)
+        # cells of one edge: where each stands, which pieces it has (the second piece inserted after the first)
+        row_start = np.concatenate([[0], np.cumsum(np.count_nonzero(status, axis=1))])
+        extra = []
+        for e in range(n_e):
+            if status[e, e] == _EMPTY:
+                continue
+            pos = int(row_start[e]) + int(np.count_nonzero(status[e, :e]))
+            has0, has1 = (e, e, 0) in self._vertices, (e, e, 1) in self._vertices
+            if has0 and has1:
+                extra.append((pos + 1, e))
+            elif has1:
+                pk[pos] = 1
+        if extra:
+            at = np.array([x[0] for x in extra], dtype=np.int64)
+            ex = np.array([x[1] for x in extra], dtype=np.int32)
+            pe, pf, pk = np.insert(pe, at, ex), np.insert(pf, at, ex), np.insert(pk, at, np.int8(1))
+        self._pe, self._pf, self._pk = pe, pf, pk
+
     @cached_property
-    def polygon_ids(self) -> list[PolygonId]:
-        """The non-empty free polygons ``(e, f, k)``; the index in this list is the polygon's number."""
-        return list(zip(self._pe.tolist(), self._pf.tolist(), self._pk.tolist()))
+    def polygon_ids(self) -> Sequence[PolygonId]:
+        """The non-empty free polygons ``(e, f, k)`` (a read-only sequence, made from compact arrays); the index in
+        this sequence is the polygon's number."""
+        return _PolygonIds(self._pe, self._pf, self._pk)
 
     def _clip_cell(self, e: int, f: int, c0: list[float], tmin: list[float]) -> None:
         """The free polygons of a clipped cell ``e × f`` (into ``_vertices``); the cell is empty if none is left.
@@ -328,7 +405,12 @@ class FreeSpace:
             self.status[e, f] = _EMPTY
 
     def _components(self) -> None:
-        """Path components: connected components of the graph of polygons and the faces on their sides."""
+        """Path components: connected components of the graph of polygons and the faces on their sides.
+
+        Nodes: the polygons, then the faces "A at w, B on f" (``n_poly + w * E + f``) and "A on e, B at w"
+        (``n_poly + V * E + e * V + w``); an incidence joins a polygon to a face on one of its sides. Incidences are
+        int32 when the nodes allow (half the memory of the largest layouts' build).
+        """
         g = self.geometry
         n_e, n_v = g.n_edges, g.n_vertices
         pe, pf, pk = self._pe, self._pf, self._pk
@@ -336,19 +418,23 @@ class FreeSpace:
         tails, heads = g.tails, g.heads
         ok = self.faces.ok
         same = pe == pf
-        rows, cols = [], []
         n_nodes = n_poly + 2 * n_v * n_e
-        idx = np.int32 if n_nodes < 2**31 else np.int64  # half the memory of the incidences on large layouts
+        idx = np.int32 if n_nodes < 2**31 else np.int64
+        rows, cols = [], []
         # A on a vertex: the tail of e (two edges, or piece 1 of one edge) and the head of e (two edges, or piece 0)
-        for w, use in ((tails[pe], ~same | (pk == 1)), (heads[pe], ~same | (pk == 0))):
+        for w_of, use in ((tails, ~same | (pk == 1)), (heads, ~same | (pk == 0))):
+            w = w_of[pe]
             m = use & ok[w, pf]
             rows.append(np.nonzero(m)[0].astype(idx))
             cols.append((n_poly + w[m] * n_e + pf[m]).astype(idx))
+            del w, m
         # B on a vertex: the tail of f (two edges, or piece 0 of one edge) and the head of f (or piece 1)
-        for w, use in ((tails[pf], ~same | (pk == 0)), (heads[pf], ~same | (pk == 1))):
+        for w_of, use in ((tails, ~same | (pk == 0)), (heads, ~same | (pk == 1))):
+            w = w_of[pf]
             m = use & ok[w, pe]
             rows.append(np.nonzero(m)[0].astype(idx))
-            cols.append((n_poly + n_v * n_e + pe[m] * n_v + w[m]).astype(idx))
+            cols.append((n_poly + n_v * n_e + pe[m].astype(np.int64) * n_v + w[m]).astype(idx))
+            del w, m
         r = np.concatenate(rows)
         del rows
         c = np.concatenate(cols)
@@ -358,16 +444,19 @@ class FreeSpace:
         elif n_poly <= SCIPY_POLYGONS:
             lab = _label_components(n_nodes, r.astype(np.int64), c.astype(np.int64))[:n_poly]
         else:
-            from scipy.sparse import coo_matrix
+            from scipy.sparse import csr_matrix
             from scipy.sparse.csgraph import connected_components
 
-            adj = coo_matrix((np.ones(len(r), dtype=np.int8), (r, c)), shape=(n_nodes, n_nodes))
+            adj = csr_matrix((np.ones(len(r), dtype=np.float64), (r, c)), shape=(n_nodes, n_nodes))
+            del r, c
             lab = connected_components(adj, directed=False)[1][:n_poly]
+            del adj
         # number the components in the order of their first polygon
         uniq, first = np.unique(lab, return_index=True)
         rank = np.empty(len(uniq), dtype=np.int64)
         rank[np.argsort(first)] = np.arange(len(uniq))
-        self.polygon_component = rank[np.searchsorted(uniq, lab)].astype(np.int64)
+        cdt = np.int32 if len(uniq) < 2**31 else np.int64
+        self.polygon_component = rank[np.searchsorted(uniq, lab)].astype(cdt)
         self.n_components = len(uniq)
 
     def _sides_a(self, e: int, f: int, k: int) -> list[tuple[float, int]]:
@@ -468,7 +557,7 @@ class FreeSpace:
 #: warehouse grids and road maps: 1 000 edges (1e6 cells, 1e6 polygons) build in 1.2-1.7 s CPU with a peak of about
 #: 330 MB (``tracemalloc``; 93 MB kept); 3 000 edges (9e6 cells) would need about 3 GB at the peak (scaled, not
 #: measured: every pair of edges is a polygon and a node of the components).
-MAX_CELLS = 1_500_000
+MAX_CELLS = 10_000_000
 
 
 def check_size(track: GraphTrack) -> None:
