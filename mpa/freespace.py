@@ -27,7 +27,7 @@ i.e. some component is mapped to itself by the swap ``(x, y) -> (y, x)``.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 from typing import overload
@@ -139,6 +139,58 @@ def _label_components(n: int, rows: NDArray[np.int64], cols: NDArray[np.int64]) 
                 break
             lab = nxt
         rows, cols = rows[diff], cols[diff]
+
+
+#: Polygons whose incidences are joined at once by :func:`_merged_components` (memory: about 100 bytes each).
+COMPONENT_BLOCK = 1 << 18
+
+
+def _merged_components(
+    n_nodes: int, blocks: Iterable[tuple[NDArray[np.integer], NDArray[np.integer]]]
+) -> NDArray[np.integer]:
+    """Per node of an undirected graph given as blocks of edges ``(rows, cols)``, a node of its component.
+
+    A forest of labels (a union-find): each block's edges are read between the roots of their ends, the components
+    of those roots found by scipy's csgraph on the block alone, and every root hooked onto one root of its component;
+    at the end every label is followed to its root. Memory: one integer per node and one block's edges, never the
+    whole graph's; time: the block's edges times the forest's depth (at most the number of blocks).
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    lab = np.arange(n_nodes, dtype=np.int32 if n_nodes < 2**31 else np.int64)
+
+    def roots(x: NDArray[np.integer]) -> NDArray[np.integer]:
+        x = lab[x]
+        while True:
+            y = lab[x]
+            if np.array_equal(x, y):
+                return x
+            x = y
+
+    mark = np.zeros(n_nodes, dtype=bool)  # the roots a block touches, numbered without sorting them
+    pos = np.zeros(n_nodes, dtype=lab.dtype)
+    for rows, cols in blocks:
+        m = len(rows)
+        if m == 0:
+            continue
+        ends = np.concatenate([roots(rows), roots(cols)])
+        mark[ends] = True
+        uniq = np.flatnonzero(mark)
+        mark[uniq] = False
+        k = len(uniq)
+        pos[uniq] = np.arange(k, dtype=lab.dtype)
+        inv = pos[ends]
+        adj = coo_matrix((np.ones(m, dtype=np.float64), (inv[:m], inv[m:])), shape=(k, k)).tocsr()
+        n_comp, comp = connected_components(adj, directed=False)
+        one = np.empty(n_comp, dtype=np.int64)
+        one[comp] = np.arange(k)  # one root of each component (whichever is written last), its own label
+        lab[uniq] = uniq[one[comp]]
+    while True:
+        nxt = lab[lab]
+        if np.array_equal(nxt, lab):
+            return nxt
+        lab = nxt
 
 
 class _PolygonIndex:
@@ -404,60 +456,62 @@ class FreeSpace:
         if not any((e, f, k) in self._vertices for k in (0, 1)):
             self.status[e, f] = _EMPTY
 
-    def _components(self) -> None:
-        """Path components: connected components of the graph of polygons and the faces on their sides.
+    def _incidences(self, p0: int, p1: int) -> tuple[NDArray[np.integer], NDArray[np.integer]]:
+        """The incidences of the polygons ``p0 .. p1 - 1``: pairs (polygon node, face node) as two arrays.
 
         Nodes: the polygons, then the faces "A at w, B on f" (``n_poly + w * E + f``) and "A on e, B at w"
-        (``n_poly + V * E + e * V + w``); an incidence joins a polygon to a face on one of its sides. Incidences are
-        int32 when the nodes allow (half the memory of the largest layouts' build).
+        (``n_poly + V * E + e * V + w``); an incidence joins a polygon to a face on one of its sides (int32 when the
+        nodes allow).
         """
         g = self.geometry
         n_e, n_v = g.n_edges, g.n_vertices
-        pe, pf, pk = self._pe, self._pf, self._pk
-        n_poly = len(pe)
+        pe, pf, pk = self._pe[p0:p1], self._pf[p0:p1], self._pk[p0:p1]
+        n_poly = len(self._pe)
         tails, heads = g.tails, g.heads
         ok = self.faces.ok
         same = pe == pf
-        n_nodes = n_poly + 2 * n_v * n_e
-        idx = np.int32 if n_nodes < 2**31 else np.int64
+        idx = np.int32 if n_poly + 2 * n_v * n_e < 2**31 else np.int64
         rows, cols = [], []
         # A on a vertex: the tail of e (two edges, or piece 1 of one edge) and the head of e (two edges, or piece 0)
         for w_of, use in ((tails, ~same | (pk == 1)), (heads, ~same | (pk == 0))):
             w = w_of[pe]
             m = use & ok[w, pf]
-            rows.append(np.nonzero(m)[0].astype(idx))
+            rows.append((np.nonzero(m)[0] + p0).astype(idx))
             cols.append((n_poly + w[m] * n_e + pf[m]).astype(idx))
-            del w, m
         # B on a vertex: the tail of f (two edges, or piece 0 of one edge) and the head of f (or piece 1)
         for w_of, use in ((tails, ~same | (pk == 0)), (heads, ~same | (pk == 1))):
             w = w_of[pf]
             m = use & ok[w, pe]
-            rows.append(np.nonzero(m)[0].astype(idx))
+            rows.append((np.nonzero(m)[0] + p0).astype(idx))
             cols.append((n_poly + n_v * n_e + pe[m].astype(np.int64) * n_v + w[m]).astype(idx))
-            del w, m
-        r = np.concatenate(rows)
-        del rows
-        c = np.concatenate(cols)
-        del cols
+        return np.concatenate(rows), np.concatenate(cols)
+
+    def _components(self) -> None:
+        """Path components: connected components of the graph of polygons and the faces on their sides
+        (:meth:`_incidences`), numbered in the order of their first polygon."""
+        g = self.geometry
+        n_poly = len(self._pe)
+        n_nodes = n_poly + 2 * g.n_vertices * g.n_edges
         if n_poly <= SMALL_POLYGONS:  # union-find in Python: tiny layouts
-            lab = np.asarray(_union_find(n_nodes, r.tolist(), c.tolist()), dtype=np.int64)[:n_poly]
+            r, c = self._incidences(0, n_poly)
+            lab: NDArray[np.integer] = np.asarray(_union_find(n_nodes, r.tolist(), c.tolist()))[:n_poly]
         elif n_poly <= SCIPY_POLYGONS:
+            r, c = self._incidences(0, n_poly)
             lab = _label_components(n_nodes, r.astype(np.int64), c.astype(np.int64))[:n_poly]
         else:
-            from scipy.sparse import csr_matrix
-            from scipy.sparse.csgraph import connected_components
-
-            adj = csr_matrix((np.ones(len(r), dtype=np.float64), (r, c)), shape=(n_nodes, n_nodes))
-            del r, c
-            lab = connected_components(adj, directed=False)[1][:n_poly]
-            del adj
-        # number the components in the order of their first polygon
-        uniq, first = np.unique(lab, return_index=True)
-        rank = np.empty(len(uniq), dtype=np.int64)
-        rank[np.argsort(first)] = np.arange(len(uniq))
-        cdt = np.int32 if len(uniq) < 2**31 else np.int64
-        self.polygon_component = rank[np.searchsorted(uniq, lab)].astype(cdt)
-        self.n_components = len(uniq)
+            blocks = (
+                self._incidences(p0, min(n_poly, p0 + COMPONENT_BLOCK)) for p0 in range(0, n_poly, COMPONENT_BLOCK)
+            )
+            lab = _merged_components(n_nodes, blocks)[:n_poly]
+        # number the components in the order of their first polygon (labels are nodes: a first polygon per label)
+        dt = np.int32 if n_nodes < 2**31 else np.int64
+        first: NDArray[np.integer] = np.full(n_nodes, n_poly, dtype=dt)
+        np.minimum.at(first, lab, np.arange(n_poly, dtype=dt))
+        roots = np.flatnonzero(first < n_poly)
+        rank = np.zeros(n_nodes, dtype=dt)
+        rank[roots[np.argsort(first[roots])]] = np.arange(len(roots), dtype=dt)
+        self.polygon_component = rank[lab]
+        self.n_components = len(roots)
 
     def _sides_a(self, e: int, f: int, k: int) -> list[tuple[float, int]]:
         """Sides of polygon ``(e, f, k)`` where robot A stands on a vertex: list of (s of the side, vertex)."""
