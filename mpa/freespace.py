@@ -399,11 +399,9 @@ class FreeSpace:
         """
         status = self.status
         n_e = status.shape[0]
-        rows = max(1, CELL_BLOCK // max(1, n_e))
         pe_parts, pf_parts = [], []
-        for i0 in range(0, n_e, rows):
-            r, f = np.nonzero(status[i0 : i0 + rows])
-            pe_parts.append((r + i0).astype(np.int32))
+        for r, f in self.nonempty_cells():
+            pe_parts.append(r.astype(np.int32))
             pf_parts.append(f.astype(np.int32))
         pe, pf = np.concatenate(pe_parts), np.concatenate(pf_parts)
         del pe_parts, pf_parts
@@ -425,6 +423,21 @@ class FreeSpace:
             ex = np.array([x[1] for x in extra], dtype=np.int32)
             pe, pf, pk = np.insert(pe, at, ex), np.insert(pf, at, ex), np.insert(pk, at, np.int8(1))
         self._pe, self._pf, self._pk = pe, pf, pk
+
+    def nonempty_cells(self) -> Iterator[tuple[NDArray[np.int64], NDArray[np.int64]]]:
+        """The cells ``e × f`` holding a free polygon, a block of rows at a time, row-major.
+
+        Yields
+        ------
+        (ndarray of int, ndarray of int)
+            Robot A's edges and robot B's edges of the block's non-empty cells, shapes ``(n,)``; at most
+            :data:`CELL_BLOCK` cells' worth of rows a block, so that work over every cell keeps its memory bounded.
+        """
+        n_e = self.status.shape[0]
+        rows = max(1, CELL_BLOCK // max(1, n_e))
+        for i0 in range(0, n_e, rows):
+            r, f = np.nonzero(self.status[i0 : i0 + rows])
+            yield r + i0, f
 
     @cached_property
     def polygon_ids(self) -> Sequence[PolygonId]:
