@@ -1,6 +1,7 @@
 """The scaling table of the graph planner on seeded warehouse aisle grids and planar road maps.
 
-    python experiments/bench_scale.py [--sizes 10,30,100,300,1000,3000] [--queries 20] [--clearance 1] [--out FILE]
+    python experiments/bench_scale.py [--sizes 10,30,100,300,1000,3000] [--queries 20] [--clearance 1]
+        [--budget S] [--out FILE]
 
 Prints (and with ``--out`` writes) the Markdown table of :func:`bench.graph_scale.scale_markdown`.
 """
@@ -27,6 +28,9 @@ def main() -> None:
     ap.add_argument("--trajectories", type=int, default=5)
     ap.add_argument("--clearance", type=float, default=1.0)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument(
+        "--budget", type=float, default=None, help="stop a plan after this many seconds (wall) and count it as over"
+    )
     ap.add_argument("--out", default=None, help="write the table (Markdown) and FILE.json with the records")
     args = ap.parse_args()
     records = run_scale(
@@ -37,6 +41,7 @@ def main() -> None:
         args.clearance,
         args.seed,
         progress=lambda m: print(m, file=sys.stderr, flush=True),
+        budget=args.budget,
     )
     text = scale_markdown(records)
     print(text)

@@ -5,14 +5,16 @@
 - :func:`road_map_layout`: a random planar road map: seeded points in a square (about 60 m² per point, jittered
   lattice cells: at least 3.1 m apart), the Delaunay triangulation's edges, a random spanning tree of them plus
   the shortest other edges up to the asked number (planar: triangulation edges never cross).
-- :func:`run_scale`: per layout, the free space built uncached (time; peak memory by ``tracemalloc`` in a second
-  build; polygons), the plan time with the free space cached (seeded queries, every fourth a swap: median, p95,
-  max) and the verified trajectory (plan, timing, gate: median) of the first queries.
+- :func:`run_scale`: per layout, the free space built uncached (CPU and wall time, the first build including the
+  vertex distances; peak memory by ``tracemalloc`` in a second build; polygons), the plan time with the free space
+  cached (seeded queries, every fourth a swap: median, p95, max, CPU and wall; optionally each stopped after a
+  budget) and the verified trajectory (plan, timing, gate: median) of the first queries.
 - :func:`scale_markdown`: the table, with the growth exponent fitted (least squares in log–log) per column.
 """
 
 from __future__ import annotations
 
+import signal
 import time
 import tracemalloc
 from collections.abc import Callable, Sequence
@@ -20,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from bench.graph_runner import make_graph_queries, plan_times, spanning_then_extra, timed_build
+from bench.graph_runner import _plan, make_graph_queries, spanning_then_extra
 from mpa.errors import MPAError
 from mpa.freespace import FreeSpace, free_space
 from mpa.graph_track import GraphTrack
@@ -95,6 +97,58 @@ def road_map_layout(n_edges: int, seed: int) -> GraphTrack:
 KINDS: dict[str, Callable[[int, int], GraphTrack]] = {"warehouse": warehouse_layout, "road map": road_map_layout}
 
 
+class _OverBudget(Exception):
+    """A plan that did not finish within the benchmark's budget."""
+
+
+def _budgeted_plans(track: GraphTrack, qs: list[dict[str, Any]], budget: float | None) -> dict[str, Any]:
+    """Plan time (wall and CPU, s) of the queries ``qs[1:]`` after one plan of ``qs[0]`` (the free space cached).
+
+    With ``budget`` (s, wall) a plan still running then is stopped (``SIGALRM``) and counted in ``over_budget``,
+    its time counted as the budget (so the p95 and max are lower bounds when any is over).
+    """
+
+    def alarm(signum: int, frame: Any) -> None:
+        raise _OverBudget
+
+    use = budget is not None and hasattr(signal, "setitimer")
+    old = signal.signal(signal.SIGALRM, alarm) if use else None
+    wall, cpu, solved, over = [], [], 0, 0
+    try:
+        for i, q in enumerate(qs):
+            w0, c0 = time.perf_counter(), time.process_time()
+            if use:
+                signal.setitimer(signal.ITIMER_REAL, float(budget))  # type: ignore[arg-type]
+            try:
+                p = _plan(track, q, (1.0, 1.0))
+                done = True
+            except _OverBudget:
+                p, done = None, False
+            finally:
+                if use:
+                    signal.setitimer(signal.ITIMER_REAL, 0.0)
+            if i == 0:
+                continue  # the warm-up
+            wall.append(time.perf_counter() - w0)
+            cpu.append(time.process_time() - c0)
+            solved += p is not None
+            over += not done
+    finally:
+        if use:
+            signal.signal(signal.SIGALRM, old)
+    return {
+        "plan_median": float(np.median(wall)),
+        "plan_p95": float(np.percentile(wall, 95)),
+        "plan_max": float(np.max(wall)),
+        "plan_cpu_median": float(np.median(cpu)),
+        "plan_cpu_p95": float(np.percentile(cpu, 95)),
+        "plan_cpu_max": float(np.max(cpu)),
+        "solved": solved,
+        "over_budget": over,
+        "queries": len(wall),
+    }
+
+
 def run_scale(
     sizes: Sequence[int] = (10, 30, 100, 300, 1000, 3000),
     kinds: Sequence[str] = tuple(KINDS),
@@ -103,8 +157,10 @@ def run_scale(
     clearance: float = 1.0,
     seed: int = 0,
     progress: Callable[[str], None] | None = None,
+    budget: float | None = None,
 ) -> list[dict[str, Any]]:
-    """One record per (kind, size): build time (s) and peak memory (bytes), plan times (s), trajectory median."""
+    """One record per (kind, size): build time (s, wall and CPU) and peak memory (bytes), plan times (s, wall and
+    CPU; ``budget``: see :func:`_budgeted_plans`), the verified trajectory's median (s, wall)."""
     from trajopt.generator import TrajectoryGenerator
     from trajopt.timing import Limits
 
@@ -112,14 +168,17 @@ def run_scale(
     for kind in kinds:
         for n_e in sizes:
             track = KINDS[kind](n_e, seed * 100_003 + n_e)
-            build, polygons = timed_build(track, clearance)
+            w0, c0 = time.perf_counter(), time.process_time()
+            fs = FreeSpace(track, clearance)
+            build, build_cpu, polygons = time.perf_counter() - w0, time.process_time() - c0, len(fs.polygon_ids)
+            del fs
             tracemalloc.start()  # a second build for the memory (tracemalloc slows it down)
             FreeSpace(track, clearance)
             _, peak = tracemalloc.get_traced_memory()
             tracemalloc.stop()
             free_space(track, clearance)
             qs = make_graph_queries(track, queries + 1, seed, [clearance])
-            plans = plan_times(track, qs)
+            plans = _budgeted_plans(track, qs, budget)
             gen = TrajectoryGenerator(track, clearance=clearance, limits=Limits(1.0, 1.0, 4.0), rate=100.0)
             ttimes = []
             for q in qs[1 : 1 + trajectories]:
@@ -135,6 +194,7 @@ def run_scale(
                     "edges": track.n_edges,
                     "vertices": track.graph.n_vertices,
                     "build": build,
+                    "build_cpu": build_cpu,
                     "memory": int(peak),
                     "polygons": polygons,
                     **plans,
@@ -154,23 +214,29 @@ def _exponent(records: list[dict[str, Any]], key: str) -> float:
 
 
 def scale_markdown(records: list[dict[str, Any]]) -> str:
-    """The scaling table per kind, and a row of fitted growth exponents (time ∝ edges^k)."""
+    """The scaling table per kind (CPU / wall where both are measured), and a row of fitted growth exponents
+    (∝ edges^k, on the CPU times)."""
     lines = [
-        "| layout | edges | free-space build (s) | peak memory (MB) | polygons | plan median (ms) | plan p95 (ms) | "
-        "plan max (ms) | verified trajectory median (ms) | solved |",
+        "| layout | edges | free-space build (s, CPU / wall) | peak memory (MB) | polygons | "
+        "plan median (ms, CPU / wall) | plan p95 (ms, CPU / wall) | plan max (ms, CPU / wall) | "
+        "verified trajectory median (ms, wall) | solved |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for kind in dict.fromkeys(r["kind"] for r in records):
         rs = [r for r in records if r["kind"] == kind]
         for r in rs:
+            over = f" ({r['over_budget']} over the budget)" if r.get("over_budget") else ""
             lines.append(
-                f"| {kind} | {r['edges']} | {r['build']:.3f} | {r['memory'] / 1e6:.1f} | {r['polygons']} | "
-                f"{r['plan_median'] * 1e3:.2f} | {r['plan_p95'] * 1e3:.1f} | {r['plan_max'] * 1e3:.1f} | "
-                f"{r['trajectory_median'] * 1e3:.1f} | {r['solved']}/{r['queries']} |"
+                f"| {kind} | {r['edges']} | {r['build_cpu']:.3f} / {r['build']:.3f} | {r['memory'] / 1e6:.1f} | "
+                f"{r['polygons']} | {r['plan_cpu_median'] * 1e3:.2f} / {r['plan_median'] * 1e3:.2f} | "
+                f"{r['plan_cpu_p95'] * 1e3:.1f} / {r['plan_p95'] * 1e3:.1f} | "
+                f"{r['plan_cpu_max'] * 1e3:.1f} / {r['plan_max'] * 1e3:.1f} | "
+                f"{r['trajectory_median'] * 1e3:.1f} | {r['solved']}/{r['queries']}{over} |"
             )
         lines.append(
-            f"| {kind}: exponent k (∝ edges^k) | | {_exponent(rs, 'build'):.2f} | {_exponent(rs, 'memory'):.2f} | "
-            f"{_exponent(rs, 'polygons'):.2f} | {_exponent(rs, 'plan_median'):.2f} | {_exponent(rs, 'plan_p95'):.2f} | "
-            f"{_exponent(rs, 'plan_max'):.2f} | {_exponent(rs, 'trajectory_median'):.2f} | |"
+            f"| {kind}: exponent k (∝ edges^k) | | {_exponent(rs, 'build_cpu'):.2f} | {_exponent(rs, 'memory'):.2f} | "
+            f"{_exponent(rs, 'polygons'):.2f} | {_exponent(rs, 'plan_cpu_median'):.2f} | "
+            f"{_exponent(rs, 'plan_cpu_p95'):.2f} | {_exponent(rs, 'plan_cpu_max'):.2f} | "
+            f"{_exponent(rs, 'trajectory_median'):.2f} | |"
         )
     return "\n".join(lines) + "\n"

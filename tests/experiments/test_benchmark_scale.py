@@ -53,6 +53,7 @@ def test_scale_run_and_table() -> None:
     for r in recs:
         assert r["build"] > 0 and r["memory"] > 0 and r["polygons"] > 0
         assert r["plan_median"] <= r["plan_p95"] <= r["plan_max"]
-        assert r["queries"] == 4
+        assert r["queries"] == 4 and r["over_budget"] == 0 and r["build_cpu"] > 0
+        assert r["plan_cpu_median"] <= r["plan_cpu_p95"] <= r["plan_cpu_max"]
     md = scale_markdown(recs)
     assert "| warehouse | 10 |" in md and "exponent" in md

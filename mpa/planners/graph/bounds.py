@@ -236,43 +236,45 @@ class PassingBound:
         g = mesh.g
         fs = mesh.fs
         lengths, tails, heads = g.lengths, g.tails, g.heads
-        ee, ff = np.nonzero(fs.status != 0)
-        c0 = g.cell_terms_array(ee, ff)
         dmin = fs._dmin
         slack = 1e-12 * mesh.scale
         phi_t, phi_h = g.dv[x, tails], g.dv[x, heads]
         mid = np.clip(0.5 * (lengths + phi_h - phi_t), 0.0, lengths)
-        rows: list[tuple[FloatArray, ...]] = []
-        same = ee == ff
-        for pe in (0, 1):
-            se = 1.0 if pe == 0 else -1.0
-            ce = phi_t[ee] if pe == 0 else lengths[ee] + phi_h[ee]
-            ua = np.zeros(len(ee)) if pe == 0 else mid[ee]
-            ub = mid[ee] if pe == 0 else lengths[ee]
-            for pf in (0, 1):
-                sf = 1.0 if pf == 0 else -1.0
-                cf = phi_t[ff] if pf == 0 else lengths[ff] + phi_h[ff]
-                va_ = np.zeros(len(ff)) if pf == 0 else mid[ff]
-                vb_ = mid[ff] if pf == 0 else lengths[ff]
-                alpha = se * sf
-                beta = sf * (ce - cf)  # v = alpha u + beta on the piece
-                if alpha > 0:
-                    lo, hi = np.maximum(ua, va_ - beta), np.minimum(ub, vb_ - beta)
-                else:
-                    lo, hi = np.maximum(ua, beta - vb_), np.minimum(ub, beta - va_)
-                ok = np.ones(len(ee), dtype=bool)
-                for j, (ca, cb) in enumerate(_SLOPES):  # c0 + ca u + cb v >= dmin
-                    lo, hi, ok = _keep(lo, hi, ok, ca + cb * alpha, dmin - slack - c0[:, j] - cb * beta)
-                # one edge: |u - v| >= dmin, u - v = (1 - alpha) u - beta; the two sides are two cases
-                for case in (0, 1, -1):
-                    m = ok & (~same if case == 0 else same)
-                    lo_c, hi_c = lo, hi
-                    if case != 0:
-                        lo_c, hi_c, m = _keep(lo, hi, m, case * (1.0 - alpha), dmin - slack + case * beta)
-                    m &= lo_c <= hi_c
-                    if m.any():
-                        b = beta[m]
-                        rows.append((ee[m], lo_c[m], hi_c[m], ff[m], np.full(int(m.sum()), alpha), b))
+        parts: dict[tuple[int, int, int], list[tuple[FloatArray, ...]]] = {}
+        for ee, ff in fs.nonempty_cells():  # a block of cells at a time: memory bounded on large layouts
+            c0 = g.cell_terms_array(ee, ff)
+            same = ee == ff
+            for pe in (0, 1):
+                se = 1.0 if pe == 0 else -1.0
+                ce = phi_t[ee] if pe == 0 else lengths[ee] + phi_h[ee]
+                ua = np.zeros(len(ee)) if pe == 0 else mid[ee]
+                ub = mid[ee] if pe == 0 else lengths[ee]
+                for pf in (0, 1):
+                    sf = 1.0 if pf == 0 else -1.0
+                    cf = phi_t[ff] if pf == 0 else lengths[ff] + phi_h[ff]
+                    va_ = np.zeros(len(ff)) if pf == 0 else mid[ff]
+                    vb_ = mid[ff] if pf == 0 else lengths[ff]
+                    alpha = se * sf
+                    beta = sf * (ce - cf)  # v = alpha u + beta on the piece
+                    if alpha > 0:
+                        lo, hi = np.maximum(ua, va_ - beta), np.minimum(ub, vb_ - beta)
+                    else:
+                        lo, hi = np.maximum(ua, beta - vb_), np.minimum(ub, beta - va_)
+                    ok = np.ones(len(ee), dtype=bool)
+                    for j, (ca, cb) in enumerate(_SLOPES):  # c0 + ca u + cb v >= dmin
+                        lo, hi, ok = _keep(lo, hi, ok, ca + cb * alpha, dmin - slack - c0[:, j] - cb * beta)
+                    # one edge: |u - v| >= dmin, u - v = (1 - alpha) u - beta; the two sides are two cases
+                    for case in (0, 1, -1):
+                        m = ok & (~same if case == 0 else same)
+                        lo_c, hi_c = lo, hi
+                        if case != 0:
+                            lo_c, hi_c, m = _keep(lo, hi, m, case * (1.0 - alpha), dmin - slack + case * beta)
+                        m &= lo_c <= hi_c
+                        if m.any():
+                            b = beta[m]
+                            row = (ee[m], lo_c[m], hi_c[m], ff[m], np.full(int(m.sum()), alpha), b)
+                            parts.setdefault((pe, pf, case), []).append(row)
+        rows = [r for key in sorted(parts, key=lambda k: (k[0], k[1], (0, 1, -1).index(k[2]))) for r in parts[key]]
         if not rows:
             return None
         e = np.concatenate([r[0] for r in rows])

@@ -2,11 +2,28 @@
 
 from __future__ import annotations
 
-from typing import cast
+from typing import Any, cast
+
+from numpy.typing import NDArray
 
 from mpa.freespace import FreeSpace, PolygonId
 from mpa.graph_track import Position
 from mpa.planners.graph.base import Coords, FaceKey, Key, Side
+
+
+class _Rows:
+    """The rows of a ``(V, E)`` array of faces as Python lists, each made when it is first read (a large layout's
+    search reads the faces of the few vertices near its robots, not ``V × E`` Python floats)."""
+
+    def __init__(self, a: NDArray[Any]) -> None:
+        self._a = a
+        self._rows: list[list[Any] | None] = [None] * a.shape[0]
+
+    def __getitem__(self, w: int) -> list[Any]:
+        row = self._rows[w]
+        if row is None:
+            row = self._rows[w] = self._a[w].tolist()
+        return row
 
 
 class _Mesh:
@@ -22,9 +39,9 @@ class _Mesh:
         for e in range(g.n_edges):
             self.inc[g._t[e]].append((e, 0.0))
             self.inc[g._h[e]].append((e, g._L[e]))
-        self.lo = fs.faces.lo.tolist()
-        self.hi = fs.faces.hi.tolist()
-        self.ok = fs.faces.ok.tolist()
+        self.lo = _Rows(fs.faces.lo)
+        self.hi = _Rows(fs.faces.hi)
+        self.ok = _Rows(fs.faces.ok)
         self.scale = max(1.0, float(g.lengths.max()))
         self.eps = 1e-12 * self.scale
         self._sides: dict[PolygonId, list[Side]] = {}
