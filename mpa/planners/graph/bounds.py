@@ -114,6 +114,32 @@ def _keep(
     return lo, hi, ok & (rhs <= 0.0)
 
 
+def _hinges(a: FloatArray, d: FloatArray, w: FloatArray, s1: float, s2: float) -> list[tuple[float, float]]:
+    """The lower envelope of the segments' costs through one end of a face's edge, as a front of hinges.
+
+    Segment k costs ``max(a_k, x) + TIE_BREAK (a_k + x) + w_k`` when the edge's robot needs ``x = (y + d_k) / v``
+    seconds to it (``y``: its travel to the edge's end, ``d_k``: from there to the segment, m; ``a_k``: the vertex
+    robot's time, s): ``max(c1_k + s1 y, c2_k + s2 y)`` with ``c1_k = (1 + TIE_BREAK) a_k + w_k + s1 d_k``, ``c2_k =
+    TIE_BREAK a_k + w_k + s2 d_k`` and the slopes ``s1 = TIE_BREAK / v``, ``s2 = (1 + TIE_BREAK) / v`` common to
+    all. A hinge no lower in both ``c1`` and ``c2`` than another is never the least, so only the front is kept
+    (sorted by ``c1``, ``c2`` falling): the least over it equals the least over all segments.
+
+    Returns
+    -------
+    list of (float, float)
+        The front's ``(c1, c2)`` (s), by ``c1`` rising; not empty when ``a`` is not (a few: at most 7 on the
+        airport map's 2 352 segments).
+    """
+    c1 = (1.0 + TIE_BREAK) * a + w + s1 * d
+    c2 = TIE_BREAK * a + w + s2 * d
+    order = np.argsort(c1)
+    c1, c2 = c1[order], c2[order]
+    keep = np.ones(len(c1), dtype=bool)
+    if len(c1) > 1:
+        keep[1:] = c2[1:] < np.minimum.accumulate(c2)[:-1]
+    return list(zip(c1[keep].tolist(), c2[keep].tolist()))
+
+
 def fastest_cost(segs: list[list[Any]], va: float, vb: float) -> float:
     """The search's "fastest" cost of a motion's segments ``[polygon, (s, t) from, (s, t) to]`` (offsets in metres;
     seconds): ``max(tA, tB)`` plus the tie-break terms, summed."""
@@ -213,6 +239,8 @@ class PassingBound:
         self._cache: dict[Key, float] = {}
         self._face_parts: dict[FaceKey, tuple[Any, ...]] = {}
         self._entries: dict[tuple[FaceKey, float, float], float] = {}
+        self._times: dict[tuple[int, int], FloatArray] = {}
+        self._fronts: dict[tuple[int, int, int], list[tuple[float, float]]] = {}
         vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
         self._goal_vd = vd[2:]
         best: tuple[float, int, tuple[Any, ...]] | None = None
@@ -382,36 +410,68 @@ class PassingBound:
         parts = self._face_parts.get(face)
         if parts is None:
             parts = self._face_parts[face] = self._parts(face)
-        dw, d_t, d_h, on, ub0, ub1, wk = parts
-        di = np.minimum(y0 + d_t, le - y1 + d_h)
-        if on is not None:
-            di[on] = np.minimum(di[on], np.maximum(0.0, np.maximum(ub0 - y1, y0 - ub1)))
-        if ax == 0:
-            ta, tb = dw / self.va, di / self.vb
-        else:
-            ta, tb = di / self.va, dw / self.vb
-        return float(np.min(np.maximum(ta, tb) + TIE_BREAK * (ta + tb) + wk)) * (1.0 - BOUND_SAFETY)
+        front_t, front_h, on = parts
+        s1, s2 = self._slopes(ax)
+        # the fronts of hinges (_hinges) through the edge's tail and head, the edge's robot travelling y0 resp.
+        # le - y1 along the edge to that end
+        yh = le - y1
+        best = min(
+            min(max(c1 + s1 * y0, c2 + s2 * y0) for c1, c2 in front_t),
+            min(max(c1 + s1 * yh, c2 + s2 * yh) for c1, c2 in front_h),
+        )
+        if on is not None:  # segments on the face's own edge: straight along it to their stretch
+            inv = 1.0 / (self.vb if ax == 0 else self.va)
+            for a_k, w_k, z0, z1 in on:
+                x = max(0.0, z0 - y1, y0 - z1) * inv  # the edge robot's time to the stretch (s)
+                best = min(best, max(a_k, x) + TIE_BREAK * (a_k + x) + w_k)
+        return best * (1.0 - BOUND_SAFETY)
+
+    def _slopes(self, ax: int) -> tuple[float, float]:
+        """The hinges' two slopes per metre of the edge robot's travel (s/m): ``TIE_BREAK / v`` and ``(1 +
+        TIE_BREAK) / v``, ``v`` the speed of the robot on the face's edge (robot B when ``ax`` is 0)."""
+        v = self.vb if ax == 0 else self.va
+        return TIE_BREAK / v, (1.0 + TIE_BREAK) / v
 
     def _parts(self, face: FaceKey) -> tuple[Any, ...]:
-        """What :meth:`entry` needs of a face, per segment: the vertex robot's distance to its stretch, the distances
-        from the edge's two ends to the other stretch, the segments on the face's own edge (their stretch there)."""
+        """What :meth:`entry` needs of a face: the fronts of hinges through its edge's tail and head
+        (:meth:`_front`), and the segments on the face's own edge (the vertex robot's time, ``W_k``, their stretch
+        there), None when there are none."""
         ax, w, other = face
         g = self.mesh.g
         e_, u0, u1, f_, v0, v1, wk = self._segs[:7]
-        lengths, tails, heads = g.lengths, g.tails, g.heads
-        dv = self._dv
-        if ax == 0:
-            ea, ua0, ua1, eb, ub0, ub1 = e_, u0, u1, f_, v0, v1
-        else:
-            ea, ua0, ua1, eb, ub0, ub1 = f_, v0, v1, e_, u0, u1
-        dw = np.minimum(dv[w, tails[ea]] + ua0, dv[w, heads[ea]] + lengths[ea] - ua1)
-        to, ho = g._t[other], g._h[other]
-        d_t = np.minimum(dv[to, tails[eb]] + ub0, dv[to, heads[eb]] + lengths[eb] - ub1)
-        d_h = np.minimum(dv[ho, tails[eb]] + ub0, dv[ho, heads[eb]] + lengths[eb] - ub1)
+        eb, ub0, ub1 = (f_, v0, v1) if ax == 0 else (e_, u0, u1)
+        a = self._vertex_times(ax, w)
         on = eb == other
-        if on.any():
-            return dw, d_t, d_h, on, ub0[on], ub1[on], wk
-        return dw, d_t, d_h, None, None, None, wk
+        on_part = list(zip(a[on].tolist(), wk[on].tolist(), ub0[on].tolist(), ub1[on].tolist())) if on.any() else None
+        return self._front(ax, w, int(g._t[other])), self._front(ax, w, int(g._h[other])), on_part
+
+    def _vertex_times(self, ax: int, w: int) -> FloatArray:
+        """The time (s) of the robot on the vertex ``w`` (robot A when ``ax`` is 0) to each segment's stretch of its
+        edge, shape (K,), cached per vertex."""
+        out = self._times.get((ax, w))
+        if out is None:
+            g = self.mesh.g
+            e_, u0, u1, f_, v0, v1 = self._segs[:6]
+            ea, ua0, ua1 = (e_, u0, u1) if ax == 0 else (f_, v0, v1)
+            dv = self._dv
+            dw = np.minimum(dv[w, g.tails[ea]] + ua0, dv[w, g.heads[ea]] + g.lengths[ea] - ua1)
+            out = self._times[(ax, w)] = dw / (self.va if ax == 0 else self.vb)
+        return out
+
+    def _front(self, ax: int, w: int, x: int) -> list[tuple[float, float]]:
+        """The front of hinges (:func:`_hinges`) of one robot on the vertex ``w`` (robot A when ``ax`` is 0) and the
+        other at the vertex ``x`` (an end of its edge), cached: a face's bound depends on its edge only through the
+        edge's ends and, for segments on that edge, their stretch."""
+        out = self._fronts.get((ax, w, x))
+        if out is None:
+            g = self.mesh.g
+            e_, u0, u1, f_, v0, v1, wk = self._segs[:7]
+            eb, ub0, ub1 = (f_, v0, v1) if ax == 0 else (e_, u0, u1)
+            dv = self._dv
+            d = np.minimum(dv[x, g.tails[eb]] + ub0, dv[x, g.heads[eb]] + g.lengths[eb] - ub1)
+            s1, s2 = self._slopes(ax)
+            out = self._fronts[(ax, w, x)] = _hinges(self._vertex_times(ax, w), d, wk, s1, s2)
+        return out
 
 
 def passing_bound(

@@ -26,6 +26,13 @@ if TYPE_CHECKING:
 START: Key = ("S",)
 GOAL: Key = ("G",)
 
+#: A root reached again is queued (and expanded) again only when its cost falls by more than this many steps of the
+#: queue's grid (``F_GRID`` of the start's bound): a smaller gain cannot change the order of the queue's buckets, and
+#: on plateaus of equally fast motions it made the search expand the same roots up to ten times over (the "fastest"
+#: cost's second tie-break, 1e-9 of the Euclidean time, differs between the ways to a root by less than the grid);
+#: 0: every gain. The goal is always kept at its least cost.
+AGAIN_GRID_STEPS = 1.0
+
 
 def _uncovered(
     seen: dict[Key, list[tuple[float, float]]], key: Key, y0: float, y1: float, eps: float
@@ -178,6 +185,7 @@ class AnyAngleSearch:
         self.heap: list[tuple[int, float, int]] = []
         (sa_e, sa_s), (sb_e, sb_s) = start
         self.fq = 1.0 / (F_GRID * max(1e-3, self.cost(self.to_goal[0].at(sa_e, sa_s), self.to_goal[1].at(sb_e, sb_s))))
+        self.again = AGAIN_GRID_STEPS / self.fq
 
     # ------------------------------------------------------------------------------------------- the lower bound
     def lower_bound(self, pid: PolygonId, pt: Coords) -> float:
@@ -207,7 +215,7 @@ class AnyAngleSearch:
         """Queue the point ``key`` (at ``pt`` in ``pid``) reached at cost ``gval`` (a :class:`PointNode` with these
         fields) if more cheaply than before; the goal (``key`` :data:`GOAL`) with its cost as its bound."""
         best = self.best
-        if gval < best.get(key, math.inf):
+        if gval < best.get(key, math.inf) - (0.0 if key is GOAL else self.again):
             best[key] = gval
             nodes = self.nodes
             nodes.append(PointNode(key, gval, root, last, pid, frm, pt))
@@ -224,19 +232,24 @@ class AnyAngleSearch:
         nodes.append(entry)
         g_root = entry.g_root
         f = g_root + self.face_lower_bound(entry.r, entry.ax, entry.a, entry.face, entry.y0, entry.y1)
-        if self.bound is not None:  # the passing bound at the root, and through the face's part [y0, y1]
-            r, a, y0, y1 = entry.r, entry.a, entry.y0, entry.y1
-            x_a, x_b = (
-                (abs(r[0] - a), max(0.0, y0 - r[1], r[1] - y1))
-                if entry.ax == 0
-                else (max(0.0, y0 - r[0], r[0] - y1), abs(r[1] - a))
-            )
-            f = max(
-                f,
-                g_root + self.bound.point(entry.root_key),
-                g_root + self.cost(x_a, x_b) + self.bound.entry(entry.face, y0, y1),
-            )
+        if self.bound is not None:
+            f = max(f, self._face_passing(entry))
         heapq.heappush(self.heap, self.queue_key(f, g_root, len(nodes) - 1))
+
+    def _face_passing(self, entry: FaceEntry) -> float:
+        """The passing bound of a face entry (s): at its root, and through the face's part ``[y0, y1]``."""
+        bound = self.bound
+        assert bound is not None
+        g_root, r, a, y0, y1 = entry.g_root, entry.r, entry.a, entry.y0, entry.y1
+        x_a, x_b = (
+            (abs(r[0] - a), max(0.0, y0 - r[1], r[1] - y1))
+            if entry.ax == 0
+            else (max(0.0, y0 - r[0], r[0] - y1), abs(r[1] - a))
+        )
+        return max(
+            g_root + bound.point(entry.root_key),
+            g_root + self.cost(x_a, x_b) + bound.entry(entry.face, y0, y1),
+        )
 
     # ----------------------------------------------------------------------------------------------- expansion
     def open_face(self, entry: FaceEntry) -> None:
@@ -361,7 +374,7 @@ class AnyAngleSearch:
     # --------------------------------------------------------------------------------------------------- run
     def run(self, budget: int | None = None) -> list[Segment] | None:
         """The path's straight segments start to goal (:meth:`segments`); with ``budget``: None after that many
-        expansions.
+        expansions (a later call resumes the search where it stopped).
 
         Raises
         ------
@@ -369,16 +382,18 @@ class AnyAngleSearch:
             The goal was not reached although the caller found it in the start's component (a bug).
         """
         start_members = self.mesh.placements(*self.start)
-        self.best[START] = 0.0
-        self.nodes.append(PointNode(START, 0.0, -1, -1, None, None, None))
-        self.expand_point(0, START, 0.0, start_members)
+        if not self.nodes:
+            self.best[START] = 0.0
+            self.nodes.append(PointNode(START, 0.0, -1, -1, None, None, None))
+            self.expand_point(0, START, 0.0, start_members)
         nodes, best, heap = self.nodes, self.best, self.heap
         found = -1
         expanded = 0
         while heap:
-            _, _, nid = heapq.heappop(heap)
+            key0, depth, nid = heapq.heappop(heap)
             expanded += 1
             if budget is not None and expanded > budget:
+                heapq.heappush(heap, (key0, depth, nid))  # not taken: run() resumes with it
                 return None
             nd = nodes[nid]
             if type(nd) is PointNode:
