@@ -1,6 +1,7 @@
 """Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
 
-    python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...] [--compare]
+    python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
+        [--compare | --steps]
 
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
 10 / 30 / 100 / 150 edges, three seeds each), the seeded warehouse grids and road maps of
@@ -14,6 +15,10 @@ shared: CPU time leaves out the waits for a core), and the slowest query (to pro
 table; ``--out FILE`` also writes ``FILE.json`` with every record. ``--compare``: every query planned twice in a row,
 without the passing bound (``mpa.planners.graph.query.PASSING_BOUND_AFTER = None``, before) and with it (after), the
 order alternating from query to query; the table gives before → after and the makespans must agree.
+``--steps``: the same, before = the search of the earlier scheme (every root reached more cheaply expanded again,
+``mpa.planners.graph.search.AGAIN_GRID_STEPS = 0``; a search whose passing bound gains nothing started again,
+``query.RESUME_WITHOUT_GAIN = False``; a face entry's passing bound over every segment,
+``PassingBound.least_through_all``), after = the code as it is.
 """
 
 from __future__ import annotations
@@ -38,6 +43,8 @@ from bench.graph_scale import road_map_layout, warehouse_layout  # noqa: E402
 from mpa.freespace import free_space  # noqa: E402
 from mpa.graph_track import GraphTrack  # noqa: E402
 from mpa.planners.graph import query as graph_query  # noqa: E402
+from mpa.planners.graph import search as graph_search  # noqa: E402
+from mpa.planners.graph.bounds import PassingBound  # noqa: E402
 
 DATA = ROOT.parent / "tests" / "data" / "openrmf"
 EXAMPLES = ROOT.parent / "examples" / "tracks"
@@ -89,10 +96,30 @@ def _stats(times: list[float], cpu: list[float]) -> dict[str, float]:
     }
 
 
-def run(queries: int, seed: int, only: set[str] | None = None, compare: bool = False) -> list[dict[str, Any]]:
+def _arm(compare: str | None, before: bool) -> None:
+    """Set the planner to one arm of a comparison: ``compare`` "bound" (without / with the passing bound) or "steps"
+    (the earlier search / this one); None or ``before`` False: the code as it is."""
+    graph_query.PASSING_BOUND_AFTER = None if compare == "bound" and before else _AS_IS["after"]
+    old = compare == "steps" and before
+    graph_search.AGAIN_GRID_STEPS = 0.0 if old else _AS_IS["again"]
+    graph_query.RESUME_WITHOUT_GAIN = False if old else _AS_IS["resume"]
+    PassingBound.least_through = PassingBound.least_through_all if old else _AS_IS["least"]  # type: ignore[method-assign]
+
+
+_AS_IS: dict[str, Any] = {
+    "after": graph_query.PASSING_BOUND_AFTER,
+    "again": graph_search.AGAIN_GRID_STEPS,
+    "resume": graph_query.RESUME_WITHOUT_GAIN,
+    "least": PassingBound.least_through,
+}
+
+
+def run(queries: int, seed: int, only: set[str] | None = None, compare: bool | str = False) -> list[dict[str, Any]]:
+    """Every layout's seeded queries planned (twice, before and after, when ``compare`` is "bound" or True, or
+    "steps"); one record per layout."""
     records = []
-    after = graph_query.PASSING_BOUND_AFTER
-    arms = (None, after) if compare else (after,)
+    mode = "bound" if compare is True else (compare or None)
+    arms = (True, False) if mode else (False,)
     for name, track, ds, qs in layout_queries(queries, seed, only):
         for d in ds:
             free_space(track, d)
@@ -103,13 +130,13 @@ def run(queries: int, seed: int, only: set[str] | None = None, compare: bool = F
         for qi, q in enumerate(qs[1:]):
             order = range(len(arms)) if qi % 2 == 0 else reversed(range(len(arms)))
             for k in order:
-                graph_query.PASSING_BOUND_AFTER = arms[k]
+                _arm(mode, arms[k])
                 t0, c0 = time.perf_counter(), time.process_time()
                 p = _plan(track, q, (1.0, 1.0))
                 cpu[k].append(time.process_time() - c0)
                 times[k].append(time.perf_counter() - t0)
                 spans[k].append(None if p is None else p.makespan)
-        graph_query.PASSING_BOUND_AFTER = after
+        _arm(None, False)
         worst = int(np.argmax(times[-1]))
         rec: dict[str, Any] = {
             "layout": name,
@@ -123,7 +150,7 @@ def run(queries: int, seed: int, only: set[str] | None = None, compare: bool = F
             },
             "makespans": spans[-1],
         }
-        if compare:
+        if mode:
             rec["before"] = _stats(times[0], cpu[0])
             rec["makespan_differences"] = sum(
                 1
@@ -158,8 +185,9 @@ def main() -> None:
     ap.add_argument("--only", default=None, help="comma-separated layout names")
     ap.add_argument("--out", default=None)
     ap.add_argument("--compare", action="store_true", help="without and with the passing bound, side by side")
+    ap.add_argument("--steps", action="store_true", help="the earlier search and this one, side by side")
     args = ap.parse_args()
-    if args.compare:
+    if args.compare or args.steps:
         print(
             "| layout | edges | queries | CPU median (ms) before → after | CPU p95 (ms) | CPU max (ms) | "
             "wall median (ms) | wall p95 (ms) | wall max (ms) | makespans differing |"
@@ -172,7 +200,7 @@ def main() -> None:
         )
         print("|---|---|---|---|---|---|---|---|---|")
     only = set(args.only.split(",")) if args.only else None
-    records = run(args.queries, args.seed, only, args.compare)
+    records = run(args.queries, args.seed, only, "steps" if args.steps else args.compare)
     if args.out:
         Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
 
