@@ -1,7 +1,8 @@
 """The graph search's steps against plan-time tails keep it exact.
 
 - The passing bound of a face entry from fronts of hinges (``PassingBound.least_through``) equals the least over
-  every passing segment (``least_through_all``) on seeded and hypothesis faces, intervals and speeds.
+  every passing segment (``least_through_all``) on seeded and hypothesis faces, intervals and speeds; so does the
+  bound at a face end or a corner (``PassingBound.point`` against ``PassingBound.at``).
 - A root reached again within the queue's grid is not expanded again (``search.AGAIN_GRID_STEPS``): the cost found
   stays within a few grid steps of the search that expands every gain, and the planner's makespans agree.
 - A search stopped by its budget resumes where it stopped (``AnyAngleSearch.run``), and the planner that resumes a
@@ -66,6 +67,16 @@ def _compare_fronts(pb: PassingBound, track: GraphTrack, rng: np.random.Generato
         for y0, y1 in ((float(y[0]), float(y[1])), (0.0, le), (float(y[0]), float(y[0]))):
             fast, ref = pb.least_through(face, y0, y1), pb.least_through_all(face, y0, y1)
             assert fast == pytest.approx(ref, rel=1e-12, abs=1e-12), (face, y0, y1, fast, ref)
+            done += 1
+        # the bound at a face end or a corner from the fronts, against the pass over every segment (PassingBound.at)
+        for yp in (float(y[0]), 0.0, le):
+            key = pb.mesh.point_key(face, yp)
+            members = pb.mesh.members(key)
+            if not members:
+                continue  # not free
+            (e, f, _), (sa, sb) = members[0]
+            fast, ref = pb.point(key), pb.at((e, sa), (f, sb))
+            assert fast == pytest.approx(ref, rel=1e-12, abs=1e-12), (key, fast, ref)
             done += 1
     return done
 
