@@ -16,9 +16,10 @@ table; ``--out FILE`` also writes ``FILE.json`` with every record. ``--compare``
 without the passing bound (``mpa.planners.graph.query.PASSING_BOUND_AFTER = None``, before) and with it (after), the
 order alternating from query to query; the table gives before → after and the makespans must agree.
 ``--steps``: the same, before = the search of the earlier scheme (every root reached more cheaply expanded again,
-``mpa.planners.graph.search.AGAIN_GRID_STEPS = 0``; a search whose passing bound gains nothing started again,
-``query.RESUME_WITHOUT_GAIN = False``; a face entry's passing bound over every segment,
-``PassingBound.least_through_all``), after = the code as it is.
+``mpa.planners.graph.search.AGAIN_GRID_STEPS = 0``; the passing bound after 5 000 pops; a search whose passing
+bound gains nothing started again, ``query.RESUME_WITHOUT_GAIN = False``; the passing bound of a face entry over
+every segment, ``PassingBound.least_through_all``, and of a point too, ``bounds.POINTS_FROM_FRONTS = False``),
+after = the code as it is.
 """
 
 from __future__ import annotations
@@ -42,6 +43,7 @@ from bench.graph_scale import road_map_layout, warehouse_layout  # noqa: E402
 
 from mpa.freespace import free_space  # noqa: E402
 from mpa.graph_track import GraphTrack  # noqa: E402
+from mpa.planners.graph import bounds as graph_bounds  # noqa: E402
 from mpa.planners.graph import query as graph_query  # noqa: E402
 from mpa.planners.graph import search as graph_search  # noqa: E402
 from mpa.planners.graph.bounds import PassingBound  # noqa: E402
@@ -99,17 +101,24 @@ def _stats(times: list[float], cpu: list[float]) -> dict[str, float]:
 def _arm(compare: str | None, before: bool) -> None:
     """Set the planner to one arm of a comparison: ``compare`` "bound" (without / with the passing bound) or "steps"
     (the earlier search / this one); None or ``before`` False: the code as it is."""
-    graph_query.PASSING_BOUND_AFTER = None if compare == "bound" and before else _AS_IS["after"]
     old = compare == "steps" and before
+    graph_query.PASSING_BOUND_AFTER = (
+        None if compare == "bound" and before else (EARLIER_AFTER if old else _AS_IS["after"])
+    )
     graph_search.AGAIN_GRID_STEPS = 0.0 if old else _AS_IS["again"]
     graph_query.RESUME_WITHOUT_GAIN = False if old else _AS_IS["resume"]
+    graph_bounds.POINTS_FROM_FRONTS = False if old else _AS_IS["points"]
     PassingBound.least_through = PassingBound.least_through_all if old else _AS_IS["least"]  # type: ignore[method-assign]
 
+
+#: The pops after which the earlier search started again with the passing bound.
+EARLIER_AFTER = 5000
 
 _AS_IS: dict[str, Any] = {
     "after": graph_query.PASSING_BOUND_AFTER,
     "again": graph_search.AGAIN_GRID_STEPS,
     "resume": graph_query.RESUME_WITHOUT_GAIN,
+    "points": graph_bounds.POINTS_FROM_FRONTS,
     "least": PassingBound.least_through,
 }
 

@@ -24,9 +24,11 @@ from mpa.planners.graph.search import AnyAngleSearch
 from mpa.planners.graph.shortcut import _independent_motion
 
 #: Queue pops after which a "fastest" search starts again with the passing bound (:mod:`mpa.planners.graph.bounds`:
-#: building it costs a few ms, so only searches that negotiate long get it; a query that no vertex separates, where
-#: the bound is 0, is searched once without it); None: never.
-PASSING_BOUND_AFTER: int | None = 5000
+#: building it costs a few ms, up to about 0.1 s at 150 edges, so only searches that negotiate long get it; a query
+#: that no vertex separates, where the bound is 0, is searched once without it); None: never. 2 000: the slowest
+#: query of office L1, hotel L1, the 77-edge warehouse and scaling 30/1 1.2-1.7x faster than after 5 000 pops, the
+#: p95 of the 100-150-edge layouts within the machine's noise (800: their p95 up to 5x slower).
+PASSING_BOUND_AFTER: int | None = 2000
 
 #: The passing bound is used when at the start it is above this multiple of the robots' own bound (s / s).
 BOUND_GAIN = 1.001
