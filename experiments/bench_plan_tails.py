@@ -1,7 +1,7 @@
 """Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
 
     python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
-        [--compare | --steps]
+        [--compare | --steps] [--large]
 
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
 10 / 30 / 100 / 150 edges, three seeds each), the seeded warehouse grids and road maps of
@@ -53,8 +53,9 @@ EXAMPLES = ROOT.parent / "examples" / "tracks"
 SIZES = (10, 30, 100, 150)
 
 
-def layouts() -> list[tuple[str, GraphTrack, list[float] | None]]:
-    """``(name, track, clearances)``; clearances None: the fractions of the median edge length."""
+def layouts(large: bool = False) -> list[tuple[str, GraphTrack, list[float] | None]]:
+    """``(name, track, clearances)``; clearances None: the fractions of the median edge length. ``large``: also the
+    seeded warehouse grid and road map of 1 000 edges (D = 1 m; the free space takes 1-2 s and about 400 MB)."""
     out: list[tuple[str, GraphTrack, list[float] | None]] = []
     for p in sorted(EXAMPLES.glob("*.json")):
         out.append((p.stem, GraphTrack.from_json(p), None))
@@ -69,15 +70,18 @@ def layouts() -> list[tuple[str, GraphTrack, list[float] | None]]:
             out.append((f"scaling {n_e}/{k}", grid_layout(n_e, n_e * 10 + k), [1.0]))
         out.append((f"warehouse {n_e}", warehouse_layout(n_e, n_e), [1.0]))
         out.append((f"road map {n_e}", road_map_layout(n_e, n_e), [1.0]))
+    if large:
+        out.append(("warehouse 1000", warehouse_layout(1000, 1000), [1.0]))
+        out.append(("road map 1000", road_map_layout(1000, 1000), [1.0]))
     return out
 
 
 def layout_queries(
-    queries: int, seed: int, only: set[str] | None = None
+    queries: int, seed: int, only: set[str] | None = None, large: bool = False
 ) -> Iterator[tuple[str, GraphTrack, list[float], list[dict[str, Any]]]]:
-    """Per layout (those named in ``only``, or all): ``(name, track, clearances, queries + 1 seeded queries)``, the
-    first query the unrecorded warm-up."""
-    for li, (name, track, ds) in enumerate(layouts()):
+    """Per layout (those named in ``only``, or all; ``large``: with the 1 000-edge ones): ``(name, track,
+    clearances, queries + 1 seeded queries)``, the first query the unrecorded warm-up."""
+    for li, (name, track, ds) in enumerate(layouts(large)):
         if only and name not in only:
             continue
         if ds is None:
@@ -123,13 +127,15 @@ _AS_IS: dict[str, Any] = {
 }
 
 
-def run(queries: int, seed: int, only: set[str] | None = None, compare: bool | str = False) -> list[dict[str, Any]]:
+def run(
+    queries: int, seed: int, only: set[str] | None = None, compare: bool | str = False, large: bool = False
+) -> list[dict[str, Any]]:
     """Every layout's seeded queries planned (twice, before and after, when ``compare`` is "bound" or True, or
     "steps"); one record per layout."""
     records = []
     mode = "bound" if compare is True else (compare or None)
     arms = (True, False) if mode else (False,)
-    for name, track, ds, qs in layout_queries(queries, seed, only):
+    for name, track, ds, qs in layout_queries(queries, seed, only, large):
         for d in ds:
             free_space(track, d)
         _plan(track, qs[0], (1.0, 1.0))
@@ -195,6 +201,7 @@ def main() -> None:
     ap.add_argument("--out", default=None)
     ap.add_argument("--compare", action="store_true", help="without and with the passing bound, side by side")
     ap.add_argument("--steps", action="store_true", help="the earlier search and this one, side by side")
+    ap.add_argument("--large", action="store_true", help="also the 1 000-edge warehouse grid and road map")
     args = ap.parse_args()
     if args.compare or args.steps:
         print(
@@ -209,7 +216,7 @@ def main() -> None:
         )
         print("|---|---|---|---|---|---|---|---|---|")
     only = set(args.only.split(",")) if args.only else None
-    records = run(args.queries, args.seed, only, "steps" if args.steps else args.compare)
+    records = run(args.queries, args.seed, only, "steps" if args.steps else args.compare, args.large)
     if args.out:
         Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
 
