@@ -25,10 +25,17 @@ from mpa.planners.graph.shortcut import _independent_motion
 
 #: Queue pops after which a "fastest" search starts again with the passing bound (:mod:`mpa.planners.graph.bounds`:
 #: building it costs a few ms, up to about 0.1 s at 150 edges, so only searches that negotiate long get it; a query
-#: that no vertex separates, where the bound is 0, is searched once without it); None: never. 2 000: the slowest
-#: query of office L1, hotel L1, the 77-edge warehouse and scaling 30/1 1.2-1.7x faster than after 5 000 pops, the
-#: p95 of the 100-150-edge layouts within the machine's noise (800: their p95 up to 5x slower).
+#: that no vertex separates, where the bound is 0, is searched once without it); None: never. Measured
+#: (docs/performance.md): after 2 000 pops the slowest query of office L1, hotel L1, the 77-edge warehouse, scaling
+#: 30/1 and the 100-edge warehouse and road map is 1.2-1.7x faster than after 5 000; on the 150-edge layouts (up to
+#: 12 000 passing segments) 2-4x slower, so layouts of more than ``PASSING_BOUND_EDGES`` edges wait
+#: ``PASSING_BOUND_AFTER_LARGE`` pops.
 PASSING_BOUND_AFTER: int | None = 2000
+
+#: Edges above which the passing bound waits ``PASSING_BOUND_AFTER_LARGE`` pops (at least ``PASSING_BOUND_AFTER``).
+PASSING_BOUND_EDGES = 120
+
+PASSING_BOUND_AFTER_LARGE = 5000
 
 #: The passing bound is used when at the start it is above this multiple of the robots' own bound (s / s).
 BOUND_GAIN = 1.001
@@ -169,6 +176,8 @@ def plan_graph(
     if quick is not None:
         return _assemble(tr, fs, s, gl, objective, (va, vb), quick)
     after = PASSING_BOUND_AFTER if objective == "fastest" and separating_vertices(mesh, s, gl) else None
+    if after is not None and tr.n_edges > PASSING_BOUND_EDGES:
+        after = max(after, PASSING_BOUND_AFTER_LARGE)
     search = AnyAngleSearch(mesh, s, gl, objective, va, vb)
     segs = search.run(after)
     if segs is None:  # a long negotiation: again with the bound that knows the robots must pass, if it knows more
