@@ -232,24 +232,19 @@ class AnyAngleSearch:
         nodes.append(entry)
         g_root = entry.g_root
         f = g_root + self.face_lower_bound(entry.r, entry.ax, entry.a, entry.face, entry.y0, entry.y1)
-        if self.bound is not None:
-            f = max(f, self._face_passing(entry))
+        if self.bound is not None:  # the passing bound at the root, and through the face's part [y0, y1]
+            r, a, y0, y1 = entry.r, entry.a, entry.y0, entry.y1
+            x_a, x_b = (
+                (abs(r[0] - a), max(0.0, y0 - r[1], r[1] - y1))
+                if entry.ax == 0
+                else (max(0.0, y0 - r[0], r[0] - y1), abs(r[1] - a))
+            )
+            f = max(
+                f,
+                g_root + self.bound.point(entry.root_key),
+                g_root + self.cost(x_a, x_b) + self.bound.entry(entry.face, y0, y1),
+            )
         heapq.heappush(self.heap, self.queue_key(f, g_root, len(nodes) - 1))
-
-    def _face_passing(self, entry: FaceEntry) -> float:
-        """The passing bound of a face entry (s): at its root, and through the face's part ``[y0, y1]``."""
-        bound = self.bound
-        assert bound is not None
-        g_root, r, a, y0, y1 = entry.g_root, entry.r, entry.a, entry.y0, entry.y1
-        x_a, x_b = (
-            (abs(r[0] - a), max(0.0, y0 - r[1], r[1] - y1))
-            if entry.ax == 0
-            else (max(0.0, y0 - r[0], r[0] - y1), abs(r[1] - a))
-        )
-        return max(
-            g_root + bound.point(entry.root_key),
-            g_root + self.cost(x_a, x_b) + bound.entry(entry.face, y0, y1),
-        )
 
     # ----------------------------------------------------------------------------------------------- expansion
     def open_face(self, entry: FaceEntry) -> None:
