@@ -16,9 +16,9 @@ table; ``--out FILE`` also writes ``FILE.json`` with every record. ``--compare``
 without the passing bound (``mpa.planners.graph.query.PASSING_BOUND_AFTER = None``, before) and with it (after), the
 order alternating from query to query; the table gives before → after and the makespans must agree.
 ``--steps``: the same, before = the search of the earlier scheme (every root reached more cheaply expanded again,
-``mpa.planners.graph.search.AGAIN_GRID_STEPS = 0``; the passing bound after 5 000 pops everywhere; a search whose passing
-bound gains nothing started again, ``query.RESUME_WITHOUT_GAIN = False``; the passing bound of a face entry over
-every segment, ``PassingBound.least_through_all``, and of a point too, ``bounds.POINTS_FROM_FRONTS = False``),
+``mpa.planners.graph.search.AGAIN_GRID_STEPS = 0``; the passing bound after 5 000 pops everywhere; a search whose
+passing bound gains nothing started again, ``query.RESUME_WITHOUT_GAIN = False``; the passing bound of a face entry
+over every segment, ``PassingBound.least_through_all``, and of a point too, ``bounds.POINTS_FROM_FRONTS = False``),
 after = the code as it is.
 """
 
