@@ -1,6 +1,7 @@
 """Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
 
-    python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...] [--compare]
+    python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
+        [--compare | --steps] [--large]
 
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
 10 / 30 / 100 / 150 edges, three seeds each), the seeded warehouse grids and road maps of
@@ -14,6 +15,11 @@ shared: CPU time leaves out the waits for a core), and the slowest query (to pro
 table; ``--out FILE`` also writes ``FILE.json`` with every record. ``--compare``: every query planned twice in a row,
 without the passing bound (``mpa.planners.graph.query.PASSING_BOUND_AFTER = None``, before) and with it (after), the
 order alternating from query to query; the table gives before → after and the makespans must agree.
+``--steps``: the same, before = the search of the earlier scheme (every root reached more cheaply expanded again,
+``mpa.planners.graph.search.AGAIN_GRID_STEPS = 0``; the passing bound after 5 000 pops everywhere; a search whose
+passing bound gains nothing started again, ``query.RESUME_WITHOUT_GAIN = False``; the passing bound of a face entry
+over every segment, ``PassingBound.least_through_all``, and of a point too, ``bounds.POINTS_FROM_FRONTS = False``),
+after = the code as it is.
 """
 
 from __future__ import annotations
@@ -37,15 +43,19 @@ from bench.graph_scale import road_map_layout, warehouse_layout  # noqa: E402
 
 from mpa.freespace import free_space  # noqa: E402
 from mpa.graph_track import GraphTrack  # noqa: E402
+from mpa.planners.graph import bounds as graph_bounds  # noqa: E402
 from mpa.planners.graph import query as graph_query  # noqa: E402
+from mpa.planners.graph import search as graph_search  # noqa: E402
+from mpa.planners.graph.bounds import PassingBound  # noqa: E402
 
 DATA = ROOT.parent / "tests" / "data" / "openrmf"
 EXAMPLES = ROOT.parent / "examples" / "tracks"
 SIZES = (10, 30, 100, 150)
 
 
-def layouts() -> list[tuple[str, GraphTrack, list[float] | None]]:
-    """``(name, track, clearances)``; clearances None: the fractions of the median edge length."""
+def layouts(large: bool = False) -> list[tuple[str, GraphTrack, list[float] | None]]:
+    """``(name, track, clearances)``; clearances None: the fractions of the median edge length. ``large``: also the
+    seeded warehouse grid and road map of 1 000 edges (D = 1 m; the free space takes 1-2 s and about 400 MB)."""
     out: list[tuple[str, GraphTrack, list[float] | None]] = []
     for p in sorted(EXAMPLES.glob("*.json")):
         out.append((p.stem, GraphTrack.from_json(p), None))
@@ -60,15 +70,18 @@ def layouts() -> list[tuple[str, GraphTrack, list[float] | None]]:
             out.append((f"scaling {n_e}/{k}", grid_layout(n_e, n_e * 10 + k), [1.0]))
         out.append((f"warehouse {n_e}", warehouse_layout(n_e, n_e), [1.0]))
         out.append((f"road map {n_e}", road_map_layout(n_e, n_e), [1.0]))
+    if large:
+        out.append(("warehouse 1000", warehouse_layout(1000, 1000), [1.0]))
+        out.append(("road map 1000", road_map_layout(1000, 1000), [1.0]))
     return out
 
 
 def layout_queries(
-    queries: int, seed: int, only: set[str] | None = None
+    queries: int, seed: int, only: set[str] | None = None, large: bool = False
 ) -> Iterator[tuple[str, GraphTrack, list[float], list[dict[str, Any]]]]:
-    """Per layout (those named in ``only``, or all): ``(name, track, clearances, queries + 1 seeded queries)``, the
-    first query the unrecorded warm-up."""
-    for li, (name, track, ds) in enumerate(layouts()):
+    """Per layout (those named in ``only``, or all; ``large``: with the 1 000-edge ones): ``(name, track,
+    clearances, queries + 1 seeded queries)``, the first query the unrecorded warm-up."""
+    for li, (name, track, ds) in enumerate(layouts(large)):
         if only and name not in only:
             continue
         if ds is None:
@@ -89,11 +102,40 @@ def _stats(times: list[float], cpu: list[float]) -> dict[str, float]:
     }
 
 
-def run(queries: int, seed: int, only: set[str] | None = None, compare: bool = False) -> list[dict[str, Any]]:
+def _arm(compare: str | None, before: bool) -> None:
+    """Set the planner to one arm of a comparison: ``compare`` "bound" (without / with the passing bound) or "steps"
+    (the earlier search / this one); None or ``before`` False: the code as it is."""
+    old = compare == "steps" and before
+    graph_query.PASSING_BOUND_AFTER = (
+        None if compare == "bound" and before else (EARLIER_AFTER if old else _AS_IS["after"])
+    )
+    graph_search.AGAIN_GRID_STEPS = 0.0 if old else _AS_IS["again"]
+    graph_query.RESUME_WITHOUT_GAIN = False if old else _AS_IS["resume"]
+    graph_bounds.POINTS_FROM_FRONTS = False if old else _AS_IS["points"]
+    PassingBound.least_through = PassingBound.least_through_all if old else _AS_IS["least"]  # type: ignore[method-assign]
+
+
+#: The pops after which the earlier search started again with the passing bound.
+EARLIER_AFTER = 5000
+
+_AS_IS: dict[str, Any] = {
+    "after": graph_query.PASSING_BOUND_AFTER,
+    "again": graph_search.AGAIN_GRID_STEPS,
+    "resume": graph_query.RESUME_WITHOUT_GAIN,
+    "points": graph_bounds.POINTS_FROM_FRONTS,
+    "least": PassingBound.least_through,
+}
+
+
+def run(
+    queries: int, seed: int, only: set[str] | None = None, compare: bool | str = False, large: bool = False
+) -> list[dict[str, Any]]:
+    """Every layout's seeded queries planned (twice, before and after, when ``compare`` is "bound" or True, or
+    "steps"); one record per layout."""
     records = []
-    after = graph_query.PASSING_BOUND_AFTER
-    arms = (None, after) if compare else (after,)
-    for name, track, ds, qs in layout_queries(queries, seed, only):
+    mode = "bound" if compare is True else (compare or None)
+    arms = (True, False) if mode else (False,)
+    for name, track, ds, qs in layout_queries(queries, seed, only, large):
         for d in ds:
             free_space(track, d)
         _plan(track, qs[0], (1.0, 1.0))
@@ -103,13 +145,13 @@ def run(queries: int, seed: int, only: set[str] | None = None, compare: bool = F
         for qi, q in enumerate(qs[1:]):
             order = range(len(arms)) if qi % 2 == 0 else reversed(range(len(arms)))
             for k in order:
-                graph_query.PASSING_BOUND_AFTER = arms[k]
+                _arm(mode, arms[k])
                 t0, c0 = time.perf_counter(), time.process_time()
                 p = _plan(track, q, (1.0, 1.0))
                 cpu[k].append(time.process_time() - c0)
                 times[k].append(time.perf_counter() - t0)
                 spans[k].append(None if p is None else p.makespan)
-        graph_query.PASSING_BOUND_AFTER = after
+        _arm(None, False)
         worst = int(np.argmax(times[-1]))
         rec: dict[str, Any] = {
             "layout": name,
@@ -123,7 +165,7 @@ def run(queries: int, seed: int, only: set[str] | None = None, compare: bool = F
             },
             "makespans": spans[-1],
         }
-        if compare:
+        if mode:
             rec["before"] = _stats(times[0], cpu[0])
             rec["makespan_differences"] = sum(
                 1
@@ -158,8 +200,10 @@ def main() -> None:
     ap.add_argument("--only", default=None, help="comma-separated layout names")
     ap.add_argument("--out", default=None)
     ap.add_argument("--compare", action="store_true", help="without and with the passing bound, side by side")
+    ap.add_argument("--steps", action="store_true", help="the earlier search and this one, side by side")
+    ap.add_argument("--large", action="store_true", help="also the 1 000-edge warehouse grid and road map")
     args = ap.parse_args()
-    if args.compare:
+    if args.compare or args.steps:
         print(
             "| layout | edges | queries | CPU median (ms) before → after | CPU p95 (ms) | CPU max (ms) | "
             "wall median (ms) | wall p95 (ms) | wall max (ms) | makespans differing |"
@@ -172,7 +216,7 @@ def main() -> None:
         )
         print("|---|---|---|---|---|---|---|---|---|")
     only = set(args.only.split(",")) if args.only else None
-    records = run(args.queries, args.seed, only, args.compare)
+    records = run(args.queries, args.seed, only, "steps" if args.steps else args.compare, args.large)
     if args.out:
         Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
 

@@ -25,12 +25,27 @@ from mpa.planners.graph.shortcut import _independent_motion
 from mpa.planners.search_common import SearchQuery
 
 #: Queue pops after which a "fastest" search starts again with the passing bound (:mod:`mpa.planners.graph.bounds`:
-#: building it costs a few ms, so only searches that negotiate long get it; a query that no vertex separates, where
-#: the bound is 0, is searched once without it); None: never.
-PASSING_BOUND_AFTER: int | None = 5000
+#: building it costs a few ms, up to about 0.1 s at 150 edges, so only searches that negotiate long get it; a query
+#: that no vertex separates, where the bound is 0, is searched once without it); None: never. Measured
+#: (docs/performance.md): after 2 000 pops the slowest query of office L1, hotel L1, the 77-edge warehouse, scaling
+#: 30/1 and the 100-edge warehouse and road map is 1.2-1.7x faster than after 5 000; on the 150-edge layouts (up to
+#: 12 000 passing segments) 2-4x slower, so layouts of more than ``PASSING_BOUND_EDGES`` edges wait
+#: ``PASSING_BOUND_AFTER_LARGE`` pops.
+PASSING_BOUND_AFTER: int | None = 2000
+
+#: Edges above which the passing bound waits ``PASSING_BOUND_AFTER_LARGE`` pops (at least ``PASSING_BOUND_AFTER``).
+PASSING_BOUND_EDGES = 120
+
+PASSING_BOUND_AFTER_LARGE = 5000
 
 #: The passing bound is used when at the start it is above this multiple of the robots' own bound (s / s).
 BOUND_GAIN = 1.001
+
+#: When the passing bound knows no more than the robots' own bound at the start (``BOUND_GAIN``), the search that
+#: took ``PASSING_BOUND_AFTER`` pops goes on where it stopped (``AnyAngleSearch.run`` resumes) instead of starting
+#: again without a bound (False: the earlier scheme, the same search twice). With a gain it starts again with the
+#: bound: resumed with the bound (the queued nodes re-keyed), the swaps of the airport map took 1.2-1.5x longer.
+RESUME_WITHOUT_GAIN = True
 
 
 # ------------------------------------------------------------------------------------------------- API
@@ -163,12 +178,17 @@ def plan_graph(
     if quick is not None:
         return _assemble(query, quick)
     after = PASSING_BOUND_AFTER if objective == "fastest" and separating_vertices(mesh, s, gl) else None
-    segs = AnyAngleSearch(mesh, query).run(after)
-    if segs is None:  # a long negotiation: again, with the bound that knows the robots must pass, if it knows more
+    if after is not None and tr.n_edges > PASSING_BOUND_EDGES:
+        after = max(after, PASSING_BOUND_AFTER_LARGE)
+    search = AnyAngleSearch(mesh, query)
+    segs = search.run(after)
+    if segs is None:  # a long negotiation: again with the bound that knows the robots must pass, if it knows more
         passing = passing_bound(mesh, s, gl, va, vb)
         own = max(geo.distance_scalar(*s[0], *gl[0]) / va, geo.distance_scalar(*s[1], *gl[1]) / vb)
         bound = passing if passing and passing.at_start > own * BOUND_GAIN else None
-        segs = AnyAngleSearch(mesh, query, bound=bound).run()
+        if bound is not None or not RESUME_WITHOUT_GAIN:
+            search = AnyAngleSearch(mesh, query, bound=bound)
+        segs = search.run()  # with no gain from the bound: the same search resumed, not started again
     if segs is None:  # pragma: no cover - no budget given
         raise PlanningError("search gave up")
     segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])

@@ -25,6 +25,13 @@ if TYPE_CHECKING:
 START: Key = ("S",)
 GOAL: Key = ("G",)
 
+#: A root reached again is queued (and expanded) again only when its cost falls by more than this many steps of the
+#: queue's grid (``F_GRID`` of the start's bound): a smaller gain cannot change the order of the queue's buckets, and
+#: on plateaus of equally fast motions it made the search expand the same roots up to ten times over (the "fastest"
+#: cost's second tie-break, 1e-9 of the Euclidean time, differs between the ways to a root by less than the grid);
+#: 0: every gain. The goal is always kept at its least cost.
+AGAIN_GRID_STEPS = 1.0
+
 
 def _uncovered(
     seen: dict[Key, list[tuple[float, float]]], key: Key, y0: float, y1: float, eps: float
@@ -166,6 +173,7 @@ class AnyAngleSearch:
         self.heap: list[tuple[int, float, int]] = []
         (sa_e, sa_s), (sb_e, sb_s) = start
         self.fq = 1.0 / (F_GRID * max(1e-3, self.cost(self.to_goal[0].at(sa_e, sa_s), self.to_goal[1].at(sb_e, sb_s))))
+        self.again = AGAIN_GRID_STEPS / self.fq
 
     # ------------------------------------------------------------------------------------------- the lower bound
     def lower_bound(self, pid: PolygonId, pt: Coords) -> float:
@@ -195,7 +203,7 @@ class AnyAngleSearch:
         """Queue the point ``key`` (at ``pt`` in ``pid``) reached at cost ``gval`` (a :class:`PointNode` with these
         fields) if more cheaply than before; the goal (``key`` :data:`GOAL`) with its cost as its bound."""
         best = self.best
-        if gval < best.get(key, math.inf):
+        if gval < best.get(key, math.inf) - (0.0 if key is GOAL else self.again):
             best[key] = gval
             nodes = self.nodes
             nodes.append(PointNode(key, gval, root, last, pid, frm, pt))
@@ -349,7 +357,7 @@ class AnyAngleSearch:
     # --------------------------------------------------------------------------------------------------- run
     def run(self, budget: int | None = None) -> list[Segment] | None:
         """The path's straight segments start to goal (:meth:`segments`); with ``budget``: None after that many
-        expansions.
+        expansions (a later call resumes the search where it stopped).
 
         Raises
         ------
@@ -357,16 +365,18 @@ class AnyAngleSearch:
             The goal was not reached although the caller found it in the start's component (a bug).
         """
         start_members = self.mesh.placements(*self.start)
-        self.best[START] = 0.0
-        self.nodes.append(PointNode(START, 0.0, -1, -1, None, None, None))
-        self.expand_point(0, START, 0.0, start_members)
+        if not self.nodes:
+            self.best[START] = 0.0
+            self.nodes.append(PointNode(START, 0.0, -1, -1, None, None, None))
+            self.expand_point(0, START, 0.0, start_members)
         nodes, best, heap = self.nodes, self.best, self.heap
         found = -1
         expanded = 0
         while heap:
-            _, _, nid = heapq.heappop(heap)
+            key0, depth, nid = heapq.heappop(heap)
             expanded += 1
             if budget is not None and expanded > budget:
+                heapq.heappush(heap, (key0, depth, nid))  # not taken: run() resumes with it
                 return None
             nd = nodes[nid]
             if type(nd) is PointNode:

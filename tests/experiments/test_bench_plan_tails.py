@@ -1,0 +1,50 @@
+"""The plan-time tails benchmark: both arms of ``--steps`` plan the same makespans, and the planner is left as it
+was."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "experiments"))
+
+import bench_plan_tails  # noqa: E402
+
+from mpa.planners.graph import bounds as graph_bounds  # noqa: E402
+from mpa.planners.graph import query as graph_query  # noqa: E402
+from mpa.planners.graph import search as graph_search  # noqa: E402
+from mpa.planners.graph.bounds import PassingBound  # noqa: E402
+
+
+def _settings() -> tuple[object, ...]:
+    return (
+        graph_query.PASSING_BOUND_AFTER,
+        graph_query.RESUME_WITHOUT_GAIN,
+        graph_search.AGAIN_GRID_STEPS,
+        graph_bounds.POINTS_FROM_FRONTS,
+        PassingBound.least_through,
+    )
+
+
+def test_the_steps_comparison_plans_the_same_makespans_and_restores_the_planner() -> None:
+    as_is = _settings()
+    records = bench_plan_tails.run(3, 0, {"y_junction", "passing_loop"}, "steps")
+    assert sorted(r["layout"] for r in records) == ["passing_loop", "y_junction"]
+    for r in records:
+        assert r["queries"] == 3 and r["makespan_differences"] == 0, r
+        assert r["before"]["cpu_max_ms"] > 0.0 and r["cpu_max_ms"] > 0.0, r
+    assert _settings() == as_is
+
+
+def test_the_earlier_arm_is_the_earlier_scheme() -> None:
+    as_is = _settings()
+    bench_plan_tails._arm("steps", True)
+    try:
+        assert graph_query.PASSING_BOUND_AFTER == bench_plan_tails.EARLIER_AFTER
+        assert graph_query.RESUME_WITHOUT_GAIN is False and graph_search.AGAIN_GRID_STEPS == 0.0
+        assert graph_bounds.POINTS_FROM_FRONTS is False
+        assert PassingBound.least_through is PassingBound.least_through_all
+    finally:
+        bench_plan_tails._arm(None, False)
+    assert _settings() == as_is
