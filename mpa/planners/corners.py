@@ -50,7 +50,7 @@ import numpy as np
 from scipy.optimize import nnls
 
 from mpa._arrays import FloatArray
-from mpa.freespace import PolygonId
+from mpa.freespace import FreeSpace, PolygonId
 
 __all__ = ["RESOLVE_TOL", "resolve_corners"]
 
@@ -92,7 +92,7 @@ def _directions(cells: list[Any], d: FloatArray, free: list[list[int]], robot: i
 
 
 def _solve_chain(
-    fs: Any,
+    fs: FreeSpace,
     segs: list[list[Any]],
     speeds: tuple[float, float],
     m_search: float,
@@ -335,7 +335,7 @@ def _solve_chain(
     return value, out
 
 
-def _widenings(fs: Any, segs: list[list[Any]]) -> list[list[tuple[int, PolygonId, Any]]]:
+def _widenings(fs: FreeSpace, segs: list[list[Any]]) -> list[list[tuple[int, PolygonId, Any]]]:
     """Where the chain turns a grid corner: both robots change edge at one corner, or one right after the other.
 
     Returns per such place the ways round it, each ``(index, cell, how)``: ``how`` is ``"keep"`` (the search's
@@ -376,7 +376,7 @@ MAX_WIDEN = 3
 
 
 def resolve_corners(
-    fs: Any,
+    fs: FreeSpace,
     segs: list[list[Any]],
     speeds: tuple[float, float],
 ) -> list[list[Any]]:
@@ -459,7 +459,7 @@ def _piece(cell: PolygonId, s: float, t: float) -> PolygonId:
     return (e, f, 0 if e != f or s > t else 1)
 
 
-def _widened(fs: Any, segs: list[list[Any]], choice: list[tuple[int, PolygonId, Any]]) -> list[list[Any]] | None:
+def _widened(fs: FreeSpace, segs: list[list[Any]], choice: list[tuple[int, PolygonId, Any]]) -> list[list[Any]] | None:
     """The chain of ``segs`` with the ways ``choice`` round its grid corners (see :func:`_widenings`); a cell put in
     or swapped in starts as a segment of length zero at the grid corner (both robots on their vertices). None when
     the cell is not free there."""
@@ -522,7 +522,7 @@ def _grid_corner(
 
 
 def _valid(
-    fs: Any,
+    fs: FreeSpace,
     segs: list[list[Any]],
     sig: tuple[list[int], list[int]],
     speeds: tuple[float, float],

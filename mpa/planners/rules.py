@@ -40,7 +40,7 @@ from __future__ import annotations
 import dataclasses
 import heapq
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -48,6 +48,10 @@ from mpa.errors import NoMotionError, PlanningError
 from mpa.freespace import PolygonId
 from mpa.graph_track import GraphTrack, Position
 from mpa.planners.search_common import GoalDistance, SearchQuery, cell_speeds, move_cost
+
+if TYPE_CHECKING:
+    from mpa.planners.graph.mesh import _Mesh
+    from mpa.planners.graph.result import GraphPlan
 
 __all__ = ["plan_with_rules", "single_robot_time"]
 
@@ -125,7 +129,7 @@ def _cost_function(query: SearchQuery) -> Any:
     return cost
 
 
-def _search(mesh: Any, query: SearchQuery) -> list[list[Any]] | None:
+def _search(mesh: _Mesh, query: SearchQuery) -> list[list[Any]] | None:
     """Segments ``[polygon, from, to]`` (cell offsets) of the cheapest path through the candidate points of ``mesh``
     (the query's free space as the search sees it), or None when the goal cannot be reached under the one-way rule."""
     start, goal, objective, (va, vb) = query.start, query.goal, query.objective, query.speeds
@@ -216,7 +220,7 @@ def _vertex_of(g: Any, e: int, x: float) -> int | None:
     return int(g._t[e]) if x == 0.0 else (int(g._h[e]) if x == g._L[e] else None)
 
 
-def _relabel_standing(mesh: Any, segs: list[list[Any]]) -> None:
+def _relabel_standing(mesh: _Mesh, segs: list[list[Any]]) -> None:
     """A robot standing on a vertex during a segment belongs to every edge there: name it on the edge it uses in the
     neighbouring segment, so that the junction becomes a face point (one robot changes edges) that may slide."""
     g = mesh.g
@@ -251,7 +255,7 @@ def _relabel_standing(mesh: Any, segs: list[list[Any]]) -> None:
 
 
 def _smooth(
-    mesh: Any,
+    mesh: _Mesh,
     tr: GraphTrack,
     segs: list[list[Any]],
     seg_cost: Any,
@@ -385,7 +389,7 @@ def plan_with_rules(query: SearchQuery) -> Any:
     return dataclasses.replace(timed_at_limits(plan), lower_bound=bound)
 
 
-def timed_at_limits(plan: Any) -> Any:
+def timed_at_limits(plan: GraphPlan) -> GraphPlan:
     """The plan (a :class:`~mpa.planners.graph.GraphPlan`) with its waypoint times and makespan at the cells' speeds:
     each straight move takes ``max(|Δs| / min(vA, v_e), |Δt| / min(vB, v_f))`` seconds (``vA, vB`` the plan's
     ``speeds``, ``v_e`` the speed limit of edge ``e`` of its track, if any)."""
