@@ -252,7 +252,7 @@ def _module_row(ax: object, label: str, names: Sequence[str], y: float) -> None:
             name,
             ha="center",
             va="center",
-            fontsize=8.5,
+            fontsize=min(8.5, 160.0 / max(len(name), 1)),  # long names smaller, so neighbours do not overlap
             family="monospace",
             bbox={"boxstyle": "round,pad=0.25", "fc": "white", "ec": "0.6"},
         )
