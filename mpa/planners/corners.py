@@ -168,8 +168,12 @@ def _solve_chain(
                 free[j][r] = -1 if pinned[root] else renumber[root]
     var_robot = [var_robot[v] for v in kept]
     var_edge = [var_edge[v] for v in kept]
-    var_corners = [[j for j in range(1, n) for r in (0, 1) if free[j][r] == k] for k in range(len(kept))]
     nv = len(kept)
+    var_corners: list[list[int]] = [[] for _ in range(nv)]
+    for j in range(1, n):  # each variable's corners in order (a corner once per robot holding it)
+        for r in (0, 1):
+            if free[j][r] >= 0:
+                var_corners[free[j][r]].append(j)
     if nv == 0:
         return None
 
@@ -194,7 +198,7 @@ def _solve_chain(
     rows_g: list[list[tuple[int, float]]] = []
     rhs: list[float] = []
     # the objective's linear map: scaled moves Δ/v of every segment and robot, (2n, nv) and constant (2n,)
-    dmat = np.zeros((2 * n, nv))
+    dmat = [[0.0] * nv for _ in range(2 * n)]  # Python floats, an array for the QR below
     dcon = [0.0] * (2 * n)
     travel: dict[int, float] = {}
     travel_const = 0.0
@@ -213,10 +217,10 @@ def _solve_chain(
                 continue
             ents = []
             if v1 >= 0:
-                dmat[k, v1] += iv
+                dmat[k][v1] += iv
                 ents.append((v1, iv))
             if v0 >= 0:
-                dmat[k, v0] -= iv
+                dmat[k][v0] -= iv
                 ents.append((v0, -iv))
             if s == 0:  # stands: both ends are one variable (Δ = 0 identically)
                 continue
@@ -274,15 +278,17 @@ def _solve_chain(
                 rows_g.append(ents)
                 here = max(dmin, sg * (ps - pt_))
                 rhs.append(min(dmin + margin, here) - sg * (ca_ - cb_))
-    gmat = np.zeros((len(rows_g), nz))
-    for ri, ents in enumerate(rows_g):
+    dense = [[0.0] * nz for _ in rows_g]  # summed in Python floats: the same sums as numpy's, without its indexing
+    for row, ents in zip(dense, rows_g, strict=True):
         for c, x in ents:
-            gmat[ri, c] += x
+            row[c] += x
+    gmat = np.array(dense, dtype=float).reshape(len(rows_g), nz)
     h = np.array(rhs)
     dcon_a = np.array(dcon)
     # objective 1/2 |dmat x + dcon|² + 1/2 |T|²: with dmat = Q R, w = R x + Qᵀ dcon, min 1/2 |(w, T)|²
-    qm, rm = np.linalg.qr(dmat)
-    if np.min(np.abs(np.diag(rm))) <= 1e-12 * np.max(np.abs(np.diag(rm))):  # pragma: no cover - full rank
+    qm, rm = np.linalg.qr(np.array(dmat, dtype=float).reshape(2 * n, nv))
+    diag = np.abs(np.diag(rm))
+    if diag.min() <= 1e-12 * diag.max():  # pragma: no cover - full rank
         return None
     rinv = np.linalg.inv(rm)
     shift = qm.T @ dcon_a  # x = R⁻¹ (w - shift)
