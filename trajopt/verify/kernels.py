@@ -83,22 +83,22 @@ _NRES = len(RES)
 
 
 @njit(cache=True)
-def _piece(breaks: FloatArray, r: float) -> int:
-    """``clip(searchsorted(breaks, r, "right") − 1, 0, M − 1)`` (:meth:`DirectedRoute.piece_index`)."""
-    lo, hi = 0, len(breaks)
+def _bisect_right(x: FloatArray, v: float) -> int:
+    """``searchsorted(x, v, side="right")``: the number of entries of the sorted ``x`` that are ``<= v``."""
+    lo, hi = 0, len(x)
     while lo < hi:
         mid = (lo + hi) // 2
-        if r < breaks[mid]:
+        if v < x[mid]:
             hi = mid
         else:
             lo = mid + 1
-    i = lo - 1
-    if i < 0:
-        i = 0
-    m = len(breaks) - 2
-    if i > m:
-        i = m
-    return i
+    return lo
+
+
+@njit(cache=True)
+def _piece(breaks: FloatArray, r: float) -> int:
+    """``clip(searchsorted(breaks, r, "right") − 1, 0, M − 1)`` (:meth:`DirectedRoute.piece_index`)."""
+    return min(max(_bisect_right(breaks, r) - 1, 0), len(breaks) - 2)
 
 
 @njit(cache=True)

@@ -14,21 +14,9 @@ import numpy as np
 
 from mpa._arrays import FloatArray, IntArray
 from trajopt._numba import njit
+from trajopt.verify.kernels import _bisect_right, _piece
 
 __all__ = ["sample_rows"]
-
-
-@njit(cache=True)
-def _bisect_right(x: FloatArray, v: float) -> int:
-    """``searchsorted(x, v, side="right")``: the number of entries of the sorted ``x`` that are ``<= v``."""
-    lo, hi = 0, len(x)
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if v < x[mid]:
-            hi = mid
-        else:
-            lo = mid + 1
-    return lo
 
 
 @njit(cache=True)
@@ -87,7 +75,7 @@ def sample_rows(
         if has_piece:
             pc = n_pieces - 1 if t >= duration else piece[k]
         else:
-            pc = min(max(_bisect_right(breaks, sc) - 1, 0), n_pieces - 1)
+            pc = _piece(breaks, sc)
         x = sc - breaks[pc]
         for col in range(2):
             for order in range(4):
