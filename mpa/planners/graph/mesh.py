@@ -10,6 +10,9 @@ from mpa.freespace import FreeSpace, PolygonId
 from mpa.graph_track import Position
 from mpa.planners.graph.base import Coords, FaceKey, Key, Side
 
+#: A side with its ends (:meth:`_Mesh.side_ends`): axis, side value, face, lo, hi, the ends' keys and offsets.
+SideEnds = tuple[int, float, FaceKey, float, float, Key, Coords, Key, Coords]
+
 
 class _Rows:
     """The rows of a ``(V, E)`` array of faces as Python lists, each made when it is first read (a large layout's
@@ -45,6 +48,7 @@ class _Mesh:
         self.scale = max(1.0, float(g.lengths.max()))
         self.eps = 1e-12 * self.scale
         self._sides: dict[PolygonId, list[Side]] = {}
+        self._side_ends: dict[PolygonId, tuple[SideEnds, ...]] = {}
         self._pages: dict[FaceKey, list[tuple[PolygonId, float]]] = {}
         self._members: dict[Key, list[tuple[PolygonId, Coords]]] = {}
 
@@ -60,6 +64,28 @@ class _Mesh:
                 if self.ok[w][e]:
                     out.append((1, t, (1, w, e), self.lo[w][e], self.hi[w][e]))
             self._sides[pid] = out
+        return out
+
+    def side_ends(self, pid: PolygonId) -> tuple[SideEnds, ...]:
+        """The sides of the polygon ``pid`` that are faces (:meth:`sides`, in the same order), each with its two ends
+        named and placed: ``(ax, a, face, lo, hi, key_lo, pt_lo, key_hi, pt_hi)``, ``key_*`` the end's
+        :meth:`point_key`, ``pt_*`` its offsets in the polygon's cell (m); made once per polygon."""
+        out = self._side_ends.get(pid)
+        if out is None:
+            out = self._side_ends[pid] = tuple(
+                (
+                    ax,
+                    a,
+                    face,
+                    lo,
+                    hi,
+                    self.point_key(face, lo),
+                    (a, lo) if ax == 0 else (lo, a),
+                    self.point_key(face, hi),
+                    (a, hi) if ax == 0 else (hi, a),
+                )
+                for ax, a, face, lo, hi in self.sides(pid)
+            )
         return out
 
     def pages(self, face: FaceKey) -> list[tuple[PolygonId, float]]:

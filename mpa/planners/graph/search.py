@@ -7,6 +7,7 @@ corner, or the goal), :class:`FaceEntry` (a face seen from a root, queued; its p
 
 from __future__ import annotations
 
+import gc
 import heapq
 import math
 from dataclasses import dataclass
@@ -14,7 +15,7 @@ from typing import TYPE_CHECKING
 
 from mpa.errors import PlanningError
 from mpa.freespace import PolygonId
-from mpa.planners.graph.base import F_GRID, Coords, FaceKey, Key, Segment
+from mpa.planners.graph.base import F_GRID, TIE_BREAK, TIE_BREAK_2, Coords, FaceKey, Key, Segment
 from mpa.planners.graph.mesh import _Mesh
 from mpa.planners.search_common import GoalDistance, SearchQuery, cost_function
 
@@ -174,20 +175,66 @@ class AnyAngleSearch:
         (sa_e, sa_s), (sb_e, sb_s) = start
         self.fq = 1.0 / (F_GRID * max(1e-3, self.cost(self.to_goal[0].at(sa_e, sa_s), self.to_goal[1].at(sb_e, sb_s))))
         self.again = AGAIN_GRID_STEPS / self.fq
+        # the hot paths compute the objective's cost inline, with the floating-point operations of cost_function
+        self._fastest = query.objective != "shortest"
+        self._va, self._vb = query.va, query.vb
+        ga, gb = self.to_goal
+        self._goal_terms = (ga.cp, ga.cm, ga.edge, ga.offset, gb.cp, gb.cm, gb.edge, gb.offset)
+        # per face, its pages a straight line can go on into (dead ends dropped unless they hold the goal)
+        self._open_pages: dict[FaceKey, list[tuple[PolygonId, float]]] = {}
 
     # ------------------------------------------------------------------------------------------- the lower bound
     def lower_bound(self, pid: PolygonId, pt: Coords) -> float:
         """A lower bound of the cost from the configuration at ``pt`` (offsets in the cell ``pid``) to the goal: the
-        cost of the robots' graph distances to their goals (each move costs at least what it takes off them)."""
-        return self.cost(self._at_a(pid[0], pt[0]), self._at_b(pid[1], pt[1]))
+        cost of the robots' graph distances to their goals (each move costs at least what it takes off them).
+
+        The cost of :meth:`GoalDistance.at` of both robots, computed inline with the same floating-point operations
+        (``min(x, y)`` as ``y if y < x else x``, the objective's cost as :func:`cost_function`'s)."""
+        cp_a, cm_a, edge_a, off_a, cp_b, cm_b, edge_b, off_b = self._goal_terms
+        e, y = pid[0], pt[0]
+        x, d = y + cp_a[e], cm_a[e] - y
+        da = d if d < x else x
+        if e == edge_a:
+            x = abs(y - off_a)
+            da = x if x < da else da
+        e, y = pid[1], pt[1]
+        x, d = y + cp_b[e], cm_b[e] - y
+        db = d if d < x else x
+        if e == edge_b:
+            x = abs(y - off_b)
+            db = x if x < db else db
+        if self._fastest:
+            ta, tb = abs(da) / self._va, abs(db) / self._vb
+            return (tb if tb > ta else ta) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
+        return math.hypot(da, db)
 
     def face_lower_bound(self, r: Coords, ax: int, a: float, face: FaceKey, y0: float, y1: float) -> float:
         """A lower bound of the cost from the root at ``r`` through the part ``[y0, y1]`` of ``face`` (the side
         ``ax = a`` of the root's polygon) to the goal: the robot on the face's vertex is as far from its goal on every
-        page, the other one goes through the nearest point of ``[y0, y1]`` (:meth:`GoalDistance.min_along`)."""
+        page, the other one goes through the nearest point of ``[y0, y1]`` (:meth:`GoalDistance.min_along`, computed
+        inline with its floating-point operations, as the objective's cost)."""
+        cp_a, cm_a, edge_a, off_a, cp_b, cm_b, edge_b, off_b = self._goal_terms
         if ax == 0:
-            return self.cost(abs(r[0] - a) + self._vd_a[face[1]], self._along_b(face[2], y0, y1, r[1]))
-        return self.cost(self._along_a(face[2], y0, y1, r[0]), abs(r[1] - a) + self._vd_b[face[1]])
+            x_v = abs(r[0] - a) + self._vd_a[face[1]]
+            rr, cp, cm, edge, off = r[1], cp_b, cm_b, edge_b, off_b
+        else:
+            x_v = abs(r[1] - a) + self._vd_b[face[1]]
+            rr, cp, cm, edge, off = r[0], cp_a, cm_a, edge_a, off_a
+        e = face[2]
+        t0, t1 = y0 - rr, rr - y1
+        lo = cp[e] + rr + 2.0 * (t0 if t0 > 0.0 else 0.0)
+        hi = cm[e] - rr + 2.0 * (t1 if t1 > 0.0 else 0.0)
+        x_e = hi if hi < lo else lo
+        if e == edge:
+            y = y0 if y0 > rr else rr
+            y = y1 if y1 < y else y
+            t0 = abs(y - rr) + abs(y - off)
+            x_e = t0 if t0 < x_e else x_e
+        da, db = (x_v, x_e) if ax == 0 else (x_e, x_v)
+        if self._fastest:
+            ta, tb = abs(da) / self._va, abs(db) / self._vb
+            return (tb if tb > ta else ta) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
+        return math.hypot(da, db)
 
     def queue_key(self, f: float, depth: float, nid: int) -> tuple[int, float, int]:
         """The search's order, in one place: the bound ``f`` on a grid of ``F_GRID`` of the start's bound (so that
@@ -235,26 +282,51 @@ class AnyAngleSearch:
         heapq.heappush(self.heap, self.queue_key(f, g_root, len(nodes) - 1))
 
     # ----------------------------------------------------------------------------------------------- expansion
+    def pages_to_open(self, face: FaceKey) -> list[tuple[PolygonId, float]]:
+        """The pages of ``face`` (:meth:`_Mesh.pages`, in order) a straight line can go on into: a dead end (a polygon
+        of one face) only when it holds the goal; made once per face and search."""
+        out = self._open_pages.get(face)
+        if out is None:
+            mesh, goal_at = self.mesh, self.goal_at
+            out = self._open_pages[face] = [
+                (pid2, b) for pid2, b in mesh.pages(face) if len(mesh.sides(pid2)) != 1 or pid2 in goal_at
+            ]
+        return out
+
     def open_face(self, entry: FaceEntry) -> None:
         """The interval nodes of a queued face entry in each other page (the root unfolded), expanded at once."""
-        mesh, r, sig, ax, a, pid = self.mesh, entry.r, entry.sig, entry.ax, entry.a, entry.polygon
+        r, sig, ax, a, pid = entry.r, entry.sig, entry.ax, entry.a, entry.polygon
+        pages = self._open_pages.get(entry.face)
+        if pages is None:
+            pages = self.pages_to_open(entry.face)
+        rid, y0, y1, quantum, seen = entry.root, entry.y0, entry.y1, self.quantum, self.seen
+        nodes, expand = self.nodes, self.expand_interval
         n1 = 1.0 if a == 0.0 else -1.0
-        for pid2, b in mesh.pages(entry.face):
+        # the unfolded root moves along the face's axis only: the other coordinate and its rounding are the entry's
+        across = r[ax] - a
+        kept = r[1 - ax]
+        k_kept = round(kept * quantum)
+        for pid2, b in pages:
             if pid2 == pid and b == a:
                 continue
-            if len(mesh.sides(pid2)) == 1 and pid2 not in self.goal_at:
-                continue  # a dead end: a straight line entering it cannot leave
             sg = -n1 if b == 0.0 else n1  # -n1 * n2, n2 the page's side normal
+            moved = b + sg * across
             if ax == 0:
-                r2 = (b + sg * (r[0] - a), r[1])
+                r2 = (moved, kept)
                 sig2 = (sg * sig[0], sig[1])
+                sk = (rid, pid2, 0, b, round(moved * quantum), k_kept)
             else:
-                r2 = (r[0], b + sg * (r[1] - a))
+                r2 = (kept, moved)
                 sig2 = (sig[0], sg * sig[1])
-            sk = (entry.root, pid2, ax, b, round(r2[0] * self.quantum), round(r2[1] * self.quantum))
-            for z0, z1 in _uncovered(self.seen, sk, entry.y0, entry.y1, self.eps):  # parts not seen so before
+                sk = (rid, pid2, 1, b, k_kept, round(moved * quantum))
+            if sk not in seen:  # nothing seen so before: the whole part
+                seen[sk] = [(y0, y1)]
+                parts: list[tuple[float, float]] | tuple[tuple[float, float]] = ((y0, y1),)
+            else:
+                parts = _uncovered(seen, sk, y0, y1, self.eps)  # the parts not seen so before
+            for z0, z1 in parts:
                 node = IntervalNode(
-                    entry.root,
+                    rid,
                     entry.root_key,
                     entry.g_root,
                     r2,
@@ -271,8 +343,8 @@ class AnyAngleSearch:
                     entry.parent,
                     entry.origin,
                 )
-                self.nodes.append(node)
-                self.expand_interval(len(self.nodes) - 1, node)
+                nodes.append(node)
+                expand(len(nodes) - 1, node)
 
     def expand_point(self, nid: int, key: Key, gval: float, members: list[tuple[PolygonId, Coords]]) -> None:
         """Straight runs from the root ``nid`` (at cost ``gval``) in each polygon holding it: to the goal, to every
@@ -298,56 +370,102 @@ class AnyAngleSearch:
 
     def expand_interval(self, nid: int, nd: IntervalNode) -> None:
         """The interval node ``nid``: the goal and the face ends it sees in its polygon, and the parts of the
-        polygon's other faces it sees (queued as face entries)."""
-        mesh, cost, eps, ctol = self.mesh, self.cost, self.eps, self.ctol
-        push_point = self.push_point
+        polygon's other faces it sees (queued as face entries).
+
+        The cone from the root through ``[y0, y1]`` is ``sgn * cross(u0, q - r) >= -ctol`` and
+        ``-sgn * cross(u1, q - r) >= -ctol``; on a side ``ax2 = a2`` each is ``ca * y + cb >= -ctol`` in the side's
+        coordinate ``y``, which clips the side's ``[lo, hi]``. The face ends' costs are the objective's, inline."""
+        ctol, eps = self.ctol, self.eps
         rid, r, ax, a, y0, y1, pid, groot = nd.root, nd.r, nd.ax, nd.a, nd.y0, nd.y1, nd.polygon, nd.g_root
         rs, rt = r
         if ax == 0:
-            u0 = (a - rs, y0 - rt)
-            u1 = (a - rs, y1 - rt)
+            u00, u01, u10, u11 = a - rs, y0 - rt, a - rs, y1 - rt
         else:
-            u0 = (y0 - rs, a - rt)
-            u1 = (y1 - rs, a - rt)
-        cr = u0[0] * u1[1] - u0[1] * u1[0]
+            u00, u01, u10, u11 = y0 - rs, a - rt, y1 - rs, a - rt
+        cr = u00 * u11 - u01 * u10
         if abs(cr) <= ctol:
             return
         sgn = 1.0 if cr > 0 else -1.0
-        for pt in self.goal_at.get(pid, ()):
-            dx, dy = pt[0] - rs, pt[1] - rt
-            if sgn * (u0[0] * dy - u0[1] * dx) >= -ctol and -sgn * (u1[0] * dy - u1[1] * dx) >= -ctol:  # in the cone
-                push_point(GOAL, groot + cost(pt[0] - rs, pt[1] - rt), rid, nid, pid, None, pt)
-        for ax2, a2, face2, lo2, hi2 in mesh.sides(pid):
-            if ax2 == ax and a2 == a:
-                continue
-            if (r[ax2] - a2 if a2 == 0.0 else a2 - r[ax2]) <= eps:
-                continue  # a straight line leaves through this side only if its root lies on the side's inner side
+        nsg = -sgn
+        push_point = self.push_point
+        goals = self.goal_at.get(pid)
+        if goals is not None:
+            for pt in goals:
+                dx, dy = pt[0] - rs, pt[1] - rt
+                if sgn * (u00 * dy - u01 * dx) >= -ctol and nsg * (u10 * dy - u11 * dx) >= -ctol:  # in the cone
+                    push_point(GOAL, groot + self.cost(pt[0] - rs, pt[1] - rt), rid, nid, pid, None, pt)
+        # the cone's conditions on a side ax2 = a2 (q = (a2, y) or (y, a2)), the parts that do not depend on a2
+        nctol = -ctol
+        ca0_a, ca1_a = sgn * u00, nsg * u10  # ax2 = 0: cross(u, q - r) = u_s (y - rt) - u_t (a2 - rs)
+        m0_a, m1_a = -u00 * rt, -u10 * rt
+        ca0_b, ca1_b = sgn * -u01, nsg * -u11  # ax2 = 1: u_s (a2 - rt) - u_t (y - rs)
+        m0_b, m1_b = u01 * rs, u11 * rs
+        fastest, va, vb, hypot = self._fastest, self._va, self._vb, math.hypot
+        best_get, again, inf = self.best.get, self.again, math.inf
+        mesh = self.mesh
+        sides = mesh._side_ends.get(pid)
+        if sides is None:
+            sides = mesh.side_ends(pid)
+        for ax2, a2, face2, lo2, hi2, k_lo, p_lo, k_hi, p_hi in sides:
+            if ax2 == 0:
+                if ax == 0 and a2 == a:
+                    continue
+                if (rs - a2 if a2 == 0.0 else a2 - rs) <= eps:
+                    continue  # a straight line leaves through this side only if its root lies on the side's inner side
+                d_a = a2 - rs
+                ca0, cb0 = ca0_a, sgn * (m0_a - u01 * d_a)
+                ca1, cb1 = ca1_a, nsg * (m1_a - u11 * d_a)
+            else:
+                if ax == 1 and a2 == a:
+                    continue
+                if (rt - a2 if a2 == 0.0 else a2 - rt) <= eps:
+                    continue
+                d_a = a2 - rt
+                ca0, cb0 = ca0_b, sgn * (u00 * d_a + m0_b)
+                ca1, cb1 = ca1_b, nsg * (u10 * d_a + m1_b)
             yl, yh = lo2, hi2
-            # conditions c(y) = A*y + B >= -ctol for both cone edges
-            for u, sg in ((u0, sgn), (u1, -sgn)):
-                if ax2 == 0:  # q = (a2, y): cross(u, q - r) = u_s (y - rt) - u_t (a2 - rs)
-                    ca, cb = u[0], -u[0] * rt - u[1] * (a2 - rs)
-                else:  # q = (y, a2): u_s (a2 - rt) - u_t (y - rs)
-                    ca, cb = -u[1], u[0] * (a2 - rt) + u[1] * rs
-                ca, cb = sg * ca, sg * cb
-                if ca > 0.0:
-                    yl = max(yl, (-ctol - cb) / ca)
-                elif ca < 0.0:
-                    yh = min(yh, (-ctol - cb) / ca)
-                elif cb < -ctol:
-                    yl, yh = 1.0, 0.0
+            if ca0 > 0.0:
+                v = (nctol - cb0) / ca0
+                if v > yl:
+                    yl = v
+            elif ca0 < 0.0:
+                v = (nctol - cb0) / ca0
+                if v < yh:
+                    yh = v
+            elif cb0 < nctol:
+                yl, yh = 1.0, 0.0
+            if ca1 > 0.0:
+                v = (nctol - cb1) / ca1
+                if v > yl:
+                    yl = v
+            elif ca1 < 0.0:
+                v = (nctol - cb1) / ca1
+                if v < yh:
+                    yh = v
+            elif cb1 < nctol:
+                yl, yh = 1.0, 0.0
             if yl > yh + eps:
                 continue
             if yl <= lo2 + eps:
                 yl = lo2
-                pt = (a2, lo2) if ax2 == 0 else (lo2, a2)
-                k2 = mesh.point_key(face2, lo2)
-                push_point(k2, groot + cost(pt[0] - rs, pt[1] - rt), rid, nid, pid, None, pt)
+                dx, dy = p_lo[0] - rs, p_lo[1] - rt
+                if fastest:
+                    ta, tb = abs(dx) / va, abs(dy) / vb
+                    g2 = groot + ((tb if tb > ta else ta) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * hypot(ta, tb))
+                else:
+                    g2 = groot + hypot(dx, dy)
+                if g2 < best_get(k_lo, inf) - again:
+                    push_point(k_lo, g2, rid, nid, pid, None, p_lo)
             if yh >= hi2 - eps:
                 yh = hi2
-                pt = (a2, hi2) if ax2 == 0 else (hi2, a2)
-                k2 = mesh.point_key(face2, hi2)
-                push_point(k2, groot + cost(pt[0] - rs, pt[1] - rt), rid, nid, pid, None, pt)
+                dx, dy = p_hi[0] - rs, p_hi[1] - rt
+                if fastest:
+                    ta, tb = abs(dx) / va, abs(dy) / vb
+                    g2 = groot + ((tb if tb > ta else ta) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * hypot(ta, tb))
+                else:
+                    g2 = groot + hypot(dx, dy)
+                if g2 < best_get(k_hi, inf) - again:
+                    push_point(k_hi, g2, rid, nid, pid, None, p_hi)
             if yh - yl <= eps:
                 continue
             self.push_face(
@@ -359,11 +477,24 @@ class AnyAngleSearch:
         """The path's straight segments start to goal (:meth:`segments`); with ``budget``: None after that many
         expansions (a later call resumes the search where it stopped).
 
+        The search makes tens of thousands of small objects and no reference cycles: Python's cyclic garbage
+        collector, which would traverse all of them again and again (a quarter of the time of a long search), is
+        paused while it runs (:func:`gc.disable`) and enabled again after, if it was.
+
         Raises
         ------
         PlanningError
             The goal was not reached although the caller found it in the start's component (a bug).
         """
+        collecting = gc.isenabled()
+        gc.disable()
+        try:
+            return self._run(budget)
+        finally:
+            if collecting:
+                gc.enable()
+
+    def _run(self, budget: int | None) -> list[Segment] | None:
         start_members = self.mesh.placements(*self.start)
         if not self.nodes:
             self.best[START] = 0.0

@@ -1,0 +1,189 @@
+"""The exact search's cost per node: an earlier revision's search against this one, plans bit for bit (issue 25).
+
+    python experiments/bench_search_nodes.py --base REV [--queries 40] [--seed 0] [--only NAME,...] [--out FILE]
+    python experiments/bench_search_nodes.py --base REV --check [--queries 60] [--only NAME,...]
+
+``REV`` is a git revision (a commit before the change measured). Its ``mpa/planners/graph/search.py`` and
+``mesh.py`` are loaded beside this tree's as a second planner (the "before" arm: :func:`mpa.planners.graph.plan_graph`
+with the earlier search class and mesh; every other module is this tree's). Layouts and seeded queries as in
+``bench_plan_tails.py`` (same seeds and clearances, objective "fastest", speeds (1, 1)). Every query is planned by
+both arms one after the other, the order alternating from query to query, the process's CPU time of each measured
+(the machine is shared: CPU time leaves out the waits for a core). Each plan is hashed (SHA-256 of its cells,
+segment offsets, waypoints, times, routes, word and the makespan's bits) together with the search's count of nodes:
+the two arms must agree on every query, or the script names the first query that differs and exits 1.
+
+Prints a Markdown table per layout, before → after CPU median, p95 and max (ms), and the share of queries whose plans
+agree; ``--check`` skips the timing table and only counts agreeing plans (one line per layout, the total at the
+end). ``--out FILE`` writes every record to ``FILE.json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import importlib.util
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT.parent))
+
+import bench_plan_tails  # noqa: E402
+from bench.graph_runner import _plan  # noqa: E402
+
+from mpa.freespace import free_space  # noqa: E402
+from mpa.planners.graph import query as graph_query  # noqa: E402
+from mpa.planners.graph.result import GraphPlan  # noqa: E402
+
+
+def load_revision(rev: str) -> tuple[type, Any]:
+    """The search class ``AnyAngleSearch`` and the mesh builder ``_mesh`` of the revision ``rev``, loaded as modules
+    of their own (the mesh kept on the free space under another attribute, so that both arms keep their own)."""
+    out = []
+    for name in ("search", "mesh"):
+        src = subprocess.run(
+            ["git", "show", f"{rev}:mpa/planners/graph/{name}.py"],
+            cwd=ROOT.parent,
+            check=True,
+            capture_output=True,
+            text=True,
+        ).stdout
+        if name == "mesh":
+            src = src.replace("_plan_mesh", "_plan_mesh_before")
+        mod_name = f"_before_{name}"
+        spec = importlib.util.spec_from_loader(mod_name, loader=None)
+        assert spec is not None
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules[mod_name] = mod  # dataclasses resolve their module while the class is made
+        exec(compile(src, f"{rev}:mpa/planners/graph/{name}.py", "exec"), mod.__dict__)
+        out.append(mod)
+    search_mod, mesh_mod = out
+    return search_mod.AnyAngleSearch, mesh_mod._mesh
+
+
+class _Counting:
+    """Wraps a search class: every search made is kept, so that its count of nodes can be read after the plan."""
+
+    def __init__(self, cls: type) -> None:
+        self.cls = cls
+        self.made: list[Any] = []
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        s = self.cls(*args, **kwargs)
+        self.made.append(s)
+        return s
+
+
+def plan_hash(plan: GraphPlan | None, nodes: list[int]) -> str:
+    """SHA-256 of everything a plan says (None: no motion) and the searches' counts of nodes."""
+    h = hashlib.sha256(repr(nodes).encode())
+    if plan is None:
+        h.update(b"no motion")
+        return h.hexdigest()
+    names = list(plan.track.edge_names)
+    h.update(repr(plan.segment_cells).encode())
+    for arr in (plan.segment_offsets, plan.waypoints, plan._times):
+        h.update(np.ascontiguousarray(arr, dtype=float).tobytes())
+    h.update(repr((plan.route_a.to_list(names), plan.route_b.to_list(names), plan.word)).encode())
+    h.update(float(plan.makespan).hex().encode())
+    return h.hexdigest()
+
+
+class Arms:
+    """The two planners: ``before`` (the revision's search and mesh) and ``after`` (this tree's)."""
+
+    def __init__(self, rev: str) -> None:
+        before_cls, before_mesh = load_revision(rev)
+        self.classes = {
+            "before": (_Counting(before_cls), before_mesh),
+            "after": (_Counting(graph_query.AnyAngleSearch), graph_query._mesh),
+        }
+        self._as_is = (graph_query.AnyAngleSearch, graph_query._mesh)
+
+    def plan(self, arm: str, track: Any, q: dict[str, Any]) -> tuple[float, str]:
+        """CPU seconds of one plan by ``arm`` and the hash of its plan and nodes."""
+        counting, mesh = self.classes[arm]
+        graph_query.AnyAngleSearch, graph_query._mesh = counting, mesh  # type: ignore[assignment]
+        counting.made.clear()
+        try:
+            c0 = time.process_time()
+            p = _plan(track, q, (1.0, 1.0))
+            cpu = time.process_time() - c0
+        finally:
+            graph_query.AnyAngleSearch, graph_query._mesh = self._as_is  # type: ignore[assignment]
+        return cpu, plan_hash(p, [len(s.nodes) for s in counting.made])
+
+
+def _ms(xs: list[float]) -> tuple[float, float, float]:
+    a = 1e3 * np.array(xs)
+    return float(np.median(a)), float(np.percentile(a, 95)), float(a.max())
+
+
+def run(rev: str, queries: int, seed: int, only: set[str] | None, check: bool) -> list[dict[str, Any]]:
+    arms = Arms(rev)
+    records = []
+    for name, track, ds, qs in bench_plan_tails.layout_queries(queries, seed, only):
+        for d in ds:
+            free_space(track, d)
+        for arm in ("before", "after"):
+            arms.plan(arm, track, qs[0])  # warm-up, unrecorded (each arm's mesh made)
+        cpu: dict[str, list[float]] = {"before": [], "after": []}
+        same = 0
+        for qi, q in enumerate(qs[1:]):
+            hashes = {}
+            for arm in ("before", "after") if qi % 2 == 0 else ("after", "before"):
+                t, hashes[arm] = arms.plan(arm, track, q)
+                cpu[arm].append(t)
+            if hashes["before"] != hashes["after"]:
+                print(f"plans differ: {name} query {q['id']} {q}", flush=True)
+                raise SystemExit(1)
+            same += 1
+        rec = {"layout": name, "edges": track.n_edges, "queries": len(qs) - 1, "identical": same}
+        for arm in ("before", "after"):
+            rec[arm] = dict(zip(("cpu_median_ms", "cpu_p95_ms", "cpu_max_ms"), _ms(cpu[arm]), strict=True))
+        records.append(rec)
+        if check:
+            print(f"{name}: {same} of {len(qs) - 1} plans identical", flush=True)
+        else:
+            b, a = rec["before"], rec["after"]
+            print(
+                f"| {name} | {track.n_edges} | {len(qs) - 1} | {b['cpu_median_ms']:.2f} → {a['cpu_median_ms']:.2f} | "
+                f"{b['cpu_p95_ms']:.1f} → {a['cpu_p95_ms']:.1f} | {b['cpu_max_ms']:.1f} → {a['cpu_max_ms']:.1f} | "
+                f"{b['cpu_max_ms'] / a['cpu_max_ms']:.2f} | {same} of {len(qs) - 1} |",
+                flush=True,
+            )
+    if check:
+        print(f"total: {sum(r['identical'] for r in records)} of {sum(r['queries'] for r in records)} plans identical")
+    return records
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--base", required=True, help="the git revision of the search compared with (the 'before' arm)")
+    ap.add_argument("--queries", type=int, default=40)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--only", default=None, help="comma-separated layout names")
+    ap.add_argument("--check", action="store_true", help="only check that the plans agree")
+    ap.add_argument("--out", default=None)
+    args = ap.parse_args()
+    if not args.check:
+        print(
+            "| layout | edges | queries | CPU median (ms) before → after | CPU p95 (ms) | CPU max (ms) | "
+            "max speed-up | plans identical |"
+        )
+        print("|---|---|---|---|---|---|---|---|")
+    only = set(args.only.split(",")) if args.only else None
+    records = run(args.base, args.queries, args.seed, only, args.check)
+    if args.out:
+        Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
+
+
+if __name__ == "__main__":
+    main()
