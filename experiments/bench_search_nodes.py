@@ -6,7 +6,8 @@
 ``REV`` is a git revision (a commit before the change measured). Its ``mpa/planners/graph/search.py`` and
 ``mesh.py`` are loaded beside this tree's as a second planner (the "before" arm: :func:`mpa.planners.graph.plan_graph`
 with the earlier search class and mesh; every other module is this tree's). Layouts and seeded queries as in
-``bench_plan_tails.py`` (same seeds and clearances, objective "fastest", speeds (1, 1)). Every query is planned by
+``bench_plan_tails.py`` (same seeds and clearances, objective "fastest", speeds (1, 1); with ``--check`` the queries
+take in turn the objectives and speeds of ``CHECK_OBJECTIVES``). Every query is planned by
 both arms one after the other, the order alternating from query to query, the process's CPU time of each measured
 (the machine is shared: CPU time leaves out the waits for a core). Each plan is hashed (SHA-256 of its cells,
 segment offsets, waypoints, times, routes, word and the makespan's bits) together with the search's count of nodes:
@@ -36,11 +37,20 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT.parent))
 
 import bench_plan_tails  # noqa: E402
-from bench.graph_runner import _plan  # noqa: E402
 
+from mpa.errors import NoMotionError  # noqa: E402
 from mpa.freespace import free_space  # noqa: E402
+from mpa.planners.graph import plan_graph  # noqa: E402
 from mpa.planners.graph import query as graph_query  # noqa: E402
 from mpa.planners.graph.result import GraphPlan  # noqa: E402
+
+#: ``--check``: the objectives and speeds ``(vA, vB)`` (m/s) the queries take in turn.
+CHECK_OBJECTIVES = (
+    ("fastest", (1.0, 1.0)),
+    ("shortest", (1.0, 1.0)),
+    ("fastest", (1.0, 0.55)),
+    ("fastest", (0.8, 1.3)),
+)
 
 
 def load_revision(rev: str) -> tuple[type, Any]:
@@ -107,14 +117,19 @@ class Arms:
         }
         self._as_is = (graph_query.AnyAngleSearch, graph_query._mesh)
 
-    def plan(self, arm: str, track: Any, q: dict[str, Any]) -> tuple[float, str]:
+    def plan(
+        self, arm: str, track: Any, q: dict[str, Any], objective: str = "fastest", speeds: tuple[float, float] = (1, 1)
+    ) -> tuple[float, str]:
         """CPU seconds of one plan by ``arm`` and the hash of its plan and nodes."""
         counting, mesh = self.classes[arm]
         graph_query.AnyAngleSearch, graph_query._mesh = counting, mesh  # type: ignore[assignment]
         counting.made.clear()
         try:
             c0 = time.process_time()
-            p = _plan(track, q, (1.0, 1.0))
+            try:
+                p = plan_graph(track, q["start"], q["goal"], q["clearance"], objective, speeds)
+            except NoMotionError:
+                p = None
             cpu = time.process_time() - c0
         finally:
             graph_query.AnyAngleSearch, graph_query._mesh = self._as_is  # type: ignore[assignment]
@@ -138,8 +153,9 @@ def run(rev: str, queries: int, seed: int, only: set[str] | None, check: bool) -
         same = 0
         for qi, q in enumerate(qs[1:]):
             hashes = {}
+            how = CHECK_OBJECTIVES[qi % len(CHECK_OBJECTIVES)] if check else ("fastest", (1.0, 1.0))
             for arm in ("before", "after") if qi % 2 == 0 else ("after", "before"):
-                t, hashes[arm] = arms.plan(arm, track, q)
+                t, hashes[arm] = arms.plan(arm, track, q, *how)
                 cpu[arm].append(t)
             if hashes["before"] != hashes["after"]:
                 print(f"plans differ: {name} query {q['id']} {q}", flush=True)

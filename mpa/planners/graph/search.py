@@ -180,6 +180,7 @@ class AnyAngleSearch:
         self._va, self._vb = query.va, query.vb
         ga, gb = self.to_goal
         self._goal_terms = (ga.cp, ga.cm, ga.edge, ga.offset, gb.cp, gb.cm, gb.edge, gb.offset)
+        self._through = ((gb.cp, gb.cm, gb.edge, gb.offset), (ga.cp, ga.cm, ga.edge, ga.offset))
         # per face, its pages a straight line can go on into (dead ends dropped unless they hold the goal)
         self._open_pages: dict[FaceKey, list[tuple[PolygonId, float]]] = {}
 
@@ -402,6 +403,9 @@ class AnyAngleSearch:
         m0_b, m1_b = u01 * rs, u11 * rs
         fastest, va, vb, hypot = self._fastest, self._va, self._vb, math.hypot
         best_get, again, inf = self.best.get, self.again, math.inf
+        bound, nodes, heap, fq = self.bound, self.nodes, self.heap, self.fq
+        heappush, floor, vd_a, vd_b = heapq.heappush, math.floor, self._vd_a, self._vd_b
+        through = self._through  # per axis of a face, the other robot's goal terms (face_lower_bound)
         mesh = self.mesh
         sides = mesh._side_ends.get(pid)
         if sides is None:
@@ -468,9 +472,34 @@ class AnyAngleSearch:
                     push_point(k_hi, g2, rid, nid, pid, None, p_hi)
             if yh - yl <= eps:
                 continue
-            self.push_face(
-                FaceEntry(rid, nd.root_key, groot, r, nd.sig, ax2, a2, yl, yh, pid, face2, lo2, hi2, nid, nd.origin)
-            )
+            entry = FaceEntry(rid, nd.root_key, groot, r, nd.sig, ax2, a2, yl, yh, pid, face2, lo2, hi2, nid, nd.origin)
+            if bound is not None:
+                self.push_face(entry)
+                continue
+            # push_face without the passing bound: face_lower_bound and queue_key inline, the same operations
+            nodes.append(entry)
+            w, e = face2[1], face2[2]
+            cp, cm, edge, off = through[ax2]
+            if ax2 == 0:
+                x_v, rr = abs(rs - a2) + vd_a[w], rt
+            else:
+                x_v, rr = abs(rt - a2) + vd_b[w], rs
+            t0, t1 = yl - rr, rr - yh
+            lo_v = cp[e] + rr + 2.0 * (t0 if t0 > 0.0 else 0.0)
+            hi_v = cm[e] - rr + 2.0 * (t1 if t1 > 0.0 else 0.0)
+            x_e = hi_v if hi_v < lo_v else lo_v
+            if e == edge:
+                y = yl if yl > rr else rr
+                y = yh if yh < y else y
+                t0 = abs(y - rr) + abs(y - off)
+                x_e = t0 if t0 < x_e else x_e
+            da, db = (x_v, x_e) if ax2 == 0 else (x_e, x_v)
+            if fastest:
+                ta, tb = abs(da) / va, abs(db) / vb
+                f = groot + ((tb if tb > ta else ta) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * hypot(ta, tb))
+            else:
+                f = groot + hypot(da, db)
+            heappush(heap, (floor(f * fq), -groot, len(nodes) - 1))
 
     # --------------------------------------------------------------------------------------------------- run
     def run(self, budget: int | None = None) -> list[Segment] | None:
