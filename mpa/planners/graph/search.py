@@ -42,6 +42,10 @@ def _uncovered(
     if have is None:
         seen[key] = [(y0, y1)]
         return [(y0, y1)]
+    if len(have) == 1:  # the common case: one interval recorded, covering [y0, y1] (what the loop below finds)
+        z0, z1 = have[0]
+        if z1 >= y0 and z0 <= y1 and z0 <= y0 + eps and z1 >= y1 - eps:
+            return []
     out = []
     cur = y0
     for z0, z1 in have:
@@ -302,6 +306,14 @@ class AnyAngleSearch:
             pages = self.pages_to_open(entry.face)
         rid, y0, y1, quantum, seen = entry.root, entry.y0, entry.y1, self.quantum, self.seen
         nodes, expand = self.nodes, self.expand_interval
+        root_key, g_root, lo, hi, parent, origin = (
+            entry.root_key,
+            entry.g_root,
+            entry.lo,
+            entry.hi,
+            entry.parent,
+            entry.origin,
+        )
         n1 = 1.0 if a == 0.0 else -1.0
         # the unfolded root moves along the face's axis only: the other coordinate and its rounding are the entry's
         across = r[ax] - a
@@ -327,22 +339,7 @@ class AnyAngleSearch:
                 parts = _uncovered(seen, sk, y0, y1, self.eps)  # the parts not seen so before
             for z0, z1 in parts:
                 node = IntervalNode(
-                    rid,
-                    entry.root_key,
-                    entry.g_root,
-                    r2,
-                    sig2,
-                    ax,
-                    b,
-                    z0,
-                    z1,
-                    pid2,
-                    pid,
-                    a,
-                    entry.lo,
-                    entry.hi,
-                    entry.parent,
-                    entry.origin,
+                    rid, root_key, g_root, r2, sig2, ax, b, z0, z1, pid2, pid, a, lo, hi, parent, origin
                 )
                 nodes.append(node)
                 expand(len(nodes) - 1, node)
@@ -452,23 +449,27 @@ class AnyAngleSearch:
                 continue
             if yl <= lo2 + eps:
                 yl = lo2
-                dx, dy = p_lo[0] - rs, p_lo[1] - rt
+                dx, dy, limit = p_lo[0] - rs, p_lo[1] - rt, best_get(k_lo, inf) - again
                 if fastest:
                     ta, tb = abs(dx) / va, abs(dy) / vb
-                    g2 = groot + ((tb if tb > ta else ta) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * hypot(ta, tb))
-                else:
-                    g2 = groot + hypot(dx, dy)
-                if g2 < best_get(k_lo, inf) - again:
+                    m = tb if tb > ta else ta
+                    if groot + m < limit:  # else the cost, at least groot + m, is not below the limit
+                        g2 = groot + (m + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * hypot(ta, tb))
+                        if g2 < limit:
+                            push_point(k_lo, g2, rid, nid, pid, None, p_lo)
+                elif (g2 := groot + hypot(dx, dy)) < limit:
                     push_point(k_lo, g2, rid, nid, pid, None, p_lo)
             if yh >= hi2 - eps:
                 yh = hi2
-                dx, dy = p_hi[0] - rs, p_hi[1] - rt
+                dx, dy, limit = p_hi[0] - rs, p_hi[1] - rt, best_get(k_hi, inf) - again
                 if fastest:
                     ta, tb = abs(dx) / va, abs(dy) / vb
-                    g2 = groot + ((tb if tb > ta else ta) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * hypot(ta, tb))
-                else:
-                    g2 = groot + hypot(dx, dy)
-                if g2 < best_get(k_hi, inf) - again:
+                    m = tb if tb > ta else ta
+                    if groot + m < limit:  # else the cost, at least groot + m, is not below the limit
+                        g2 = groot + (m + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * hypot(ta, tb))
+                        if g2 < limit:
+                            push_point(k_hi, g2, rid, nid, pid, None, p_hi)
+                elif (g2 := groot + hypot(dx, dy)) < limit:
                     push_point(k_hi, g2, rid, nid, pid, None, p_hi)
             if yh - yl <= eps:
                 continue
