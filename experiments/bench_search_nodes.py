@@ -119,6 +119,7 @@ class Arms:
             "after": (_Counting(graph_query.AnyAngleSearch), graph_query._mesh),
         }
         self._as_is = (graph_query.AnyAngleSearch, graph_query._mesh)
+        self.searched = False  # whether the last plan searched (the others were answered without a search)
 
     def plan(
         self, arm: str, track: Any, q: dict[str, Any], objective: str = "fastest", speeds: tuple[float, float] = (1, 1)
@@ -136,6 +137,7 @@ class Arms:
             cpu = time.process_time() - c0
         finally:
             graph_query.AnyAngleSearch, graph_query._mesh = self._as_is  # type: ignore[assignment]
+        self.searched = bool(counting.made)
         return cpu, plan_hash(p, [len(s.nodes) for s in counting.made])
 
 
@@ -153,7 +155,7 @@ def run(rev: str, queries: int, seed: int, only: set[str] | None, check: bool, r
         for arm in ("before", "after"):
             arms.plan(arm, track, qs[0])  # warm-up, unrecorded (each arm's mesh made)
         cpu: dict[str, list[float]] = {"before": [], "after": []}
-        same = 0
+        same = searched = 0
         for qi, q in enumerate(qs[1:]):
             hashes = {}
             how = CHECK_OBJECTIVES[qi % len(CHECK_OBJECTIVES)] if check else ("fastest", (1.0, 1.0))
@@ -164,16 +166,17 @@ def run(rev: str, queries: int, seed: int, only: set[str] | None, check: bool, r
                     least[arm] = min(least[arm], t)
             for arm in least:
                 cpu[arm].append(least[arm])
+            searched += arms.searched
             if hashes["before"] != hashes["after"]:
                 print(f"plans differ: {name} query {q['id']} {q}", flush=True)
                 raise SystemExit(1)
             same += 1
-        rec = {"layout": name, "edges": track.n_edges, "queries": len(qs) - 1, "identical": same}
+        rec = {"layout": name, "edges": track.n_edges, "queries": len(qs) - 1, "identical": same, "searched": searched}
         for arm in ("before", "after"):
             rec[arm] = dict(zip(("cpu_median_ms", "cpu_p95_ms", "cpu_max_ms"), _ms(cpu[arm]), strict=True))
         records.append(rec)
         if check:
-            print(f"{name}: {same} of {len(qs) - 1} plans identical", flush=True)
+            print(f"{name}: {same} of {len(qs) - 1} plans identical ({searched} searched)", flush=True)
         else:
             b, a = rec["before"], rec["after"]
             print(
@@ -183,7 +186,8 @@ def run(rev: str, queries: int, seed: int, only: set[str] | None, check: bool, r
                 flush=True,
             )
     if check:
-        print(f"total: {sum(r['identical'] for r in records)} of {sum(r['queries'] for r in records)} plans identical")
+        n_same, n_all = sum(r["identical"] for r in records), sum(r["queries"] for r in records)
+        print(f"total: {n_same} of {n_all} plans identical ({sum(r['searched'] for r in records)} searched)")
     return records
 
 
