@@ -126,7 +126,7 @@ class Arms:
     ) -> tuple[float, str]:
         """CPU seconds of one plan by ``arm`` and the hash of its plan and nodes."""
         counting, mesh = self.classes[arm]
-        graph_query.AnyAngleSearch, graph_query._mesh = counting, mesh  # type: ignore[assignment]
+        vars(graph_query).update(AnyAngleSearch=counting, _mesh=mesh)
         counting.made.clear()
         try:
             c0 = time.process_time()
@@ -136,7 +136,7 @@ class Arms:
                 p = None
             cpu = time.process_time() - c0
         finally:
-            graph_query.AnyAngleSearch, graph_query._mesh = self._as_is  # type: ignore[assignment]
+            vars(graph_query).update(AnyAngleSearch=self._as_is[0], _mesh=self._as_is[1])
         self.searched = bool(counting.made)
         return cpu, plan_hash(p, [len(s.nodes) for s in counting.made])
 
@@ -171,7 +171,13 @@ def run(rev: str, queries: int, seed: int, only: set[str] | None, check: bool, r
                 print(f"plans differ: {name} query {q['id']} {q}", flush=True)
                 raise SystemExit(1)
             same += 1
-        rec = {"layout": name, "edges": track.n_edges, "queries": len(qs) - 1, "identical": same, "searched": searched}
+        rec: dict[str, Any] = {
+            "layout": name,
+            "edges": track.n_edges,
+            "queries": len(qs) - 1,
+            "identical": same,
+            "searched": searched,
+        }
         for arm in ("before", "after"):
             rec[arm] = dict(zip(("cpu_median_ms", "cpu_p95_ms", "cpu_max_ms"), _ms(cpu[arm]), strict=True))
         records.append(rec)
