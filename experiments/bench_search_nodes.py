@@ -3,6 +3,7 @@
     python experiments/bench_search_nodes.py --base REV [--queries 40] [--seed 0] [--only NAME,...] [--repeat K]
         [--out FILE]
     python experiments/bench_search_nodes.py --base REV --check [--queries 60] [--only NAME,...]
+    python experiments/bench_search_nodes.py --base REV --per-node [--queries 40] [--repeat 3] [--only NAME,...]
 
 ``REV`` is a git revision (a commit before the change measured). Its ``mpa/planners/graph/search.py`` and
 ``mesh.py`` are loaded beside this tree's as a second planner (the "before" arm: :func:`mpa.planners.graph.plan_graph`
@@ -17,7 +18,8 @@ the two arms must agree on every query, or the script names the first query that
 
 Prints a Markdown table per layout, before → after CPU median, p95 and max (ms), and the share of queries whose plans
 agree; ``--check`` skips the timing table and only counts agreeing plans (one line per layout, the total at the
-end). ``--out FILE`` writes every record to ``FILE.json``.
+end). ``--per-node``: the search alone, without the rest of the plan (:func:`per_node`): microseconds per node.
+``--out FILE`` writes every record to ``FILE.json``.
 """
 
 from __future__ import annotations
@@ -46,6 +48,7 @@ from mpa.freespace import free_space  # noqa: E402
 from mpa.planners.graph import plan_graph  # noqa: E402
 from mpa.planners.graph import query as graph_query  # noqa: E402
 from mpa.planners.graph.result import GraphPlan  # noqa: E402
+from mpa.planners.search_common import SearchQuery  # noqa: E402
 
 #: ``--check``: the objectives and speeds ``(vA, vB)`` (m/s) the queries take in turn.
 CHECK_OBJECTIVES = (
@@ -197,6 +200,55 @@ def run(rev: str, queries: int, seed: int, only: set[str] | None, check: bool, r
     return records
 
 
+def per_node(rev: str, queries: int, seed: int, only: set[str] | None, repeat: int = 3) -> list[dict[str, Any]]:
+    """The search alone (``AnyAngleSearch(mesh, query).run()``, objective "fastest", speeds (1, 1), no passing bound)
+    of every query whose start and goal share a component, by both arms, ``repeat`` times each alternating, the least
+    CPU time kept; the nodes made must be the same. Per layout the total over the queries and the slowest query:
+    nodes, milliseconds and microseconds per node, before → after."""
+    before_cls, before_mesh = load_revision(rev)
+    records = []
+    for name, track, _, qs in bench_plan_tails.layout_queries(queries, seed, only):
+        rows = []
+        for q in qs[1:]:
+            fs = free_space(track, q["clearance"])
+            s = (track.position(q["start"][0]), track.position(q["start"][1]))
+            g = (track.position(q["goal"][0]), track.position(q["goal"][1]))
+            comp = fs.component_of(*s)
+            if comp is None or comp != fs.component_of(*g):
+                continue
+            query = SearchQuery(track, fs, s, g, "fastest", (1.0, 1.0))
+            pair = {
+                "before": (before_cls, before_mesh(fs)),
+                "after": (graph_query.AnyAngleSearch, graph_query._mesh(fs)),
+            }
+            least = {"before": math.inf, "after": math.inf}
+            nodes: dict[str, int] = {}
+            for k in range(repeat):
+                for arm in ("before", "after") if k % 2 == 0 else ("after", "before"):
+                    cls, mesh = pair[arm]
+                    c0 = time.process_time()
+                    search = cls(mesh, query)
+                    search.run()
+                    least[arm] = min(least[arm], time.process_time() - c0)
+                    nodes[arm] = len(search.nodes)
+                    del search
+            if nodes["before"] != nodes["after"]:
+                print(f"nodes differ: {name} query {q['id']} {q}", flush=True)
+                raise SystemExit(1)
+            rows.append((least["before"], least["after"], nodes["after"]))
+        worst = max(rows, key=lambda x: x[0])
+        total = [sum(x[i] for x in rows) for i in range(3)]
+        rec = {"layout": name, "searches": len(rows), "total": total, "slowest": list(worst)}
+        records.append(rec)
+        print(
+            f"| {name} | {len(rows)} | {total[2]} | {1e3 * total[0]:.0f} → {1e3 * total[1]:.0f} | "
+            f"{1e6 * total[0] / total[2]:.1f} → {1e6 * total[1] / total[2]:.1f} | {total[0] / total[1]:.2f} | "
+            f"{worst[2]} | {1e3 * worst[0]:.0f} → {1e3 * worst[1]:.0f} | {worst[0] / worst[1]:.2f} |",
+            flush=True,
+        )
+    return records
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--base", required=True, help="the git revision of the search compared with (the 'before' arm)")
@@ -205,15 +257,26 @@ def main() -> None:
     ap.add_argument("--only", default=None, help="comma-separated layout names")
     ap.add_argument("--check", action="store_true", help="only check that the plans agree")
     ap.add_argument("--repeat", type=int, default=1, help="plans per query and arm; the least CPU time is kept")
+    ap.add_argument("--per-node", action="store_true", help="the search alone: microseconds per node")
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
+    only = set(args.only.split(",")) if args.only else None
+    if args.per_node:
+        print(
+            "| layout | searches | nodes | CPU total (ms) before → after | µs per node | speed-up | "
+            "slowest: nodes | its CPU (ms) | its speed-up |"
+        )
+        print("|---|---|---|---|---|---|---|---|---|")
+        records = per_node(args.base, args.queries, args.seed, only, args.repeat)
+        if args.out:
+            Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
+        return
     if not args.check:
         print(
             "| layout | edges | queries | CPU median (ms) before → after | CPU p95 (ms) | CPU max (ms) | "
             "max speed-up | plans identical |"
         )
         print("|---|---|---|---|---|---|---|---|")
-    only = set(args.only.split(",")) if args.only else None
     records = run(args.base, args.queries, args.seed, only, args.check, args.repeat)
     if args.out:
         Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
