@@ -1,12 +1,12 @@
 """The graph search's fast paths equal its generic form, bit for bit.
 
-- :meth:`AnyAngleSearch.lower_bound` and :meth:`AnyAngleSearch.face_lower_bound` (goal distances and the objective's
-  cost computed inline) against the composition of :class:`GoalDistance` and :func:`cost_function`, on random
-  points and faces (hypothesis);
+- :meth:`AnyAngleSearch.lower_bound` (goal distances and the objective's cost computed inline) against the
+  composition of :class:`GoalDistance` and :func:`cost_function`, on random points (hypothesis);
 - the search (unrolled cone, face ends named per side, costs inline, face entries queued inline) against
   :class:`tests.helpers.search_reference.ReferenceSearch` on seeded random layouts and queries, both objectives,
   unequal speeds, with and without the passing bound: the same nodes in the same order, the same costs and the same
-  segments (floats compared by ``repr``, so ``-0.0`` differs from ``0.0``);
+  segments (floats compared by ``repr``, so ``-0.0`` differs from ``0.0``), and the queue's keys without its grid
+  (the face entries' bounds computed inline against :meth:`AnyAngleSearch.face_lower_bound`);
 - :meth:`_Mesh.side_ends` against :meth:`_Mesh.sides` and :meth:`_Mesh.point_key`;
 - the cyclic garbage collector paused during a search is left as it was found.
 """
@@ -51,17 +51,23 @@ def _search(seed: int, objective: str, speeds: tuple[float, float]) -> SearchQue
     return SearchQuery(track, fs, s, g, objective, speeds)
 
 
+def _seeded_query(seed: int, base: int) -> SearchQuery:
+    """The query of ``_search(base + seed)``, "shortest" for every fourth seed, the speeds in turn; skips the test
+    when the draw has none."""
+    query = _search(base + seed, "shortest" if seed % 4 == 1 else "fastest", SPEEDS[seed % len(SPEEDS)])
+    if query is None:
+        pytest.skip("no query with start and goal in one component")
+    return query
+
+
 def _nodes(search: AnyAngleSearch) -> list[str]:
     return [f"{type(nd).__name__}{dataclasses.astuple(nd)!r}" for nd in search.nodes]
 
 
 @pytest.mark.parametrize("seed", range(40))
 def test_the_search_makes_the_reference_nodes_in_the_same_order(seed: int) -> None:
-    objective = "shortest" if seed % 4 == 1 else "fastest"
-    speeds = SPEEDS[seed % len(SPEEDS)]
-    query = _search(1000 + seed, objective, speeds)
-    if query is None:
-        pytest.skip("no query with start and goal in one component")
+    query = _seeded_query(seed, 1000)
+    objective, speeds = query.objective, query.speeds
     mesh = _mesh(query.free_space)
     bounds: list[object] = [None]
     if objective == "fastest":
@@ -86,16 +92,12 @@ def test_the_queue_keys_are_the_reference_keys_bit_for_bit(seed: int, monkeypatc
     """The queue's order without its grid (``math.floor`` the identity in the search's module): every key is the
     bound itself, so any difference in the last bit of an inline bound shows in the queue."""
     monkeypatch.setattr(search_module, "math", types.SimpleNamespace(**{**vars(math), "floor": lambda x: x}))
-    objective = "shortest" if seed % 4 == 1 else "fastest"
-    speeds = SPEEDS[seed % len(SPEEDS)]
-    query = _search(4000 + seed, objective, speeds)
-    if query is None:
-        pytest.skip("no query with start and goal in one component")
+    query = _seeded_query(seed, 4000)
     mesh = _mesh(query.free_space)
     fast, ref = AnyAngleSearch(mesh, query), ReferenceSearch(mesh, query)
     fast.run(40)  # stopped with a full queue
     ref.run(40)
-    where = (seed, objective, speeds, query.start, query.goal)
+    where = (seed, query.objective, query.speeds, query.start, query.goal)
     assert len(fast.heap) > 0 and all(isinstance(k[0], float) for k in fast.heap), where
     assert repr(sorted(fast.heap)) == repr(sorted(ref.heap)), where
     assert _nodes(fast) == _nodes(ref), where
@@ -132,7 +134,7 @@ def _random_search(seed: int, objective: str, speeds: tuple[float, float]) -> An
     vb=st.floats(1e-3, 1e3),
     u=st.lists(st.floats(-0.2, 1.2), min_size=6, max_size=6),
 )
-def test_the_inline_bounds_equal_goal_distance_and_cost_function(
+def test_the_inline_lower_bound_equals_goal_distance_and_cost_function(
     seed: int, objective: str, va: float, vb: float, u: list[float]
 ) -> None:
     search = _random_search(seed, objective, (va, vb))
@@ -149,22 +151,6 @@ def test_the_inline_bounds_equal_goal_distance_and_cost_function(
         pid = (ea, eb, 0)
         want = cost(ga.at(ea, ya), gb.at(eb, yb))
         assert repr(search.lower_bound(pid, (ya, yb))) == repr(want), (seed, pid, ya, yb)
-        # a face: robot A (ax 0) or B (ax 1) on the vertex w, the other robot's edge e, the root at (ya, yb)
-        w, e = int(rng.integers(track.geometry.n_vertices)), int(rng.integers(track.n_edges))
-        if k % 2 == 0:
-            e = gb.edge if k % 4 == 0 else ga.edge
-        length = float(track.lengths[e])
-        y0, y1 = sorted((u[(k + 2) % 6] * length, u[(k + 3) % 6] * length))
-        a = float(track.lengths[ea]) if k % 2 else 0.0
-        for ax in (0, 1):
-            face = (ax, w, e)
-            r = (ya, yb)
-            if ax == 0:
-                want = cost(abs(r[0] - a) + ga.vd[w], gb.min_along(e, y0, y1, r[1]))
-            else:
-                want = cost(ga.min_along(e, y0, y1, r[0]), abs(r[1] - a) + gb.vd[w])
-            got = search.face_lower_bound(r, ax, a, face, y0, y1)
-            assert repr(got) == repr(want), (seed, r, ax, a, face, y0, y1)
 
 
 @pytest.mark.parametrize("seed", range(8))

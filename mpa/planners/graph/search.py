@@ -216,30 +216,11 @@ class AnyAngleSearch:
     def face_lower_bound(self, r: Coords, ax: int, a: float, face: FaceKey, y0: float, y1: float) -> float:
         """A lower bound of the cost from the root at ``r`` through the part ``[y0, y1]`` of ``face`` (the side
         ``ax = a`` of the root's polygon) to the goal: the robot on the face's vertex is as far from its goal on every
-        page, the other one goes through the nearest point of ``[y0, y1]`` (:meth:`GoalDistance.min_along`, computed
-        inline with its floating-point operations, as the objective's cost)."""
-        cp_a, cm_a, edge_a, off_a, cp_b, cm_b, edge_b, off_b = self._goal_terms
+        page, the other one goes through the nearest point of ``[y0, y1]`` (:meth:`GoalDistance.min_along`).
+        :meth:`expand_interval` computes it inline, with the same floating-point operations."""
         if ax == 0:
-            x_v = abs(r[0] - a) + self._vd_a[face[1]]
-            rr, cp, cm, edge, off = r[1], cp_b, cm_b, edge_b, off_b
-        else:
-            x_v = abs(r[1] - a) + self._vd_b[face[1]]
-            rr, cp, cm, edge, off = r[0], cp_a, cm_a, edge_a, off_a
-        e = face[2]
-        t0, t1 = y0 - rr, rr - y1
-        lo = cp[e] + rr + 2.0 * (t0 if t0 > 0.0 else 0.0)
-        hi = cm[e] - rr + 2.0 * (t1 if t1 > 0.0 else 0.0)
-        x_e = hi if hi < lo else lo
-        if e == edge:
-            y = y0 if y0 > rr else rr
-            y = y1 if y1 < y else y
-            t0 = abs(y - rr) + abs(y - off)
-            x_e = t0 if t0 < x_e else x_e
-        da, db = (x_v, x_e) if ax == 0 else (x_e, x_v)
-        if self._fastest:
-            ta, tb = abs(da) / self._va, abs(db) / self._vb
-            return (tb if tb > ta else ta) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * math.hypot(ta, tb)
-        return math.hypot(da, db)
+            return self.cost(abs(r[0] - a) + self._vd_a[face[1]], self._along_b(face[2], y0, y1, r[1]))
+        return self.cost(self._along_a(face[2], y0, y1, r[0]), abs(r[1] - a) + self._vd_b[face[1]])
 
     def queue_key(self, f: float, depth: float, nid: int) -> tuple[int, float, int]:
         """The search's order, in one place: the bound ``f`` on a grid of ``F_GRID`` of the start's bound (so that
