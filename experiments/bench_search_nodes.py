@@ -203,7 +203,7 @@ def run(rev: str, queries: int, seed: int, only: set[str] | None, check: bool, r
 def per_node(rev: str, queries: int, seed: int, only: set[str] | None, repeat: int = 3) -> list[dict[str, Any]]:
     """The search alone (``AnyAngleSearch(mesh, query).run()``, objective "fastest", speeds (1, 1), no passing bound)
     of every query whose start and goal share a component, by both arms, ``repeat`` times each alternating, the least
-    CPU time kept; the nodes made must be the same. Per layout the total over the queries and the slowest query:
+    CPU time kept; the nodes made and the segments found must be the same (``repr``, bit for bit). Per layout the total over the queries and the slowest query:
     nodes, milliseconds and microseconds per node, before → after."""
     before_cls, before_mesh = load_revision(rev)
     records = []
@@ -223,17 +223,18 @@ def per_node(rev: str, queries: int, seed: int, only: set[str] | None, repeat: i
             }
             least = {"before": math.inf, "after": math.inf}
             nodes: dict[str, int] = {}
+            found: dict[str, str] = {}
             for k in range(repeat):
                 for arm in ("before", "after") if k % 2 == 0 else ("after", "before"):
                     cls, mesh = pair[arm]
                     c0 = time.process_time()
                     search = cls(mesh, query)
-                    search.run()
+                    segs = search.run()
                     least[arm] = min(least[arm], time.process_time() - c0)
-                    nodes[arm] = len(search.nodes)
-                    del search
-            if nodes["before"] != nodes["after"]:
-                print(f"nodes differ: {name} query {q['id']} {q}", flush=True)
+                    nodes[arm], found[arm] = len(search.nodes), repr(segs)
+                    del search, segs
+            if nodes["before"] != nodes["after"] or found["before"] != found["after"]:
+                print(f"searches differ: {name} query {q['id']} {q}", flush=True)
                 raise SystemExit(1)
             rows.append((least["before"], least["after"], nodes["after"]))
         worst = max(rows, key=lambda x: x[0])
