@@ -203,8 +203,8 @@ def run(rev: str, queries: int, seed: int, only: set[str] | None, check: bool, r
 def per_node(rev: str, queries: int, seed: int, only: set[str] | None, repeat: int = 3) -> list[dict[str, Any]]:
     """The search alone (``AnyAngleSearch(mesh, query).run()``, objective "fastest", speeds (1, 1), no passing bound)
     of every query whose start and goal share a component, by both arms, ``repeat`` times each alternating, the least
-    CPU time kept; the nodes made and the segments found must be the same (``repr``, bit for bit). Per layout the total over the queries and the slowest query:
-    nodes, milliseconds and microseconds per node, before → after."""
+    CPU time kept; the nodes made and the segments found must be the same (``repr``, bit for bit). Per layout the
+    total over the queries and the slowest query: nodes, milliseconds and microseconds per node, before → after."""
     before_cls, before_mesh = load_revision(rev)
     records = []
     for name, track, _, qs in bench_plan_tails.layout_queries(queries, seed, only):
