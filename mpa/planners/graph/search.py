@@ -223,10 +223,11 @@ class AnyAngleSearch:
         return self.cost(self._along_a(face[2], y0, y1, r[0]), abs(r[1] - a) + self._vd_b[face[1]])
 
     def queue_key(self, f: float, depth: float, nid: int) -> tuple[int, float, int]:
-        """The search's order, in one place: the bound ``f`` on a grid of ``F_GRID`` of the start's bound (so that
-        near-equal bounds count as ties), then deeper first (larger cost from the start of the root, ``depth``): on
-        the plateaus of equally fast motions (a robot with slack may take any of many routes) the search dives to the
-        goal instead of widening; the plan is optimal up to that grid."""
+        """The search's order (:meth:`expand_interval` queues face entries with this expression inline): the bound
+        ``f`` on a grid of ``F_GRID`` of the start's bound (so that near-equal bounds count as ties), then deeper first
+        (larger cost from the start of the root, ``depth``): on the plateaus of equally fast motions (a robot with
+        slack may take any of many routes) the search dives to the goal instead of widening; the plan is optimal up to
+        that grid."""
         return (math.floor(f * self.fq), -depth, nid)
 
     # ---------------------------------------------------------------------------------------------- the queue
