@@ -163,7 +163,6 @@ class AnyAngleSearch:
         self.ctol = 1e-12 * mesh.scale * mesh.scale
         self.cost = cost_function(query.objective, query.va, query.vb)
         self.to_goal = (GoalDistance(mesh.g, goal[0]), GoalDistance(mesh.g, goal[1]))
-        self._at_a, self._at_b = self.to_goal[0].at, self.to_goal[1].at
         self._vd_a, self._vd_b = self.to_goal[0].vd, self.to_goal[1].vd
         self._along_a, self._along_b = self.to_goal[0].min_along, self.to_goal[1].min_along
         self.goal_at: dict[PolygonId, list[Coords]] = {}
