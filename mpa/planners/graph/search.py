@@ -186,6 +186,12 @@ class AnyAngleSearch:
         self._through = ((gb.cp, gb.cm, gb.edge, gb.offset), (ga.cp, ga.cm, ga.edge, ga.offset))
         # per face, its pages a straight line can go on into (dead ends dropped unless they hold the goal)
         self._open_pages: dict[FaceKey, list[tuple[PolygonId, float]]] = {}
+        # what expand_interval reads on every call, in one tuple (nothing in it refers back to the search)
+        self._hot = (
+            self.ctol, self.eps, self.goal_at, self._fastest, self._va, self._vb, math.hypot, self.best.get,
+            self.again, bound, self.nodes, self.heap, self.fq, heapq.heappush, math.floor, self._vd_a, self._vd_b,
+            self._through, mesh._side_ends,
+        )  # fmt: skip
 
     # ------------------------------------------------------------------------------------------- the lower bound
     def lower_bound(self, pid: PolygonId, pt: Coords) -> float:
@@ -354,7 +360,10 @@ class AnyAngleSearch:
         The cone from the root through ``[y0, y1]`` is ``sgn * cross(u0, q - r) >= -ctol`` and
         ``-sgn * cross(u1, q - r) >= -ctol``; on a side ``ax2 = a2`` each is ``ca * y + cb >= -ctol`` in the side's
         coordinate ``y``, which clips the side's ``[lo, hi]``. The face ends' costs are the objective's, inline."""
-        ctol, eps = self.ctol, self.eps
+        (
+            ctol, eps, goal_at, fastest, va, vb, hypot, best_get, again, bound, nodes, heap, fq, heappush, floor,
+            vd_a, vd_b, through, side_ends,
+        ) = self._hot  # fmt: skip
         rid, r, ax, a, y0, y1, pid, groot = nd.root, nd.r, nd.ax, nd.a, nd.y0, nd.y1, nd.polygon, nd.g_root
         rs, rt = r
         if ax == 0:
@@ -366,28 +375,22 @@ class AnyAngleSearch:
             return
         sgn = 1.0 if cr > 0 else -1.0
         nsg = -sgn
-        push_point = self.push_point
-        goals = self.goal_at.get(pid)
+        goals = goal_at.get(pid)
         if goals is not None:
             for pt in goals:
                 dx, dy = pt[0] - rs, pt[1] - rt
                 if sgn * (u00 * dy - u01 * dx) >= -ctol and nsg * (u10 * dy - u11 * dx) >= -ctol:  # in the cone
-                    push_point(GOAL, groot + self.cost(pt[0] - rs, pt[1] - rt), rid, nid, pid, None, pt)
+                    self.push_point(GOAL, groot + self.cost(pt[0] - rs, pt[1] - rt), rid, nid, pid, None, pt)
         # the cone's conditions on a side ax2 = a2 (q = (a2, y) or (y, a2)), the parts that do not depend on a2
         nctol = -ctol
         ca0_a, ca1_a = sgn * u00, nsg * u10  # ax2 = 0: cross(u, q - r) = u_s (y - rt) - u_t (a2 - rs)
         m0_a, m1_a = -u00 * rt, -u10 * rt
         ca0_b, ca1_b = sgn * -u01, nsg * -u11  # ax2 = 1: u_s (a2 - rt) - u_t (y - rs)
         m0_b, m1_b = u01 * rs, u11 * rs
-        fastest, va, vb, hypot = self._fastest, self._va, self._vb, math.hypot
-        best_get, again, inf = self.best.get, self.again, math.inf
-        bound, nodes, heap, fq = self.bound, self.nodes, self.heap, self.fq
-        heappush, floor, vd_a, vd_b = heapq.heappush, math.floor, self._vd_a, self._vd_b
-        through = self._through  # per axis of a face, the other robot's goal terms (face_lower_bound)
-        mesh = self.mesh
-        sides = mesh._side_ends.get(pid)
+        inf = math.inf
+        sides = side_ends.get(pid)
         if sides is None:
-            sides = mesh.side_ends(pid)
+            sides = self.mesh.side_ends(pid)
         for ax2, a2, face2, lo2, hi2, k_lo, p_lo, k_hi, p_hi in sides:
             if ax2 == 0:
                 if ax == 0 and a2 == a:
@@ -437,9 +440,9 @@ class AnyAngleSearch:
                     if groot + m < limit:  # else the cost, at least groot + m, is not below the limit
                         g2 = groot + (m + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * hypot(ta, tb))
                         if g2 < limit:
-                            push_point(k_lo, g2, rid, nid, pid, None, p_lo)
+                            self.push_point(k_lo, g2, rid, nid, pid, None, p_lo)
                 elif (g2 := groot + hypot(dx, dy)) < limit:
-                    push_point(k_lo, g2, rid, nid, pid, None, p_lo)
+                    self.push_point(k_lo, g2, rid, nid, pid, None, p_lo)
             if yh >= hi2 - eps:
                 yh = hi2
                 dx, dy, limit = p_hi[0] - rs, p_hi[1] - rt, best_get(k_hi, inf) - again
@@ -449,9 +452,9 @@ class AnyAngleSearch:
                     if groot + m < limit:  # else the cost, at least groot + m, is not below the limit
                         g2 = groot + (m + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * hypot(ta, tb))
                         if g2 < limit:
-                            push_point(k_hi, g2, rid, nid, pid, None, p_hi)
+                            self.push_point(k_hi, g2, rid, nid, pid, None, p_hi)
                 elif (g2 := groot + hypot(dx, dy)) < limit:
-                    push_point(k_hi, g2, rid, nid, pid, None, p_hi)
+                    self.push_point(k_hi, g2, rid, nid, pid, None, p_hi)
             if yh - yl <= eps:
                 continue
             entry = FaceEntry(rid, nd.root_key, groot, r, nd.sig, ax2, a2, yl, yh, pid, face2, lo2, hi2, nid, nd.origin)
