@@ -355,9 +355,10 @@ class AnyAngleSearch:
             )
 
     # --------------------------------------------------------------------------------------------------- run
-    def run(self, budget: int | None = None) -> list[Segment] | None:
+    def run(self, budget: int | None = None, limit: float | None = None) -> list[Segment] | None:
         """The path's straight segments start to goal (:meth:`segments`); with ``budget``: None after that many
-        expansions (a later call resumes the search where it stopped).
+        expansions (a later call resumes the search where it stopped); with ``limit``: None when the queue's least
+        bound exceeds ``limit`` (the objective's cost) before the goal is taken.
 
         Raises
         ------
@@ -372,10 +373,11 @@ class AnyAngleSearch:
         nodes, best, heap = self.nodes, self.best, self.heap
         found = -1
         expanded = 0
+        over = math.inf if limit is None else math.floor(limit * self.fq)
         while heap:
             key0, depth, nid = heapq.heappop(heap)
             expanded += 1
-            if budget is not None and expanded > budget:
+            if (budget is not None and expanded > budget) or key0 > over:
                 heapq.heappush(heap, (key0, depth, nid))  # not taken: run() resumes with it
                 return None
             nd = nodes[nid]
