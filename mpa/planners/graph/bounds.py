@@ -29,6 +29,12 @@ coupling of p and q along the segment and is therefore still a lower bound. The 
 out (it is >= 0), so the bound never exceeds the search's cost of a motion. Of the vertices at the ends of the
 start's and the goal's edges that separate them, the two clearest are tried and the one whose bound at the start is
 largest is used.
+
+**Pieces, relaxed goal costs, limits.** The segments are cut in pieces of at most ``PIECE_LENGTH`` times the longest
+edge, which bounds what the relaxation loses at a node; ``W_k`` is by default relaxed the same way (each robot from
+the nearest point of its stretch, ``W_EXACT``); the geometry is kept per vertex with the free space
+(:func:`_passing_geometry`). :meth:`PassingBound.restrict` keeps only the segments through which a motion from the
+start can cost at most a limit; exact for a search stopped at that limit (the method's docstring).
 """
 
 from __future__ import annotations
