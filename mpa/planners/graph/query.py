@@ -15,7 +15,7 @@ from mpa.footprint import footprints
 from mpa.freespace import free_space, validate_size
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 from mpa.planners.graph.assemble import _assemble, _merge_same_polygon
-from mpa.planners.graph.base import OBJECTIVES, SPEED_RANGE, SPEED_RATIO
+from mpa.planners.graph.base import OBJECTIVES, SPEED_RANGE, SPEED_RATIO, TIE_BREAK
 from mpa.planners.graph.bounds import passing_bound, separating_vertices
 from mpa.planners.graph.mesh import _mesh
 from mpa.planners.graph.reasons import _why_no_motion
@@ -36,8 +36,11 @@ PASSING_BOUND_EDGES = 120
 
 PASSING_BOUND_AFTER_LARGE = 300
 
-#: The passing bound is used when at the start it is above this multiple of the robots' own bound (s / s).
-BOUND_GAIN = 1.001
+#: The passing bound is used when at the start it exceeds the robots' own bound (with the travel tie-break) by more
+#: than this fraction of it. Its gain on a swap is seconds; where the robots' own motions already take the least time,
+#: the bound still knows that one robot must step aside (its travel: 1e-9 to 1e-8 of the bound on the airport map's
+#: slowest plateaus), and the search ordered by it takes 0.5-10x fewer nodes there (docs/performance.md).
+BOUND_GAIN = 1e-9
 
 #: When the passing bound knows no more than the robots' own bound at the start (``BOUND_GAIN``), the search that
 #: took ``PASSING_BOUND_AFTER`` pops goes on where it stopped (``AnyAngleSearch.run`` resumes) instead of starting
@@ -48,8 +51,9 @@ RESUME_WITHOUT_GAIN = True
 #: The bounded search keeps first only the passing segments through which a motion can cost at most ``(1 + slack)``
 #: times the bound at the start (:meth:`PassingBound.restrict`) and stops when the queue's least bound exceeds that
 #: (below it the search is the one with every segment, node for node); then again with the next slack, and last with
-#: every segment. Empty: every segment at once.
-LIMIT_SLACKS: tuple[float, ...] = (0.02, 0.1, 0.3)
+#: every segment. Empty: every segment at once. The first, 1e-8, is the tie-breaks' scale: a query whose motion takes
+#: the bound's time (a plateau) is answered with the few segments that allow it.
+LIMIT_SLACKS: tuple[float, ...] = (1e-8, 0.02, 0.1, 0.3)
 
 
 # ------------------------------------------------------------------------------------------------- API
@@ -188,8 +192,9 @@ def plan_graph(
     segs = search.run(after)
     if segs is None:  # a long negotiation: again with the bound that knows the robots must pass, if it knows more
         passing = passing_bound(mesh, s, gl, va, vb)
-        own = max(geo.distance_scalar(*s[0], *gl[0]) / va, geo.distance_scalar(*s[1], *gl[1]) / vb)
-        bound = passing if passing and passing.at_start > own * BOUND_GAIN else None
+        ta, tb = geo.distance_scalar(*s[0], *gl[0]) / va, geo.distance_scalar(*s[1], *gl[1]) / vb
+        own = max(ta, tb) + TIE_BREAK * (ta + tb)
+        bound = passing if passing and passing.at_start > own * (1.0 + BOUND_GAIN) else None
         if bound is not None and LIMIT_SLACKS:  # first only the segments a near-optimal motion can use
             for slack in (*LIMIT_SLACKS, None):
                 limit = None if slack is None else bound.at_start * (1.0 + slack)
