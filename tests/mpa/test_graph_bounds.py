@@ -327,6 +327,24 @@ def test_the_limited_searches_plan_the_makespans_of_the_full_bound(name: str, mo
     assert stopped >= 1, "no search stopped at its limit: the fallback was not exercised"
 
 
+@pytest.mark.parametrize("name", ["rail_yard", "theta", "two_sidings", "warehouse"])
+def test_the_cells_left_out_by_their_distance_ranges_hold_no_passing_segment(name: str) -> None:
+    """The segments built from the cells whose edges' ranges of ``φ`` meet are those built from every cell, array
+    for array, for every vertex."""
+    from mpa.planners.graph import bounds as graph_bounds
+
+    track = _layout(name)
+    for frac in (0.2, 0.7):
+        mesh = _mesh(free_space(track, frac * float(np.median(track.lengths))))
+        for x in range(track.geometry.n_vertices):
+            fast = graph_bounds._build_passing_geometry(mesh, x)
+            every = graph_bounds._build_passing_geometry(mesh, x, every_cell=True)
+            assert (fast is None) == (every is None), (name, x)
+            if fast is not None and every is not None:
+                for u, v in zip(fast, every, strict=True):
+                    assert np.array_equal(u, v), (name, frac, x)
+
+
 def test_the_passing_geometry_is_kept_per_vertex_within_its_budget(monkeypatch: pytest.MonkeyPatch) -> None:
     """The segments' geometry is built once per vertex and free space and reused (the same arrays), the cache holds
     at most ``GEOMETRY_CACHE`` segments (the oldest vertex dropped), and a bound built from the cache equals one
@@ -355,3 +373,57 @@ def test_the_passing_geometry_is_kept_per_vertex_within_its_budget(monkeypatch: 
         assert held <= budget, (x, held, budget)
     assert (xs[-1], graph_bounds.PIECE_LENGTH) in mesh._passing_geometry  # type: ignore[attr-defined]
     assert (xs[0], graph_bounds.PIECE_LENGTH) not in mesh._passing_geometry  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize("name", ["y_junction", "passing_loop", "rail_yard", "two_sidings"])
+def test_the_bound_is_used_where_it_gains_only_the_travel_tie_break(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Plateaus: where the robots' own motions already take the least time but one must step aside, the passing
+    bound at the start exceeds the robots' own bound (with the travel tie-break) by less than 1e-4 of it and more
+    than ``BOUND_GAIN``; ``plan_graph`` then searches with it, and plans the makespan of the search without it."""
+    from mpa.errors import NoMotionError
+    from mpa.planners.graph import query as graph_query
+    from mpa.planners.graph.query import plan_graph
+
+    track = _layout(name)
+    geo = track.geometry
+    rng = np.random.default_rng(3 + len(name))
+    med = float(np.median(track.lengths))
+    used: list[bool] = []
+    real_init = AnyAngleSearch.__init__
+
+    def init(self: AnyAngleSearch, mesh: object, query: SearchQuery, bound: PassingBound | None = None) -> None:
+        used.append(bound is not None)
+        real_init(self, mesh, query, bound=bound)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(AnyAngleSearch, "__init__", init)
+    plateaus = 0
+    for frac in (0.1, 0.3, 0.6):
+        fs = free_space(track, frac * med)
+        for _, s, g in _queries(track, fs, rng, 40, swap_every=1000):
+            va, vb = 1.0, float(rng.uniform(0.4, 1.0))
+            pb = PassingBound(_mesh(fs), s, g, va, vb)
+            if pb.vertex is None:
+                continue
+            ta, tb = geo.distance_scalar(*s[0], *g[0]) / va, geo.distance_scalar(*s[1], *g[1]) / vb
+            own = max(ta, tb) + TIE_BREAK * (ta + tb)
+            if not own * (1.0 + 1e-8) < pb.at_start < own * (1.0 + 1e-4):
+                continue
+            spans = []
+            searched = False
+            for after in (None, 1):
+                monkeypatch.setattr(graph_query, "PASSING_BOUND_AFTER", after)
+                used.clear()
+                try:
+                    p = plan_graph(track, s, g, frac * med, speeds=(va, vb))
+                except NoMotionError:
+                    break
+                spans.append(p.makespan)
+                if after == 1:  # searched: stopped after one pop, then again with the bound (not resumed)
+                    searched = bool(used)
+                    if searched:
+                        assert len(used) >= 2 and not used[0] and all(used[1:]), (name, s, g, used)
+            if len(spans) == 2 and searched:
+                assert spans[1] == pytest.approx(spans[0], rel=1e-9, abs=1e-12), (name, s, g, spans)
+                plateaus += 1
+    print(name, "plateaus", plateaus)
+    assert plateaus >= 1, name
