@@ -40,12 +40,14 @@ start can cost at most a limit; exact for a search stopped at that limit (the me
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from mpa._arrays import FloatArray
+from mpa.freespace import CELL_BLOCK
 from mpa.graph_track import Position
 from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2, FaceKey, Key
 from mpa.planners.graph.mesh import _Mesh
@@ -246,11 +248,8 @@ def _build_passing_geometry(mesh: _Mesh, x: int, every_cell: bool = False) -> tu
     phi_lo = np.minimum(phi_t, phi_h) - 1e-9 * mesh.scale
     phi_hi = np.minimum(mid + phi_t, lengths - mid + phi_h) + 1e-9 * mesh.scale
     parts: dict[tuple[int, int, int], list[tuple[FloatArray, ...]]] = {}
-    for ee_all, ff_all in fs.nonempty_cells():  # a block of cells at a time: memory bounded on large layouts
-        meet = (phi_lo[ff_all] <= phi_hi[ee_all]) & (phi_lo[ee_all] <= phi_hi[ff_all])
-        ee, ff = (ee_all, ff_all) if every_cell else (ee_all[meet], ff_all[meet])
-        if not len(ee):
-            continue
+    blocks = fs.nonempty_cells() if every_cell else _cells_meeting(fs, phi_lo, phi_hi, lengths)
+    for ee, ff in blocks:  # a block of cells at a time: memory bounded on large layouts
         c0 = g.cell_terms_array(ee, ff)
         same = ee == ff
         for pe in (0, 1):
@@ -301,6 +300,34 @@ def _build_passing_geometry(mesh: _Mesh, x: int, every_cell: bool = False) -> tu
         hi = np.where(j == n[idx] - 1, u1[idx], lo + step)
         e, f, al, be, u0, u1 = e[idx], f[idx], al[idx], be[idx], lo, hi
     return e, u0, u1, f, al, be
+
+
+def _cells_meeting(
+    fs: Any, phi_lo: FloatArray, phi_hi: FloatArray, lengths: FloatArray
+) -> Iterator[tuple[NDArray[np.int64], NDArray[np.int64]]]:
+    """The non-empty cells ``e × f`` whose edges' ranges ``[phi_lo, phi_hi]`` meet, row-major, in blocks of at most
+    ``CELL_BLOCK`` rows' worth: found by sorting the edges by ``phi_lo`` (only edges whose ``phi_lo`` lies within the
+    widest range below ``e``'s can meet it), without a pass over every cell."""
+    n = len(phi_lo)
+    order = np.argsort(phi_lo, kind="stable")
+    lo_sorted = phi_lo[order]
+    reach = float(np.max(phi_hi - phi_lo)) if n else 0.0
+    first = np.searchsorted(lo_sorted, phi_lo - reach, side="left")
+    last = np.searchsorted(lo_sorted, phi_hi, side="right")
+    rows_per_block = max(1, CELL_BLOCK // max(1, n))
+    for i0 in range(0, n, rows_per_block):
+        rows = np.arange(i0, min(n, i0 + rows_per_block))
+        counts = np.maximum(0, last[rows] - first[rows])
+        ee = np.repeat(rows, counts)
+        offs = np.arange(len(ee)) - np.repeat(np.cumsum(counts) - counts, counts) + np.repeat(first[rows], counts)
+        ff = order[offs]
+        keep = (phi_lo[ff] <= phi_hi[ee]) & (phi_lo[ee] <= phi_hi[ff])
+        ee, ff = ee[keep], ff[keep]
+        keep = fs.status[ee, ff] != 0
+        ee, ff = ee[keep], ff[keep]
+        if len(ee):
+            k = np.lexsort((ff, ee))  # row-major, as fs.nonempty_cells
+            yield ee[k].astype(np.int64), ff[k].astype(np.int64)
 
 
 def _relaxed(
