@@ -181,7 +181,7 @@ def test_passing_segments_are_free_at_equal_distance_and_their_least_goal_cost_i
         if pb.vertex is None:
             continue
         x = pb.vertex
-        e, u0, u1, f, _, _, w, al, be, _, _ = pb._segs
+        e, u0, u1, f, _, _, w, al, be = pb._segs
         n = 201
         for k in range(len(e)):
             u = np.linspace(u0[k], u1[k], n)

@@ -426,6 +426,7 @@ class PassingBound:
         self._fronts: dict[tuple[int, int, int], list[tuple[float, float]]] = {}
         vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
         self._goal_vd = vd[2:]
+        self._goal = goal
         best: tuple[float, int, tuple[Any, ...]] | None = None
         for x in separating_vertices(mesh, start, goal, vd)[:VERTICES_TRIED]:
             segs = self._segments(x, goal)
@@ -455,7 +456,7 @@ class PassingBound:
         if self.vertex is None:
             return
         keep = self._from_start <= limit * (1.0 + 1e-9)
-        self._segs = tuple(a[keep] if isinstance(a, np.ndarray) else tuple(x[keep] for x in a) for a in self._all_segs)
+        self._segs = tuple(a[keep] for a in self._all_segs)
         self.n_segments = int(keep.sum())
         self._cache = {("S",): self._cache[("S",)]} if ("S",) in self._cache else {}
         self._face_parts.clear()
@@ -472,16 +473,22 @@ class PassingBound:
             return None
         e, u0, u1, f, al, be = geom
         g = self.mesh.g
-        goal_a = _pieces(e, self._goal_vd[0], goal[0], g.lengths, g.tails, g.heads)
-        goal_b = _in_u(_pieces(f, self._goal_vd[1], goal[1], g.lengths, g.tails, g.heads), al, be)
         v_a, v_b = al * u0 + be, al * u1 + be
         v0, v1 = np.minimum(v_a, v_b), np.maximum(v_a, v_b)
         if W_EXACT:
-            w = _least(u0, u1, [(goal_a, goal_b)], self.va, self.vb)
+            w = _least(u0, u1, [self._goal_pieces(e, f, al, be)], self.va, self.vb)
         else:  # each robot to the nearest point of its stretch: a lower bound of the least along the segment
             gva, gvb = self._goal_vd
             w = _relaxed(g, e, u0, u1, f, v0, v1, goal[0], goal[1], gva, gvb, self.va, self.vb)
-        return e, u0, u1, f, v0, v1, w, al, be, goal_a, goal_b
+        return e, u0, u1, f, v0, v1, w, al, be
+
+    def _goal_pieces(self, e: np.ndarray, f: np.ndarray, al: FloatArray, be: FloatArray) -> tuple[Pieces, Pieces]:
+        """The robots' distances to their goals as affine pieces in ``u`` along segments ``(e, f, alpha, beta)``."""
+        g = self.mesh.g
+        goal = self._goal
+        goal_a = _pieces(e, self._goal_vd[0], goal[0], g.lengths, g.tails, g.heads)
+        goal_b = _in_u(_pieces(f, self._goal_vd[1], goal[1], g.lengths, g.tails, g.heads), al, be)
+        return goal_a, goal_b
 
     # ------------------------------------------------------------------------------------------ the bound
     def _value(
@@ -491,24 +498,38 @@ class PassingBound:
         (``comb(d(a, P_k), d(b, Q_k)) + W_k``, a lower bound of the exact one), then the exact least of
         ``comb(d(a, p), d(b, q)) + comb(d(p, a1), d(q, b1))`` along the segments in the order of their relaxed
         values, until the next relaxed value is no smaller than the best exact one."""
-        e, u0, u1, f, v0, v1, w, al, be, goal_a, goal_b = segs
+        e, u0, u1, f, v0, v1, w, al, be = segs
         g = self.mesh.g
         lengths, tails, heads = g.lengths, g.tails, g.heads
         relaxed = _relaxed(g, e, u0, u1, f, v0, v1, pa, pb, vda, vdb, self.va, self.vb) + w
         if not exact:
             return float(relaxed.min()) * (1.0 - BOUND_SAFETY)
-        order = np.argsort(relaxed, kind="stable")
         best = math.inf
-        for i in range(0, len(order), EXACT_CHUNK):
-            idx = order[i : i + EXACT_CHUNK]
-            if relaxed[idx[0]] >= best:
-                break
-            here_a = _pieces(e[idx], vda, pa, lengths, tails, heads)
-            here_b = _in_u(_pieces(f[idx], vdb, pb, lengths, tails, heads), al[idx], be[idx])
-            ga: Pieces = (goal_a[0][idx], goal_a[1][idx], goal_a[2][idx], goal_a[3][idx])
-            gb: Pieces = (goal_b[0][idx], goal_b[1][idx], goal_b[2][idx], goal_b[3][idx])
-            least = _least(u0[idx], u1[idx], [(here_a, here_b), (ga, gb)], self.va, self.vb)
-            best = min(best, float(least.min()))
+        # the few smallest relaxed values first (a partition, not a sort of every segment), then every segment whose
+        # relaxed value is still below the best exact one, in rising order, until the next is no smaller
+        first = np.argpartition(relaxed, EXACT_CHUNK)[:EXACT_CHUNK] if len(relaxed) > EXACT_CHUNK else None
+        for pass_ in (0, 1):
+            if pass_ == 0:
+                if first is None:
+                    continue
+                cand = first
+            else:
+                cand = np.nonzero(relaxed < best)[0] if math.isfinite(best) else np.arange(len(relaxed))
+            cand = cand[np.argsort(relaxed[cand], kind="stable")]
+            for i in range(0, len(cand), EXACT_CHUNK):
+                idx = cand[i : i + EXACT_CHUNK]
+                if relaxed[idx[0]] >= best:
+                    break
+                here_a = _pieces(e[idx], vda, pa, lengths, tails, heads)
+                here_b = _in_u(_pieces(f[idx], vdb, pb, lengths, tails, heads), al[idx], be[idx])
+                least = _least(
+                    u0[idx],
+                    u1[idx],
+                    [(here_a, here_b), self._goal_pieces(e[idx], f[idx], al[idx], be[idx])],
+                    self.va,
+                    self.vb,
+                )
+                best = min(best, float(least.min()))
         return best * (1.0 - BOUND_SAFETY)
 
     def at(self, pa: Position, pb: Position) -> float:
