@@ -47,6 +47,7 @@ from bench.graph_scale import road_map_layout, warehouse_layout  # noqa: E402
 from mpa.freespace import free_space  # noqa: E402
 from mpa.graph_track import GraphTrack  # noqa: E402
 from mpa.planners.graph import bounds as graph_bounds  # noqa: E402
+from mpa.planners.graph import passing as graph_passing  # noqa: E402
 from mpa.planners.graph import query as graph_query  # noqa: E402
 from mpa.planners.graph import search as graph_search  # noqa: E402
 from mpa.planners.graph.bounds import PassingBound  # noqa: E402
@@ -116,9 +117,9 @@ def _arm(compare: str | None, before: bool) -> None:
         else (EARLIER_AFTER if old else (WHOLE_AFTER[0] if whole else _AS_IS["after"]))
     )
     graph_query.PASSING_BOUND_AFTER_LARGE = WHOLE_AFTER[1] if whole else _AS_IS["after_large"]
-    graph_bounds.PIECE_LENGTH = None if whole else _AS_IS["piece"]
+    graph_passing.PIECE_LENGTH = None if whole else _AS_IS["piece"]
     graph_bounds.W_EXACT = True if whole else _AS_IS["w_exact"]
-    graph_bounds.GEOMETRY_CACHE = 0 if whole else _AS_IS["cache"]
+    graph_passing.GEOMETRY_CACHE = 0 if whole else _AS_IS["cache"]
     graph_query.LIMIT_SLACKS = () if whole else _AS_IS["slacks"]
     graph_query.BOUND_GAIN = WHOLE_GAIN if whole else _AS_IS["gain"]
     graph_search.AGAIN_GRID_STEPS = 0.0 if old else _AS_IS["again"]
@@ -140,9 +141,9 @@ WHOLE_GAIN = 1e-3
 _AS_IS: dict[str, Any] = {
     "after": graph_query.PASSING_BOUND_AFTER,
     "after_large": graph_query.PASSING_BOUND_AFTER_LARGE,
-    "piece": graph_bounds.PIECE_LENGTH,
+    "piece": graph_passing.PIECE_LENGTH,
     "w_exact": graph_bounds.W_EXACT,
-    "cache": graph_bounds.GEOMETRY_CACHE,
+    "cache": graph_passing.GEOMETRY_CACHE,
     "slacks": graph_query.LIMIT_SLACKS,
     "gain": graph_query.BOUND_GAIN,
     "again": graph_search.AGAIN_GRID_STEPS,

@@ -331,14 +331,14 @@ def test_the_limited_searches_plan_the_makespans_of_the_full_bound(name: str, mo
 def test_the_cells_left_out_by_their_distance_ranges_hold_no_passing_segment(name: str) -> None:
     """The segments built from the cells whose edges' ranges of ``φ`` meet are those built from every cell, array
     for array, for every vertex."""
-    from mpa.planners.graph import bounds as graph_bounds
+    from mpa.planners.graph import passing as graph_passing
 
     track = _layout(name)
     for frac in (0.2, 0.7):
         mesh = _mesh(free_space(track, frac * float(np.median(track.lengths))))
         for x in range(track.geometry.n_vertices):
-            fast = graph_bounds._build_passing_geometry(mesh, x)
-            every = graph_bounds._build_passing_geometry(mesh, x, every_cell=True)
+            fast = graph_passing._build_passing_geometry(mesh, x)
+            every = graph_passing._build_passing_geometry(mesh, x, every_cell=True)
             assert (fast is None) == (every is None), (name, x)
             if fast is not None and every is not None:
                 for u, v in zip(fast, every, strict=True):
@@ -349,30 +349,30 @@ def test_the_passing_geometry_is_kept_per_vertex_within_its_budget(monkeypatch: 
     """The segments' geometry is built once per vertex and free space and reused (the same arrays), the cache holds
     at most ``GEOMETRY_CACHE`` segments (the oldest vertex dropped), and a bound built from the cache equals one
     built afresh."""
-    from mpa.planners.graph import bounds as graph_bounds
+    from mpa.planners.graph import passing as graph_passing
 
     track = _layout("rail_yard")
     fs = free_space(track, 0.3 * float(np.median(track.lengths)))
     mesh = _mesh(fs)
-    xs = [x for x in range(track.geometry.n_vertices) if graph_bounds._passing_geometry(mesh, x) is not None]
+    xs = [x for x in range(track.geometry.n_vertices) if graph_passing.passing_geometry(mesh, x) is not None]
     assert len(xs) >= 3
-    a = graph_bounds._passing_geometry(mesh, xs[0])
-    assert graph_bounds._passing_geometry(mesh, xs[0]) is a
-    sizes = {x: len(graph_bounds._build_passing_geometry(mesh, x)[0]) for x in xs}
+    a = graph_passing.passing_geometry(mesh, xs[0])
+    assert graph_passing.passing_geometry(mesh, xs[0]) is a
+    sizes = {x: len(graph_passing._build_passing_geometry(mesh, x)[0]) for x in xs}
     for x in xs:
-        fresh = graph_bounds._build_passing_geometry(mesh, x)
-        cached = graph_bounds._passing_geometry(mesh, x)
+        fresh = graph_passing._build_passing_geometry(mesh, x)
+        cached = graph_passing.passing_geometry(mesh, x)
         for u, v in zip(fresh, cached, strict=True):
             assert np.array_equal(u, v)
     budget = sizes[xs[0]] + sizes[xs[1]]
-    monkeypatch.setattr(graph_bounds, "GEOMETRY_CACHE", budget)
+    monkeypatch.setattr(graph_passing, "GEOMETRY_CACHE", budget)
     mesh._passing_geometry = {}  # type: ignore[attr-defined]
     for x in xs:
-        graph_bounds._passing_geometry(mesh, x)
+        graph_passing.passing_geometry(mesh, x)
         held = sum(len(v[0]) for v in mesh._passing_geometry.values() if v is not None)  # type: ignore[attr-defined]
         assert held <= budget, (x, held, budget)
-    assert (xs[-1], graph_bounds.PIECE_LENGTH) in mesh._passing_geometry  # type: ignore[attr-defined]
-    assert (xs[0], graph_bounds.PIECE_LENGTH) not in mesh._passing_geometry  # type: ignore[attr-defined]
+    assert (xs[-1], graph_passing.PIECE_LENGTH) in mesh._passing_geometry  # type: ignore[attr-defined]
+    assert (xs[0], graph_passing.PIECE_LENGTH) not in mesh._passing_geometry  # type: ignore[attr-defined]
 
 
 @pytest.mark.parametrize("name", ["y_junction", "passing_loop", "rail_yard", "two_sidings"])
