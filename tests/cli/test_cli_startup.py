@@ -99,3 +99,40 @@ def test_monkeypatching_mpa_plan(monkeypatch: pytest.MonkeyPatch) -> None:
     assert mpa.plan is len
     monkeypatch.undo()
     assert mpa.plan is original
+
+
+def _run_env(code: str, **env: str) -> str:
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=ROOT,
+        env={"PYTHONPATH": str(ROOT), **env},
+    )
+    return out.stdout.strip()
+
+
+#: What ``main`` leaves in the environment, and whether numpy's OpenBLAS started with one thread.
+_BLAS_PROBE = (
+    "import contextlib, io, os, sys\n"
+    "from trajopt.cli.main import BLAS_THREAD_VARIABLES, main\n"
+    "with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):\n"
+    "    main(['plan', '--track', 'lollipop', '--stick', '1', '--loop', '1', '--start', '0.2', '0.5',"
+    " '--goal', '0.5', '0.2'])\n"
+    "print([os.environ.get(k) for k in BLAS_THREAD_VARIABLES], 'numpy' in sys.modules)\n"
+)
+
+
+def test_the_command_line_runs_blas_on_one_thread() -> None:
+    assert _run_env(_BLAS_PROBE) == "['1', '1', '1'] True"
+
+
+def test_a_thread_count_given_in_the_environment_is_kept() -> None:
+    assert _run_env(_BLAS_PROBE, OMP_NUM_THREADS="2") == "[None, None, '2'] True"
+    assert _run_env(_BLAS_PROBE, OPENBLAS_NUM_THREADS="3") == "['3', None, None] True"
+
+
+def test_a_process_with_numpy_loaded_keeps_its_environment() -> None:
+    code = "import numpy\n" + _BLAS_PROBE
+    assert _run_env(code) == "[None, None, None] True"
