@@ -316,9 +316,12 @@ def _route_pieces(route: DirectedRoute, s: FloatArray, v: FloatArray) -> tuple[F
     br = route.breaks
     x = np.clip(s, br[0], br[-1])
     right = np.searchsorted(br, x, side="right") - 1
-    left = np.searchsorted(br, x, side="left") - 1
+    back = np.flatnonzero(v < -REST_SPEED)  # moving backwards: the piece before a junction (searched only there)
+    piece = right.copy()
+    if len(back):
+        piece[back] = np.searchsorted(br, x[back], side="left") - 1
     last = len(route.edges) - 1
-    return x, np.clip(np.where(v < -REST_SPEED, left, right), 0, last), np.clip(right, 0, last)
+    return x, np.clip(piece, 0, last), np.clip(right, 0, last)
 
 
 def plan_view(plan: MotionPlan) -> PlanView:
