@@ -136,3 +136,40 @@ def test_a_thread_count_given_in_the_environment_is_kept() -> None:
 def test_a_process_with_numpy_loaded_keeps_its_environment() -> None:
     code = "import numpy\n" + _BLAS_PROBE
     assert _run_env(code) == "[None, None, None] True"
+
+
+#: Runs ``main(argv)`` (``argv`` from ``sys.argv[1:]``) and prints which of the heavy libraries it imported.
+_IMPORTS_PROBE = (
+    "import contextlib, io, sys\n"
+    "from trajopt.cli.main import main\n"
+    "with contextlib.redirect_stdout(io.StringIO()):\n"
+    "    status = main(sys.argv[1:])\n"
+    "heavy = ('numba', 'toppra', 'casadi', 'matplotlib', 'scipy.optimize', 'scipy.sparse')\n"
+    "print(status, sorted(m for m in heavy if m in sys.modules))\n"
+)
+_OFFICE = ["--graph", "tests/data/openrmf/office.building.yaml", "--level", "L1", "--clearance", "0.3"]
+_OFFICE_QUERY = ["--start", "lane0:0.648778078072", "lane29:2.23700606941"]
+_OFFICE_QUERY += ["--goal", "lane3:0.680007503632", "lane23:1.92555051153"]
+
+
+def _imports(argv: list[str], tmp_path: Path) -> str:
+    out = subprocess.run(
+        [sys.executable, "-c", _IMPORTS_PROBE, *argv],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=ROOT,
+        env={"PYTHONPATH": str(ROOT), "MPA_CACHE_DIR": str(tmp_path / "cache")},
+    )
+    return out.stdout.strip()
+
+
+def test_plan_on_a_building_map_imports_no_numba_nor_the_optimisers(tmp_path: Path) -> None:
+    assert _imports(["plan", *_OFFICE, *_OFFICE_QUERY], tmp_path) == "0 []"
+
+
+def test_trajectory_on_a_building_map_imports_numba_only(tmp_path: Path) -> None:
+    # numba runs the gate's kernels; the paper's corridor QP (CasADi), toppra and the drawings are not needed
+    argv = ["trajectory", *_OFFICE, *_OFFICE_QUERY, "--out", str(tmp_path / "run")]
+    assert _imports(argv, tmp_path) == "0 ['numba']"
+    assert sorted(p.name for p in (tmp_path / "run").iterdir()) == ["setpoints.csv", "summary.json"]
