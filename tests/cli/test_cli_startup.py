@@ -13,14 +13,15 @@ from trajopt.cli.main import SUBCOMMANDS, build_parser
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def _run(code: str) -> str:
+def _run(code: str, *argv: str, **env: str) -> str:
+    """``python -c code argv...`` from the repository root with only ``PYTHONPATH`` and ``env`` set; its stdout."""
     out = subprocess.run(
-        [sys.executable, "-c", code],
+        [sys.executable, "-c", code, *argv],
         capture_output=True,
         text=True,
         check=True,
         cwd=ROOT,
-        env={"PYTHONPATH": str(ROOT)},
+        env={"PYTHONPATH": str(ROOT), **env},
     )
     return out.stdout.strip()
 
@@ -101,18 +102,6 @@ def test_monkeypatching_mpa_plan(monkeypatch: pytest.MonkeyPatch) -> None:
     assert mpa.plan is original
 
 
-def _run_env(code: str, **env: str) -> str:
-    out = subprocess.run(
-        [sys.executable, "-c", code],
-        capture_output=True,
-        text=True,
-        check=True,
-        cwd=ROOT,
-        env={"PYTHONPATH": str(ROOT), **env},
-    )
-    return out.stdout.strip()
-
-
 #: What ``main`` leaves in the environment, and whether numpy's OpenBLAS started with one thread.
 _BLAS_PROBE = (
     "import contextlib, io, os, sys\n"
@@ -125,17 +114,17 @@ _BLAS_PROBE = (
 
 
 def test_the_command_line_runs_blas_on_one_thread() -> None:
-    assert _run_env(_BLAS_PROBE) == "['1', '1', '1'] True"
+    assert _run(_BLAS_PROBE) == "['1', '1', '1'] True"
 
 
 def test_a_thread_count_given_in_the_environment_is_kept() -> None:
-    assert _run_env(_BLAS_PROBE, OMP_NUM_THREADS="2") == "[None, None, '2'] True"
-    assert _run_env(_BLAS_PROBE, OPENBLAS_NUM_THREADS="3") == "['3', None, None] True"
+    assert _run(_BLAS_PROBE, OMP_NUM_THREADS="2") == "[None, None, '2'] True"
+    assert _run(_BLAS_PROBE, OPENBLAS_NUM_THREADS="3") == "['3', None, None] True"
 
 
 def test_a_process_with_numpy_loaded_keeps_its_environment() -> None:
     code = "import numpy\n" + _BLAS_PROBE
-    assert _run_env(code) == "[None, None, None] True"
+    assert _run(code) == "[None, None, None] True"
 
 
 #: Runs ``main(argv)`` (``argv`` from ``sys.argv[1:]``) and prints which of the heavy libraries it imported.
@@ -153,15 +142,7 @@ _OFFICE_QUERY += ["--goal", "lane3:0.680007503632", "lane23:1.92555051153"]
 
 
 def _imports(argv: list[str], tmp_path: Path) -> str:
-    out = subprocess.run(
-        [sys.executable, "-c", _IMPORTS_PROBE, *argv],
-        capture_output=True,
-        text=True,
-        check=True,
-        cwd=ROOT,
-        env={"PYTHONPATH": str(ROOT), "MPA_CACHE_DIR": str(tmp_path / "cache")},
-    )
-    return out.stdout.strip()
+    return _run(_IMPORTS_PROBE, *argv, MPA_CACHE_DIR=str(tmp_path / "cache"))
 
 
 def test_plan_on_a_building_map_imports_no_numba_nor_the_optimisers(tmp_path: Path) -> None:
