@@ -27,7 +27,13 @@ from mpa.planners.graph.bounds import PassingBound, fastest_cost, passing_bound
 from mpa.planners.graph.mesh import _mesh
 from mpa.planners.graph.search import AnyAngleSearch
 from mpa.planners.search_common import SearchQuery
-from tests.helpers.graph_helpers import random_free_query, random_layout, random_position
+from tests.helpers.graph_helpers import (
+    makespans_with,
+    random_free_query,
+    random_layout,
+    random_position,
+    same_makespans,
+)
 
 Query = tuple[Position, Position]
 ROOT = Path(__file__).resolve().parents[2]
@@ -212,9 +218,7 @@ def test_the_planner_with_the_bound_from_the_first_pop_plans_as_fast(
 ) -> None:
     """``plan_graph`` with the passing bound on every search (``PASSING_BOUND_AFTER = 1``) and without it (None):
     the same makespans on seeded swaps and random queries, and the plans keep the clearance."""
-    from mpa.errors import NoMotionError
     from mpa.planners.graph import query as graph_query
-    from mpa.planners.graph.query import plan_graph
 
     track = _layout(name)
     rng = np.random.default_rng(99 + len(name))
@@ -223,21 +227,8 @@ def test_the_planner_with_the_bound_from_the_first_pop_plans_as_fast(
     for frac in (0.2, 0.5, 1.0):
         fs = free_space(track, frac * med)
         for _, s, g in _queries(track, fs, rng, 8):
-            spans = []
-            for after in (None, 1):
-                monkeypatch.setattr(graph_query, "PASSING_BOUND_AFTER", after)
-                try:
-                    p = plan_graph(track, s, g, frac * med)
-                except NoMotionError:
-                    spans.append(None)
-                    continue
-                assert p.min_distance() >= p.clearance_used - 1e-9, (name, s, g, after)
-                spans.append(p.makespan)
-            if spans[0] is None or spans[1] is None:
-                assert spans[0] is None and spans[1] is None, (name, s, g, spans)
-                continue
-            assert spans[1] == pytest.approx(spans[0], rel=1e-9, abs=1e-12), (name, s, g, frac, spans)
-            compared += 1
+            spans = makespans_with(monkeypatch, graph_query, "PASSING_BOUND_AFTER", (None, 1), track, s, g, frac * med)
+            compared += same_makespans(spans, (name, s, g, frac))
     assert compared >= 10, compared
 
 
@@ -284,9 +275,7 @@ def test_the_limited_searches_plan_the_makespans_of_the_full_bound(name: str, mo
     """``plan_graph`` with the bound from the first pop, its segments first restricted to tiny, medium and no slack
     above the bound at the start (``LIMIT_SLACKS``; a search that stops at its limit is done again with the next),
     against every segment at once: the same makespans, bit for bit up to rounding, on seeded swaps."""
-    from mpa.errors import NoMotionError
     from mpa.planners.graph import query as graph_query
-    from mpa.planners.graph.query import plan_graph
 
     monkeypatch.setattr(graph_query, "PASSING_BOUND_AFTER", 1)
     track = _layout(name)
@@ -306,23 +295,12 @@ def test_the_limited_searches_plan_the_makespans_of_the_full_bound(name: str, mo
     for frac in (0.2, 0.6):
         fs = free_space(track, frac * med)
         for _, s, g in _queries(track, fs, rng, 10, swap_every=1):
-            spans = []
-            for slacks in ((), (1e-6, 0.01, 0.1)):
-                monkeypatch.setattr(graph_query, "LIMIT_SLACKS", slacks)
-                calls.clear()
-                try:
-                    p = plan_graph(track, s, g, frac * med)
-                except NoMotionError:
-                    spans.append(None)
-                    continue
-                assert p.min_distance() >= p.clearance_used - 1e-9, (name, s, g, slacks)
-                spans.append(p.makespan)
-                stopped += sum(1 for c in calls if c is None)
-            if spans[0] is None or spans[1] is None:
-                assert spans[0] is None and spans[1] is None, (name, s, g, spans)
-                continue
-            assert spans[1] == pytest.approx(spans[0], rel=1e-9, abs=1e-12), (name, s, g, frac, spans)
-            compared += 1
+            calls.clear()
+            spans = makespans_with(
+                monkeypatch, graph_query, "LIMIT_SLACKS", ((), (1e-6, 0.01, 0.1)), track, s, g, frac * med
+            )
+            stopped += sum(1 for c in calls if c is None)
+            compared += same_makespans(spans, (name, s, g, frac))
     assert compared >= 8, compared
     assert stopped >= 1, "no search stopped at its limit: the fallback was not exercised"
 
