@@ -108,15 +108,15 @@ _ALLOWED = (
 #: scipy's sparse graphs give the free space's components and the vertex distances of large layouts, and the search
 #: of the free space with footprints (Dijkstra over the moves) and one robot's least time under lane rules (Dijkstra
 #: over the vertices, mpa.planners.rules); the graph planner's corner re-solve is a least-distance
-#: programme solved by scipy's non-negative least squares; the PVT rows' velocity fit is a linear program solved by
-#: scipy's HiGHS).
+#: programme solved by scipy's non-negative least squares (its compiled routine, loaded by mpa._nnls); the PVT rows'
+#: velocity fit is a linear program solved by scipy's HiGHS).
 _MODULE_ALLOWED = {
     "mpa.openrmf": {"yaml"},
     "mpa.freespace": {"scipy"},
     "mpa.geometry": {"scipy"},
     "mpa.planar.search": {"scipy"},
     "mpa.planners.rules": {"scipy"},
-    "mpa.planners.corners": {"scipy"},
+    "mpa._nnls": {"scipy"},
     "trajopt.io.pvt": {"scipy"},
 }
 

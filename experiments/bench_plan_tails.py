@@ -1,7 +1,7 @@
 """Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
 
     python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
-        [--compare | --steps] [--large]
+        [--compare | --steps | --limits] [--large]
 
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
 10 / 30 / 100 / 150 edges, three seeds each), the seeded warehouse grids and road maps of
@@ -19,7 +19,10 @@ order alternating from query to query; the table gives before → after and the 
 ``mpa.planners.graph.search.AGAIN_GRID_STEPS = 0``; the passing bound after 5 000 pops everywhere; a search whose
 passing bound gains nothing started again, ``query.RESUME_WITHOUT_GAIN = False``; the passing bound of a face entry
 over every segment, ``PassingBound.least_through_all``, and of a point too, ``bounds.POINTS_FROM_FRONTS = False``),
-after = the code as it is.
+after = the code as it is. ``--limits``: before = the passing bound of whole segments with exact goal costs, built
+afresh per query after 2 000 pops (5 000 above 120 edges), every segment at once; after = the code as it is
+(pieces, relaxed goal costs, the segments' geometry kept per vertex, the bound after 300 pops whenever it gains more
+than 1e-9 of the robots' own at the start instead of 0.1 %, its segments first limited to near the optimum).
 """
 
 from __future__ import annotations
@@ -44,6 +47,7 @@ from bench.graph_scale import road_map_layout, warehouse_layout  # noqa: E402
 from mpa.freespace import free_space  # noqa: E402
 from mpa.graph_track import GraphTrack  # noqa: E402
 from mpa.planners.graph import bounds as graph_bounds  # noqa: E402
+from mpa.planners.graph import passing as graph_passing  # noqa: E402
 from mpa.planners.graph import query as graph_query  # noqa: E402
 from mpa.planners.graph import search as graph_search  # noqa: E402
 from mpa.planners.graph.bounds import PassingBound  # noqa: E402
@@ -106,9 +110,18 @@ def _arm(compare: str | None, before: bool) -> None:
     """Set the planner to one arm of a comparison: ``compare`` "bound" (without / with the passing bound) or "steps"
     (the earlier search / this one); None or ``before`` False: the code as it is."""
     old = compare == "steps" and before
+    whole = compare == "limits" and before
     graph_query.PASSING_BOUND_AFTER = (
-        None if compare == "bound" and before else (EARLIER_AFTER if old else _AS_IS["after"])
+        None
+        if compare == "bound" and before
+        else (EARLIER_AFTER if old else (WHOLE_AFTER[0] if whole else _AS_IS["after"]))
     )
+    graph_query.PASSING_BOUND_AFTER_LARGE = WHOLE_AFTER[1] if whole else _AS_IS["after_large"]
+    graph_passing.PIECE_LENGTH = None if whole else _AS_IS["piece"]
+    graph_bounds.W_EXACT = True if whole else _AS_IS["w_exact"]
+    graph_passing.GEOMETRY_CACHE = 0 if whole else _AS_IS["cache"]
+    graph_query.LIMIT_SLACKS = () if whole else _AS_IS["slacks"]
+    graph_query.BOUND_GAIN = WHOLE_GAIN if whole else _AS_IS["gain"]
     graph_search.AGAIN_GRID_STEPS = 0.0 if old else _AS_IS["again"]
     graph_query.RESUME_WITHOUT_GAIN = False if old else _AS_IS["resume"]
     graph_bounds.POINTS_FROM_FRONTS = False if old else _AS_IS["points"]
@@ -118,8 +131,21 @@ def _arm(compare: str | None, before: bool) -> None:
 #: The pops after which the earlier search started again with the passing bound.
 EARLIER_AFTER = 5000
 
+#: The pops after which the search with whole passing segments started again with the bound (up to 120 edges,
+#: above).
+WHOLE_AFTER = (2000, 5000)
+
+#: The passing bound of whole segments was used only when it gained 0.1 % at the start.
+WHOLE_GAIN = 1e-3
+
 _AS_IS: dict[str, Any] = {
     "after": graph_query.PASSING_BOUND_AFTER,
+    "after_large": graph_query.PASSING_BOUND_AFTER_LARGE,
+    "piece": graph_passing.PIECE_LENGTH,
+    "w_exact": graph_bounds.W_EXACT,
+    "cache": graph_passing.GEOMETRY_CACHE,
+    "slacks": graph_query.LIMIT_SLACKS,
+    "gain": graph_query.BOUND_GAIN,
     "again": graph_search.AGAIN_GRID_STEPS,
     "resume": graph_query.RESUME_WITHOUT_GAIN,
     "points": graph_bounds.POINTS_FROM_FRONTS,
@@ -201,9 +227,12 @@ def main() -> None:
     ap.add_argument("--out", default=None)
     ap.add_argument("--compare", action="store_true", help="without and with the passing bound, side by side")
     ap.add_argument("--steps", action="store_true", help="the earlier search and this one, side by side")
+    ap.add_argument(
+        "--limits", action="store_true", help="the bound of whole segments and the one of pieces and limits"
+    )
     ap.add_argument("--large", action="store_true", help="also the 1 000-edge warehouse grid and road map")
     args = ap.parse_args()
-    if args.compare or args.steps:
+    if args.compare or args.steps or args.limits:
         print(
             "| layout | edges | queries | CPU median (ms) before → after | CPU p95 (ms) | CPU max (ms) | "
             "wall median (ms) | wall p95 (ms) | wall max (ms) | makespans differing |"
@@ -216,7 +245,8 @@ def main() -> None:
         )
         print("|---|---|---|---|---|---|---|---|---|")
     only = set(args.only.split(",")) if args.only else None
-    records = run(args.queries, args.seed, only, "steps" if args.steps else args.compare, args.large)
+    mode = "steps" if args.steps else ("limits" if args.limits else args.compare)
+    records = run(args.queries, args.seed, only, mode, args.large)
     if args.out:
         Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
 

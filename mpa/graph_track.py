@@ -332,9 +332,9 @@ class GraphTrack:
         layout, _ = read_layout_file(path, level, nav_graph)
         return cls.from_layout(layout)
 
-    @property
+    @cached_property
     def has_rules(self) -> bool:
-        """Whether some edge is one-way or has a speed limit."""
+        """Whether some edge is one-way or has a speed limit (computed once per layout)."""
         return any(self.oneway) or any(v is not None for v in self.speed_limits)
 
     def to_dict(self) -> dict[str, Any]:

@@ -35,9 +35,12 @@ def layout_scale(lengths: Iterable[float]) -> float:
     Parameters
     ----------
     lengths : iterable of float
-        Edge lengths (m).
+        Edge lengths (m); a numpy array is read as one list (the same sum, in the same order, without a Python
+        loop over its elements).
     """
-    return max(1.0, float(sum(float(x) for x in lengths)))
+    tolist = getattr(lengths, "tolist", None)
+    values = tolist() if callable(tolist) else [float(x) for x in lengths]
+    return max(1.0, float(sum(values)))
 
 
 def membership_tol(scale: float) -> float:

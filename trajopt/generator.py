@@ -553,7 +553,12 @@ class TrajectoryGenerator:
         t = time_grid(scaling.duration, self.rate)
         s, v, a, j = scaling.sample(t)
         view = plan_view(plan)
-        tr = view.track_coordinates(s)
+        rows_pos = None  # a graph plan's edges, offsets and directions: one search of the route breaks for all
+        if view.is_graph:
+            e, o, d, tr = view.graph_rows(s, v)
+            rows_pos = (e, o, d)
+        else:
+            tr = view.track_coordinates(s)
         timings["sample"] = time.perf_counter() - t0
         t1 = time.perf_counter()
         used = self.motion_limits  # the limits the motion is timed with, declared with the rows
@@ -563,6 +568,7 @@ class TrajectoryGenerator:
             clearance=self.clearance,
             rate=self.rate,
             limits_used=used,
+            positions=None if rows_pos is None else rows_pos[:2],
         )
         timings["verify" if source is Source.OPTIMIZED else "fallback_verify"] = time.perf_counter() - t1
         if not rep.ok:
@@ -571,14 +577,14 @@ class TrajectoryGenerator:
         if self.footprint is not None:
             from trajopt.verify.planar import verify_plane
 
-            e, o = view.positions(s, v)
+            e, o = (rows_pos[0], rows_pos[1]) if rows_pos is not None else view.positions(s, v)
             t2 = time.perf_counter()
             prep = verify_plane(view.graph, self.footprint, e, o, v, amax=self.limits.a, rate=self.rate)
             timings["verify_plane"] = time.perf_counter() - t2
             if not prep.ok:
                 raise VerificationError(replace(rep, ok=False, failures=rep.failures + prep.failures))
             plane = prep.to_dict()
-        return Trajectory(
+        traj = Trajectory(
             **verified_rows(t, tr, (s, v, a, j), rep),
             limits=self.limits,
             clearance=self.clearance,
@@ -597,6 +603,9 @@ class TrajectoryGenerator:
             plane=plane,
             limits_used=used,
         )
+        if rows_pos is not None:
+            traj.cache_positions(*rows_pos)  # the rows' positions as the gate checked them, not searched again
+        return traj
 
     def _retimer(self, plan: Plan | GraphPlan) -> Any:
         """``rate -> Trajectory``: the query again at another rate (a graph plan is made for that rate's margin)."""

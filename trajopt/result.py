@@ -258,6 +258,12 @@ class Trajectory:
             object.__setattr__(self, "_pos", cached)
         return cached
 
+    def cache_positions(self, edges: NDArray[np.int64], offsets: FloatArray, directions: NDArray[np.int64]) -> None:
+        """Keep the rows' positions, computed with the rows (:meth:`trajopt.path.planview.PlanView.graph_rows`),
+        for :attr:`edges`, :attr:`offsets` and :attr:`directions` (each shape (N, 2)), instead of searching the
+        routes again."""
+        object.__setattr__(self, "_pos", (edges, offsets, directions))
+
     @property
     def edges(self) -> NDArray[np.int64]:
         """Edge index of each robot at every row (on the paper tracks: of the graph form). Shape (N, 2)."""

@@ -10,6 +10,10 @@
   cached (seeded queries, every fourth a swap: median, p95, max, CPU and wall; optionally each stopped after a
   budget) and the verified trajectory (plan, timing, gate: median) of the first queries.
 - :func:`scale_markdown`: the table, with the growth exponent fitted (least squares in log–log) per column.
+- :func:`trajectory_above_plan`: what the verified trajectory costs above its plan (timing, sampling, gate), per
+  query: the plan and the trajectory from it timed apart on the same seeded queries (not swaps), after one
+  unrecorded trajectory that loads the compiled kernels; medians CPU and wall, and a SHA-256 of every setpoint row
+  (the same queries give the same hash on two checkouts when the setpoints are identical).
 """
 
 from __future__ import annotations
@@ -27,7 +31,15 @@ from mpa.errors import MPAError
 from mpa.freespace import FreeSpace, free_space
 from mpa.graph_track import GraphTrack
 
-__all__ = ["KINDS", "road_map_layout", "run_scale", "scale_markdown", "warehouse_layout"]
+__all__ = [
+    "KINDS",
+    "above_plan_markdown",
+    "road_map_layout",
+    "run_scale",
+    "scale_markdown",
+    "trajectory_above_plan",
+    "warehouse_layout",
+]
 
 
 def warehouse_layout(n_edges: int, seed: int) -> GraphTrack:
@@ -238,5 +250,85 @@ def scale_markdown(records: list[dict[str, Any]]) -> str:
             f"{_exponent(rs, 'polygons'):.2f} | {_exponent(rs, 'plan_cpu_median'):.2f} | "
             f"{_exponent(rs, 'plan_cpu_p95'):.2f} | {_exponent(rs, 'plan_cpu_max'):.2f} | "
             f"{_exponent(rs, 'trajectory_median'):.2f} | |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def trajectory_above_plan(
+    track: GraphTrack, clearance: float = 1.0, queries: int = 20, seed: int = 0, rate: float = 100.0
+) -> dict[str, Any]:
+    """The verified trajectory's cost above its plan on ``track``, per seeded query that is not a swap.
+
+    Each query is planned (:meth:`TrajectoryGenerator.plan`, timed) and then made into verified setpoints
+    (:meth:`TrajectoryGenerator.generate_from_plan`: timing, sampling, the gate; timed apart), limits 1 m/s,
+    1 m/s², 4 m/s³ at ``rate`` Hz, the free space built first; one trajectory before them is not recorded (it
+    loads numba's compiled kernels, about 0.3-0.6 s once per process).
+
+    Returns
+    -------
+    dict
+        ``edges``, ``queries`` (timed), ``rows_median``; ``plan_median``, ``plan_cpu_median`` and
+        ``above_median``, ``above_cpu_median``, ``above_max``, ``above_cpu_max`` (s): the trajectory minus its plan;
+        ``sha256``: of the rows ``t, s, v, a, j`` of every timed query in order.
+    """
+    import hashlib
+
+    from trajopt.generator import TrajectoryGenerator
+    from trajopt.timing import Limits
+
+    free_space(track, clearance)
+    gen = TrajectoryGenerator(track, clearance=clearance, limits=Limits(1.0, 1.0, 4.0), rate=rate)
+    rows: list[tuple[float, float, float, float, int]] = []
+    digest = hashlib.sha256()
+    warm = False
+    for q in make_graph_queries(track, 4 * queries + 2, seed, [clearance]):
+        if len(rows) >= queries:
+            break
+        if q["swap"]:
+            continue
+        try:
+            w0, c0 = time.perf_counter(), time.process_time()
+            plan = gen.plan(q["start"], q["goal"])
+            w1, c1 = time.perf_counter(), time.process_time()
+            traj = gen.generate_from_plan(plan)
+            w2, c2 = time.perf_counter(), time.process_time()
+        except MPAError:  # no motion: not timed
+            continue
+        if not warm:  # the kernels' first load, once per process
+            warm = True
+            continue
+        for arr in (traj.t, traj.s, traj.v, traj.a, traj.j):
+            digest.update(np.ascontiguousarray(arr).tobytes())
+        rows.append((w1 - w0, c1 - c0, w2 - w1, c2 - c1, len(traj.t)))
+    r = np.array(rows, dtype=float).reshape(-1, 5)
+    med = np.median(r, axis=0) if len(r) else np.full(5, np.nan)
+    top = np.max(r, axis=0) if len(r) else np.full(5, np.nan)
+    return {
+        "edges": track.n_edges,
+        "queries": len(r),
+        "rows_median": float(med[4]),
+        "plan_median": float(med[0]),
+        "plan_cpu_median": float(med[1]),
+        "above_median": float(med[2]),
+        "above_cpu_median": float(med[3]),
+        "above_max": float(top[2]),
+        "above_cpu_max": float(top[3]),
+        "sha256": digest.hexdigest(),
+    }
+
+
+def above_plan_markdown(records: list[dict[str, Any]]) -> str:
+    """The table of :func:`trajectory_above_plan` records (each with its ``kind``)."""
+    lines = [
+        "| layout | edges | queries | rows (median) | plan median (ms, CPU / wall) | "
+        "trajectory minus plan, median (ms, CPU / wall) | max (ms, CPU / wall) | setpoints SHA-256 |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for r in records:
+        lines.append(
+            f"| {r['kind']} | {r['edges']} | {r['queries']} | {r['rows_median']:.0f} | "
+            f"{r['plan_cpu_median'] * 1e3:.2f} / {r['plan_median'] * 1e3:.2f} | "
+            f"{r['above_cpu_median'] * 1e3:.2f} / {r['above_median'] * 1e3:.2f} | "
+            f"{r['above_cpu_max'] * 1e3:.1f} / {r['above_max'] * 1e3:.1f} | {r['sha256'][:16]} |"
         )
     return "\n".join(lines) + "\n"

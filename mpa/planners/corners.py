@@ -28,7 +28,8 @@ durations, seconds²; solved with durations in metres at the faster speed, :func
 corners do not depend on the speeds' common scale). The function is strictly convex in the free corners and the
 durations and the feasible set is a polyhedron that moves continuously with the query, so the minimiser is unique
 and continuous in the query. It is a least-distance programme, solved exactly (a finite active-set method) by
-Lawson and Hanson's reduction to non-negative least squares (:func:`scipy.optimize.nnls`): with ``R`` from the QR
+Lawson and Hanson's reduction to non-negative least squares (:func:`scipy.optimize.nnls`'s routine, loaded without
+the rest of :mod:`scipy.optimize`: :func:`mpa._nnls.nnls`): with ``R`` from the QR
 factorisation of the map from the free corners to the scaled segment moves, ``min |y|`` subject to ``G y >= h`` is
 ``y = -r[:n] / r[n]`` for the residual ``r = E u - (0, ..., 0, 1)`` of the non-negative least squares problem with
 ``E = [Gᵀ; hᵀ]``.
@@ -47,9 +48,9 @@ import math
 from typing import Any
 
 import numpy as np
-from scipy.optimize import nnls
 
 from mpa._arrays import FloatArray
+from mpa._nnls import nnls
 from mpa.freespace import FreeSpace, PolygonId
 
 __all__ = ["RESOLVE_TOL", "resolve_corners"]

@@ -13,14 +13,15 @@ from trajopt.cli.main import SUBCOMMANDS, build_parser
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def _run(code: str) -> str:
+def _run(code: str, *argv: str, **env: str) -> str:
+    """``python -c code argv...`` from the repository root with only ``PYTHONPATH`` and ``env`` set; its stdout."""
     out = subprocess.run(
-        [sys.executable, "-c", code],
+        [sys.executable, "-c", code, *argv],
         capture_output=True,
         text=True,
         check=True,
         cwd=ROOT,
-        env={"PYTHONPATH": str(ROOT)},
+        env={"PYTHONPATH": str(ROOT), **env},
     )
     return out.stdout.strip()
 
@@ -99,3 +100,57 @@ def test_monkeypatching_mpa_plan(monkeypatch: pytest.MonkeyPatch) -> None:
     assert mpa.plan is len
     monkeypatch.undo()
     assert mpa.plan is original
+
+
+#: What ``main`` leaves in the environment, and whether numpy's OpenBLAS started with one thread.
+_BLAS_PROBE = (
+    "import contextlib, io, os, sys\n"
+    "from trajopt.cli.main import BLAS_THREAD_VARIABLES, main\n"
+    "with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):\n"
+    "    main(['plan', '--track', 'lollipop', '--stick', '1', '--loop', '1', '--start', '0.2', '0.5',"
+    " '--goal', '0.5', '0.2'])\n"
+    "print([os.environ.get(k) for k in BLAS_THREAD_VARIABLES], 'numpy' in sys.modules)\n"
+)
+
+
+def test_the_command_line_runs_blas_on_one_thread() -> None:
+    assert _run(_BLAS_PROBE) == "['1', '1', '1'] True"
+
+
+def test_a_thread_count_given_in_the_environment_is_kept() -> None:
+    assert _run(_BLAS_PROBE, OMP_NUM_THREADS="2") == "[None, None, '2'] True"
+    assert _run(_BLAS_PROBE, OPENBLAS_NUM_THREADS="3") == "['3', None, None] True"
+
+
+def test_a_process_with_numpy_loaded_keeps_its_environment() -> None:
+    code = "import numpy\n" + _BLAS_PROBE
+    assert _run(code) == "[None, None, None] True"
+
+
+#: Runs ``main(argv)`` (``argv`` from ``sys.argv[1:]``) and prints which of the heavy libraries it imported.
+_IMPORTS_PROBE = (
+    "import contextlib, io, sys\n"
+    "from trajopt.cli.main import main\n"
+    "with contextlib.redirect_stdout(io.StringIO()):\n"
+    "    status = main(sys.argv[1:])\n"
+    "heavy = ('numba', 'toppra', 'casadi', 'matplotlib', 'scipy.optimize', 'scipy.sparse')\n"
+    "print(status, sorted(m for m in heavy if m in sys.modules))\n"
+)
+_OFFICE = ["--graph", "tests/data/openrmf/office.building.yaml", "--level", "L1", "--clearance", "0.3"]
+_OFFICE_QUERY = ["--start", "lane0:0.648778078072", "lane29:2.23700606941"]
+_OFFICE_QUERY += ["--goal", "lane3:0.680007503632", "lane23:1.92555051153"]
+
+
+def _imports(argv: list[str], tmp_path: Path) -> str:
+    return _run(_IMPORTS_PROBE, *argv, MPA_CACHE_DIR=str(tmp_path / "cache"))
+
+
+def test_plan_on_a_building_map_imports_no_numba_nor_the_optimisers(tmp_path: Path) -> None:
+    assert _imports(["plan", *_OFFICE, *_OFFICE_QUERY], tmp_path) == "0 []"
+
+
+def test_trajectory_on_a_building_map_imports_numba_only(tmp_path: Path) -> None:
+    # numba runs the gate's kernels; the paper's corridor QP (CasADi), toppra and the drawings are not needed
+    argv = ["trajectory", *_OFFICE, *_OFFICE_QUERY, "--out", str(tmp_path / "run")]
+    assert _imports(argv, tmp_path) == "0 ['numba']"
+    assert sorted(p.name for p in (tmp_path / "run").iterdir()) == ["setpoints.csv", "summary.json"]

@@ -94,3 +94,47 @@ def brute_distance(track: GraphTrack, a: tuple[int, float], b: tuple[int, float]
                 heapq.heappush(heap, (d + w, n, y))
                 n += 1
     return float("inf")
+
+
+def makespans_with(
+    monkeypatch: Any,
+    module: Any,
+    name: str,
+    values: Any,
+    track: GraphTrack,
+    start: Any,
+    goal: Any,
+    clearance: float,
+    speeds: tuple[float, float] = (1.0, 1.0),
+    after_each: Any = None,
+) -> list[float | None]:
+    """``plan_graph``'s makespan with ``module.name`` set to each of ``values`` in turn (None: no motion); every plan
+    keeps the clearance. ``after_each(value)`` runs after each plan (to read what a patched search recorded)."""
+    from mpa.errors import NoMotionError
+    from mpa.planners.graph.query import plan_graph
+
+    out: list[float | None] = []
+    for value in values:
+        monkeypatch.setattr(module, name, value)
+        try:
+            p = plan_graph(track, start, goal, clearance, speeds=speeds)
+        except NoMotionError:
+            out.append(None)
+            continue
+        finally:
+            if after_each is not None:
+                after_each(value)
+        assert p.min_distance() >= p.clearance_used - 1e-9, (name, value, start, goal, clearance)
+        out.append(p.makespan)
+    return out
+
+
+def same_makespans(spans: list[float | None], context: tuple[Any, ...]) -> bool:
+    """Whether both of two plans exist (then their makespans agree to 1e-9); when one is missing, so is the other."""
+    import pytest
+
+    if spans[0] is None or spans[1] is None:
+        assert spans[0] is None and spans[1] is None, (*context, spans)
+        return False
+    assert spans[1] == pytest.approx(spans[0], rel=1e-9, abs=1e-12), (*context, spans)
+    return True

@@ -12,7 +12,6 @@
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +19,6 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mpa.errors import NoMotionError
 from mpa.freespace import FreeSpace, free_space
 from mpa.graph_track import GraphTrack, Position
 from mpa.planners.graph import query as graph_query
@@ -28,10 +26,9 @@ from mpa.planners.graph import search as graph_search
 from mpa.planners.graph.base import F_GRID
 from mpa.planners.graph.bounds import PassingBound, fastest_cost
 from mpa.planners.graph.mesh import _mesh
-from mpa.planners.graph.query import plan_graph
 from mpa.planners.graph.search import AnyAngleSearch
 from mpa.planners.search_common import SearchQuery
-from tests.helpers.graph_helpers import random_free_query, random_layout
+from tests.helpers.graph_helpers import makespans_with, random_free_query, random_layout, same_makespans
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ("y_junction", "passing_loop", "two_sidings", "theta", "lollipop", "figure_eight", "rail_yard")
@@ -187,19 +184,8 @@ def test_resuming_a_long_search_plans_the_same_makespans(name: str, monkeypatch:
             s, g = q
             if k % 2 == 0:
                 g = (s[1], s[0])
-            spans: list[float | None] = []
-            for resume in (False, True):
-                monkeypatch.setattr(graph_query, "RESUME_WITHOUT_GAIN", resume)
-                try:
-                    p = plan_graph(track, s, g, frac * med)
-                except NoMotionError:
-                    spans.append(None)
-                    continue
-                assert p.min_distance() >= p.clearance_used - 1e-9, (name, s, g, frac)
-                spans.append(p.makespan)
-            if spans[0] is None or spans[1] is None:
-                assert spans[0] is None and spans[1] is None, (name, s, g, frac, spans)
-                continue
-            assert math.isclose(spans[0], spans[1], rel_tol=1e-9, abs_tol=1e-9), (name, s, g, frac, spans)
-            compared += 1
+            spans = makespans_with(
+                monkeypatch, graph_query, "RESUME_WITHOUT_GAIN", (False, True), track, s, g, frac * med
+            )
+            compared += same_makespans(spans, (name, s, g, frac))
     assert compared >= 8, compared

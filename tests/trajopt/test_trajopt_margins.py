@@ -127,3 +127,19 @@ def test_figure_script_smoke(tmp_path) -> None:  # type: ignore[no-untyped-def]
     res = run_script("experiments/margins_figure.py", "--out", str(out), "--dpi", "40", "--points", "5")
     assert res.returncode == 0, res.stderr
     assert is_png(out, 5000)
+
+
+@pytest.mark.parametrize("delay", [(0.0, 0.0), (0.37, 0.0), (0.0, 1.25), (0.5, 0.5)])
+def test_states_with_equal_delays_sample_once_and_say_the_same(delay) -> None:  # type: ignore[no-untyped-def]
+    from trajopt.analysis.margins import _Motion
+
+    traj = generate_trajectory(Lollipop(1.0, 1.0), (0.2, 0.5), (0.5, 0.2))
+    motion = _Motion(traj)
+    t = np.linspace(-0.5, traj.motion_time + 2.0, 997)
+    d = np.array(delay)
+    s, a = motion.states(t, d)
+    s0, _, a0, _ = traj.sampler(t - d[0])
+    s1, _, a1, _ = traj.sampler(t - d[1])
+    np.testing.assert_array_equal(s, np.column_stack([s0[:, 0], s1[:, 1]]))
+    np.testing.assert_array_equal(a, np.column_stack([a0[:, 0], a1[:, 1]]))
+    assert s.shape == a.shape == (len(t), 2)

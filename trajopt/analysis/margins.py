@@ -160,6 +160,8 @@ class _Motion:
     def states(self, t: FloatArray, delay: FloatArray) -> tuple[FloatArray, FloatArray]:
         self.sampled += len(t)
         s0, _, a0, _ = self.traj.sampler(t - delay[0])
+        if delay[1] == delay[0]:  # both carts on the same clock: one sampling gives both columns
+            return s0, a0
         s1, _, a1, _ = self.traj.sampler(t - delay[1])
         return np.column_stack([s0[:, 0], s1[:, 1]]), np.column_stack([a0[:, 0], a1[:, 1]])
 

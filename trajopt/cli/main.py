@@ -17,19 +17,37 @@ Exit statuses (one line on stderr in every failing case, never a traceback, no o
 - 4: an internal failure (``internal error: ...``): :class:`mpa.errors.PlanningError` or any unexpected
   exception (a bug);
 - 130: interrupted (Ctrl-C), one line ``interrupted``.
+
+One query runs on one core: unless the environment already says how many threads the linear algebra may use
+(``OPENBLAS_NUM_THREADS``, ``MKL_NUM_THREADS`` or ``OMP_NUM_THREADS``), :func:`main` sets all three to 1 before
+numpy is imported (:func:`single_threaded_blas`). The matrices of one query are small; a BLAS thread pool gains
+nothing on them, and its threads wait for work by spinning, which cost a run of ``mpa trajectory`` on a converted
+building map about 0.4 s of CPU time (docs/performance.md, "mpa trajectory within 2 s"). Processes the command
+starts (``mpa batch``'s workers) inherit the setting; a process that imported numpy before calling :func:`main`
+keeps its own.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 from collections.abc import Sequence
 from typing import Any
 
 from mpa.errors import MPAError, NoMotionError, PlanningError
 
-__all__ = ["EXIT_INTERNAL", "EXIT_INTERRUPTED", "EXIT_NO_MOTION", "EXIT_USAGE", "build_parser", "main"]
+__all__ = [
+    "BLAS_THREAD_VARIABLES",
+    "EXIT_INTERNAL",
+    "EXIT_INTERRUPTED",
+    "EXIT_NO_MOTION",
+    "EXIT_USAGE",
+    "build_parser",
+    "main",
+    "single_threaded_blas",
+]
 
 #: Modules that add subcommands through a ``register(subparsers)`` function.
 SUBCOMMAND_MODULES = (
@@ -73,6 +91,29 @@ EXIT_NO_MOTION = 3
 EXIT_INTERNAL = 4
 #: Exit status after Ctrl-C.
 EXIT_INTERRUPTED = 130
+
+
+#: The environment variables that size the BLAS thread pools (OpenBLAS, MKL, OpenMP), set to 1 by :func:`main`.
+BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")
+
+
+def single_threaded_blas() -> bool:
+    """One BLAS thread for this process and the processes it starts, unless the environment already sizes the pools.
+
+    Sets every variable of :data:`BLAS_THREAD_VARIABLES` to ``"1"`` when none of them is set and numpy is not
+    imported yet (the thread pool is sized when the library loads: a process that already has numpy, such as a
+    test calling :func:`main` in-process, keeps its pools and its environment).
+
+    Returns
+    -------
+    bool
+        Whether the variables were set (False: numpy was loaded, or the environment had one of them, left as is).
+    """
+    if "numpy" in sys.modules or any(name in os.environ for name in BLAS_THREAD_VARIABLES):
+        return False
+    for name in BLAS_THREAD_VARIABLES:
+        os.environ[name] = "1"
+    return True
 
 
 class _Parser(argparse.ArgumentParser):
@@ -138,6 +179,7 @@ def _line(prefix: str, exc: object) -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``mpa`` command; returns the exit status (see the module docstring)."""
+    single_threaded_blas()
     try:
         args_list = list(sys.argv[1:] if argv is None else argv)
         command = _command_of(args_list)

@@ -119,6 +119,47 @@ class PlanView:
             offs[:, r] = np.clip(route.offsets_on(i, x), 0.0, lengths)
         return edges, offs
 
+    def graph_rows(self, s: FloatArray, v: FloatArray) -> tuple[IntArray, FloatArray, IntArray, FloatArray]:
+        """Everything the rows of a graph plan's motion say about positions, from one search of the route breaks.
+
+        The results of :meth:`positions` ``(s, v)``, :meth:`directions` ``(s, v)`` and :meth:`track_coordinates`
+        ``(s)`` (the offsets on the piece taken when the robot moves forward or rests), element for element the
+        same numbers as those three calls give.
+
+        Parameters
+        ----------
+        s, v : ndarray, shape (N, 2)
+            Route coordinates (m) and velocities (m/s) of both robots at the rows.
+
+        Returns
+        -------
+        edges : ndarray of int, shape (N, 2)
+        offsets : ndarray, shape (N, 2)
+            Metres from each edge's tail (:meth:`positions`).
+        directions : ndarray of int, shape (N, 2)
+            +1, -1 or 0 (:meth:`directions`).
+        track : ndarray, shape (N, 2)
+            :meth:`track_coordinates` of ``s`` (m).
+        """
+        S = np.atleast_2d(np.asarray(s, dtype=float))
+        V = np.atleast_2d(np.asarray(v, dtype=float))
+        edges = np.empty(S.shape, dtype=np.int64)
+        offs = np.empty(S.shape)
+        dirs = np.empty(S.shape, dtype=np.int64)
+        track = np.empty(S.shape)
+        for r, route in enumerate(self.routes):
+            x, i, forward = _route_pieces(route, S[:, r], V[:, r])
+            edges[:, r] = route.edges[i]
+            offs[:, r] = np.clip(route.offsets_on(i, x), 0.0, self.graph.lengths[route.edges[i]])
+            sign = np.where(V[:, r] > REST_SPEED, 1, np.where(V[:, r] < -REST_SPEED, -1, 0))
+            dirs[:, r] = sign * route.dirs[i]
+            track[:, r] = offs[:, r]
+            other = np.flatnonzero(forward != i)  # moving backwards onto a break: the forward piece's offset
+            if len(other):
+                k = forward[other]
+                track[other, r] = np.clip(route.offsets_on(k, x[other]), 0.0, self.graph.lengths[route.edges[k]])
+        return edges, offs, dirs, track
+
     def directions(self, s: ArrayLike, v: ArrayLike) -> IntArray:
         """Direction of travel on the current edge: +1 along its orientation, -1 against, 0 at rest. Shape (N, 2)."""
         S = np.atleast_2d(np.asarray(s, dtype=float))
@@ -176,6 +217,7 @@ class PlanView:
         rate: float,
         track_pos: ArrayLike | None = None,
         limits_used: Limits | None = None,
+        positions: tuple[IntArray, FloatArray] | None = None,
     ) -> VerificationReport:
         """The independent gate on rows of this plan's motion (see :mod:`trajopt.verify.gate`).
 
@@ -184,8 +226,10 @@ class PlanView:
 
         ``rows``: a :class:`~trajopt.verify.rows.Setpoints` (``t, s, v, a, j``), or positionally the arrays
         ``t, s, v, a, j``. Paper plans: the rows' track coordinates are ``rows.track`` (or ``track_pos``, shape
-        (N, 2)) when given, else :meth:`track_coordinates` of ``s``; graph plans: the positions of ``s``
-        (:meth:`positions`).
+        (N, 2)) when given, else :meth:`track_coordinates` of ``s``; graph plans: ``positions`` (edges and offsets,
+        shape (N, 2) each) when given (as :meth:`graph_rows` computes them), else :meth:`positions` of ``s`` and
+        ``v``. The gate checks the positions against the routes either way (the rows' distance to their route
+        positions).
         """
         rows = rows_of(rows, arrays, ("t", "s", "v", "a", "j"))
         if track_pos is not None:
@@ -206,7 +250,7 @@ class PlanView:
                 rate=rate,
                 limits_used=limits_used,
             )
-        edges, offs = self.positions(rows.s, rows.v)
+        edges, offs = self.positions(rows.s, rows.v) if positions is None else positions
         return verify_graph_setpoints(
             self.graph.geometry,
             self.routes,
@@ -262,11 +306,22 @@ def route_geometry(track: Track, routes: tuple[Route, Route]) -> RouteGeometry:
 def _route_piece(route: DirectedRoute, s: FloatArray, v: FloatArray) -> tuple[FloatArray, IntArray]:
     """Route coordinates ``s`` (shape (N,)) clipped to the route, and the index of the route's piece (edge) each
     is on: at a junction the piece being entered (the one before when moving backwards, ``v < -REST_SPEED``)."""
+    x, i, _ = _route_pieces(route, s, v)
+    return x, i
+
+
+def _route_pieces(route: DirectedRoute, s: FloatArray, v: FloatArray) -> tuple[FloatArray, IntArray, IntArray]:
+    """:func:`_route_piece` and the piece each ``s`` is on when the robot moves forward or rests (the later one at a
+    junction), from one clip and two searches. Shapes (N,)."""
     br = route.breaks
     x = np.clip(s, br[0], br[-1])
     right = np.searchsorted(br, x, side="right") - 1
-    left = np.searchsorted(br, x, side="left") - 1
-    return x, np.clip(np.where(v < -REST_SPEED, left, right), 0, len(route.edges) - 1)
+    back = np.flatnonzero(v < -REST_SPEED)  # moving backwards: the piece before a junction (searched only there)
+    piece = right.copy()
+    if len(back):
+        piece[back] = np.searchsorted(br, x[back], side="left") - 1
+    last = len(route.edges) - 1
+    return x, np.clip(piece, 0, last), np.clip(right, 0, last)
 
 
 def plan_view(plan: MotionPlan) -> PlanView:

@@ -29,6 +29,12 @@ coupling of p and q along the segment and is therefore still a lower bound. The 
 out (it is >= 0), so the bound never exceeds the search's cost of a motion. Of the vertices at the ends of the
 start's and the goal's edges that separate them, the two clearest are tried and the one whose bound at the start is
 largest is used.
+
+**Pieces, relaxed goal costs, limits.** The segments are cut in pieces of at most ``PIECE_LENGTH`` times the longest
+edge (:mod:`mpa.planners.graph.passing`, which builds them and keeps them per vertex with the free space), which bounds
+what the relaxation loses at a node; ``W_k`` is by default relaxed the same way (each robot from the nearest point of
+its stretch, ``W_EXACT``). :meth:`PassingBound.restrict` keeps only the segments through which a motion from the
+start can cost at most a limit; exact for a search stopped at that limit (the method's docstring).
 """
 
 from __future__ import annotations
@@ -37,12 +43,12 @@ import math
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from mpa._arrays import FloatArray
 from mpa.graph_track import Position
 from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2, FaceKey, Key
 from mpa.planners.graph.mesh import _Mesh
+from mpa.planners.graph.passing import passing_geometry
 
 __all__ = ["BOUND_SAFETY", "PassingBound", "fastest_cost", "passing_bound", "separating_vertices"]
 
@@ -60,7 +66,12 @@ EXACT_CHUNK = 32
 #: False: from every segment (:meth:`PassingBound.at`), the earlier way (the benchmark's comparison).
 POINTS_FROM_FRONTS = True
 
-_SLOPES = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))  # the cell terms' slopes, as in mpa.freespace
+#: Segments on a face's own edge evaluated in a Python loop up to this many, in one numpy pass above.
+ON_EDGE_LOOP = 16
+
+#: ``W_k``, the least cost from segment k to the goal: exact along the segment (True), or relaxed like the bound at a
+#: node (False: each robot from the nearest point of its stretch; a lower bound, within a piece of the exact value).
+W_EXACT = False
 
 
 def _vertex_dist(mesh: _Mesh, pos: Position) -> FloatArray:
@@ -104,18 +115,6 @@ def _crossings(s1: FloatArray, c1: FloatArray, s2: FloatArray, c2: FloatArray) -
     with np.errstate(divide="ignore", invalid="ignore"):
         u = np.where(ds != 0.0, dc / np.where(ds != 0.0, ds, 1.0), np.nan)
     return u.reshape(len(s1), -1)
-
-
-def _keep(
-    lo: FloatArray, hi: FloatArray, ok: NDArray[np.bool_], k: float, rhs: FloatArray
-) -> tuple[FloatArray, FloatArray, NDArray[np.bool_]]:
-    """The interval ``[lo, hi]`` of u cut by ``k u >= rhs`` per row (``k`` one number); rows where ``k = 0`` and
-    ``rhs > 0`` are dropped from ``ok``."""
-    if k > 0:
-        return np.maximum(lo, rhs / k), hi, ok
-    if k < 0:
-        return lo, np.minimum(hi, rhs / k), ok
-    return lo, hi, ok & (rhs <= 0.0)
 
 
 def _hinges(a: FloatArray, d: FloatArray, w: FloatArray, s1: float, s2: float) -> list[tuple[float, float]]:
@@ -185,6 +184,37 @@ def _least(u0: FloatArray, u1: FloatArray, terms: list[tuple[Pieces, Pieces]], v
     return np.min(total, axis=1)
 
 
+def _relaxed(
+    g: Any,
+    e: np.ndarray,
+    u0: FloatArray,
+    u1: FloatArray,
+    f: np.ndarray,
+    v0: FloatArray,
+    v1: FloatArray,
+    pa: Position,
+    pb: Position,
+    vda: FloatArray,
+    vdb: FloatArray,
+    va: float,
+    vb: float,
+) -> FloatArray:
+    """``comb(d(a, P_k), d(b, Q_k))`` per segment (s): robot A at ``pa`` to the nearest point of its stretch ``P_k =
+    [u0, u1]`` of edge ``e``, robot B at ``pb`` to ``Q_k = [v0, v1]`` of ``f`` (``vda``, ``vdb``: their vertex
+    distances), each alone: a lower bound of the cost of reaching the segment together. Shape (K,)."""
+    lengths, tails, heads = g.lengths, g.tails, g.heads
+    da = np.minimum(vda[tails[e]] + u0, vda[heads[e]] + lengths[e] - u1)
+    on = e == pa[0]
+    if on.any():
+        da[on] = np.minimum(da[on], np.maximum(0.0, np.maximum(u0[on] - pa[1], pa[1] - u1[on])))
+    db = np.minimum(vdb[tails[f]] + v0, vdb[heads[f]] + lengths[f] - v1)
+    on = f == pb[0]
+    if on.any():
+        db[on] = np.minimum(db[on], np.maximum(0.0, np.maximum(v0[on] - pb[1], pb[1] - v1[on])))
+    ta, tb = da / va, db / vb
+    return np.maximum(ta, tb) + TIE_BREAK * (ta + tb)
+
+
 def separating_vertices(
     mesh: _Mesh,
     start: tuple[Position, Position],
@@ -250,6 +280,7 @@ class PassingBound:
         self._fronts: dict[tuple[int, int, int], list[tuple[float, float]]] = {}
         vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
         self._goal_vd = vd[2:]
+        self._goal = goal
         best: tuple[float, int, tuple[Any, ...]] | None = None
         for x in separating_vertices(mesh, start, goal, vd)[:VERTICES_TRIED]:
             segs = self._segments(x, goal)
@@ -260,70 +291,58 @@ class PassingBound:
                 best = (h0, x, segs)
         if best is not None:
             self.at_start, self.vertex, self._segs = best
+            self._all_segs = self._segs
+            e, u0, u1, f, v0, v1, w = self._segs[:7]
+            self._from_start = _relaxed(mesh.g, e, u0, u1, f, v0, v1, start[0], start[1], vd[0], vd[1], va, vb) + w
             self._sign = 1.0 if float(vd[2][best[1]] - vd[3][best[1]]) > 0.0 else -1.0
             self.n_segments = len(self._segs[0])
+
+    def restrict(self, limit: float) -> None:
+        """Keep only the segments through which a motion from the start can cost at most ``limit`` (s): those whose
+        relaxed cost from the start ``comb(d(a0, P_k), d(b0, Q_k)) + W_k`` is at most ``limit``.
+
+        Exact for every search node whose bound is at most ``limit`` minus its cost from the start: the search's cost
+        obeys the triangle inequality, so ``g(n) + b_k(n) >= b_k(start)`` for every node ``n`` and segment ``k``, and a
+        segment dropped here is never the least at such a node. A search with a limit at least the optimum
+        therefore finds the optimum; one whose motion costs more than ``limit`` proves nothing, and the caller
+        searches again with a limit no smaller than that motion's cost (:func:`mpa.planners.graph.query.plan_graph`).
+        """
+        if self.vertex is None:
+            return
+        keep = self._from_start <= limit * (1.0 + 1e-9)
+        self._segs = tuple(a[keep] for a in self._all_segs)
+        self.n_segments = int(keep.sum())
+        self._cache = {("S",): self._cache[("S",)]} if ("S",) in self._cache else {}
+        self._face_parts.clear()
+        self._entries.clear()
+        self._times.clear()
+        self._fronts.clear()
 
     # ------------------------------------------------------------------------------------------ segments
     def _segments(self, x: int, goal: tuple[Position, Position]) -> tuple[Any, ...] | None:
         """The passing segments of ``φ = d(x, ·)`` and their least goal cost ``W_k``: arrays ``(e, u0, u1, f, v0,
-        v1, W)`` over the segments, None when there are none."""
-        mesh = self.mesh
-        g = mesh.g
-        fs = mesh.fs
-        lengths, tails, heads = g.lengths, g.tails, g.heads
-        dmin = fs._dmin
-        slack = 1e-12 * mesh.scale
-        phi_t, phi_h = g.dv[x, tails], g.dv[x, heads]
-        mid = np.clip(0.5 * (lengths + phi_h - phi_t), 0.0, lengths)
-        parts: dict[tuple[int, int, int], list[tuple[FloatArray, ...]]] = {}
-        for ee, ff in fs.nonempty_cells():  # a block of cells at a time: memory bounded on large layouts
-            c0 = g.cell_terms_array(ee, ff)
-            same = ee == ff
-            for pe in (0, 1):
-                se = 1.0 if pe == 0 else -1.0
-                ce = phi_t[ee] if pe == 0 else lengths[ee] + phi_h[ee]
-                ua = np.zeros(len(ee)) if pe == 0 else mid[ee]
-                ub = mid[ee] if pe == 0 else lengths[ee]
-                for pf in (0, 1):
-                    sf = 1.0 if pf == 0 else -1.0
-                    cf = phi_t[ff] if pf == 0 else lengths[ff] + phi_h[ff]
-                    va_ = np.zeros(len(ff)) if pf == 0 else mid[ff]
-                    vb_ = mid[ff] if pf == 0 else lengths[ff]
-                    alpha = se * sf
-                    beta = sf * (ce - cf)  # v = alpha u + beta on the piece
-                    if alpha > 0:
-                        lo, hi = np.maximum(ua, va_ - beta), np.minimum(ub, vb_ - beta)
-                    else:
-                        lo, hi = np.maximum(ua, beta - vb_), np.minimum(ub, beta - va_)
-                    ok = np.ones(len(ee), dtype=bool)
-                    for j, (ca, cb) in enumerate(_SLOPES):  # c0 + ca u + cb v >= dmin
-                        lo, hi, ok = _keep(lo, hi, ok, ca + cb * alpha, dmin - slack - c0[:, j] - cb * beta)
-                    # one edge: |u - v| >= dmin, u - v = (1 - alpha) u - beta; the two sides are two cases
-                    for case in (0, 1, -1):
-                        m = ok & (~same if case == 0 else same)
-                        lo_c, hi_c = lo, hi
-                        if case != 0:
-                            lo_c, hi_c, m = _keep(lo, hi, m, case * (1.0 - alpha), dmin - slack + case * beta)
-                        m &= lo_c <= hi_c
-                        if m.any():
-                            b = beta[m]
-                            row = (ee[m], lo_c[m], hi_c[m], ff[m], np.full(int(m.sum()), alpha), b)
-                            parts.setdefault((pe, pf, case), []).append(row)
-        rows = [r for key in sorted(parts, key=lambda k: (k[0], k[1], (0, 1, -1).index(k[2]))) for r in parts[key]]
-        if not rows:
+        v1, W, alpha, beta, goal pieces of A, of B)`` over the segments, None when there are none."""
+        geom = passing_geometry(self.mesh, x)
+        if geom is None:
             return None
-        e = np.concatenate([r[0] for r in rows])
-        u0 = np.concatenate([r[1] for r in rows])
-        u1 = np.concatenate([r[2] for r in rows])
-        f = np.concatenate([r[3] for r in rows])
-        al = np.concatenate([r[4] for r in rows])
-        be = np.concatenate([r[5] for r in rows])
+        e, u0, u1, f, al, be = geom
         g = self.mesh.g
+        v_a, v_b = al * u0 + be, al * u1 + be
+        v0, v1 = np.minimum(v_a, v_b), np.maximum(v_a, v_b)
+        if W_EXACT:
+            w = _least(u0, u1, [self._goal_pieces(e, f, al, be)], self.va, self.vb)
+        else:  # each robot to the nearest point of its stretch: a lower bound of the least along the segment
+            gva, gvb = self._goal_vd
+            w = _relaxed(g, e, u0, u1, f, v0, v1, goal[0], goal[1], gva, gvb, self.va, self.vb)
+        return e, u0, u1, f, v0, v1, w, al, be
+
+    def _goal_pieces(self, e: np.ndarray, f: np.ndarray, al: FloatArray, be: FloatArray) -> tuple[Pieces, Pieces]:
+        """The robots' distances to their goals as affine pieces in ``u`` along segments ``(e, f, alpha, beta)``."""
+        g = self.mesh.g
+        goal = self._goal
         goal_a = _pieces(e, self._goal_vd[0], goal[0], g.lengths, g.tails, g.heads)
         goal_b = _in_u(_pieces(f, self._goal_vd[1], goal[1], g.lengths, g.tails, g.heads), al, be)
-        w = _least(u0, u1, [(goal_a, goal_b)], self.va, self.vb)
-        v_a, v_b = al * u0 + be, al * u1 + be
-        return e, u0, u1, f, np.minimum(v_a, v_b), np.maximum(v_a, v_b), w, al, be, goal_a, goal_b
+        return goal_a, goal_b
 
     # ------------------------------------------------------------------------------------------ the bound
     def _value(
@@ -333,33 +352,38 @@ class PassingBound:
         (``comb(d(a, P_k), d(b, Q_k)) + W_k``, a lower bound of the exact one), then the exact least of
         ``comb(d(a, p), d(b, q)) + comb(d(p, a1), d(q, b1))`` along the segments in the order of their relaxed
         values, until the next relaxed value is no smaller than the best exact one."""
-        e, u0, u1, f, v0, v1, w, al, be, goal_a, goal_b = segs
+        e, u0, u1, f, v0, v1, w, al, be = segs
         g = self.mesh.g
         lengths, tails, heads = g.lengths, g.tails, g.heads
-        da = np.minimum(vda[tails[e]] + u0, vda[heads[e]] + lengths[e] - u1)
-        on = e == pa[0]
-        if on.any():
-            da[on] = np.minimum(da[on], np.maximum(0.0, np.maximum(u0[on] - pa[1], pa[1] - u1[on])))
-        db = np.minimum(vdb[tails[f]] + v0, vdb[heads[f]] + lengths[f] - v1)
-        on = f == pb[0]
-        if on.any():
-            db[on] = np.minimum(db[on], np.maximum(0.0, np.maximum(v0[on] - pb[1], pb[1] - v1[on])))
-        ta, tb = da / self.va, db / self.vb
-        relaxed = np.maximum(ta, tb) + TIE_BREAK * (ta + tb) + w
+        relaxed = _relaxed(g, e, u0, u1, f, v0, v1, pa, pb, vda, vdb, self.va, self.vb) + w
         if not exact:
             return float(relaxed.min()) * (1.0 - BOUND_SAFETY)
-        order = np.argsort(relaxed, kind="stable")
         best = math.inf
-        for i in range(0, len(order), EXACT_CHUNK):
-            idx = order[i : i + EXACT_CHUNK]
-            if relaxed[idx[0]] >= best:
-                break
-            here_a = _pieces(e[idx], vda, pa, lengths, tails, heads)
-            here_b = _in_u(_pieces(f[idx], vdb, pb, lengths, tails, heads), al[idx], be[idx])
-            ga: Pieces = (goal_a[0][idx], goal_a[1][idx], goal_a[2][idx], goal_a[3][idx])
-            gb: Pieces = (goal_b[0][idx], goal_b[1][idx], goal_b[2][idx], goal_b[3][idx])
-            least = _least(u0[idx], u1[idx], [(here_a, here_b), (ga, gb)], self.va, self.vb)
-            best = min(best, float(least.min()))
+        # the few smallest relaxed values first (a partition, not a sort of every segment), then every segment whose
+        # relaxed value is still below the best exact one, in rising order, until the next is no smaller
+        first = np.argpartition(relaxed, EXACT_CHUNK)[:EXACT_CHUNK] if len(relaxed) > EXACT_CHUNK else None
+        for pass_ in (0, 1):
+            if pass_ == 0:
+                if first is None:
+                    continue
+                cand = first
+            else:
+                cand = np.nonzero(relaxed < best)[0] if math.isfinite(best) else np.arange(len(relaxed))
+            cand = cand[np.argsort(relaxed[cand], kind="stable")]
+            for i in range(0, len(cand), EXACT_CHUNK):
+                idx = cand[i : i + EXACT_CHUNK]
+                if relaxed[idx[0]] >= best:
+                    break
+                here_a = _pieces(e[idx], vda, pa, lengths, tails, heads)
+                here_b = _in_u(_pieces(f[idx], vdb, pb, lengths, tails, heads), al[idx], be[idx])
+                least = _least(
+                    u0[idx],
+                    u1[idx],
+                    [(here_a, here_b), self._goal_pieces(e[idx], f[idx], al[idx], be[idx])],
+                    self.va,
+                    self.vb,
+                )
+                best = min(best, float(least.min()))
         return best * (1.0 - BOUND_SAFETY)
 
     def at(self, pa: Position, pb: Position) -> float:
@@ -381,8 +405,8 @@ class PassingBound:
         out = self._cache.get(key)
         if out is None:
             if key == ("S",) or not POINTS_FROM_FRONTS:
-                if key == ("S",):
-                    out = self.at(*self.start)
+                if key == ("S",):  # the exact least through the segments, found when the bound was built
+                    out = self.at_start
                 else:
                     (e, f, _), (s, t) = self.mesh.members(key)[0]
                     out = self.at((e, s), (f, t))
@@ -447,9 +471,14 @@ class PassingBound:
         )
         if on is not None:  # segments on the face's own edge: straight along it to their stretch
             inv = 1.0 / (self.vb if face[0] == 0 else self.va)
-            for a_k, w_k, z0, z1 in on:
-                x = max(0.0, z0 - y1, y0 - z1) * inv  # the edge robot's time to the stretch (s)
-                best = min(best, max(a_k, x) + TIE_BREAK * (a_k + x) + w_k)
+            if isinstance(on, list):
+                for a_k, w_k, z0, z1 in on:
+                    x = max(0.0, z0 - y1, y0 - z1) * inv  # the edge robot's time to the stretch (s)
+                    best = min(best, max(a_k, x) + TIE_BREAK * (a_k + x) + w_k)
+            else:  # many: one numpy pass, the same operations per segment
+                a_k, w_k, z0, z1 = on
+                x = np.maximum(np.maximum(0.0, z0 - y1), y0 - z1) * inv
+                best = min(best, float(np.min(np.maximum(a_k, x) + TIE_BREAK * (a_k + x) + w_k)))
         return best
 
     def least_through_all(self, face: FaceKey, y0: float, y1: float) -> float:
@@ -485,7 +514,12 @@ class PassingBound:
         eb, ub0, ub1 = (f_, v0, v1) if ax == 0 else (e_, u0, u1)
         a = self._vertex_times(ax, w)
         on = eb == other
-        on_part = list(zip(a[on].tolist(), wk[on].tolist(), ub0[on].tolist(), ub1[on].tolist())) if on.any() else None
+        n_on = int(on.sum())
+        on_part: Any = None
+        if n_on > ON_EDGE_LOOP:
+            on_part = (a[on], wk[on], ub0[on], ub1[on])
+        elif n_on:
+            on_part = list(zip(a[on].tolist(), wk[on].tolist(), ub0[on].tolist(), ub1[on].tolist()))
         return self._front(ax, w, int(g._t[other])), self._front(ax, w, int(g._h[other])), on_part
 
     def _vertex_times(self, ax: int, w: int) -> FloatArray:

@@ -15,7 +15,7 @@ from mpa.footprint import footprints
 from mpa.freespace import free_space, validate_size
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 from mpa.planners.graph.assemble import _assemble, _merge_same_polygon
-from mpa.planners.graph.base import OBJECTIVES, SPEED_RANGE, SPEED_RATIO
+from mpa.planners.graph.base import OBJECTIVES, SPEED_RANGE, SPEED_RATIO, TIE_BREAK
 from mpa.planners.graph.bounds import passing_bound, separating_vertices
 from mpa.planners.graph.mesh import _mesh
 from mpa.planners.graph.reasons import _why_no_motion
@@ -24,28 +24,36 @@ from mpa.planners.graph.search import AnyAngleSearch
 from mpa.planners.graph.shortcut import _independent_motion
 from mpa.planners.search_common import SearchQuery
 
-#: Queue pops after which a "fastest" search starts again with the passing bound (:mod:`mpa.planners.graph.bounds`:
-#: building it costs a few ms, up to about 0.1 s at 150 edges, so only searches that negotiate long get it; a query
-#: that no vertex separates, where the bound is 0, is searched once without it); None: never. Measured
-#: (docs/performance.md): after 2 000 pops the slowest query of office L1, hotel L1, the 77-edge warehouse, scaling
-#: 30/1 and the 100-edge warehouse and road map is 1.2-1.7x faster than after 5 000; on the 150-edge layouts (up to
-#: 12 000 passing segments) 2-4x slower, so layouts of more than ``PASSING_BOUND_EDGES`` edges wait
-#: ``PASSING_BOUND_AFTER_LARGE`` pops.
-PASSING_BOUND_AFTER: int | None = 2000
+#: Queue pops after which a "fastest" search starts again with the passing bound (:mod:`mpa.planners.graph.bounds`;
+#: a query that no vertex separates, where the bound is 0, is searched once without it); None: never. Building the
+#: bound takes a few ms (its segments' geometry is kept per vertex with the free space, their goal costs are relaxed),
+#: and a search whose bound keeps only the segments near the optimum is cheap per node, so searches that negotiate get
+#: it early. Measured (docs/performance.md): after 300 pops against 2 000 (5 000 above 120 edges) with whole segments.
+PASSING_BOUND_AFTER: int | None = 300
 
 #: Edges above which the passing bound waits ``PASSING_BOUND_AFTER_LARGE`` pops (at least ``PASSING_BOUND_AFTER``).
 PASSING_BOUND_EDGES = 120
 
-PASSING_BOUND_AFTER_LARGE = 5000
+PASSING_BOUND_AFTER_LARGE = 300
 
-#: The passing bound is used when at the start it is above this multiple of the robots' own bound (s / s).
-BOUND_GAIN = 1.001
+#: The passing bound is used when at the start it exceeds the robots' own bound (with the travel tie-break) by more
+#: than this fraction of it. Its gain on a swap is seconds; where the robots' own motions already take the least time,
+#: the bound still knows that one robot must step aside (its travel: 1e-9 to 1e-8 of the bound on the airport map's
+#: slowest plateaus), and the search ordered by it takes 0.5-10x fewer nodes there (docs/performance.md).
+BOUND_GAIN = 1e-9
 
 #: When the passing bound knows no more than the robots' own bound at the start (``BOUND_GAIN``), the search that
 #: took ``PASSING_BOUND_AFTER`` pops goes on where it stopped (``AnyAngleSearch.run`` resumes) instead of starting
 #: again without a bound (False: the earlier scheme, the same search twice). With a gain it starts again with the
 #: bound: resumed with the bound (the queued nodes re-keyed), the swaps of the airport map took 1.2-1.5x longer.
 RESUME_WITHOUT_GAIN = True
+
+#: The bounded search keeps first only the passing segments through which a motion can cost at most ``(1 + slack)``
+#: times the bound at the start (:meth:`PassingBound.restrict`) and stops when the queue's least bound exceeds that
+#: (below it the search is the one with every segment, node for node); then again with the next slack, and last with
+#: every segment. Empty: every segment at once. The first, 1e-8, is the tie-breaks' scale: a query whose motion takes
+#: the bound's time (a plateau) is answered with the few segments that allow it.
+LIMIT_SLACKS: tuple[float, ...] = (1e-8, 0.02, 0.1, 0.3)
 
 
 # ------------------------------------------------------------------------------------------------- API
@@ -184,11 +192,21 @@ def plan_graph(
     segs = search.run(after)
     if segs is None:  # a long negotiation: again with the bound that knows the robots must pass, if it knows more
         passing = passing_bound(mesh, s, gl, va, vb)
-        own = max(geo.distance_scalar(*s[0], *gl[0]) / va, geo.distance_scalar(*s[1], *gl[1]) / vb)
-        bound = passing if passing and passing.at_start > own * BOUND_GAIN else None
-        if bound is not None or not RESUME_WITHOUT_GAIN:
-            search = AnyAngleSearch(mesh, query, bound=bound)
-        segs = search.run()  # with no gain from the bound: the same search resumed, not started again
+        ta, tb = geo.distance_scalar(*s[0], *gl[0]) / va, geo.distance_scalar(*s[1], *gl[1]) / vb
+        own = max(ta, tb) + TIE_BREAK * (ta + tb)
+        bound = passing if passing and passing.at_start > own * (1.0 + BOUND_GAIN) else None
+        if bound is not None and LIMIT_SLACKS:  # first only the segments a near-optimal motion can use
+            for slack in (*LIMIT_SLACKS, None):
+                limit = None if slack is None else bound.at_start * (1.0 + slack)
+                bound.restrict(math.inf if limit is None else limit)
+                search = AnyAngleSearch(mesh, query, bound=bound)
+                segs = search.run(limit=limit)
+                if segs is not None:
+                    break
+        else:
+            if bound is not None or not RESUME_WITHOUT_GAIN:
+                search = AnyAngleSearch(mesh, query, bound=bound)
+            segs = search.run()  # with no gain from the bound: the same search resumed, not started again
     if segs is None:  # pragma: no cover - no budget given
         raise PlanningError("search gave up")
     segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])

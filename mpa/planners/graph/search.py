@@ -487,9 +487,10 @@ class AnyAngleSearch:
             heappush(heap, (floor(f * fq), -groot, len(nodes) - 1))
 
     # --------------------------------------------------------------------------------------------------- run
-    def run(self, budget: int | None = None) -> list[Segment] | None:
+    def run(self, budget: int | None = None, limit: float | None = None) -> list[Segment] | None:
         """The path's straight segments start to goal (:meth:`segments`); with ``budget``: None after that many
-        expansions (a later call resumes the search where it stopped).
+        expansions (a later call resumes the search where it stopped); with ``limit``: None when the queue's least
+        bound exceeds ``limit`` (the objective's cost) before the goal is taken.
 
         The search makes tens of thousands of small objects and no reference cycles: Python's cyclic garbage
         collector, which would traverse all of them again and again (a quarter of the time of a long search), is
@@ -503,12 +504,12 @@ class AnyAngleSearch:
         collecting = gc.isenabled()
         gc.disable()
         try:
-            return self._run(budget)
+            return self._run(budget, limit)
         finally:
             if collecting:
                 gc.enable()
 
-    def _run(self, budget: int | None) -> list[Segment] | None:
+    def _run(self, budget: int | None, limit: float | None) -> list[Segment] | None:
         start_members = self.mesh.placements(*self.start)
         if not self.nodes:
             self.best[START] = 0.0
@@ -517,10 +518,11 @@ class AnyAngleSearch:
         nodes, best, heap = self.nodes, self.best, self.heap
         found = -1
         expanded = 0
+        over = math.inf if limit is None else math.floor(limit * self.fq)
         while heap:
             key0, depth, nid = heapq.heappop(heap)
             expanded += 1
-            if budget is not None and expanded > budget:
+            if (budget is not None and expanded > budget) or key0 > over:
                 heapq.heappush(heap, (key0, depth, nid))  # not taken: run() resumes with it
                 return None
             nd = nodes[nid]
