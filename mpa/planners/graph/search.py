@@ -175,6 +175,9 @@ class AnyAngleSearch:
         self.quantum = 1.0 / (1e-9 * mesh.scale)
         self.best: dict[Key, float] = {}
         self.heap: list[tuple[int, float, int]] = []
+        # nodes queued by their own bound whose passing bound is taken into their key when they are first taken from
+        # the queue (:meth:`_passing_key`): most queued nodes are never taken
+        self.pending: set[int] = set()
         (sa_e, sa_s), (sb_e, sb_s) = start
         self.fq = 1.0 / (F_GRID * max(1e-3, self.cost(self.to_goal[0].at(sa_e, sa_s), self.to_goal[1].at(sb_e, sb_s))))
         self.again = AGAIN_GRID_STEPS / self.fq
@@ -190,7 +193,7 @@ class AnyAngleSearch:
         self._hot = (
             self.ctol, self.eps, self.goal_at, self._fastest, self._va, self._vb, math.hypot, self.best.get,
             self.again, bound, self.nodes, self.heap, self.fq, heapq.heappush, math.floor, self._vd_a, self._vd_b,
-            self._through, mesh._side_ends,
+            self._through, mesh._side_ends, self.pending.add,
         )  # fmt: skip
 
     # ------------------------------------------------------------------------------------------- the lower bound
@@ -248,7 +251,7 @@ class AnyAngleSearch:
             nodes.append(PointNode(key, gval, root, last, pid, frm, pt))
             f = gval if key is GOAL else gval + self.lower_bound(pid, pt)
             if self.bound is not None and key is not GOAL:
-                f = max(f, gval + self.bound.point(key))
+                self.pending.add(len(nodes) - 1)  # its passing bound when taken (_passing_key)
             heapq.heappush(self.heap, self.queue_key(f, gval, len(nodes) - 1))
 
     def push_face(self, entry: FaceEntry) -> None:
@@ -259,19 +262,32 @@ class AnyAngleSearch:
         nodes.append(entry)
         g_root = entry.g_root
         f = g_root + self.face_lower_bound(entry.r, entry.ax, entry.a, entry.face, entry.y0, entry.y1)
-        if self.bound is not None:  # the passing bound at the root, and through the face's part [y0, y1]
-            r, a, y0, y1 = entry.r, entry.a, entry.y0, entry.y1
-            x_a, x_b = (
-                (abs(r[0] - a), max(0.0, y0 - r[1], r[1] - y1))
-                if entry.ax == 0
-                else (max(0.0, y0 - r[0], r[0] - y1), abs(r[1] - a))
-            )
-            f = max(
-                f,
-                g_root + self.bound.point(entry.root_key),
-                g_root + self.cost(x_a, x_b) + self.bound.entry(entry.face, y0, y1),
-            )
+        if self.bound is not None:
+            self.pending.add(len(nodes) - 1)  # its passing bound when taken (_passing_key)
         heapq.heappush(self.heap, self.queue_key(f, g_root, len(nodes) - 1))
+
+    def _passing_key(self, nd: PointNode | FaceEntry, key0: int) -> int:
+        """The queue key of a node queued with ``key0`` from its own bound, with the passing bound taken in: the key
+        it would have had if the larger of the two had been computed when it was queued (``floor`` is monotone, so the
+        key of the larger bound is the larger key). A point's bound is the passing bound at the point; a face entry's
+        the passing bound at its root and through the face's part ``[y0, y1]``."""
+        bound = self.bound
+        assert bound is not None
+        fq = self.fq
+        if type(nd) is PointNode:
+            return max(key0, math.floor((nd.g + bound.point(nd.key)) * fq))
+        assert type(nd) is FaceEntry
+        g_root, r, a, y0, y1 = nd.g_root, nd.r, nd.a, nd.y0, nd.y1
+        x_a, x_b = (
+            (abs(r[0] - a), max(0.0, y0 - r[1], r[1] - y1))
+            if nd.ax == 0
+            else (max(0.0, y0 - r[0], r[0] - y1), abs(r[1] - a))
+        )
+        f = max(
+            g_root + bound.point(nd.root_key),
+            g_root + self.cost(x_a, x_b) + bound.entry(nd.face, y0, y1),
+        )
+        return max(key0, math.floor(f * fq))
 
     # ----------------------------------------------------------------------------------------------- expansion
     def pages_to_open(self, face: FaceKey) -> list[tuple[PolygonId, float]]:
@@ -362,7 +378,7 @@ class AnyAngleSearch:
         coordinate ``y``, which clips the side's ``[lo, hi]``. The face ends' costs are the objective's, inline."""
         (
             ctol, eps, goal_at, fastest, va, vb, hypot, best_get, again, bound, nodes, heap, fq, heappush, floor,
-            vd_a, vd_b, through, side_ends,
+            vd_a, vd_b, through, side_ends, pending_add,
         ) = self._hot  # fmt: skip
         rid, r, ax, a, y0, y1, pid, groot = nd.root, nd.r, nd.ax, nd.a, nd.y0, nd.y1, nd.polygon, nd.g_root
         rs, rt = r
@@ -458,11 +474,10 @@ class AnyAngleSearch:
             if yh - yl <= eps:
                 continue
             entry = FaceEntry(rid, nd.root_key, groot, r, nd.sig, ax2, a2, yl, yh, pid, face2, lo2, hi2, nid, nd.origin)
-            if bound is not None:
-                self.push_face(entry)
-                continue
-            # push_face without the passing bound: face_lower_bound and queue_key inline, the same operations
+            # push_face inline: face_lower_bound and queue_key, the same operations; the passing bound when taken
             nodes.append(entry)
+            if bound is not None:
+                pending_add(len(nodes) - 1)
             w, e = face2[1], face2[2]
             cp, cm, edge, off = through[ax2]
             if ax2 == 0:
@@ -515,7 +530,7 @@ class AnyAngleSearch:
             self.best[START] = 0.0
             self.nodes.append(PointNode(START, 0.0, -1, -1, None, None, None))
             self.expand_point(0, START, 0.0, start_members)
-        nodes, best, heap = self.nodes, self.best, self.heap
+        nodes, best, heap, pending = self.nodes, self.best, self.heap, self.pending
         found = -1
         expanded = 0
         over = math.inf if limit is None else math.floor(limit * self.fq)
@@ -532,11 +547,20 @@ class AnyAngleSearch:
                     break
                 if nd.g > best[nd.key]:
                     continue  # reached more cheaply since (a root reached again more cheaply is expanded again)
-                self.expand_point(nid, nd.key, nd.g, self.mesh.members(nd.key))
             else:
                 assert type(nd) is FaceEntry
                 if nd.g_root > best[nd.root_key]:
                     continue  # its root was reached more cheaply since
+            if pending and nid in pending:  # queued by its own bound: now with the passing bound too
+                pending.discard(nid)
+                key1 = self._passing_key(nd, key0)
+                if key1 > key0:
+                    heapq.heappush(heap, (key1, depth, nid))
+                    continue
+            if type(nd) is PointNode:
+                self.expand_point(nid, nd.key, nd.g, self.mesh.members(nd.key))
+            else:
+                assert type(nd) is FaceEntry
                 self.open_face(nd)
         if found < 0:
             raise PlanningError(
