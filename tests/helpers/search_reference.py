@@ -85,3 +85,45 @@ class ReferenceSearch(AnyAngleSearch):
             self.push_face(
                 FaceEntry(rid, nd.root_key, groot, r, nd.sig, ax2, a2, yl, yh, pid, face2, lo2, hi2, nid, nd.origin)
             )
+
+
+class EagerBoundSearch(ReferenceSearch):
+    """:class:`ReferenceSearch` with the passing bound taken into a node's key when the node is queued (the search
+    takes it in when the node is first taken from the queue: the same keys, so the same nodes in the same order)."""
+
+    def push_point(self, key: object, gval: float, root: int, last: int, pid: object, frm: object, pt: object) -> None:
+        import heapq
+        import math
+
+        from mpa.planners.graph.search import PointNode
+
+        best = self.best
+        if gval < best.get(key, math.inf) - (0.0 if key is GOAL else self.again):  # type: ignore[call-overload]
+            best[key] = gval  # type: ignore[index]
+            nodes = self.nodes
+            nodes.append(PointNode(key, gval, root, last, pid, frm, pt))  # type: ignore[arg-type]
+            f = gval if key is GOAL else gval + self.lower_bound(pid, pt)  # type: ignore[arg-type]
+            if self.bound is not None and key is not GOAL:
+                f = max(f, gval + self.bound.point(key))  # type: ignore[arg-type]
+            heapq.heappush(self.heap, self.queue_key(f, gval, len(nodes) - 1))
+
+    def push_face(self, entry: FaceEntry) -> None:
+        import heapq
+
+        nodes = self.nodes
+        nodes.append(entry)
+        g_root = entry.g_root
+        f = g_root + self.face_lower_bound(entry.r, entry.ax, entry.a, entry.face, entry.y0, entry.y1)
+        if self.bound is not None:
+            r, a, y0, y1 = entry.r, entry.a, entry.y0, entry.y1
+            x_a, x_b = (
+                (abs(r[0] - a), max(0.0, y0 - r[1], r[1] - y1))
+                if entry.ax == 0
+                else (max(0.0, y0 - r[0], r[0] - y1), abs(r[1] - a))
+            )
+            f = max(
+                f,
+                g_root + self.bound.point(entry.root_key),
+                g_root + self.cost(x_a, x_b) + self.bound.entry(entry.face, y0, y1),
+            )
+        heapq.heappush(self.heap, self.queue_key(f, g_root, len(nodes) - 1))

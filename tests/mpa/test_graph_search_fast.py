@@ -30,7 +30,7 @@ from mpa.planners.graph.mesh import _mesh
 from mpa.planners.graph.search import AnyAngleSearch
 from mpa.planners.search_common import SearchQuery, cost_function
 from tests.helpers.graph_helpers import random_free_query, random_layout, random_position
-from tests.helpers.search_reference import ReferenceSearch
+from tests.helpers.search_reference import EagerBoundSearch, ReferenceSearch
 
 SPEEDS = ((1.0, 1.0), (1.0, 0.55), (0.8, 1.3), (2.5, 0.4))
 
@@ -85,6 +85,32 @@ def test_the_search_makes_the_reference_nodes_in_the_same_order(seed: int) -> No
         assert first is None, (where, first, got[first] if first is not None else None, want[first or 0])
         assert repr(fast.best) == repr(ref.best), where
         assert repr(segs_fast) == repr(segs_ref), where
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_the_passing_bound_taken_in_when_a_node_is_taken_expands_the_eager_nodes(seed: int) -> None:
+    """The passing bound of a queued node taken into its key when the node is first taken from the queue (the search)
+    against taken in when it is queued (:class:`EagerBoundSearch`): the same nodes in the same order, the same costs,
+    the same path, and the queue's minimum taken in the same order (so a search stopped at a limit stops at the same
+    node)."""
+    query = _seeded_query(seed, 7000)
+    if query.objective != "fastest":
+        pytest.skip("the passing bound is the fastest objective's")
+    mesh = _mesh(query.free_space)
+    pb = passing_bound(mesh, query.start, query.goal, *query.speeds)
+    if pb is None:
+        pytest.skip("no vertex separates the query")
+    lazy, eager = AnyAngleSearch(mesh, query, bound=pb), EagerBoundSearch(mesh, query, bound=pb)
+    segs_lazy, segs_eager = lazy.run(), eager.run()
+    where = (seed, query.speeds, query.start, query.goal)
+    assert _nodes(lazy) == _nodes(eager), where
+    assert repr(lazy.best) == repr(eager.best), where
+    assert repr(segs_lazy) == repr(segs_eager), where
+    assert not eager.pending and len(lazy.nodes) > 0, where
+    for limit in (pb.at_start * (1.0 + 1e-6), pb.at_start * 1.01):
+        a, b = AnyAngleSearch(mesh, query, bound=pb), EagerBoundSearch(mesh, query, bound=pb)
+        ra, rb = a.run(limit=limit), b.run(limit=limit)
+        assert (ra is None) == (rb is None) and _nodes(a) == _nodes(b), (where, limit)
 
 
 @pytest.mark.parametrize("seed", range(24))
