@@ -27,8 +27,9 @@ __all__ = ["GEOMETRY_CACHE", "PIECE_LENGTH", "passing_geometry"]
 #: about a piece's length over the speed. None: whole segments (up to an edge's length each).
 PIECE_LENGTH: float | None = 0.1
 
-#: Passing segments kept with a free space's mesh, over all the vertices cached (:func:`_passing_geometry`); 0: none.
-GEOMETRY_CACHE = 2_000_000
+#: Passing segments kept with a free space's mesh, over all the vertices cached (:func:`passing_geometry`; 48 bytes
+#: each, so at most 24 MB a free space, and the free-space cache keeps up to 16); 0: none.
+GEOMETRY_CACHE = 500_000
 
 _SLOPES = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))  # the cell terms' slopes, as in mpa.freespace
 
@@ -71,7 +72,7 @@ def passing_geometry(mesh: _Mesh, x: int) -> tuple[Any, ...] | None:
 
 
 def _build_passing_geometry(mesh: _Mesh, x: int, every_cell: bool = False) -> tuple[Any, ...] | None:
-    """:func:`_passing_geometry` built: numpy over the free space's non-empty cells, a block at a time, only those
+    """:func:`passing_geometry` built: numpy over the free space's non-empty cells, a block at a time, only those
     whose two edges' ranges of ``φ`` meet (``every_cell``: all of them, the tests' reference)."""
     g = mesh.g
     fs = mesh.fs
