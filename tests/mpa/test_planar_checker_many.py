@@ -172,7 +172,8 @@ def _trajectories(n: int, seed: int) -> int:
         s, _, _, _ = traj.sampler(np.minimum(t, traj.motion_time))
         ea, oa = plan.route_a.positions(s[:, 0])
         eb, ob = plan.route_b.positions(s[:, 1])
-        depth = depth_many(drawn_of(tr), fp_tuple(fp), fp_tuple(fp), ea, oa, eb, ob)
+        # consecutive instants of one motion: a robot on a vertex takes the headings it arrives and leaves with
+        depth = depth_many(drawn_of(tr), fp_tuple(fp), fp_tuple(fp), ea, oa, eb, ob, along=True)
         assert float(depth.max()) <= DEPTH_TOL, (tr.to_dict(), ends, fp, float(depth.max()))
     return done
 
