@@ -15,9 +15,17 @@ from mpa import Lollipop, NoMotionError
 from trajopt import TrajectoryGenerator
 
 
-def _handlers() -> int:
-    loggers = [logging.getLogger(), *(logging.getLogger(n) for n in list(logging.root.manager.loggerDict))]
-    return sum(len(lg.handlers) for lg in loggers)
+def _handlers() -> dict[str, int]:
+    """Handlers per logger (the root as ``""``), loggers without any left out."""
+    names = ["", *list(logging.root.manager.loggerDict)]
+    counts = {n: len(logging.getLogger(n).handlers) for n in names}
+    return {n: c for n, c in counts.items() if c}
+
+
+def _grown(before: dict[str, int], after: dict[str, int]) -> dict[str, tuple[int, int]]:
+    """The loggers with more handlers ``after`` than ``before`` (a handler that another test's teardown thread, such
+    as a Dask cluster's, removes meanwhile is not a leak of ours)."""
+    return {n: (before.get(n, 0), c) for n, c in after.items() if c > before.get(n, 0)}
 
 
 def _rss_mb() -> float:
@@ -31,7 +39,7 @@ def _rss_mb() -> float:
 RSS: list[float] = []
 
 
-def _run(n: int) -> tuple[list[int], list[int]]:
+def _run(n: int) -> tuple[list[dict[str, int]], list[int]]:
     gen = TrajectoryGenerator(Lollipop(1.0, 1.0), clearance=0.05)
     rng = np.random.default_rng(3)
     # warm-up of both paths (fast, then hard: CasADi's conic is imported there): imports may configure their own
@@ -60,7 +68,8 @@ def _run(n: int) -> tuple[list[int], list[int]]:
 
 def test_200_trajectories_keep_handlers_and_filters_constant() -> None:
     h, w = _run(200)
-    assert len(set(h)) == 1, h
+    grown = [_grown(h[0], later) for later in h[1:]]
+    assert not any(grown), (h, grown)
     assert len(set(w)) == 1, w
 
 
@@ -72,13 +81,15 @@ def test_toppra_profile_adds_no_handler() -> None:
     before = (_handlers(), len(logging.getLogger("toppra").handlers), logging.getLogger("toppra").level)
     for _ in range(20):
         toppra_profile(path, Limits())
-    assert (_handlers(), len(logging.getLogger("toppra").handlers), logging.getLogger("toppra").level) == before
+    after = (_handlers(), len(logging.getLogger("toppra").handlers), logging.getLogger("toppra").level)
+    assert not _grown(before[0], after[0]) and after[1:] == before[1:], (before, after)
 
 
 @pytest.mark.slow
 def test_1000_trajectories_keep_handlers_filters_and_memory_constant() -> None:
     RSS.clear()
     h, w = _run(1000)
-    assert len(set(h)) == 1, h
+    grown = [_grown(h[0], later) for later in h[1:]]
+    assert not any(grown), (h, grown)
     assert len(set(w)) == 1, w
     assert RSS[-1] - RSS[0] <= 10.0, RSS  # MB, after the first 50 (measured: +2 MB after 1000, +6 after 2000)
