@@ -281,19 +281,19 @@ class PassingBound:
         vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
         self._goal_vd = vd[2:]
         self._goal = goal
-        best: tuple[float, int, tuple[Any, ...]] | None = None
+        best: tuple[float, int, tuple[Any, ...], FloatArray] | None = None
         for x in separating_vertices(mesh, start, goal, vd)[:VERTICES_TRIED]:
             segs = self._segments(x, goal)
             if segs is None:
                 continue
-            h0 = self._value(segs, start[0], start[1], vd[0], vd[1], True)
+            e, u0, u1, f, v0, v1, w = segs[:7]
+            from_start = _relaxed(mesh.g, e, u0, u1, f, v0, v1, start[0], start[1], vd[0], vd[1], va, vb) + w
+            h0 = self._value(segs, start[0], start[1], vd[0], vd[1], True, from_start)
             if best is None or h0 > best[0]:
-                best = (h0, x, segs)
+                best = (h0, x, segs, from_start)
         if best is not None:
-            self.at_start, self.vertex, self._segs = best
+            self.at_start, self.vertex, self._segs, self._from_start = best
             self._all_segs = self._segs
-            e, u0, u1, f, v0, v1, w = self._segs[:7]
-            self._from_start = _relaxed(mesh.g, e, u0, u1, f, v0, v1, start[0], start[1], vd[0], vd[1], va, vb) + w
             self._sign = 1.0 if float(vd[2][best[1]] - vd[3][best[1]]) > 0.0 else -1.0
             self.n_segments = len(self._segs[0])
 
@@ -346,16 +346,25 @@ class PassingBound:
 
     # ------------------------------------------------------------------------------------------ the bound
     def _value(
-        self, segs: tuple[Any, ...], pa: Position, pb: Position, vda: FloatArray, vdb: FloatArray, exact: bool
+        self,
+        segs: tuple[Any, ...],
+        pa: Position,
+        pb: Position,
+        vda: FloatArray,
+        vdb: FloatArray,
+        exact: bool,
+        relaxed: FloatArray | None = None,
     ) -> float:
         """``min_k`` over the segments of the least cost through segment k (s): first the relaxed value of each
         (``comb(d(a, P_k), d(b, Q_k)) + W_k``, a lower bound of the exact one), then the exact least of
         ``comb(d(a, p), d(b, q)) + comb(d(p, a1), d(q, b1))`` along the segments in the order of their relaxed
-        values, until the next relaxed value is no smaller than the best exact one."""
+        values, until the next relaxed value is no smaller than the best exact one (``relaxed``: those values, when at
+        hand)."""
         e, u0, u1, f, v0, v1, w, al, be = segs
         g = self.mesh.g
         lengths, tails, heads = g.lengths, g.tails, g.heads
-        relaxed = _relaxed(g, e, u0, u1, f, v0, v1, pa, pb, vda, vdb, self.va, self.vb) + w
+        if relaxed is None:
+            relaxed = _relaxed(g, e, u0, u1, f, v0, v1, pa, pb, vda, vdb, self.va, self.vb) + w
         if not exact:
             return float(relaxed.min()) * (1.0 - BOUND_SAFETY)
         best = math.inf
