@@ -136,35 +136,36 @@ def _runs(slots: list[int]) -> list[tuple[int, int, int, int]]:
     return [(r[0], r[1], r[2], r[3]) for r in runs]
 
 
-def _layouts() -> tuple[list[list[tuple[int, int, int, int]]], IntArray]:
-    """Every layout of :func:`_layout` as :func:`_runs`, indexed as :func:`g12_rows` codes them.
+def _layout_of(code: int) -> list[tuple[int, int, int, int]]:
+    """The runs (:func:`_runs`) of layout ``code``, as :func:`g12_rows` codes the layouts; built once, when first used.
+
+    Parameters
+    ----------
+    code : int
+        ``((E + 4)·12 + last)·2 + negative`` in fixed notation (``-4 <= E < 12``), else
+        ``_N_FIXED + ((last·2 + negative)·2 + (E < 0))·2 + (|E| >= 100)``.
 
     Returns
     -------
-    runs : list of list of (int, int, int, int), length _N_LAYOUTS
-        The runs of each layout.
-    length : ndarray of int64, shape (_N_LAYOUTS,)
-        Bytes of its text.
+    list of (int, int, int, int)
     """
-    runs: list[list[tuple[int, int, int, int]]] = [[] for _ in range(_N_LAYOUTS)]
-    length = np.zeros(_N_LAYOUTS, np.int64)
-    for e in range(-4, 12):
-        for last in range(12):
-            for neg in (0, 1):
-                s = _layout(True, e, last, bool(neg), False, False)
-                code = ((e + 4) * 12 + last) * 2 + neg
-                runs[code], length[code] = _runs(s), len(s)
-    for last in range(12):
-        for neg in (0, 1):
-            for eneg in (0, 1):
-                for big in (0, 1):
-                    s = _layout(False, 0, last, bool(neg), bool(eneg), bool(big))
-                    code = _N_FIXED + ((last * 2 + neg) * 2 + eneg) * 2 + big
-                    runs[code], length[code] = _runs(s), len(s)
-    return runs, length
+    runs = _LAYOUTS.get(code)
+    if runs is None:
+        if code < _N_FIXED:
+            rest, neg = divmod(code, 2)
+            e4, last = divmod(rest, 12)
+            slots = _layout(True, e4 - 4, last, bool(neg), False, False)
+        else:
+            rest, big = divmod(code - _N_FIXED, 2)
+            rest, eneg = divmod(rest, 2)
+            last, neg = divmod(rest, 2)
+            slots = _layout(False, 0, last, bool(neg), bool(eneg), bool(big))
+        runs = _LAYOUTS[code] = _runs(slots)
+    return runs
 
 
-_RUNS, _LAYOUT_LEN = _layouts()
+#: The layouts built so far, by code.
+_LAYOUTS: dict[int, list[tuple[int, int, int, int]]] = {}
 
 
 def g12_rows(values: NDArray[np.float64], out: ByteMatrix, lens: IntArray) -> None:
@@ -212,8 +213,7 @@ def g12_rows(values: NDArray[np.float64], out: ByteMatrix, lens: IntArray) -> No
     if expo.size:
         ee, le, ne = e[expo], last[expo], neg[rows[expo]]
         code[expo] = _N_FIXED + ((le * 2 + ne) * 2 + (ee < 0)) * 2 + (ee <= -100) + (ee >= 100)
-    _lay_out(out, rows, code, src)
-    lens[rows] = _LAYOUT_LEN[code]
+    _lay_out(out, lens, rows, code, src)
 
 
 def _exponents_and_digits(a: NDArray[np.float64]) -> tuple[IntArray, IntArray]:
@@ -344,16 +344,18 @@ def _digit_bytes(d: IntArray, e: IntArray) -> tuple[ByteMatrix, IntArray]:
 _SRC_COLUMN = {**{_DIGIT0 + q: q for q in range(12)}, _EXP100: 13, _EXP10: 14, _EXP1: 15}
 
 
-def _lay_out(out: ByteMatrix, rows: IntArray, code: IntArray, src: ByteMatrix) -> None:
-    """Write each number's text into ``out``: rows sorted by layout, each layout's rows one block of slices.
+def _lay_out(out: ByteMatrix, lens: IntArray, rows: IntArray, code: IntArray, src: ByteMatrix) -> None:
+    """Write each number's text into ``out`` and its length into ``lens``: rows sorted by layout, each layout's rows
+    one block of slices.
 
     Parameters
     ----------
     out : ndarray of uint8, shape (N, W), W >= WIDTH
+    lens : ndarray of int64, shape (N,)
     rows : ndarray of int64, shape (M,)
         Rows of ``out`` to write.
     code : ndarray of int64, shape (M,)
-        Layout of each (an index of ``_RUNS``).
+        Layout of each (:func:`_layout_of`).
     src : ndarray of uint8, shape (M, 16)
         Digits as :func:`_digit_bytes` returns them.
     """
@@ -371,12 +373,14 @@ def _lay_out(out: ByteMatrix, rows: IntArray, code: IntArray, src: ByteMatrix) -
         block = out[target, :WIDTH]
     b0 = 0
     for c, b1 in zip(present.tolist(), ends.tolist(), strict=True):
-        for dst, slot, n, byte in _RUNS[c]:
+        runs = _layout_of(c)
+        for dst, slot, n, byte in runs:
             if slot < 0:
                 block[b0:b1, dst : dst + n] = byte
             else:
                 col = _SRC_COLUMN[slot]
                 block[b0:b1, dst : dst + n] = src[b0:b1, col : col + n]
+        lens[target[b0:b1]] = runs[-1][0] + runs[-1][2]
         b0 = b1
     if whole:
         view[target] = block.view(_VW).reshape(-1)
