@@ -273,6 +273,7 @@ def test_join_rows_of_no_rows_or_no_columns_writes_nothing() -> None:
     assert join_rows(np.zeros((0, 5), np.uint8), np.zeros((0, 2), np.int64), np.array([0, 3]), out) == 0
     assert join_rows(np.zeros((3, 0), np.uint8), np.zeros((3, 0), np.int64), np.zeros(0, np.int64), out) == 0
     assert out.tolist() == [9, 9, 9, 9]
+    _compare_join(np.zeros((3, 0), np.uint8), np.zeros((3, 2), np.int64), np.zeros(2, np.int64), 3)  # ",\n" each
 
 
 def test_join_rows_steps_through_the_rows_a_chunk_at_a_time(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -1,22 +1,24 @@
 """CSV text of whole columns in plain numpy: the twins of the compiled kernels of :mod:`trajopt.io.csv_kernels`.
 
 A one-shot command-line process writes one setpoints file. Importing numba and loading its cached kernels costs
-such a process about half a second; formatting one file's columns with numpy costs a few milliseconds. This
-module is for those processes: it imports numpy and :mod:`math` only, never numba (nor :mod:`trajopt._numba` or
-the kernel modules), so a process that formats its CSV with it never imports numba.
+such a process about half a second; formatting the file's columns with numpy costs it a few tens of milliseconds
+(``experiments/bench_csv_numpy.py``). This module is for those processes: it imports numpy and :mod:`mpa` only,
+never numba (nor :mod:`trajopt._numba` or the kernel modules), so a process that formats its CSV with it need not
+import numba.
 
 :func:`g12_rows` has the contract of ``csv_kernels._g12`` and :func:`join_rows` that of ``csv_kernels._join``,
-and their results are equal to the compiled kernels', byte for byte: the same floating-point operations in the
-same order (the decimal exponent from ``floor(log10(|x|))`` corrected by the same three comparisons, the power of
-ten by the same repeated squaring numba compiles for ``10.0 ** k``, the same rounding and tie test), done on
-whole arrays instead of one number at a time. The text of every number is then laid out by one gather through a
-table of layouts, one per (notation, decimal exponent, significant digits kept, sign), built from the kernel's
-own rules when the module is imported.
+and their results are equal to the compiled kernels', byte for byte: the same floating-point
+operations in the same order (the decimal exponent ``E`` from ``floor(log10(|x|))`` corrected by the same three
+comparisons, the power of ten by the same repeated squaring numba compiles for ``10.0 ** k``, the same rounding and
+tie test), done on whole arrays instead of one number at a time. The digits are then laid out with the rows
+sorted by layout (notation, decimal exponent, significant digits kept, sign): a few slice assignments per layout,
+each layout's runs of bytes derived from the kernel's rules when it is first used.
 
 The one operation that may differ in its last bit is ``log10`` (numpy's vectorised ``log10`` against the C
-library's): it gives only the first guess of the decimal exponent, which the three comparisons correct to the
-same exponent (the one that puts ``|x|·10^(11-E)`` in ``[1e11, 1e12)``), so the digits, the numbers left to
-Python and the bytes are the kernel's.
+library's): it gives only the first guess of ``E``, which the three comparisons correct to the exponent that puts
+``|x|·10^(11-E)`` in ``[1e11, 1e12)``, so the digits, the numbers left to Python and the bytes are the kernel's
+(the tests compare them on hundreds of thousands of numbers and every column the pipeline formats for the example
+layouts).
 """
 
 from __future__ import annotations
@@ -181,7 +183,8 @@ def g12_rows(values: NDArray[np.float64], out: ByteMatrix, lens: IntArray) -> No
     values : ndarray of float64, shape (N,)
         The numbers.
     out : ndarray of uint8, shape (N, W), W >= WIDTH
-        Zeros on entry; row ``i`` receives the ASCII text of ``values[i]`` in its first ``lens[i]`` bytes.
+        Zeros on entry (as :func:`~trajopt.io.csv_kernels.format_g12` passes it); row ``i`` receives the ASCII
+        text of ``values[i]`` in its first ``lens[i]`` bytes.
     lens : ndarray of int64, shape (N,)
         Receives the bytes of each text, 0 where Python must format the number.
     """
@@ -212,7 +215,7 @@ def g12_rows(values: NDArray[np.float64], out: ByteMatrix, lens: IntArray) -> No
     expo = np.flatnonzero((e < -4) | (e >= 12))
     if expo.size:
         ee, le, ne = e[expo], last[expo], neg[rows[expo]]
-        code[expo] = _N_FIXED + ((le * 2 + ne) * 2 + (ee < 0)) * 2 + (ee <= -100) + (ee >= 100)
+        code[expo] = _N_FIXED + ((le * 2 + ne) * 2 + (ee < 0)) * 2 + (np.abs(ee) >= 100)
     _lay_out(out, lens, rows, code, src)
 
 
@@ -434,6 +437,8 @@ def join_rows(cells: ByteMatrix, lens: IntArray, starts: IntArray, out: ByteMatr
     bound[:, 1::2] = np.iinfo(kind).max
     repeat = np.ones(2 * ncol, np.int64)
     repeat[0::2] = width
+    if cells.shape[1] == 0:  # every cell empty: the separators only
+        cells = np.zeros((nrow, 1), np.uint8)
     chunk = max(1, _JOIN_CHUNK_BYTES // source.size)
     gathered = np.empty((min(chunk, nrow), source.size), np.uint8)
     keep = np.empty(gathered.shape, bool)
