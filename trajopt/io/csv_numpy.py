@@ -6,13 +6,13 @@ such a process about half a second; formatting the file's columns with numpy cos
 never numba (nor :mod:`trajopt._numba` or the kernel modules), so a process that formats its CSV with it need not
 import numba.
 
-:func:`g12_rows` has the contract of ``csv_kernels._g12`` and :func:`join_rows` that of ``csv_kernels._join``,
-and their results are equal to the compiled kernels', byte for byte: the same floating-point
-operations in the same order (the decimal exponent ``E`` from ``floor(log10(|x|))`` corrected by the same three
-comparisons, the power of ten by the same repeated squaring numba compiles for ``10.0 ** k``, the same rounding and
-tie test), done on whole arrays instead of one number at a time. The digits are then laid out with the rows
-sorted by layout (notation, decimal exponent, significant digits kept, sign): a few slice assignments per layout,
-each layout's runs of bytes derived from the kernel's rules when it is first used.
+:func:`g12_rows` has the contract of ``csv_kernels._g12`` and :func:`join_rows` that of ``csv_kernels._join``, and
+their results are equal to the compiled kernels', byte for byte: the same floating-point operations in the same
+order (the decimal exponent ``E`` from ``floor(log10(|x|))`` corrected by the same three comparisons, the power of
+ten by the same repeated squaring numba compiles for ``10.0 ** k``, the same rounding and tie test), done on whole
+arrays instead of one number at a time. The digits are then laid out with the rows sorted by layout (notation,
+decimal exponent, significant digits kept, sign): a few slice assignments per layout, each layout's runs of bytes
+derived from the kernel's rules when it is first used.
 
 The one operation that may differ in its last bit is ``log10`` (numpy's vectorised ``log10`` against the C
 library's): it gives only the first guess of ``E``, which the three comparisons correct to the exponent that puts
