@@ -111,16 +111,26 @@ def _positions(route: Route, r: FloatArray) -> tuple[IntArray, FloatArray]:
 
 def _dists(graph: Graph, ea: IntArray, sa: FloatArray, eb: IntArray, sb: FloatArray) -> FloatArray:
     """Graph distance (m) between ``(ea, sa)`` and ``(eb, sb)`` elementwise (shape (K,)):
-    :meth:`mpa.geometry.GraphGeometry.distance` with the kernels' ``_dist``'s terms in their order."""
+    :meth:`mpa.geometry.GraphGeometry.distance` with the kernels' ``_dist``'s terms in their order.
+
+    The minima are :func:`numpy.minimum`, which equals Python's ``min`` here: no term is NaN (the offsets are
+    finite, the lengths finite, ``dv`` finite or ``+inf``) and none is ``−0.0`` (``dv ≥ +0.0``, ``la − sa`` and
+    ``|sa − sb|`` are ``+0.0`` when zero), so equal terms are the same bits.
+    """
     tails, heads, lengths, dv = graph
-    ta, ha, la = tails[ea], heads[ea], lengths[ea]
+    nv = dv.shape[1]
+    flat = dv.reshape(-1)
+    ta, ha, la = tails[ea] * nv, heads[ea] * nv, lengths[ea]
     tb, hb, lb = tails[eb], heads[eb], lengths[eb]
     qa, qb = la - sa, lb - sb
-    d = _pmin(
-        _pmin(sa + dv[ta, tb] + sb, sa + dv[ta, hb] + qb),
-        _pmin(qa + dv[ha, tb] + sb, qa + dv[ha, hb] + qb),
+    d = np.minimum(
+        np.minimum(sa + flat[ta + tb] + sb, sa + flat[ta + hb] + qb),
+        np.minimum(qa + flat[ha + tb] + sb, qa + flat[ha + hb] + qb),
     )
-    return np.where(ea == eb, _pmin(d, np.abs(sa - sb)), d)
+    same = np.flatnonzero(ea == eb)
+    if len(same):
+        d[same] = np.minimum(d[same], np.abs(sa[same] - sb[same]))
+    return d
 
 
 def _first_min(x: FloatArray, start: float) -> tuple[float, int]:

@@ -98,19 +98,21 @@ def sample_rows(
         else:
             pc = np.minimum(np.maximum(np.searchsorted(breaks, sc, side="right") - 1, 0), len(breaks) - 2)
         x = sc - breaks[pc]
-        c = coef[pc]  # (N, 6, 2): each row's piece
-        q = np.zeros((4, len(tt)))  # the path's derivatives of orders 0 to 3 for one column at s
-        for col in range(2):
-            for order in range(min(degree, 3) + 1):
-                h = c[:, degree, col] * falling[order, degree]
-                for i in range(degree - 1, order - 1, -1):
-                    h = h * x + c[:, i, col] * falling[order, i]
-                q[order] = h
-            S[:, col] = q[0]
-            V[:, col] = q[1] * vel
-            if degree <= 1:  # straight pieces: the second and third path derivatives are 0
-                A[:, col] = q[1] * acc + 0.0
-                J[:, col] = q[1] * jk + 0.0
-            else:
-                A[:, col] = q[2] * (vel * vel) + q[1] * acc
-                J[:, col] = q[3] * np.float_power(vel, 3.0) + 3.0 * q[2] * vel * acc + q[1] * jk
+        c = coef.transpose(1, 2, 0)[:, :, pc]  # (6, 2, N): each row's piece, rows last
+        # Horner's scheme for the orders 0 to 3 and both columns at once: at step i the orders up to i take it
+        top = min(degree, 3) + 1
+        f = falling[:, :, None, None]  # (4, 6, 1, 1)
+        q = np.zeros((4, 2, len(tt)))  # the path's derivatives of orders 0 to 3 at s (orders above degree: 0)
+        np.multiply(c[degree], f[:top, degree], out=q[:top])
+        for i in range(degree - 1, -1, -1):
+            m = min(i, 3) + 1
+            np.multiply(q[:m], x, out=q[:m])
+            q[:m] += c[i] * f[:m, i]
+        S.T[:] = q[0]
+        V.T[:] = q[1] * vel
+        if degree <= 1:  # straight pieces: the second and third path derivatives are 0
+            A.T[:] = q[1] * acc + 0.0
+            J.T[:] = q[1] * jk + 0.0
+        else:
+            A.T[:] = q[2] * (vel * vel) + q[1] * acc
+            J.T[:] = q[3] * np.float_power(vel, 3.0) + 3.0 * q[2] * vel * acc + q[1] * jk
