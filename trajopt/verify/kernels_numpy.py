@@ -133,29 +133,34 @@ def _dists(graph: Graph, ea: IntArray, sa: FloatArray, eb: IntArray, sb: FloatAr
     return d
 
 
-def _first_min(x: FloatArray, start: float) -> tuple[float, int]:
-    """The kernels' running minimum over ``x`` (shape (K,)) from ``(start, 0)``: replaced where ``x[k] < current``;
-    returns ``(value, row)``, the row of the first occurrence (NaN never replaces, nor is it replaced)."""
-    if start != start:
-        return start, 0
-    below = np.flatnonzero(x < start)
+def _running_min(cur: float, row: int, x: FloatArray, lo: int) -> tuple[float, int]:
+    """The kernels' running minimum ``(cur, row)`` carried over ``x`` (shape (K,), rows ``lo, lo+1, …``): replaced
+    where ``x[k] < cur``, so the row is the first occurrence of the minimum (NaN never replaces, nor is replaced)."""
+    below = np.flatnonzero(x < cur)
     if len(below) == 0:
-        return start, 0
-    k = int(below[np.argmin(x[below])])  # argmin: the first of equal minima; NaN is not below anything
-    return float(x[k]), k
+        return cur, row
+    k = int(below[np.argmin(x[below])])  # argmin: the first of equal minima; no NaN is below anything
+    return float(x[k]), lo + k
 
 
-def _first_max(x: FloatArray) -> tuple[float, int]:
-    """The kernels' running maximum with ``x[0]`` taken at row 0 (the ``… or k == 0`` rule), then replaced where
-    ``x[k] > current``: ``(value, row)`` of the first occurrence of the maximum. ``x`` shape (K,), K ≥ 1."""
-    start = float(x[0])
-    if start != start:
-        return start, 0
-    above = np.flatnonzero(x > start)
+def _running_max(cur: float, row: int, x: FloatArray, lo: int) -> tuple[float, int]:
+    """The kernels' running maximum ``(cur, row)`` carried over ``x``: replaced where ``x[k] > cur``."""
+    above = np.flatnonzero(x > cur)
     if len(above) == 0:
-        return start, 0
+        return cur, row
     k = int(above[np.argmax(x[above])])
-    return float(x[k]), k
+    return float(x[k]), lo + k
+
+
+#: Rows per block of the passes over the rows. A block's temporaries (32 KiB each) are reused by the allocator
+#: and stay in the CPU's caches; a temporary of a whole grid of 43 829 rows is fresh memory from the operating
+#: system each time (a page fault every 4 KiB), which cost more than the arithmetic.
+_BLOCK = 4096
+
+
+def _blocks(n: int) -> list[tuple[int, int]]:
+    """``[(lo, hi), …]``: the rows ``0 … n−1`` in blocks of :data:`_BLOCK`."""
+    return [(lo, min(lo + _BLOCK, n)) for lo in range(0, n, _BLOCK)]
 
 
 # ------------------------------------------------------------------------------------------ scalar twins
@@ -247,14 +252,14 @@ def _cut_chord_min(
 
 
 # ------------------------------------------------------------------------------------------ the rows
-def _crosses(breaks: FloatArray, a: FloatArray, b: FloatArray) -> NDArray[np.bool_]:
-    """Whether a junction of the route (an interior break) lies strictly between ``a[k]`` and ``b[k]`` (shape
-    (K,)): the interior breaks below ``max`` minus those at most ``min`` (``breaks`` non-decreasing)."""
+def _crosses(breaks: FloatArray, s: FloatArray) -> NDArray[np.bool_]:
+    """Whether a junction of the route (an interior break) lies strictly inside each chord between consecutive
+    coordinates ``s`` (m, shape (K,)); shape (K−1,). The interior breaks below the chord's higher end outnumber
+    those at or below its lower end: with ``L``, ``R`` the counts below and at or below each row (non-decreasing
+    in ``s``, as ``breaks`` is), ``max(L_k, L_k+1) > min(R_k, R_k+1)``."""
     inner = breaks[1:-1]
-    if len(inner) == 0:
-        return np.zeros(len(a), dtype=bool)
-    low, high = _pmin(a, b), _pmax(a, b)
-    return np.searchsorted(inner, high, side="left") > np.searchsorted(inner, low, side="right")
+    below, upto = np.searchsorted(inner, s, side="left"), np.searchsorted(inner, s, side="right")
+    return np.maximum(below[1:], below[:-1]) > np.minimum(upto[1:], upto[:-1])
 
 
 def _cell_mins(
@@ -297,7 +302,7 @@ def _between(
     a0, a1, b0, b1 = S[:-1, 0], S[:-1, 1], S[1:, 0], S[1:, 1]
     d0, d1 = d_route[:-1], d_route[1:]
     chord = _pmin(d0, d1)
-    cut = _crosses(ra[0], a0, b0) | _crosses(rb[0], a1, b1)
+    cut = _crosses(ra[0], S[:, 0]) | _crosses(rb[0], S[:, 1])
     near = ~(d0 + d1 > (np.abs(b0 - a0) + np.abs(b1 - a1)) * (1.0 + 1e-9) + 1e-12) & ~cut
     k = np.flatnonzero(near)
     if len(k):
@@ -355,8 +360,9 @@ def between_rows(
     """
     out = np.empty(max(len(S) - 1, 0))
     with np.errstate(all="ignore"):
-        d_route = _route_distances(graph, ra, rb, S)[-1]
-        _between(graph, ra, rb, S, A, d_route, dt, amax, jmax, out)
+        for lo, hi in _blocks(len(out)):  # the chords lo … hi−1: the rows lo … hi
+            d_route = _route_distances(graph, ra, rb, S[lo : hi + 1])[-1]
+            _between(graph, ra, rb, S[lo : hi + 1], A[lo : hi + 1], d_route, dt, amax, jmax, out[lo:hi])
     return out
 
 
@@ -422,23 +428,35 @@ def check_rows(
     res[0] = _bad(tt, E, ne, (OFF, S, V, A, J))
     if res[0] != 0.0:
         return res
+    grid_ok = abs(tt[0]) <= time_tol
+    gtol = time_tol * max(1.0, n * dt)
+    dmin, dk = math.inf, 0
+    top = [0.0] * 8  # the largest distance from the route position of A, B; |v|, |a|, |j| of A, B
+    top_k = [0] * 8
     with np.errstate(all="ignore"):
-        grid_ok = abs(tt[0]) <= time_tol
-        gtol = time_tol * max(1.0, n * dt)
-        if bool((np.abs(tt - dt * np.arange(n)) > gtol).any()):
-            grid_ok = False
-        res[1] = 1.0 if grid_ok else 0.0
-        ea, oa, eb, ob, d_route = _route_distances(graph, ra, rb, S)
-        res[2], res[3] = _first_min(_dists(graph, E[:, 0], OFF[:, 0], E[:, 1], OFF[:, 1]), math.inf)
-        for r, slot in ((0, 6), (1, 8)):  # each row's distance from its route position
-            e, o = (ea, oa) if r == 0 else (eb, ob)
-            res[slot], res[slot + 1] = _first_max(_dists(graph, e, o, E[:, r], OFF[:, r]))
-        for q, X in enumerate((V, A, J)):
-            for r in range(2):
-                res[10 + 2 * q + r], res[16 + 2 * q + r] = _first_max(np.abs(X[:, r]))
-        _between(graph, ra, rb, S, A, d_route, dt, lims[2:4], lims[4:6], between)
+        for lo, hi in _blocks(n):
+            end = min(hi + 1, n)  # the block's rows and the next one, the far end of the block's last chord
+            if bool((np.abs(tt[lo:hi] - dt * np.arange(lo, hi)) > gtol).any()):
+                grid_ok = False
+            ea, oa, eb, ob, d_route = _route_distances(graph, ra, rb, S[lo:end])
+            Eb, Ob = E[lo:hi], OFF[lo:hi]
+            dmin, dk = _running_min(dmin, dk, _dists(graph, Eb[:, 0], Ob[:, 0], Eb[:, 1], Ob[:, 1]), lo)
+            m = hi - lo
+            values = (
+                _dists(graph, ea[:m], oa[:m], Eb[:, 0], Ob[:, 0]),
+                _dists(graph, eb[:m], ob[:m], Eb[:, 1], Ob[:, 1]),
+                *(np.abs(X[lo:hi, r]) for X in (V, A, J) for r in (0, 1)),
+            )
+            for i, x in enumerate(values):  # the first row counts whatever its value (the kernels' ``k == 0``)
+                cur = float(x[0]) if lo == 0 else top[i]
+                top[i], top_k[i] = _running_max(cur, top_k[i], x, lo)
+            _between(graph, ra, rb, S[lo:end], A[lo:end], d_route, dt, lims[2:4], lims[4:6], between[lo : end - 1])
         # the first row of the least bound, from row 0 (with one row: the rows' minimum, row 0)
-        res[4], res[5] = _first_min(between, float(between[0])) if n > 1 else (res[2], 0)
+        bmin, bk = _running_min(float(between[0]), 0, between, 0) if n > 1 else (dmin, 0)
+    res[1] = 1.0 if grid_ok else 0.0
+    res[2], res[3], res[4], res[5] = dmin, dk, bmin, bk
+    res[6], res[7], res[8], res[9] = top[0], top_k[0], top[1], top_k[1]
+    res[10:16], res[16:22] = top[2:], top_k[2:]
     for row, slot in ((0, 26), (n - 1, 27)):
         v0, v1, a0, a1 = (abs(float(x)) for x in (V[row, 0], V[row, 1], A[row, 0], A[row, 1]))
         res[slot] = max(max(v0, v1), max(a0, a1))
