@@ -212,8 +212,10 @@ def captured() -> dict[str, list[tuple[str, tuple[Any, ...]]]]:
     def keep(source: str, calls: dict[str, list[tuple[Any, ...]]]) -> None:
         for name, cap in (("check_rows", 10**6), ("between_rows", 60), ("sample_rows", 150)):
             got = calls[name]
-            pick = sorted(rng.choice(len(got), cap, replace=False)) if len(got) > cap else range(len(got))
-            out[name] += [(source, got[i]) for i in pick]
+            pick = set(rng.choice(len(got), cap, replace=False).tolist()) if len(got) > cap else set(range(len(got)))
+            if got:  # and the largest grid
+                pick.add(max(range(len(got)), key=lambda i: len(got[i][0 if name == "sample_rows" else 3])))
+            out[name] += [(source, got[i]) for i in sorted(pick)]
 
     for track, clearance in ((Lollipop(1.0, 1.0), 0.05), (Lollipop(0.3, 1.2), 0.0), (Circle(1.0), 0.1)):
         with recording() as calls:
@@ -256,7 +258,7 @@ def test_the_twins_equal_the_kernels_on_the_pipelines_arguments(captured: Any) -
     for source, args in captured["check_rows"]:
         assert_check_rows_same(args, f"check_rows of {source}")
         longest = max(longest, len(args[3]))
-    assert longest == 43829  # the airport's motion
+    assert longest == 43829  # the airport's motion, in 11 blocks
     cut = 0
     for source, args in captured["between_rows"]:
         assert_between_rows_same(args, f"between_rows of {source}")
@@ -265,6 +267,30 @@ def test_the_twins_equal_the_kernels_on_the_pipelines_arguments(captured: Any) -
         assert_sample_rows_same(args, f"sample_rows of {source}")
     assert cut >= 50, cut  # chords a junction cuts (the rare case done one chord at a time)
     assert {args[11] for _, args in captured["sample_rows"]} >= {1, 5}  # straight and blended paths
+    assert max(len(args[0]) for _, args in captured["sample_rows"]) >= 43829
+
+
+@pytest.mark.parametrize("block", [1, 3, 100])
+def test_the_twins_in_small_blocks(captured: Any, block: int) -> None:
+    # the passes over the rows go block by block: the running minima and maxima (their first rows), the chords
+    # across a block's end and the sampling are the same whatever the blocks
+    rng = np.random.default_rng(block)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(kernels_numpy, "_BLOCK", block)
+        mp.setattr(sampling_numpy, "_BLOCK", block)
+        for kernel, check in (
+            ("check_rows", assert_check_rows_same),
+            ("between_rows", assert_between_rows_same),
+            ("sample_rows", assert_sample_rows_same),
+        ):
+            calls = [c for c in captured[kernel] if 2 < len(c[1][0 if kernel == "sample_rows" else 3]) < 30 * block]
+            for i in rng.choice(len(calls), min(len(calls), 25), replace=False):
+                check(calls[i][1], f"{kernel} of {calls[i][0]} in blocks of {block}")
+        bases = [args for _, args in captured["check_rows"] if len(args[3]) < 30 * block + 200]
+        for i, args in enumerate(bases[:: max(1, len(bases) // 8)]):
+            for kind, case in _check_variants(args, rng):
+                if "peak" in kind or "constant" in kind or "tied" in kind or "rows" in kind:
+                    assert_check_rows_same(case, f"base {i}, {kind}, in blocks of {block}")
 
 
 # ------------------------------------------------------------------------------------------ perturbed rows
