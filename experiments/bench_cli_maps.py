@@ -1,8 +1,8 @@
 """`mpa trajectory` end to end on the converted building maps: process start, imports, map read, free space, plan,
 timing, gate, margins, files written.
 
-    python experiments/bench_cli_maps.py [--runs 3] [--queries 3] [--root DIR] [--before DIR] [--cold]
-        [--no-bytecode] [--out FILE]
+    python experiments/bench_cli_maps.py [--runs 3] [--queries 3] [--root DIR] [--before DIR | --numba-before]
+        [--cold] [--no-bytecode] [--out FILE]
 
 Maps: the Open-RMF sample maps of ``tests/data/openrmf`` (office L1, hotel L1 / L2 / L3 at D = 0.3 m, the airport
 terminal's level L1, navigation graph 2, at D = 0.6 m). Queries: on the airport the query of issue 25 (a 438 s
@@ -12,7 +12,10 @@ plan time is measured by ``bench_plan_tails.py``). Each query runs ``--runs`` ti
 caches its kernels on the first run of a checkout); per map the median wall time and the median CPU time of the
 process (user + system, ``resource.getrusage(RUSAGE_CHILDREN)``: on a shared machine the wall time includes the
 waits for a core). ``--root DIR`` runs the code of another checkout (``PYTHONPATH=DIR``); ``--before DIR`` runs a
-second checkout alternately with it, run for run, so that both see the same load (a before/after table).
+second checkout alternately with it, run for run, so that both see the same load (a before/after table);
+``--numba-before`` runs the same checkout twice instead, before with numba's compiled kernels
+(``TRAJOPT_KERNELS=numba``), after as the command runs by default (their numpy twins, numba not imported:
+:mod:`trajopt._numba`).
 
 The checkout's modules are byte-compiled first (``compileall``) and the processes run with bytecode enabled
 (``PYTHONDONTWRITEBYTECODE`` removed from their environment), as an installed package runs: compiling the
@@ -80,20 +83,30 @@ def _queries(name: str, path: Path, options: list[str], clearance: float, n: int
 BYTECODE = {"on": True}
 
 
-def _env(root: Path, cache: str) -> dict[str, str]:
-    """The processes' environment: ``root``'s code, bytecode enabled (or not), the layout cache in ``cache``."""
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+def _env(root: Path, cache: str, kernels: str | None = None) -> dict[str, str]:
+    """The processes' environment: ``root``'s code, bytecode enabled (or not), the layout cache in ``cache``, the
+    kernels' mode ``kernels`` (None: the command's default)."""
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONDONTWRITEBYTECODE", "TRAJOPT_KERNELS")}
+    if kernels is not None:
+        env["TRAJOPT_KERNELS"] = kernels
     if not BYTECODE["on"]:
         env["PYTHONDONTWRITEBYTECODE"] = "1"
     return {**env, "PYTHONPATH": str(root), "MPA_CACHE_DIR": cache}
 
 
 def _run(
-    root: Path, path: Path, options: list[str], clearance: float, query: tuple[Any, Any], cache: str
+    root: Path,
+    path: Path,
+    options: list[str],
+    clearance: float,
+    query: tuple[Any, Any],
+    cache: str,
+    kernels: str | None = None,
 ) -> tuple[float, float]:
-    """Wall and CPU seconds of one ``mpa trajectory`` process."""
+    """Wall and CPU seconds of one ``mpa trajectory`` process (``kernels``: the kernels' mode, None: the
+    command's default)."""
     (a0, b0), (a1, b1) = query
-    env = _env(root, cache)
+    env = _env(root, cache, kernels)
     with tempfile.TemporaryDirectory() as tmp:
         cmd = [sys.executable, "-m", "trajopt.cli", "trajectory", "--graph", str(path), *options]
         cmd += ["--start", a0, b0, "--goal", a1, b1, "--clearance", str(clearance), "--out", str(Path(tmp) / "o")]
@@ -135,16 +148,23 @@ def main() -> None:
     ap.add_argument(
         "--before", default=None, help="another checkout, run alternately with --root (the same load on both)"
     )
+    ap.add_argument(
+        "--numba-before",
+        action="store_true",
+        help="before: this checkout with numba's compiled kernels (TRAJOPT_KERNELS=numba); after: the default",
+    )
     ap.add_argument("--out", default=None)
     ap.add_argument("--cold", action="store_true", help="no layout cache (MPA_CACHE_DIR=off): every run reads the map")
     ap.add_argument("--no-bytecode", action="store_true", help="run without compiled modules (PYTHONDONTWRITEBYTECODE)")
     args = ap.parse_args()
     os.environ["MPA_CACHE_DIR"] = "off"  # this process reads the maps for the queries only: no user cache written
-    roots = {"after": Path(args.root).resolve()}
+    roots: dict[str, tuple[Path, str | None]] = {"after": (Path(args.root).resolve(), None)}
     if args.before:
-        roots = {"before": Path(args.before).resolve(), **roots}
+        roots = {"before": (Path(args.before).resolve(), None), **roots}
+    elif args.numba_before:
+        roots = {"before": (roots["after"][0], "numba"), **roots}
     BYTECODE["on"] = not args.no_bytecode
-    for root in roots.values():
+    for root, _ in roots.values():
         _prepare(root, BYTECODE["on"])
     cache_dir = tempfile.TemporaryDirectory()
     cache = "off" if args.cold else cache_dir.name
@@ -156,14 +176,14 @@ def main() -> None:
     records = []
     for name, path, options, clearance in MAPS:
         queries = _queries(name, path, options, clearance, args.queries)
-        for root in roots.values():
+        for root, kernels in roots.values():
             # a warm-up run per map, not recorded: numba's kernels compiled and cached once, the map's layout cached
-            _run(root, path, options, clearance, queries[0], cache)
+            _run(root, path, options, clearance, queries[0], cache, kernels)
         times: dict[str, tuple[list[float], list[float]]] = {k: ([], []) for k in roots}
         for query in queries:
             for _ in range(args.runs):
-                for key, root in roots.items():  # alternately: both checkouts see the same load
-                    w, c = _run(root, path, options, clearance, query, cache)
+                for key, (root, kernels) in roots.items():  # alternately: both arms see the same load
+                    w, c = _run(root, path, options, clearance, query, cache, kernels)
                     times[key][0].append(w)
                     times[key][1].append(c)
         rec: dict[str, Any] = {"map": name, "runs": len(times["after"][0])}

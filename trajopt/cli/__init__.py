@@ -5,6 +5,6 @@ options shared by the subcommands; :mod:`trajopt.cli.plan`, :mod:`trajopt.cli.tr
 ``demo``), :mod:`trajopt.cli.animate` and :mod:`trajopt.cli.topology` add one subcommand each.
 """
 
-from trajopt.cli.main import build_parser, main
+from trajopt.cli.main import build_parser, console_main, main
 
-__all__ = ["build_parser", "main"]
+__all__ = ["build_parser", "console_main", "main"]

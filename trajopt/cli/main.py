@@ -25,6 +25,10 @@ nothing on them, and its threads wait for work by spinning, which cost a run of 
 building map about 0.4 s of CPU time (docs/performance.md, "mpa trajectory within 2 s"). Processes the command
 starts (``mpa batch``'s workers) inherit the setting; a process that imported numpy before calling :func:`main`
 keeps its own.
+
+The console script (:func:`console_main`) runs every subcommand but ``batch`` and ``serve`` with the numpy twins of
+the compiled kernels (:mod:`trajopt._numba`): one trajectory per process does not pay numba's 0.5 s of import and
+kernel load; ``TRAJOPT_KERNELS`` in the environment chooses otherwise.
 """
 
 from __future__ import annotations
@@ -45,6 +49,7 @@ __all__ = [
     "EXIT_NO_MOTION",
     "EXIT_USAGE",
     "build_parser",
+    "console_main",
     "main",
     "single_threaded_blas",
 ]
@@ -175,6 +180,22 @@ def _command_of(args: Sequence[str]) -> str | None:
 def _line(prefix: str, exc: object) -> None:
     text = " ".join(str(exc).split()) or type(exc).__name__
     print(f"{prefix}: {text}", file=sys.stderr)
+
+
+#: Subcommands that make many trajectories in one process (``batch``) or live long (``serve``): numba's compiled
+#: kernels pay for their load there; every other subcommand runs with their numpy twins (:func:`console_main`).
+COMPILED_KERNEL_COMMANDS = frozenset({"batch", "serve"})
+
+
+def console_main() -> int:
+    """The ``mpa`` console script and ``python -m trajopt.cli``: :func:`main` on ``sys.argv``, in a process of its
+    own, whose kernels run as numpy twins, numba not imported (:func:`trajopt._numba.use_numpy_twins`), unless the
+    subcommand is one of :data:`COMPILED_KERNEL_COMMANDS` or ``TRAJOPT_KERNELS`` is set."""
+    from trajopt import _numba
+
+    if _numba.ENV not in os.environ and _command_of(sys.argv[1:]) not in COMPILED_KERNEL_COMMANDS:
+        _numba.use_numpy_twins()
+    return main()
 
 
 def main(argv: Sequence[str] | None = None) -> int:

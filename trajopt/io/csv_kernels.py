@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa._arrays import IntArray
-from trajopt._numba import njit
+from trajopt._numba import njit, numpy_twins
 
 __all__ = ["TIE_BAND", "WIDTH", "csv_rows", "format_g12", "text_column"]
 
@@ -217,3 +217,10 @@ def csv_rows(columns: Sequence[tuple[ByteMatrix, IntArray]]) -> bytes:
     out = np.empty(int(lens.sum()) + lens.size, np.uint8)
     n = _join(cells, lens, starts, out)
     return out[:n].tobytes()
+
+
+if numpy_twins():  # a process that runs without numba (trajopt._numba): the numpy twins, the same bytes
+    import trajopt.io.csv_numpy as csv_numpy
+
+    _g12 = csv_numpy.g12_rows
+    _join = csv_numpy.join_rows

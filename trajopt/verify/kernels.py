@@ -23,7 +23,7 @@ from mpa._arrays import FloatArray, IntArray
 from mpa.retraction import lollipop_trace_scalar
 from mpa.routes import affine_position
 from mpa.skeleton import lollipop_point_index
-from trajopt._numba import njit
+from trajopt._numba import njit, numpy_twins
 
 __all__ = [
     "RES",
@@ -530,3 +530,10 @@ def track_positions(
     for r in range(len(S)):
         out[r, 0] = _route_position(breaks_a, A_a, B_a, line_a, interval, stick, loop, S[r, 0])
         out[r, 1] = _route_position(breaks_b, A_b, B_b, line_b, interval, stick, loop, S[r, 1])
+
+
+if numpy_twins():  # a process that runs without numba (trajopt._numba): the gate's passes as numpy twins
+    import trajopt.verify.kernels_numpy as kernels_numpy
+
+    between_rows = kernels_numpy.between_rows
+    check_rows = kernels_numpy.check_rows

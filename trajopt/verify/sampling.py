@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from mpa._arrays import FloatArray, IntArray
-from trajopt._numba import njit
+from trajopt._numba import njit, numpy_twins
 from trajopt.verify.kernels import _bisect_right, _piece
 
 __all__ = ["sample_rows"]
@@ -94,3 +94,9 @@ def sample_rows(
             else:
                 A[r, col] = q[2] * vel**2 + q[1] * acc
                 J[r, col] = q[3] * math.pow(vel, 3.0) + 3 * q[2] * vel * acc + q[1] * jk
+
+
+if numpy_twins():  # a process that runs without numba (trajopt._numba): the numpy twin
+    import trajopt.verify.sampling_numpy as sampling_numpy
+
+    sample_rows = sampling_numpy.sample_rows
