@@ -150,7 +150,19 @@ def test_plan_on_a_building_map_imports_no_numba_nor_the_optimisers(tmp_path: Pa
 
 
 def test_trajectory_on_a_building_map_imports_numba_only(tmp_path: Path) -> None:
-    # numba runs the gate's kernels; the paper's corridor QP (CasADi), toppra and the drawings are not needed
+    # main() in a process of its own keeps numba's compiled kernels (trajopt._numba); the paper's corridor QP
+    # (CasADi), toppra and the drawings are not needed
     argv = ["trajectory", *_OFFICE, *_OFFICE_QUERY, "--out", str(tmp_path / "run")]
     assert _imports(argv, tmp_path) == "0 ['numba']"
+    assert sorted(p.name for p in (tmp_path / "run").iterdir()) == ["setpoints.csv", "summary.json"]
+
+
+def test_the_mpa_command_on_a_building_map_imports_none_of_them(tmp_path: Path) -> None:
+    # the console script runs the gate's kernels as numpy twins: not even numba
+    argv = ["trajectory", *_OFFICE, *_OFFICE_QUERY, "--out", str(tmp_path / "run")]
+    probe = _IMPORTS_PROBE.replace("import main\n", "import console_main\n").replace(
+        "status = main(sys.argv[1:])", "sys.argv[0] = 'mpa'; status = console_main()"
+    )
+    assert probe != _IMPORTS_PROBE
+    assert _run(probe, *argv, MPA_CACHE_DIR=str(tmp_path / "cache")) == "0 []"
     assert sorted(p.name for p in (tmp_path / "run").iterdir()) == ["setpoints.csv", "summary.json"]
