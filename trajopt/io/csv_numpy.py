@@ -421,6 +421,7 @@ def join_rows(cells: ByteMatrix, lens: IntArray, starts: IntArray, out: ByteMatr
     int
         Bytes written, ``lens.sum() + N·C``.
     """
+    cells, lens, starts = np.asarray(cells), np.asarray(lens), np.asarray(starts, dtype=np.int64)
     nrow, ncol = lens.shape[0], starts.shape[0]
     if nrow == 0 or ncol == 0:
         return 0
