@@ -170,9 +170,12 @@ def test_g12_rows_equals_the_kernel_on_seeded_numbers(seed: int) -> None:
     _compare_g12(x[::-1], fill=seed)  # bytes after the text and rows left to Python keep what they held
 
 
-def test_g12_rows_equals_the_kernel_on_the_hard_cases() -> None:
+def test_g12_rows_equals_the_kernel_on_the_hard_cases(monkeypatch: pytest.MonkeyPatch) -> None:
     x = _hard_cases()
     _compare_g12(x)
+    monkeypatch.setattr(csv_numpy, "_G12_CHUNK", 777)  # blocks of rows, the last one shorter
+    _compare_g12(x)
+    monkeypatch.undo()
     _compare_g12(x, width=31, fill=5)
     _compare_g12(x[:0])
     for v in x[:50]:

@@ -189,6 +189,17 @@ def g12_rows(values: NDArray[np.float64], out: ByteMatrix, lens: IntArray) -> No
         Receives the bytes of each text, 0 where Python must format the number.
     """
     x = np.asarray(values, dtype=np.float64)
+    for r0 in range(0, x.shape[0], _G12_CHUNK):  # a few thousand rows at a time: the temporaries stay in cache
+        r1 = r0 + _G12_CHUNK
+        _g12_block(x[r0:r1], out[r0:r1], lens[r0:r1])
+
+
+#: Numbers formatted per step of :func:`g12_rows`.
+_G12_CHUNK = 8192
+
+
+def _g12_block(x: NDArray[np.float64], out: ByteMatrix, lens: IntArray) -> None:
+    """:func:`g12_rows` on one block of rows (the same arguments)."""
     lens[:] = 0
     ax = np.abs(x)
     neg = np.signbit(x)
