@@ -468,4 +468,4 @@ def join_rows(cells: ByteMatrix, lens: IntArray, starts: IntArray, out: ByteMatr
 
 
 #: Bytes of the gathered cells per step of :func:`join_rows` (in the processor's cache).
-_JOIN_CHUNK_BYTES = 1 << 20
+_JOIN_CHUNK_BYTES = 1 << 18
