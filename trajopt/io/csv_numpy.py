@@ -175,8 +175,10 @@ def g12_rows(values: NDArray[np.float64], out: ByteMatrix, lens: IntArray) -> No
 
     The numpy twin of ``trajopt.io.csv_kernels._g12``, equal to it: the same bytes in ``out`` (bytes after
     ``lens[i]`` and rows with ``lens[i] = 0`` are left as they were) and the same ``lens``. Python formats (left
-    with ``lens[i] = 0``): NaN, infinities, ``0 < |x| <= 1e-290`` (subnormals among them), ``|x| >= 1e290``, and
-    numbers whose twelve digits ``|x|·10^(11-E)`` lie within :data:`TIE_BAND` of a rounding tie.
+    with ``lens[i] = 0``): NaN, infinities, ``0 < |x| <= 1e-290`` (subnormals among them), ``|x| >= 1e290``,
+    numbers whose twelve digits ``|x|·10^(11-E)`` lie within :data:`TIE_BAND` of a rounding tie, and a few
+    neighbours of powers of ten for which the kernel's three corrections of ``E`` find none (the rounded ``10^k``
+    make the product jump over ``[1e11, 1e12)``, as ``9.999999999999999e-31`` does).
 
     Parameters
     ----------
