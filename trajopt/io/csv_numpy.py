@@ -413,10 +413,10 @@ def join_rows(cells: ByteMatrix, lens: IntArray, starts: IntArray, out: ByteMatr
     joined by ``,``, each row ending in ``\\n``; returns the bytes written.
 
     The numpy twin of ``trajopt.io.csv_kernels._join``, equal to it: the same bytes in ``out[:n]`` (the rest of
-    ``out`` left as it was) and the same ``n``. A few thousand rows at a time, the cells' bytes are gathered into
-    one matrix with a separator after each column (each column as wide as its longest cell), and one boolean mask
-    (byte ``q`` of column ``k`` kept where ``q < lens[i, k]``, separators always) selects the records' bytes in
-    row-major order.
+    ``out`` left as it was) and the same ``n``. A block of rows at a time (:data:`_JOIN_CHUNK_BYTES` gathered
+    bytes), the cells' bytes are gathered into one matrix with a separator after each column (each column as wide
+    as its longest cell), and one boolean mask (byte ``q`` of column ``k`` kept where ``q < lens[i, k]``,
+    separators always) selects the records' bytes in row-major order.
 
     Parameters
     ----------
