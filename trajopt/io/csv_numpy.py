@@ -175,8 +175,10 @@ def g12_rows(values: NDArray[np.float64], out: ByteMatrix, lens: IntArray) -> No
 
     The numpy twin of ``trajopt.io.csv_kernels._g12``, equal to it: the same bytes in ``out`` (bytes after
     ``lens[i]`` and rows with ``lens[i] = 0`` are left as they were) and the same ``lens``. Python formats (left
-    with ``lens[i] = 0``): NaN, infinities, ``0 < |x| <= 1e-290`` (subnormals among them), ``|x| >= 1e290``, and
-    numbers whose twelve digits ``|x|·10^(11-E)`` lie within :data:`TIE_BAND` of a rounding tie.
+    with ``lens[i] = 0``): NaN, infinities, ``0 < |x| <= 1e-290`` (subnormals among them), ``|x| >= 1e290``,
+    numbers whose twelve digits ``|x|·10^(11-E)`` lie within :data:`TIE_BAND` of a rounding tie, and a few
+    neighbours of powers of ten for which the kernel's three corrections of ``E`` find none (the rounded ``10^k``
+    make the product jump over ``[1e11, 1e12)``, as ``9.999999999999999e-31`` does).
 
     Parameters
     ----------
@@ -189,6 +191,17 @@ def g12_rows(values: NDArray[np.float64], out: ByteMatrix, lens: IntArray) -> No
         Receives the bytes of each text, 0 where Python must format the number.
     """
     x = np.asarray(values, dtype=np.float64)
+    for r0 in range(0, x.shape[0], _G12_CHUNK):  # a few thousand rows at a time: the temporaries stay in cache
+        r1 = r0 + _G12_CHUNK
+        _g12_block(x[r0:r1], out[r0:r1], lens[r0:r1])
+
+
+#: Numbers formatted per step of :func:`g12_rows`.
+_G12_CHUNK = 8192
+
+
+def _g12_block(x: NDArray[np.float64], out: ByteMatrix, lens: IntArray) -> None:
+    """:func:`g12_rows` on one block of rows (the same arguments)."""
     lens[:] = 0
     ax = np.abs(x)
     neg = np.signbit(x)
@@ -400,10 +413,10 @@ def join_rows(cells: ByteMatrix, lens: IntArray, starts: IntArray, out: ByteMatr
     joined by ``,``, each row ending in ``\\n``; returns the bytes written.
 
     The numpy twin of ``trajopt.io.csv_kernels._join``, equal to it: the same bytes in ``out[:n]`` (the rest of
-    ``out`` left as it was) and the same ``n``. A few thousand rows at a time, the cells' bytes are gathered into
-    one matrix with a separator after each column (each column as wide as its longest cell), and one boolean mask
-    (byte ``q`` of column ``k`` kept where ``q < lens[i, k]``, separators always) selects the records' bytes in
-    row-major order.
+    ``out`` left as it was) and the same ``n``. A block of rows at a time (:data:`_JOIN_CHUNK_BYTES` gathered
+    bytes), the cells' bytes are gathered into one matrix with a separator after each column (each column as wide
+    as its longest cell), and one boolean mask (byte ``q`` of column ``k`` kept where ``q < lens[i, k]``,
+    separators always) selects the records' bytes in row-major order.
 
     Parameters
     ----------
@@ -421,6 +434,7 @@ def join_rows(cells: ByteMatrix, lens: IntArray, starts: IntArray, out: ByteMatr
     int
         Bytes written, ``lens.sum() + N·C``.
     """
+    cells, lens, starts = np.asarray(cells), np.asarray(lens), np.asarray(starts, dtype=np.int64)
     nrow, ncol = lens.shape[0], starts.shape[0]
     if nrow == 0 or ncol == 0:
         return 0
@@ -456,4 +470,4 @@ def join_rows(cells: ByteMatrix, lens: IntArray, starts: IntArray, out: ByteMatr
 
 
 #: Bytes of the gathered cells per step of :func:`join_rows` (in the processor's cache).
-_JOIN_CHUNK_BYTES = 1 << 20
+_JOIN_CHUNK_BYTES = 1 << 18
