@@ -1,23 +1,33 @@
 """The verification gate's pass over the rows in numpy, for one-shot processes: numba is never imported.
 
 :func:`check_rows` and :func:`between_rows` take the arguments of the compiled kernels of
-:mod:`trajopt.verify.kernels` and return the same results, bit for bit: the same floating-point operations in the
-same order (``+ − × /``, ``abs``, comparisons; Python's ``min``/``max`` of two floats, ``b if b < a else a``, as
-:func:`_pmin` and :func:`_pmax` with their choice between equal values and NaN), on all rows at once instead of
-one row at a time. The route positions are ``np.searchsorted(breaks, r, side="right")``; the graph distance has
-the terms of :meth:`mpa.geometry.GraphGeometry.distance` in their order; the rows' "first row wins" choices
-(the minimum's row, the peaks' rows, with the kernels' ``k == 0`` start) are made by :func:`_first_min` and
-:func:`_first_max`. The chords that a route junction cuts (a robot passes a junction between two rows: a few per
-edge of a route) are the only ones done one at a time, by the kernel's scalar code (:func:`_cut_chord_min`).
+:mod:`trajopt.verify.kernels` and return the same results, bit for bit (tested on the pipeline's own arguments,
+perturbed ones and hypothesis's): the same floating-point operations in the same order (``+ − × /``, ``abs``,
+comparisons), on many rows at once instead of one row at a time.
+
+- Python's ``min``/``max`` of two floats (``b if b < a else a``, which keeps ``a`` when ``b`` is NaN and the first
+  of two equal zeros) are :func:`_pmin` and :func:`_pmax`; the graph distance's four terms, which are never NaN
+  nor ``−0.0``, take :func:`numpy.minimum` (:func:`_dists`).
+- The route positions are ``np.searchsorted(breaks, r, side="right")``, the graph distance has the terms of
+  :meth:`mpa.geometry.GraphGeometry.distance` in their order, and the chords that no junction cuts take the cell's
+  exact minimum where the robots could meet, all vectorised. The chords that a junction cuts (a robot passes a
+  junction between two rows: a few per edge of a route) are done one at a time by the kernel's scalar code
+  (:func:`_cut_chord_min`).
+- The rows' "first row wins" choices (the minimum's row, the peaks' rows, with the kernels' ``k == 0`` start) are
+  the kernels' running minimum and maximum, carried from block to block (:func:`_running_min`,
+  :func:`_running_max`).
+- The rows go in blocks of :data:`_BLOCK`: temporaries of a whole grid were fresh memory on every call.
 
 A command-line process verifies one trajectory: a few milliseconds of numpy cost less than importing numba and
-loading its compiled kernels (about half a second). :mod:`trajopt._numba` chooses between the two per process.
-This module imports numpy, math and :mod:`mpa` only (not the kernels' module, which imports numba).
+loading its compiled kernels (about half a second); the per-process switch of :mod:`trajopt._numba` picks these
+twins there. This module imports numpy, math and :mod:`mpa`'s array types only (not the kernels' module, which
+imports numba).
 
 Contract (as the kernels'): the routes' ``breaks`` are non-decreasing (:class:`mpa.geometry.DirectedRoute`), the
-graph's arrays are those of :class:`mpa.geometry.GraphGeometry`, ``N ≥ 1`` rows, and ``ends`` holds valid
-positions; the rows themselves may be anything (non-finite values and edges out of range are reported in
-``RES["bad"]``).
+graph's arrays are those of :class:`mpa.geometry.GraphGeometry` (``dv`` finite or ``+inf``), the limits and the
+row step are finite and positive, ``ends`` holds valid positions, and there is at least one row. :func:`check_rows`
+takes any rows (non-finite values and edge indices out of range are reported in ``RES["bad"]``, as by the kernel);
+:func:`between_rows` takes finite ones.
 """
 
 from __future__ import annotations

@@ -1,17 +1,19 @@
 """Sampling a timed path at the setpoint rate in numpy, for one-shot processes: numba is never imported.
 
 :func:`sample_rows` takes the arguments of the compiled :func:`trajopt.verify.sampling.sample_rows` and fills the
-same rows, bit for bit: the same floating-point operations in the same order, on all rows at once. The phase of
-each time is ``np.searchsorted(t0, t, side="right") − 1``; the path's derivatives are Horner's scheme over the
-coefficients of each row's piece (fancy indexing), one column and one order at a time; the clamps are Python's
-``min``/``max`` of two floats (``b if b < a else a``). Two powers are written as the kernel's compiled code
-computes them: ``x**2`` is ``x * x`` (numba multiplies for a constant integer power), and ``math.pow(x, 3.0)`` is
-:func:`numpy.float_power`, which calls the C library's ``pow`` as numba does (:func:`numpy.power` may use a
-vectorised ``pow`` that differs in the last bit: it does on CPUs with AVX-512).
+same rows, bit for bit (tested on the pipeline's own arguments, other times and hypothesis's): the same
+floating-point operations in the same order, on many rows at once. The phase of each time is
+``np.searchsorted(t0, t, side="right") − 1``; the path's derivatives are Horner's scheme over the coefficients of
+each row's piece (fancy indexing), the orders 0 to 3 and both columns at once; the clamps are Python's
+``min``/``max`` of two floats (``b if b < a else a``, which keeps ``a`` when ``b`` is NaN and the first of two equal
+zeros). Two powers are written as the kernel's compiled code computes them: ``x**2`` is ``x * x`` (numba multiplies
+for a constant integer power), and ``math.pow(x, 3.0)`` is :func:`numpy.float_power`, which calls the C library's
+``pow`` as numba does (:func:`numpy.power` may take a vectorised ``pow`` that differs in the last bit: it does on
+CPUs with AVX-512). The rows go in blocks of :data:`_BLOCK`.
 
 A command-line process samples one trajectory: a few milliseconds of numpy cost less than importing numba and
-loading its compiled kernels (about half a second). :mod:`trajopt._numba` chooses between the two per process.
-This module imports numpy only.
+loading its compiled kernels (about half a second); the per-process switch of :mod:`trajopt._numba` picks this twin
+there. This module imports numpy and :mod:`mpa`'s array types only.
 """
 
 from __future__ import annotations
