@@ -572,6 +572,18 @@ def test_check_rows_twin_hypothesis(data: st.DataObject, n: int, dt: float) -> N
 
 
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data(), n=st.integers(0, 12), dt=st.floats(1e-3, 2.0), same=st.booleans())
+def test_between_rows_twin_hypothesis(data: st.DataObject, n: int, dt: float, same: bool) -> None:
+    # the routes walked both ways, or one route twice (the robots following or meeting on it)
+    ra, rb = (_HROUTES[0], _HROUTES[0]) if same else _HROUTES
+    s = np.stack([data.draw(hnp.arrays(float, n, elements=_coordinates(r))) for r in (ra, rb)], 1).reshape(n, 2)
+    acc = data.draw(hnp.arrays(float, (n, 2), elements=_FINITE))
+    lims = data.draw(hnp.arrays(float, 4, elements=st.floats(0.01, 20.0) | st.just(np.inf)))
+    args = (_HGRAPH, ra.arrays, rb.arrays, np.ascontiguousarray(s), acc, dt, lims[:2].copy(), lims[2:].copy())
+    assert_between_rows_same(args, "hypothesis")
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(data=st.data(), q=st.integers(1, 6), pieces=st.integers(1, 4), degree=st.sampled_from([0, 1, 2, 3, 5]))
 def test_sample_rows_twin_hypothesis(data: st.DataObject, q: int, pieces: int, degree: int) -> None:
     floats = st.floats(-50.0, 50.0) | st.sampled_from([0.0, -0.0, 1e-300])
