@@ -14,7 +14,8 @@
 - random long routes with many junctions (chords cut by one or several junctions, robots head-on and following);
 - hypothesis's rows, routes, phases and paths;
 
-and the gate's report on 447 good and broken cases is the same with the twins as with the kernels.
+and the gate's report on the good and broken cases of ``tests/trajopt/test_gate_kernels.py`` is the same with the
+twins as with the kernels.
 """
 
 from __future__ import annotations
@@ -185,13 +186,8 @@ def _trajectories(gen: TrajectoryGenerator, queries: Iterator[Any], count: int, 
 
 def _layout_queries(track: GraphTrack, rng: np.random.Generator) -> Iterator[Any]:
     for _ in range(60):
-        yield (
-            [random_position(track, rng), random_position(track, rng)],
-            [
-                random_position(track, rng),
-                random_position(track, rng),
-            ],
-        )
+        a0, b0, a1, b1 = (random_position(track, rng) for _ in range(4))
+        yield [a0, b0], [a1, b1]
 
 
 def _paper_queries(track: Any, rng: np.random.Generator) -> Iterator[Any]:
