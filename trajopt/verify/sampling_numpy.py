@@ -134,11 +134,13 @@ def _sample_block(
     if pc is None:
         pc = np.minimum(np.maximum(np.searchsorted(breaks, sc, side="right") - 1, 0), len(breaks) - 2)
     x = sc - breaks[pc]
-    c = coef.transpose(1, 2, 0)[:, :, pc]  # (6, 2, K): each row's piece, rows last
+    # each row's piece's coefficients up to the degree, rows last: shape (degree + 1, 2, K)
+    c = np.take(np.ascontiguousarray(coef[:, : degree + 1].transpose(1, 2, 0)), pc, axis=2)
     # Horner's scheme for the orders 0 to 3 and both columns at once: at step i the orders up to i take it
     top = min(degree, 3) + 1
     f = falling[:, :, None, None]  # (4, 6, 1, 1)
-    q = np.zeros((4, 2, len(tt)))  # the path's derivatives of orders 0 to 3 at s (orders above degree: 0)
+    q = np.empty((4, 2, len(tt)))  # the path's derivatives of orders 0 to 3 at s
+    q[top:] = 0.0  # orders above the degree
     np.multiply(c[degree], f[:top, degree], out=q[:top])
     for i in range(degree - 1, -1, -1):
         m = min(i, 3) + 1
