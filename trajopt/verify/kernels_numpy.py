@@ -288,12 +288,17 @@ def _cut_chord_min(
 # ------------------------------------------------------------------------------------------ the rows
 def _crosses(breaks: FloatArray, s: FloatArray) -> NDArray[np.bool_]:
     """Whether a junction of the route (an interior break) lies strictly inside each chord between consecutive
-    coordinates ``s`` (m, shape (K,)); shape (K−1,). The interior breaks below the chord's higher end outnumber
-    those at or below its lower end: with ``L``, ``R`` the counts below and at or below each row (non-decreasing
-    in ``s``, as ``breaks`` is), ``max(L_k, L_k+1) > min(R_k, R_k+1)``."""
+    coordinates ``s`` (m, shape (K,), finite); shape (K−1,). Only where the count of interior breaks at or below
+    the row changes can one lie inside; there the breaks below the chord's higher end outnumber those at or below
+    its lower end (``breaks`` non-decreasing)."""
     inner = breaks[1:-1]
-    below, upto = np.searchsorted(inner, s, side="left"), np.searchsorted(inner, s, side="right")
-    return np.maximum(below[1:], below[:-1]) > np.minimum(upto[1:], upto[:-1])
+    upto = np.searchsorted(inner, s, side="right")
+    cross = upto[1:] != upto[:-1]
+    k = np.flatnonzero(cross)
+    if len(k):
+        low, high = np.minimum(s[k], s[k + 1]), np.maximum(s[k], s[k + 1])
+        cross[k] = np.searchsorted(inner, high, side="left") > np.searchsorted(inner, low, side="right")
+    return cross
 
 
 def _cell_mins(
