@@ -86,35 +86,26 @@ def sample_rows(
     S, V, A, J : ndarray, shape (N, 2)
         Filled with the route coordinates (m), velocities (m/s), accelerations (m/s²) and jerks (m/s³).
     """
+    timing = (t0, p, v, a, j, float(duration), float(length), piece)
+    path = (breaks, coef, int(degree), falling)
     with np.errstate(all="ignore"):
         for lo in range(0, len(tt), _BLOCK):
             rows = slice(lo, lo + _BLOCK)
-            _sample_block(
-                tt[rows], t0, p, v, a, j, duration, length, piece, breaks, coef, degree, falling,
-                S[rows], V[rows], A[rows], J[rows],
-            )  # fmt: skip
+            _sample_block(tt[rows], timing, path, (S[rows], V[rows], A[rows], J[rows]))
 
 
 def _sample_block(
     tt: FloatArray,
-    t0: FloatArray,
-    p: FloatArray,
-    v: FloatArray,
-    a: FloatArray,
-    j: FloatArray,
-    duration: float,
-    length: float,
-    piece: IntArray,
-    breaks: FloatArray,
-    coef: FloatArray,
-    degree: int,
-    falling: FloatArray,
-    S: FloatArray,
-    V: FloatArray,
-    A: FloatArray,
-    J: FloatArray,
+    timing: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, float, float, IntArray],
+    path: tuple[FloatArray, FloatArray, int, FloatArray],
+    out: tuple[FloatArray, FloatArray, FloatArray, FloatArray],
 ) -> None:
-    """:func:`sample_rows` on one block of rows (the arguments as there, ``tt`` and the outputs the block's)."""
+    """:func:`sample_rows` on one block of times ``tt`` (shape (K,)): ``timing`` is ``t0, p, v, a, j, duration,
+    length, piece``, ``path`` is ``breaks, coef, degree, falling``, ``out`` the block's ``S, V, A, J`` (shape
+    (K, 2)), as :func:`sample_rows` takes them."""
+    t0, p, v, a, j, duration, length, piece = timing
+    breaks, coef, degree, falling = path
+    S, V, A, J = out
     k = np.maximum(np.searchsorted(t0, tt, side="right") - 1, 0)  # the phase
     tau = _pmax(tt - t0[k], 0.0)
     jk, ak, vk = j[k], a[k], v[k]
