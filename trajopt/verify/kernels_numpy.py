@@ -1,23 +1,33 @@
 """The verification gate's pass over the rows in numpy, for one-shot processes: numba is never imported.
 
 :func:`check_rows` and :func:`between_rows` take the arguments of the compiled kernels of
-:mod:`trajopt.verify.kernels` and return the same results, bit for bit: the same floating-point operations in the
-same order (``+ − × /``, ``abs``, comparisons; Python's ``min``/``max`` of two floats, ``b if b < a else a``, as
-:func:`_pmin` and :func:`_pmax` with their choice between equal values and NaN), on all rows at once instead of
-one row at a time. The route positions are ``np.searchsorted(breaks, r, side="right")``; the graph distance has
-the terms of :meth:`mpa.geometry.GraphGeometry.distance` in their order; the rows' "first row wins" choices
-(the minimum's row, the peaks' rows, with the kernels' ``k == 0`` start) are made by :func:`_first_min` and
-:func:`_first_max`. The chords that a route junction cuts (a robot passes a junction between two rows: a few per
-edge of a route) are the only ones done one at a time, by the kernel's scalar code (:func:`_cut_chord_min`).
+:mod:`trajopt.verify.kernels` and return the same results, bit for bit (tested on the pipeline's own arguments,
+perturbed ones and hypothesis's): the same floating-point operations in the same order (``+ − × /``, ``abs``,
+comparisons), on many rows at once instead of one row at a time.
+
+- Python's ``min``/``max`` of two floats (``b if b < a else a``, which keeps ``a`` when ``b`` is NaN and the first
+  of two equal zeros) are :func:`_pmin` and :func:`_pmax`; the graph distance's four terms, which are never NaN
+  nor ``−0.0``, take :func:`numpy.minimum` (:func:`_dists`).
+- The route positions are ``np.searchsorted(breaks, r, side="right")``, the graph distance has the terms of
+  :meth:`mpa.geometry.GraphGeometry.distance` in their order, and the chords that no junction cuts take the cell's
+  exact minimum where the robots could meet, all vectorised. The chords that a junction cuts (a robot passes a
+  junction between two rows: a few per edge of a route) are done one at a time by the kernel's scalar code
+  (:func:`_cut_chord_min`).
+- The rows' "first row wins" choices (the minimum's row, the peaks' rows, with the kernels' ``k == 0`` start) are
+  the kernels' running minimum and maximum, carried from block to block (:func:`_running_min`,
+  :func:`_running_max`).
+- The rows go in blocks of :data:`_BLOCK`: temporaries of a whole grid were fresh memory on every call.
 
 A command-line process verifies one trajectory: a few milliseconds of numpy cost less than importing numba and
-loading its compiled kernels (about half a second). :mod:`trajopt._numba` chooses between the two per process.
-This module imports numpy, math and :mod:`mpa` only (not the kernels' module, which imports numba).
+loading its compiled kernels (about half a second); the per-process switch of :mod:`trajopt._numba` picks these
+twins there. This module imports numpy, math and :mod:`mpa`'s array types only (not the kernels' module, which
+imports numba).
 
 Contract (as the kernels'): the routes' ``breaks`` are non-decreasing (:class:`mpa.geometry.DirectedRoute`), the
-graph's arrays are those of :class:`mpa.geometry.GraphGeometry`, ``N ≥ 1`` rows, and ``ends`` holds valid
-positions; the rows themselves may be anything (non-finite values and edges out of range are reported in
-``RES["bad"]``).
+graph's arrays are those of :class:`mpa.geometry.GraphGeometry` (``dv`` finite or ``+inf``), the limits and the
+row step are finite and positive, ``ends`` holds valid positions, and there is at least one row. :func:`check_rows`
+takes any rows (non-finite values and edge indices out of range are reported in ``RES["bad"]``, as by the kernel);
+:func:`between_rows` takes finite ones.
 """
 
 from __future__ import annotations
@@ -164,24 +174,53 @@ def _blocks(n: int) -> list[tuple[int, int]]:
 
 
 # ------------------------------------------------------------------------------------------ scalar twins
-# The kernels' scalar functions as plain Python (Python floats: the same IEEE operations), for the rare chords a
-# junction cuts and the two endpoint distances.
-def _position(breaks: FloatArray, edges: IntArray, dirs: IntArray, entry: FloatArray, r: float) -> tuple[int, float]:
+# The kernels' scalar functions as plain Python on Python floats (the same IEEE operations), for the rare chords a
+# junction cuts and the endpoint distances. A route is given as lists (:func:`_route_lists`), the graph as its
+# arrays, read one element at a time (``item``).
+#: A route as lists ``breaks, edges, dirs, entry``.
+RouteLists = tuple[list[float], list[int], list[int], list[float]]
+
+
+def _route_lists(route: Route) -> RouteLists:
+    """A route's arrays as lists (shapes (M+1,), (M,), (M,), (M,))."""
+    breaks, edges, dirs, entry = route
+    return breaks.tolist(), edges.tolist(), dirs.tolist(), entry.tolist()
+
+
+def _bisect_right(x: list[float], v: float) -> int:
+    """The number of entries of the sorted ``x`` that are ``<= v`` (the kernels' ``_bisect_right``)."""
+    lo, hi = 0, len(x)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if v < x[mid]:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
+def _piece(breaks: list[float], r: float) -> int:
+    """``clip(searchsorted(breaks, r, "right") − 1, 0, M − 1)`` (the kernels' ``_piece``)."""
+    return min(max(_bisect_right(breaks, r) - 1, 0), len(breaks) - 2)
+
+
+def _position(route: RouteLists, r: float) -> tuple[int, float]:
     """``(edge, offset)`` at route coordinate ``r`` (m), clamped to the route (the kernels' ``_position``)."""
-    r = min(max(r, float(breaks[0])), float(breaks[-1]))
-    i = min(max(int(np.searchsorted(breaks, r, side="right")) - 1, 0), len(breaks) - 2)
-    return int(edges[i]), float(entry[i]) + int(dirs[i]) * (r - float(breaks[i]))
+    breaks, edges, dirs, entry = route
+    r = min(max(r, breaks[0]), breaks[-1])
+    i = _piece(breaks, r)
+    return edges[i], entry[i] + dirs[i] * (r - breaks[i])
 
 
 def _dist(graph: Graph, ea: int, sa: float, eb: int, sb: float) -> float:
     """Graph distance (m) of one pair of positions (the kernels' ``_dist``: the same terms in the same order)."""
     tails, heads, lengths, dv = graph
-    ta, ha, la = int(tails[ea]), int(heads[ea]), float(lengths[ea])
-    tb, hb, lb = int(tails[eb]), int(heads[eb]), float(lengths[eb])
+    ta, ha, la = tails.item(ea), heads.item(ea), lengths.item(ea)
+    tb, hb, lb = tails.item(eb), heads.item(eb), lengths.item(eb)
     qa, qb = la - sa, lb - sb
     d = min(
-        min(sa + float(dv[ta, tb]) + sb, sa + float(dv[ta, hb]) + qb),
-        min(qa + float(dv[ha, tb]) + sb, qa + float(dv[ha, hb]) + qb),
+        min(sa + dv.item(ta, tb) + sb, sa + dv.item(ta, hb) + qb),
+        min(qa + dv.item(ha, tb) + sb, qa + dv.item(ha, hb) + qb),
     )
     if ea == eb:
         d = min(d, abs(sa - sb))
@@ -194,38 +233,33 @@ def _excluded(p0a: float, p0b: float, p1a: float, p1b: float, d0: float, d1: flo
     return d0 + d1 > (abs(p1a - p0a) + abs(p1b - p0b)) * (1.0 + 1e-9) + 1e-12
 
 
-def _cell_min(graph: Graph, ra: Route, rb: Route, p0a: float, p0b: float, p1a: float, p1b: float) -> float:
+def _cell_min(graph: Graph, ra: RouteLists, rb: RouteLists, p0a: float, p0b: float, p1a: float, p1b: float) -> float:
     """Exact minimum (m) of the distance along a chord ``p0 → p1`` on which each robot stays on one edge: at an
     end, or 0 where the robots meet on one edge (the kernels' ``_cell_min``)."""
-    ba, ea_, da, na = ra
-    bb, eb_, db, nb = rb
-    lo_a, hi_a, lo_b, hi_b = float(ba[0]), float(ba[-1]), float(bb[0]), float(bb[-1])
-    ia = min(max(int(np.searchsorted(ba, min(max(0.5 * (p0a + p1a), lo_a), hi_a), "right")) - 1, 0), len(ba) - 2)
-    ib = min(max(int(np.searchsorted(bb, min(max(0.5 * (p0b + p1b), lo_b), hi_b), "right")) - 1, 0), len(bb) - 2)
-    e, f = int(ea_[ia]), int(eb_[ib])
-    sa, oa, xa = int(da[ia]), float(na[ia]), float(ba[ia])
-    sb, ob, xb = int(db[ib]), float(nb[ib]), float(bb[ib])
-    s0 = oa + sa * (min(max(p0a, lo_a), hi_a) - xa)
-    s1 = oa + sa * (min(max(p1a, lo_a), hi_a) - xa)
-    t0 = ob + sb * (min(max(p0b, lo_b), hi_b) - xb)
-    t1 = ob + sb * (min(max(p1b, lo_b), hi_b) - xb)
+    (ba, ea_, da, na), (bb, eb_, db, nb) = ra, rb
+    ia = _piece(ba, min(max(0.5 * (p0a + p1a), ba[0]), ba[-1]))
+    ib = _piece(bb, min(max(0.5 * (p0b + p1b), bb[0]), bb[-1]))
+    e, f = ea_[ia], eb_[ib]
+    s0 = na[ia] + da[ia] * (min(max(p0a, ba[0]), ba[-1]) - ba[ia])
+    s1 = na[ia] + da[ia] * (min(max(p1a, ba[0]), ba[-1]) - ba[ia])
+    t0 = nb[ib] + db[ib] * (min(max(p0b, bb[0]), bb[-1]) - bb[ib])
+    t1 = nb[ib] + db[ib] * (min(max(p1b, bb[0]), bb[-1]) - bb[ib])
     if e == f and (s0 - t0) * (s1 - t1) <= 0.0:  # the robots meet on one edge
         return 0.0
     return min(_dist(graph, e, s0, f, t0), _dist(graph, e, s1, f, t1))
 
 
 def _cut_chord_min(
-    graph: Graph, ra: Route, rb: Route, a0: float, a1: float, b0: float, b1: float, d0: float, d1: float
+    graph: Graph, ra: RouteLists, rb: RouteLists, a0: float, a1: float, b0: float, b1: float, d0: float, d1: float
 ) -> float:
     """Exact minimum (m) of the distance along the chord ``(a0, a1) → (b0, b1)`` that a robot's junction cuts: cut
     at the parameters ``(x − a)/(b − a)`` of the junctions ``x`` strictly inside it, each piece by
     :func:`_cell_min` unless :func:`_excluded` (the kernels' ``_cut_chord_min``). ``d0``, ``d1``: the distance at
     the chord's ends."""
-    ba, bb = ra[0], rb[0]
     cuts: list[float] = []
-    for br, a, b in ((ba, a0, b0), (bb, a1, b1)):
+    for br, a, b in ((ra[0], a0, b0), (rb[0], a1, b1)):
         low, high = min(a, b), max(a, b)
-        for x in br[1:-1].tolist():
+        for x in br[1:-1]:
             if low < x < high:
                 cuts.append((x - a) / (b - a))
     cuts.sort()
@@ -239,8 +273,8 @@ def _cut_chord_min(
             p1a, p1b, dd1 = b0, b1, d1
         else:
             p1a, p1b = a0 + t1 * da, a1 + t1 * db
-            ea, oa = _position(*ra, p1a)
-            eb, ob = _position(*rb, p1b)
+            ea, oa = _position(ra, p1a)
+            eb, ob = _position(rb, p1b)
             dd1 = _dist(graph, ea, oa, eb, ob)
         if t0 == 0.0:  # the piece starts at the chord's start itself
             p0a, p0b, dd0 = a0, a1, d0
@@ -254,12 +288,17 @@ def _cut_chord_min(
 # ------------------------------------------------------------------------------------------ the rows
 def _crosses(breaks: FloatArray, s: FloatArray) -> NDArray[np.bool_]:
     """Whether a junction of the route (an interior break) lies strictly inside each chord between consecutive
-    coordinates ``s`` (m, shape (K,)); shape (K−1,). The interior breaks below the chord's higher end outnumber
-    those at or below its lower end: with ``L``, ``R`` the counts below and at or below each row (non-decreasing
-    in ``s``, as ``breaks`` is), ``max(L_k, L_k+1) > min(R_k, R_k+1)``."""
+    coordinates ``s`` (m, shape (K,), finite); shape (K−1,). Only where the count of interior breaks at or below
+    the row changes can one lie inside; there the breaks below the chord's higher end outnumber those at or below
+    its lower end (``breaks`` non-decreasing)."""
     inner = breaks[1:-1]
-    below, upto = np.searchsorted(inner, s, side="left"), np.searchsorted(inner, s, side="right")
-    return np.maximum(below[1:], below[:-1]) > np.minimum(upto[1:], upto[:-1])
+    upto = np.searchsorted(inner, s, side="right")
+    cross = upto[1:] != upto[:-1]
+    k = np.flatnonzero(cross)
+    if len(k):
+        low, high = np.minimum(s[k], s[k + 1]), np.maximum(s[k], s[k + 1])
+        cross[k] = np.searchsorted(inner, high, side="left") > np.searchsorted(inner, low, side="right")
+    return cross
 
 
 def _cell_mins(
@@ -307,10 +346,11 @@ def _between(
     k = np.flatnonzero(near)
     if len(k):
         chord[k] = _pmin(chord[k], _cell_mins(graph, ra, rb, a0[k], a1[k], b0[k], b1[k]))
-    for c in np.flatnonzero(cut).tolist():
-        chord[c] = _cut_chord_min(
-            graph, ra, rb, float(a0[c]), float(a1[c]), float(b0[c]), float(b1[c]), float(d0[c]), float(d1[c])
-        )
+    cuts = np.flatnonzero(cut)
+    if len(cuts):
+        la, lb = _route_lists(ra), _route_lists(rb)
+        ends = zip(*(x[cuts].tolist() for x in (a0, a1, b0, b1, d0, d1)), strict=True)
+        chord[cuts] = [_cut_chord_min(graph, la, lb, *e) for e in ends]
     dev = 0.0 + _pmin(amax[0], _pmax(np.abs(A[:-1, 0]), np.abs(A[1:, 0])) + jmax[0] * dt / 2)
     dev = dev + _pmin(amax[1], _pmax(np.abs(A[:-1, 1]), np.abs(A[1:, 1])) + jmax[1] * dt / 2)
     out[:] = chord - dev * (dt * dt / 8.0)

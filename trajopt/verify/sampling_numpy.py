@@ -1,17 +1,19 @@
 """Sampling a timed path at the setpoint rate in numpy, for one-shot processes: numba is never imported.
 
 :func:`sample_rows` takes the arguments of the compiled :func:`trajopt.verify.sampling.sample_rows` and fills the
-same rows, bit for bit: the same floating-point operations in the same order, on all rows at once. The phase of
-each time is ``np.searchsorted(t0, t, side="right") − 1``; the path's derivatives are Horner's scheme over the
-coefficients of each row's piece (fancy indexing), one column and one order at a time; the clamps are Python's
-``min``/``max`` of two floats (``b if b < a else a``). Two powers are written as the kernel's compiled code
-computes them: ``x**2`` is ``x * x`` (numba multiplies for a constant integer power), and ``math.pow(x, 3.0)`` is
-:func:`numpy.float_power`, which calls the C library's ``pow`` as numba does (:func:`numpy.power` may use a
-vectorised ``pow`` that differs in the last bit: it does on CPUs with AVX-512).
+same rows, bit for bit (tested on the pipeline's own arguments, other times and hypothesis's): the same
+floating-point operations in the same order, on many rows at once. The phase of each time is
+``np.searchsorted(t0, t, side="right") − 1``; the path's derivatives are Horner's scheme over the coefficients of
+each row's piece (fancy indexing), the orders 0 to 3 and both columns at once; the clamps are Python's
+``min``/``max`` of two floats (``b if b < a else a``, which keeps ``a`` when ``b`` is NaN and the first of two equal
+zeros). Two powers are written as the kernel's compiled code computes them: ``x**2`` is ``x * x`` (numba multiplies
+for a constant integer power), and ``math.pow(x, 3.0)`` is :func:`numpy.float_power`, which calls the C library's
+``pow`` as numba does (:func:`numpy.power` may take a vectorised ``pow`` that differs in the last bit: it does on
+CPUs with AVX-512). The rows go in blocks of :data:`_BLOCK`.
 
 A command-line process samples one trajectory: a few milliseconds of numpy cost less than importing numba and
-loading its compiled kernels (about half a second). :mod:`trajopt._numba` chooses between the two per process.
-This module imports numpy only.
+loading its compiled kernels (about half a second); the per-process switch of :mod:`trajopt._numba` picks this twin
+there. This module imports numpy and :mod:`mpa`'s array types only.
 """
 
 from __future__ import annotations
@@ -84,35 +86,26 @@ def sample_rows(
     S, V, A, J : ndarray, shape (N, 2)
         Filled with the route coordinates (m), velocities (m/s), accelerations (m/s²) and jerks (m/s³).
     """
+    timing = (t0, p, v, a, j, float(duration), float(length), piece)
+    path = (breaks, coef, int(degree), falling)
     with np.errstate(all="ignore"):
         for lo in range(0, len(tt), _BLOCK):
             rows = slice(lo, lo + _BLOCK)
-            _sample_block(
-                tt[rows], t0, p, v, a, j, duration, length, piece, breaks, coef, degree, falling,
-                S[rows], V[rows], A[rows], J[rows],
-            )  # fmt: skip
+            _sample_block(tt[rows], timing, path, (S[rows], V[rows], A[rows], J[rows]))
 
 
 def _sample_block(
     tt: FloatArray,
-    t0: FloatArray,
-    p: FloatArray,
-    v: FloatArray,
-    a: FloatArray,
-    j: FloatArray,
-    duration: float,
-    length: float,
-    piece: IntArray,
-    breaks: FloatArray,
-    coef: FloatArray,
-    degree: int,
-    falling: FloatArray,
-    S: FloatArray,
-    V: FloatArray,
-    A: FloatArray,
-    J: FloatArray,
+    timing: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, float, float, IntArray],
+    path: tuple[FloatArray, FloatArray, int, FloatArray],
+    out: tuple[FloatArray, FloatArray, FloatArray, FloatArray],
 ) -> None:
-    """:func:`sample_rows` on one block of rows (the arguments as there, ``tt`` and the outputs the block's)."""
+    """:func:`sample_rows` on one block of times ``tt`` (shape (K,)): ``timing`` is ``t0, p, v, a, j, duration,
+    length, piece``, ``path`` is ``breaks, coef, degree, falling``, ``out`` the block's ``S, V, A, J`` (shape
+    (K, 2)), as :func:`sample_rows` takes them."""
+    t0, p, v, a, j, duration, length, piece = timing
+    breaks, coef, degree, falling = path
+    S, V, A, J = out
     k = np.maximum(np.searchsorted(t0, tt, side="right") - 1, 0)  # the phase
     tau = _pmax(tt - t0[k], 0.0)
     jk, ak, vk = j[k], a[k], v[k]
@@ -132,11 +125,13 @@ def _sample_block(
     if pc is None:
         pc = np.minimum(np.maximum(np.searchsorted(breaks, sc, side="right") - 1, 0), len(breaks) - 2)
     x = sc - breaks[pc]
-    c = coef.transpose(1, 2, 0)[:, :, pc]  # (6, 2, K): each row's piece, rows last
+    # each row's piece's coefficients up to the degree, rows last: shape (degree + 1, 2, K)
+    c = np.take(np.ascontiguousarray(coef[:, : degree + 1].transpose(1, 2, 0)), pc, axis=2)
     # Horner's scheme for the orders 0 to 3 and both columns at once: at step i the orders up to i take it
     top = min(degree, 3) + 1
     f = falling[:, :, None, None]  # (4, 6, 1, 1)
-    q = np.zeros((4, 2, len(tt)))  # the path's derivatives of orders 0 to 3 at s (orders above degree: 0)
+    q = np.empty((4, 2, len(tt)))  # the path's derivatives of orders 0 to 3 at s
+    q[top:] = 0.0  # orders above the degree
     np.multiply(c[degree], f[:top, degree], out=q[:top])
     for i in range(degree - 1, -1, -1):
         m = min(i, 3) + 1
