@@ -135,3 +135,19 @@ def test_minimum_on_the_rows_near_contact_equals_the_full_grid(i: int) -> None:
     m = _Motion(CASES[i])
     got, ref = m.exact_min(np.zeros(2)), reference_exact_min(m)
     assert got[0] == pytest.approx(ref[0], abs=1e-12), (i, got, ref)
+
+
+@pytest.mark.parametrize("i", range(len(CASES)))
+def test_states_on_two_clocks_are_two_samplings(i: int) -> None:
+    # one sampler call for both clocks' times gives the numbers of one call per clock, bit for bit
+    traj = CASES[i]
+    m = _Motion(traj)
+    rng = np.random.default_rng(i)
+    for _ in range(20):
+        t = np.sort(rng.uniform(-1.0, traj.motion_time + 2.0, int(rng.integers(1, 60))))
+        delay = rng.choice([0.0, 1e-9, rng.uniform(0.0, 3.0)], 2)
+        s, a = m.states(t, delay)
+        s0, _, a0, _ = traj.sampler(t - delay[0])
+        s1, _, a1, _ = traj.sampler(t - delay[1])
+        assert np.array_equal(s, np.column_stack([s0[:, 0], s1[:, 1]])), (i, t, delay)
+        assert np.array_equal(a, np.column_stack([a0[:, 0], a1[:, 1]])), (i, t, delay)
