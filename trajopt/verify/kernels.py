@@ -24,6 +24,8 @@ from mpa.retraction import lollipop_trace_scalar
 from mpa.routes import affine_position
 from mpa.skeleton import lollipop_point_index
 from trajopt._numba import njit, numpy_twins
+from trajopt.verify.results import NRES as _NRES
+from trajopt.verify.results import RES
 
 __all__ = [
     "RES",
@@ -41,45 +43,6 @@ __all__ = [
 Graph = tuple[IntArray, IntArray, FloatArray, FloatArray]
 #: A route as the kernels take it: ``breaks, edges, dirs, entry`` (:class:`mpa.geometry.DirectedRoute`).
 Route = tuple[FloatArray, IntArray, IntArray, FloatArray]
-
-#: Slots of :func:`check_rows`'s result vector.
-RES = {
-    name: k
-    for k, name in enumerate(
-        (
-            "bad",  # 0 fine, 1 non-finite values, 2 edge indices out of range
-            "grid_ok",  # 1.0 if the time grid is 0, dt, 2 dt, …
-            "dmin",
-            "dmin_row",
-            "bmin",
-            "bmin_row",
-            "err_a",
-            "err_a_row",
-            "err_b",
-            "err_b_row",
-            "v_a",
-            "v_b",
-            "a_a",
-            "a_b",
-            "j_a",
-            "j_b",
-            "v_a_row",
-            "v_b_row",
-            "a_a_row",
-            "a_b_row",
-            "j_a_row",
-            "j_b_row",
-            "first_a",
-            "first_b",
-            "last_a",
-            "last_b",
-            "rest_first",  # max |v|, |a| of both robots at the first row
-            "rest_last",  # ... at the last row
-        )
-    )
-}
-
-_NRES = len(RES)
 
 
 @njit(cache=True)
