@@ -159,11 +159,15 @@ def _trajectory(out: Path, mode: str, args: list[str]) -> dict[str, Any]:
         ["--graph", "examples/tracks/passing_loop.json", "--start", "W", "E", "--goal", "E", "W", "--clearance", "0.5"],
         ["--graph", "examples/tracks/warehouse.json", "--start", "A1_X1", "A1_X4", "--goal", "A1_X4", "A1_X1"],
         [
+            "--graph", "examples/tracks/passing_loop.json", "--start", "W", "E", "--goal", "E", "W", "--clearance",
+            "0.5", "--footprint", "0.3", "--format", "csv,ros2-yaml,mcap,pvt",
+        ],
+        [
             "--graph", str(AIRPORT), "--level", "L1", "--nav-graph", "2", "--start", "lane70:3.102", "lane143:8.848",
             "--goal", "lane87:1.237", "lane100:0.997", "--clearance", "0.6",
         ],
     ],
-    ids=["passing loop", "warehouse", "airport 438 s"],
+    ids=["passing loop", "warehouse", "footprint, every format", "airport 438 s"],
 )  # fmt: skip
 def test_graph_trajectory_files_are_the_same_without_numba(tmp_path: Path, args: list[str]) -> None:
     pytest.importorskip("numba")
