@@ -42,7 +42,7 @@ from hypothesis.extra import numpy as hnp
 import trajopt.path.planview as planview
 import trajopt.verify.gate as gate
 from mpa import Circle, Interval, Lollipop, MPAError
-from mpa.skeleton import skeleton_of
+from mpa.skeleton import VERTEX_TOL, skeleton_of
 from tests.trajopt.test_gate_kernels import _gate_cases, _waypoints, run_gate_cases
 from tests.trajopt.test_kernels_numpy import _copy, _same
 from trajopt import Limits, TrajectoryGenerator
@@ -217,8 +217,9 @@ def _track_position_variants(args: tuple[Any, ...], rng: np.random.Generator) ->
     yield "one row", with_rows(S[:1] if n else np.zeros((1, 2)))
     huge = rng.choice([1e300, -1e300, 5e-324, 1e16, -1e16], (10, 2))
     yield "huge", with_rows(huge)
-    loop0 = (*args[:11], 0.0, args[12])  # a loop of length 0: the kernel divides by zero on a loop piece
-    yield "loop 0", (np.ascontiguousarray(loop0[0]), *loop0[1:])
+    # a loop of length 0: the kernel divides by zero on a loop piece (NaN coordinates on the route's first piece)
+    for kind, case in (("recorded", args), ("specials", with_rows(np.stack([rng.choice(s, m) for s in specials], 1)))):
+        yield f"loop 0, {kind} rows", (*case[:11], 0.0, case[12])
 
 
 def test_track_positions_twin_on_perturbed_rows(captured: Any) -> None:
@@ -276,6 +277,47 @@ def test_lollipop_skeleton_points_twin_on_special_states() -> None:
                 args[k] = 0.0
                 assert_same("lollipop_skeleton_points", tuple(args), f"{track!r}, argument {k} zero")
     assert seen["degenerate"] >= 10 and seen["raises ZeroDivisionError"] >= 5 and seen["raises None"] >= 20, seen
+
+
+def _model_values(ell: float, c: float) -> FloatArray:
+    """Model coordinates where the scalar functions branch: the ends, P, ``ℓ ± VERTEX_TOL``, the half loop, the
+    loop's end and ``VERTEX_TOL`` before it, each with its neighbours one ulp away; NaN."""
+    h = 0.5 * c
+    x = np.array([0.0, -0.0, ell, ell - h, ell + VERTEX_TOL, ell + h, ell + c, ell + (c - VERTEX_TOL), ell + c + h])
+    return np.concatenate([x, np.nextafter(x, -np.inf), np.nextafter(x, np.inf), [np.nan]])
+
+
+def test_the_vectorised_trace_and_point_index_equal_the_compiled_scalar_functions() -> None:
+    # the two mpa functions the lollipop twin vectorises, on states at their branches (row by row against the
+    # compiled scalar function; a ZeroDivisionError there is the twin's mask)
+    rng = np.random.default_rng(23)
+    hits: Counter[str] = Counter()
+    for ell, c in ((1.0, 1.0), (0.5, 1.0), (0.3, 1.2), (1.5, 0.8), (2.0, 0.5), (0.7, 2.2), (1.0, 0.0)):
+        h = 0.5 * c
+        values = _model_values(ell, c)
+        pairs = np.concatenate([rng.choice(values, (3000, 2)), rng.uniform(-0.2, ell + c + 0.2, (3000, 2))])
+        pairs[::50, 1] = pairs[::50, 0]  # collisions
+        a, b = np.ascontiguousarray(pairs[:, 0]), np.ascontiguousarray(pairs[:, 1])
+        with np.errstate(all="ignore"):
+            da, db, zero = paper_numpy._lollipop_trace(ell, c, a, b)
+            edge, t, zero_p = paper_numpy._point_indices(h, ell, a, b)
+        for k in range(len(a)):
+            case = f"ell={ell} c={c} state=({a[k]!r}, {b[k]!r})"
+            try:
+                want = compiled._trace(ell, c, a[k], b[k])
+                assert not zero[k] and _same(want[0], da[k]) and _same(want[1], db[k]), (case, want, da[k], db[k])
+            except ZeroDivisionError:
+                assert zero[k], case
+                hits["trace divides by zero"] += 1
+            try:
+                e, tk = compiled._point_index(h, ell, a[k], b[k])
+                assert not zero_p[k] and e == edge[k] and _same(tk, t[k]), (case, (e, tk), (edge[k], t[k]))
+            except ZeroDivisionError:
+                assert zero_p[k], case
+                hits["point index divides by zero"] += 1
+            if c and not a[k] <= ell + VERTEX_TOL and (a[k] - ell) % c == c - VERTEX_TOL:
+                hits["phi at the loop's end"] += 1
+    assert min(hits.values()) >= 1 and len(hits) == 3, hits
 
 
 def test_collisions_raise_after_the_rows_before() -> None:

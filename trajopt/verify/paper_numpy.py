@@ -287,6 +287,27 @@ def _lollipop_trace(
     return out_a, out_b, zero
 
 
+def _point_indices(
+    h: float, ell: float, a: FloatArray, b: FloatArray
+) -> tuple[IntArray, FloatArray, NDArray[np.bool_]]:
+    """:func:`mpa.skeleton.lollipop_point_index` of every model state ``(a, b)`` (model m, shape (K,)) on the
+    skeleton: edge indices, ``t`` (shape (K,) each), and where it divides by zero (``h == 0`` off the stick)."""
+    c = 2 * h
+    a_stick, b_stick = a <= ell + VERTEX_TOL, b <= ell + VERTEX_TOL
+    on_stick = a_stick & b_stick
+    b_ahead = b > a
+    t_stick = np.where(b_ahead, _pmin(_pmax(a, 0.0), ell - h), _pmin(_pmax(b, 0.0), ell - h))
+    e_stick = np.where(b_ahead, 0, 7)
+    a_only = a_stick & ~b_stick
+    j = np.where(a_only, 1, np.where(b_stick, 3, 2))
+    phi = np.mod(np.where(a_only, b, a) - ell, c)
+    phi = np.where(phi >= c - VERTEX_TOL, 0.0, phi)
+    upper = phi >= h
+    edge = np.where(on_stick, e_stick, np.where(upper, 2 * j, 2 * j - 1)).astype(np.int64)
+    t = np.where(on_stick, t_stick, np.where(upper, phi - h, phi))
+    return edge, t, ~on_stick & (c == 0.0)
+
+
 def _lollipop_points(
     P: FloatArray, ell: float, c_model: float, kappa: float, degenerate: bool
 ) -> tuple[IntArray, FloatArray, NDArray[np.bool_]]:
@@ -306,21 +327,8 @@ def _lollipop_points(
     rb = np.where(nb <= ell, nb, ell + (nb - ell) / kappa)
     ra = np.where(ra <= ell, ra, ell + (ra - ell) * kappa)  # ... which skeleton_points takes to the model
     rb = np.where(rb <= ell, rb, ell + (rb - ell) * kappa)
-    # lollipop_point_index(h, ell, ra, rb)
-    c = 2 * h
-    a_stick, b_stick = ra <= ell + VERTEX_TOL, rb <= ell + VERTEX_TOL
-    on_stick = a_stick & b_stick
-    b_ahead = rb > ra
-    t_stick = np.where(b_ahead, _pmin(_pmax(ra, 0.0), ell - h), _pmin(_pmax(rb, 0.0), ell - h))
-    e_stick = np.where(b_ahead, 0, 7)
-    a_only = a_stick & ~b_stick
-    j = np.where(a_only, 1, np.where(b_stick, 3, 2))
-    phi = np.mod(np.where(a_only, rb, ra) - ell, c)
-    phi = np.where(phi >= c - VERTEX_TOL, 0.0, phi)
-    upper = phi >= h
-    edge = np.where(on_stick, e_stick, np.where(upper, 2 * j, 2 * j - 1)).astype(np.int64)
-    t = np.where(on_stick, t_stick, np.where(upper, phi - h, phi))
-    zero |= ~on_stick & (c == 0.0)
+    edge, t, zero_p = _point_indices(h, ell, ra, rb)
+    zero |= zero_p
     if degenerate:  # I1 and I2 are single points: the vertices S1a(0) and S3a(0)
         end = (edge == 0) | (edge == 7)
         edge = np.where(end, np.where(edge == 0, 1, 5), edge)
