@@ -113,8 +113,8 @@ def subset(idx):
 graph = [i for i, m in enumerate(meta) if m["kind"] != "paper"]
 paper = [i for i, m in enumerate(meta) if m["kind"] == "paper"]
 reports = dict(zip(graph, run_gate_cases(*subset(graph))))
-clean = "numba" not in sys.modules  # the layouts' gate never needs numba
-reports.update(zip(paper, run_gate_cases(*subset(paper))))  # the paper's kernels: numba, compiled on first use
+reports.update(zip(paper, run_gate_cases(*subset(paper))))
+clean = "numba" not in sys.modules  # every kernel of the gate has a twin
 open(sys.argv[3], "w").write(json.dumps({"clean": clean, "reports": [reports[i] for i in range(len(meta))]}))
 """
 
@@ -129,7 +129,7 @@ def test_gate_reports_are_the_same_with_the_numpy_twins(tmp_path: Path) -> None:
     _python(_GATE, *files, mode="numpy")
     got = json.loads((tmp_path / "reports.json").read_text())
     compiled = run_gate_cases(metas, arrays)
-    assert got["clean"], "numba was imported by the layouts' gate in the numpy mode"
+    assert got["clean"], "numba was imported by the gate in the numpy mode"
     assert sum(m["kind"] != "paper" for m in metas) >= 100
     for i, (kind, _) in enumerate(kinds):
         twin = got["reports"][i]
@@ -174,6 +174,28 @@ def test_graph_trajectory_files_are_the_same_without_numba(tmp_path: Path, args:
     twins = _trajectory(tmp_path / "numpy", "numpy", args)
     compiled = _trajectory(tmp_path / "numba", "numba", args)
     assert twins["status"] == "0 False", twins["status"]  # numba never imported
+    assert compiled["status"] == "0 True", compiled["status"]
+    assert twins["files"].keys() == compiled["files"].keys()
+    for name, data in compiled["files"].items():
+        assert twins["files"][name] == data, f"{name} differs between the modes"
+    assert twins["summary"] == compiled["summary"]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--track", "lollipop", "--start", "0.1", "0.6", "--goal", "0.6", "0.1"],
+        ["--track", "lollipop", "--stick", "0.3", "--loop", "1.2", "--start", "0.05", "1.0", "--goal", "1.2", "0.1"],
+        ["--track", "circle", "--start", "0.1", "0.6", "--goal", "0.6", "0.1", "--format", "csv,ros2-yaml,mcap,pvt"],
+        ["--track", "interval", "--start", "0.1", "0.6", "--goal", "0.3", "0.9"],
+    ],
+    ids=["lollipop swap", "lollipop 0.3/1.2", "circle, every format", "interval"],
+)
+def test_paper_trajectory_files_are_the_same_without_numba(tmp_path: Path, args: list[str]) -> None:
+    pytest.importorskip("numba")
+    twins = _trajectory(tmp_path / "numpy", "numpy", args)
+    compiled = _trajectory(tmp_path / "numba", "numba", args)
+    assert twins["status"] == "0 False", twins["status"]  # the paper's kernels have twins too: numba never imported
     assert compiled["status"] == "0 True", compiled["status"]
     assert twins["files"].keys() == compiled["files"].keys()
     for name, data in compiled["files"].items():

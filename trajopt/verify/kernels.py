@@ -495,8 +495,15 @@ def track_positions(
         out[r, 1] = _route_position(breaks_b, A_b, B_b, line_b, interval, stick, loop, S[r, 1])
 
 
-if numpy_twins():  # a process that runs without numba (trajopt._numba): the gate's passes as numpy twins
+if numpy_twins():  # a process that runs without numba (trajopt._numba): the kernels' numpy twins
     import trajopt.verify.kernels_numpy as kernels_numpy
+    import trajopt.verify.paper_numpy as paper_numpy
 
     between_rows = kernels_numpy.between_rows
     check_rows = kernels_numpy.check_rows
+    circle_skeleton_points = paper_numpy.circle_skeleton_points
+    dense_polyline = paper_numpy.dense_polyline
+    lollipop_skeleton_points = paper_numpy.lollipop_skeleton_points
+    needs_densify = paper_numpy.needs_densify
+    track_positions = paper_numpy.track_positions
+    word_samples = paper_numpy.word_samples
