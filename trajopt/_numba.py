@@ -14,11 +14,11 @@ chosen before the first kernel module is imported:
   Should numba be missing (an interpreter it does not support yet), the kernels run as plain Python: the same
   results, about a hundred times slower.
 - ``"numpy"`` (:func:`use_numpy_twins`, or the environment variable ``TRAJOPT_KERNELS=numpy``; the ``mpa``
-  command does it for every subcommand but ``batch`` and ``serve``): the kernels of the graph pipeline
-  (``sample_rows``, ``check_rows``, ``between_rows``, the CSV writer's) are replaced by numpy twins that give the
-  same results bit for bit (:mod:`trajopt.verify.kernels_numpy`, :mod:`trajopt.verify.sampling_numpy`,
-  :mod:`trajopt.io.csv_numpy`), and numba is not imported. Any other kernel (those of the paper's tracks) is
-  compiled by numba the first time one of them is called (:class:`Deferred`): numba is imported then.
+  command does it for every subcommand but ``batch`` and ``serve``): every kernel the pipeline calls is replaced by
+  its numpy twin, which gives the same results bit for bit (:mod:`trajopt.verify.kernels_numpy`,
+  :mod:`trajopt.verify.sampling_numpy`, :mod:`trajopt.verify.paper_numpy`, :mod:`trajopt.io.csv_numpy`), and numba
+  is not imported. A kernel without a twin would be compiled by numba the first time one is called
+  (:class:`Deferred`): numba is imported then.
 """
 
 from __future__ import annotations
