@@ -201,3 +201,32 @@ def test_paper_trajectory_files_are_the_same_without_numba(tmp_path: Path, args:
     for name, data in compiled["files"].items():
         assert twins["files"][name] == data, f"{name} differs between the modes"
     assert twins["summary"] == compiled["summary"]
+
+
+_DEFERRED = r"""
+import sys, types
+from trajopt import _numba
+assert _numba.use_numpy_twins()
+mod = types.ModuleType("deferred_probe")
+sys.modules["deferred_probe"] = mod
+exec(
+    "from trajopt._numba import njit\n"
+    "@njit\n"
+    "def inner(x):\n"
+    "    return 2.0 * x\n"
+    "@njit\n"
+    "def outer(x):\n"
+    "    return inner(x) + 1.0\n",
+    mod.__dict__,
+)
+before = ("numba" in sys.modules, type(mod.outer).__name__)
+value = mod.outer(3.0)
+print(before, value, "numba" in sys.modules, type(mod.inner).__name__, type(mod.outer).__name__)
+"""
+
+
+def test_a_kernel_without_a_twin_is_compiled_on_its_first_call() -> None:
+    pytest.importorskip("numba")
+    # the kernel and its callee, found by numba in the module's globals, are rebound to numba's dispatchers
+    out = _python(_DEFERRED)
+    assert out == "(False, 'Deferred') 7.0 True CPUDispatcher CPUDispatcher", out
