@@ -373,6 +373,8 @@ def test_densify_twins_on_special_legs() -> None:
         if n:
             assert_same("dense_polyline", (S, 0.0), f"step 0, {n} rows")
     assert seen["cut True"] >= 100 and seen["cut False"] >= 100 and seen["dense rows"] >= 20000, seen
+    with pytest.raises(IndexError):  # no row: the kernel reads outside S (not called on it), the twin says so
+        paper_numpy.dense_polyline(np.zeros((0, 2)), 0.1)
 
 
 def test_word_samples_twin_on_random_edges() -> None:
