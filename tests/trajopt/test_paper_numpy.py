@@ -373,6 +373,8 @@ def test_densify_twins_on_special_legs() -> None:
         if n:
             assert_same("dense_polyline", (S, 0.0), f"step 0, {n} rows")
     assert seen["cut True"] >= 100 and seen["cut False"] >= 100 and seen["dense rows"] >= 20000, seen
+    with pytest.raises(IndexError):  # no row: the kernel reads outside S (not called on it), the twin says so
+        paper_numpy.dense_polyline(np.zeros((0, 2)), 0.1)
 
 
 def test_word_samples_twin_on_random_edges() -> None:
@@ -525,6 +527,70 @@ def test_a_numpy_process_with_the_twins_makes_numbas_trajectories_without_numba(
     assert results["kernels"]["numba"] is True
     assert results["twins"]["out"] == results["kernels"]["out"]
     assert all(ok for _, _, ok, _ in results["twins"]["out"]) and len(results["twins"]["out"]) == 5
+
+
+_CLI = """
+import sys
+from trajopt._numba import use_numpy_twins
+if sys.argv[1] == "twins":
+    use_numpy_twins()
+    import trajopt.path.planview as planview
+    import trajopt.verify.gate as gate
+    import trajopt.verify.kernels as kernels
+    from trajopt.verify import paper_numpy
+    for module in (kernels, gate):
+        for name in paper_numpy.__all__:
+            setattr(module, name, getattr(paper_numpy, name))
+    planview.track_positions = paper_numpy.track_positions
+from trajopt.cli.main import main
+codes = [main(args) for args in ({commands})]
+print(codes, "numba" in sys.modules)
+"""
+
+
+def _files(out: Path) -> dict[str, Any]:
+    """Every file under ``out`` (bytes; ``summary.json`` parsed, without the times the run took)."""
+    files: dict[str, Any] = {}
+    for path in sorted(out.rglob("*")):
+        if path.is_file():
+            files[str(path.relative_to(out))] = path.read_bytes()
+    for name in [n for n in files if n.endswith("summary.json")]:
+        summary = json.loads(files[name])
+        summary.pop("timings")
+        summary["solver"].pop("jerk_time")
+        files[name] = summary
+    return files
+
+
+def test_the_command_lines_files_are_numbas_with_the_twins(tmp_path: Path) -> None:
+    # `mpa trajectory --track lollipop|circle` and `mpa demo` in a process in the numpy mode with the twins patched
+    # in: numba never imported, every file the same as numba's (but the run's own times)
+    files = {}
+    for kind in ("twins", "numba"):
+        out = tmp_path / kind
+        lines = (
+            f"trajectory --track lollipop --stick 0.3 --loop 1.2 --start 0.1 0.9 --goal 1.2 0.2 --out {out}/lollipop",
+            f"trajectory --track circle --start 0.1 0.6 --goal 0.7 0.2 --rate 40 --clearance 0 --out {out}/circle",
+            f"demo --out {out}/demo",
+        )
+        commands = [line.split() for line in lines]
+        commands[0] += ["--format", "csv,ros2-yaml,pvt"]
+        env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
+        env.pop("TRAJOPT_KERNELS", None)
+        done = subprocess.run(
+            [sys.executable, "-c", _CLI.format(commands=repr(commands)), kind],
+            cwd=ROOT,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        assert done.returncode == 0, done.stderr[-3000:]
+        assert done.stdout.split()[-4:] == ["[0,", "0,", "0]", str(kind == "numba")], done.stdout
+        files[kind] = _files(out)
+    assert len(files["twins"]) >= 10 and files["twins"].keys() == files["numba"].keys()
+    for name, content in files["twins"].items():
+        assert content == files["numba"][name], name
 
 
 # ------------------------------------------------------------------------------------------ the module

@@ -19,7 +19,9 @@ operations in the same order, on many rows at once.
   error model), in the middle of their loop over the rows: the twins raise it too, after filling the rows before
   the first that divides by zero, as the kernel does (the gate catches it: a state at a collision).
 - ``math.ceil(x)`` is an ``int64`` in the compiled code; where ``x`` is NaN, infinite or beyond ``2⁶³`` the
-  conversion gives ``−2⁶³`` (x86-64's ``cvttsd2si``), so such a leg is not cut (:func:`_ceil_counts`).
+  conversion gives ``−2⁶³`` (x86-64's ``cvttsd2si``), so such a leg is not cut (:func:`_ceil_counts`). (A CPU
+  that saturates the conversion instead, aarch64, would cut an infinite leg in the kernel; the gate takes the word
+  of finite rows only: a non-finite row fails the separation check first.)
 - The rows go in blocks of :data:`_BLOCK`.
 
 A command-line process on a paper track makes one trajectory: a few milliseconds of numpy cost less than importing
@@ -220,6 +222,8 @@ def dense_polyline(S: FloatArray, step: float) -> FloatArray:
     ------
     ZeroDivisionError
         ``step == 0`` and ``S`` has a leg.
+    IndexError
+        ``S`` has no row (the kernel reads outside ``S`` there).
     """
     n = len(S)
     if n >= 2 and step == 0.0:
