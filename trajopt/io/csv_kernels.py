@@ -22,13 +22,9 @@ from numpy.typing import NDArray
 
 from mpa._arrays import IntArray
 from trajopt._numba import njit, numpy_twins
+from trajopt.io.csv_numpy import TIE_BAND, WIDTH  # the numbers' layout, one definition for both forms
 
 __all__ = ["TIE_BAND", "WIDTH", "csv_rows", "format_g12", "text_column"]
-
-#: Bytes of one formatted number (``-1.23456789012e-308`` is 19).
-WIDTH = 24
-#: Distance from a rounding tie (in units of the twelfth digit) below which Python formats the number.
-TIE_BAND = 0.01
 
 ByteMatrix = NDArray[np.uint8]
 

@@ -30,10 +30,10 @@ from mpa._arrays import IntArray
 
 __all__ = ["TIE_BAND", "WIDTH", "g12_rows", "join_rows"]
 
-#: Bytes of one formatted number (``-1.23456789012e-308`` is 19); ``csv_kernels.WIDTH``.
+#: Bytes of one formatted number (``-1.23456789012e-308`` is 19); also the compiled kernels' (``csv_kernels``).
 WIDTH = 24
-#: Distance from a rounding tie (in units of the twelfth digit) below which Python formats the number;
-#: ``csv_kernels.TIE_BAND``.
+#: Distance from a rounding tie (in units of the twelfth digit) below which Python formats the number; also the
+#: compiled kernels'.
 TIE_BAND = 0.01
 
 ByteMatrix = NDArray[np.uint8]

@@ -38,6 +38,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mpa._arrays import FloatArray, IntArray
+from trajopt.verify.elementwise import BLOCK as _BLOCK
+from trajopt.verify.elementwise import pmax as _pmax
+from trajopt.verify.elementwise import pmin as _pmin
 from trajopt.verify.results import NRES as _NRES
 from trajopt.verify.results import RES
 
@@ -50,17 +53,6 @@ Route = tuple[FloatArray, IntArray, IntArray, FloatArray]
 
 
 # ------------------------------------------------------------------------------------------ elementwise
-def _pmin(a: FloatArray | float, b: FloatArray | float) -> FloatArray:
-    """Python's (and numba's) ``min(a, b)`` elementwise: ``b`` where ``b < a``, else ``a`` (NaN in ``b`` gives
-    ``a``; of two equal zeros the first). Shape: ``a`` and ``b`` broadcast."""
-    return np.where(b < a, b, a)
-
-
-def _pmax(a: FloatArray | float, b: FloatArray | float) -> FloatArray:
-    """Python's ``max(a, b)`` elementwise: ``b`` where ``b > a``, else ``a``."""
-    return np.where(b > a, b, a)
-
-
 def _clamp(x: FloatArray, low: float, high: float) -> FloatArray:
     """``min(max(x, low), high)`` elementwise, as the kernels clamp to a route (shape of ``x``)."""
     return _pmin(_pmax(x, low), high)
@@ -123,12 +115,6 @@ def _running_max(cur: float, row: int, x: FloatArray, lo: int) -> tuple[float, i
         return cur, row
     k = int(above[np.argmax(x[above])])
     return float(x[k]), lo + k
-
-
-#: Rows per block of the passes over the rows. A block's temporaries (32 KiB each) are reused by the allocator
-#: and stay in the CPU's caches; a temporary of a whole grid of 43 829 rows is fresh memory from the operating
-#: system each time (a page fault every 4 KiB), which cost more than the arithmetic.
-_BLOCK = 4096
 
 
 def _blocks(n: int) -> list[tuple[int, int]]:

@@ -37,6 +37,9 @@ from numpy.typing import NDArray
 
 from mpa._arrays import FloatArray, IntArray
 from mpa.skeleton import VERTEX_TOL
+from trajopt.verify.elementwise import BLOCK as _BLOCK
+from trajopt.verify.elementwise import pmax as _pmax
+from trajopt.verify.elementwise import pmin as _pmin
 
 __all__ = [
     "circle_skeleton_points",
@@ -47,21 +50,9 @@ __all__ = [
     "word_samples",
 ]
 
-#: Rows per block: a block's temporaries (32 KiB each) are reused by the allocator and stay in the CPU's caches.
-_BLOCK = 4096
 
 #: ``2⁶³``: the ``int64`` conversion of a ceiling at or beyond it (or NaN, or infinite) is ``−2⁶³``.
 _INT_LIMIT = 2.0**63
-
-
-def _pmin(a: FloatArray | float, b: FloatArray | float) -> FloatArray:
-    """Python's (and numba's) ``min(a, b)`` elementwise: ``b`` where ``b < a``, else ``a``."""
-    return np.where(b < a, b, a)
-
-
-def _pmax(a: FloatArray | float, b: FloatArray | float) -> FloatArray:
-    """Python's ``max(a, b)`` elementwise: ``b`` where ``b > a``, else ``a``."""
-    return np.where(b > a, b, a)
 
 
 def _blocks(n: int) -> list[slice]:

@@ -21,23 +21,11 @@ from __future__ import annotations
 import numpy as np
 
 from mpa._arrays import FloatArray, IntArray
+from trajopt.verify.elementwise import BLOCK as _BLOCK
+from trajopt.verify.elementwise import pmax as _pmax
+from trajopt.verify.elementwise import pmin as _pmin
 
 __all__ = ["sample_rows"]
-
-#: Rows per block: a block's temporaries (32 KiB each) are reused by the allocator and stay in the CPU's caches;
-#: a temporary of a whole grid of 43 829 rows is fresh memory from the operating system each time (a page fault
-#: every 4 KiB), which cost more than the arithmetic.
-_BLOCK = 4096
-
-
-def _pmin(a: FloatArray | float, b: FloatArray | float) -> FloatArray:
-    """Python's ``min(a, b)`` elementwise: ``b`` where ``b < a``, else ``a``."""
-    return np.where(b < a, b, a)
-
-
-def _pmax(a: FloatArray | float, b: FloatArray | float) -> FloatArray:
-    """Python's ``max(a, b)`` elementwise: ``b`` where ``b > a``, else ``a``."""
-    return np.where(b > a, b, a)
 
 
 def sample_rows(
