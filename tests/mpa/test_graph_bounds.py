@@ -20,6 +20,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from mpa.errors import NoMotionError
 from mpa.freespace import FreeSpace, free_space
 from mpa.graph_track import GraphTrack, Position
 from mpa.planners.graph.base import TIE_BREAK
@@ -303,6 +304,77 @@ def test_the_limited_searches_plan_the_makespans_of_the_full_bound(name: str, mo
             compared += same_makespans(spans, (name, s, g, frac))
     assert compared >= 8, compared
     assert stopped >= 1, "no search stopped at its limit: the fallback was not exercised"
+
+
+@pytest.mark.parametrize("name", ["y_junction", "passing_loop", "two_sidings", "rail_yard", "theta", "warehouse"])
+def test_the_segments_within_the_reach_are_those_of_every_cell_that_a_limit_keeps(
+    name: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The passing geometry built per query within the bound's reach (``REACH_EDGES``, as on layouts of more than
+    300 edges) against every segment: the same vertex and bound at the start, and after :meth:`restrict` to limits
+    from the bound at the start to 1.6 times it and to no limit (beyond the first reach: the reach extended), the same
+    segments as the full bound keeps, array for array up to their order."""
+    from mpa.planners.graph import bounds as graph_bounds
+
+    track = _layout(name)
+    rng = np.random.default_rng(11 + len(name))
+    med = float(np.median(track.lengths))
+    compared = extended = fewer = 0
+    for frac in (0.2, 0.6):
+        fs = free_space(track, frac * med)
+        for _, s, g in _queries(track, fs, rng, 12, swap_every=2):
+            va, vb = 1.0, float(rng.uniform(0.5, 1.5))
+            monkeypatch.setattr(graph_bounds, "REACH_EDGES", 10**9)
+            full = PassingBound(_mesh(fs), s, g, va, vb)
+            monkeypatch.setattr(graph_bounds, "REACH_EDGES", 0)
+            part = PassingBound(_mesh(fs), s, g, va, vb)
+            assert part.vertex == full.vertex, (name, s, g)
+            if full.vertex is None:
+                continue
+            assert part.at_start == full.at_start, (name, s, g)
+            fewer += len(part._all_segs[0]) < len(full._all_segs[0])
+            for factor in (1.0, 1.01, 1.3, 1.6, math.inf):
+                limit = full.at_start * factor
+                reach = part._reach
+                full.restrict(limit)
+                part.restrict(limit)
+                extended += part._reach > reach
+                rows_full = sorted(zip(*(a.tolist() for a in full._segs[:9])))
+                rows_part = sorted(zip(*(a.tolist() for a in part._segs[:9])))
+                assert rows_part == rows_full, (name, s, g, factor)
+                compared += 1
+    assert compared >= 40 and extended >= 8, (compared, extended)
+    if name == "warehouse":  # a layout large enough that the reach leaves cells out
+        assert fewer >= 4, fewer
+
+
+def test_the_reach_leaves_every_plan_unchanged(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``plan_graph`` with the passing geometry built within the reach (``REACH_EDGES = 0``) and with every segment,
+    the bound from the first pop: the same makespans, routes and waypoints on seeded swaps and crossings."""
+    from mpa.planners.graph import bounds as graph_bounds
+    from mpa.planners.graph import query as graph_query
+    from mpa.planners.graph.query import plan_graph
+
+    monkeypatch.setattr(graph_query, "PASSING_BOUND_AFTER", 1)
+    compared = 0
+    for name in ("y_junction", "rail_yard", "two_sidings"):
+        track = _layout(name)
+        rng = np.random.default_rng(3 + len(name))
+        med = float(np.median(track.lengths))
+        fs = free_space(track, 0.4 * med)
+        for _, s, g in _queries(track, fs, rng, 10, swap_every=2):
+            out = []
+            for edges in (10**9, 0):
+                monkeypatch.setattr(graph_bounds, "REACH_EDGES", edges)
+                try:
+                    p = plan_graph(track, s, g, 0.4 * med, speeds=(1.0, 0.8))
+                except NoMotionError:
+                    out.append(None)
+                    continue
+                out.append((p.makespan, repr(p.route_a), repr(p.route_b), np.asarray(p.waypoints).tolist()))
+            assert out[0] == out[1], (name, s, g)
+            compared += out[0] is not None
+    assert compared >= 15, compared
 
 
 @pytest.mark.parametrize("name", ["rail_yard", "theta", "two_sidings", "warehouse"])

@@ -48,7 +48,7 @@ from mpa._arrays import FloatArray
 from mpa.graph_track import Position
 from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2, FaceKey, Key
 from mpa.planners.graph.mesh import _Mesh
-from mpa.planners.graph.passing import passing_geometry
+from mpa.planners.graph.passing import _build_passing_geometry, passing_geometry
 
 __all__ = ["BOUND_SAFETY", "PassingBound", "fastest_cost", "passing_bound", "separating_vertices"]
 
@@ -58,6 +58,17 @@ BOUND_SAFETY = 1e-13
 
 #: Separating vertices tried per query (the clearest first); the bound of the one largest at the start is kept.
 VERTICES_TRIED = 2
+
+#: Above this many edges the passing segments are built for each query, and only in the cells ``e × f`` through
+#: which a motion from the start to the goal can cost at most the bound's *reach* (each robot from its start to the
+#: nearest point of its edge and from there to its goal, combined by the cost; :meth:`PassingBound._segments`):
+#: 0.2-10 % of a 1 000-edge layout's cells. At and below it every segment of ``d(x, ·)`` is built once and kept
+#: with the free space (:func:`mpa.planners.graph.passing.passing_geometry`).
+REACH_EDGES = 300
+
+#: The first reach: ``(1 + FIRST_REACH)`` times the robots' own bound; :meth:`PassingBound.restrict` extends it
+#: when a search needs segments beyond it.
+FIRST_REACH = 0.5
 
 #: Segments whose exact least cost is computed at once (module docstring).
 EXACT_CHUNK = 32
@@ -279,20 +290,32 @@ class PassingBound:
         self._times: dict[tuple[int, int], FloatArray] = {}
         self._fronts: dict[tuple[int, int, int], list[tuple[float, float]]] = {}
         vd = [_vertex_dist(mesh, p) for p in (*start, *goal)]
+        self._vd = vd
         self._goal_vd = vd[2:]
         self._goal = goal
-        best: tuple[float, int, tuple[Any, ...], FloatArray] | None = None
+        self._reach = math.inf
+        first = math.inf
+        if g.n_edges > REACH_EDGES:
+            ta = g.distance_scalar(*start[0], *goal[0]) / va
+            tb = g.distance_scalar(*start[1], *goal[1]) / vb
+            first = (max(ta, tb) + TIE_BREAK * (ta + tb)) * (1.0 + FIRST_REACH)
+        best: tuple[float, int, tuple[Any, ...], FloatArray, float] | None = None
         for x in separating_vertices(mesh, start, goal, vd)[:VERTICES_TRIED]:
-            segs = self._segments(x, goal)
-            if segs is None:
+            for reach in (first, math.inf) if math.isfinite(first) else (math.inf,):
+                segs = self._segments(x, goal, reach)
+                if segs is None:
+                    continue
+                e, u0, u1, f, v0, v1, w = segs[:7]
+                from_start = _relaxed(mesh.g, e, u0, u1, f, v0, v1, start[0], start[1], vd[0], vd[1], va, vb) + w
+                h0 = self._value(segs, start[0], start[1], vd[0], vd[1], True, from_start)
+                if h0 <= reach:  # exact: a segment of the cells beyond the reach costs more than the reach
+                    break
+            else:
                 continue
-            e, u0, u1, f, v0, v1, w = segs[:7]
-            from_start = _relaxed(mesh.g, e, u0, u1, f, v0, v1, start[0], start[1], vd[0], vd[1], va, vb) + w
-            h0 = self._value(segs, start[0], start[1], vd[0], vd[1], True, from_start)
             if best is None or h0 > best[0]:
-                best = (h0, x, segs, from_start)
+                best = (h0, x, segs, from_start, reach)
         if best is not None:
-            self.at_start, self.vertex, self._segs, self._from_start = best
+            self.at_start, self.vertex, self._segs, self._from_start, self._reach = best
             self._all_segs = self._segs
             self._sign = 1.0 if float(vd[2][best[1]] - vd[3][best[1]]) > 0.0 else -1.0
             self.n_segments = len(self._segs[0])
@@ -309,6 +332,14 @@ class PassingBound:
         """
         if self.vertex is None:
             return
+        if limit * (1.0 + 1e-9) > self._reach:  # beyond the cells built: build those up to the new limit
+            reach = limit * (1.0 + 1e-6) if math.isfinite(limit) else math.inf
+            segs = self._segments(self.vertex, self._goal, reach)
+            assert segs is not None  # the cells within the former reach are among them
+            e, u0, u1, f, v0, v1, w = segs[:7]
+            g, (pa, pb), vd = self.mesh.g, self.start, self._vd
+            self._from_start = _relaxed(g, e, u0, u1, f, v0, v1, pa, pb, vd[0], vd[1], self.va, self.vb) + w
+            self._all_segs, self._reach = segs, reach
         keep = self._from_start <= limit * (1.0 + 1e-9)
         self._segs = tuple(a[keep] for a in self._all_segs)
         self.n_segments = int(keep.sum())
@@ -319,10 +350,18 @@ class PassingBound:
         self._fronts.clear()
 
     # ------------------------------------------------------------------------------------------ segments
-    def _segments(self, x: int, goal: tuple[Position, Position]) -> tuple[Any, ...] | None:
+    def _segments(self, x: int, goal: tuple[Position, Position], reach: float = math.inf) -> tuple[Any, ...] | None:
         """The passing segments of ``φ = d(x, ·)`` and their least goal cost ``W_k``: arrays ``(e, u0, u1, f, v0,
-        v1, W, alpha, beta, goal pieces of A, of B)`` over the segments, None when there are none."""
-        geom = passing_geometry(self.mesh, x)
+        v1, W, alpha, beta)`` over the segments, None when there are none.
+
+        ``reach`` (s): only the segments of the cells ``e × f`` whose least cost of a motion from the start through
+        them to the goal, each robot to the nearest point of its edge (``comb(d(a0, e), d(b0, f)) + comb(d(e, a1),
+        d(f, b1))``, a lower bound of the relaxed cost of each of their segments) is at most ``reach``; every
+        segment (kept with the free space) when infinite."""
+        if math.isfinite(reach):
+            geom = self._geometry_within(x, reach)
+        else:
+            geom = passing_geometry(self.mesh, x)
         if geom is None:
             return None
         e, u0, u1, f, al, be = geom
@@ -335,6 +374,33 @@ class PassingBound:
             gva, gvb = self._goal_vd
             w = _relaxed(g, e, u0, u1, f, v0, v1, goal[0], goal[1], gva, gvb, self.va, self.vb)
         return e, u0, u1, f, v0, v1, w, al, be
+
+    def _geometry_within(self, x: int, reach: float) -> tuple[Any, ...] | None:
+        """The passing geometry of ``d(x, ·)`` in the cells within ``reach`` of the query (:meth:`_segments`), built
+        for it (not kept)."""
+        g = self.mesh.g
+        start, goal, vd = self.start, self._goal, self._vd
+        tails, heads = g.tails, g.heads
+
+        def edge_time(vdx: FloatArray, pos: Position, v: float) -> FloatArray:
+            d = np.minimum(vdx[tails], vdx[heads])
+            d[pos[0]] = 0.0  # the position is on its own edge
+            return d / v
+
+        ta0, ta1 = edge_time(vd[0], start[0], self.va), edge_time(vd[2], goal[0], self.va)
+        tb0, tb1 = edge_time(vd[1], start[1], self.vb), edge_time(vd[3], goal[1], self.vb)
+        top = reach * (1.0 + 1e-9)
+        rows = np.nonzero(ta0 + ta1 <= top)[0]  # the cost is at least each robot's own time through its edge
+        cols = np.nonzero(tb0 + tb1 <= top)[0]
+        if not len(rows) or not len(cols):
+            return None
+
+        def within(ee: np.ndarray, ff: np.ndarray) -> np.ndarray:
+            a0, b0, a1, b1 = ta0[ee], tb0[ff], ta1[ee], tb1[ff]
+            lb = np.maximum(a0, b0) + TIE_BREAK * (a0 + b0) + np.maximum(a1, b1) + TIE_BREAK * (a1 + b1)
+            return lb <= top
+
+        return _build_passing_geometry(self.mesh, x, rows=rows, cols=cols, cell_ok=within)
 
     def _goal_pieces(self, e: np.ndarray, f: np.ndarray, al: FloatArray, be: FloatArray) -> tuple[Pieces, Pieces]:
         """The robots' distances to their goals as affine pieces in ``u`` along segments ``(e, f, alpha, beta)``."""

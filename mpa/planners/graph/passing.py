@@ -10,7 +10,7 @@ the query beyond ``x``).
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import numpy as np
@@ -71,9 +71,20 @@ def passing_geometry(mesh: _Mesh, x: int) -> tuple[Any, ...] | None:
     return out
 
 
-def _build_passing_geometry(mesh: _Mesh, x: int, every_cell: bool = False) -> tuple[Any, ...] | None:
+def _build_passing_geometry(
+    mesh: _Mesh,
+    x: int,
+    every_cell: bool = False,
+    rows: NDArray[np.int64] | None = None,
+    cols: NDArray[np.int64] | None = None,
+    cell_ok: Callable[[NDArray[np.int64], NDArray[np.int64]], NDArray[np.bool_]] | None = None,
+) -> tuple[Any, ...] | None:
     """:func:`passing_geometry` built: numpy over the free space's non-empty cells, a block at a time, only those
-    whose two edges' ranges of ``φ`` meet (``every_cell``: all of them, the tests' reference)."""
+    whose two edges' ranges of ``φ`` meet (``every_cell``: all of them, the tests' reference).
+
+    ``rows``, ``cols``: only the cells of these edges of robot A, of robot B (sorted edge numbers; None: every
+    edge); ``cell_ok``: only the cells ``e × f`` it keeps (a mask over a block's cells). The segments of the cells
+    kept are those of the whole build, in the same order."""
     g = mesh.g
     fs = mesh.fs
     lengths, tails, heads = g.lengths, g.tails, g.heads
@@ -86,8 +97,13 @@ def _build_passing_geometry(mesh: _Mesh, x: int, every_cell: bool = False) -> tu
     phi_lo = np.minimum(phi_t, phi_h) - 1e-9 * mesh.scale
     phi_hi = np.minimum(mid + phi_t, lengths - mid + phi_h) + 1e-9 * mesh.scale
     parts: dict[tuple[int, int, int], list[tuple[FloatArray, ...]]] = {}
-    blocks = fs.nonempty_cells() if every_cell else _cells_meeting(fs, phi_lo, phi_hi, lengths)
+    blocks = fs.nonempty_cells() if every_cell else _cells_meeting(fs, phi_lo, phi_hi, lengths, rows, cols)
     for ee, ff in blocks:  # a block of cells at a time: memory bounded on large layouts
+        if cell_ok is not None:
+            keep = cell_ok(ee, ff)
+            ee, ff = ee[keep], ff[keep]
+            if not len(ee):
+                continue
         c0 = g.cell_terms_array(ee, ff)
         same = ee == ff
         for pe in (0, 1):
@@ -120,15 +136,15 @@ def _build_passing_geometry(mesh: _Mesh, x: int, every_cell: bool = False) -> tu
                         b = beta[m]
                         row = (ee[m], lo_c[m], hi_c[m], ff[m], np.full(int(m.sum()), alpha), b)
                         parts.setdefault((pe, pf, case), []).append(row)
-    rows = [r for key in sorted(parts, key=lambda k: (k[0], k[1], (0, 1, -1).index(k[2]))) for r in parts[key]]
-    if not rows:
+    found = [r for key in sorted(parts, key=lambda k: (k[0], k[1], (0, 1, -1).index(k[2]))) for r in parts[key]]
+    if not found:
         return None
-    e = np.concatenate([r[0] for r in rows])
-    u0 = np.concatenate([r[1] for r in rows])
-    u1 = np.concatenate([r[2] for r in rows])
-    f = np.concatenate([r[3] for r in rows])
-    al = np.concatenate([r[4] for r in rows])
-    be = np.concatenate([r[5] for r in rows])
+    e = np.concatenate([r[0] for r in found])
+    u0 = np.concatenate([r[1] for r in found])
+    u1 = np.concatenate([r[2] for r in found])
+    f = np.concatenate([r[3] for r in found])
+    al = np.concatenate([r[4] for r in found])
+    be = np.concatenate([r[5] for r in found])
     if PIECE_LENGTH is not None:  # shorter pieces: the relaxation at a node loses at most a piece's length
         n = np.maximum(1, np.ceil((u1 - u0) / (PIECE_LENGTH * mesh.scale)).astype(np.int64))
         idx = np.repeat(np.arange(len(n)), n)
@@ -141,20 +157,30 @@ def _build_passing_geometry(mesh: _Mesh, x: int, every_cell: bool = False) -> tu
 
 
 def _cells_meeting(
-    fs: Any, phi_lo: FloatArray, phi_hi: FloatArray, lengths: FloatArray
+    fs: Any,
+    phi_lo: FloatArray,
+    phi_hi: FloatArray,
+    lengths: FloatArray,
+    row_edges: NDArray[np.int64] | None = None,
+    col_edges: NDArray[np.int64] | None = None,
 ) -> Iterator[tuple[NDArray[np.int64], NDArray[np.int64]]]:
     """The non-empty cells ``e × f`` whose edges' ranges ``[phi_lo, phi_hi]`` meet, row-major, in blocks of at most
     ``CELL_BLOCK`` rows' worth: found by sorting the edges by ``phi_lo`` (only edges whose ``phi_lo`` lies within the
-    widest range below ``e``'s can meet it), without a pass over every cell."""
+    widest range below ``e``'s can meet it), without a pass over every cell. ``row_edges``, ``col_edges``: only
+    these edges ``e`` and ``f`` (sorted; None: every edge)."""
     n = len(phi_lo)
-    order = np.argsort(phi_lo, kind="stable")
+    cols_all = np.arange(n) if col_edges is None else np.asarray(col_edges, dtype=np.int64)
+    rows_all = np.arange(n) if row_edges is None else np.asarray(row_edges, dtype=np.int64)
+    order = cols_all[np.argsort(phi_lo[cols_all], kind="stable")]
     lo_sorted = phi_lo[order]
-    reach = float(np.max(phi_hi - phi_lo)) if n else 0.0
-    first = np.searchsorted(lo_sorted, phi_lo - reach, side="left")
-    last = np.searchsorted(lo_sorted, phi_hi, side="right")
-    rows_per_block = max(1, CELL_BLOCK // max(1, n))
-    for i0 in range(0, n, rows_per_block):
-        rows = np.arange(i0, min(n, i0 + rows_per_block))
+    reach = float(np.max(phi_hi[cols_all] - phi_lo[cols_all])) if len(cols_all) else 0.0
+    first = np.zeros(n, dtype=np.int64)
+    last = np.zeros(n, dtype=np.int64)
+    first[rows_all] = np.searchsorted(lo_sorted, phi_lo[rows_all] - reach, side="left")
+    last[rows_all] = np.searchsorted(lo_sorted, phi_hi[rows_all], side="right")
+    rows_per_block = max(1, CELL_BLOCK // max(1, len(cols_all)))
+    for i0 in range(0, len(rows_all), rows_per_block):
+        rows = rows_all[i0 : i0 + rows_per_block]
         counts = np.maximum(0, last[rows] - first[rows])
         ee = np.repeat(rows, counts)
         offs = np.arange(len(ee)) - np.repeat(np.cumsum(counts) - counts, counts) + np.repeat(first[rows], counts)
