@@ -199,7 +199,7 @@ def _solve_chain(
     rows_g: list[list[tuple[int, float]]] = []
     rhs: list[float] = []
     # the objective's linear map: scaled moves Δ/v of every segment and robot, (2n, nv) and constant (2n,)
-    dmat = [[0.0] * nv for _ in range(2 * n)]  # Python floats, an array for the QR below
+    dmat = np.zeros((2 * n, nv))
     dcon = [0.0] * (2 * n)
     travel: dict[int, float] = {}
     travel_const = 0.0
@@ -218,10 +218,10 @@ def _solve_chain(
                 continue
             ents = []
             if v1 >= 0:
-                dmat[k][v1] += iv
+                dmat[k, v1] += iv
                 ents.append((v1, iv))
             if v0 >= 0:
-                dmat[k][v0] -= iv
+                dmat[k, v0] -= iv
                 ents.append((v0, -iv))
             if s == 0:  # stands: both ends are one variable (Δ = 0 identically)
                 continue
@@ -279,15 +279,16 @@ def _solve_chain(
                 rows_g.append(ents)
                 here = max(dmin, sg * (ps - pt_))
                 rhs.append(min(dmin + margin, here) - sg * (ca_ - cb_))
-    dense = [[0.0] * nz for _ in rows_g]  # summed in Python floats: the same sums as numpy's, without its indexing
-    for row, ents in zip(dense, rows_g, strict=True):
-        for c, x in ents:
-            row[c] += x
-    gmat = np.array(dense, dtype=float).reshape(len(rows_g), nz)
+    # G from its entries, summed in their order where a row holds a column twice (np.add.at is unbuffered)
+    at_row = [i for i, ents in enumerate(rows_g) for _ in ents]
+    at_col = [c for ents in rows_g for c, _ in ents]
+    at_val = [x for ents in rows_g for _, x in ents]
+    gmat = np.zeros((len(rows_g), nz))
+    np.add.at(gmat, (at_row, at_col), at_val)
     h = np.array(rhs)
     dcon_a = np.array(dcon)
     # objective 1/2 |dmat x + dcon|² + 1/2 |T|²: with dmat = Q R, w = R x + Qᵀ dcon, min 1/2 |(w, T)|²
-    qm, rm = np.linalg.qr(np.array(dmat, dtype=float).reshape(2 * n, nv))
+    qm, rm = np.linalg.qr(dmat)
     diag = np.abs(np.diag(rm))
     if diag.min() <= 1e-12 * diag.max():  # pragma: no cover - full rank
         return None
