@@ -1,7 +1,7 @@
 """Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
 
     python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
-        [--compare | --steps | --limits] [--large]
+        [--compare | --steps | --limits | --fourth] [--large]
 
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
 10 / 30 / 100 / 150 edges, three seeds each), the seeded warehouse grids and road maps of
@@ -23,14 +23,20 @@ after = the code as it is. ``--limits``: before = the passing bound of whole seg
 afresh per query after 2 000 pops (5 000 above 120 edges), every segment at once; after = the code as it is
 (pieces, relaxed goal costs, the segments' geometry kept per vertex, the bound after 300 pops whenever it gains more
 than 1e-9 of the robots' own at the start instead of 0.1 %, its segments first limited to near the optimum).
+``--fourth``: before = Python's cyclic garbage collector paused only while a search runs (not for the whole plan)
+and the passing segments of every cell, kept per vertex, on every layout
+(``mpa.planners.graph.bounds.REACH_EDGES`` above any layout's size); after = the code as it is (the collector paused
+for the whole plan, the segments within the bound's reach above 300 edges).
 """
 
 from __future__ import annotations
 
 import argparse
+import gc
 import json
 import sys
 import time
+import types
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -126,7 +132,13 @@ def _arm(compare: str | None, before: bool) -> None:
     graph_query.RESUME_WITHOUT_GAIN = False if old else _AS_IS["resume"]
     graph_bounds.POINTS_FROM_FRONTS = False if old else _AS_IS["points"]
     PassingBound.least_through = PassingBound.least_through_all if old else _AS_IS["least"]  # type: ignore[method-assign]
+    fourth = compare == "fourth" and before
+    graph_query.gc = _NO_PAUSE if fourth else gc  # type: ignore[assignment]
+    graph_bounds.REACH_EDGES = 2**62 if fourth else _AS_IS["reach"]
 
+
+#: ``--fourth``'s "before": the plan does not pause the collector (the search still does, in ``AnyAngleSearch.run``).
+_NO_PAUSE = types.SimpleNamespace(isenabled=lambda: False, disable=lambda: None, enable=lambda: None)
 
 #: The pops after which the earlier search started again with the passing bound.
 EARLIER_AFTER = 5000
@@ -148,6 +160,7 @@ _AS_IS: dict[str, Any] = {
     "gain": graph_query.BOUND_GAIN,
     "again": graph_search.AGAIN_GRID_STEPS,
     "resume": graph_query.RESUME_WITHOUT_GAIN,
+    "reach": graph_bounds.REACH_EDGES,
     "points": graph_bounds.POINTS_FROM_FRONTS,
     "least": PassingBound.least_through,
 }
@@ -230,9 +243,14 @@ def main() -> None:
     ap.add_argument(
         "--limits", action="store_true", help="the bound of whole segments and the one of pieces and limits"
     )
+    ap.add_argument(
+        "--fourth",
+        action="store_true",
+        help="the collector paused in the search only and every passing segment, against the code as it is",
+    )
     ap.add_argument("--large", action="store_true", help="also the 1 000-edge warehouse grid and road map")
     args = ap.parse_args()
-    if args.compare or args.steps or args.limits:
+    if args.compare or args.steps or args.limits or args.fourth:
         print(
             "| layout | edges | queries | CPU median (ms) before → after | CPU p95 (ms) | CPU max (ms) | "
             "wall median (ms) | wall p95 (ms) | wall max (ms) | makespans differing |"
@@ -245,7 +263,7 @@ def main() -> None:
         )
         print("|---|---|---|---|---|---|---|---|---|")
     only = set(args.only.split(",")) if args.only else None
-    mode = "steps" if args.steps else ("limits" if args.limits else args.compare)
+    mode = "steps" if args.steps else ("limits" if args.limits else ("fourth" if args.fourth else args.compare))
     records = run(args.queries, args.seed, only, mode, args.large)
     if args.out:
         Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
