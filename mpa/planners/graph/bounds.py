@@ -305,8 +305,7 @@ class PassingBound:
                 segs = self._segments(x, goal, reach)
                 if segs is None:
                     continue
-                e, u0, u1, f, v0, v1, w = segs[:7]
-                from_start = _relaxed(mesh.g, e, u0, u1, f, v0, v1, start[0], start[1], vd[0], vd[1], va, vb) + w
+                from_start = self._relaxed_from_start(segs)
                 h0 = self._value(segs, start[0], start[1], vd[0], vd[1], True, from_start)
                 if h0 <= reach:  # exact: a segment of the cells beyond the reach costs more than the reach
                     break
@@ -336,9 +335,7 @@ class PassingBound:
             reach = limit * (1.0 + 1e-6) if math.isfinite(limit) else math.inf
             segs = self._segments(self.vertex, self._goal, reach)
             assert segs is not None  # the cells within the former reach are among them
-            e, u0, u1, f, v0, v1, w = segs[:7]
-            g, (pa, pb), vd = self.mesh.g, self.start, self._vd
-            self._from_start = _relaxed(g, e, u0, u1, f, v0, v1, pa, pb, vd[0], vd[1], self.va, self.vb) + w
+            self._from_start = self._relaxed_from_start(segs)
             self._all_segs, self._reach = segs, reach
         keep = self._from_start <= limit * (1.0 + 1e-9)
         self._segs = tuple(a[keep] for a in self._all_segs)
@@ -374,6 +371,13 @@ class PassingBound:
             gva, gvb = self._goal_vd
             w = _relaxed(g, e, u0, u1, f, v0, v1, goal[0], goal[1], gva, gvb, self.va, self.vb)
         return e, u0, u1, f, v0, v1, w, al, be
+
+    def _relaxed_from_start(self, segs: tuple[Any, ...]) -> FloatArray:
+        """Each segment's relaxed least cost of a motion from the start through it to the goal (s), shape (K,):
+        ``comb(d(a0, P_k), d(b0, Q_k)) + W_k``."""
+        e, u0, u1, f, v0, v1, w = segs[:7]
+        (pa, pb), vd = self.start, self._vd
+        return _relaxed(self.mesh.g, e, u0, u1, f, v0, v1, pa, pb, vd[0], vd[1], self.va, self.vb) + w
 
     def _geometry_within(self, x: int, reach: float) -> tuple[Any, ...] | None:
         """The passing geometry of ``d(x, ·)`` in the cells within ``reach`` of the query (:meth:`_segments`), built
