@@ -10,6 +10,7 @@ the bound finds a motion of the same cost.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import math
 from collections.abc import Iterator
@@ -304,6 +305,76 @@ def test_the_limited_searches_plan_the_makespans_of_the_full_bound(name: str, mo
             compared += same_makespans(spans, (name, s, g, frac))
     assert compared >= 8, compared
     assert stopped >= 1, "no search stopped at its limit: the fallback was not exercised"
+
+
+def test_the_limits_rise_and_admit_a_step_aside_and_a_wait() -> None:
+    """``_limits``: rising, None last; the first admits ``LIMIT_STEP_ASIDE`` clearances of travel tie-break above
+    ``(1 + LIMIT_SLACKS[0])`` times the bound, the second at least ``LIMIT_WAIT`` clearances of time (the slower
+    robot's), and a slack whose limit would not rise is left out."""
+    from mpa.planners.graph import query as graph_query
+    from mpa.planners.graph.query import LIMIT_SLACKS, LIMIT_STEP_ASIDE, LIMIT_WAIT, _limits
+
+    rng = np.random.default_rng(17)
+    for _ in range(2000):
+        at = float(10.0 ** rng.uniform(-3, 3))
+        d = float(rng.choice([0.0, 10.0 ** rng.uniform(-3, 1)]))
+        va, vb = (float(10.0 ** rng.uniform(-1, 1)) for _ in range(2))
+        out = _limits(at, d, va, vb)
+        assert out[-1] is None
+        ls = [x for x in out[:-1] if x is not None]
+        assert len(ls) == len(out) - 1 and all(b > a for a, b in itertools.pairwise(ls)), (at, d, va, vb, out)
+        per_d = d / min(va, vb)
+        assert ls[0] == at * (1.0 + LIMIT_SLACKS[0]) + LIMIT_STEP_ASIDE * TIE_BREAK * per_d, (at, d, out)
+        wait = max(at * (1.0 + LIMIT_SLACKS[1]), at + LIMIT_WAIT * per_d)
+        assert (wait in ls) == (wait > ls[0]), (at, d, out)
+        assert all(x in ls for x in (at * (1.0 + s) for s in LIMIT_SLACKS[2:]) if x > max(ls[0], wait)), (at, d, out)
+    assert len(_limits(20.0, 3.0, 1.0, 1.0)) == len(LIMIT_SLACKS)  # the hotel's case: D / v above the second slack
+    assert graph_query.LIMIT_STEP_ASIDE > 2.15  # the largest step aside measured (docs/performance.md)
+
+
+@pytest.mark.parametrize("name", ["y_junction", "passing_loop", "two_sidings", "rail_yard", "warehouse"])
+def test_the_step_aside_and_wait_limits_leave_every_plan_unchanged(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``plan_graph`` with the first two limits raised by a step aside and a wait (``LIMIT_STEP_ASIDE``,
+    ``LIMIT_WAIT``) against the slacks alone, on seeded swaps and queries at two clearances and uneven speeds: the
+    same plan (routes and corners, bit for bit: below a limit the search is the one with every segment, node for
+    node), and fewer searches stopped at a limit."""
+    from mpa.planners.graph import query as graph_query
+    from mpa.planners.graph.query import plan_graph
+
+    monkeypatch.setattr(graph_query, "PASSING_BOUND_AFTER", 1)
+    track = _layout(name)
+    rng = np.random.default_rng(29 + len(name))
+    med = float(np.median(track.lengths))
+    stops = {0: 0, 1: 0}
+    arm = [0]
+    real_run = AnyAngleSearch.run
+
+    def run(self: AnyAngleSearch, budget: int | None = None, limit: float | None = None) -> object:
+        out = real_run(self, budget, limit)
+        if limit is not None and out is None:
+            stops[arm[0]] += 1
+        return out
+
+    monkeypatch.setattr(AnyAngleSearch, "run", run)
+    compared = 0
+    for frac in (0.2, 0.6):
+        fs = free_space(track, frac * med)
+        for _, s, g in _queries(track, fs, rng, 12, swap_every=2):
+            speeds = (1.0, float(rng.choice([1.0, rng.uniform(0.5, 2.0)])))
+            plans = []
+            for arm[0], (step, wait) in enumerate(((0.0, 0.0), (graph_query.LIMIT_STEP_ASIDE, graph_query.LIMIT_WAIT))):
+                monkeypatch.setattr(graph_query, "LIMIT_STEP_ASIDE", step)
+                monkeypatch.setattr(graph_query, "LIMIT_WAIT", wait)
+                try:
+                    p = plan_graph(track, s, g, frac * med, speeds=speeds)
+                except NoMotionError:
+                    plans.append(None)
+                    continue
+                plans.append((p.makespan, tuple(p.route_a.edges), tuple(p.route_b.edges), p.corner_offsets.tobytes()))
+            assert plans[0] == plans[1], (name, s, g, frac, speeds)
+            compared += plans[0] is not None
+    assert compared >= 12, compared
+    assert stops[1] < stops[0], stops  # measured: 12 -> 6, 15 -> 6, 32 -> 12, 13 -> 4, 10 -> 4
 
 
 @pytest.mark.parametrize("name", ["y_junction", "passing_loop", "two_sidings", "rail_yard", "theta", "warehouse"])

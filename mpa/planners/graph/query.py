@@ -56,6 +56,21 @@ RESUME_WITHOUT_GAIN = True
 #: the bound's time (a plateau) is answered with the few segments that allow it.
 LIMIT_SLACKS: tuple[float, ...] = (1e-8, 0.02, 0.1, 0.3)
 
+#: The first limit also admits the travel tie-break of this many clearances (``LIMIT_STEP_ASIDE * TIE_BREAK * D /
+#: min(vA, vB)`` s, :func:`_limits`). A robot that steps aside into a branch travels at least D into it and D back;
+#: the passing lemma sees the robots at one moment, ``D / 2`` on either side of the branch, so it counts D of that
+#: travel and the optimum lies about one more ``TIE_BREAK * D`` above it: measured 1.0-1.5 (at most 2.15) of it on 44
+#: of the 89 bounded queries of ``bench_plan_tails.py``. With the first limit at ``1e-8`` of the bound alone, every
+#: query whose bound is under about 110 D / v searched up to that limit and then again (docs/performance.md).
+LIMIT_STEP_ASIDE = 2.5
+
+#: The second limit is at least the bound at the start plus this many clearances of time (``LIMIT_WAIT * D /
+#: min(vA, vB)`` s, :func:`_limits`): where the bound misses that one robot must wait for the other to be D clear, or
+#: go D round it, the optimum lies ``D / v`` above it (measured: exactly D / v on 5 of the 14 bounded queries of
+#: ``bench_plan_tails.py`` whose optimum lies more than the tie-breaks' scale above the bound, less on 6 more), which
+#: on the hotel maps (D / v of 13 % of the bound) is above the second and third slacks.
+LIMIT_WAIT = 1.05
+
 
 # ------------------------------------------------------------------------------------------------- API
 def _fits_float(x: int) -> bool:
@@ -191,6 +206,27 @@ def plan_graph(
             gc.enable()
 
 
+def _limits(at_start: float, clearance: float, va: float, vb: float) -> list[float | None]:
+    """The limits of the bounded searches (s), rising, then None (every segment): ``(1 + slack)`` times the bound at
+    the start for each of :data:`LIMIT_SLACKS`, the first raised by :data:`LIMIT_STEP_ASIDE` clearances of travel
+    tie-break, the second to at least :data:`LIMIT_WAIT` clearances of time (``clearance`` in metres, speeds in
+    m/s); a limit not above the one before is left out."""
+    out: list[float | None] = []
+    last = -math.inf
+    per_d = clearance / min(va, vb)  # s: the slower robot's time for one clearance
+    for i, slack in enumerate(LIMIT_SLACKS):
+        limit = at_start * (1.0 + slack)
+        if i == 0:
+            limit += LIMIT_STEP_ASIDE * TIE_BREAK * per_d
+        elif i == 1:
+            limit = max(limit, at_start + LIMIT_WAIT * per_d)
+        if limit > last:
+            out.append(limit)
+            last = limit
+    out.append(None)
+    return out
+
+
 def _plan_in(
     query: SearchQuery, fs: FreeSpace, s: tuple[Position, Position], gl: tuple[Position, Position]
 ) -> GraphPlan:
@@ -219,8 +255,7 @@ def _plan_in(
         own = max(ta, tb) + TIE_BREAK * (ta + tb)
         bound = passing if passing and passing.at_start > own * (1.0 + BOUND_GAIN) else None
         if bound is not None and LIMIT_SLACKS:  # first only the segments a near-optimal motion can use
-            for slack in (*LIMIT_SLACKS, None):
-                limit = None if slack is None else bound.at_start * (1.0 + slack)
+            for limit in _limits(bound.at_start, fs.clearance_used, va, vb):
                 bound.restrict(math.inf if limit is None else limit)
                 search = AnyAngleSearch(mesh, query, bound=bound)
                 segs = search.run(limit=limit)
