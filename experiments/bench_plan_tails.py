@@ -1,7 +1,7 @@
 """Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
 
     python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
-        [--compare | --steps | --limits | --fourth] [--large]
+        [--compare | --steps | --limits | --fourth | --fifth] [--large]
 
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
 10 / 30 / 100 / 150 edges, three seeds each), the seeded warehouse grids and road maps of
@@ -27,6 +27,9 @@ than 1e-9 of the robots' own at the start instead of 0.1 %, its segments first l
 and the passing segments of every cell, kept per vertex, on every layout
 (``mpa.planners.graph.bounds.REACH_EDGES`` above any layout's size); after = the code as it is (the collector paused
 for the whole plan, the segments within the bound's reach above 300 edges).
+``--fifth``: before = the bounded searches' limits from the slacks alone (``mpa.planners.graph.query.LIMIT_STEP_ASIDE``
+and ``LIMIT_WAIT`` 0); after = the code as it is (the first limit admits a step aside, the second a wait of one
+clearance).
 """
 
 from __future__ import annotations
@@ -135,6 +138,9 @@ def _arm(compare: str | None, before: bool) -> None:
     fourth = compare == "fourth" and before
     graph_query.gc = _NO_PAUSE if fourth else gc  # type: ignore[assignment]
     graph_bounds.REACH_EDGES = 2**62 if fourth else _AS_IS["reach"]
+    fifth = compare == "fifth" and before
+    graph_query.LIMIT_STEP_ASIDE = 0.0 if fifth else _AS_IS["step_aside"]
+    graph_query.LIMIT_WAIT = 0.0 if fifth else _AS_IS["wait"]
 
 
 #: ``--fourth``'s "before": the plan does not pause the collector (the search still does, in ``AnyAngleSearch.run``).
@@ -163,6 +169,8 @@ _AS_IS: dict[str, Any] = {
     "reach": graph_bounds.REACH_EDGES,
     "points": graph_bounds.POINTS_FROM_FRONTS,
     "least": PassingBound.least_through,
+    "step_aside": graph_query.LIMIT_STEP_ASIDE,
+    "wait": graph_query.LIMIT_WAIT,
 }
 
 
@@ -248,9 +256,10 @@ def main() -> None:
         action="store_true",
         help="the collector paused in the search only and every passing segment, against the code as it is",
     )
+    ap.add_argument("--fifth", action="store_true", help="the limits from the slacks alone, against the code as it is")
     ap.add_argument("--large", action="store_true", help="also the 1 000-edge warehouse grid and road map")
     args = ap.parse_args()
-    if args.compare or args.steps or args.limits or args.fourth:
+    if args.compare or args.steps or args.limits or args.fourth or args.fifth:
         print(
             "| layout | edges | queries | CPU median (ms) before → after | CPU p95 (ms) | CPU max (ms) | "
             "wall median (ms) | wall p95 (ms) | wall max (ms) | makespans differing |"
@@ -263,7 +272,11 @@ def main() -> None:
         )
         print("|---|---|---|---|---|---|---|---|---|")
     only = set(args.only.split(",")) if args.only else None
-    mode = "steps" if args.steps else ("limits" if args.limits else ("fourth" if args.fourth else args.compare))
+    mode = (
+        "steps"
+        if args.steps
+        else ("limits" if args.limits else ("fourth" if args.fourth else ("fifth" if args.fifth else args.compare)))
+    )
     records = run(args.queries, args.seed, only, mode, args.large)
     if args.out:
         Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))
