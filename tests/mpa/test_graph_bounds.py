@@ -356,13 +356,15 @@ def test_the_step_aside_and_wait_limits_leave_every_plan_unchanged(name: str, mo
         return out
 
     monkeypatch.setattr(AnyAngleSearch, "run", run)
+    arms = ((0.0, 0.0), (graph_query.LIMIT_STEP_ASIDE, graph_query.LIMIT_WAIT))  # before any patch below
+    assert min(arms[1]) > 0.0
     compared = 0
     for frac in (0.2, 0.6):
         fs = free_space(track, frac * med)
         for _, s, g in _queries(track, fs, rng, 12, swap_every=2):
             speeds = (1.0, float(rng.choice([1.0, rng.uniform(0.5, 2.0)])))
             plans = []
-            for arm[0], (step, wait) in enumerate(((0.0, 0.0), (graph_query.LIMIT_STEP_ASIDE, graph_query.LIMIT_WAIT))):
+            for arm[0], (step, wait) in enumerate(arms):
                 monkeypatch.setattr(graph_query, "LIMIT_STEP_ASIDE", step)
                 monkeypatch.setattr(graph_query, "LIMIT_WAIT", wait)
                 try:
