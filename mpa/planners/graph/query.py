@@ -17,13 +17,16 @@ from mpa.freespace import FreeSpace, free_space, validate_size
 from mpa.graph_track import GraphTrack, Position, as_graph_track
 from mpa.planners.graph.assemble import _assemble, _merge_same_polygon
 from mpa.planners.graph.base import OBJECTIVES, SPEED_RANGE, SPEED_RATIO, TIE_BREAK
-from mpa.planners.graph.bounds import passing_bound, separating_vertices
-from mpa.planners.graph.mesh import _mesh
+from mpa.planners.graph.bounds import PassingBound, passing_bound, separating_vertices
+from mpa.planners.graph.mesh import _Mesh, _mesh
 from mpa.planners.graph.reasons import _why_no_motion
 from mpa.planners.graph.result import GraphPlan
 from mpa.planners.graph.search import AnyAngleSearch
 from mpa.planners.graph.shortcut import _independent_motion
 from mpa.planners.search_common import SearchQuery
+
+#: The reference search: a benchmark that replaces the module's ``AnyAngleSearch`` gets its own, not the installed one.
+_REFERENCE = AnyAngleSearch
 
 #: Queue pops after which a "fastest" search starts again with the passing bound (:mod:`mpa.planners.graph.bounds`;
 #: a query that no vertex separates, where the bound is 0, is searched once without it); None: never. Building the
@@ -70,6 +73,34 @@ LIMIT_STEP_ASIDE = 2.5
 #: ``bench_plan_tails.py`` whose optimum lies more than the tie-breaks' scale above the bound, less on 6 more), which
 #: on the hotel maps (D / v of 13 % of the bound) is above the second and third slacks.
 LIMIT_WAIT = 1.05
+
+
+#: The search :func:`plan_graph` runs in place of :class:`AnyAngleSearch` (:func:`use_search`), None: that one.
+_COMPILED: type | None = None
+
+
+def use_search(cls: type | None) -> None:
+    """Search with ``cls`` in place of :class:`~mpa.planners.graph.search.AnyAngleSearch` (None: that one again).
+
+    ``cls`` takes the same arguments, has the same ``run`` and returns the same segments, node for node, and has a
+    static method ``supports(query, bound)`` that says whether it does so under the planner's current settings
+    (where it does not, :class:`AnyAngleSearch` answers). :mod:`mpa` stays numpy and scipy only: the compiled search
+    of :mod:`trajopt.plan_kernel` installs itself with this (:func:`trajopt.plan_kernel.install`)."""
+    global _COMPILED
+    _COMPILED = cls
+
+
+def compiled_search() -> type | None:
+    """The search installed by :func:`use_search`, None when there is none."""
+    return _COMPILED
+
+
+def _new_search(mesh: _Mesh, query: SearchQuery, bound: PassingBound | None = None) -> AnyAngleSearch:
+    """The installed search where it supports the query (:func:`use_search`), else :class:`AnyAngleSearch`."""
+    cls = _COMPILED
+    if cls is not None and AnyAngleSearch is _REFERENCE and cls.supports(query, bound):  # type: ignore[attr-defined]
+        return cast("AnyAngleSearch", cls(mesh, query, bound=bound))
+    return AnyAngleSearch(mesh, query, bound=bound)
 
 
 # ------------------------------------------------------------------------------------------------- API
@@ -247,7 +278,7 @@ def _plan_in(
     after = PASSING_BOUND_AFTER if objective == "fastest" and separating_vertices(mesh, s, gl) else None
     if after is not None and tr.n_edges > PASSING_BOUND_EDGES:
         after = max(after, PASSING_BOUND_AFTER_LARGE)
-    search = AnyAngleSearch(mesh, query)
+    search = _new_search(mesh, query)
     segs = search.run(after)
     if segs is None:  # a long negotiation: again with the bound that knows the robots must pass, if it knows more
         passing = passing_bound(mesh, s, gl, va, vb)
@@ -257,13 +288,13 @@ def _plan_in(
         if bound is not None and LIMIT_SLACKS:  # first only the segments a near-optimal motion can use
             for limit in _limits(bound.at_start, fs.clearance_used, va, vb):
                 bound.restrict(math.inf if limit is None else limit)
-                search = AnyAngleSearch(mesh, query, bound=bound)
+                search = _new_search(mesh, query, bound)
                 segs = search.run(limit=limit)
                 if segs is not None:
                     break
         else:
             if bound is not None or not RESUME_WITHOUT_GAIN:
-                search = AnyAngleSearch(mesh, query, bound=bound)
+                search = _new_search(mesh, query, bound)
             segs = search.run()  # with no gain from the bound: the same search resumed, not started again
     if segs is None:  # pragma: no cover - no budget given
         raise PlanningError("search gave up")

@@ -1,0 +1,19 @@
+"""Fixtures of the tests of :mod:`mpa`."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import pytest
+
+from mpa.planners.graph import query as graph_query
+
+
+@pytest.fixture(autouse=True)
+def reference_search() -> Iterator[None]:
+    """The tests of :mod:`mpa` test its own search: a compiled one that :mod:`trajopt` installed in this worker process
+    (:func:`trajopt.plan_kernel.install`, on importing the pipeline) is set aside while each runs, and put back."""
+    installed = graph_query.compiled_search()
+    graph_query.use_search(None)
+    yield
+    graph_query.use_search(installed)

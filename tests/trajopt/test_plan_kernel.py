@@ -1,0 +1,234 @@
+"""The compiled search (:mod:`trajopt.plan_kernel`) is the graph planner's search node for node.
+
+- ``_py_hypot`` is Python's :func:`math.hypot` bit for bit on 300 000 seeded pairs (C's ``hypot`` is not: it
+  differs on about 0.2 % of them, and the search's ties would then differ).
+- :func:`mpa.planners.graph.query.plan_graph` with the compiled search plans what it plans with
+  :class:`~mpa.planners.graph.search.AnyAngleSearch`, bit for bit (the cells, the segments' offsets, the waypoints
+  and the makespan): seeded random layouts, the example tracks and an Open-RMF map; swaps and free queries, both
+  objectives, unequal speeds, clearances from tiny to large. Failing queries are printed.
+- A search run in budgets stops after the same pops and returns the same segments; searches with the passing bound,
+  restricted to a limit, stop at the same limit or find the same path.
+- Under settings the compiled search does not follow (a benchmark's "before" arms) the planner uses the reference.
+- :func:`trajopt.plan_kernel.install` installs it in a process whose kernels are compiled, and not in the ``numpy``
+  mode of a single command.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from mpa.errors import NoMotionError
+from mpa.freespace import free_space
+from mpa.graph_track import GraphTrack
+from mpa.planners.graph import bounds as graph_bounds
+from mpa.planners.graph import query as graph_query
+from mpa.planners.graph.bounds import passing_bound
+from mpa.planners.graph.mesh import _mesh
+from mpa.planners.graph.search import AnyAngleSearch
+from mpa.planners.search_common import SearchQuery
+from tests.helpers.graph_helpers import random_free_query, random_layout
+from trajopt import plan_kernel
+from trajopt.plan_kernel import CompiledSearch
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ("y_junction", "passing_loop", "two_sidings", "theta", "lollipop", "figure_eight", "rail_yard", "warehouse")
+
+
+def _example(name: str) -> GraphTrack:
+    return GraphTrack.from_layout(json.loads((ROOT / "examples" / "tracks" / f"{name}.json").read_text()))
+
+
+def _signature(plan: Any) -> tuple[Any, ...]:
+    return (plan.segment_cells, plan.segment_offsets.tobytes(), plan.waypoints.tobytes(), plan.makespan)
+
+
+def _plan_both(track: GraphTrack, s: Any, g: Any, d: float, objective: str, speeds: Any) -> tuple[Any, Any]:
+    """The plan's signature with the reference search and with the compiled one (None: no motion)."""
+    out = []
+    for cls in (None, CompiledSearch):
+        graph_query.use_search(cls)
+        try:
+            p = graph_query.plan_graph(track, s, g, d, objective=objective, speeds=speeds)
+            out.append(_signature(p))
+        except NoMotionError as e:
+            out.append(("no motion", str(e)))
+        finally:
+            graph_query.use_search(None)
+    return out[0], out[1]
+
+
+@pytest.fixture(autouse=True)
+def _reference_after() -> Any:
+    yield
+    graph_query.use_search(None)
+
+
+def test_py_hypot_is_pythons_hypot_bit_for_bit() -> None:
+    rng = np.random.default_rng(20261127)
+    n = 100_000
+    x = rng.random(n) * np.exp(rng.normal(0.0, 6.0, n))
+    y = rng.random(n) * np.exp(rng.normal(0.0, 6.0, n))
+    pairs = list(zip(x.tolist(), y.tolist()))
+    pairs += [(a, a) for a in x[:50_000].tolist()]  # equal arguments
+    pairs += [(a, a * 1e-9) for a in y[:50_000].tolist()]  # one tiny against the other (the tie-break's scale)
+    pairs += [(a, 0.0) for a in x[:50_000].tolist()] + [(0.0, 0.0), (-3.0, 4.0), (3.0, -4.0), (1e300, 1e300)]
+    pairs += [(a, b) for a, b in zip(rng.uniform(0, 1e3, 50_000).tolist(), rng.uniform(0, 1e3, 50_000).tolist())]
+    got = plan_kernel._hypot_many(np.array(pairs))
+    want = np.array([math.hypot(a, b) for a, b in pairs])
+    bad = np.nonzero(got != want)[0]
+    assert len(bad) == 0, [(pairs[i], got[i], want[i]) for i in bad[:5]]
+    assert len(pairs) >= 300_000
+
+
+def _queries(track: GraphTrack, d: float, rng: np.random.Generator, n: int) -> list[tuple[Any, Any]]:
+    fs = free_space(track, d)
+    out = []
+    for k in range(n):
+        q = random_free_query(track, fs, rng, vertex_p=0.2)
+        if q is None:
+            continue
+        s, g = q
+        if k % 3 == 0:
+            g = (s[1], s[0])  # a swap
+        out.append((s, g))
+    return out
+
+
+def _check_many(cases: list[tuple[GraphTrack, float, Any, Any, str, Any]]) -> int:
+    bad = []
+    for track, d, s, g, objective, speeds in cases:
+        ref, got = _plan_both(track, s, g, d, objective, speeds)
+        if ref != got:
+            bad.append((s, g, d, objective, speeds, ref[-1], got[-1]))
+    assert not bad, f"{len(bad)} of {len(cases)} plans differ, e.g. {bad[:3]}"
+    return len(cases)
+
+
+def test_plans_are_the_references_on_random_layouts() -> None:
+    rng = np.random.default_rng(7)
+    cases = []
+    for _ in range(120):
+        track = random_layout(rng)
+        d = float(rng.choice([1e-3, 0.1, 0.3, 0.6])) * float(np.median(track.lengths))
+        objective = "fastest" if rng.random() < 0.8 else "shortest"
+        speeds = (1.0, 1.0) if rng.random() < 0.6 else (float(rng.uniform(0.3, 2.0)), float(rng.uniform(0.3, 2.0)))
+        cases += [(track, d, s, g, objective, speeds) for s, g in _queries(track, d, rng, 10)]
+    assert _check_many(cases) >= 1000
+
+
+def test_plans_are_the_references_on_the_example_tracks() -> None:
+    rng = np.random.default_rng(11)
+    cases = []
+    for name in EXAMPLES:
+        track = _example(name)
+        med = float(np.median(track.lengths))
+        for frac in (0.05, 0.2, 0.5, 1.0):
+            speeds = (1.0, 1.0) if frac < 0.5 else (1.0, 0.7)
+            cases += [(track, frac * med, s, g, "fastest", speeds) for s, g in _queries(track, frac * med, rng, 12)]
+    assert _check_many(cases) >= 300
+
+
+def test_plans_are_the_references_on_an_openrmf_map() -> None:
+    track = GraphTrack.from_file(ROOT / "tests" / "data" / "openrmf" / "hotel.building.yaml", level="L1")
+    rng = np.random.default_rng(3)
+    d = 0.2 * float(np.median(track.lengths))
+    cases = [(track, d, s, g, "fastest", (1.0, 1.0)) for s, g in _queries(track, d, rng, 40)]
+    assert _check_many(cases) >= 30
+
+
+def _segments_in_steps(cls: type, mesh: Any, query: SearchQuery, bound: Any, budget: int) -> list[Any]:
+    """Every answer of ``run(budget)`` until the path, then the path."""
+    search = cls(mesh, query, bound=bound)
+    answers = []
+    for _ in range(100_000):
+        segs = search.run(budget)
+        answers.append(segs)
+        if segs is not None:
+            return answers
+    raise AssertionError("no path")
+
+
+def test_a_search_run_in_budgets_stops_where_the_reference_stops() -> None:
+    rng = np.random.default_rng(5)
+    compared = 0
+    for name in ("passing_loop", "theta", "rail_yard", "warehouse"):
+        track = _example(name)
+        d = 0.3 * float(np.median(track.lengths))
+        fs = free_space(track, d)
+        mesh = _mesh(fs)
+        for s, g in _queries(track, d, rng, 8):
+            if fs.component_of(*s) != fs.component_of(*g):
+                continue
+            query = SearchQuery(track, fs, s, g, "fastest", (1.0, 1.0))
+            for budget in (1, 7, 50):
+                ref = _segments_in_steps(AnyAngleSearch, mesh, query, None, budget)
+                got = _segments_in_steps(CompiledSearch, mesh, query, None, budget)
+                assert got == ref, (name, s, g, budget)
+                compared += 1
+    assert compared >= 40
+
+
+def test_searches_with_the_passing_bound_and_limits_are_the_references() -> None:
+    rng = np.random.default_rng(9)
+    compared = 0
+    for name in ("y_junction", "passing_loop", "two_sidings", "rail_yard", "warehouse"):
+        track = _example(name)
+        d = 0.3 * float(np.median(track.lengths))
+        fs = free_space(track, d)
+        mesh = _mesh(fs)
+        for s, g in _queries(track, d, rng, 12):
+            if fs.component_of(*s) != fs.component_of(*g):
+                continue
+            pb = passing_bound(mesh, s, g, 1.0, 1.0)
+            if pb is None:
+                continue
+            query = SearchQuery(track, fs, s, g, "fastest", (1.0, 1.0))
+            for slack in (1e-8, 0.05, None):
+                limit = None if slack is None else pb.at_start * (1.0 + slack)
+                pb.restrict(math.inf if limit is None else limit)
+                ref = AnyAngleSearch(mesh, query, bound=pb).run(limit=limit)
+                got = CompiledSearch(mesh, query, bound=pb).run(limit=limit)
+                assert got == ref, (name, s, g, slack)
+                compared += 1
+    assert compared >= 30
+
+
+def test_settings_it_does_not_follow_send_the_planner_to_the_reference(monkeypatch: pytest.MonkeyPatch) -> None:
+    track = _example("passing_loop")
+    fs = free_space(track, 0.3)
+    mesh = _mesh(fs)
+    s, g = ((0, 0.2), (0, 1.5)), ((0, 1.5), (0, 0.2))
+    query = SearchQuery(track, fs, s, g, "fastest", (1.0, 1.0))
+    graph_query.use_search(CompiledSearch)
+    assert type(graph_query._new_search(mesh, query)) is CompiledSearch
+    monkeypatch.setattr(graph_bounds, "POINTS_FROM_FRONTS", False)
+    pb = graph_bounds.PassingBound(mesh, s, g, 1.0, 1.0)
+    if pb.vertex is not None:
+        assert type(graph_query._new_search(mesh, query, pb)) is AnyAngleSearch
+    monkeypatch.setattr(graph_query, "AnyAngleSearch", type("Counting", (AnyAngleSearch,), {}))
+    assert type(graph_query._new_search(mesh, query)).__name__ == "Counting"
+
+
+def test_install_in_each_kernel_mode() -> None:
+    code = (
+        "import sys; from trajopt import plan_kernel; from mpa.planners.graph import query; "
+        "print(plan_kernel.install(), query.compiled_search() is not None, 'numba' in sys.modules)"
+    )
+    for mode, want in (("numpy", "False False False"), ("numba", "True True True")):
+        out = subprocess.run(
+            [sys.executable, "-c", code],
+            capture_output=True,
+            text=True,
+            check=True,
+            cwd=ROOT,
+            env={**__import__("os").environ, "TRAJOPT_KERNELS": mode},
+        )
+        assert out.stdout.split("\n")[0] == want, (mode, out.stdout, out.stderr)
