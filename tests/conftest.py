@@ -15,6 +15,12 @@ settings.register_profile("derandomized", derandomize=True, print_blob=True)
 settings.register_profile("random", print_blob=True)
 settings.load_profile("random" if os.environ.get("MPA_HYPOTHESIS_RANDOM") == "1" else "derandomized")
 
+# The graph planner's compiled search (trajopt.plan_kernel) plans what the reference search plans, node for node;
+# tests/trajopt/test_plan_kernel.py checks it on thousands of queries. Elsewhere (this process and the processes it
+# starts: batch workers, subprocesses) the reference searches, so that one test process compiles the kernels (about
+# 45 s), not every one.
+os.environ["TRAJOPT_SEARCH"] = "python"
+
 
 @pytest.fixture(scope="session", autouse=True)
 def layout_cache_dir(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:

@@ -46,10 +46,6 @@ from trajopt.timing import Limits, TimeScaling, blend_polyline, jerk_limited_sca
 from trajopt.verify.gate import VerificationError, VerificationReport, class_failures_only, separation_margin
 from trajopt.verify.rows import Setpoints
 
-from trajopt import plan_kernel  # isort: skip
-
-plan_kernel.install()  # the graph planner's search compiled where the kernels are (trajopt.plan_kernel)
-
 __all__ = [
     "RATE_LADDER",
     "GraphPlanner",

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -36,7 +37,7 @@ from mpa.planners.graph.search import AnyAngleSearch
 from mpa.planners.search_common import SearchQuery
 from tests.helpers.graph_helpers import random_free_query, random_layout
 from trajopt import plan_kernel
-from trajopt.plan_kernel import CompiledSearch
+from trajopt.plan_kernel import CompiledSearch, arith
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ("y_junction", "passing_loop", "two_sidings", "theta", "lollipop", "figure_eight", "rail_yard", "warehouse")
@@ -81,7 +82,7 @@ def test_py_hypot_is_pythons_hypot_bit_for_bit() -> None:
     pairs += [(a, a * 1e-9) for a in y[:50_000].tolist()]  # one tiny against the other (the tie-break's scale)
     pairs += [(a, 0.0) for a in x[:50_000].tolist()] + [(0.0, 0.0), (-3.0, 4.0), (3.0, -4.0), (1e300, 1e300)]
     pairs += [(a, b) for a, b in zip(rng.uniform(0, 1e3, 50_000).tolist(), rng.uniform(0, 1e3, 50_000).tolist())]
-    got = plan_kernel._hypot_many(np.array(pairs))
+    got = arith._hypot_many(np.array(pairs))
     want = np.array([math.hypot(a, b) for a, b in pairs])
     bad = np.nonzero(got != want)[0]
     assert len(bad) == 0, [(pairs[i], got[i], want[i]) for i in bad[:5]]
@@ -217,18 +218,37 @@ def test_settings_it_does_not_follow_send_the_planner_to_the_reference(monkeypat
     assert type(graph_query._new_search(mesh, query)).__name__ == "Counting"
 
 
-def test_install_in_each_kernel_mode() -> None:
+def test_install_in_each_kernel_mode_and_its_switch() -> None:
     code = (
         "import sys; from trajopt import plan_kernel; from mpa.planners.graph import query; "
         "print(plan_kernel.install(), query.compiled_search() is not None, 'numba' in sys.modules)"
     )
-    for mode, want in (("numpy", "False False False"), ("numba", "True True True")):
+    env = {k: v for k, v in os.environ.items() if k != plan_kernel.ENV}
+    for mode, search, want in (
+        ("numpy", "compiled", "False False False"),
+        ("numba", "compiled", "True True True"),
+        ("numba", "python", "False False True"),
+    ):
         out = subprocess.run(
             [sys.executable, "-c", code],
             capture_output=True,
             text=True,
             check=True,
             cwd=ROOT,
-            env={**__import__("os").environ, "TRAJOPT_KERNELS": mode},
+            env={**env, "TRAJOPT_KERNELS": mode, plan_kernel.ENV: search},
         )
-        assert out.stdout.split("\n")[0] == want, (mode, out.stdout, out.stderr)
+        assert out.stdout.split("\n")[0] == want, (mode, search, out.stdout, out.stderr)
+
+
+def test_warm_compiles_and_a_batch_installs_and_warms(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from trajopt.cli import batch
+
+    plan_kernel.warm()
+    assert plan_kernel.search._run.signatures, "the kernel was not compiled"
+    calls: list[str] = []
+    monkeypatch.setattr(plan_kernel, "install", lambda: calls.append("install") or True)
+    monkeypatch.setattr(plan_kernel, "warm", lambda: calls.append("warm"))
+    track = _example("y_junction")
+    q = {"a_start": "left", "b_start": "right", "a_goal": "right", "b_goal": "left"}
+    batch.run_batch(track, [q], tmp_path / "out", clearance=0.3, workers=1)
+    assert calls[:2] == ["install", "warm"] and calls.count("install") == 2, calls

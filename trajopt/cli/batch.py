@@ -29,6 +29,8 @@ Where the queries run: in this process with ``--workers 1``; otherwise a local p
 (default: the number of cores, at most the number of queries); with ``--dask ADDRESS`` on the workers of an
 existing Dask cluster (``dask.distributed.Client(ADDRESS)``; ``mpa`` and ``trajopt`` must be installed there).
 A worker builds the planner of the layout once (:func:`run_query` keeps it) and reuses it for every query.
+The graph planner searches with the compiled kernel (:mod:`trajopt.plan_kernel`, the same plans, node for node):
+the batch compiles it, or loads it from numba's cache, once before its workers start.
 A progress bar goes to stderr when stderr is a terminal (``--no-progress``: never).
 
 ``results.csv`` and every ``DIR/<row>/`` directory are written whole through a temporary file and
@@ -204,6 +206,9 @@ def run_query(
     csv_text : str or None
         The verified setpoints (``mpa trajectory --graph``'s ``setpoints.csv``), with ``setpoints`` and ``ok``.
     """
+    from trajopt import plan_kernel
+
+    plan_kernel.install()  # the compiled graph search, in every worker (loaded from the cache the batch warmed)
     rec: dict[str, Any] = {c: "" for c in RESULT_COLUMNS}
     rec.update(query)
     rec["row"] = row
@@ -413,6 +418,10 @@ def run_batch(
         "footprint": footprint,
     }
     _generator(track.to_dict(), config)  # bad clearance, limits or rate: one error before any work
+    from trajopt import plan_kernel
+
+    if plan_kernel.install():  # compiled (or loaded from the cache) once here, before the workers load it
+        plan_kernel.warm()
     layout = track.to_dict()
     jobs = list(enumerate(queries))
     d = Path(out)
