@@ -1,7 +1,7 @@
 """Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
 
     python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
-        [--compare | --steps | --limits | --fourth | --fifth] [--large] [--repeat K]
+        [--compare | --steps | --limits | --fourth | --fifth | --sixth] [--large] [--repeat K] [--python]
 
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
 10 / 30 / 100 / 150 edges, three seeds each), the seeded warehouse grids and road maps of
@@ -29,7 +29,11 @@ and the passing segments of every cell, kept per vertex, on every layout
 for the whole plan, the segments within the bound's reach above 300 edges).
 ``--fifth``: before = the bounded searches' limits from the slacks alone (``mpa.planners.graph.query.LIMIT_STEP_ASIDE``
 and ``LIMIT_WAIT`` 0); after = the code as it is (the first limit admits a step aside, the second a wait of one
-clearance). ``--repeat K``: every query planned K times per arm in a row, the least time kept.
+clearance). ``--sixth``: before = mpa's own search in the interpreter
+(:class:`mpa.planners.graph.search.AnyAngleSearch`), after = the compiled one (:mod:`trajopt.plan_kernel`: the same
+nodes; the makespans must agree). ``--repeat K``: every query planned K times per arm in a row, the least time kept.
+Every arm searches with the compiled search (:func:`trajopt.plan_kernel.install`, warmed before the clock starts)
+unless ``--python`` is given (or the arm is ``--sixth``'s before).
 """
 
 from __future__ import annotations
@@ -61,6 +65,7 @@ from mpa.planners.graph import passing as graph_passing  # noqa: E402
 from mpa.planners.graph import query as graph_query  # noqa: E402
 from mpa.planners.graph import search as graph_search  # noqa: E402
 from mpa.planners.graph.bounds import PassingBound  # noqa: E402
+from trajopt import plan_kernel  # noqa: E402
 
 DATA = ROOT.parent / "tests" / "data" / "openrmf"
 EXAMPLES = ROOT.parent / "examples" / "tracks"
@@ -142,6 +147,13 @@ def _arm(compare: str | None, before: bool) -> None:
     fifth = compare == "fifth" and before
     graph_query.LIMIT_STEP_ASIDE = 0.0 if fifth else _AS_IS["step_aside"]
     graph_query.LIMIT_WAIT = 0.0 if fifth else _AS_IS["wait"]
+    python = SEARCH["python"] or (compare == "sixth" and before)
+    graph_query.use_search(None if python else plan_kernel.CompiledSearch)
+
+
+#: Every arm with mpa's own search: ``--python``, or where the compiled one is not installed
+#: (:func:`trajopt.plan_kernel.install`; :func:`main` installs it, a caller of :func:`run` may).
+SEARCH = {"python": True}
 
 
 #: ``--fourth``'s "before": the plan does not pause the collector (the search still does, in ``AnyAngleSearch.run``).
@@ -192,6 +204,7 @@ def run(
     for name, track, ds, qs in layout_queries(queries, seed, only, large):
         for d in ds:
             free_space(track, d)
+        _arm(mode, False)
         _plan(track, qs[0], (1.0, 1.0))
         times: list[list[float]] = [[] for _ in arms]
         cpu: list[list[float]] = [[] for _ in arms]
@@ -268,10 +281,15 @@ def main() -> None:
         help="the collector paused in the search only and every passing segment, against the code as it is",
     )
     ap.add_argument("--fifth", action="store_true", help="the limits from the slacks alone, against the code as it is")
+    ap.add_argument("--sixth", action="store_true", help="mpa's own search against the compiled one")
+    ap.add_argument("--python", action="store_true", help="every arm with mpa's own search (not the compiled one)")
     ap.add_argument("--repeat", type=int, default=1, help="plans per query and arm, the least time kept")
     ap.add_argument("--large", action="store_true", help="also the 1 000-edge warehouse grid and road map")
     args = ap.parse_args()
-    if args.compare or args.steps or args.limits or args.fourth or args.fifth:
+    SEARCH["python"] = args.python or not plan_kernel.install()
+    if not SEARCH["python"]:
+        plan_kernel.warm()  # compiled, or loaded from the cache, before the clock
+    if args.compare or args.steps or args.limits or args.fourth or args.fifth or args.sixth:
         print(
             "| layout | edges | queries | CPU median (ms) before → after | CPU p95 (ms) | CPU max (ms) | "
             "wall median (ms) | wall p95 (ms) | wall max (ms) | makespans differing |"
@@ -287,7 +305,11 @@ def main() -> None:
     mode = (
         "steps"
         if args.steps
-        else ("limits" if args.limits else ("fourth" if args.fourth else ("fifth" if args.fifth else args.compare)))
+        else (
+            "limits"
+            if args.limits
+            else ("fourth" if args.fourth else ("fifth" if args.fifth else ("sixth" if args.sixth else args.compare)))
+        )
     )
     records = run(args.queries, args.seed, only, mode, args.large, args.repeat)
     if args.out:

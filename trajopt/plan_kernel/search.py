@@ -116,11 +116,17 @@ class _MeshArrays:
         i = self.poly.get(pid)
         if i is None:
             sides = self.mesh.side_ends(pid)
-            s0 = self.si.reserve(len(sides))
-            self.sf.reserve(len(sides))
-            for k, (ax, a, face, lo, hi, k_lo, p_lo, k_hi, p_hi) in enumerate(sides):
-                self.si.a[s0 + k] = (ax, self.face_id(face), self.point_id(k_lo), self.point_id(k_hi))
-                self.sf.a[s0 + k] = (a, lo, hi, p_lo[0], p_lo[1], p_hi[0], p_hi[1])
+            n = len(sides)
+            s0 = self.si.reserve(n)
+            self.sf.reserve(n)
+            if n:
+                face_id, point_id = self.face_id, self.point_id
+                self.si.a[s0 : s0 + n] = [
+                    (ax, face_id(face), point_id(k_lo), point_id(k_hi)) for ax, _, face, _, _, k_lo, _, k_hi, _ in sides
+                ]
+                self.sf.a[s0 : s0 + n] = [
+                    (a, lo, hi, p_lo[0], p_lo[1], p_hi[0], p_hi[1]) for _, a, _, lo, hi, _, p_lo, _, p_hi in sides
+                ]
             i = self.poly[pid] = self.pi.reserve(1)
             self.poly_ids.append(pid)
             self.pi.a[i] = (s0, len(sides), pid[0], pid[1])
