@@ -19,16 +19,17 @@ from trajopt._numba import njit
 
 # node kinds (column 0 of the node ints)
 _POINT, _FACE, _INTERVAL = 0, 1, 2
-# node ints: kind, key (a point's) or root key, root, last (a point's) or parent, polygon, ax, face, previous
-# polygon, origin's polygon
-_NI = 9
+# node ints: kind, key (a point's) or root key, root, last (a point's) or parent, polygon, ax, the face's vertex,
+# previous polygon, origin's polygon, the face's other edge
+_NI = 10
 # node floats: g or g_root, r (or a point's frm), sig (or a point's to), a, y0, y1, lo, hi, previous a, origin
 _NF = 13
 # what the kernel returns
-FOUND, STOPPED, NEED_PAGES, NEED_MEMBERS, EMPTY = 0, 1, 2, 3, 4
-# the counters: nodes, heap entries, interval cells, pops this run, the goal's node, the request (kind, 3 ints),
-# the fronts' rows and slots, the segments on an edge's rows and slots, the keys in the three hash tables
-_C = 16
+FOUND, STOPPED, EMPTY = 0, 1, 4
+# the counters: nodes, heap entries, interval cells, pops this run, the goal's node, (unused: 5-8), the fronts' rows
+# and slots, the segments on an edge's rows and slots, the keys in the tables of seen, fronts and segments on an
+# edge, the points and the keys in the points' table
+_C = 18
 _START_ID, _GOAL_ID = 0, 1
 _BOUND_SAFETY = graph_bounds.BOUND_SAFETY
 _NO_LIMIT = 2**62

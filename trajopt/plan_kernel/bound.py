@@ -127,12 +127,12 @@ def _on_edge(
 @njit(cache=True)
 def _entry(
     c: Any, dv: Any, bgi: Any, bd: Any, segi: Any, segf: Any, bpar: Any, fk: Any, fv: Any, fr: Any, frs: Any,
-    ok_: Any, ov: Any, on: Any, onr: Any, ax: int, w: int, other: int, y0: float, y1: float, fsl: Any, fid: int,
+    ok_: Any, ov: Any, on: Any, onr: Any, ax: int, w: int, other: int, y0: float, y1: float,
 ) -> float:  # pragma: no cover - compiled
     """:meth:`PassingBound.entry` of the face ``(ax, w, other)`` over ``[y0, y1]``. ``dv``: the layout's vertex
     distances; ``bgi``: tails, heads; ``bd``: the bound vertex's distances (row 0), the edges' lengths (row 1);
     ``segi``, ``segf``: the passing segments' edges ``e, f`` and ``u0, u1, v0, v1, W``; ``bpar``: sign, the bound at
-    the start, vA, vB; ``fsl``: per face (``fid``, -1: none) the slots of its fronts and its segments on its edge."""
+    the start, vA, vB."""
     sign, va, vb = bpar[0], bpar[2], bpar[3]
     t_e, h_e = bgi[0, other], bgi[1, other]
     lo_e = bd[0, t_e]
@@ -163,14 +163,9 @@ def _entry(
     v_e = vb if ax == 0 else va
     s1, s2 = TIE_BREAK / v_e, (1.0 + TIE_BREAK) / v_e
     yh = le - y1
-    if fid >= 0 and fsl[fid, 0] >= 0:
-        st, sh, slot = fsl[fid, 0], fsl[fid, 1], fsl[fid, 2]
-    else:
-        st = _front(c, fk, fv, fr, frs, dv, bgi, bd, segi, segf, bpar, ax, w, t_e)
-        sh = _front(c, fk, fv, fr, frs, dv, bgi, bd, segi, segf, bpar, ax, w, h_e)
-        slot = _on_edge(c, ok_, ov, on, onr, dv, bgi, bd, segi, segf, bpar, ax, w, other)
-        if fid >= 0:
-            fsl[fid, 0], fsl[fid, 1], fsl[fid, 2] = st, sh, slot
+    st = _front(c, fk, fv, fr, frs, dv, bgi, bd, segi, segf, bpar, ax, w, t_e)
+    sh = _front(c, fk, fv, fr, frs, dv, bgi, bd, segi, segf, bpar, ax, w, h_e)
+    slot = _on_edge(c, ok_, ov, on, onr, dv, bgi, bd, segi, segf, bpar, ax, w, other)
     bt = _least_front(fr, frs, st, s1, s2, y0)
     bh = _least_front(fr, frs, sh, s1, s2, yh)
     best = bh if bh < bt else bt
@@ -195,15 +190,21 @@ def _entry(
 
 @njit(cache=True)
 def _point_bound(
-    c: Any, ti: Any, tf: Any, dv: Any, bgi: Any, bd: Any, segi: Any, segf: Any, bpar: Any, fk: Any, fv: Any,
-    fr: Any, frs: Any, ok_: Any, ov: Any, on: Any, onr: Any, pbv: Any, fsl: Any, key: int,
+    c: Any, P: Any, M: Any, dv: Any, bgi: Any, bd: Any, segi: Any, segf: Any, bpar: Any, fk: Any, fv: Any, fr: Any,
+    frs: Any, ok_: Any, ov: Any, on: Any, onr: Any, pbv: Any, key: int,
 ) -> float:  # pragma: no cover - compiled
-    """:meth:`PassingBound.point` of the point ``key`` (its face and coordinate in ``ti``, ``tf``), kept in ``pbv``
-    (NaN: not yet)."""
+    """:meth:`PassingBound.point` of the point ``key``, kept in ``pbv`` (NaN: not yet): a face end's is the bound
+    through its face over its one coordinate, a corner's through the face of robot B's vertex's first edge."""
     if key == _START_ID:
         return bpar[1]
     out = pbv[key]
     if math.isnan(out):
-        out = pbv[key] = _entry(c, dv, bgi, bd, segi, segf, bpar, fk, fv, fr, frs, ok_, ov, on, onr, ti[key, 2],
-                                ti[key, 3], ti[key, 4], tf[key], tf[key], fsl, -1)
+        pt, pty = P[2], P[3]
+        if pt[key, 0] == 1:
+            ax, w, other, y = pt[key, 1], pt[key, 2], pt[key, 3], pty[key]
+        else:
+            wb = pt[key, 2]
+            ax, w, other, y = 0, pt[key, 1], M[4][M[3][wb]], M[5][M[3][wb]]
+        out = pbv[key] = _entry(c, dv, bgi, bd, segi, segf, bpar, fk, fv, fr, frs, ok_, ov, on, onr, ax, w, other,
+                                y, y)
     return out

@@ -1,8 +1,20 @@
 """The compiled search's nodes (:mod:`trajopt.plan_kernel`): the ``push_point``, ``push_face``, ``expand_point``,
-``expand_interval`` and ``open_face`` of :class:`~mpa.planners.graph.search.AnyAngleSearch` over the node arrays."""
+``expand_interval`` and ``open_face`` of :class:`~mpa.planners.graph.search.AnyAngleSearch` over the node arrays,
+and the free space's polygons, sides, pages and points as :class:`~mpa.planners.graph.mesh._Mesh` names them, read
+from the free space's arrays.
+
+The arguments come in tuples: ``N = (ni, nf, pend, hk, hd, c)`` the nodes, the queue and the counters; ``P = (pk,
+pv, pt, pty, best)`` the points (a hash table of their keys, their keys and coordinates, the least cost found);
+``M = (tails, heads, lengths, inc_ptr, inc_e, inc_x, face_ok, face_lo, face_hi, pieces)`` the layout and its free
+space (the faces' arrays indexed ``[edge, vertex]``);
+``G = (gd, vd, gi, par, goals_p, goals_c)`` the query. A polygon ``(e, f, k)`` is the integer ``(e E + f) 2 + k``.
+A point's key is ``(1, ax, w, other, end)`` for a face end (``end`` 0 at the face's ``lo``, 1 at its ``hi``) and
+``(2, wA, wB, 0, 0)`` for a corner (:meth:`~mpa.planners.graph.mesh._Mesh.point_key`).
+"""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -25,17 +37,139 @@ from trajopt.plan_kernel.arith import (
 # fmt: off
 # (the kernels' long argument lists are kept a few to a line)
 
+# --------------------------------------------------------------------------------------------- the mesh
+@njit(cache=True)
+def _exists(M: Any, e: int, f: int, k: int) -> bool:  # pragma: no cover - compiled
+    """Whether ``(e, f, k)`` is a free polygon (``pieces``: per cell a bit per piece)."""
+    return (M[9][e, f] >> k) & 1 == 1
+
+
+@njit(cache=True)
+def _side(M: Any, p: int, j: int) -> tuple[bool, int, int, int, float, float, float]:  # pragma: no cover
+    """The ``j``-th (0-3) of the sides :meth:`_Mesh.sides` may list for the polygon ``p``, in its order (robot A on a
+    vertex first): ``(valid, ax, w, other, a, lo, hi)``."""
+    tails, heads, lengths, ok, lo, hi = M[0], M[1], M[2], M[6], M[7], M[8]
+    n_e = lengths.shape[0]
+    k = p % 2
+    e = (p // 2) // n_e
+    f = (p // 2) % n_e
+    if j < 2:  # FreeSpace._sides_a
+        ax, other, edge, first = 0, f, e, j == 0
+        if e == f and first != (k == 1):
+            return False, 0, 0, 0, 0.0, 0.0, 0.0
+    else:  # FreeSpace._sides_b
+        ax, other, edge, first = 1, e, f, j == 2
+        if e == f and first != (k == 0):
+            return False, 0, 0, 0, 0.0, 0.0, 0.0
+    w = tails[edge] if first else heads[edge]
+    a = 0.0 if first else lengths[edge]
+    if not ok[other, w]:
+        return False, 0, 0, 0, 0.0, 0.0, 0.0
+    return True, ax, w, other, a, lo[other, w], hi[other, w]
+
+
+@njit(cache=True)
+def _n_sides(M: Any, p: int) -> int:  # pragma: no cover - compiled
+    n = 0
+    for j in range(4):
+        if _side(M, p, j)[0]:
+            n += 1
+    return n
+
+
+@njit(cache=True)
+def _page(M: Any, ax: int, other: int, e2: int, x: float) -> int:  # pragma: no cover - compiled
+    """The page of the face ``(ax, w, other)`` through the edge ``e2`` at ``w`` (its offset ``x`` there): the polygon
+    :meth:`_Mesh.pages` lists, -1 when it is not free."""
+    n_e = M[2].shape[0]
+    if ax == 0:
+        e, f, k = e2, other, 0 if e2 != other else (1 if x == 0.0 else 0)
+    else:
+        e, f, k = other, e2, 0 if e2 != other else (0 if x == 0.0 else 1)
+    if not _exists(M, e, f, k):
+        return -1
+    return (e * n_e + f) * 2 + k
+
+
+@njit(cache=True)
+def _end_key(M: Any, ax: int, w: int, other: int, y: float, lo: float) -> Any:  # pragma: no cover - compiled
+    """The key of :meth:`_Mesh.point_key` of the point ``y`` (the face's ``lo`` or ``hi``) on the face."""
+    if y == 0.0:
+        w2 = M[0][other]
+    elif y == M[2][other]:
+        w2 = M[1][other]
+    else:
+        return (1, ax, w, other, 0 if y == lo else 1)
+    if ax == 0:
+        return (2, w, w2, 0, 0)
+    return (2, w2, w, 0, 0)
+
+
+@njit(cache=True)
+def _point(P: Any, c: Any, key: Any, y: float) -> int:  # pragma: no cover - compiled
+    """The point named ``key`` (at ``y`` on its face, for a face end), made when first named (the arrays hold
+    room)."""
+    pk, pv, pt, pty = P[0], P[1], P[2], P[3]
+    i = pv[_slot(pk, pv, key)]
+    if i >= 0:
+        return i
+    i = c[16]
+    c[16] = i + 1
+    for j in range(5):
+        pt[i, j] = key[j]
+    pty[i] = y
+    _put(pk, pv, c, 17, key, i)
+    return i
+
+
+@njit(cache=True)
+def _members(M: Any, P: Any, key: int, mp: Any, mc: Any) -> int:  # pragma: no cover - compiled
+    """:meth:`_Mesh.members` of the point ``key`` into ``mp`` (polygons), ``mc`` (its coordinates in each); their
+    number."""
+    pt, pty = P[2], P[3]
+    inc_ptr, inc_e, inc_x = M[3], M[4], M[5]
+    n_e = M[2].shape[0]
+    n = 0
+    if pt[key, 0] == 1:  # a face end: the face's pages
+        ax, w, other, y = pt[key, 1], pt[key, 2], pt[key, 3], pty[key]
+        for i in range(inc_ptr[w], inc_ptr[w + 1]):
+            p = _page(M, ax, other, inc_e[i], inc_x[i])
+            if p >= 0:
+                mp[n] = p
+                if ax == 0:
+                    mc[n, 0], mc[n, 1] = inc_x[i], y
+                else:
+                    mc[n, 0], mc[n, 1] = y, inc_x[i]
+                n += 1
+        return n
+    wa, wb = pt[key, 1], pt[key, 2]
+    for i in range(inc_ptr[wa], inc_ptr[wa + 1]):
+        e, s = inc_e[i], inc_x[i]
+        for j in range(inc_ptr[wb], inc_ptr[wb + 1]):
+            f, t = inc_e[j], inc_x[j]
+            if e == f and s == t:
+                continue
+            k = 0 if e != f or s > t else 1
+            if _exists(M, e, f, k):
+                mp[n] = (e * n_e + f) * 2 + k
+                mc[n, 0], mc[n, 1] = s, t
+                n += 1
+    return n
+
+
 # ------------------------------------------------------------------------------------------------ nodes
 @njit(cache=True)
-def _lower_bound(pi: Any, p: int, s: float, t: float, gd: Any, gi: Any, par: Any) -> float:  # pragma: no cover
+def _lower_bound(M: Any, G: Any, p: int, s: float, t: float) -> float:  # pragma: no cover - compiled
     """:meth:`AnyAngleSearch.lower_bound` at ``(s, t)`` in the polygon ``p``."""
-    e = pi[p, 2]
+    gd, gi, par = G[0], G[2], G[3]
+    n_e = M[2].shape[0]
+    e = (p // 2) // n_e
     x, d = s + gd[0, e], gd[1, e] - s
     da = d if d < x else x
     if e == gi[2]:
         x = abs(s - par[7])
         da = x if x < da else da
-    e = pi[p, 3]
+    e = (p // 2) % n_e
     x, d = t + gd[2, e], gd[3, e] - t
     db = d if d < x else x
     if e == gi[3]:
@@ -49,10 +183,12 @@ def _lower_bound(pi: Any, p: int, s: float, t: float, gd: Any, gi: Any, par: Any
 
 @njit(cache=True)
 def _push_point(
-    ni: Any, nf: Any, pend: Any, hk: Any, hd: Any, c: Any, best: Any, pi: Any, gd: Any, gi: Any, par: Any,
-    key: int, gval: float, root: int, last: int, p: int, f0: float, f1: float, t0: float, t1: float,
+    N: Any, P: Any, M: Any, G: Any, key: int, gval: float, root: int, last: int, p: int, f0: float, f1: float,
+    t0: float, t1: float,
 ) -> None:  # pragma: no cover - compiled
     """:meth:`AnyAngleSearch.push_point` (``f0`` NaN: no ``frm``)."""
+    ni, nf, pend, hk, hd, c = N
+    best, par = P[4], G[3]
     is_goal = key == _GOAL_ID
     if gval < best[key] - (0.0 if is_goal else par[4]):
         best[key] = gval
@@ -60,9 +196,24 @@ def _push_point(
         c[0] = n + 1
         ni[n, 0], ni[n, 1], ni[n, 2], ni[n, 3], ni[n, 4] = _POINT, key, root, last, p
         nf[n, 0], nf[n, 1], nf[n, 2], nf[n, 3], nf[n, 4] = gval, f0, f1, t0, t1
-        f = gval if is_goal else gval + _lower_bound(pi, p, t0, t1, gd, gi, par)
-        pend[n] = gi[1] != 0 and not is_goal
+        f = gval if is_goal else gval + _lower_bound(M, G, p, t0, t1)
+        pend[n] = G[2][1] != 0 and not is_goal
         _heap_push(hk, hd, c, _floor(f * par[5]), -gval, n)
+
+
+@njit(cache=True)
+def _push_end(
+    N: Any, P: Any, M: Any, G: Any, key: Any, y: float, gval: float, root: int, last: int, p: int, f0: float,
+    f1: float, t0: float, t1: float,
+) -> None:  # pragma: no cover - compiled
+    """:func:`_push_point` of the face end or corner named ``key``: the point made only when it is pushed (an unnamed
+    point's least cost is infinite, as ``best.get(key, inf)``)."""
+    pk, pv, best = P[0], P[1], P[4]
+    i = pv[_slot(pk, pv, key)]
+    if gval < (best[i] if i >= 0 else math.inf) - G[3][4]:
+        if i < 0:
+            i = _point(P, N[5], key, y)
+        _push_point(N, P, M, G, i, gval, root, last, p, f0, f1, t0, t1)
 
 
 @njit(cache=True)
@@ -85,23 +236,23 @@ def _min_along(
 
 @njit(cache=True)
 def _new_face_entry(
-    ni: Any, nf: Any, pend: Any, hk: Any, hd: Any, c: Any, gd: Any, vd: Any, gi: Any, par: Any, fi: Any,
-    root: int, root_key: int, g_root: float, r0: float, r1: float, s0: float, s1: float, ax: int, a: float,
-    y0: float, y1: float, p: int, face: int, lo: float, hi: float, parent: int, op: int, o0: float, o1: float,
-    inline: bool,
+    N: Any, G: Any, root: int, root_key: int, g_root: float, r0: float, r1: float, s0: float, s1: float,
+    ax: int, w: int, e: int, a: float, y0: float, y1: float, p: int, lo: float, hi: float, parent: int, op: int,
+    o0: float, o1: float, inline: bool,
 ) -> None:  # pragma: no cover - compiled
-    """A :class:`FaceEntry` queued: :meth:`AnyAngleSearch.push_face` (``inline`` False) or the inline push of
-    :meth:`AnyAngleSearch.expand_interval` (True); their bounds are the same value by slightly different
-    expressions, each kept as written."""
+    """A :class:`FaceEntry` of the face ``(ax, w, e)`` queued: :meth:`AnyAngleSearch.push_face` (``inline`` False)
+    or the inline push of :meth:`AnyAngleSearch.expand_interval` (True); their bounds are the same value by slightly
+    different expressions, each kept as written."""
+    ni, nf, pend, hk, hd, c = N
+    gd, vd, gi, par = G[0], G[1], G[2], G[3]
     n = c[0]
     c[0] = n + 1
     ni[n, 0], ni[n, 1], ni[n, 2], ni[n, 3], ni[n, 4] = _FACE, root_key, root, parent, p
-    ni[n, 5], ni[n, 6], ni[n, 8] = ax, face, op
+    ni[n, 5], ni[n, 6], ni[n, 8], ni[n, 9] = ax, w, op, e
     nf[n, 0], nf[n, 1], nf[n, 2], nf[n, 3], nf[n, 4] = g_root, r0, r1, s0, s1
     nf[n, 5], nf[n, 6], nf[n, 7], nf[n, 8], nf[n, 9] = a, y0, y1, lo, hi
     nf[n, 11], nf[n, 12] = o0, o1
     pend[n] = gi[1] != 0
-    w, e = fi[face, 1], fi[face, 2]
     fastest = gi[0] != 0
     va, vb = par[2], par[3]
     if not inline:
@@ -142,51 +293,47 @@ def _new_face_entry(
 
 @njit(cache=True)
 def _expand_point(
-    ni: Any, nf: Any, pend: Any, hk: Any, hd: Any, c: Any, best: Any, pi: Any, si: Any, sf: Any, fi: Any,
-    gd: Any, vd: Any, gi: Any, par: Any, goals_p: Any, goals_c: Any,
-    nid: int, key: int, gval: float, mem_p: Any, mem_c: Any, m0: int, m1: int,
+    N: Any, P: Any, M: Any, G: Any, nid: int, key: int, gval: float, mem_p: Any, mem_c: Any, n_mem: int,
 ) -> None:  # pragma: no cover - compiled
-    """:meth:`AnyAngleSearch.expand_point` over the members ``m0:m1`` of ``mem_p``, ``mem_c``."""
+    """:meth:`AnyAngleSearch.expand_point` over the members ``mem_p[:n_mem]``, ``mem_c[:n_mem]``."""
+    gi, par, goals_p, goals_c = G[2], G[3], G[4], G[5]
     fastest = gi[0] != 0
     va, vb, eps = par[2], par[3], par[1]
-    for m in range(m0, m1):
+    for m in range(n_mem):
         q = mem_p[m]
         rc0, rc1 = mem_c[m, 0], mem_c[m, 1]
         for j in range(goals_p.shape[0]):
             if goals_p[j] == q:
                 pt0, pt1 = goals_c[j, 0], goals_c[j, 1]
-                _push_point(
-                    ni, nf, pend, hk, hd, c, best, pi, gd, gi, par,
-                    _GOAL_ID, gval + _cost(pt0 - rc0, pt1 - rc1, fastest, va, vb), nid, -1, q, rc0, rc1, pt0, pt1,
-                )
-        for k in range(pi[q, 0], pi[q, 0] + pi[q, 1]):
-            ax2, face2, a2, lo2, hi2 = si[k, 0], si[k, 1], sf[k, 0], sf[k, 1], sf[k, 2]
+                _push_point(N, P, M, G, _GOAL_ID, gval + _cost(pt0 - rc0, pt1 - rc1, fastest, va, vb), nid, -1, q,
+                            rc0, rc1, pt0, pt1)
+        for j in range(4):
+            valid, ax2, w2, other2, a2, lo2, hi2 = _side(M, q, j)
+            if not valid:
+                continue
             on_line = (rc0 if ax2 == 0 else rc1) == a2
             for end in range(2 if hi2 > lo2 else 1):
-                if end == 0:
-                    k2, pt0, pt1 = si[k, 2], sf[k, 3], sf[k, 4]
+                y = lo2 if end == 0 else hi2
+                if ax2 == 0:
+                    pt0, pt1 = a2, y
                 else:
-                    k2, pt0, pt1 = si[k, 3], sf[k, 5], sf[k, 6]
+                    pt0, pt1 = y, a2
                 if pt0 == rc0 and pt1 == rc1:
                     continue
-                _push_point(
-                    ni, nf, pend, hk, hd, c, best, pi, gd, gi, par,
-                    k2, gval + _cost(pt0 - rc0, pt1 - rc1, fastest, va, vb), nid, -1, q, rc0, rc1, pt0, pt1,
-                )
+                _push_end(N, P, M, G, _end_key(M, ax2, w2, other2, y, lo2), y,
+                          gval + _cost(pt0 - rc0, pt1 - rc1, fastest, va, vb), nid, -1, q, rc0, rc1, pt0, pt1)
             if on_line or hi2 - lo2 <= eps:
                 continue
-            _new_face_entry(
-                ni, nf, pend, hk, hd, c, gd, vd, gi, par, fi,
-                nid, key, gval, rc0, rc1, 1.0, 1.0, ax2, a2, lo2, hi2, q, face2, lo2, hi2, nid, q, rc0, rc1, False,
-            )
+            _new_face_entry(N, G, nid, key, gval, rc0, rc1, 1.0, 1.0, ax2, w2, other2, a2, lo2, hi2, q, lo2, hi2, nid,
+                            q, rc0, rc1, False)
 
 
 @njit(cache=True)
-def _expand_interval(
-    ni: Any, nf: Any, pend: Any, hk: Any, hd: Any, c: Any, best: Any, pi: Any, si: Any, sf: Any, fi: Any,
-    gd: Any, vd: Any, gi: Any, par: Any, goals_p: Any, goals_c: Any, nid: int,
-) -> None:  # pragma: no cover - compiled
+def _expand_interval(N: Any, P: Any, M: Any, G: Any, nid: int) -> None:  # pragma: no cover - compiled
     """:meth:`AnyAngleSearch.expand_interval` of the interval node ``nid``."""
+    ni, nf = N[0], N[1]
+    best, pk, pv = P[4], P[0], P[1]
+    gi, par, goals_p, goals_c = G[2], G[3], G[4], G[5]
     ctol, eps, va, vb, again = par[0], par[1], par[2], par[3], par[4]
     fastest = gi[0] != 0
     rid, ax, pid, root_key = ni[nid, 2], ni[nid, 5], ni[nid, 4], ni[nid, 1]
@@ -206,18 +353,17 @@ def _expand_interval(
             pt0, pt1 = goals_c[j, 0], goals_c[j, 1]
             dx, dy = pt0 - rs, pt1 - rt
             if sgn * (u00 * dy - u01 * dx) >= -ctol and nsg * (u10 * dy - u11 * dx) >= -ctol:
-                _push_point(
-                    ni, nf, pend, hk, hd, c, best, pi, gd, gi, par,
-                    _GOAL_ID, groot + _cost(pt0 - rs, pt1 - rt, fastest, va, vb), rid, nid, pid, np.nan, np.nan,
-                    pt0, pt1,
-                )
+                _push_point(N, P, M, G, _GOAL_ID, groot + _cost(pt0 - rs, pt1 - rt, fastest, va, vb), rid, nid, pid,
+                            np.nan, np.nan, pt0, pt1)
     nctol = -ctol
     ca0_a, ca1_a = sgn * u00, nsg * u10
     m0_a, m1_a = -u00 * rt, -u10 * rt
     ca0_b, ca1_b = sgn * -u01, nsg * -u11
     m0_b, m1_b = u01 * rs, u11 * rs
-    for k in range(pi[pid, 0], pi[pid, 0] + pi[pid, 1]):
-        ax2, face2, a2, lo2, hi2 = si[k, 0], si[k, 1], sf[k, 0], sf[k, 1], sf[k, 2]
+    for j in range(4):
+        valid, ax2, w2, other2, a2, lo2, hi2 = _side(M, pid, j)
+        if not valid:
+            continue
         if ax2 == 0:
             if ax == 0 and a2 == a:
                 continue
@@ -262,44 +408,46 @@ def _expand_interval(
                 if not yl <= lo2 + eps:
                     continue
                 yl = lo2
-                kk, p0, p1 = si[k, 2], sf[k, 3], sf[k, 4]
+                y = lo2
             else:
                 if not yh >= hi2 - eps:
                     continue
                 yh = hi2
-                kk, p0, p1 = si[k, 3], sf[k, 5], sf[k, 6]
+                y = hi2
+            if ax2 == 0:
+                p0, p1 = a2, y
+            else:
+                p0, p1 = y, a2
+            key = _end_key(M, ax2, w2, other2, y, lo2)
+            kk = pv[_slot(pk, pv, key)]
             dx, dy = p0 - rs, p1 - rt
-            limit = best[kk] - again
+            limit = (best[kk] if kk >= 0 else math.inf) - again
             if fastest:
                 ta, tb = abs(dx) / va, abs(dy) / vb
                 m = tb if tb > ta else ta
                 if groot + m < limit:
                     g2 = groot + (m + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * _py_hypot(ta, tb))
                     if g2 < limit:
-                        _push_point(
-                            ni, nf, pend, hk, hd, c, best, pi, gd, gi, par,
-                            kk, g2, rid, nid, pid, np.nan, np.nan, p0, p1,
-                        )
+                        if kk < 0:
+                            kk = _point(P, N[5], key, y)
+                        _push_point(N, P, M, G, kk, g2, rid, nid, pid, np.nan, np.nan, p0, p1)
             else:
                 g2 = groot + _py_hypot(dx, dy)
                 if g2 < limit:
-                    _push_point(
-                        ni, nf, pend, hk, hd, c, best, pi, gd, gi, par,
-                        kk, g2, rid, nid, pid, np.nan, np.nan, p0, p1,
-                    )
+                    if kk < 0:
+                        kk = _point(P, N[5], key, y)
+                    _push_point(N, P, M, G, kk, g2, rid, nid, pid, np.nan, np.nan, p0, p1)
         if yh - yl <= eps:
             continue
-        _new_face_entry(
-            ni, nf, pend, hk, hd, c, gd, vd, gi, par, fi,
-            rid, root_key, groot, rs, rt, sg0, sg1, ax2, a2, yl, yh, pid, face2, lo2, hi2, nid, ni[nid, 8],
-            nf[nid, 11], nf[nid, 12], True,
-        )
+        _new_face_entry(N, G, rid, root_key, groot, rs, rt, sg0, sg1, ax2, w2, other2, a2, yl, yh, pid, lo2, hi2,
+                        nid, ni[nid, 8], nf[nid, 11], nf[nid, 12], True)
 
 
+# ------------------------------------------------------------------------------------------------ faces
 @njit(cache=True)
 def _uncovered(
-    seen_k: Any, seen_v: Any, sk: Any, head: int, iv: Any, ivn: Any, c: Any, y0: float, y1: float, eps: float, out: Any,
-    items: Any,
+    seen_k: Any, seen_v: Any, sk: Any, head: int, iv: Any, ivn: Any, c: Any, y0: float, y1: float, eps: float,
+    out: Any, items: Any,
 ) -> int:  # pragma: no cover - compiled
     """:func:`mpa.planners.graph.search._uncovered`: the parts of ``[y0, y1]`` not recorded under ``sk`` (its list of
     cells ``iv`` linked by ``ivn`` starts at ``head``) into ``out``, their number returned; the union recorded
@@ -368,9 +516,9 @@ def _seen_key(
 
 
 @njit(cache=True)
-def _page_open(pi: Any, goals_p: Any, p2: int) -> bool:  # pragma: no cover - compiled
+def _page_open(M: Any, goals_p: Any, p2: int) -> bool:  # pragma: no cover - compiled
     """:meth:`AnyAngleSearch.pages_to_open`'s test: not a dead end, or it holds the goal."""
-    if pi[p2, 1] != 1:
+    if _n_sides(M, p2) != 1:
         return True
     for j in range(goals_p.shape[0]):
         if goals_p[j] == p2:
@@ -380,16 +528,18 @@ def _page_open(pi: Any, goals_p: Any, p2: int) -> bool:  # pragma: no cover - co
 
 @njit(cache=True)
 def _open_face(
-    ni: Any, nf: Any, pend: Any, hk: Any, hd: Any, c: Any, best: Any, pi: Any, si: Any, sf: Any, fi: Any,
-    pg: Any, pgb: Any, gd: Any, vd: Any, gi: Any, par: Any, goals_p: Any, goals_c: Any, seen_k: Any,
-    seen_v: Any, iv: Any, ivn: Any, parts: Any, items: Any, nid: int,
-) -> tuple[int, int]:  # pragma: no cover - compiled
+    N: Any, P: Any, M: Any, G: Any, seen_k: Any, seen_v: Any, iv: Any, ivn: Any, parts: Any, items: Any, nid: int,
+) -> tuple[int, int, int]:  # pragma: no cover - compiled
     """:meth:`AnyAngleSearch.open_face` of the face entry ``nid``.
 
     First the pages' records in the table ``seen_k``, ``seen_v`` (room for a key per page) are looked up; when the
-    arrays cannot hold what it may make (nodes and heap entries, interval cells, the rows of ``parts`` and ``items``),
-    it returns those numbers and changes nothing; ``(0, 0)`` when done."""
-    face, ax, pid, rid, root_key = ni[nid, 6], ni[nid, 5], ni[nid, 4], ni[nid, 2], ni[nid, 1]
+    arrays cannot hold what it may make (nodes and heap entries, interval cells and the rows of ``parts`` and
+    ``items``, points), it returns those numbers and changes nothing; ``(0, 0, 0)`` when done."""
+    ni, nf, pend, hk, c = N[0], N[1], N[2], N[3], N[5]
+    pt, pk = P[2], P[0]
+    inc_ptr, inc_e, inc_x = M[3], M[4], M[5]
+    goals_p, par = G[4], G[3]
+    ax, w, other, pid, rid, root_key = ni[nid, 5], ni[nid, 6], ni[nid, 9], ni[nid, 4], ni[nid, 2], ni[nid, 1]
     g_root, r0, r1, sig0, sig1 = nf[nid, 0], nf[nid, 1], nf[nid, 2], nf[nid, 3], nf[nid, 4]
     a, y0, y1, lo, hi = nf[nid, 5], nf[nid, 6], nf[nid, 7], nf[nid, 8], nf[nid, 9]
     parent, op, o0, o1 = ni[nid, 3], ni[nid, 8], nf[nid, 11], nf[nid, 12]
@@ -398,12 +548,15 @@ def _open_face(
     across = (r0 if ax == 0 else r1) - a
     kept = r1 if ax == 0 else r0
     k_kept = int(np.rint(kept * quantum))
-    j0, n_pages = fi[face, 3], fi[face, 4]
-    heads = np.full(n_pages, -2, np.int64)  # -2: page not opened, -1: nothing seen so before
-    nodes, cells, rows = 0, 0, 0
-    for jj in range(n_pages):
-        p2, b = pg[j0 + jj], pgb[j0 + jj]
-        if not _page_open(pi, goals_p, p2) or (p2 == pid and b == a):
+    i0, n_inc = inc_ptr[w], inc_ptr[w + 1] - inc_ptr[w]
+    heads = np.full(n_inc, -2, np.int64)  # -2: not a page opened, -1: nothing seen so before
+    pages = np.empty(n_inc, np.int64)
+    nodes, cells, rows, points = 0, 0, 0, 0
+    for jj in range(n_inc):
+        b = inc_x[i0 + jj]
+        p2 = _page(M, ax, other, inc_e[i0 + jj], b)
+        pages[jj] = p2
+        if p2 < 0 or not _page_open(M, goals_p, p2) or (p2 == pid and b == a):
             continue
         sk = _seen_key(rid, p2, ax, b, b + (-n1 if b == 0.0 else n1) * across, k_kept, quantum)
         head = seen_v[_slot(seen_k, seen_v, sk)]
@@ -415,17 +568,19 @@ def _open_face(
             i = ivn[i]
         cells += count + 2
         rows = max(rows, count + 2)
-        nodes += (count + 1) * (2 + goals_p.shape[0] + 3 * pi[p2, 1])
+        nodes += (count + 1) * (2 + goals_p.shape[0] + 3 * 4)
+        points += (count + 1) * 8
     if (
         c[0] + nodes > ni.shape[0] or c[1] + nodes > hk.shape[0] or c[2] + cells > iv.shape[0]
-        or rows > parts.shape[0] or rows > items.shape[0]
+        or rows > parts.shape[0] or rows > items.shape[0] or c[16] + points > pt.shape[0]
+        or 2 * (c[17] + points) > pk.shape[0]
     ):
-        return max(nodes, 1), max(cells, rows)
-    for jj in range(n_pages):
+        return max(nodes, 1), max(cells, rows), points
+    for jj in range(n_inc):
         head = heads[jj]
         if head == -2:
             continue
-        p2, b = pg[j0 + jj], pgb[j0 + jj]
+        p2, b = pages[jj], inc_x[i0 + jj]
         sg = -n1 if b == 0.0 else n1
         moved = b + sg * across
         if ax == 0:
@@ -447,10 +602,10 @@ def _open_face(
             n = c[0]
             c[0] = n + 1
             ni[n, 0], ni[n, 1], ni[n, 2], ni[n, 3], ni[n, 4] = _INTERVAL, root_key, rid, parent, p2
-            ni[n, 5], ni[n, 6], ni[n, 7], ni[n, 8] = ax, face, pid, op
+            ni[n, 5], ni[n, 6], ni[n, 7], ni[n, 8], ni[n, 9] = ax, w, pid, op, other
             nf[n, 0], nf[n, 1], nf[n, 2], nf[n, 3], nf[n, 4] = g_root, q0, q1, s0, s1
             nf[n, 5], nf[n, 6], nf[n, 7], nf[n, 8], nf[n, 9] = b, z0, z1, lo, hi
             nf[n, 10], nf[n, 11], nf[n, 12] = a, o0, o1
             pend[n] = False
-            _expand_interval(ni, nf, pend, hk, hd, c, best, pi, si, sf, fi, gd, vd, gi, par, goals_p, goals_c, n)
-    return 0, 0
+            _expand_interval(N, P, M, G, n)
+    return 0, 0, 0

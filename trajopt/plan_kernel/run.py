@@ -1,5 +1,11 @@
 """The compiled search's loop: :meth:`~mpa.planners.graph.search.AnyAngleSearch._run` over the node arrays, and the
-start's expansion (:mod:`trajopt.plan_kernel`)."""
+start's expansion (:mod:`trajopt.plan_kernel`).
+
+The state comes in tuples (:mod:`trajopt.plan_kernel.expand` names ``N``, ``P``, ``M`` and ``G``): ``S = (seen_k,
+seen_v, iv, ivn)`` the intervals seen per root, page and side; ``B = (dv, bgi, bd, segi, segf, bpar)`` the passing
+bound (:func:`trajopt.plan_kernel.bound._entry`) and ``BS = (fk, fv, fr, frs, ok_, ov, on, onr)`` its fronts and
+segments on an edge made so far. The arrays that grow are returned.
+"""
 
 from __future__ import annotations
 
@@ -14,8 +20,6 @@ from trajopt.plan_kernel.arith import (
     _START_ID,
     EMPTY,
     FOUND,
-    NEED_MEMBERS,
-    NEED_PAGES,
     STOPPED,
     _cost,
     _fit,
@@ -26,37 +30,74 @@ from trajopt.plan_kernel.arith import (
     _heap_push,
 )
 from trajopt.plan_kernel.bound import _entry, _point_bound
-from trajopt.plan_kernel.expand import _expand_point, _open_face
+from trajopt.plan_kernel.expand import _expand_point, _members, _open_face
 
 # fmt: off
 # (the kernels' long argument lists are kept a few to a line)
 
-# ---------------------------------------------------------------------------------------------------- run
+
+@njit(cache=True)
+def _grow_fill(a: Any, need: int, value: float) -> Any:  # pragma: no cover - compiled
+    """``a`` (1-D) with at least ``need`` items, doubled, the new ones ``value``."""
+    if need <= a.shape[0]:
+        return a
+    n = a.shape[0]
+    while n < need:
+        n *= 2
+    out = np.full(n, value, a.dtype)
+    out[: a.shape[0]] = a
+    return out
+
+
+@njit(cache=True)
+def _room(N: Any, P: Any, nodes: int, points: int) -> tuple[Any, Any]:  # pragma: no cover - compiled
+    """``N`` and ``P`` with room for ``nodes`` more nodes and heap entries and ``points`` more points."""
+    ni, nf, pend, hk, hd, c = N
+    pk, pv, pt, pty, best, pbv = P
+    ni = _grow(ni, c[0] + nodes)
+    nf = _grow(nf, c[0] + nodes)
+    pend = _grow1(pend, c[0] + nodes)
+    hk = _grow(hk, c[1] + nodes)
+    hd = _grow1(hd, c[1] + nodes)
+    pt = _grow(pt, c[16] + points)
+    pty = _grow1(pty, c[16] + points)
+    best = _grow_fill(best, c[16] + points, np.inf)
+    pbv = _grow_fill(pbv, c[16] + points, np.nan)
+    pk, pv = _fit(pk, pv, c[17] + points)
+    return (ni, nf, pend, hk, hd, c), (pk, pv, pt, pty, best, pbv)
+
+
 @njit(cache=True)
 def _run(
-    ni: Any, nf: Any, pend: Any, hk: Any, hd: Any, c: Any, best: Any, iv: Any, ivn: Any, seen_k: Any, seen_v: Any,
-    pi: Any, si: Any, sf: Any, fi: Any, pg: Any, pgb: Any, ti: Any, tf: Any, mp: Any, mc: Any,
-    gd: Any, vd: Any, gi: Any, par: Any, goals_p: Any, goals_c: Any,
-    dv: Any, bgi: Any, bd: Any, segi: Any, segf: Any, bpar: Any, fk: Any, fv: Any, fr: Any, frs: Any, ok_: Any,
-    ov: Any, on: Any, onr: Any, pbv: Any, fsl: Any, budget: int, over: int,
-) -> tuple[Any, ...]:  # pragma: no cover - compiled
-    """:meth:`AnyAngleSearch._run` from the queue as it stands (the start expanded by the caller's first call):
+    N: Any, P: Any, S: Any, B: Any, BS: Any, M: Any, G: Any, budget: int, over: int,
+) -> tuple[int, Any, Any, Any, Any]:  # pragma: no cover - compiled
+    """:meth:`AnyAngleSearch._run` from the queue as it stands (the start expanded by :func:`_start`):
     :data:`FOUND` (the goal's node in ``c[4]``), :data:`STOPPED` (at ``budget`` pops of this run, -1: none, or a
-    key above ``over``), :data:`EMPTY`, or a request (``c[5:9]``); with the node, heap and interval arrays, grown."""
+    key above ``over``) or :data:`EMPTY`; with ``N``, ``P``, ``S`` and ``BS``, grown."""
+    ni, nf, pend, hk, hd, c = N
+    seen_k, seen_v, iv, ivn = S
+    dv, bgi, bd, segi, segf, bpar = B
+    fk, fv, fr, frs, ok_, ov, on, onr = BS
+    gi, par, goals_p = G[2], G[3], G[4]
+    inc_ptr = M[3]
     parts = np.empty((64, 2))
     items = np.empty((64, 2))
     bounded = gi[1] != 0
+    status = EMPTY
     while c[1] > 0:
         key0, depth, nid = _heap_pop(hk, hd, c)
         c[3] += 1
         if (budget >= 0 and c[3] > budget) or key0 > over:
             _heap_push(hk, hd, c, key0, depth, nid)
-            return STOPPED, ni, nf, pend, hk, hd, iv, ivn, fr, frs, on, onr, seen_k, seen_v, fk, fv, ok_, ov
+            status = STOPPED
+            break
         kind = ni[nid, 0]
+        best = P[4]
         if kind == _POINT:
             if ni[nid, 1] == _GOAL_ID:
                 c[4] = nid
-                return FOUND, ni, nf, pend, hk, hd, iv, ivn, fr, frs, on, onr, seen_k, seen_v, fk, fv, ok_, ov
+                status = FOUND
+                break
             if nf[nid, 0] > best[ni[nid, 1]]:
                 continue
         elif nf[nid, 0] > best[ni[nid, 1]]:
@@ -69,18 +110,18 @@ def _run(
             onr = _grow(onr, c[12] + 3)
             fk, fv = _fit(fk, fv, c[14] + 4)
             ok_, ov = _fit(ok_, ov, c[15] + 2)
+            pbv = P[5]
             if kind == _POINT:
-                h = _point_bound(c, ti, tf, dv, bgi, bd, segi, segf, bpar, fk, fv, fr, frs, ok_, ov, on, onr, pbv, fsl,
+                h = _point_bound(c, P, M, dv, bgi, bd, segi, segf, bpar, fk, fv, fr, frs, ok_, ov, on, onr, pbv,
                                  ni[nid, 1])
                 key1 = _floor((nf[nid, 0] + h) * par[5])
             else:
                 g_root, r0, r1, a = nf[nid, 0], nf[nid, 1], nf[nid, 2], nf[nid, 5]
                 y0, y1 = nf[nid, 6], nf[nid, 7]
-                h0 = _point_bound(c, ti, tf, dv, bgi, bd, segi, segf, bpar, fk, fv, fr, frs, ok_, ov, on, onr, pbv, fsl,
+                h0 = _point_bound(c, P, M, dv, bgi, bd, segi, segf, bpar, fk, fv, fr, frs, ok_, ov, on, onr, pbv,
                                   ni[nid, 1])
-                face = ni[nid, 6]
-                h1 = _entry(c, dv, bgi, bd, segi, segf, bpar, fk, fv, fr, frs, ok_, ov, on, onr, fi[face, 0],
-                            fi[face, 1], fi[face, 2], y0, y1, fsl, face)
+                h1 = _entry(c, dv, bgi, bd, segi, segf, bpar, fk, fv, fr, frs, ok_, ov, on, onr, ni[nid, 5],
+                            ni[nid, 6], ni[nid, 9], y0, y1)
                 if ni[nid, 5] == 0:
                     u, v = y0 - r1, r1 - y1
                     x_a = abs(r0 - a)
@@ -106,59 +147,44 @@ def _run(
                 continue
         if kind == _POINT:
             key = ni[nid, 1]
-            if ti[key, 1] < 0:
-                c[5], c[6] = NEED_MEMBERS, key
-                _heap_push(hk, hd, c, key0, depth, nid)
-                c[3] -= 1
-                return NEED_MEMBERS, ni, nf, pend, hk, hd, iv, ivn, fr, frs, on, onr, seen_k, seen_v, fk, fv, ok_, ov
-            m0, m1 = ti[key, 0], ti[key, 0] + ti[key, 1]
-            need = 0
-            for m in range(m0, m1):
-                need += 2 + goals_p.shape[0] + 3 * pi[mp[m], 1]
-            ni = _grow(ni, c[0] + need)
-            nf = _grow(nf, c[0] + need)
-            pend = _grow1(pend, c[0] + need)
-            hk = _grow(hk, c[1] + need)
-            hd = _grow1(hd, c[1] + need)
-            _expand_point(ni, nf, pend, hk, hd, c, best, pi, si, sf, fi, gd, vd, gi, par, goals_p, goals_c,
-                          nid, key, nf[nid, 0], mp, mc, m0, m1)
+            pt = P[2]
+            if pt[key, 0] == 1:
+                cap = inc_ptr[pt[key, 2] + 1] - inc_ptr[pt[key, 2]]
+            else:
+                cap = (inc_ptr[pt[key, 1] + 1] - inc_ptr[pt[key, 1]]) * (inc_ptr[pt[key, 2] + 1] - inc_ptr[pt[key, 2]])
+            mp = np.empty(cap, np.int64)
+            mc = np.empty((cap, 2))
+            n_mem = _members(M, P, key, mp, mc)
+            N, P = _room((ni, nf, pend, hk, hd, c), P, n_mem * (2 + goals_p.shape[0] + 12), n_mem * 8)
+            ni, nf, pend, hk, hd = N[0], N[1], N[2], N[3], N[4]
+            _expand_point(N, P, M, G, nid, key, nf[nid, 0], mp, mc, n_mem)
         else:
-            face = ni[nid, 6]
-            if fi[face, 4] < 0:
-                c[5], c[6] = NEED_PAGES, face
-                _heap_push(hk, hd, c, key0, depth, nid)
-                c[3] -= 1
-                return NEED_PAGES, ni, nf, pend, hk, hd, iv, ivn, fr, frs, on, onr, seen_k, seen_v, fk, fv, ok_, ov
-            seen_k, seen_v = _fit(seen_k, seen_v, c[13] + fi[face, 4])
+            seen_k, seen_v = _fit(seen_k, seen_v, c[13] + inc_ptr[ni[nid, 6] + 1] - inc_ptr[ni[nid, 6]])
             while True:
-                need, cells = _open_face(
-                    ni, nf, pend, hk, hd, c, best, pi, si, sf, fi, pg, pgb, gd, vd, gi, par, goals_p, goals_c,
-                    seen_k, seen_v, iv, ivn, parts, items, nid,
-                )
+                N = (ni, nf, pend, hk, hd, c)
+                need, cells, points = _open_face(N, P, M, G, seen_k, seen_v, iv, ivn, parts, items, nid)
                 if need == 0:
                     break
-                ni = _grow(ni, c[0] + need)
-                nf = _grow(nf, c[0] + need)
-                pend = _grow1(pend, c[0] + need)
-                hk = _grow(hk, c[1] + need)
-                hd = _grow1(hd, c[1] + need)
+                N, P = _room(N, P, need, points)
+                ni, nf, pend, hk, hd = N[0], N[1], N[2], N[3], N[4]
                 iv = _grow(iv, c[2] + cells)
                 ivn = _grow1(ivn, c[2] + cells)
                 parts = _grow(parts, cells)
                 items = _grow(items, cells)
-    return EMPTY, ni, nf, pend, hk, hd, iv, ivn, fr, frs, on, onr, seen_k, seen_v, fk, fv, ok_, ov
+    return (
+        status, (ni, nf, pend, hk, hd, c), P, (seen_k, seen_v, iv, ivn), (fk, fv, fr, frs, ok_, ov, on, onr),
+    )
 
 
 @njit(cache=True)
 def _start(
-    ni: Any, nf: Any, pend: Any, hk: Any, hd: Any, c: Any, best: Any, pi: Any, si: Any, sf: Any, fi: Any,
-    gd: Any, vd: Any, gi: Any, par: Any, goals_p: Any, goals_c: Any, mem_p: Any, mem_c: Any,
+    N: Any, P: Any, M: Any, G: Any, mem_p: Any, mem_c: Any,
 ) -> None:  # pragma: no cover - compiled
     """The start's node and its expansion (:meth:`AnyAngleSearch._run`'s first lines); the arrays hold enough."""
-    best[_START_ID] = 0.0
+    ni, nf, pend, c = N[0], N[1], N[2], N[5]
+    P[4][_START_ID] = 0.0
     ni[0, 0], ni[0, 1], ni[0, 2], ni[0, 3], ni[0, 4] = _POINT, _START_ID, -1, -1, -1
     nf[0, 0], nf[0, 1], nf[0, 2], nf[0, 3], nf[0, 4] = 0.0, np.nan, np.nan, np.nan, np.nan
     pend[0] = False
     c[0] = 1
-    _expand_point(ni, nf, pend, hk, hd, c, best, pi, si, sf, fi, gd, vd, gi, par, goals_p, goals_c,
-                  0, _START_ID, 0.0, mem_p, mem_c, 0, mem_p.shape[0])
+    _expand_point(N, P, M, G, 0, _START_ID, 0.0, mem_p, mem_c, mem_p.shape[0])
