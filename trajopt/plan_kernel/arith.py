@@ -20,16 +20,16 @@ from trajopt._numba import njit
 # node kinds (column 0 of the node ints)
 _POINT, _FACE, _INTERVAL = 0, 1, 2
 # node ints: kind, key (a point's) or root key, root, last (a point's) or parent, polygon, ax, the face's vertex,
-# previous polygon, origin's polygon, the face's other edge
-_NI = 10
+# previous polygon, origin's polygon, the face's other edge, the polygon's row in the polygon table
+_NI = 11
 # node floats: g or g_root, r (or a point's frm), sig (or a point's to), a, y0, y1, lo, hi, previous a, origin
 _NF = 13
 # what the kernel returns
 FOUND, STOPPED, EMPTY = 0, 1, 4
 # the counters: nodes, heap entries, interval cells, pops this run, the goal's node, (unused: 5-8), the fronts' rows
 # and slots, the segments on an edge's rows and slots, the keys in the tables of seen, fronts and segments on an
-# edge, the points and the keys in the points' table
-_C = 18
+# edge, the points and the keys in the points' table, the polygons, the keys in their table and their sides
+_C = 21
 _START_ID, _GOAL_ID = 0, 1
 _BOUND_SAFETY = graph_bounds.BOUND_SAFETY
 _NO_LIMIT = 2**62

@@ -14,7 +14,6 @@ A point's key is ``(1, ax, w, other, end)`` for a face end (``end`` 0 at the fac
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
@@ -69,15 +68,6 @@ def _side(M: Any, p: int, j: int) -> tuple[bool, int, int, int, float, float, fl
 
 
 @njit(cache=True)
-def _n_sides(M: Any, p: int) -> int:  # pragma: no cover - compiled
-    n = 0
-    for j in range(4):
-        if _side(M, p, j)[0]:
-            n += 1
-    return n
-
-
-@njit(cache=True)
 def _page(M: Any, ax: int, other: int, e2: int, x: float) -> int:  # pragma: no cover - compiled
     """The page of the face ``(ax, w, other)`` through the edge ``e2`` at ``w`` (its offset ``x`` there): the polygon
     :meth:`_Mesh.pages` lists, -1 when it is not free."""
@@ -119,6 +109,35 @@ def _point(P: Any, c: Any, key: Any, y: float) -> int:  # pragma: no cover - com
         pt[i, j] = key[j]
     pty[i] = y
     _put(pk, pv, c, 17, key, i)
+    return i
+
+
+@njit(cache=True)
+def _poly(C: Any, P: Any, M: Any, c: Any, p: int) -> int:  # pragma: no cover - compiled
+    """The row of the polygon ``p`` in the polygon table ``C = (keys, rows, first side and sides, side ints, side
+    floats)``: its sides that are faces as :meth:`_Mesh.side_ends` lists them (axis, vertex, other edge, the ends'
+    points; side value, lo, hi), written when first asked for (the arrays hold room)."""
+    ck, cv, ps, si, sf = C
+    i = cv[_slot(ck, cv, (p,))]
+    if i >= 0:
+        return i
+    i = c[18]
+    c[18] = i + 1
+    r0 = c[20]
+    n = 0
+    for j in range(4):
+        valid, ax, w, other, a, lo, hi = _side(M, p, j)
+        if not valid:
+            continue
+        r = r0 + n
+        si[r, 0], si[r, 1], si[r, 2] = ax, w, other
+        si[r, 3] = _point(P, c, _end_key(M, ax, w, other, lo, lo), lo)
+        si[r, 4] = _point(P, c, _end_key(M, ax, w, other, hi, lo), hi)
+        sf[r, 0], sf[r, 1], sf[r, 2] = a, lo, hi
+        n += 1
+    c[20] = r0 + n
+    ps[i, 0], ps[i, 1] = r0, n
+    _put(ck, cv, c, 19, (p,), i)
     return i
 
 
@@ -202,21 +221,6 @@ def _push_point(
 
 
 @njit(cache=True)
-def _push_end(
-    N: Any, P: Any, M: Any, G: Any, key: Any, y: float, gval: float, root: int, last: int, p: int, f0: float,
-    f1: float, t0: float, t1: float,
-) -> None:  # pragma: no cover - compiled
-    """:func:`_push_point` of the face end or corner named ``key``: the point made only when it is pushed (an unnamed
-    point's least cost is infinite, as ``best.get(key, inf)``)."""
-    pk, pv, best = P[0], P[1], P[4]
-    i = pv[_slot(pk, pv, key)]
-    if gval < (best[i] if i >= 0 else math.inf) - G[3][4]:
-        if i < 0:
-            i = _point(P, N[5], key, y)
-        _push_point(N, P, M, G, i, gval, root, last, p, f0, f1, t0, t1)
-
-
-@njit(cache=True)
 def _min_along(
     cp: float, cm: float, on_edge: bool, off: float, y0: float, y1: float, r: float
 ) -> float:  # pragma: no cover - compiled
@@ -293,9 +297,11 @@ def _new_face_entry(
 
 @njit(cache=True)
 def _expand_point(
-    N: Any, P: Any, M: Any, G: Any, nid: int, key: int, gval: float, mem_p: Any, mem_c: Any, n_mem: int,
+    N: Any, P: Any, C: Any, M: Any, G: Any, nid: int, key: int, gval: float, mem_p: Any, mem_c: Any, n_mem: int,
 ) -> None:  # pragma: no cover - compiled
-    """:meth:`AnyAngleSearch.expand_point` over the members ``mem_p[:n_mem]``, ``mem_c[:n_mem]``."""
+    """:meth:`AnyAngleSearch.expand_point` over the members ``mem_p[:n_mem]``, ``mem_c[:n_mem]`` (the polygon table
+    has room for them)."""
+    ps, si, sf = C[2], C[3], C[4]
     gi, par, goals_p, goals_c = G[2], G[3], G[4], G[5]
     fastest = gi[0] != 0
     va, vb, eps = par[2], par[3], par[1]
@@ -307,10 +313,9 @@ def _expand_point(
                 pt0, pt1 = goals_c[j, 0], goals_c[j, 1]
                 _push_point(N, P, M, G, _GOAL_ID, gval + _cost(pt0 - rc0, pt1 - rc1, fastest, va, vb), nid, -1, q,
                             rc0, rc1, pt0, pt1)
-        for j in range(4):
-            valid, ax2, w2, other2, a2, lo2, hi2 = _side(M, q, j)
-            if not valid:
-                continue
+        row = _poly(C, P, M, N[5], q)
+        for r in range(ps[row, 0], ps[row, 0] + ps[row, 1]):
+            ax2, w2, other2, a2, lo2, hi2 = si[r, 0], si[r, 1], si[r, 2], sf[r, 0], sf[r, 1], sf[r, 2]
             on_line = (rc0 if ax2 == 0 else rc1) == a2
             for end in range(2 if hi2 > lo2 else 1):
                 y = lo2 if end == 0 else hi2
@@ -320,8 +325,8 @@ def _expand_point(
                     pt0, pt1 = y, a2
                 if pt0 == rc0 and pt1 == rc1:
                     continue
-                _push_end(N, P, M, G, _end_key(M, ax2, w2, other2, y, lo2), y,
-                          gval + _cost(pt0 - rc0, pt1 - rc1, fastest, va, vb), nid, -1, q, rc0, rc1, pt0, pt1)
+                _push_point(N, P, M, G, si[r, 3 + end], gval + _cost(pt0 - rc0, pt1 - rc1, fastest, va, vb), nid,
+                            -1, q, rc0, rc1, pt0, pt1)
             if on_line or hi2 - lo2 <= eps:
                 continue
             _new_face_entry(N, G, nid, key, gval, rc0, rc1, 1.0, 1.0, ax2, w2, other2, a2, lo2, hi2, q, lo2, hi2, nid,
@@ -329,10 +334,11 @@ def _expand_point(
 
 
 @njit(cache=True)
-def _expand_interval(N: Any, P: Any, M: Any, G: Any, nid: int) -> None:  # pragma: no cover - compiled
-    """:meth:`AnyAngleSearch.expand_interval` of the interval node ``nid``."""
+def _expand_interval(N: Any, P: Any, C: Any, M: Any, G: Any, nid: int) -> None:  # pragma: no cover - compiled
+    """:meth:`AnyAngleSearch.expand_interval` of the interval node ``nid`` (its polygon's row in ``ni[nid, 10]``)."""
     ni, nf = N[0], N[1]
-    best, pk, pv = P[4], P[0], P[1]
+    best = P[4]
+    ps, si, sf = C[2], C[3], C[4]
     gi, par, goals_p, goals_c = G[2], G[3], G[4], G[5]
     ctol, eps, va, vb, again = par[0], par[1], par[2], par[3], par[4]
     fastest = gi[0] != 0
@@ -360,10 +366,9 @@ def _expand_interval(N: Any, P: Any, M: Any, G: Any, nid: int) -> None:  # pragm
     m0_a, m1_a = -u00 * rt, -u10 * rt
     ca0_b, ca1_b = sgn * -u01, nsg * -u11
     m0_b, m1_b = u01 * rs, u11 * rs
-    for j in range(4):
-        valid, ax2, w2, other2, a2, lo2, hi2 = _side(M, pid, j)
-        if not valid:
-            continue
+    row = ni[nid, 10]
+    for r in range(ps[row, 0], ps[row, 0] + ps[row, 1]):
+        ax2, w2, other2, a2, lo2, hi2 = si[r, 0], si[r, 1], si[r, 2], sf[r, 0], sf[r, 1], sf[r, 2]
         if ax2 == 0:
             if ax == 0 and a2 == a:
                 continue
@@ -418,24 +423,19 @@ def _expand_interval(N: Any, P: Any, M: Any, G: Any, nid: int) -> None:  # pragm
                 p0, p1 = a2, y
             else:
                 p0, p1 = y, a2
-            key = _end_key(M, ax2, w2, other2, y, lo2)
-            kk = pv[_slot(pk, pv, key)]
+            kk = si[r, 3 + end]
             dx, dy = p0 - rs, p1 - rt
-            limit = (best[kk] if kk >= 0 else math.inf) - again
+            limit = best[kk] - again
             if fastest:
                 ta, tb = abs(dx) / va, abs(dy) / vb
                 m = tb if tb > ta else ta
                 if groot + m < limit:
                     g2 = groot + (m + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * _py_hypot(ta, tb))
                     if g2 < limit:
-                        if kk < 0:
-                            kk = _point(P, N[5], key, y)
                         _push_point(N, P, M, G, kk, g2, rid, nid, pid, np.nan, np.nan, p0, p1)
             else:
                 g2 = groot + _py_hypot(dx, dy)
                 if g2 < limit:
-                    if kk < 0:
-                        kk = _point(P, N[5], key, y)
                     _push_point(N, P, M, G, kk, g2, rid, nid, pid, np.nan, np.nan, p0, p1)
         if yh - yl <= eps:
             continue
@@ -516,9 +516,10 @@ def _seen_key(
 
 
 @njit(cache=True)
-def _page_open(M: Any, goals_p: Any, p2: int) -> bool:  # pragma: no cover - compiled
-    """:meth:`AnyAngleSearch.pages_to_open`'s test: not a dead end, or it holds the goal."""
-    if _n_sides(M, p2) != 1:
+def _page_open(C: Any, goals_p: Any, p2: int, row: int) -> bool:  # pragma: no cover - compiled
+    """:meth:`AnyAngleSearch.pages_to_open`'s test of the polygon ``p2`` (its row ``row``): not a dead end, or it holds
+    the goal."""
+    if C[2][row, 1] != 1:
         return True
     for j in range(goals_p.shape[0]):
         if goals_p[j] == p2:
@@ -528,15 +529,16 @@ def _page_open(M: Any, goals_p: Any, p2: int) -> bool:  # pragma: no cover - com
 
 @njit(cache=True)
 def _open_face(
-    N: Any, P: Any, M: Any, G: Any, seen_k: Any, seen_v: Any, iv: Any, ivn: Any, parts: Any, items: Any, nid: int,
-) -> tuple[int, int, int]:  # pragma: no cover - compiled
+    N: Any, P: Any, C: Any, M: Any, G: Any, seen_k: Any, seen_v: Any, iv: Any, ivn: Any, parts: Any, items: Any,
+    nid: int,
+) -> tuple[int, int]:  # pragma: no cover - compiled
     """:meth:`AnyAngleSearch.open_face` of the face entry ``nid``.
 
     First the pages' records in the table ``seen_k``, ``seen_v`` (room for a key per page) are looked up; when the
     arrays cannot hold what it may make (nodes and heap entries, interval cells and the rows of ``parts`` and
-    ``items``, points), it returns those numbers and changes nothing; ``(0, 0, 0)`` when done."""
+    ``items``), it returns those numbers and changes nothing but the polygon table (room for every page: the
+    caller's); ``(0, 0)`` when done."""
     ni, nf, pend, hk, c = N[0], N[1], N[2], N[3], N[5]
-    pt, pk = P[2], P[0]
     inc_ptr, inc_e, inc_x = M[3], M[4], M[5]
     goals_p, par = G[4], G[3]
     ax, w, other, pid, rid, root_key = ni[nid, 5], ni[nid, 6], ni[nid, 9], ni[nid, 4], ni[nid, 2], ni[nid, 1]
@@ -551,12 +553,16 @@ def _open_face(
     i0, n_inc = inc_ptr[w], inc_ptr[w + 1] - inc_ptr[w]
     heads = np.full(n_inc, -2, np.int64)  # -2: not a page opened, -1: nothing seen so before
     pages = np.empty(n_inc, np.int64)
-    nodes, cells, rows, points = 0, 0, 0, 0
+    prow = np.empty(n_inc, np.int64)
+    nodes, cells, rows = 0, 0, 0
     for jj in range(n_inc):
         b = inc_x[i0 + jj]
         p2 = _page(M, ax, other, inc_e[i0 + jj], b)
         pages[jj] = p2
-        if p2 < 0 or not _page_open(M, goals_p, p2) or (p2 == pid and b == a):
+        if p2 < 0:
+            continue
+        prow[jj] = row2 = _poly(C, P, M, c, p2)
+        if not _page_open(C, goals_p, p2, row2) or (p2 == pid and b == a):
             continue
         sk = _seen_key(rid, p2, ax, b, b + (-n1 if b == 0.0 else n1) * across, k_kept, quantum)
         head = seen_v[_slot(seen_k, seen_v, sk)]
@@ -568,14 +574,12 @@ def _open_face(
             i = ivn[i]
         cells += count + 2
         rows = max(rows, count + 2)
-        nodes += (count + 1) * (2 + goals_p.shape[0] + 3 * 4)
-        points += (count + 1) * 8
+        nodes += (count + 1) * (2 + goals_p.shape[0] + 3 * C[2][row2, 1])
     if (
         c[0] + nodes > ni.shape[0] or c[1] + nodes > hk.shape[0] or c[2] + cells > iv.shape[0]
-        or rows > parts.shape[0] or rows > items.shape[0] or c[16] + points > pt.shape[0]
-        or 2 * (c[17] + points) > pk.shape[0]
+        or rows > parts.shape[0] or rows > items.shape[0]
     ):
-        return max(nodes, 1), max(cells, rows), points
+        return max(nodes, 1), max(cells, rows)
     for jj in range(n_inc):
         head = heads[jj]
         if head == -2:
@@ -602,10 +606,10 @@ def _open_face(
             n = c[0]
             c[0] = n + 1
             ni[n, 0], ni[n, 1], ni[n, 2], ni[n, 3], ni[n, 4] = _INTERVAL, root_key, rid, parent, p2
-            ni[n, 5], ni[n, 6], ni[n, 7], ni[n, 8], ni[n, 9] = ax, w, pid, op, other
+            ni[n, 5], ni[n, 6], ni[n, 7], ni[n, 8], ni[n, 9], ni[n, 10] = ax, w, pid, op, other, prow[jj]
             nf[n, 0], nf[n, 1], nf[n, 2], nf[n, 3], nf[n, 4] = g_root, q0, q1, s0, s1
             nf[n, 5], nf[n, 6], nf[n, 7], nf[n, 8], nf[n, 9] = b, z0, z1, lo, hi
             nf[n, 10], nf[n, 11], nf[n, 12] = a, o0, o1
             pend[n] = False
-            _expand_interval(N, P, M, G, n)
-    return 0, 0, 0
+            _expand_interval(N, P, C, M, G, n)
+    return 0, 0

@@ -68,12 +68,29 @@ def _room(N: Any, P: Any, nodes: int, points: int) -> tuple[Any, Any]:  # pragma
 
 
 @njit(cache=True)
+def _room_poly(C: Any, P: Any, c: Any, polys: int) -> tuple[Any, Any]:  # pragma: no cover - compiled
+    """``C`` and ``P`` with room for ``polys`` more polygons (four sides and eight points each)."""
+    ck, cv, ps, si, sf = C
+    ck, cv = _fit(ck, cv, c[19] + polys)
+    ps = _grow(ps, c[18] + polys)
+    si = _grow(si, c[20] + 4 * polys)
+    sf = _grow(sf, c[20] + 4 * polys)
+    pk, pv, pt, pty, best, pbv = P
+    pt = _grow(pt, c[16] + 8 * polys)
+    pty = _grow1(pty, c[16] + 8 * polys)
+    best = _grow_fill(best, c[16] + 8 * polys, np.inf)
+    pbv = _grow_fill(pbv, c[16] + 8 * polys, np.nan)
+    pk, pv = _fit(pk, pv, c[17] + 8 * polys)
+    return (ck, cv, ps, si, sf), (pk, pv, pt, pty, best, pbv)
+
+
+@njit(cache=True)
 def _run(
-    N: Any, P: Any, S: Any, B: Any, BS: Any, M: Any, G: Any, budget: int, over: int,
-) -> tuple[int, Any, Any, Any, Any]:  # pragma: no cover - compiled
+    N: Any, P: Any, C: Any, S: Any, B: Any, BS: Any, M: Any, G: Any, budget: int, over: int,
+) -> tuple[int, Any, Any, Any, Any, Any]:  # pragma: no cover - compiled
     """:meth:`AnyAngleSearch._run` from the queue as it stands (the start expanded by :func:`_start`):
     :data:`FOUND` (the goal's node in ``c[4]``), :data:`STOPPED` (at ``budget`` pops of this run, -1: none, or a
-    key above ``over``) or :data:`EMPTY`; with ``N``, ``P``, ``S`` and ``BS``, grown."""
+    key above ``over``) or :data:`EMPTY`; with ``N``, ``P``, ``C``, ``S`` and ``BS``, grown."""
     ni, nf, pend, hk, hd, c = N
     seen_k, seen_v, iv, ivn = S
     dv, bgi, bd, segi, segf, bpar = B
@@ -155,30 +172,33 @@ def _run(
             mp = np.empty(cap, np.int64)
             mc = np.empty((cap, 2))
             n_mem = _members(M, P, key, mp, mc)
-            N, P = _room((ni, nf, pend, hk, hd, c), P, n_mem * (2 + goals_p.shape[0] + 12), n_mem * 8)
+            C, P = _room_poly(C, P, c, n_mem)
+            N, P = _room((ni, nf, pend, hk, hd, c), P, n_mem * (2 + goals_p.shape[0] + 12), 0)
             ni, nf, pend, hk, hd = N[0], N[1], N[2], N[3], N[4]
-            _expand_point(N, P, M, G, nid, key, nf[nid, 0], mp, mc, n_mem)
+            _expand_point(N, P, C, M, G, nid, key, nf[nid, 0], mp, mc, n_mem)
         else:
-            seen_k, seen_v = _fit(seen_k, seen_v, c[13] + inc_ptr[ni[nid, 6] + 1] - inc_ptr[ni[nid, 6]])
+            deg = inc_ptr[ni[nid, 6] + 1] - inc_ptr[ni[nid, 6]]
+            seen_k, seen_v = _fit(seen_k, seen_v, c[13] + deg)
+            C, P = _room_poly(C, P, c, deg)
             while True:
                 N = (ni, nf, pend, hk, hd, c)
-                need, cells, points = _open_face(N, P, M, G, seen_k, seen_v, iv, ivn, parts, items, nid)
+                need, cells = _open_face(N, P, C, M, G, seen_k, seen_v, iv, ivn, parts, items, nid)
                 if need == 0:
                     break
-                N, P = _room(N, P, need, points)
+                N, P = _room(N, P, need, 0)
                 ni, nf, pend, hk, hd = N[0], N[1], N[2], N[3], N[4]
                 iv = _grow(iv, c[2] + cells)
                 ivn = _grow1(ivn, c[2] + cells)
                 parts = _grow(parts, cells)
                 items = _grow(items, cells)
     return (
-        status, (ni, nf, pend, hk, hd, c), P, (seen_k, seen_v, iv, ivn), (fk, fv, fr, frs, ok_, ov, on, onr),
+        status, (ni, nf, pend, hk, hd, c), P, C, (seen_k, seen_v, iv, ivn), (fk, fv, fr, frs, ok_, ov, on, onr),
     )
 
 
 @njit(cache=True)
 def _start(
-    N: Any, P: Any, M: Any, G: Any, mem_p: Any, mem_c: Any,
+    N: Any, P: Any, C: Any, M: Any, G: Any, mem_p: Any, mem_c: Any,
 ) -> None:  # pragma: no cover - compiled
     """The start's node and its expansion (:meth:`AnyAngleSearch._run`'s first lines); the arrays hold enough."""
     ni, nf, pend, c = N[0], N[1], N[2], N[5]
@@ -187,4 +207,4 @@ def _start(
     nf[0, 0], nf[0, 1], nf[0, 2], nf[0, 3], nf[0, 4] = 0.0, np.nan, np.nan, np.nan, np.nan
     pend[0] = False
     c[0] = 1
-    _expand_point(N, P, M, G, 0, _START_ID, 0.0, mem_p, mem_c, mem_p.shape[0])
+    _expand_point(N, P, C, M, G, 0, _START_ID, 0.0, mem_p, mem_c, mem_p.shape[0])

@@ -64,6 +64,52 @@ def _layout_arrays(mesh: Any) -> tuple[Any, ...]:
     return out
 
 
+class _Tables:
+    """The points and polygons the kernel has named on one mesh, shared by its searches and kept with it: the points'
+    hash table (``pk``, ``pv``), keys (``pt``) and coordinates (``pty``); the polygon table ``C``
+    (:func:`trajopt.plan_kernel.expand._poly`); the counters ``c[16:21]`` (points, point keys, polygons, polygon keys,
+    sides). Points 0 and 1 are the start and the goal. Only ever appended to, so a search that resumes after another
+    ran reads them as that one left them."""
+
+    def __init__(self) -> None:
+        n = 8192
+        self.pk, self.pv = np.zeros((2 * n, 5), np.int64), np.full(2 * n, -1, np.int64)
+        self.pt, self.pty = np.zeros((n, 5), np.int64), np.zeros(n)
+        self.C = (
+            np.zeros((2048, 1), np.int64),
+            np.full(2048, -1, np.int64),
+            np.empty((1024, 2), np.int64),
+            np.empty((4096, 5), np.int64),
+            np.empty((4096, 3)),
+        )
+        self.counts = np.array([2, 0, 0, 0, 0], np.int64)
+
+    def grow_points(self, keys: int, rows: int) -> None:
+        """Room for ``keys`` point keys (half full) and ``rows`` points."""
+        from trajopt.plan_kernel.arith import _fit
+
+        self.pk, self.pv = _fit(self.pk, self.pv, keys)
+        if rows > self.pt.shape[0]:
+            pt, pty = np.zeros((2 * rows, 5), np.int64), np.zeros(2 * rows)
+            pt[: self.pt.shape[0]], pty[: self.pty.shape[0]] = self.pt, self.pty
+            self.pt, self.pty = pt, pty
+
+
+def _tables(mesh: Any) -> _Tables:
+    out = getattr(mesh, "_kernel_tables", None)
+    if out is None:
+        out = mesh._kernel_tables = _Tables()
+    return out
+
+
+def _grow_polygons(C: Any, rows: int, sides: int, keys: int) -> Any:
+    """The polygon table with room for ``rows`` polygons, ``sides`` sides and ``keys`` keys."""
+    from trajopt.plan_kernel.arith import _fit, _grow
+
+    ck, cv = _fit(C[0], C[1], keys)
+    return ck, cv, _grow(C[2], rows), _grow(C[3], sides), _grow(C[4], sides)
+
+
 def _polygon_int(pid: Any, n_e: int) -> int:
     e, f, k = pid
     return (int(e) * n_e + int(f)) * 2 + int(k)
@@ -97,7 +143,6 @@ class CompiledSearch:
         self.start_members = mesh.placements(*query.start)
         size = 1024
         c = np.zeros(_C, np.int64)
-        c[16] = 2  # the start's and the goal's points
         self.N = (
             np.empty((size, _NI), np.int64),
             np.empty((size, _NF), np.float64),
@@ -106,15 +151,9 @@ class CompiledSearch:
             np.empty(size, np.float64),
             c,
         )
-        pt = np.zeros((size, 5), np.int64)
-        self.P = (
-            np.zeros((2 * size, 5), np.int64),
-            np.full(2 * size, -1, np.int64),
-            pt,
-            np.zeros(size),
-            np.full(size, math.inf),
-            np.full(size, math.nan),
-        )
+        self.tables = _tables(mesh)
+        self.best = np.full(self.tables.pt.shape[0], math.inf)  # per point of the tables: least cost, bound
+        self.pbv = np.full(self.tables.pt.shape[0], math.nan)
         self.S = (
             np.zeros((1024, 6), np.int64),
             np.full(1024, -1, np.int64),
@@ -153,6 +192,25 @@ class CompiledSearch:
             )  # fmt: skip
         self.started = False
 
+    def _tables_in(self) -> tuple[Any, Any]:
+        """``P`` and ``C`` for the kernel: the mesh's tables (points and polygons, shared by its searches), this
+        search's least costs and point bounds as long as the points' arrays, the counters in ``c[16:21]``."""
+        t, c = self.tables, self.N[5]
+        n = t.pt.shape[0]
+        if self.best.shape[0] < n:
+            best, pbv = np.full(n, math.inf), np.full(n, math.nan)
+            best[: self.best.shape[0]], pbv[: self.pbv.shape[0]] = self.best, self.pbv
+            self.best, self.pbv = best, pbv
+        c[16:21] = t.counts
+        return (t.pk, t.pv, t.pt, t.pty, self.best, self.pbv), t.C
+
+    def _tables_out(self, P: Any, C: Any) -> None:
+        t = self.tables
+        t.pk, t.pv, t.pt, t.pty = P[0], P[1], P[2], P[3]
+        self.best, self.pbv = P[4], P[5]
+        t.C = C
+        t.counts = self.N[5][16:21].copy()
+
     @staticmethod
     def supports(query: Any, bound: Any) -> bool:
         """Whether this search is the reference's node for node under the planner's current settings (the benchmark
@@ -175,15 +233,24 @@ class CompiledSearch:
             mem_p = np.array([_polygon_int(pid, self.n_e) for pid, _ in self.start_members], dtype=np.int64)
             mem_c = np.array([rc for _, rc in self.start_members], dtype=np.float64).reshape(-1, 2)
             need = 1 + len(mem_p) * (2 + len(self.G[4]) + 12)
-            if need > self.N[0].shape[0] or 2 + 8 * len(mem_p) > self.P[2].shape[0] // 2:
+            if need > self.N[0].shape[0] or len(mem_p) > 64:  # the arrays' first sizes hold 64 polygons' worth
                 raise AssertionError("the start's polygons exceed the first arrays")  # pragma: no cover
-            _start(self.N, self.P, self.M, self.G, mem_p, mem_c)
+            P, C = self._tables_in()
+            if C[0].shape[0] < 2 * (c[19] + 64) or C[2].shape[0] < c[18] + 64 or C[3].shape[0] < c[20] + 256:
+                C = self.tables.C = _grow_polygons(C, c[18] + 64, c[20] + 256, c[19] + 64)
+            if P[2].shape[0] < c[16] + 512 or P[0].shape[0] < 2 * (c[17] + 512):
+                self.tables.grow_points(c[17] + 512, c[16] + 512)
+                P, C = self._tables_in()
+            _start(self.N, P, C, self.M, self.G, mem_p, mem_c)
+            self._tables_out(P, C)
             self.started = True
         over = _NO_LIMIT if limit is None else math.floor(limit * self.fq)
         c[3] = 0
-        status, self.N, self.P, self.S, self.BS = _run(
-            self.N, self.P, self.S, self.B, self.BS, self.M, self.G, -1 if budget is None else budget, over
+        P, C = self._tables_in()
+        status, self.N, P, C, self.S, self.BS = _run(
+            self.N, P, C, self.S, self.B, self.BS, self.M, self.G, -1 if budget is None else budget, over
         )
+        self._tables_out(P, C)
         if status == FOUND:
             return self.segments(int(c[4]))
         if status == STOPPED:
