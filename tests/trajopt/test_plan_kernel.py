@@ -252,3 +252,24 @@ def test_warm_compiles_and_a_batch_installs_and_warms(tmp_path: Path, monkeypatc
     q = {"a_start": "left", "b_start": "right", "a_goal": "right", "b_goal": "left"}
     batch.run_batch(track, [q], tmp_path / "out", clearance=0.3, workers=1)
     assert calls[:2] == ["install", "warm"] and calls.count("install") == 2, calls
+
+
+def test_searches_that_share_a_mesh_and_interleave_are_the_references() -> None:
+    """The polygons and points a compiled search names are kept with the mesh and shared: a search paused while
+    others run on the same mesh (and add to those tables) resumes to the reference's path."""
+    rng = np.random.default_rng(13)
+    track = _example("rail_yard")
+    d = 0.2 * float(np.median(track.lengths))
+    fs = free_space(track, d)
+    mesh = _mesh(fs)
+    queries = [(s, g) for s, g in _queries(track, d, rng, 30) if fs.component_of(*s) == fs.component_of(*g)][:12]
+    assert len(queries) >= 8
+    for i in range(0, len(queries) - 1, 2):
+        qa = SearchQuery(track, fs, *queries[i], "fastest", (1.0, 1.0))
+        qb = SearchQuery(track, fs, *queries[i + 1], "fastest", (1.0, 1.0))
+        paused = CompiledSearch(mesh, qa)
+        first = paused.run(3)
+        other = CompiledSearch(mesh, qb).run()
+        rest = first if first is not None else paused.run()
+        assert other == AnyAngleSearch(mesh, qb).run(), queries[i + 1]
+        assert rest == AnyAngleSearch(mesh, qa).run(), queries[i]
