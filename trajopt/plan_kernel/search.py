@@ -23,7 +23,7 @@ from trajopt.plan_kernel.arith import (
     FOUND,
     STOPPED,
 )
-from trajopt.plan_kernel.run import _run, _start
+from trajopt.plan_kernel.run import _room, _room_poly, _run, _start
 
 __all__ = ["ENV", "CompiledSearch", "install", "installed", "warm"]
 
@@ -84,30 +84,12 @@ class _Tables:
         )
         self.counts = np.array([2, 0, 0, 0, 0], np.int64)
 
-    def grow_points(self, keys: int, rows: int) -> None:
-        """Room for ``keys`` point keys (half full) and ``rows`` points."""
-        from trajopt.plan_kernel.arith import _fit
-
-        self.pk, self.pv = _fit(self.pk, self.pv, keys)
-        if rows > self.pt.shape[0]:
-            pt, pty = np.zeros((2 * rows, 5), np.int64), np.zeros(2 * rows)
-            pt[: self.pt.shape[0]], pty[: self.pty.shape[0]] = self.pt, self.pty
-            self.pt, self.pty = pt, pty
-
 
 def _tables(mesh: Any) -> _Tables:
     out = getattr(mesh, "_kernel_tables", None)
     if out is None:
         out = mesh._kernel_tables = _Tables()
     return out
-
-
-def _grow_polygons(C: Any, rows: int, sides: int, keys: int) -> Any:
-    """The polygon table with room for ``rows`` polygons, ``sides`` sides and ``keys`` keys."""
-    from trajopt.plan_kernel.arith import _fit, _grow
-
-    ck, cv = _fit(C[0], C[1], keys)
-    return ck, cv, _grow(C[2], rows), _grow(C[3], sides), _grow(C[4], sides)
 
 
 def _polygon_int(pid: Any, n_e: int) -> int:
@@ -126,7 +108,6 @@ class CompiledSearch:
 
     def __init__(self, mesh: Any, query: Any, bound: Any = None) -> None:
         ref = graph_search.AnyAngleSearch(mesh, query, bound=bound)  # its constants and goal distances
-        self.mesh, self.bound, self.start = mesh, bound, query.start
         self.M = _layout_arrays(mesh)
         self.n_e = n_e = mesh.g.n_edges
         self.fq = ref.fq
@@ -232,15 +213,9 @@ class CompiledSearch:
         if not self.started:
             mem_p = np.array([_polygon_int(pid, self.n_e) for pid, _ in self.start_members], dtype=np.int64)
             mem_c = np.array([rc for _, rc in self.start_members], dtype=np.float64).reshape(-1, 2)
-            need = 1 + len(mem_p) * (2 + len(self.G[4]) + 12)
-            if need > self.N[0].shape[0] or len(mem_p) > 64:  # the arrays' first sizes hold 64 polygons' worth
-                raise AssertionError("the start's polygons exceed the first arrays")  # pragma: no cover
-            P, C = self._tables_in()
-            if C[0].shape[0] < 2 * (c[19] + 64) or C[2].shape[0] < c[18] + 64 or C[3].shape[0] < c[20] + 256:
-                C = self.tables.C = _grow_polygons(C, c[18] + 64, c[20] + 256, c[19] + 64)
-            if P[2].shape[0] < c[16] + 512 or P[0].shape[0] < 2 * (c[17] + 512):
-                self.tables.grow_points(c[17] + 512, c[16] + 512)
-                P, C = self._tables_in()
+            P, C = self._tables_in()  # room as the kernel makes it before an expansion (run._room, run._room_poly)
+            C, P = _room_poly(C, P, c, len(mem_p))
+            self.N, P = _room(self.N, P, 1 + len(mem_p) * (2 + len(self.G[4]) + 12), 0)
             _start(self.N, P, C, self.M, self.G, mem_p, mem_c)
             self._tables_out(P, C)
             self.started = True
