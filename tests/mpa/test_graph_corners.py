@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 from mpa.errors import NoMotionError
 from mpa.freespace import free_space
 from mpa.graph_track import GraphTrack
+from mpa.planners import corners as corners_module
 from mpa.planners import graph as graph_planner
 from mpa.planners.corners import RESOLVE_TOL, _routes, resolve_corners
 from mpa.planners.graph import plan_graph
@@ -244,3 +245,47 @@ def test_the_y_corner_moves_continuously_with_the_margin_at_any_speed(v: float) 
     print(v, c.tolist())
     assert np.all(np.abs(c[:, 0] - 2.75) < 1e-4), c
     assert np.max(np.abs(np.diff(c, axis=0))) < 1e-2, c
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    name=st.sampled_from(("passing_loop", "two_sidings", "y_junction", "theta", "warehouse")),
+    fr=st.lists(st.floats(0.0, 1.0), min_size=4, max_size=4),
+    edges=st.lists(st.integers(0, 200), min_size=4, max_size=4),
+    dfrac=st.sampled_from((0.05, 0.2, 0.5, 1.0)),
+    swap=st.booleans(),
+    speeds=st.sampled_from(((1.0, 1.0), (1.0, 0.37), (0.6, 1.0))),
+)
+def test_implied_rows_left_out_give_the_same_corners(
+    name: str, fr: list[float], edges: list[int], dfrac: float, swap: bool, speeds: tuple[float, float]
+) -> None:
+    """The programme without the rows that others imply has the same minimiser as the one with every row: the same
+    cells, corners within rounding (1e-9 m), the same choice among the widened chains."""
+    track = _track(name)
+    lengths = np.asarray(track.lengths)
+    fr = [0.0 if f < 1e-9 else 1.0 if f > 1.0 - 1e-9 else f for f in fr]
+    pos = [(e % len(lengths), float(f * lengths[e % len(lengths)])) for e, f in zip(edges, fr)]
+    if swap:
+        pos[2], pos[3] = pos[1], pos[0]
+    D = round(dfrac * float(np.median(lengths)), 6)
+    g = track.geometry
+    if min(g.distance_scalar(*pos[0], *pos[1]), g.distance_scalar(*pos[2], *pos[3])) < D + 1e-6:
+        return
+    start, goal = (pos[0], pos[1]), (pos[2], pos[3])
+    fs = free_space(track, D)
+    if fs.component_of(*start) is None or fs.component_of(*start) != fs.component_of(*goal):
+        return
+    try:
+        fs, segs = _search_segments(track, D, start, goal)
+    except NoMotionError:  # pragma: no cover - same component
+        pytest.fail("no motion")
+    lean = resolve_corners(fs, segs, speeds)
+    try:
+        corners_module.DROP_IMPLIED_ROWS = False
+        full = resolve_corners(fs, segs, speeds)
+    finally:
+        corners_module.DROP_IMPLIED_ROWS = True
+    assert [x[0] for x in lean] == [x[0] for x in full], (name, start, goal, D, speeds)
+    pa = np.array([[*x[1], *x[2]] for x in lean])
+    pb = np.array([[*x[1], *x[2]] for x in full])
+    assert np.max(np.abs(pa - pb), initial=0.0) <= 1e-9, (name, start, goal, D, speeds)
