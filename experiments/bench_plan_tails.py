@@ -1,7 +1,7 @@
 """Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
 
     python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
-        [--compare | --steps | --limits | --fourth | --fifth | --sixth] [--large] [--repeat K] [--python]
+        [--compare | --steps | --limits | --fourth | --fifth | --sixth | --seventh] [--large] [--repeat K] [--python]
 
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
 10 / 30 / 100 / 150 edges, three seeds each), the seeded warehouse grids and road maps of
@@ -31,7 +31,9 @@ for the whole plan, the segments within the bound's reach above 300 edges).
 and ``LIMIT_WAIT`` 0); after = the code as it is (the first limit admits a step aside, the second a wait of one
 clearance). ``--sixth``: before = mpa's own search in the interpreter
 (:class:`mpa.planners.graph.search.AnyAngleSearch`), after = the compiled one (:mod:`trajopt.plan_kernel`: the same
-nodes; the makespans must agree). ``--repeat K``: every query planned K times per arm in a row, the least time kept.
+nodes; the makespans must agree). ``--seventh``: before = the corners re-solved with every row of their programme
+(``mpa.planners.corners.DROP_IMPLIED_ROWS = False``), after = the rows that others imply left out (the same
+minimiser). ``--repeat K``: every query planned K times per arm in a row, the least time kept.
 Every arm searches with the compiled search (:func:`trajopt.plan_kernel.install`, warmed before the clock starts)
 unless ``--python`` is given (or the arm is ``--sixth``'s before).
 """
@@ -60,6 +62,7 @@ from bench.graph_scale import road_map_layout, warehouse_layout  # noqa: E402
 
 from mpa.freespace import free_space  # noqa: E402
 from mpa.graph_track import GraphTrack  # noqa: E402
+from mpa.planners import corners as plan_corners  # noqa: E402
 from mpa.planners.graph import bounds as graph_bounds  # noqa: E402
 from mpa.planners.graph import passing as graph_passing  # noqa: E402
 from mpa.planners.graph import query as graph_query  # noqa: E402
@@ -147,6 +150,7 @@ def _arm(compare: str | None, before: bool) -> None:
     fifth = compare == "fifth" and before
     graph_query.LIMIT_STEP_ASIDE = 0.0 if fifth else _AS_IS["step_aside"]
     graph_query.LIMIT_WAIT = 0.0 if fifth else _AS_IS["wait"]
+    plan_corners.DROP_IMPLIED_ROWS = False if compare == "seventh" and before else _AS_IS["implied"]
     python = SEARCH["python"] or (compare == "sixth" and before)
     graph_query.use_search(None if python else plan_kernel.CompiledSearch)
 
@@ -184,6 +188,7 @@ _AS_IS: dict[str, Any] = {
     "least": PassingBound.least_through,
     "step_aside": graph_query.LIMIT_STEP_ASIDE,
     "wait": graph_query.LIMIT_WAIT,
+    "implied": plan_corners.DROP_IMPLIED_ROWS,
 }
 
 
@@ -282,6 +287,7 @@ def main() -> None:
     )
     ap.add_argument("--fifth", action="store_true", help="the limits from the slacks alone, against the code as it is")
     ap.add_argument("--sixth", action="store_true", help="mpa's own search against the compiled one")
+    ap.add_argument("--seventh", action="store_true", help="the corners' programme with every row against the lean one")
     ap.add_argument("--python", action="store_true", help="every arm with mpa's own search (not the compiled one)")
     ap.add_argument("--repeat", type=int, default=1, help="plans per query and arm, the least time kept")
     ap.add_argument("--large", action="store_true", help="also the 1 000-edge warehouse grid and road map")
@@ -289,7 +295,7 @@ def main() -> None:
     SEARCH["python"] = args.python or not plan_kernel.install()
     if not SEARCH["python"]:
         plan_kernel.warm()  # compiled, or loaded from the cache, before the clock
-    if args.compare or args.steps or args.limits or args.fourth or args.fifth or args.sixth:
+    if args.compare or args.steps or args.limits or args.fourth or args.fifth or args.sixth or args.seventh:
         print(
             "| layout | edges | queries | CPU median (ms) before → after | CPU p95 (ms) | CPU max (ms) | "
             "wall median (ms) | wall p95 (ms) | wall max (ms) | makespans differing |"
@@ -308,7 +314,15 @@ def main() -> None:
         else (
             "limits"
             if args.limits
-            else ("fourth" if args.fourth else ("fifth" if args.fifth else ("sixth" if args.sixth else args.compare)))
+            else (
+                "fourth"
+                if args.fourth
+                else (
+                    "fifth"
+                    if args.fifth
+                    else ("sixth" if args.sixth else ("seventh" if args.seventh else args.compare))
+                )
+            )
         )
     )
     records = run(args.queries, args.seed, only, mode, args.large, args.repeat)
