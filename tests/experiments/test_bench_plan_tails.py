@@ -48,3 +48,19 @@ def test_the_earlier_arm_is_the_earlier_scheme() -> None:
     finally:
         bench_plan_tails._arm(None, False)
     assert _settings() == as_is
+
+
+def test_the_seventh_arm_keeps_every_row_and_plans_the_same_makespans() -> None:
+    from mpa.planners import corners
+
+    bench_plan_tails._arm("seventh", True)
+    try:
+        assert corners.DROP_IMPLIED_ROWS is False
+    finally:
+        bench_plan_tails._arm(None, False)
+    assert corners.DROP_IMPLIED_ROWS is True
+    records = bench_plan_tails.run(4, 0, {"two_sidings", "hotel L2"}, "seventh")
+    assert sorted(r["layout"] for r in records) == ["hotel L2", "two_sidings"]
+    for r in records:
+        assert r["queries"] == 4 and r["makespan_differences"] == 0, r
+    assert corners.DROP_IMPLIED_ROWS is True
