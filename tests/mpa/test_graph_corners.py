@@ -18,7 +18,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from mpa.errors import NoMotionError
-from mpa.freespace import free_space
+from mpa.freespace import FreeSpace, free_space
 from mpa.graph_track import GraphTrack
 from mpa.planners import corners as corners_module
 from mpa.planners import graph as graph_planner
@@ -140,17 +140,15 @@ def _makespan(segs: list[list[object]]) -> float:
     return float(np.sum(np.max(np.abs(d), axis=1)))
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(
-    name=st.sampled_from(("passing_loop", "two_sidings", "y_junction", "theta")),
-    fr=st.lists(st.floats(0.0, 1.0), min_size=4, max_size=4),
-    edges=st.lists(st.integers(0, 10), min_size=4, max_size=4),
-    dfrac=st.sampled_from((0.05, 0.2, 0.5, 1.0)),
-    swap=st.booleans(),
-)
-def test_resolved_corners_are_valid_and_a_fixed_point(
+_Pair = tuple[tuple[int, float], tuple[int, float]]
+
+
+def _generated_query(
     name: str, fr: list[float], edges: list[int], dfrac: float, swap: bool
-) -> None:
+) -> tuple[GraphTrack, FreeSpace, _Pair, _Pair, float] | None:
+    """``(track, free space, start, goal, D)`` of a generated query on an example layout: robots on ``edges`` (modulo
+    the layout's) at fractions ``fr`` of them, the goal the start swapped when ``swap``, D a fraction ``dfrac`` of
+    the median edge; None where the start or the goal is not free or they lie in different components."""
     track = _track(name)
     lengths = np.asarray(track.lengths)
     # Offsets closer to a vertex than 1e-9 of the edge are put on the vertex: below the planner's tolerance the
@@ -163,11 +161,30 @@ def test_resolved_corners_are_valid_and_a_fixed_point(
     D = round(dfrac * float(np.median(lengths)), 6)
     g = track.geometry
     if min(g.distance_scalar(*pos[0], *pos[1]), g.distance_scalar(*pos[2], *pos[3])) < D + 1e-6:
-        return
+        return None
     start, goal = (pos[0], pos[1]), (pos[2], pos[3])
     fs = free_space(track, D)
     if fs.component_of(*start) is None or fs.component_of(*start) != fs.component_of(*goal):
+        return None
+    return track, fs, start, goal, D
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    name=st.sampled_from(("passing_loop", "two_sidings", "y_junction", "theta")),
+    fr=st.lists(st.floats(0.0, 1.0), min_size=4, max_size=4),
+    edges=st.lists(st.integers(0, 10), min_size=4, max_size=4),
+    dfrac=st.sampled_from((0.05, 0.2, 0.5, 1.0)),
+    swap=st.booleans(),
+)
+def test_resolved_corners_are_valid_and_a_fixed_point(
+    name: str, fr: list[float], edges: list[int], dfrac: float, swap: bool
+) -> None:
+    got = _generated_query(name, fr, edges, dfrac, swap)
+    if got is None:
         return
+    track, fs, start, goal, D = got
+    g = track.geometry
     if graph_planner._independent_motion(graph_planner._mesh(fs), start, goal) is not None:
         return  # the straight motion: no search, nothing to re-solve
     fs, segs = _search_segments(track, D, start, goal)
@@ -261,20 +278,10 @@ def test_implied_rows_left_out_give_the_same_corners(
 ) -> None:
     """The programme without the rows that others imply has the same minimiser as the one with every row: the same
     cells, corners within rounding (1e-9 m), the same choice among the widened chains."""
-    track = _track(name)
-    lengths = np.asarray(track.lengths)
-    fr = [0.0 if f < 1e-9 else 1.0 if f > 1.0 - 1e-9 else f for f in fr]
-    pos = [(e % len(lengths), float(f * lengths[e % len(lengths)])) for e, f in zip(edges, fr)]
-    if swap:
-        pos[2], pos[3] = pos[1], pos[0]
-    D = round(dfrac * float(np.median(lengths)), 6)
-    g = track.geometry
-    if min(g.distance_scalar(*pos[0], *pos[1]), g.distance_scalar(*pos[2], *pos[3])) < D + 1e-6:
+    got = _generated_query(name, fr, edges, dfrac, swap)
+    if got is None:
         return
-    start, goal = (pos[0], pos[1]), (pos[2], pos[3])
-    fs = free_space(track, D)
-    if fs.component_of(*start) is None or fs.component_of(*start) != fs.component_of(*goal):
-        return
+    track, fs, start, goal, D = got
     try:
         fs, segs = _search_segments(track, D, start, goal)
     except NoMotionError:  # pragma: no cover - same component
