@@ -257,28 +257,12 @@ class CompiledSearch:
                 chain.append((ni[i].tolist(), nf[i].tolist()))
                 i = chain[-1][0][3]
             chain.reverse()
-            (ci, cf) = chain[0]
-            q0, r0 = ids(ci[8]), (cf[11], cf[12])
-            lk = chain[-1][1]
-            rk, sk = (lk[1], lk[2]), (lk[3], lk[4])
-            d0 = (sk[0] * (q[0] - rk[0]), sk[1] * (q[1] - rk[1]))
-            segs: list[Any] = []
-            prev_pid, prev_pt = q0, r0
-            for it_i, it_f in chain:
-                r, ax, a = (it_f[1], it_f[2]), it_i[5], it_f[5]
-                di = (it_f[3] * d0[0], it_f[4] * d0[1])
-                if di[ax] != 0.0:
-                    lam = (a - r[ax]) / di[ax]
-                    y = r[1 - ax] + lam * di[1 - ax]
-                else:  # pragma: no cover - a crossing line is never parallel to its face
-                    y = r[1 - ax]
-                y = min(max(y, it_f[8]), it_f[9])
-                exit_pt = (it_f[10], y) if ax == 0 else (y, it_f[10])
-                entry = (a, y) if ax == 0 else (y, a)
-                segs.append([prev_pid, prev_pt, exit_pt])
-                prev_pid, prev_pt = ids(it_i[4]), entry
-            segs.append([prev_pid, prev_pt, q])
-            runs.append(segs)
+            ci, cf = chain[0]
+            crossings = [
+                (ids(it_i[4]), (it_f[1], it_f[2]), (it_f[3], it_f[4]), it_i[5], it_f[5], it_f[8], it_f[9], it_f[10])
+                for it_i, it_f in chain
+            ]
+            runs.append(graph_search.fold_run(ids(ci[8]), (cf[11], cf[12]), q, crossings))
             nid = root
         out: list[Any] = []
         for run in reversed(runs):

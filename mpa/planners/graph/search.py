@@ -136,6 +136,51 @@ class IntervalNode(_Sight):
 Node = PointNode | FaceEntry | IntervalNode
 
 
+Crossing = tuple[PolygonId, Coords, tuple[float, float], int, float, float, float, float]
+
+
+def fold_run(q0: PolygonId, r0: Coords, q: Coords, crossings: list[Crossing]) -> list[Segment]:
+    """The straight segments of a run through faces, read back from its interval nodes (for
+    :meth:`AnyAngleSearch.segments` and the compiled search's).
+
+    Parameters
+    ----------
+    q0 : PolygonId
+        The polygon the run leaves its root in.
+    r0 : (float, float)
+        The root, in ``q0``'s offsets (metres).
+    q : (float, float)
+        Where the run ends, in the last polygon's offsets (metres).
+    crossings : list of (polygon, r, sig, ax, a, lo, hi, prev_a)
+        Per interval node from the root on: the polygon it enters, its root ``r`` and signs ``sig`` in that
+        polygon's offsets, the face's axis ``ax`` and offset ``a`` there, the interval ``[lo, hi]`` on the face and
+        the face's offset ``prev_a`` in the polygon before.
+
+    Returns
+    -------
+    list of [PolygonId, (s, t), (s, t)]
+        One segment per polygon of the run, the straight line from the root to ``q`` clamped into each face.
+    """
+    rk, sk = crossings[-1][1], crossings[-1][2]
+    d0 = (sk[0] * (q[0] - rk[0]), sk[1] * (q[1] - rk[1]))
+    segs: list[Segment] = []
+    prev_pid, prev_pt = q0, r0
+    for polygon, r, sig, ax, a, lo, hi, prev_a in crossings:
+        di = (sig[0] * d0[0], sig[1] * d0[1])
+        if di[ax] != 0.0:
+            lam = (a - r[ax]) / di[ax]
+            y = r[1 - ax] + lam * di[1 - ax]
+        else:  # pragma: no cover - a crossing line is never parallel to its face
+            y = r[1 - ax]
+        y = min(max(y, lo), hi)
+        exit_pt = (prev_a, y) if ax == 0 else (y, prev_a)
+        entry = (a, y) if ax == 0 else (y, a)
+        segs.append([prev_pid, prev_pt, exit_pt])
+        prev_pid, prev_pt = polygon, entry
+    segs.append([prev_pid, prev_pt, q])
+    return segs
+
+
 class AnyAngleSearch:
     """The exact shortest path (for the objective's cost) of one query in the free space.
 
@@ -591,25 +636,8 @@ class AnyAngleSearch:
                 i = it.parent
             chain.reverse()
             q0, r0 = chain[0].origin
-            rk, sk = chain[-1].r, chain[-1].sig
-            d0 = (sk[0] * (q[0] - rk[0]), sk[1] * (q[1] - rk[1]))
-            segs: list[Segment] = []
-            prev_pid, prev_pt = q0, r0
-            for it in chain:
-                r, ax, a = it.r, it.ax, it.a
-                di = (it.sig[0] * d0[0], it.sig[1] * d0[1])
-                if di[ax] != 0.0:
-                    lam = (a - r[ax]) / di[ax]
-                    y = r[1 - ax] + lam * di[1 - ax]
-                else:  # pragma: no cover - a crossing line is never parallel to its face
-                    y = r[1 - ax]
-                y = min(max(y, it.lo), it.hi)
-                exit_pt = (it.prev_a, y) if ax == 0 else (y, it.prev_a)
-                entry = (a, y) if ax == 0 else (y, a)
-                segs.append([prev_pid, prev_pt, exit_pt])
-                prev_pid, prev_pt = it.polygon, entry
-            segs.append([prev_pid, prev_pt, q])
-            runs.append(segs)
+            crossings = [(it.polygon, it.r, it.sig, it.ax, it.a, it.lo, it.hi, it.prev_a) for it in chain]
+            runs.append(fold_run(q0, r0, q, crossings))
             nid = rid
         out: list[Segment] = []
         for run in reversed(runs):
