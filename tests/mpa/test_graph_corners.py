@@ -264,6 +264,7 @@ def test_the_y_corner_moves_continuously_with_the_margin_at_any_speed(v: float) 
     assert np.max(np.abs(np.diff(c, axis=0))) < 1e-2, c
 
 
+@pytest.mark.parametrize("lean", ["DROP_IMPLIED_ROWS", "ACTIVE_SET_SEED"])
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(
     name=st.sampled_from(("passing_loop", "two_sidings", "y_junction", "theta", "warehouse")),
@@ -273,11 +274,12 @@ def test_the_y_corner_moves_continuously_with_the_margin_at_any_speed(v: float) 
     swap=st.booleans(),
     speeds=st.sampled_from(((1.0, 1.0), (1.0, 0.37), (0.6, 1.0))),
 )
-def test_implied_rows_left_out_give_the_same_corners(
-    name: str, fr: list[float], edges: list[int], dfrac: float, swap: bool, speeds: tuple[float, float]
+def test_the_lean_programme_gives_the_same_corners(
+    lean: str, name: str, fr: list[float], edges: list[int], dfrac: float, swap: bool, speeds: tuple[float, float]
 ) -> None:
-    """The programme without the rows that others imply has the same minimiser as the one with every row: the same
-    cells, corners within rounding (1e-9 m), the same choice among the widened chains."""
+    """The programme without the rows that others imply (``DROP_IMPLIED_ROWS``), or solved first from the rows tight
+    at the chain's own corners (``ACTIVE_SET_SEED``), has the same minimiser as the one solved with every row: the
+    same cells, corners within rounding (1e-9 m), the same choice among the widened chains."""
     got = _generated_query(name, fr, edges, dfrac, swap)
     if got is None:
         return
@@ -286,13 +288,40 @@ def test_implied_rows_left_out_give_the_same_corners(
         fs, segs = _search_segments(track, D, start, goal)
     except NoMotionError:  # pragma: no cover - same component
         pytest.fail("no motion")
-    lean = resolve_corners(fs, segs, speeds)
+    assert getattr(corners_module, lean) is True
+    got_lean = resolve_corners(fs, segs, speeds)
     try:
-        corners_module.DROP_IMPLIED_ROWS = False
+        setattr(corners_module, lean, False)
         full = resolve_corners(fs, segs, speeds)
     finally:
-        corners_module.DROP_IMPLIED_ROWS = True
-    assert [x[0] for x in lean] == [x[0] for x in full], (name, start, goal, D, speeds)
-    pa = np.array([[*x[1], *x[2]] for x in lean])
+        setattr(corners_module, lean, True)
+    assert [x[0] for x in got_lean] == [x[0] for x in full], (name, start, goal, D, speeds)
+    pa = np.array([[*x[1], *x[2]] for x in got_lean])
     pb = np.array([[*x[1], *x[2]] for x in full])
     assert np.max(np.abs(pa - pb), initial=0.0) <= 1e-9, (name, start, goal, D, speeds)
+
+
+@settings(max_examples=400, deadline=None)
+@given(
+    m=st.integers(1, 30),
+    k=st.integers(1, 8),
+    seed=st.integers(0, 2**32 - 1),
+    keep=st.floats(0.0, 1.0),
+)
+def test_least_distance_from_a_subset_of_the_rows_is_the_whole_programmes(
+    m: int, k: int, seed: int, keep: float
+) -> None:
+    """Random least-distance programmes (feasible and not, rows often tight at the minimiser), solved from a random
+    subset of their rows: the same minimiser as with every row (1e-9), infeasible exactly when that is."""
+    rng = np.random.default_rng(seed)
+    g = rng.normal(size=(m, k))
+    h = rng.normal(size=m) + (1.0 if rng.random() < 0.3 else 0.0)
+    if m > 2 and rng.random() < 0.3:  # a row repeated and its negation: equalities, degenerate multipliers
+        g[1], h[1] = -g[0], -h[0]
+        g[2], h[2] = g[0], h[0]
+    full = corners_module._least_distance(g, h, None)
+    part = corners_module._least_distance(g, h, rng.random(m) < keep)
+    assert (full is None) == (part is None), (m, k, seed, keep, full, part)
+    if full is not None and part is not None:
+        assert np.all(g @ part >= h - 1e-9), (m, k, seed, keep)
+        assert np.max(np.abs(full - part)) <= 1e-9 * max(1.0, float(np.max(np.abs(full)))), (m, k, seed, keep)
