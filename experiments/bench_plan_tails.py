@@ -1,7 +1,8 @@
 """Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
 
     python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
-        [--compare | --steps | --limits | --fourth | --fifth | --sixth | --seventh] [--large] [--repeat K] [--python]
+        [--compare | --steps | --limits | --fourth | --fifth | --sixth | --seventh | --eighth]
+        [--large] [--repeat K] [--python]
 
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
 10 / 30 / 100 / 150 edges, three seeds each), the seeded warehouse grids and road maps of
@@ -33,7 +34,10 @@ clearance). ``--sixth``: before = mpa's own search in the interpreter
 (:class:`mpa.planners.graph.search.AnyAngleSearch`), after = the compiled one (:mod:`trajopt.plan_kernel`: the same
 nodes; the makespans must agree). ``--seventh``: before = the corners re-solved with every row of their programme
 (``mpa.planners.corners.DROP_IMPLIED_ROWS = False``), after = the rows that others imply left out (the same
-minimiser). ``--repeat K``: every query planned K times per arm in a row, the least time kept.
+minimiser). ``--eighth``: before = every chain's programme solved with all its rows
+(``mpa.planners.corners.ACTIVE_SET_SEED = False``), after = first with the rows tight at the chain's own corners and
+the durations' rows, the rows its minimiser breaks added (the same minimiser). ``--repeat K``: every query planned K
+times per arm in a row, the least time kept.
 Every arm searches with the compiled search (:func:`trajopt.plan_kernel.install`, warmed before the clock starts)
 unless ``--python`` is given (or the arm is ``--sixth``'s before).
 """
@@ -151,6 +155,7 @@ def _arm(compare: str | None, before: bool) -> None:
     graph_query.LIMIT_STEP_ASIDE = 0.0 if fifth else _AS_IS["step_aside"]
     graph_query.LIMIT_WAIT = 0.0 if fifth else _AS_IS["wait"]
     plan_corners.DROP_IMPLIED_ROWS = False if compare == "seventh" and before else _AS_IS["implied"]
+    plan_corners.ACTIVE_SET_SEED = False if compare == "eighth" and before else _AS_IS["seed"]
     python = SEARCH["python"] or (compare == "sixth" and before)
     graph_query.use_search(None if python else plan_kernel.CompiledSearch)
 
@@ -189,6 +194,7 @@ _AS_IS: dict[str, Any] = {
     "step_aside": graph_query.LIMIT_STEP_ASIDE,
     "wait": graph_query.LIMIT_WAIT,
     "implied": plan_corners.DROP_IMPLIED_ROWS,
+    "seed": plan_corners.ACTIVE_SET_SEED,
 }
 
 
@@ -288,6 +294,9 @@ def main() -> None:
     ap.add_argument("--fifth", action="store_true", help="the limits from the slacks alone, against the code as it is")
     ap.add_argument("--sixth", action="store_true", help="mpa's own search against the compiled one")
     ap.add_argument("--seventh", action="store_true", help="the corners' programme with every row against the lean one")
+    ap.add_argument(
+        "--eighth", action="store_true", help="every chain solved with all its rows against from its tight rows"
+    )
     ap.add_argument("--python", action="store_true", help="every arm with mpa's own search (not the compiled one)")
     ap.add_argument("--repeat", type=int, default=1, help="plans per query and arm, the least time kept")
     ap.add_argument("--large", action="store_true", help="also the 1 000-edge warehouse grid and road map")
@@ -295,7 +304,9 @@ def main() -> None:
     SEARCH["python"] = args.python or not plan_kernel.install()
     if not SEARCH["python"]:
         plan_kernel.warm()  # compiled, or loaded from the cache, before the clock
-    if args.compare or args.steps or args.limits or args.fourth or args.fifth or args.sixth or args.seventh:
+    arms = ("steps", "limits", "fourth", "fifth", "sixth", "seventh", "eighth")
+    mode = next((a for a in arms if getattr(args, a)), args.compare)
+    if mode:
         print(
             "| layout | edges | queries | CPU median (ms) before → after | CPU p95 (ms) | CPU max (ms) | "
             "wall median (ms) | wall p95 (ms) | wall max (ms) | makespans differing |"
@@ -308,23 +319,6 @@ def main() -> None:
         )
         print("|---|---|---|---|---|---|---|---|---|")
     only = set(args.only.split(",")) if args.only else None
-    mode = (
-        "steps"
-        if args.steps
-        else (
-            "limits"
-            if args.limits
-            else (
-                "fourth"
-                if args.fourth
-                else (
-                    "fifth"
-                    if args.fifth
-                    else ("sixth" if args.sixth else ("seventh" if args.seventh else args.compare))
-                )
-            )
-        )
-    )
     records = run(args.queries, args.seed, only, mode, args.large, args.repeat)
     if args.out:
         Path(args.out).with_suffix(".json").write_text(json.dumps(records, indent=1))

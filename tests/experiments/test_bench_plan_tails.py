@@ -6,6 +6,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "experiments"))
 
@@ -50,17 +52,24 @@ def test_the_earlier_arm_is_the_earlier_scheme() -> None:
     assert _settings() == as_is
 
 
-def test_the_seventh_arm_keeps_every_row_and_plans_the_same_makespans() -> None:
+_CORNER_FLAGS = ("DROP_IMPLIED_ROWS", "ACTIVE_SET_SEED")
+
+
+@pytest.mark.parametrize(("arm", "flag"), [("seventh", "DROP_IMPLIED_ROWS"), ("eighth", "ACTIVE_SET_SEED")])
+def test_the_corner_arms_solve_with_every_row_and_plan_the_same_makespans(arm: str, flag: str) -> None:
+    """``--seventh``'s before keeps the rows that others imply, ``--eighth``'s solves every row at once; each turns
+    off its own flag only, both plan the same makespans, and the planner is left as it was."""
     from mpa.planners import corners
 
-    bench_plan_tails._arm("seventh", True)
+    bench_plan_tails._arm(arm, True)
     try:
-        assert corners.DROP_IMPLIED_ROWS is False
+        assert getattr(corners, flag) is False
+        assert all(getattr(corners, other) is True for other in _CORNER_FLAGS if other != flag)
     finally:
         bench_plan_tails._arm(None, False)
-    assert corners.DROP_IMPLIED_ROWS is True
-    records = bench_plan_tails.run(4, 0, {"two_sidings", "hotel L2"}, "seventh")
+    assert all(getattr(corners, f) is True for f in _CORNER_FLAGS)
+    records = bench_plan_tails.run(4, 0, {"two_sidings", "hotel L2"}, arm)
     assert sorted(r["layout"] for r in records) == ["hotel L2", "two_sidings"]
     for r in records:
         assert r["queries"] == 4 and r["makespan_differences"] == 0, r
-    assert corners.DROP_IMPLIED_ROWS is True
+    assert all(getattr(corners, f) is True for f in _CORNER_FLAGS)
