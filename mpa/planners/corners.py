@@ -423,7 +423,7 @@ def _least_distance(g: FloatArray, h: FloatArray, seed: np.ndarray | None) -> Fl
     Returns
     -------
     ndarray, shape (k,), or None
-        The minimiser; None when the rows have no feasible point (or the iteration limit is reached).
+        The minimiser; None when the rows have no feasible point (or the iteration limit is reached with every row).
     """
     m, k = g.shape
     f_vec = np.zeros(k + 1)
@@ -436,8 +436,11 @@ def _least_distance(g: FloatArray, h: FloatArray, seed: np.ndarray | None) -> Fl
             e_mat = np.vstack([g[idx].T, h[idx][None, :]])
             try:
                 u, _ = nnls(e_mat, f_vec, maxiter=50 * e_mat.shape[1])
-            except RuntimeError:  # pragma: no cover - the iteration limit
-                return None
+            except RuntimeError:  # pragma: no cover - the iteration limit: with every row, else give up
+                if len(idx) == m:
+                    return None
+                rows = np.ones(m, dtype=bool)
+                continue
             res = e_mat @ u - f_vec
             if abs(res[-1]) <= 1e-12:  # infeasible: these rows already are
                 return None

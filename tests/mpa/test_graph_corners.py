@@ -354,3 +354,22 @@ def test_least_distance_from_a_subset_of_the_rows_is_the_whole_programmes(
     if full is not None and part is not None:
         assert np.all(g @ part >= h - 1e-9), (m, k, seed, keep)
         assert np.max(np.abs(full - part)) <= 1e-9 * max(1.0, float(np.max(np.abs(full)))), (m, k, seed, keep)
+
+
+def test_least_distance_solves_every_row_when_a_subsets_solve_stops(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The iteration limit hit on a subset of the rows: the whole programme is solved, with the same minimiser."""
+    rng = np.random.default_rng(3)
+    g = rng.normal(size=(12, 4))
+    h = g @ rng.normal(size=4) - rng.random(12) * (rng.random(12) < 0.5)  # feasible, half the rows tight there
+    full = corners_module._least_distance(g, h, None)
+    assert full is not None
+    real = corners_module.nnls
+
+    def stops_on_subsets(a: np.ndarray, b: np.ndarray, maxiter: int | None = None) -> object:
+        if a.shape[1] < len(h):
+            raise RuntimeError("iteration limit")
+        return real(a, b, maxiter=maxiter)
+
+    monkeypatch.setattr(corners_module, "nnls", stops_on_subsets)
+    got = corners_module._least_distance(g, h, np.arange(12) < 5)
+    assert got is not None and np.array_equal(got, full)
