@@ -428,7 +428,7 @@ def _least_distance(g: FloatArray, h: FloatArray, seed: np.ndarray | None) -> Fl
     m, k = g.shape
     f_vec = np.zeros(k + 1)
     f_vec[-1] = 1.0
-    rows = np.ones(m, dtype=bool) if seed is None else seed.copy()
+    rows = np.ones(m, dtype=bool) if seed is None else seed  # never changed in place
     for solves in itertools.count(1):
         idx = np.flatnonzero(rows)
         y: FloatArray = np.zeros(k)  # the minimiser of no rows
@@ -436,7 +436,7 @@ def _least_distance(g: FloatArray, h: FloatArray, seed: np.ndarray | None) -> Fl
             e_mat = np.vstack([g[idx].T, h[idx][None, :]])
             try:
                 u, _ = nnls(e_mat, f_vec, maxiter=50 * e_mat.shape[1])
-            except RuntimeError:  # pragma: no cover - the iteration limit: with every row, else give up
+            except RuntimeError:  # the iteration limit: with every row, else give up
                 if len(idx) == m:
                     return None
                 rows = np.ones(m, dtype=bool)

@@ -190,13 +190,8 @@ def test_resolved_corners_are_valid_and_a_fixed_point(
     fs, segs = _search_segments(track, D, start, goal)
     out = resolve_corners(fs, segs, (1.0, 1.0))
     m0, m1 = _makespan(segs), _makespan(out)
-    assert m1 <= m0 * (1.0 + CHECK_TOL), (
-        start,
-        goal,
-        D,
-        m0,
-        m1,
-    )  # the check's bound: the solve's rounding above the aim
+    # the check's bound: the solve's rounding above its aim (RESOLVE_TOL / 2) is allowed
+    assert m1 <= m0 * (1.0 + CHECK_TOL), (start, goal, D, m0, m1)
     assert _routes(out) == _routes(segs), (start, goal, D)
     for (e, f, _), a, b in out:
         assert g.segment_min_scalar(e, f, *a, *b) >= fs._dmin - 1e-15, (start, goal, D, a, b)
