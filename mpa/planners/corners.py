@@ -48,7 +48,8 @@ from __future__ import annotations
 
 import itertools
 import math
-from typing import Any
+from collections.abc import Callable
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -56,7 +57,7 @@ from mpa._arrays import FloatArray
 from mpa._nnls import nnls
 from mpa.freespace import FreeSpace, PolygonId
 
-__all__ = ["CHECK_TOL", "RESOLVE_TOL", "resolve_corners"]
+__all__ = ["CHECK_TOL", "RESOLVE_TOL", "Programme", "compiled_programme", "resolve_corners", "use_programme"]
 
 Coords = tuple[float, float]
 #: Relative tolerance of the re-solve: makespan and travel at most ``(1 + RESOLVE_TOL)`` times the search's.
@@ -84,6 +85,63 @@ SEED_ROUNDS = 6
 #: A first solve whose minimiser breaks its own rows by more than this (relative to the largest right-hand side) has
 #: lost its accuracy (a nearly infeasible subset): :func:`_least_distance` solves with every row instead.
 SEED_LOST = 1e-6
+
+
+class Programme(NamedTuple):
+    """The least-distance programme of one chain (:func:`_programme`): ``G z >= h`` over ``z = [x; T]`` (``nv`` free
+    coordinates in metres, then ``n`` durations in metres at the faster speed) and the objective
+    ``|dmat x + dcon|² + |T|²``.
+
+    ``free[j][r]`` is the variable of robot ``r``'s coordinate at corner ``j`` (between segments ``j - 1`` and ``j``,
+    ``j`` in ``0 .. n``) or -1 where it is fixed; ``sig[r][i]`` the sign robot ``r``'s move keeps on segment ``i``;
+    ``vix[i][end][r]`` and ``cst[i][end][r]`` the variable (or -1) and the constant (the search's value where fixed,
+    else 0) of robot ``r``'s coordinate at the start (``end`` 0) or end (1) of segment ``i``; ``x_own`` the free
+    coordinates at the chain's own corners; ``var_robot``, ``var_edge`` each variable's robot and edge; ``travel_row``
+    the row of the travel."""
+
+    nv: int
+    free: list[list[int]]
+    sig: tuple[list[int], list[int]]
+    vix: list[list[list[int]]]
+    cst: list[list[list[float]]]
+    x_own: FloatArray  # (nv,)
+    var_robot: list[int]
+    var_edge: list[int]
+    gmat: FloatArray  # (m, nv + n)
+    h: FloatArray  # (m,)
+    dmat: FloatArray  # (2n, nv)
+    dcon: FloatArray  # (2n,)
+    travel_row: int
+
+
+#: The builder of :class:`Programme` that :func:`_solve_chain` calls in place of :func:`_programme`
+#: (:func:`use_programme`), None: that one.
+_PROGRAMME: Callable[..., Programme | None] | None = None
+
+
+def use_programme(build: Callable[..., Programme | None] | None) -> None:
+    """Build each chain's programme with ``build`` in place of :func:`_programme` (None: that one again).
+
+    ``build`` takes :func:`_programme`'s arguments and returns the same :class:`Programme`, bit for bit. :mod:`mpa`
+    stays numpy and scipy only: the compiled builder of :mod:`trajopt.plan_kernel` installs itself with this
+    (:func:`trajopt.plan_kernel.install`)."""
+    global _PROGRAMME
+    _PROGRAMME = build
+
+
+def compiled_programme() -> Callable[..., Programme | None] | None:
+    """The builder installed by :func:`use_programme`, None when there is none."""
+    return _PROGRAMME
+
+
+def _terms(
+    fs: FreeSpace, e: int, f: int, terms_of: dict[tuple[int, int], list[tuple[float, float, float]]]
+) -> list[tuple[float, float, float]]:
+    """:func:`_binding_terms` of the cell ``e × f``, kept in ``terms_of`` (one dict per plan)."""
+    terms = terms_of.get((e, f))
+    if terms is None:
+        terms = terms_of[(e, f)] = _binding_terms(fs, e, f)
+    return terms
 
 
 def _directions(cells: list[Any], d: FloatArray, free: list[list[int]], robot: int) -> list[int]:
@@ -141,26 +199,27 @@ def _monotone_variables(free: list[list[int]], sig: tuple[list[int], list[int]],
     return boxed
 
 
-def _solve_chain(
+def _programme(
     fs: FreeSpace,
-    segs: list[list[Any]],
+    cells: list[PolygonId],
+    p0: FloatArray,
+    p1: FloatArray,
     speeds: tuple[float, float],
     m_search: float,
     w_search: float,
-    floor: float,
-    terms_of: dict[tuple[int, int], list[tuple[float, float, float]]] | None = None,
-) -> tuple[float, list[list[Any]]] | None:
-    """The rule's minimiser in the chain of cells of ``segs`` (segments as in :func:`resolve_corners`; a segment may
-    have length zero), with its objective value (s²); None when the chain has no free corner, no motion within the
-    tolerance of the search's makespan ``m_search`` and travel ``w_search`` (s), or a check fails. ``terms_of``
-    keeps :func:`_binding_terms` per cell between the chains of one plan."""
-    n = len(segs)
+    terms_of: dict[tuple[int, int], list[tuple[float, float, float]]],
+) -> Programme | None:
+    """The least-distance programme of the rule in the chain of cells ``cells`` whose segments run from ``p0`` to
+    ``p1`` (shape (n, 2), offsets in metres; speeds scaled by :func:`_unit_speeds`); None when no corner is free.
+
+    The unknowns ``z = [x; T]`` are the free coordinates (metres) and the segments' durations (metres at the faster
+    speed); :class:`Programme` holds the rows ``G z >= h``, the objective's map (``|dmat x + dcon|² + |T|²``) and
+    which coordinate is which variable. ``terms_of`` keeps :func:`_binding_terms` per cell between the chains of one
+    plan. :func:`use_programme` installs a compiled builder of the same arrays, bit for bit."""
+    n = len(cells)
     va, vb = speeds
     g = fs.geometry
     lengths = g._L
-    cells = [tuple(x[0]) for x in segs]
-    p0 = np.array([x[1] for x in segs], dtype=float)  # (n, 2)
-    p1 = np.array([x[2] for x in segs], dtype=float)
     # free variables at the interior corners j = 1 .. n-1 (between segment j-1 and j)
     free: list[list[int]] = [[-1, -1] for _ in range(n + 1)]
     values: list[float] = []
@@ -222,11 +281,6 @@ def _solve_chain(
     var_robot = [var_robot[v] for v in kept]
     var_edge = [var_edge[v] for v in kept]
     nv = len(kept)
-    var_corners: list[list[int]] = [[] for _ in range(nv)]
-    for j in range(1, n):  # each variable's corners in order (a corner once per robot holding it)
-        for r in (0, 1):
-            if free[j][r] >= 0:
-                var_corners[free[j][r]].append(j)
     if nv == 0:
         return None
     boxed = _monotone_variables(free, sig, nv, n) if DROP_IMPLIED_ROWS else [False] * nv
@@ -242,10 +296,6 @@ def _solve_chain(
             vix[i][0][r], vix[i][1][r] = v0, v1
             cst[i][0][r] = 0.0 if v0 >= 0 else p0l[i][r]
             cst[i][1][r] = 0.0 if v1 >= 0 else p1l[i][r]
-
-    def coord(i: int, end: int, r: int) -> tuple[int, float]:
-        """Variable index (or -1) and constant of robot r's coordinate at segment i's start (0) or end (1)."""
-        return vix[i][end][r], cst[i][end][r]
 
     # constraints G [x; T] >= h over nv + n unknowns, as (column, value) entries per row
     nz = nv + n
@@ -310,11 +360,7 @@ def _solve_chain(
         rhs.append(-float(lengths[var_edge[v]]))
     for i in range(n):
         e, f, kk = cells[i]
-        terms = terms_of.get((e, f)) if terms_of is not None else None
-        if terms is None:
-            terms = _binding_terms(fs, e, f)
-            if terms_of is not None:
-                terms_of[(e, f)] = terms
+        terms = _terms(fs, e, f, terms_of)
         for end in (0, 1):
             va_, vb_ = vix[i][end]
             if va_ < 0 and vb_ < 0:
@@ -344,9 +390,50 @@ def _solve_chain(
     counts = [len(ents) for ents in rows_g]
     entries = np.array(list(itertools.chain.from_iterable(rows_g)), dtype=float).reshape(-1, 2)
     flat = np.repeat(np.arange(len(rows_g)) * nz, counts) + entries[:, 0].astype(np.int64)
-    gmat = np.bincount(flat, weights=entries[:, 1], minlength=len(rows_g) * nz).reshape(len(rows_g), nz)
+    gmat = np.bincount(flat, weights=entries[:, 1], minlength=len(rows_g) * nz).astype(float, copy=False)
+    gmat = gmat.reshape(len(rows_g), nz)
     h = np.array(rhs)
-    dcon_a = np.array(dcon)
+    return Programme(nv, free, sig, vix, cst, x_own, var_robot, var_edge, gmat, h, dmat, np.array(dcon), travel_row)
+
+
+def _solve_chain(
+    fs: FreeSpace,
+    segs: list[list[Any]],
+    speeds: tuple[float, float],
+    m_search: float,
+    w_search: float,
+    floor: float,
+    terms_of: dict[tuple[int, int], list[tuple[float, float, float]]] | None = None,
+) -> tuple[float, list[list[Any]]] | None:
+    """The rule's minimiser in the chain of cells of ``segs`` (segments as in :func:`resolve_corners`; a segment may
+    have length zero), with its objective value (s²); None when the chain has no free corner, no motion within the
+    tolerance of the search's makespan ``m_search`` and travel ``w_search`` (s), or a check fails. ``terms_of``
+    keeps :func:`_binding_terms` per cell between the chains of one plan."""
+    n = len(segs)
+    va, vb = speeds
+    g = fs.geometry
+    lengths = g._L
+    cells = [tuple(x[0]) for x in segs]
+    p0 = np.array([x[1] for x in segs], dtype=float)  # (n, 2)
+    p1 = np.array([x[2] for x in segs], dtype=float)
+    if terms_of is None:
+        terms_of = {}
+    build = _PROGRAMME if _PROGRAMME is not None else _programme
+    prog = build(fs, cells, p0, p1, speeds, m_search, w_search, terms_of)
+    if prog is None:
+        return None
+    nv, free, sig, vix, cst, x_own, var_robot, var_edge, gmat, h, dmat, dcon_a, travel_row = prog
+    d = p1 - p0
+    var_corners: list[list[int]] = [[] for _ in range(nv)]
+    for j in range(1, n):  # each variable's corners in order (a corner once per robot holding it)
+        for r in (0, 1):
+            if free[j][r] >= 0:
+                var_corners[free[j][r]].append(j)
+
+    def coord(i: int, end: int, r: int) -> tuple[int, float]:
+        """Variable index (or -1) and constant of robot r's coordinate at segment i's start (0) or end (1)."""
+        return vix[i][end][r], cst[i][end][r]
+
     # objective 1/2 |dmat x + dcon|² + 1/2 |T|²: with dmat = Q R, w = R x + Qᵀ dcon, min 1/2 |(w, T)|²
     qm, rm = np.linalg.qr(dmat)
     diag = np.abs(np.diag(rm))

@@ -25,10 +25,13 @@ from typing import Any
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mpa.errors import NoMotionError
 from mpa.freespace import free_space
 from mpa.graph_track import GraphTrack
+from mpa.planners import corners as graph_corners
 from mpa.planners.graph import bounds as graph_bounds
 from mpa.planners.graph import query as graph_query
 from mpa.planners.graph.bounds import passing_bound
@@ -38,6 +41,7 @@ from mpa.planners.search_common import SearchQuery
 from tests.helpers.graph_helpers import random_free_query, random_layout
 from trajopt import plan_kernel
 from trajopt.plan_kernel import CompiledSearch, arith
+from trajopt.plan_kernel.corners import build_programme
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ("y_junction", "passing_loop", "two_sidings", "theta", "lollipop", "figure_eight", "rail_yard", "warehouse")
@@ -56,6 +60,7 @@ def _plan_both(track: GraphTrack, s: Any, g: Any, d: float, objective: str, spee
     out = []
     for cls in (None, CompiledSearch):
         graph_query.use_search(cls)
+        graph_corners.use_programme(None if cls is None else build_programme)
         try:
             p = graph_query.plan_graph(track, s, g, d, objective=objective, speeds=speeds)
             out.append(_signature(p))
@@ -63,6 +68,7 @@ def _plan_both(track: GraphTrack, s: Any, g: Any, d: float, objective: str, spee
             out.append(("no motion", str(e)))
         finally:
             graph_query.use_search(None)
+            graph_corners.use_programme(None)
     return out[0], out[1]
 
 
@@ -70,6 +76,7 @@ def _plan_both(track: GraphTrack, s: Any, g: Any, d: float, objective: str, spee
 def _reference_after() -> Any:
     yield
     graph_query.use_search(None)
+    graph_corners.use_programme(None)
 
 
 def test_py_hypot_is_pythons_hypot_bit_for_bit() -> None:
@@ -221,13 +228,15 @@ def test_settings_it_does_not_follow_send_the_planner_to_the_reference(monkeypat
 def test_install_in_each_kernel_mode_and_its_switch() -> None:
     code = (
         "import sys; from trajopt import plan_kernel; from mpa.planners.graph import query; "
-        "print(plan_kernel.install(), query.compiled_search() is not None, 'numba' in sys.modules)"
+        "from mpa.planners import corners; "
+        "print(plan_kernel.install(), query.compiled_search() is not None, corners.compiled_programme() is not None, "
+        "'numba' in sys.modules)"
     )
     env = {k: v for k, v in os.environ.items() if k != plan_kernel.ENV}
     for mode, search, want in (
-        ("numpy", "compiled", "False False False"),
-        ("numba", "compiled", "True True True"),
-        ("numba", "python", "False False True"),
+        ("numpy", "compiled", "False False False False"),
+        ("numba", "compiled", "True True True True"),
+        ("numba", "python", "False False False True"),
     ):
         out = subprocess.run(
             [sys.executable, "-c", code],
@@ -245,6 +254,7 @@ def test_warm_compiles_and_a_batch_installs_and_warms(tmp_path: Path, monkeypatc
 
     plan_kernel.warm()
     assert plan_kernel.search._run.signatures, "the kernel was not compiled"
+    assert plan_kernel.corners._programme_arrays.signatures, "the corners' programme was not compiled"
     calls: list[str] = []
     monkeypatch.setattr(plan_kernel, "install", lambda: calls.append("install") or True)
     monkeypatch.setattr(plan_kernel, "warm", lambda: calls.append("warm"))
@@ -273,3 +283,105 @@ def test_searches_that_share_a_mesh_and_interleave_are_the_references() -> None:
         rest = first if first is not None else paused.run()
         assert other == AnyAngleSearch(mesh, qb).run(), queries[i + 1]
         assert rest == AnyAngleSearch(mesh, qa).run(), queries[i]
+
+
+def _same_programme(a: Any, b: Any) -> bool:
+    """Whether two :class:`~mpa.planners.corners.Programme` (or None) are equal bit for bit, arrays and types."""
+    if a is None or b is None:
+        return a is None and b is None
+    for x, y in zip(a, b):
+        if isinstance(x, np.ndarray) or isinstance(y, np.ndarray):
+            if not (
+                isinstance(x, np.ndarray)
+                and isinstance(y, np.ndarray)
+                and x.shape == y.shape
+                and x.dtype == y.dtype
+                and x.tobytes() == y.tobytes()
+            ):
+                return False
+        elif x != y or repr(x) != repr(y):  # repr: 0 and 0.0, -0.0 and 0.0 differ
+            return False
+    return True
+
+
+@pytest.mark.parametrize("drop", [True, False])
+def test_the_corners_programme_is_the_references_bit_for_bit(drop: bool, monkeypatch: pytest.MonkeyPatch) -> None:
+    """:func:`~trajopt.plan_kernel.corners.build_programme` builds every chain's programme (the search's and the
+    widened ones) as :func:`mpa.planners.corners._programme` does, bit for bit: random layouts and the example tracks,
+    equal and unequal speeds, with and without the implied rows."""
+    monkeypatch.setattr(graph_corners, "DROP_IMPLIED_ROWS", drop)
+    seen = {"chains": 0, "free": 0}
+    bad: list[Any] = []
+
+    def both(*args: Any) -> Any:
+        ref = graph_corners._programme(*args[:-1], dict(args[-1]))
+        got = build_programme(*args)
+        seen["chains"] += 1
+        seen["free"] += ref is not None
+        if not _same_programme(ref, got):
+            bad.append((args[1], args[2].tolist(), args[3].tolist(), args[4]))
+        return ref
+
+    rng = np.random.default_rng(29)
+    cases = []
+    for _ in range(40 if drop else 15):
+        track = random_layout(rng)
+        d = float(rng.choice([1e-3, 0.1, 0.3, 0.6])) * float(np.median(track.lengths))
+        speeds = (1.0, 1.0) if rng.random() < 0.5 else (float(rng.uniform(0.3, 2.0)), float(rng.uniform(0.3, 2.0)))
+        cases += [(track, d, s, g, speeds) for s, g in _queries(track, d, rng, 8)]
+    for name in EXAMPLES if drop else EXAMPLES[:3]:
+        track = _example(name)
+        med = float(np.median(track.lengths))
+        for frac in (0.05, 0.5):
+            cases += [(track, frac * med, s, g, (1.0, 0.6)) for s, g in _queries(track, frac * med, rng, 6)]
+    graph_query.use_search(CompiledSearch)
+    graph_corners.use_programme(both)
+    for track, d, s, g, speeds in cases:
+        try:
+            graph_query.plan_graph(track, s, g, d, speeds=speeds)
+        except NoMotionError:
+            pass
+    assert not bad, f"{len(bad)} of {seen['chains']} programmes differ, e.g. {bad[:2]}"
+    assert seen["free"] >= (400 if drop else 100), seen
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    n=st.integers(1, 12),
+    seed=st.integers(0, 2**32 - 1),
+    drop=st.booleans(),
+    speeds=st.sampled_from(((1.0, 1.0), (1.0, 0.37), (0.6, 1.0))),
+)
+def test_the_corners_programme_of_any_chain_is_the_references(
+    n: int, seed: int, drop: bool, speeds: tuple[float, float]
+) -> None:
+    """Chains the search does not make (robots standing on stays, stays pinned to a fixed end, no free corner at all,
+    cells of one edge on either piece) give the same programme compiled and in :mod:`mpa`, bit for bit."""
+    track = _example("warehouse")
+    fs = free_space(track, 0.3)
+    rng = np.random.default_rng(seed)
+    lengths = track.lengths
+    edges = rng.choice(track.n_edges, size=3, replace=False).tolist()
+    cells: list[tuple[int, int, int]] = []
+    p0 = np.zeros((n, 2))
+    p1 = np.zeros((n, 2))
+    for i in range(n):
+        e, f = (int(x) for x in rng.choice(edges, size=2))
+        if i > 0 and rng.random() < 0.7:  # often one robot (or both) stays on its edge across the corner
+            e = cells[-1][0] if rng.random() < 0.8 else e
+            f = cells[-1][1] if rng.random() < 0.8 else f
+        cells.append((e, f, int(rng.integers(0, 2)) if e == f else 0))
+        for r, edge in enumerate((e, f)):
+            shared = i > 0 and cells[-2][r] == edge and rng.random() < 0.8  # a free corner, unless pinned
+            x0 = p1[i - 1, r] if shared else rng.uniform(0, lengths[edge])
+            p0[i, r] = x0
+            p1[i, r] = x0 if rng.random() < 0.3 else rng.uniform(0, lengths[edge])  # stands, or moves
+    old = graph_corners.DROP_IMPLIED_ROWS
+    graph_corners.DROP_IMPLIED_ROWS = drop
+    try:
+        args = (fs, cells, p0, p1, speeds, float(rng.uniform(1, 50)), float(rng.uniform(1, 80)))
+        ref = graph_corners._programme(*args, {})
+        got = build_programme(*args, {})
+    finally:
+        graph_corners.DROP_IMPLIED_ROWS = old
+    assert _same_programme(ref, got), (cells, p0.tolist(), p1.tolist(), speeds, drop)

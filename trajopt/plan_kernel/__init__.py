@@ -13,6 +13,10 @@ mesh) and names polygons, faces and points as :class:`~mpa.planners.graph.mesh._
 tables; nothing of the mesh is built in the interpreter. The passing bound's fronts of hinges are made in the kernel
 (:func:`~trajopt.plan_kernel.bound._front`) from the bound's segments, by the operations of
 :class:`~mpa.planners.graph.bounds.PassingBound`.
+
+:func:`install` also hands :mod:`mpa.planners.corners` the compiled builder of each chain's least-distance programme
+(:func:`trajopt.plan_kernel.corners.build_programme`, :func:`mpa.planners.corners.use_programme`): the same arrays
+bit for bit, so the corners re-solved after the search are the same too.
 """
 
 from trajopt.plan_kernel.search import ENV, CompiledSearch, install, installed, warm

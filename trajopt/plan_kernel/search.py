@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from mpa.planners import corners as graph_corners
 from mpa.planners.graph import bounds as graph_bounds
 from mpa.planners.graph import search as graph_search
 from trajopt._numba import HAVE_NUMBA, kernel_mode
@@ -290,7 +291,9 @@ def installed() -> bool:
 
 
 def install() -> bool:
-    """Hand :class:`CompiledSearch` to the graph planner (:func:`mpa.planners.graph.query.use_search`).
+    """Hand :class:`CompiledSearch` to the graph planner (:func:`mpa.planners.graph.query.use_search`), and the
+    compiled builder of the corners' programme to :mod:`mpa.planners.corners`
+    (:func:`~trajopt.plan_kernel.corners.build_programme`, :func:`mpa.planners.corners.use_programme`).
 
     Only in a process whose kernels are compiled (:func:`trajopt._numba.kernel_mode` ``"numba"``, numba installed),
     and unless the environment variable :data:`ENV` is ``python``. The kernels are compiled on the first search after
@@ -305,18 +308,28 @@ def install() -> bool:
     from mpa.planners.graph import query
 
     if kernel_mode() == "numba" and HAVE_NUMBA and os.environ.get(ENV, "compiled").strip().lower() != "python":
+        from trajopt.plan_kernel.corners import build_programme
+
         query.use_search(CompiledSearch)
+        graph_corners.use_programme(build_programme)
     return installed()
 
 
 def warm() -> None:
-    """Compile the kernels, or load them from the on-disk cache: one small search (a swap on a Y junction)."""
+    """Compile the kernels, or load them from the on-disk cache: one small search (a swap on a Y junction) and the
+    corners' programme of its path."""
     from mpa.freespace import free_space
     from mpa.graph_track import GraphTrack
     from mpa.planners.graph.mesh import _mesh
     from mpa.planners.search_common import SearchQuery
+    from trajopt.plan_kernel.corners import build_programme
 
     track = GraphTrack.from_layout({"edges": [["J", "a", 2.0], ["J", "b", 2.0], ["J", "c", 2.0]]})
     fs = free_space(track, 0.5)
     start, goal = ((0, 1.5), (1, 1.5)), ((1, 1.5), (0, 1.5))
-    CompiledSearch(_mesh(fs), SearchQuery(track, fs, start, goal, "fastest", (1.0, 1.0))).run()
+    segs = CompiledSearch(_mesh(fs), SearchQuery(track, fs, start, goal, "fastest", (1.0, 1.0))).run()
+    assert segs is not None and len(segs) > 1
+    cells = [tuple(x[0]) for x in segs]
+    p0 = np.array([x[1] for x in segs], dtype=float)
+    p1 = np.array([x[2] for x in segs], dtype=float)
+    build_programme(fs, cells, p0, p1, (1.0, 1.0), 1.0, 1.0, {})
