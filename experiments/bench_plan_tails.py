@@ -1,7 +1,7 @@
 """Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
 
     python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
-        [--compare | --steps | --limits | --fourth | --fifth | --sixth | --seventh | --eighth]
+        [--compare | --steps | --limits | --fourth | --fifth | --sixth | --seventh | --eighth | --ninth]
         [--large] [--repeat K] [--python]
 
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
@@ -36,8 +36,10 @@ nodes; the makespans must agree). ``--seventh``: before = the corners re-solved 
 (``mpa.planners.corners.DROP_IMPLIED_ROWS = False``), after = the rows that others imply left out (the same
 minimiser). ``--eighth``: before = every chain's programme solved with all its rows
 (``mpa.planners.corners.ACTIVE_SET_SEED = False``), after = first with the rows tight at the chain's own corners and
-the durations' rows, the rows its minimiser breaks added (the same minimiser). ``--repeat K``: every query planned K
-times per arm in a row, the least time kept.
+the durations' rows, the rows its minimiser breaks added (the same minimiser). ``--ninth``: before = each chain's
+programme built in the interpreter (:func:`mpa.planners.corners._programme`), after = compiled
+(:func:`trajopt.plan_kernel.corners.build_programme`: the same arrays bit for bit). ``--repeat K``: every query
+planned K times per arm in a row, the least time kept.
 Every arm searches with the compiled search (:func:`trajopt.plan_kernel.install`, warmed before the clock starts)
 unless ``--python`` is given (or the arm is ``--sixth``'s before).
 """
@@ -73,6 +75,7 @@ from mpa.planners.graph import query as graph_query  # noqa: E402
 from mpa.planners.graph import search as graph_search  # noqa: E402
 from mpa.planners.graph.bounds import PassingBound  # noqa: E402
 from trajopt import plan_kernel  # noqa: E402
+from trajopt.plan_kernel.corners import build_programme  # noqa: E402
 
 DATA = ROOT.parent / "tests" / "data" / "openrmf"
 EXAMPLES = ROOT.parent / "examples" / "tracks"
@@ -158,6 +161,8 @@ def _arm(compare: str | None, before: bool) -> None:
     plan_corners.ACTIVE_SET_SEED = False if compare == "eighth" and before else _AS_IS["seed"]
     python = SEARCH["python"] or (compare == "sixth" and before)
     graph_query.use_search(None if python else plan_kernel.CompiledSearch)
+    interpreted = python or (compare == "ninth" and before)
+    plan_corners.use_programme(None if interpreted else build_programme)
 
 
 #: Every arm with mpa's own search: ``--python``, or where the compiled one is not installed
@@ -297,6 +302,9 @@ def main() -> None:
     ap.add_argument(
         "--eighth", action="store_true", help="every chain solved with all its rows against from its tight rows"
     )
+    ap.add_argument(
+        "--ninth", action="store_true", help="the corners' programme built in the interpreter against compiled"
+    )
     ap.add_argument("--python", action="store_true", help="every arm with mpa's own search (not the compiled one)")
     ap.add_argument("--repeat", type=int, default=1, help="plans per query and arm, the least time kept")
     ap.add_argument("--large", action="store_true", help="also the 1 000-edge warehouse grid and road map")
@@ -304,7 +312,7 @@ def main() -> None:
     SEARCH["python"] = args.python or not plan_kernel.install()
     if not SEARCH["python"]:
         plan_kernel.warm()  # compiled, or loaded from the cache, before the clock
-    arms = ("steps", "limits", "fourth", "fifth", "sixth", "seventh", "eighth")
+    arms = ("steps", "limits", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth")
     mode = next((a for a in arms if getattr(args, a)), args.compare)
     if mode:
         print(

@@ -73,3 +73,25 @@ def test_the_corner_arms_solve_with_every_row_and_plan_the_same_makespans(arm: s
     for r in records:
         assert r["queries"] == 4 and r["makespan_differences"] == 0, r
     assert all(getattr(corners, f) is True for f in _CORNER_FLAGS)
+
+
+def test_the_ninth_arm_builds_the_programme_in_the_interpreter_then_compiled(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``--ninth``: before, the compiled search with mpa's own programme builder; after, both compiled; the same
+    makespans; the planner left with mpa's own search and builder (the tests' default)."""
+    from mpa.planners import corners
+    from trajopt.plan_kernel import CompiledSearch
+    from trajopt.plan_kernel.corners import build_programme
+
+    monkeypatch.setitem(bench_plan_tails.SEARCH, "python", False)
+    try:
+        bench_plan_tails._arm("ninth", True)
+        assert graph_query.compiled_search() is CompiledSearch and corners.compiled_programme() is None
+        bench_plan_tails._arm("ninth", False)
+        assert graph_query.compiled_search() is CompiledSearch and corners.compiled_programme() is build_programme
+        records = bench_plan_tails.run(4, 0, {"two_sidings", "hotel L2"}, "ninth")
+        for r in records:
+            assert r["queries"] == 4 and r["makespan_differences"] == 0, r
+    finally:
+        monkeypatch.setitem(bench_plan_tails.SEARCH, "python", True)
+        bench_plan_tails._arm(None, False)
+    assert graph_query.compiled_search() is None and corners.compiled_programme() is None
