@@ -35,7 +35,9 @@ factorisation of the map from the free corners to the scaled segment moves, ``mi
 ``E = [Gᵀ; hᵀ]``. Each iteration of that solve costs in proportion to the rows of ``G``, so the rows that others
 imply are left out (:data:`DROP_IMPLIED_ROWS`, :func:`_monotone_variables`): the feasible set is the same; and the
 solve starts from the rows tight at the chain's own corners and the durations' rows, adding the rows its minimiser
-breaks (:data:`ACTIVE_SET_SEED`, :func:`_least_distance`): the same minimiser.
+breaks (:data:`ACTIVE_SET_SEED`, :func:`_least_distance`): the same minimiser. Each chain's programme is built by
+:func:`_programme` (a :class:`Programme`), or by a compiled builder of the same arrays installed with
+:func:`use_programme` (:mod:`trajopt.plan_kernel` installs one with its compiled search).
 
 **Checks.** The free coordinates are clamped into the face intervals of :mod:`mpa.freespace` (as the search clamps
 its crossings), and the result is kept only if every segment keeps the clearance (exact per cell,
