@@ -51,7 +51,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Callable
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 
@@ -436,13 +436,15 @@ def _solve_chain(
         """Variable index (or -1) and constant of robot r's coordinate at segment i's start (0) or end (1)."""
         return vix[i][end][r], cst[i][end][r]
 
-    # objective 1/2 |dmat x + dcon|² + 1/2 |T|²: with dmat = Q R, w = R x + Qᵀ dcon, min 1/2 |(w, T)|²
-    qm, rm = np.linalg.qr(dmat)
+    # objective 1/2 |dmat x + dcon|² + 1/2 |T|²: with dmat = Q R, w = R x + Qᵀ dcon, min 1/2 |(w, T)|²; R and Qᵀ dcon
+    # from the triangular factor of [dmat, dcon] (Q itself is not formed: half the time at 180 × 90)
+    raug = cast("FloatArray", np.linalg.qr(np.column_stack([dmat, dcon_a]), mode="r"))
+    rm = raug[:nv, :nv]
     diag = np.abs(np.diag(rm))
     if diag.min() <= 1e-12 * diag.max():  # pragma: no cover - full rank
         return None
     rinv = np.linalg.inv(rm)
-    shift = qm.T @ dcon_a  # x = R⁻¹ (w - shift)
+    shift = raug[:nv, nv]  # Qᵀ dcon; x = R⁻¹ (w - shift)
     gx = gmat[:, :nv] @ rinv
     g2 = np.hstack([gx, gmat[:, nv:]])
     h2 = h + gx @ shift
