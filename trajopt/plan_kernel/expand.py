@@ -530,14 +530,15 @@ def _page_open(C: Any, goals_p: Any, p2: int, row: int) -> bool:  # pragma: no c
 @njit(cache=True)
 def _open_face(
     N: Any, P: Any, C: Any, M: Any, G: Any, seen_k: Any, seen_v: Any, iv: Any, ivn: Any, parts: Any, items: Any,
-    nid: int,
+    nid: int, pages_buf: Any,
 ) -> tuple[int, int]:  # pragma: no cover - compiled
     """:meth:`AnyAngleSearch.open_face` of the face entry ``nid``.
 
     First the pages' records in the table ``seen_k``, ``seen_v`` (room for a key per page) are looked up; when the
     arrays cannot hold what it may make (nodes and heap entries, interval cells and the rows of ``parts`` and
     ``items``), it returns those numbers and changes nothing but the polygon table (room for every page: the
-    caller's); ``(0, 0)`` when done."""
+    caller's); ``(0, 0)`` when done. ``pages_buf`` (3, at least the vertices' largest degree) is scratch for the
+    pages' records (allocated once per run, not per face entry)."""
     ni, nf, pend, hk, c = N[0], N[1], N[2], N[3], N[5]
     inc_ptr, inc_e, inc_x = M[3], M[4], M[5]
     goals_p, par = G[4], G[3]
@@ -551,9 +552,8 @@ def _open_face(
     kept = r1 if ax == 0 else r0
     k_kept = int(np.rint(kept * quantum))
     i0, n_inc = inc_ptr[w], inc_ptr[w + 1] - inc_ptr[w]
-    heads = np.full(n_inc, -2, np.int64)  # -2: not a page opened, -1: nothing seen so before
-    pages = np.empty(n_inc, np.int64)
-    prow = np.empty(n_inc, np.int64)
+    heads, pages, prow = pages_buf[0], pages_buf[1], pages_buf[2]
+    heads[:n_inc] = -2  # -2: not a page opened, -1: nothing seen so before
     nodes, cells, rows = 0, 0, 0
     for jj in range(n_inc):
         b = inc_x[i0 + jj]

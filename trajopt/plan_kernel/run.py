@@ -85,6 +85,24 @@ def _room_poly(C: Any, P: Any, c: Any, polys: int) -> tuple[Any, Any]:  # pragma
 
 
 @njit(cache=True)
+def _poly_short(C: Any, P: Any, c: Any, polys: int) -> bool:  # pragma: no cover - compiled
+    """Whether :func:`_room_poly` would grow anything for ``polys`` more polygons (it is called only then: a call
+    that returns every array as it was still rebuilds the tuples)."""
+    pts = c[16] + 8 * polys
+    return (
+        2 * (c[19] + polys) > C[0].shape[0]
+        or c[18] + polys > C[2].shape[0]
+        or c[20] + 4 * polys > C[3].shape[0]
+        or c[20] + 4 * polys > C[4].shape[0]
+        or pts > P[2].shape[0]
+        or pts > P[3].shape[0]
+        or pts > P[4].shape[0]
+        or pts > P[5].shape[0]
+        or 2 * (c[17] + 8 * polys) > P[0].shape[0]
+    )
+
+
+@njit(cache=True)
 def _run(
     N: Any, P: Any, C: Any, S: Any, B: Any, BS: Any, M: Any, G: Any, budget: int, over: int,
 ) -> tuple[int, Any, Any, Any, Any, Any]:  # pragma: no cover - compiled
@@ -99,6 +117,7 @@ def _run(
     inc_ptr = M[3]
     parts = np.empty((64, 2))
     items = np.empty((64, 2))
+    pages_buf = np.empty((3, max(1, int(np.max(inc_ptr[1:] - inc_ptr[:-1])))), np.int64)  # _open_face's scratch
     bounded = gi[1] != 0
     status = EMPTY
     while c[1] > 0:
@@ -121,12 +140,20 @@ def _run(
             continue
         if bounded and pend[nid]:
             n_seg = segi.shape[1]  # room for the fronts and segments on an edge a bound can make (two of each)
-            fr = _grow(fr, c[9] + 4 * n_seg + 1)
-            frs = _grow(frs, c[10] + 5)
-            on = _grow(on, c[11] + 2 * n_seg + 1)
-            onr = _grow(onr, c[12] + 3)
-            fk, fv = _fit(fk, fv, c[14] + 4)
-            ok_, ov = _fit(ok_, ov, c[15] + 2)
+            if (
+                c[9] + 4 * n_seg + 1 > fr.shape[0]
+                or c[10] + 5 > frs.shape[0]
+                or c[11] + 2 * n_seg + 1 > on.shape[0]
+                or c[12] + 3 > onr.shape[0]
+                or 2 * (c[14] + 4) > fk.shape[0]
+                or 2 * (c[15] + 2) > ok_.shape[0]
+            ):
+                fr = _grow(fr, c[9] + 4 * n_seg + 1)
+                frs = _grow(frs, c[10] + 5)
+                on = _grow(on, c[11] + 2 * n_seg + 1)
+                onr = _grow(onr, c[12] + 3)
+                fk, fv = _fit(fk, fv, c[14] + 4)
+                ok_, ov = _fit(ok_, ov, c[15] + 2)
             pbv = P[5]
             if kind == _POINT:
                 h = _point_bound(c, P, M, dv, bgi, bd, segi, segf, bpar, fk, fv, fr, frs, ok_, ov, on, onr, pbv,
@@ -178,11 +205,13 @@ def _run(
             _expand_point(N, P, C, M, G, nid, key, nf[nid, 0], mp, mc, n_mem)
         else:
             deg = inc_ptr[ni[nid, 6] + 1] - inc_ptr[ni[nid, 6]]
-            seen_k, seen_v = _fit(seen_k, seen_v, c[13] + deg)
-            C, P = _room_poly(C, P, c, deg)
+            if 2 * (c[13] + deg) > seen_k.shape[0]:
+                seen_k, seen_v = _fit(seen_k, seen_v, c[13] + deg)
+            if _poly_short(C, P, c, deg):
+                C, P = _room_poly(C, P, c, deg)
+            N = (ni, nf, pend, hk, hd, c)
             while True:
-                N = (ni, nf, pend, hk, hd, c)
-                need, cells = _open_face(N, P, C, M, G, seen_k, seen_v, iv, ivn, parts, items, nid)
+                need, cells = _open_face(N, P, C, M, G, seen_k, seen_v, iv, ivn, parts, items, nid, pages_buf)
                 if need == 0:
                     break
                 N, P = _room(N, P, need, 0)
