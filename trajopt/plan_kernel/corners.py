@@ -57,6 +57,8 @@ def _directions(cells: Any, d: Any, free: Any, robot: int) -> Any:  # pragma: no
 
 @njit(cache=True)
 def _find(parent: Any, v: int) -> int:  # pragma: no cover - compiled
+    """The root of ``v``'s set in the forest ``parent``, halving the path (``find`` of
+    :func:`mpa.planners.corners._programme`)."""
     while parent[v] != v:
         parent[v] = parent[parent[v]]
         v = parent[v]
