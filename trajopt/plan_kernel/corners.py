@@ -20,7 +20,7 @@ import numpy as np
 from mpa.planners import corners as graph_corners
 from trajopt._numba import njit
 
-__all__ = ["build_programme"]
+__all__ = ["build_programme", "warm"]
 
 
 @njit(cache=True)
@@ -330,3 +330,17 @@ def build_programme(
         int(nv), free.tolist(), (sig_l[0], sig_l[1]), vix.tolist(), cst.tolist(), x_own, var_robot.tolist(),
         var_edge.tolist(), gmat[:m], h[:m], dmat, dcon, int(travel_row),
     )  # fmt: skip
+
+
+def warm() -> None:
+    """Compile :func:`_programme_arrays`, or load it from numba's on-disk cache: the programme of a chain of two
+    segments on a Y junction (:func:`trajopt.plan_kernel.warm` does it too, after the search's kernels; this alone
+    lets another process compile it meanwhile)."""
+    from mpa.freespace import free_space
+    from mpa.graph_track import GraphTrack
+
+    track = GraphTrack.from_layout({"edges": [["J", "a", 2.0], ["J", "b", 2.0], ["J", "c", 2.0]]})
+    fs = free_space(track, 0.5)
+    p0 = np.array([[1.5, 1.5], [1.0, 1.2]])
+    p1 = np.array([[1.0, 1.2], [0.5, 1.0]])
+    build_programme(fs, [(0, 1, 0), (0, 1, 0)], p0, p1, (1.0, 1.0), 2.0, 2.0, {})
