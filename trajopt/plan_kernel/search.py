@@ -297,8 +297,8 @@ def install() -> bool:
 
     Only in a process whose kernels are compiled (:func:`trajopt._numba.kernel_mode` ``"numba"``, numba installed),
     and unless the environment variable :data:`ENV` is ``python``. The kernels are compiled on the first search after
-    an install (about 45 s on a 2-core machine) and then loaded from numba's on-disk cache (about 1 s a process):
-    :func:`warm` does it at a time of the caller's choosing.
+    an install (55–75 s on a 2-core machine, the corners' builder included) and then loaded from numba's on-disk
+    cache (about 1 s a process): :func:`warm` does it at a time of the caller's choosing.
 
     Returns
     -------
