@@ -163,9 +163,15 @@ def _heap_pop(hk: Any, hd: Any, c: Any) -> tuple[int, float, int]:  # pragma: no
 
 
 @njit(cache=True)
+def _short(a: Any, need: int) -> bool:  # pragma: no cover - compiled
+    """Whether ``a`` has fewer than ``need`` rows (:func:`_grow` would grow it)."""
+    return need > a.shape[0]
+
+
+@njit(cache=True)
 def _grow(a: Any, need: int) -> Any:  # pragma: no cover - compiled
     """``a`` (2-D) with at least ``need`` rows, doubled."""
-    if need <= a.shape[0]:
+    if not _short(a, need):
         return a
     n = a.shape[0]
     while n < need:
@@ -178,7 +184,7 @@ def _grow(a: Any, need: int) -> Any:  # pragma: no cover - compiled
 @njit(cache=True)
 def _grow1(a: Any, need: int) -> Any:  # pragma: no cover - compiled
     """``a`` (1-D) with at least ``need`` items, doubled."""
-    if need <= a.shape[0]:
+    if not _short(a, need):
         return a
     n = a.shape[0]
     while n < need:
@@ -223,11 +229,17 @@ def _put(keys: Any, vals: Any, c: Any, count: int, k: Any, v: int) -> None:  # p
 
 
 @njit(cache=True)
+def _crowded(keys: Any, n: int) -> bool:  # pragma: no cover - compiled
+    """Whether ``n`` keys would fill the table ``keys`` more than half (:func:`_fit` would rebuild it)."""
+    return 2 * n > keys.shape[0]
+
+
+@njit(cache=True)
 def _fit(keys: Any, vals: Any, n: int) -> tuple[Any, Any]:  # pragma: no cover - compiled
     """The table with room for ``n`` keys at most half full: itself, or rebuilt twice (or more) as large."""
-    cap = keys.shape[0]
-    if 2 * n <= cap:
+    if not _crowded(keys, n):
         return keys, vals
+    cap = keys.shape[0]
     while 2 * n > cap:
         cap *= 2
     k2 = np.zeros((cap, keys.shape[1]), np.int64)

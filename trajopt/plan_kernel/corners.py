@@ -334,8 +334,8 @@ def build_programme(
 
 def warm() -> None:
     """Compile :func:`_programme_arrays`, or load it from numba's on-disk cache: the programme of a chain of two
-    segments on a Y junction (:func:`trajopt.plan_kernel.warm` does it too, after the search's kernels; this alone
-    lets another process compile it meanwhile)."""
+    segments on a Y junction (:func:`trajopt.plan_kernel.warm` calls it after the search's kernels; called alone, it
+    lets another process compile the search meanwhile)."""
     from mpa.freespace import free_space
     from mpa.graph_track import GraphTrack
 

@@ -22,12 +22,14 @@ from trajopt.plan_kernel.arith import (
     FOUND,
     STOPPED,
     _cost,
+    _crowded,
     _fit,
     _floor,
     _grow,
     _grow1,
     _heap_pop,
     _heap_push,
+    _short,
 )
 from trajopt.plan_kernel.bound import _entry, _point_bound
 from trajopt.plan_kernel.expand import _expand_point, _members, _open_face
@@ -39,7 +41,7 @@ from trajopt.plan_kernel.expand import _expand_point, _members, _open_face
 @njit(cache=True)
 def _grow_fill(a: Any, need: int, value: float) -> Any:  # pragma: no cover - compiled
     """``a`` (1-D) with at least ``need`` items, doubled, the new ones ``value``."""
-    if need <= a.shape[0]:
+    if not _short(a, need):
         return a
     n = a.shape[0]
     while n < need:
@@ -90,15 +92,15 @@ def _poly_short(C: Any, P: Any, c: Any, polys: int) -> bool:  # pragma: no cover
     that returns every array as it was still rebuilds the tuples)."""
     pts = c[16] + 8 * polys
     return (
-        2 * (c[19] + polys) > C[0].shape[0]
-        or c[18] + polys > C[2].shape[0]
-        or c[20] + 4 * polys > C[3].shape[0]
-        or c[20] + 4 * polys > C[4].shape[0]
-        or pts > P[2].shape[0]
-        or pts > P[3].shape[0]
-        or pts > P[4].shape[0]
-        or pts > P[5].shape[0]
-        or 2 * (c[17] + 8 * polys) > P[0].shape[0]
+        _crowded(C[0], c[19] + polys)
+        or _short(C[2], c[18] + polys)
+        or _short(C[3], c[20] + 4 * polys)
+        or _short(C[4], c[20] + 4 * polys)
+        or _short(P[2], pts)
+        or _short(P[3], pts)
+        or _short(P[4], pts)
+        or _short(P[5], pts)
+        or _crowded(P[0], c[17] + 8 * polys)
     )
 
 
@@ -141,12 +143,12 @@ def _run(
         if bounded and pend[nid]:
             n_seg = segi.shape[1]  # room for the fronts and segments on an edge a bound can make (two of each)
             if (
-                c[9] + 4 * n_seg + 1 > fr.shape[0]
-                or c[10] + 5 > frs.shape[0]
-                or c[11] + 2 * n_seg + 1 > on.shape[0]
-                or c[12] + 3 > onr.shape[0]
-                or 2 * (c[14] + 4) > fk.shape[0]
-                or 2 * (c[15] + 2) > ok_.shape[0]
+                _short(fr, c[9] + 4 * n_seg + 1)
+                or _short(frs, c[10] + 5)
+                or _short(on, c[11] + 2 * n_seg + 1)
+                or _short(onr, c[12] + 3)
+                or _crowded(fk, c[14] + 4)
+                or _crowded(ok_, c[15] + 2)
             ):
                 fr = _grow(fr, c[9] + 4 * n_seg + 1)
                 frs = _grow(frs, c[10] + 5)
@@ -205,7 +207,7 @@ def _run(
             _expand_point(N, P, C, M, G, nid, key, nf[nid, 0], mp, mc, n_mem)
         else:
             deg = inc_ptr[ni[nid, 6] + 1] - inc_ptr[ni[nid, 6]]
-            if 2 * (c[13] + deg) > seen_k.shape[0]:
+            if _crowded(seen_k, c[13] + deg):
                 seen_k, seen_v = _fit(seen_k, seen_v, c[13] + deg)
             if _poly_short(C, P, c, deg):
                 C, P = _room_poly(C, P, c, deg)

@@ -317,19 +317,15 @@ def install() -> bool:
 
 def warm() -> None:
     """Compile the kernels, or load them from the on-disk cache: one small search (a swap on a Y junction) and the
-    corners' programme of its path."""
+    corners' programme builder (:func:`trajopt.plan_kernel.corners.warm`)."""
     from mpa.freespace import free_space
     from mpa.graph_track import GraphTrack
     from mpa.planners.graph.mesh import _mesh
     from mpa.planners.search_common import SearchQuery
-    from trajopt.plan_kernel.corners import build_programme
+    from trajopt.plan_kernel.corners import warm as corners_warm
 
     track = GraphTrack.from_layout({"edges": [["J", "a", 2.0], ["J", "b", 2.0], ["J", "c", 2.0]]})
     fs = free_space(track, 0.5)
     start, goal = ((0, 1.5), (1, 1.5)), ((1, 1.5), (0, 1.5))
-    segs = CompiledSearch(_mesh(fs), SearchQuery(track, fs, start, goal, "fastest", (1.0, 1.0))).run()
-    assert segs is not None and len(segs) > 1
-    cells = [tuple(x[0]) for x in segs]
-    p0 = np.array([x[1] for x in segs], dtype=float)
-    p1 = np.array([x[2] for x in segs], dtype=float)
-    build_programme(fs, cells, p0, p1, (1.0, 1.0), 1.0, 1.0, {})
+    CompiledSearch(_mesh(fs), SearchQuery(track, fs, start, goal, "fastest", (1.0, 1.0))).run()
+    corners_warm()
