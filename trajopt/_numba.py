@@ -78,18 +78,30 @@ def use_numpy_twins() -> bool:
     return numpy_twins()
 
 
+def _numba_options(options: dict[str, Any]) -> dict[str, Any]:
+    """numba's options for ours: ``no_alloc=True`` is numba's ``_nrt=False`` (:func:`njit`)."""
+    out = {k: v for k, v in options.items() if k != "no_alloc"}
+    if options.get("no_alloc"):
+        out["_nrt"] = False
+    return out
+
+
 def _compile(f: Callable[..., Any], options: dict[str, Any]) -> Any:
-    """``numba.njit(**options)(f)``, without the cache where numba has no place for it; ``f`` itself where numba
-    cannot be imported."""
+    """``numba.njit(**options)(f)``, without the cache where numba has no place for it, with reference counts where
+    this numba has no ``_nrt`` option; ``f`` itself where numba cannot be imported."""
     try:
         from numba import njit as numba_njit
     except ImportError:  # pragma: no cover - numba is a dependency; this keeps the library working without it
         return f
 
+    opts = _numba_options(options)
     try:
-        return numba_njit(**options)(f)
+        return numba_njit(**opts)(f)
+    except KeyError:  # pragma: no cover - a numba without the private ``_nrt`` option: counted, the same results
+        opts.pop("_nrt", None)
+        return _compile(f, opts)
     except RuntimeError:  # "cannot cache function …: no locator available": compile in memory instead
-        return numba_njit(**{k: v for k, v in options.items() if k != "cache"})(f)
+        return numba_njit(**{k: v for k, v in opts.items() if k != "cache"})(f)
 
 
 class Deferred:
@@ -128,7 +140,16 @@ def _compile_deferred() -> None:
 
 def njit(*args: Any, **kwargs: Any) -> Any:
     """:func:`numba.njit` (``njit(f)`` or ``njit(**options)(f)``) in the ``"numba"`` mode, without its cache where it
-    has no place for it, a no-op without numba; a :class:`Deferred` kernel in the ``"numpy"`` mode."""
+    has no place for it, a no-op without numba; a :class:`Deferred` kernel in the ``"numpy"`` mode.
+
+    One option is ours: ``no_alloc=True`` compiles the kernel without numba's reference counts (numba's own
+    ``_nrt=False``, as numba compiles some of its own helpers). Every array a function takes, numba otherwise counts
+    on entry and releases on return, each array of each tuple it is handed included: a small kernel that takes a
+    tuple of ten arrays pays twenty atomic counts a call, which is most of what a call of
+    :mod:`trajopt.plan_kernel`'s node functions cost. The kernel must allocate no array, return none and keep none
+    (only its caller's arrays, which the caller holds for the call); numba refuses to compile one that allocates or
+    returns an array, and so one that calls such a function. Where a numba lacks the option the kernel is compiled
+    with the counts: the same results."""
 
     def decorate(f: Callable[..., Any]) -> Any:
         out: Any

@@ -15,6 +15,7 @@
 
 from __future__ import annotations
 
+import gc
 import json
 import math
 import os
@@ -207,6 +208,70 @@ def test_searches_with_the_passing_bound_and_limits_are_the_references() -> None
                 assert got == ref, (name, s, g, slack)
                 compared += 1
     assert compared >= 30
+
+
+def test_no_alloc_kernels_are_compiled_without_counts_and_refuse_to_allocate() -> None:
+    """``no_alloc`` is numba's ``_nrt=False``; numba then refuses a kernel that allocates, or calls one that does."""
+    from numba.core.errors import TypingError
+
+    from trajopt._numba import _numba_options, njit
+
+    assert _numba_options({"cache": True, "no_alloc": True}) == {"cache": True, "_nrt": False}
+    assert _numba_options({"cache": True}) == {"cache": True}
+
+    @njit(no_alloc=True)
+    def reads(a: Any) -> float:
+        return float(a[0] + a[-1])
+
+    @njit
+    def makes(n: int) -> Any:
+        return np.zeros(n)
+
+    @njit(no_alloc=True)
+    def calls_one_that_makes(n: int) -> float:
+        return float(makes(n)[0])
+
+    assert reads(np.arange(4.0)) == 3.0
+    with pytest.raises(TypingError):
+        calls_one_that_makes(3)
+
+
+def test_the_searches_arrays_are_all_freed() -> None:
+    """The node functions run without numba's reference counts (``no_alloc``): a count missed where one is needed
+    would leak the search's arrays or free them under it. numba's tally of its allocations balances over searches
+    made (their tables grown, fronts made) and dropped."""
+    from numba.core.runtime import _nrt_python, rtsys
+
+    rng = np.random.default_rng(21)
+    cases = []
+    for name in ("passing_loop", "rail_yard", "warehouse"):
+        track = _example(name)
+        d = 0.3 * float(np.median(track.lengths))
+        fs = free_space(track, d)
+        mesh = _mesh(fs)
+        for s, g in _queries(track, d, rng, 12):
+            if fs.component_of(*s) == fs.component_of(*g):
+                query = SearchQuery(track, fs, s, g, "fastest", (1.0, 1.0))
+                cases.append((mesh, query, passing_bound(mesh, s, g, 1.0, 1.0)))
+    for mesh, query, pb in cases:  # compiled and loaded, and the arrays each mesh and bound keep made, before
+        CompiledSearch(mesh, query, bound=pb).run()
+    _nrt_python.memsys_enable_stats()
+    try:
+        gc.collect()
+        before = rtsys.get_allocation_stats()
+        for mesh, query, pb in cases:
+            search = CompiledSearch(mesh, query, bound=pb)
+            search.run()
+            del search
+        gc.collect()
+        after = rtsys.get_allocation_stats()
+    finally:
+        _nrt_python.memsys_disable_stats()
+    made, freed = after.alloc - before.alloc, after.free - before.free
+    infos, infos_freed = after.mi_alloc - before.mi_alloc, after.mi_free - before.mi_free
+    assert len(cases) >= 20 and sum(pb is not None for _, _, pb in cases) >= 5
+    assert made >= 10 * len(cases), made
+    assert (made, infos) == (freed, infos_freed), (before, after)
 
 
 def test_settings_it_does_not_follow_send_the_planner_to_the_reference(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -39,14 +39,14 @@ _NO_LIMIT = 2**62
 # (the kernels' long argument lists are kept a few to a line)
 
 # ------------------------------------------------------------------------------------------- scalar helpers
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _split(a: float) -> tuple[float, float]:  # pragma: no cover - compiled
     c = 134217729.0 * a  # Veltkamp: 2**27 + 1
     hi = c - (c - a)
     return hi, a - hi
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _two_prod(x: float, y: float) -> tuple[float, float]:  # pragma: no cover - compiled
     z = x * y
     xh, xl = _split(x)
@@ -54,7 +54,7 @@ def _two_prod(x: float, y: float) -> tuple[float, float]:  # pragma: no cover - 
     return z, ((xh * yh - z) + xh * yl + xl * yh) + xl * yl
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _py_hypot(x: float, y: float) -> float:  # pragma: no cover - compiled
     """Python's :func:`math.hypot` of two finite numbers, bit for bit (CPython's ``vector_norm``: lossless scaling,
     squaring and summation, then one differential correction); C's ``hypot`` differs from it in the last bit on
@@ -97,7 +97,7 @@ def _hypot_many(xy: Any) -> Any:  # pragma: no cover - compiled
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _cost(dx: float, dy: float, fastest: bool, va: float, vb: float) -> float:  # pragma: no cover - compiled
     """:func:`mpa.planners.search_common.cost_function`'s cost, the same operations."""
     if fastest:
@@ -107,13 +107,13 @@ def _cost(dx: float, dy: float, fastest: bool, va: float, vb: float) -> float:  
     return _py_hypot(dx, dy)
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _floor(x: float) -> int:  # pragma: no cover - compiled
     return math.floor(x)
 
 
 # ------------------------------------------------------------------------------------------------- heap
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _less(hk: Any, hd: Any, i: int, j: int) -> bool:  # pragma: no cover - compiled
     if hk[i, 0] != hk[j, 0]:
         return hk[i, 0] < hk[j, 0]
@@ -122,7 +122,7 @@ def _less(hk: Any, hd: Any, i: int, j: int) -> bool:  # pragma: no cover - compi
     return hk[i, 1] < hk[j, 1]
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _heap_push(hk: Any, hd: Any, c: Any, key: int, depth: float, nid: int) -> None:  # pragma: no cover - compiled
     i = c[1]
     c[1] += 1
@@ -138,7 +138,7 @@ def _heap_push(hk: Any, hd: Any, c: Any, key: int, depth: float, nid: int) -> No
             break
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _heap_pop(hk: Any, hd: Any, c: Any) -> tuple[int, float, int]:  # pragma: no cover - compiled
     key, nid, depth = hk[0, 0], hk[0, 1], hd[0]
     n = c[1] - 1
@@ -162,7 +162,7 @@ def _heap_pop(hk: Any, hd: Any, c: Any) -> tuple[int, float, int]:  # pragma: no
     return key, depth, nid
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _short(a: Any, need: int) -> bool:  # pragma: no cover - compiled
     """Whether ``a`` has fewer than ``need`` rows (:func:`_grow` would grow it)."""
     return need > a.shape[0]
@@ -195,7 +195,7 @@ def _grow1(a: Any, need: int) -> Any:  # pragma: no cover - compiled
 
 
 # ------------------------------------------------------------------------------------------ hash tables
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _slot(keys: Any, vals: Any, k: Any) -> int:  # pragma: no cover - compiled
     """The row of ``keys`` holding the key ``k`` (a tuple of ints), or the empty row (``vals`` -1) where it goes:
     open addressing, linear probing, the table at most half full (:func:`_fit`)."""
@@ -217,7 +217,7 @@ def _slot(keys: Any, vals: Any, k: Any) -> int:  # pragma: no cover - compiled
     return i
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _put(keys: Any, vals: Any, c: Any, count: int, k: Any, v: int) -> None:  # pragma: no cover - compiled
     """``table[k] = v`` (``v`` >= 0); ``c[count]`` counts the keys."""
     i = _slot(keys, vals, k)
@@ -228,7 +228,7 @@ def _put(keys: Any, vals: Any, c: Any, count: int, k: Any, v: int) -> None:  # p
     vals[i] = v
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _crowded(keys: Any, n: int) -> bool:  # pragma: no cover - compiled
     """Whether ``n`` keys would fill the table ``keys`` more than half (:func:`_fit` would rebuild it)."""
     return 2 * n > keys.shape[0]

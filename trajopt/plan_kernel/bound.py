@@ -7,8 +7,6 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import numpy as np
-
 from mpa.planners.graph.base import TIE_BREAK
 from trajopt._numba import njit
 from trajopt.plan_kernel.arith import _BOUND_SAFETY, _START_ID, _put, _slot
@@ -17,7 +15,7 @@ from trajopt.plan_kernel.arith import _BOUND_SAFETY, _START_ID, _put, _slot
 # (the kernels' long argument lists are kept a few to a line)
 
 # ------------------------------------------------------------------------------------------- passing bound
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _least_front(fr: Any, frs: Any, slot: int, s1: float, s2: float, y: float) -> float:  # pragma: no cover
     """The least of ``max(c1 + s1 y, c2 + s2 y)`` over the front in ``slot`` (:meth:`PassingBound.least_through`)."""
     best = math.inf
@@ -30,7 +28,7 @@ def _least_front(fr: Any, frs: Any, slot: int, s1: float, s2: float, y: float) -
     return best
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _to_stretch(dv: Any, bgi: Any, bd: Any, x: int, e: int, u0: float, u1: float) -> float:  # pragma: no cover
     """The distance from the vertex ``x`` to the stretch ``[u0, u1]`` of edge ``e`` (m), as the bound's numpy."""
     a = dv[x, bgi[0, e]] + u0
@@ -38,14 +36,16 @@ def _to_stretch(dv: Any, bgi: Any, bd: Any, x: int, e: int, u0: float, u1: float
     return b if b < a else a
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _front(
     c: Any, fk: Any, fv: Any, fr: Any, frs: Any, dv: Any, bgi: Any, bd: Any, segi: Any, segf: Any, bpar: Any,
     ax: int, w: int, x: int,
 ) -> int:  # pragma: no cover - compiled
-    """The slot of :meth:`PassingBound._front` ``(ax, w, x)``, made and kept when first asked for (the arrays hold
-    room for one more front of every segment): the same hinges ``c1``, ``c2`` by the same operations, and the same
-    least over them (a front of another order among equal ``c1`` has the same least)."""
+    """The slot of :meth:`PassingBound._front` ``(ax, w, x)``, made and kept when first asked for: the same hinges
+    ``c1``, ``c2`` by the same operations, and the same least over them (a front of another order among equal ``c1``
+    has the same least). The arrays hold room for two fronts of every segment: the hinges are written after the
+    front's own rows, those near the least sorted there by ``c1`` (insertion sort: no array is allocated), and the
+    front written from them."""
     key = (ax, w, x)
     known = fv[_slot(fk, fv, key)]
     if known >= 0:
@@ -54,8 +54,8 @@ def _front(
     v_e = bpar[3] if ax == 0 else bpar[2]
     s1, s2 = TIE_BREAK / v_e, (1.0 + TIE_BREAK) / v_e
     n = segi.shape[1]
-    c1 = np.empty(n)
-    c2 = np.empty(n)
+    j0 = c[9]
+    h0 = j0 + n  # the hinges' rows
     least = math.inf
     for k in range(n):
         if ax == 0:
@@ -65,22 +65,31 @@ def _front(
             dw = _to_stretch(dv, bgi, bd, w, segi[1, k], segf[2, k], segf[3, k])
             d = _to_stretch(dv, bgi, bd, x, segi[0, k], segf[0, k], segf[1, k])
         a = dw / v_w
-        c1[k] = (1.0 + TIE_BREAK) * a + segf[4, k] + s1 * d
-        c2[k] = TIE_BREAK * a + segf[4, k] + s2 * d
-        m = c1[k] if c1[k] >= c2[k] else c2[k]
+        c1 = (1.0 + TIE_BREAK) * a + segf[4, k] + s1 * d
+        c2 = TIE_BREAK * a + segf[4, k] + s2 * d
+        fr[h0 + k, 0], fr[h0 + k, 1] = c1, c2
+        m = c1 if c1 >= c2 else c2
         if m < least:
             least = m
-    near = np.nonzero(c2 <= least)[0]
-    order = near[np.argsort(c1[near])]
-    j0 = c[9]
+    m = 0  # the hinges near the least, in order of c1
+    for k in range(n):
+        c1, c2 = fr[h0 + k, 0], fr[h0 + k, 1]
+        if c2 <= least:
+            i = h0 + m
+            while i > h0 and fr[i - 1, 0] > c1:
+                fr[i, 0], fr[i, 1] = fr[i - 1, 0], fr[i - 1, 1]
+                i -= 1
+            fr[i, 0], fr[i, 1] = c1, c2
+            m += 1
     j = j0
     low = math.inf
-    for k in order:
-        if j == j0 or c2[k] < low:
-            fr[j, 0], fr[j, 1] = c1[k], c2[k]
+    for i in range(h0, h0 + m):
+        c1, c2 = fr[i, 0], fr[i, 1]
+        if j == j0 or c2 < low:
+            fr[j, 0], fr[j, 1] = c1, c2
             j += 1
-        if c2[k] < low:
-            low = c2[k]
+        if c2 < low:
+            low = c2
     c[9] = j
     slot = c[10]
     c[10] = slot + 1
@@ -89,7 +98,7 @@ def _front(
     return slot
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _on_edge(
     c: Any, ok_: Any, ov: Any, on: Any, onr: Any, dv: Any, bgi: Any, bd: Any, segi: Any, segf: Any, bpar: Any,
     ax: int, w: int, other: int,
@@ -124,7 +133,7 @@ def _on_edge(
     return slot
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _entry(
     c: Any, dv: Any, bgi: Any, bd: Any, segi: Any, segf: Any, bpar: Any, fk: Any, fv: Any, fr: Any, frs: Any,
     ok_: Any, ov: Any, on: Any, onr: Any, ax: int, w: int, other: int, y0: float, y1: float,
@@ -188,7 +197,7 @@ def _entry(
     return best * (1.0 - _BOUND_SAFETY)
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _point_bound(
     c: Any, P: Any, M: Any, dv: Any, bgi: Any, bd: Any, segi: Any, segf: Any, bpar: Any, fk: Any, fv: Any, fr: Any,
     frs: Any, ok_: Any, ov: Any, on: Any, onr: Any, pbv: Any, key: int,

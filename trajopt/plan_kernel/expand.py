@@ -37,13 +37,13 @@ from trajopt.plan_kernel.arith import (
 # (the kernels' long argument lists are kept a few to a line)
 
 # --------------------------------------------------------------------------------------------- the mesh
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _exists(M: Any, e: int, f: int, k: int) -> bool:  # pragma: no cover - compiled
     """Whether ``(e, f, k)`` is a free polygon (``pieces``: per cell a bit per piece)."""
     return (M[9][e, f] >> k) & 1 == 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _side(M: Any, p: int, j: int) -> tuple[bool, int, int, int, float, float, float]:  # pragma: no cover
     """The ``j``-th (0-3) of the sides :meth:`_Mesh.sides` may list for the polygon ``p``, in its order (robot A on a
     vertex first): ``(valid, ax, w, other, a, lo, hi)``."""
@@ -67,7 +67,7 @@ def _side(M: Any, p: int, j: int) -> tuple[bool, int, int, int, float, float, fl
     return True, ax, w, other, a, lo[other, w], hi[other, w]
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _page(M: Any, ax: int, other: int, e2: int, x: float) -> int:  # pragma: no cover - compiled
     """The page of the face ``(ax, w, other)`` through the edge ``e2`` at ``w`` (its offset ``x`` there): the polygon
     :meth:`_Mesh.pages` lists, -1 when it is not free."""
@@ -81,7 +81,7 @@ def _page(M: Any, ax: int, other: int, e2: int, x: float) -> int:  # pragma: no 
     return (e * n_e + f) * 2 + k
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _end_key(M: Any, ax: int, w: int, other: int, y: float, lo: float) -> Any:  # pragma: no cover - compiled
     """The key of :meth:`_Mesh.point_key` of the point ``y`` (the face's ``lo`` or ``hi``) on the face."""
     if y == 0.0:
@@ -95,7 +95,7 @@ def _end_key(M: Any, ax: int, w: int, other: int, y: float, lo: float) -> Any:  
     return (2, w2, w, 0, 0)
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _point(P: Any, c: Any, key: Any, y: float) -> int:  # pragma: no cover - compiled
     """The point named ``key`` (at ``y`` on its face, for a face end), made when first named (the arrays hold
     room)."""
@@ -112,7 +112,7 @@ def _point(P: Any, c: Any, key: Any, y: float) -> int:  # pragma: no cover - com
     return i
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _poly(C: Any, P: Any, M: Any, c: Any, p: int) -> int:  # pragma: no cover - compiled
     """The row of the polygon ``p`` in the polygon table ``C = (keys, rows, first side and sides, side ints, side
     floats)``: its sides that are faces as :meth:`_Mesh.side_ends` lists them (axis, vertex, other edge, the ends'
@@ -141,7 +141,7 @@ def _poly(C: Any, P: Any, M: Any, c: Any, p: int) -> int:  # pragma: no cover - 
     return i
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _members(M: Any, P: Any, key: int, mp: Any, mc: Any) -> int:  # pragma: no cover - compiled
     """:meth:`_Mesh.members` of the point ``key`` into ``mp`` (polygons), ``mc`` (its coordinates in each); their
     number."""
@@ -177,7 +177,7 @@ def _members(M: Any, P: Any, key: int, mp: Any, mc: Any) -> int:  # pragma: no c
 
 
 # ------------------------------------------------------------------------------------------------ nodes
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _lower_bound(M: Any, G: Any, p: int, s: float, t: float) -> float:  # pragma: no cover - compiled
     """:meth:`AnyAngleSearch.lower_bound` at ``(s, t)`` in the polygon ``p``."""
     gd, gi, par = G[0], G[2], G[3]
@@ -200,7 +200,7 @@ def _lower_bound(M: Any, G: Any, p: int, s: float, t: float) -> float:  # pragma
     return _py_hypot(da, db)
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _push_point(
     N: Any, P: Any, M: Any, G: Any, key: int, gval: float, root: int, last: int, p: int, f0: float, f1: float,
     t0: float, t1: float,
@@ -220,7 +220,7 @@ def _push_point(
         _heap_push(hk, hd, c, _floor(f * par[5]), -gval, n)
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _min_along(
     cp: float, cm: float, on_edge: bool, off: float, y0: float, y1: float, r: float
 ) -> float:  # pragma: no cover - compiled
@@ -238,7 +238,7 @@ def _min_along(
     return v
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _new_face_entry(
     N: Any, G: Any, root: int, root_key: int, g_root: float, r0: float, r1: float, s0: float, s1: float,
     ax: int, w: int, e: int, a: float, y0: float, y1: float, p: int, lo: float, hi: float, parent: int, op: int,
@@ -295,7 +295,7 @@ def _new_face_entry(
     _heap_push(hk, hd, c, _floor(f * par[5]), -g_root, n)
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _expand_point(
     N: Any, P: Any, C: Any, M: Any, G: Any, nid: int, key: int, gval: float, mem_p: Any, mem_c: Any, n_mem: int,
 ) -> None:  # pragma: no cover - compiled
@@ -333,7 +333,7 @@ def _expand_point(
                             q, rc0, rc1, False)
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _expand_interval(N: Any, P: Any, C: Any, M: Any, G: Any, nid: int) -> None:  # pragma: no cover - compiled
     """:meth:`AnyAngleSearch.expand_interval` of the interval node ``nid`` (its polygon's row in ``ni[nid, 10]``)."""
     ni, nf = N[0], N[1]
@@ -444,7 +444,7 @@ def _expand_interval(N: Any, P: Any, C: Any, M: Any, G: Any, nid: int) -> None: 
 
 
 # ------------------------------------------------------------------------------------------------ faces
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _uncovered(
     seen_k: Any, seen_v: Any, sk: Any, head: int, iv: Any, ivn: Any, c: Any, y0: float, y1: float, eps: float,
     out: Any, items: Any,
@@ -503,7 +503,7 @@ def _uncovered(
     return n_out
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _seen_key(
     rid: int, p2: int, ax: int, b: float, moved: float, k_kept: int, quantum: float
 ) -> Any:  # pragma: no cover - compiled
@@ -515,7 +515,7 @@ def _seen_key(
     return (rid, p2, 1, 0 if b == 0.0 else 1, k_kept, km)
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _page_open(C: Any, goals_p: Any, p2: int, row: int) -> bool:  # pragma: no cover - compiled
     """:meth:`AnyAngleSearch.pages_to_open`'s test of the polygon ``p2`` (its row ``row``): not a dead end, or it holds
     the goal."""
@@ -527,7 +527,7 @@ def _page_open(C: Any, goals_p: Any, p2: int, row: int) -> bool:  # pragma: no c
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _open_face(
     N: Any, P: Any, C: Any, M: Any, G: Any, seen_k: Any, seen_v: Any, iv: Any, ivn: Any, parts: Any, items: Any,
     nid: int, pages_buf: Any,

@@ -5,6 +5,11 @@ The state comes in tuples (:mod:`trajopt.plan_kernel.expand` names ``N``, ``P``,
 seen_v, iv, ivn)`` the intervals seen per root, page and side; ``B = (dv, bgi, bd, segi, segf, bpar)`` the passing
 bound (:func:`trajopt.plan_kernel.bound._entry`) and ``BS = (fk, fv, fr, frs, ok_, ov, on, onr)`` its fronts and
 segments on an edge made so far. The arrays that grow are returned.
+
+Only :func:`_run` and the functions that grow arrays allocate; every node function it calls (the expansions, the
+bounds, the tables) is compiled ``no_alloc`` (:func:`trajopt._numba.njit`: without numba's reference counts, which
+cost a call twice the arrays of the tuples it is handed) and works in the arrays ``_run`` holds, its scratch
+included (a point's members, the pages of a face, the hinges of a front).
 """
 
 from __future__ import annotations
@@ -86,7 +91,7 @@ def _room_poly(C: Any, P: Any, c: Any, polys: int) -> tuple[Any, Any]:  # pragma
     return (ck, cv, ps, si, sf), (pk, pv, pt, pty, best, pbv)
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _poly_short(C: Any, P: Any, c: Any, polys: int) -> bool:  # pragma: no cover - compiled
     """Whether :func:`_room_poly` would grow anything for ``polys`` more polygons (it is called only then: a call
     that returns every array as it was still rebuilds the tuples)."""
@@ -119,7 +124,11 @@ def _run(
     inc_ptr = M[3]
     parts = np.empty((64, 2))
     items = np.empty((64, 2))
-    pages_buf = np.empty((3, max(1, int(np.max(inc_ptr[1:] - inc_ptr[:-1])))), np.int64)  # _open_face's scratch
+    deg_max = max(1, int(np.max(inc_ptr[1:] - inc_ptr[:-1])))
+    pages_buf = np.empty((3, deg_max), np.int64)  # _open_face's scratch
+    mp = np.empty(deg_max * deg_max, np.int64)  # a point's members (polygons, coordinates): _members's scratch
+    mc = np.empty((deg_max * deg_max, 2))
+    best, pbv = P[4], P[5]  # taken again whenever P is grown
     bounded = gi[1] != 0
     status = EMPTY
     while c[1] > 0:
@@ -130,7 +139,6 @@ def _run(
             status = STOPPED
             break
         kind = ni[nid, 0]
-        best = P[4]
         if kind == _POINT:
             if ni[nid, 1] == _GOAL_ID:
                 c[4] = nid
@@ -141,22 +149,23 @@ def _run(
         elif nf[nid, 0] > best[ni[nid, 1]]:
             continue
         if bounded and pend[nid]:
-            n_seg = segi.shape[1]  # room for the fronts and segments on an edge a bound can make (two of each)
+            # room for what a pop's two bounds can make: four fronts of at most n_seg rows (the last one's hinges
+            # written after its rows) and two edges' segments
+            n_seg = segi.shape[1]
             if (
-                _short(fr, c[9] + 4 * n_seg + 1)
+                _short(fr, c[9] + 5 * n_seg + 1)
                 or _short(frs, c[10] + 5)
                 or _short(on, c[11] + 2 * n_seg + 1)
                 or _short(onr, c[12] + 3)
                 or _crowded(fk, c[14] + 4)
                 or _crowded(ok_, c[15] + 2)
             ):
-                fr = _grow(fr, c[9] + 4 * n_seg + 1)
+                fr = _grow(fr, c[9] + 5 * n_seg + 1)
                 frs = _grow(frs, c[10] + 5)
                 on = _grow(on, c[11] + 2 * n_seg + 1)
                 onr = _grow(onr, c[12] + 3)
                 fk, fv = _fit(fk, fv, c[14] + 4)
                 ok_, ov = _fit(ok_, ov, c[15] + 2)
-            pbv = P[5]
             if kind == _POINT:
                 h = _point_bound(c, P, M, dv, bgi, bd, segi, segf, bpar, fk, fv, fr, frs, ok_, ov, on, onr, pbv,
                                  ni[nid, 1])
@@ -193,17 +202,11 @@ def _run(
                 continue
         if kind == _POINT:
             key = ni[nid, 1]
-            pt = P[2]
-            if pt[key, 0] == 1:
-                cap = inc_ptr[pt[key, 2] + 1] - inc_ptr[pt[key, 2]]
-            else:
-                cap = (inc_ptr[pt[key, 1] + 1] - inc_ptr[pt[key, 1]]) * (inc_ptr[pt[key, 2] + 1] - inc_ptr[pt[key, 2]])
-            mp = np.empty(cap, np.int64)
-            mc = np.empty((cap, 2))
             n_mem = _members(M, P, key, mp, mc)
             C, P = _room_poly(C, P, c, n_mem)
             N, P = _room((ni, nf, pend, hk, hd, c), P, n_mem * (2 + goals_p.shape[0] + 12), 0)
             ni, nf, pend, hk, hd = N[0], N[1], N[2], N[3], N[4]
+            best, pbv = P[4], P[5]
             _expand_point(N, P, C, M, G, nid, key, nf[nid, 0], mp, mc, n_mem)
         else:
             deg = inc_ptr[ni[nid, 6] + 1] - inc_ptr[ni[nid, 6]]
@@ -211,6 +214,7 @@ def _run(
                 seen_k, seen_v = _fit(seen_k, seen_v, c[13] + deg)
             if _poly_short(C, P, c, deg):
                 C, P = _room_poly(C, P, c, deg)
+                best, pbv = P[4], P[5]
             N = (ni, nf, pend, hk, hd, c)
             while True:
                 need, cells = _open_face(N, P, C, M, G, seen_k, seen_v, iv, ivn, parts, items, nid, pages_buf)
@@ -218,6 +222,7 @@ def _run(
                     break
                 N, P = _room(N, P, need, 0)
                 ni, nf, pend, hk, hd = N[0], N[1], N[2], N[3], N[4]
+                best, pbv = P[4], P[5]
                 iv = _grow(iv, c[2] + cells)
                 ivn = _grow1(ivn, c[2] + cells)
                 parts = _grow(parts, cells)
@@ -227,7 +232,7 @@ def _run(
     )
 
 
-@njit(cache=True)
+@njit(cache=True, no_alloc=True)
 def _start(
     N: Any, P: Any, C: Any, M: Any, G: Any, mem_p: Any, mem_c: Any,
 ) -> None:  # pragma: no cover - compiled
