@@ -6,10 +6,12 @@ seen_v, iv, ivn)`` the intervals seen per root, page and side; ``B = (dv, bgi, b
 bound (:func:`trajopt.plan_kernel.bound._entry`) and ``BS = (fk, fv, fr, frs, ok_, ov, on, onr)`` its fronts and
 segments on an edge made so far. The arrays that grow are returned.
 
-Only :func:`_run` and the functions that grow arrays allocate; every node function it calls (the expansions, the
-bounds, the tables) is compiled ``no_alloc`` (:func:`trajopt._numba.njit`: without numba's reference counts, which
-cost a call twice the arrays of the tuples it is handed) and works in the arrays ``_run`` holds, its scratch
-included (a point's members, the pages of a face, the hinges of a front).
+Only :func:`_run` and the functions that grow arrays allocate. The pops run in :func:`_pops`, and every node
+function it calls (the expansions, the bounds, the tables), compiled ``no_alloc`` (:func:`trajopt._numba.njit`:
+without numba's reference counts, which cost a call twice the arrays of the tuples it is handed, and a loop whose
+arrays may be replaced every one of them at every turn); they work in the arrays ``_run`` holds, its scratch
+included (a point's members, the pages of a face, the hinges of a front). ``_pops`` stops where a table is too small
+for the pop in hand; ``_run`` grows it and calls it again.
 """
 
 from __future__ import annotations
@@ -109,63 +111,88 @@ def _poly_short(C: Any, P: Any, c: Any, polys: int) -> bool:  # pragma: no cover
     )
 
 
-@njit(cache=True)
-def _run(
-    N: Any, P: Any, C: Any, S: Any, B: Any, BS: Any, M: Any, G: Any, budget: int, over: int,
-) -> tuple[int, Any, Any, Any, Any, Any]:  # pragma: no cover - compiled
-    """:meth:`AnyAngleSearch._run` from the queue as it stands (the start expanded by :func:`_start`):
-    :data:`FOUND` (the goal's node in ``c[4]``), :data:`STOPPED` (at ``budget`` pops of this run, -1: none, or a
-    key above ``over``) or :data:`EMPTY`; with ``N``, ``P``, ``C``, ``S`` and ``BS``, grown."""
+# what stops _pops before a status: a table to grow before the pop in hand goes on
+_GROW_BOUND, _GROW_POINT, _GROW_FACE = 5, 6, 7
+
+
+@njit(cache=True, no_alloc=True)
+def _room_short(N: Any, P: Any, nodes: int, points: int) -> bool:  # pragma: no cover - compiled
+    """Whether :func:`_room` would grow anything for ``nodes`` more nodes and ``points`` more points."""
+    c = N[5]
+    return (
+        _short(N[0], c[0] + nodes)
+        or _short(N[1], c[0] + nodes)
+        or _short(N[2], c[0] + nodes)
+        or _short(N[3], c[1] + nodes)
+        or _short(N[4], c[1] + nodes)
+        or _short(P[2], c[16] + points)
+        or _short(P[3], c[16] + points)
+        or _short(P[4], c[16] + points)
+        or _short(P[5], c[16] + points)
+        or _crowded(P[0], c[17] + points)
+    )
+
+
+@njit(cache=True, no_alloc=True)
+def _bound_short(c: Any, BS: Any, n_seg: int) -> bool:  # pragma: no cover - compiled
+    """Whether the bound's tables lack room for what a pop's two bounds can make: four fronts of at most ``n_seg``
+    rows (the last one's hinges written after its rows) and two edges' segments."""
+    fk, fr, frs, ok_, on, onr = BS[0], BS[2], BS[3], BS[4], BS[6], BS[7]
+    return (
+        _short(fr, c[9] + 5 * n_seg + 1)
+        or _short(frs, c[10] + 5)
+        or _short(on, c[11] + 2 * n_seg + 1)
+        or _short(onr, c[12] + 3)
+        or _crowded(fk, c[14] + 4)
+        or _crowded(ok_, c[15] + 2)
+    )
+
+
+@njit(cache=True, no_alloc=True)
+def _pops(
+    N: Any, P: Any, C: Any, S: Any, B: Any, BS: Any, M: Any, G: Any, budget: int, over: int, parts: Any, items: Any,
+    pages_buf: Any, mp: Any, mc: Any, held: Any, held_depth: Any,
+) -> int:  # pragma: no cover - compiled
+    """The queue's pops in the tables as they are, until a status (:data:`FOUND`, :data:`STOPPED`, :data:`EMPTY`) or
+    a table too small for the pop in hand: :data:`_GROW_BOUND` (the bound's), :data:`_GROW_POINT` (a point's
+    expansion: ``held[3]`` members), :data:`_GROW_FACE` (a face entry's: ``held[3]`` nodes, ``held[4]`` cells). The
+    pop is kept in ``held`` (its node and key; ``held[0]`` -1: none) and ``held_depth`` (its depth) and goes on in
+    the call after :func:`_run` grew the table. The loop allocates nothing, so it counts no references: a loop whose
+    arrays may be replaced (grown) counts every one of them at every turn."""
     ni, nf, pend, hk, hd, c = N
     seen_k, seen_v, iv, ivn = S
     dv, bgi, bd, segi, segf, bpar = B
     fk, fv, fr, frs, ok_, ov, on, onr = BS
     gi, par, goals_p = G[2], G[3], G[4]
     inc_ptr = M[3]
-    parts = np.empty((64, 2))
-    items = np.empty((64, 2))
-    deg_max = max(1, int(np.max(inc_ptr[1:] - inc_ptr[:-1])))
-    pages_buf = np.empty((3, deg_max), np.int64)  # _open_face's scratch
-    mp = np.empty(deg_max * deg_max, np.int64)  # a point's members (polygons, coordinates): _members's scratch
-    mc = np.empty((deg_max * deg_max, 2))
-    best, pbv = P[4], P[5]  # taken again whenever P is grown
+    best, pbv = P[4], P[5]
     bounded = gi[1] != 0
-    status = EMPTY
-    while c[1] > 0:
-        key0, depth, nid = _heap_pop(hk, hd, c)
-        c[3] += 1
-        if (budget >= 0 and c[3] > budget) or key0 > over:
-            _heap_push(hk, hd, c, key0, depth, nid)
-            status = STOPPED
-            break
+    n_seg = segi.shape[1]
+    while True:
+        if held[0] >= 0:  # the pop in hand, its table grown
+            nid, key0, depth = held[0], held[1], held_depth[0]
+            held[0] = -1
+        else:
+            if c[1] <= 0:
+                return EMPTY
+            key0, depth, nid = _heap_pop(hk, hd, c)
+            c[3] += 1
+            if (budget >= 0 and c[3] > budget) or key0 > over:
+                _heap_push(hk, hd, c, key0, depth, nid)
+                return STOPPED
         kind = ni[nid, 0]
         if kind == _POINT:
             if ni[nid, 1] == _GOAL_ID:
                 c[4] = nid
-                status = FOUND
-                break
+                return FOUND
             if nf[nid, 0] > best[ni[nid, 1]]:
                 continue
         elif nf[nid, 0] > best[ni[nid, 1]]:
             continue
         if bounded and pend[nid]:
-            # room for what a pop's two bounds can make: four fronts of at most n_seg rows (the last one's hinges
-            # written after its rows) and two edges' segments
-            n_seg = segi.shape[1]
-            if (
-                _short(fr, c[9] + 5 * n_seg + 1)
-                or _short(frs, c[10] + 5)
-                or _short(on, c[11] + 2 * n_seg + 1)
-                or _short(onr, c[12] + 3)
-                or _crowded(fk, c[14] + 4)
-                or _crowded(ok_, c[15] + 2)
-            ):
-                fr = _grow(fr, c[9] + 5 * n_seg + 1)
-                frs = _grow(frs, c[10] + 5)
-                on = _grow(on, c[11] + 2 * n_seg + 1)
-                onr = _grow(onr, c[12] + 3)
-                fk, fv = _fit(fk, fv, c[14] + 4)
-                ok_, ov = _fit(ok_, ov, c[15] + 2)
+            if _bound_short(c, BS, n_seg):
+                held[0], held[1], held_depth[0] = nid, key0, depth
+                return _GROW_BOUND
             if kind == _POINT:
                 h = _point_bound(c, P, M, dv, bgi, bd, segi, segf, bpar, fk, fv, fr, frs, ok_, ov, on, onr, pbv,
                                  ni[nid, 1])
@@ -203,33 +230,74 @@ def _run(
         if kind == _POINT:
             key = ni[nid, 1]
             n_mem = _members(M, P, key, mp, mc)
-            C, P = _room_poly(C, P, c, n_mem)
-            N, P = _room((ni, nf, pend, hk, hd, c), P, n_mem * (2 + goals_p.shape[0] + 12), 0)
-            ni, nf, pend, hk, hd = N[0], N[1], N[2], N[3], N[4]
-            best, pbv = P[4], P[5]
+            if _poly_short(C, P, c, n_mem) or _room_short(N, P, n_mem * (2 + goals_p.shape[0] + 12), 0):
+                held[0], held[1], held_depth[0], held[3] = nid, key0, depth, n_mem
+                return _GROW_POINT
             _expand_point(N, P, C, M, G, nid, key, nf[nid, 0], mp, mc, n_mem)
         else:
             deg = inc_ptr[ni[nid, 6] + 1] - inc_ptr[ni[nid, 6]]
-            if _crowded(seen_k, c[13] + deg):
-                seen_k, seen_v = _fit(seen_k, seen_v, c[13] + deg)
-            if _poly_short(C, P, c, deg):
-                C, P = _room_poly(C, P, c, deg)
-                best, pbv = P[4], P[5]
-            N = (ni, nf, pend, hk, hd, c)
-            while True:
-                need, cells = _open_face(N, P, C, M, G, seen_k, seen_v, iv, ivn, parts, items, nid, pages_buf)
-                if need == 0:
-                    break
+            if _crowded(seen_k, c[13] + deg) or _poly_short(C, P, c, deg):
+                held[0], held[1], held_depth[0], held[3], held[4] = nid, key0, depth, 0, 0
+                return _GROW_FACE
+            need, cells = _open_face(N, P, C, M, G, seen_k, seen_v, iv, ivn, parts, items, nid, pages_buf)
+            if need != 0:
+                held[0], held[1], held_depth[0], held[3], held[4] = nid, key0, depth, need, cells
+                return _GROW_FACE
+
+
+@njit(cache=True)
+def _run(
+    N: Any, P: Any, C: Any, S: Any, B: Any, BS: Any, M: Any, G: Any, budget: int, over: int,
+) -> tuple[int, Any, Any, Any, Any, Any]:  # pragma: no cover - compiled
+    """:meth:`AnyAngleSearch._run` from the queue as it stands (the start expanded by :func:`_start`):
+    :data:`FOUND` (the goal's node in ``c[4]``), :data:`STOPPED` (at ``budget`` pops of this run, -1: none, or a
+    key above ``over``) or :data:`EMPTY`; with ``N``, ``P``, ``C``, ``S`` and ``BS``, grown. The pops are
+    :func:`_pops`'s; this grows the table it stops for and calls it again."""
+    c = N[5]
+    inc_ptr = M[3]
+    segi = B[3]
+    goals_p = G[4]
+    parts = np.empty((64, 2))
+    items = np.empty((64, 2))
+    deg_max = max(1, int(np.max(inc_ptr[1:] - inc_ptr[:-1])))
+    pages_buf = np.empty((3, deg_max), np.int64)  # _open_face's scratch
+    mp = np.empty(deg_max * deg_max, np.int64)  # a point's members (polygons, coordinates): _members's scratch
+    mc = np.empty((deg_max * deg_max, 2))
+    held = np.full(5, -1, np.int64)  # the pop in hand: node, key, -, what it needs
+    held_depth = np.zeros(1)  # and its depth
+    while True:
+        status = _pops(N, P, C, S, B, BS, M, G, budget, over, parts, items, pages_buf, mp, mc, held, held_depth)
+        if status == _GROW_BOUND:
+            n_seg = segi.shape[1]
+            fk, fv, fr, frs, ok_, ov, on, onr = BS
+            fr = _grow(fr, c[9] + 5 * n_seg + 1)
+            frs = _grow(frs, c[10] + 5)
+            on = _grow(on, c[11] + 2 * n_seg + 1)
+            onr = _grow(onr, c[12] + 3)
+            fk, fv = _fit(fk, fv, c[14] + 4)
+            ok_, ov = _fit(ok_, ov, c[15] + 2)
+            BS = (fk, fv, fr, frs, ok_, ov, on, onr)
+        elif status == _GROW_POINT:
+            n_mem = held[3]
+            C, P = _room_poly(C, P, c, n_mem)
+            N, P = _room(N, P, n_mem * (2 + goals_p.shape[0] + 12), 0)
+        elif status == _GROW_FACE:
+            nid = held[0]
+            deg = inc_ptr[N[0][nid, 6] + 1] - inc_ptr[N[0][nid, 6]]
+            seen_k, seen_v, iv, ivn = S
+            seen_k, seen_v = _fit(seen_k, seen_v, c[13] + deg)
+            C, P = _room_poly(C, P, c, deg)
+            need, cells = held[3], held[4]
+            if need != 0:
                 N, P = _room(N, P, need, 0)
-                ni, nf, pend, hk, hd = N[0], N[1], N[2], N[3], N[4]
-                best, pbv = P[4], P[5]
                 iv = _grow(iv, c[2] + cells)
                 ivn = _grow1(ivn, c[2] + cells)
                 parts = _grow(parts, cells)
                 items = _grow(items, cells)
-    return (
-        status, (ni, nf, pend, hk, hd, c), P, C, (seen_k, seen_v, iv, ivn), (fk, fv, fr, frs, ok_, ov, on, onr),
-    )
+            S = (seen_k, seen_v, iv, ivn)
+        else:
+            return status, N, P, C, S, BS
+    return EMPTY, N, P, C, S, BS  # not reached
 
 
 @njit(cache=True, no_alloc=True)
