@@ -274,6 +274,57 @@ def test_the_searches_arrays_are_all_freed() -> None:
     assert (made, infos) == (freed, infos_freed), (before, after)
 
 
+def _tiny(a: Any, rows: int) -> Any:
+    """``a``'s first ``rows`` rows (its fill kept: -1 in a hash table's values, zeros in its keys)."""
+    return np.ascontiguousarray(a[:rows]).copy()
+
+
+class _TinySearch(CompiledSearch):
+    """The compiled search with every table of its own and of its mesh starting at a few rows, so that pops stop for
+    room (``run._pops``: the bound's tables, a point's expansion, a face entry's) again and again."""
+
+    def __init__(self, mesh: Any, query: Any, bound: Any = None) -> None:
+        mesh._kernel_tables = None  # the mesh's points and polygons made anew, tiny
+        super().__init__(mesh, query, bound=bound)
+        t = self.tables
+        t.pk, t.pv, t.pt, t.pty = _tiny(t.pk, 4), _tiny(t.pv, 4), _tiny(t.pt, 2), _tiny(t.pty, 2)
+        t.C = (_tiny(t.C[0], 4), _tiny(t.C[1], 4), _tiny(t.C[2], 1), _tiny(t.C[3], 1), _tiny(t.C[4], 1))
+        self.best, self.pbv = _tiny(self.best, 2), _tiny(self.pbv, 2)
+        self.N = (*(_tiny(a, 1) for a in self.N[:5]), self.N[5])
+        self.S = (_tiny(self.S[0], 4), _tiny(self.S[1], 4), _tiny(self.S[2], 1), _tiny(self.S[3], 1))
+        bs = self.BS
+        self.BS = (_tiny(bs[0], 4), _tiny(bs[1], 4), _tiny(bs[2], 1), _tiny(bs[3], 1), _tiny(bs[4], 4),
+                   _tiny(bs[5], 4), _tiny(bs[6], 1), _tiny(bs[7], 1))  # fmt: skip
+
+
+def test_searches_whose_tables_start_tiny_are_the_references() -> None:
+    """Every table grown while a pop is in hand (the pop resumed after its table grew) gives the reference's nodes:
+    the same paths, with and without the passing bound, run whole and in budgets."""
+    rng = np.random.default_rng(13)
+    compared = grown = bounded = 0
+    for name in ("y_junction", "passing_loop", "two_sidings", "rail_yard"):
+        track = _example(name)
+        d = 0.3 * float(np.median(track.lengths))
+        fs = free_space(track, d)
+        mesh = _mesh(fs)
+        for s, g in _queries(track, d, rng, 10):
+            if fs.component_of(*s) != fs.component_of(*g):
+                continue
+            query = SearchQuery(track, fs, s, g, "fastest", (1.0, 1.0))
+            for pb in (None, passing_bound(mesh, s, g, 1.0, 1.0)):
+                ref = AnyAngleSearch(mesh, query, bound=pb).run()
+                tiny = _TinySearch(mesh, query, bound=pb)
+                got = tiny.run(budget=7)
+                while got is None:
+                    got = tiny.run(budget=7)
+                assert got == ref, (name, s, g, pb is not None)
+                grown += tiny.N[0].shape[0] > 8 and tiny.BS[2].shape[0] > (1 if pb is None else 8)
+                compared += 1
+                bounded += pb is not None
+        mesh._kernel_tables = None
+    assert compared >= 40 and bounded >= 15 and grown >= 30, (compared, bounded, grown)
+
+
 def test_settings_it_does_not_follow_send_the_planner_to_the_reference(monkeypatch: pytest.MonkeyPatch) -> None:
     track = _example("passing_loop")
     fs = free_space(track, 0.3)
