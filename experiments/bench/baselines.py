@@ -121,12 +121,17 @@ class OmplPlanner:
         self.circle = isinstance(track, Circle)
         self.geodesic = bool(geodesic) and not self.circle
         self._scale = track.loop / (2.0 * math.pi) if isinstance(track, Circle) else 1.0
+        self._space: Any = None  # the joint state space of the query being solved
 
     # --- state conversion ------------------------------------------------------------------------
     def _to_track(self, state: Any) -> tuple[float, float]:
         if self.circle:
+            # the angles read through the space, not as state[r].value: the bindings hand a component back as the
+            # Python object they last made for its address, and a compound state's, freed and its memory reused
+            # for an angle, came back without .value (once in about ten runs, in the path simplifier)
             c = self.track.loop  # type: ignore[attr-defined]
-            return (state[0].value * self._scale) % c, (state[1].value * self._scale) % c
+            read = self._space.getValueAddressAtIndex
+            return (read(state, 0) * self._scale) % c, (read(state, 1) * self._scale) % c
         return state[0], state[1]
 
     def _set(self, state: Any, p: ArrayLike) -> None:
@@ -161,7 +166,7 @@ class OmplPlanner:
         track, sep = self.track, self.separation
         dist = track.distance_scalar
         counts = {"states": 0, "motions": 0}
-        space = joint_state_space(ob, track.total_length, circle=self.circle)
+        space = self._space = joint_state_space(ob, track.total_length, circle=self.circle)
         ss = og.SimpleSetup(space)
         to_track = self._to_track
 
