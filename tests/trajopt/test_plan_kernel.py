@@ -111,6 +111,19 @@ def _queries(track: GraphTrack, d: float, rng: np.random.Generator, n: int) -> l
     return out
 
 
+def _example_searches(names: tuple[str, ...], rng: np.random.Generator, n: int) -> Any:
+    """``(name, mesh, s, g, query)`` of ``n`` random queries on each example track (D 0.3 of its median edge) whose
+    start and goal lie in one component."""
+    for name in names:
+        track = _example(name)
+        d = 0.3 * float(np.median(track.lengths))
+        fs = free_space(track, d)
+        mesh = _mesh(fs)
+        for s, g in _queries(track, d, rng, n):
+            if fs.component_of(*s) == fs.component_of(*g):
+                yield name, mesh, s, g, SearchQuery(track, fs, s, g, "fastest", (1.0, 1.0))
+
+
 def _check_many(cases: list[tuple[GraphTrack, float, Any, Any, str, Any]]) -> int:
     bad = []
     for track, d, s, g, objective, speeds in cases:
@@ -168,20 +181,12 @@ def _segments_in_steps(cls: type, mesh: Any, query: SearchQuery, bound: Any, bud
 def test_a_search_run_in_budgets_stops_where_the_reference_stops() -> None:
     rng = np.random.default_rng(5)
     compared = 0
-    for name in ("passing_loop", "theta", "rail_yard", "warehouse"):
-        track = _example(name)
-        d = 0.3 * float(np.median(track.lengths))
-        fs = free_space(track, d)
-        mesh = _mesh(fs)
-        for s, g in _queries(track, d, rng, 8):
-            if fs.component_of(*s) != fs.component_of(*g):
-                continue
-            query = SearchQuery(track, fs, s, g, "fastest", (1.0, 1.0))
-            for budget in (1, 7, 50):
-                ref = _segments_in_steps(AnyAngleSearch, mesh, query, None, budget)
-                got = _segments_in_steps(CompiledSearch, mesh, query, None, budget)
-                assert got == ref, (name, s, g, budget)
-                compared += 1
+    for name, mesh, s, g, query in _example_searches(("passing_loop", "theta", "rail_yard", "warehouse"), rng, 8):
+        for budget in (1, 7, 50):
+            ref = _segments_in_steps(AnyAngleSearch, mesh, query, None, budget)
+            got = _segments_in_steps(CompiledSearch, mesh, query, None, budget)
+            assert got == ref, (name, s, g, budget)
+            compared += 1
     assert compared >= 40
 
 
@@ -243,16 +248,10 @@ def test_the_searches_arrays_are_all_freed() -> None:
     from numba.core.runtime import _nrt_python, rtsys
 
     rng = np.random.default_rng(21)
-    cases = []
-    for name in ("passing_loop", "rail_yard", "warehouse"):
-        track = _example(name)
-        d = 0.3 * float(np.median(track.lengths))
-        fs = free_space(track, d)
-        mesh = _mesh(fs)
-        for s, g in _queries(track, d, rng, 12):
-            if fs.component_of(*s) == fs.component_of(*g):
-                query = SearchQuery(track, fs, s, g, "fastest", (1.0, 1.0))
-                cases.append((mesh, query, passing_bound(mesh, s, g, 1.0, 1.0)))
+    cases = [
+        (mesh, query, passing_bound(mesh, s, g, 1.0, 1.0))
+        for _, mesh, s, g, query in _example_searches(("passing_loop", "rail_yard", "warehouse"), rng, 12)
+    ]
     for mesh, query, pb in cases:  # compiled and loaded, and the arrays each mesh and bound keep made, before
         CompiledSearch(mesh, query, bound=pb).run()
     _nrt_python.memsys_enable_stats()
@@ -302,26 +301,20 @@ def test_searches_whose_tables_start_tiny_are_the_references() -> None:
     the same paths, with and without the passing bound, run whole and in budgets."""
     rng = np.random.default_rng(13)
     compared = grown = bounded = 0
-    for name in ("y_junction", "passing_loop", "two_sidings", "rail_yard"):
-        track = _example(name)
-        d = 0.3 * float(np.median(track.lengths))
-        fs = free_space(track, d)
-        mesh = _mesh(fs)
-        for s, g in _queries(track, d, rng, 10):
-            if fs.component_of(*s) != fs.component_of(*g):
-                continue
-            query = SearchQuery(track, fs, s, g, "fastest", (1.0, 1.0))
-            for pb in (None, passing_bound(mesh, s, g, 1.0, 1.0)):
-                ref = AnyAngleSearch(mesh, query, bound=pb).run()
-                tiny = _TinySearch(mesh, query, bound=pb)
+    for name, mesh, s, g, query in _example_searches(
+        ("y_junction", "passing_loop", "two_sidings", "rail_yard"), rng, 10
+    ):
+        for pb in (None, passing_bound(mesh, s, g, 1.0, 1.0)):
+            ref = AnyAngleSearch(mesh, query, bound=pb).run()
+            tiny = _TinySearch(mesh, query, bound=pb)
+            got = tiny.run(budget=7)
+            while got is None:
                 got = tiny.run(budget=7)
-                while got is None:
-                    got = tiny.run(budget=7)
-                assert got == ref, (name, s, g, pb is not None)
-                grown += tiny.N[0].shape[0] > 8 and tiny.BS[2].shape[0] > (1 if pb is None else 8)
-                compared += 1
-                bounded += pb is not None
-        mesh._kernel_tables = None
+            assert got == ref, (name, s, g, pb is not None)
+            grown += tiny.N[0].shape[0] > 8 and tiny.BS[2].shape[0] > (1 if pb is None else 8)
+            compared += 1
+            bounded += pb is not None
+            mesh._kernel_tables = None
     assert compared >= 40 and bounded >= 15 and grown >= 30, (compared, bounded, grown)
 
 
