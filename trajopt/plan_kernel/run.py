@@ -134,17 +134,24 @@ def _room_short(N: Any, P: Any, nodes: int, points: int) -> bool:  # pragma: no 
 
 
 @njit(cache=True, no_alloc=True)
+def _bound_needs(c: Any, n_seg: int) -> tuple[int, int, int, int, int, int]:  # pragma: no cover - compiled
+    """The rows of ``fr``, ``frs``, ``on``, ``onr`` and the keys of ``fk``, ``ok_`` that what a pop's two bounds can
+    make needs: four fronts of at most ``n_seg`` rows (the last one's hinges written after its rows) and two edges'
+    segments."""
+    return c[9] + 5 * n_seg + 1, c[10] + 5, c[11] + 2 * n_seg + 1, c[12] + 3, c[14] + 4, c[15] + 2
+
+
+@njit(cache=True, no_alloc=True)
 def _bound_short(c: Any, BS: Any, n_seg: int) -> bool:  # pragma: no cover - compiled
-    """Whether the bound's tables lack room for what a pop's two bounds can make: four fronts of at most ``n_seg``
-    rows (the last one's hinges written after its rows) and two edges' segments."""
-    fk, fr, frs, ok_, on, onr = BS[0], BS[2], BS[3], BS[4], BS[6], BS[7]
+    """Whether the bound's tables lack room for what a pop's two bounds can make (:func:`_bound_needs`)."""
+    n_fr, n_frs, n_on, n_onr, n_fk, n_ok = _bound_needs(c, n_seg)
     return (
-        _short(fr, c[9] + 5 * n_seg + 1)
-        or _short(frs, c[10] + 5)
-        or _short(on, c[11] + 2 * n_seg + 1)
-        or _short(onr, c[12] + 3)
-        or _crowded(fk, c[14] + 4)
-        or _crowded(ok_, c[15] + 2)
+        _short(BS[2], n_fr)
+        or _short(BS[3], n_frs)
+        or _short(BS[6], n_on)
+        or _short(BS[7], n_onr)
+        or _crowded(BS[0], n_fk)
+        or _crowded(BS[4], n_ok)
     )
 
 
@@ -268,15 +275,11 @@ def _run(
     while True:
         status = _pops(N, P, C, S, B, BS, M, G, budget, over, parts, items, pages_buf, mp, mc, held, held_depth)
         if status == _GROW_BOUND:
-            n_seg = segi.shape[1]
+            n_fr, n_frs, n_on, n_onr, n_fk, n_ok = _bound_needs(c, segi.shape[1])
             fk, fv, fr, frs, ok_, ov, on, onr = BS
-            fr = _grow(fr, c[9] + 5 * n_seg + 1)
-            frs = _grow(frs, c[10] + 5)
-            on = _grow(on, c[11] + 2 * n_seg + 1)
-            onr = _grow(onr, c[12] + 3)
-            fk, fv = _fit(fk, fv, c[14] + 4)
-            ok_, ov = _fit(ok_, ov, c[15] + 2)
-            BS = (fk, fv, fr, frs, ok_, ov, on, onr)
+            fk, fv = _fit(fk, fv, n_fk)
+            ok_, ov = _fit(ok_, ov, n_ok)
+            BS = (fk, fv, _grow(fr, n_fr), _grow(frs, n_frs), ok_, ov, _grow(on, n_on), _grow(onr, n_onr))
         elif status == _GROW_POINT:
             n_mem = held[3]
             C, P = _room_poly(C, P, c, n_mem)
