@@ -1,7 +1,7 @@
 """Plan-time tails of the complete graph planner on every layout up to 150 edges (issue 25, point 1).
 
     python experiments/bench_plan_tails.py [--queries 100] [--seed 0] [--out FILE] [--only NAME,...]
-        [--compare | --steps | --limits | --fourth | --fifth | --sixth | --seventh | --eighth | --ninth]
+        [--compare | --steps | --limits | --fourth | --fifth | --sixth | --seventh | --eighth | --ninth | --eleventh]
         [--large] [--repeat K] [--python]
 
 Layouts: the example layouts (``examples/tracks``), the benchmark's scaling layouts (``graph_runner.grid_layout``,
@@ -38,7 +38,10 @@ minimiser). ``--eighth``: before = every chain's programme solved with all its r
 (``mpa.planners.corners.ACTIVE_SET_SEED = False``), after = first with the rows tight at the chain's own corners and
 the durations' rows, the rows its minimiser breaks added (the same minimiser). ``--ninth``: before = each chain's
 programme built in the interpreter (:func:`mpa.planners.corners._programme`), after = compiled
-(:func:`trajopt.plan_kernel.corners.build_programme`: the same arrays bit for bit). ``--repeat K``: every query
+(:func:`trajopt.plan_kernel.corners.build_programme`: the same arrays bit for bit). ``--eleventh``: before = every
+search's node arrays new (``trajopt.plan_kernel.search.SPARE_BYTES = 0``) and the passing bound's least at the start
+computed whole before it is compared with the robots' own bound (no ``floor``); after = the code as it is (a dropped
+search's arrays start the next; the least stops once it cannot gain). ``--repeat K``: every query
 planned K times per arm in a row, the least time kept.
 Every arm searches with the compiled search (:func:`trajopt.plan_kernel.install`, warmed before the clock starts)
 unless ``--python`` is given (or the arm is ``--sixth``'s before).
@@ -75,6 +78,7 @@ from mpa.planners.graph import query as graph_query  # noqa: E402
 from mpa.planners.graph import search as graph_search  # noqa: E402
 from mpa.planners.graph.bounds import PassingBound  # noqa: E402
 from trajopt import plan_kernel  # noqa: E402
+from trajopt.plan_kernel import search as kernel_search  # noqa: E402
 from trajopt.plan_kernel.corners import build_programme  # noqa: E402
 
 DATA = ROOT.parent / "tests" / "data" / "openrmf"
@@ -163,6 +167,25 @@ def _arm(compare: str | None, before: bool) -> None:
     graph_query.use_search(None if python else plan_kernel.CompiledSearch)
     interpreted = python or (compare == "ninth" and before)
     plan_corners.use_programme(None if interpreted else build_programme)
+    eleventh = compare == "eleventh" and before
+    if eleventh and kernel_search.SPARE_BYTES:  # the after arm's spare arrays set aside, not dropped
+        _SET_ASIDE[:] = kernel_search._spare
+        kernel_search._spare.clear()
+    elif not eleventh and not kernel_search.SPARE_BYTES:
+        kernel_search._spare[:] = _SET_ASIDE
+        _SET_ASIDE.clear()
+    kernel_search.SPARE_BYTES = 0 if eleventh else _AS_IS["spare"]
+    graph_query.passing_bound = _whole_passing_bound if eleventh else graph_bounds.passing_bound  # type: ignore[assignment]
+
+
+#: ``--eleventh``: the after arm's spare node arrays while the before arm runs.
+_SET_ASIDE: list[Any] = []
+
+
+def _whole_passing_bound(mesh: Any, start: Any, goal: Any, va: float, vb: float, floor: float = -math.inf) -> Any:
+    """``--eleventh``'s before: the passing bound with its whole least at the start, then compared with ``floor``."""
+    b = graph_bounds.passing_bound(mesh, start, goal, va, vb)
+    return b if b is not None and b.at_start > floor else None
 
 
 #: Every arm with mpa's own search: ``--python``, or where the compiled one is not installed
@@ -200,6 +223,7 @@ _AS_IS: dict[str, Any] = {
     "wait": graph_query.LIMIT_WAIT,
     "implied": plan_corners.DROP_IMPLIED_ROWS,
     "seed": plan_corners.ACTIVE_SET_SEED,
+    "spare": kernel_search.SPARE_BYTES,
 }
 
 
@@ -305,6 +329,11 @@ def main() -> None:
     ap.add_argument(
         "--ninth", action="store_true", help="the corners' programme built in the interpreter against compiled"
     )
+    ap.add_argument(
+        "--eleventh",
+        action="store_true",
+        help="new node arrays per search and the passing bound's whole least at the start, against the code as it is",
+    )
     ap.add_argument("--python", action="store_true", help="every arm with mpa's own search (not the compiled one)")
     ap.add_argument("--repeat", type=int, default=1, help="plans per query and arm, the least time kept")
     ap.add_argument("--large", action="store_true", help="also the 1 000-edge warehouse grid and road map")
@@ -312,7 +341,7 @@ def main() -> None:
     SEARCH["python"] = args.python or not plan_kernel.install()
     if not SEARCH["python"]:
         plan_kernel.warm()  # compiled, or loaded from the cache, before the clock
-    arms = ("steps", "limits", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth")
+    arms = ("steps", "limits", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth", "eleventh")
     mode = next((a for a in arms if getattr(args, a)), args.compare)
     if mode:
         print(

@@ -95,3 +95,32 @@ def test_the_ninth_arm_builds_the_programme_in_the_interpreter_then_compiled(mon
         monkeypatch.setitem(bench_plan_tails.SEARCH, "python", True)
         bench_plan_tails._arm(None, False)
     assert graph_query.compiled_search() is None and corners.compiled_programme() is None
+
+
+def test_the_eleventh_arm_makes_new_node_arrays_and_the_whole_least(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``--eleventh``: before, no node arrays kept between searches and the passing bound's whole least at the start;
+    after, the code as it is, with the spare arrays it had set aside before; the same makespans; the planner left
+    as it was."""
+    from trajopt.plan_kernel import search as kernel_search
+
+    limit = kernel_search.SPARE_BYTES
+    monkeypatch.setitem(bench_plan_tails.SEARCH, "python", False)
+    kernel_search._spare.clear()
+    marker = kernel_search._node_arrays()  # 1 024 rows each
+    kernel_search._spare[:] = [marker]
+    try:
+        bench_plan_tails._arm("eleventh", True)
+        assert kernel_search.SPARE_BYTES == 0 and not kernel_search._spare
+        assert graph_query.passing_bound is bench_plan_tails._whole_passing_bound
+        bench_plan_tails._arm("eleventh", False)
+        assert kernel_search.SPARE_BYTES == limit and len(kernel_search._spare) == 1
+        assert kernel_search._spare[0] is marker
+        assert graph_query.passing_bound is graph_bounds.passing_bound
+        records = bench_plan_tails.run(4, 0, {"two_sidings", "hotel L2"}, "eleventh")
+        for r in records:
+            assert r["queries"] == 4 and r["makespan_differences"] == 0, r
+    finally:
+        monkeypatch.setitem(bench_plan_tails.SEARCH, "python", True)
+        bench_plan_tails._arm(None, False)
+        kernel_search._spare.clear()
+    assert kernel_search.SPARE_BYTES == limit and graph_query.passing_bound is graph_bounds.passing_bound

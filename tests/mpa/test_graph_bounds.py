@@ -15,6 +15,7 @@ import json
 import math
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -550,3 +551,59 @@ def test_the_bound_is_used_where_it_gains_only_the_travel_tie_break(name: str, m
                 plateaus += 1
     print(name, "plateaus", plateaus)
     assert plateaus >= 1, name
+
+
+@pytest.mark.parametrize("name", ["passing_loop", "rail_yard", "two_sidings", "theta"])
+def test_a_floor_leaves_every_useful_bound_as_it_was(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``passing_bound(..., floor=f)`` stops the least at the start once it is known not to exceed ``f``: it answers
+    None exactly when the bound without a floor is at most ``f``, and otherwise the same bound (its value at the
+    start, its vertex and segments), for floors below, at and above the bound and at the robots' own bound; with a
+    floor at the bound it evaluates fewer segments exactly than without one."""
+    from mpa.planners.graph import bounds as graph_bounds
+
+    rows = [0]
+    least = graph_bounds._least
+
+    def counted(u0: Any, *args: Any) -> Any:
+        rows[0] += len(u0)
+        return least(u0, *args)
+
+    monkeypatch.setattr(graph_bounds, "_least", counted)
+    exact_rows = {"none": 0, "floor": 0}
+    track = _layout(name)
+    geo = track.geometry
+    rng = np.random.default_rng(17 + len(name))
+    med = float(np.median(track.lengths))
+    checked = dropped = kept = 0
+    for frac in (0.1, 0.3, 0.6):
+        fs = free_space(track, frac * med)
+        mesh = _mesh(fs)
+        for _, s, g in _queries(track, fs, rng, 30, swap_every=3):
+            va, vb = 1.0, float(rng.uniform(0.4, 1.0))
+            rows[0] = 0
+            whole = passing_bound(mesh, s, g, va, vb)
+            exact_rows["none"] += rows[0]
+            if whole is None:
+                assert passing_bound(mesh, s, g, va, vb, floor=0.0) is None
+                continue
+            ta, tb = geo.distance_scalar(*s[0], *g[0]) / va, geo.distance_scalar(*s[1], *g[1]) / vb
+            own = max(ta, tb) + TIE_BREAK * (ta + tb)
+            h = whole.at_start
+            rows[0] = 0
+            assert passing_bound(mesh, s, g, va, vb, floor=h) is None
+            exact_rows["floor"] += rows[0]
+            for floor in (own, own * (1.0 + 1e-9), h, h * (1.0 - 1e-12), h * (1.0 + 1e-12), 0.5 * h, 2.0 * h):
+                got = passing_bound(mesh, s, g, va, vb, floor=floor)
+                if h <= floor:
+                    assert got is None, (name, s, g, floor, h)
+                    dropped += 1
+                else:
+                    assert got is not None, (name, s, g, floor, h)
+                    assert (got.at_start, got.vertex, got.n_segments) == (h, whole.vertex, whole.n_segments)
+                    for a, b in zip(got._segs, whole._segs):
+                        assert np.array_equal(a, b)
+                    kept += 1
+                checked += 1
+    print(name, checked, dropped, kept, exact_rows)
+    assert dropped >= 20 and kept >= 20, (checked, dropped, kept)
+    assert exact_rows["floor"] < exact_rows["none"], exact_rows

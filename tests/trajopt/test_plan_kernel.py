@@ -42,6 +42,7 @@ from mpa.planners.search_common import SearchQuery
 from tests.helpers.graph_helpers import random_free_query, random_layout
 from trajopt import plan_kernel
 from trajopt.plan_kernel import CompiledSearch, arith
+from trajopt.plan_kernel import search as kernel_search
 from trajopt.plan_kernel.corners import build_programme
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -256,12 +257,14 @@ def test_the_searches_arrays_are_all_freed() -> None:
         CompiledSearch(mesh, query, bound=pb).run()
     _nrt_python.memsys_enable_stats()
     try:
+        kernel_search._spare.clear()  # the node arrays a process keeps for its next search: none before, none after
         gc.collect()
         before = rtsys.get_allocation_stats()
         for mesh, query, pb in cases:
             search = CompiledSearch(mesh, query, bound=pb)
             search.run()
             del search
+        kernel_search._spare.clear()
         gc.collect()
         after = rtsys.get_allocation_stats()
     finally:
@@ -271,6 +274,43 @@ def test_the_searches_arrays_are_all_freed() -> None:
     assert len(cases) >= 20 and sum(pb is not None for _, _, pb in cases) >= 5
     assert made >= 10 * len(cases), made
     assert (made, infos) == (freed, infos_freed), (before, after)
+
+
+def test_a_dropped_searchs_node_arrays_start_the_next_whatever_they_hold(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A dropped search leaves its node arrays to the process's next search (``search.SPARE_BYTES``), which writes
+    every row before it reads it: with the spare arrays filled with garbage (NaN, huge integers, every flag set)
+    before each search, every search still finds the reference's path; the next search starts with the very arrays
+    the last one grew, and arrays above the limit are not kept."""
+    rng = np.random.default_rng(29)
+    cases = list(_example_searches(("y_junction", "passing_loop", "rail_yard", "warehouse"), rng, 10))
+    kernel_search._spare.clear()
+    compared = reused = 0
+    for name, mesh, s, g, query in cases:
+        for pb in (None, passing_bound(mesh, s, g, 1.0, 1.0)):
+            for arrays in kernel_search._spare:
+                for a in arrays:
+                    if a.dtype == np.bool_:
+                        a.fill(True)
+                    elif a.dtype.kind == "f":
+                        a.fill(np.nan)
+                    else:
+                        a[...] = rng.integers(-(2**62), 2**62, size=a.shape)
+            kept = kernel_search._spare[0][0] if kernel_search._spare else None
+            search = CompiledSearch(mesh, query, bound=pb)
+            reused += kept is not None and search.N[0] is kept
+            assert search.run() == AnyAngleSearch(mesh, query, bound=pb).run(), (name, s, g, pb is not None)
+            grown = search.N[0]
+            del search
+            assert kernel_search._spare and kernel_search._spare[0][0].shape[0] >= grown.shape[0]
+            compared += 1
+    assert compared >= 40 and reused >= compared - 1, (compared, reused)
+    monkeypatch.setattr(kernel_search, "SPARE_BYTES", 0)
+    kernel_search._spare.clear()
+    _, mesh, s, g, query = cases[0]
+    search = CompiledSearch(mesh, query)
+    search.run()
+    del search
+    assert not kernel_search._spare
 
 
 def _tiny(a: Any, rows: int) -> Any:

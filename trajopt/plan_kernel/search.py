@@ -65,6 +65,42 @@ def _layout_arrays(mesh: Any) -> tuple[Any, ...]:
     return out
 
 
+#: The most bytes of node arrays (:attr:`CompiledSearch.N`, every row written before it is read) that a process
+#: keeps, once a search is dropped, for its next search to start with (0: none kept). A search that grows its arrays
+#: to hundreds of thousands of rows (the plateaus of docs/performance.md, about 220 bytes a node) otherwise pays, at
+#: each doubling, for fresh pages from the kernel, the copy, and the pages returned: measured as a third of the
+#: plan time of scaling 150/0's slowest query. Larger arrays are freed as before.
+SPARE_BYTES = 256 * 2**20
+
+#: The node arrays kept (at most one set: the largest under :data:`SPARE_BYTES`).
+_spare: list[tuple[Any, ...]] = []
+
+
+def _node_arrays() -> tuple[Any, ...]:
+    """A new search's node arrays ``(ni, nf, pend, hk, hd)`` (``N`` of :mod:`trajopt.plan_kernel.expand` without the
+    counters): those of a dropped search when a process keeps them (:data:`SPARE_BYTES`), else 1 024 rows each."""
+    try:
+        return _spare.pop()
+    except IndexError:
+        size = 1024
+        return (
+            np.empty((size, _NI), np.int64),
+            np.empty((size, _NF), np.float64),
+            np.zeros(size, np.bool_),
+            np.empty((size, 2), np.int64),
+            np.empty(size, np.float64),
+        )
+
+
+def _keep_spare(arrays: tuple[Any, ...]) -> None:
+    """Keep a dropped search's node arrays for the next search when they are within :data:`SPARE_BYTES` and larger
+    than those kept already."""
+    size = sum(a.nbytes for a in arrays)
+    if size > SPARE_BYTES or (_spare and sum(a.nbytes for a in _spare[0]) >= size):
+        return
+    _spare[:] = [arrays]
+
+
 class _Tables:
     """The points and polygons the kernel has named on one mesh, shared by its searches and kept with it: the points'
     hash table (``pk``, ``pv``), keys (``pt``) and coordinates (``pty``); the polygon table ``C``
@@ -123,16 +159,8 @@ class CompiledSearch:
             np.array([c for _, c in goals], dtype=np.float64).reshape(-1, 2),
         )
         self.start_members = mesh.placements(*query.start)
-        size = 1024
         c = np.zeros(_C, np.int64)
-        self.N = (
-            np.empty((size, _NI), np.int64),
-            np.empty((size, _NF), np.float64),
-            np.zeros(size, np.bool_),
-            np.empty((size, 2), np.int64),
-            np.empty(size, np.float64),
-            c,
-        )
+        self.N = (*_node_arrays(), c)
         self.tables = _tables(mesh)
         self.best = np.full(self.tables.pt.shape[0], math.inf)  # per point of the tables: least cost, bound
         self.pbv = np.full(self.tables.pt.shape[0], math.nan)
@@ -173,6 +201,13 @@ class CompiledSearch:
                 np.zeros((5, 0)), np.zeros(4),
             )  # fmt: skip
         self.started = False
+
+    def __del__(self) -> None:
+        # the node arrays are this search's alone (the kernel writes every row before it reads it; no view of them
+        # leaves the search), so the next search may start with them
+        N = getattr(self, "N", None)
+        if N is not None and _keep_spare is not None:  # None: the module torn down at exit
+            _keep_spare(N[:5])
 
     def _tables_in(self) -> tuple[Any, Any]:
         """``P`` and ``C`` for the kernel: the mesh's tables (points and polygons, shared by its searches), this

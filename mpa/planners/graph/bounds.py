@@ -258,6 +258,9 @@ class PassingBound:
         The query ``(robot A, robot B)``.
     va, vb : float
         The speed limits (m/s); the bound is in seconds, the search's "fastest" cost.
+    floor : float, optional
+        A value (s) at or below which the bound is of no use to the caller (the robots' own bound): the least at the
+        start stops as soon as it is known not to exceed it (default: never).
 
     Attributes
     ----------
@@ -267,14 +270,20 @@ class PassingBound:
     n_segments : int
         Passing segments kept.
     at_start : float
-        The bound at the start (s).
+        The bound at the start (s); when it does not exceed ``floor``, some value between it and ``floor``.
     """
 
     #: Whether the bound at a search node is the exact least cost through the segments (True) or the relaxed one.
     exact_points = False
 
     def __init__(
-        self, mesh: _Mesh, start: tuple[Position, Position], goal: tuple[Position, Position], va: float, vb: float
+        self,
+        mesh: _Mesh,
+        start: tuple[Position, Position],
+        goal: tuple[Position, Position],
+        va: float,
+        vb: float,
+        floor: float = -math.inf,
     ) -> None:
         self.mesh = mesh
         self.start = start
@@ -306,7 +315,7 @@ class PassingBound:
                 if segs is None:
                     continue
                 from_start = self._relaxed_from_start(segs)
-                h0 = self._value(segs, start[0], start[1], vd[0], vd[1], True, from_start)
+                h0 = self._value(segs, start[0], start[1], vd[0], vd[1], True, from_start, floor)
                 if h0 <= reach:  # exact: a segment of the cells beyond the reach costs more than the reach
                     break
             else:
@@ -424,12 +433,13 @@ class PassingBound:
         vdb: FloatArray,
         exact: bool,
         relaxed: FloatArray | None = None,
+        floor: float = -math.inf,
     ) -> float:
         """``min_k`` over the segments of the least cost through segment k (s): first the relaxed value of each
         (``comb(d(a, P_k), d(b, Q_k)) + W_k``, a lower bound of the exact one), then the exact least of
         ``comb(d(a, p), d(b, q)) + comb(d(p, a1), d(q, b1))`` along the segments in the order of their relaxed
         values, until the next relaxed value is no smaller than the best exact one (``relaxed``: those values, when at
-        hand)."""
+        hand), or until the best exact one is at most ``floor`` (then a value between the least and ``floor``)."""
         e, u0, u1, f, v0, v1, w, al, be = segs
         g = self.mesh.g
         lengths, tails, heads = g.lengths, g.tails, g.heads
@@ -463,6 +473,8 @@ class PassingBound:
                     self.vb,
                 )
                 best = min(best, float(least.min()))
+                if best * (1.0 - BOUND_SAFETY) <= floor:  # the least is no larger: no use to the caller
+                    return best * (1.0 - BOUND_SAFETY)
         return best * (1.0 - BOUND_SAFETY)
 
     def at(self, pa: Position, pb: Position) -> float:
@@ -631,8 +643,15 @@ class PassingBound:
 
 
 def passing_bound(
-    mesh: _Mesh, start: tuple[Position, Position], goal: tuple[Position, Position], va: float, vb: float
+    mesh: _Mesh,
+    start: tuple[Position, Position],
+    goal: tuple[Position, Position],
+    va: float,
+    vb: float,
+    floor: float = -math.inf,
 ) -> PassingBound | None:
-    """The :class:`PassingBound` of a query, or None when no vertex separates its start from its goal."""
-    b = PassingBound(mesh, start, goal, va, vb)
-    return None if b.vertex is None else b
+    """The :class:`PassingBound` of a query, or None when no vertex separates its start from its goal or its value
+    at the start does not exceed ``floor`` (s; the search's own bound there, for one: the passing bound is then
+    known to gain nothing without its exact least at the start, the larger part of its cost)."""
+    b = PassingBound(mesh, start, goal, va, vb, floor)
+    return None if b.vertex is None or b.at_start <= floor else b

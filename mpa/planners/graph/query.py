@@ -281,10 +281,9 @@ def _plan_in(
     search = _new_search(mesh, query)
     segs = search.run(after)
     if segs is None:  # a long negotiation: again with the bound that knows the robots must pass, if it knows more
-        passing = passing_bound(mesh, s, gl, va, vb)
         ta, tb = geo.distance_scalar(*s[0], *gl[0]) / va, geo.distance_scalar(*s[1], *gl[1]) / vb
         own = max(ta, tb) + TIE_BREAK * (ta + tb)
-        bound = passing if passing and passing.at_start > own * (1.0 + BOUND_GAIN) else None
+        bound = passing_bound(mesh, s, gl, va, vb, floor=own * (1.0 + BOUND_GAIN))
         if bound is not None and LIMIT_SLACKS:  # first only the segments a near-optimal motion can use
             for limit in _limits(bound.at_start, fs.clearance_used, va, vb):
                 bound.restrict(math.inf if limit is None else limit)
