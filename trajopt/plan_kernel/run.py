@@ -58,38 +58,61 @@ def _grow_fill(a: Any, need: int, value: float) -> Any:  # pragma: no cover - co
     return out
 
 
+@njit(cache=True, no_alloc=True)
+def _room_needs(c: Any, nodes: int, points: int) -> tuple[int, int, int, int]:  # pragma: no cover - compiled
+    """The rows of the node arrays, of the heap and of the points' arrays, and the keys of the points' table, that
+    ``nodes`` more nodes and heap entries and ``points`` more points need."""
+    return c[0] + nodes, c[1] + nodes, c[16] + points, c[17] + points
+
+
 @njit(cache=True)
 def _room(N: Any, P: Any, nodes: int, points: int) -> tuple[Any, Any]:  # pragma: no cover - compiled
     """``N`` and ``P`` with room for ``nodes`` more nodes and heap entries and ``points`` more points."""
     ni, nf, pend, hk, hd, c = N
     pk, pv, pt, pty, best, pbv = P
-    ni = _grow(ni, c[0] + nodes)
-    nf = _grow(nf, c[0] + nodes)
-    pend = _grow1(pend, c[0] + nodes)
-    hk = _grow(hk, c[1] + nodes)
-    hd = _grow1(hd, c[1] + nodes)
-    pt = _grow(pt, c[16] + points)
-    pty = _grow1(pty, c[16] + points)
-    best = _grow_fill(best, c[16] + points, np.inf)
-    pbv = _grow_fill(pbv, c[16] + points, np.nan)
-    pk, pv = _fit(pk, pv, c[17] + points)
+    n_node, n_heap, n_pt, n_pk = _room_needs(c, nodes, points)
+    ni = _grow(ni, n_node)
+    nf = _grow(nf, n_node)
+    pend = _grow1(pend, n_node)
+    hk = _grow(hk, n_heap)
+    hd = _grow1(hd, n_heap)
+    pt = _grow(pt, n_pt)
+    pty = _grow1(pty, n_pt)
+    best = _grow_fill(best, n_pt, np.inf)
+    pbv = _grow_fill(pbv, n_pt, np.nan)
+    pk, pv = _fit(pk, pv, n_pk)
     return (ni, nf, pend, hk, hd, c), (pk, pv, pt, pty, best, pbv)
+
+
+@njit(cache=True, no_alloc=True)
+def _point_nodes(n_mem: int, n_goals: int) -> int:  # pragma: no cover - compiled
+    """The nodes (and heap entries) that the expansion of a point with ``n_mem`` members can make, the query's
+    goal having ``n_goals`` placements (:func:`trajopt.plan_kernel.expand._expand_point`)."""
+    return n_mem * (2 + n_goals + 12)
+
+
+@njit(cache=True, no_alloc=True)
+def _poly_needs(c: Any, polys: int) -> tuple[int, int, int, int, int]:  # pragma: no cover - compiled
+    """The keys of the polygons' table, the rows of the polygons and of their sides, the rows of the points' arrays
+    and the keys of their table that ``polys`` more polygons need (four sides and eight points each)."""
+    return c[19] + polys, c[18] + polys, c[20] + 4 * polys, c[16] + 8 * polys, c[17] + 8 * polys
 
 
 @njit(cache=True)
 def _room_poly(C: Any, P: Any, c: Any, polys: int) -> tuple[Any, Any]:  # pragma: no cover - compiled
     """``C`` and ``P`` with room for ``polys`` more polygons (four sides and eight points each)."""
     ck, cv, ps, si, sf = C
-    ck, cv = _fit(ck, cv, c[19] + polys)
-    ps = _grow(ps, c[18] + polys)
-    si = _grow(si, c[20] + 4 * polys)
-    sf = _grow(sf, c[20] + 4 * polys)
+    n_ck, n_ps, n_si, n_pt, n_pk = _poly_needs(c, polys)
+    ck, cv = _fit(ck, cv, n_ck)
+    ps = _grow(ps, n_ps)
+    si = _grow(si, n_si)
+    sf = _grow(sf, n_si)
     pk, pv, pt, pty, best, pbv = P
-    pt = _grow(pt, c[16] + 8 * polys)
-    pty = _grow1(pty, c[16] + 8 * polys)
-    best = _grow_fill(best, c[16] + 8 * polys, np.inf)
-    pbv = _grow_fill(pbv, c[16] + 8 * polys, np.nan)
-    pk, pv = _fit(pk, pv, c[17] + 8 * polys)
+    pt = _grow(pt, n_pt)
+    pty = _grow1(pty, n_pt)
+    best = _grow_fill(best, n_pt, np.inf)
+    pbv = _grow_fill(pbv, n_pt, np.nan)
+    pk, pv = _fit(pk, pv, n_pk)
     return (ck, cv, ps, si, sf), (pk, pv, pt, pty, best, pbv)
 
 
@@ -97,17 +120,17 @@ def _room_poly(C: Any, P: Any, c: Any, polys: int) -> tuple[Any, Any]:  # pragma
 def _poly_short(C: Any, P: Any, c: Any, polys: int) -> bool:  # pragma: no cover - compiled
     """Whether :func:`_room_poly` would grow anything for ``polys`` more polygons (it is called only then: a call
     that returns every array as it was still rebuilds the tuples)."""
-    pts = c[16] + 8 * polys
+    n_ck, n_ps, n_si, n_pt, n_pk = _poly_needs(c, polys)
     return (
-        _crowded(C[0], c[19] + polys)
-        or _short(C[2], c[18] + polys)
-        or _short(C[3], c[20] + 4 * polys)
-        or _short(C[4], c[20] + 4 * polys)
-        or _short(P[2], pts)
-        or _short(P[3], pts)
-        or _short(P[4], pts)
-        or _short(P[5], pts)
-        or _crowded(P[0], c[17] + 8 * polys)
+        _crowded(C[0], n_ck)
+        or _short(C[2], n_ps)
+        or _short(C[3], n_si)
+        or _short(C[4], n_si)
+        or _short(P[2], n_pt)
+        or _short(P[3], n_pt)
+        or _short(P[4], n_pt)
+        or _short(P[5], n_pt)
+        or _crowded(P[0], n_pk)
     )
 
 
@@ -118,18 +141,18 @@ _GROW_BOUND, _GROW_POINT, _GROW_FACE = 5, 6, 7
 @njit(cache=True, no_alloc=True)
 def _room_short(N: Any, P: Any, nodes: int, points: int) -> bool:  # pragma: no cover - compiled
     """Whether :func:`_room` would grow anything for ``nodes`` more nodes and ``points`` more points."""
-    c = N[5]
+    n_node, n_heap, n_pt, n_pk = _room_needs(N[5], nodes, points)
     return (
-        _short(N[0], c[0] + nodes)
-        or _short(N[1], c[0] + nodes)
-        or _short(N[2], c[0] + nodes)
-        or _short(N[3], c[1] + nodes)
-        or _short(N[4], c[1] + nodes)
-        or _short(P[2], c[16] + points)
-        or _short(P[3], c[16] + points)
-        or _short(P[4], c[16] + points)
-        or _short(P[5], c[16] + points)
-        or _crowded(P[0], c[17] + points)
+        _short(N[0], n_node)
+        or _short(N[1], n_node)
+        or _short(N[2], n_node)
+        or _short(N[3], n_heap)
+        or _short(N[4], n_heap)
+        or _short(P[2], n_pt)
+        or _short(P[3], n_pt)
+        or _short(P[4], n_pt)
+        or _short(P[5], n_pt)
+        or _crowded(P[0], n_pk)
     )
 
 
@@ -237,7 +260,7 @@ def _pops(
         if kind == _POINT:
             key = ni[nid, 1]
             n_mem = _members(M, P, key, mp, mc)
-            if _poly_short(C, P, c, n_mem) or _room_short(N, P, n_mem * (2 + goals_p.shape[0] + 12), 0):
+            if _poly_short(C, P, c, n_mem) or _room_short(N, P, _point_nodes(n_mem, goals_p.shape[0]), 0):
                 held[0], held[1], held_depth[0], held[3] = nid, key0, depth, n_mem
                 return _GROW_POINT
             _expand_point(N, P, C, M, G, nid, key, nf[nid, 0], mp, mc, n_mem)
@@ -283,7 +306,7 @@ def _run(
         elif status == _GROW_POINT:
             n_mem = held[3]
             C, P = _room_poly(C, P, c, n_mem)
-            N, P = _room(N, P, n_mem * (2 + goals_p.shape[0] + 12), 0)
+            N, P = _room(N, P, _point_nodes(n_mem, goals_p.shape[0]), 0)
         elif status == _GROW_FACE:
             nid = held[0]
             deg = inc_ptr[N[0][nid, 6] + 1] - inc_ptr[N[0][nid, 6]]

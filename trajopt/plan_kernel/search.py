@@ -24,7 +24,7 @@ from trajopt.plan_kernel.arith import (
     FOUND,
     STOPPED,
 )
-from trajopt.plan_kernel.run import _room, _room_poly, _run, _start
+from trajopt.plan_kernel.run import _point_nodes, _room, _room_poly, _run, _start
 
 __all__ = ["ENV", "CompiledSearch", "install", "installed", "warm"]
 
@@ -251,7 +251,7 @@ class CompiledSearch:
             mem_c = np.array([rc for _, rc in self.start_members], dtype=np.float64).reshape(-1, 2)
             P, C = self._tables_in()  # room as the kernel makes it before an expansion (run._room, run._room_poly)
             C, P = _room_poly(C, P, c, len(mem_p))
-            self.N, P = _room(self.N, P, 1 + len(mem_p) * (2 + len(self.G[4]) + 12), 0)
+            self.N, P = _room(self.N, P, 1 + _point_nodes(len(mem_p), len(self.G[4])), 0)
             _start(self.N, P, C, self.M, self.G, mem_p, mem_c)
             self._tables_out(P, C)
             self.started = True
