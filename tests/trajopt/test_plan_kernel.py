@@ -216,6 +216,41 @@ def test_searches_with_the_passing_bound_and_limits_are_the_references() -> None
     assert compared >= 30
 
 
+def test_searches_of_a_class_of_motions_are_the_references() -> None:
+    """With a class's goal distances (``mpa.planners.graph.corridor``), with and without the passing bound: the same
+    answers, run by run."""
+    from mpa.planners.graph.corridor import approach_distances
+    from tests.mpa.test_graph_corridor import _corridor_queries, _subdivided
+
+    rng = np.random.default_rng(31)
+    compared = 0
+    tracks = [(_example(n), f) for n in ("y_junction", "two_sidings", "passing_loop") for f in (0.1, 0.4)]
+    tracks += [(_subdivided(rng), 0.15) for _ in range(12)]
+    for track, frac in tracks:
+        d = frac * float(np.median(track.lengths))
+        fs = free_space(track, d)
+        mesh = _mesh(fs)
+        for s, g, _ in _corridor_queries(track, fs, rng, 3):
+            query = SearchQuery(track, fs, s, g, "fastest", (1.0, 1.0))
+            pb = passing_bound(mesh, s, g, 1.0, 1.0)
+            pairs = approach_distances(track.geometry, s, g, mesh.eps)
+            assert pairs
+            for pair in pairs:
+                for bound in (None, pb):
+                    for budget in (5, None):
+                        ref_search = AnyAngleSearch(mesh, query, bound=bound, to_goal=pair)
+                        got_search = CompiledSearch(mesh, query, bound=bound, to_goal=pair)
+                        assert got_search.fq == ref_search.fq
+                        for _ in range(100_000):  # in budgets until the path
+                            ref, got = ref_search.run(budget), got_search.run(budget)
+                            assert got == ref, (s, g, bound is None, budget)
+                            if ref is not None:
+                                break
+                        assert ref is not None
+                        compared += 1
+    assert compared >= 40, compared
+
+
 def test_no_alloc_kernels_are_compiled_without_counts_and_refuse_to_allocate() -> None:
     """``no_alloc`` is numba's ``_nrt=False``; numba then refuses a kernel that allocates, or calls one that does."""
     from numba.core.errors import TypingError

@@ -139,12 +139,12 @@ class CompiledSearch:
 
     Parameters
     ----------
-    mesh, query, bound
+    mesh, query, bound, to_goal
         As :class:`~mpa.planners.graph.search.AnyAngleSearch`'s.
     """
 
-    def __init__(self, mesh: Any, query: Any, bound: Any = None) -> None:
-        ref = graph_search.AnyAngleSearch(mesh, query, bound=bound)  # its constants and goal distances
+    def __init__(self, mesh: Any, query: Any, bound: Any = None, to_goal: Any = None) -> None:
+        ref = graph_search.AnyAngleSearch(mesh, query, bound=bound, to_goal=to_goal)  # its constants, goal distances
         self.M = _layout_arrays(mesh)
         self.n_e = n_e = mesh.g.n_edges
         self.fq = ref.fq

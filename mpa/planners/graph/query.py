@@ -18,12 +18,13 @@ from mpa.graph_track import GraphTrack, Position, as_graph_track
 from mpa.planners.graph.assemble import _assemble, _merge_same_polygon
 from mpa.planners.graph.base import OBJECTIVES, SPEED_RANGE, SPEED_RATIO, TIE_BREAK
 from mpa.planners.graph.bounds import PassingBound, passing_bound, separating_vertices
+from mpa.planners.graph.corridor import approach_distances
 from mpa.planners.graph.mesh import _Mesh, _mesh
 from mpa.planners.graph.reasons import _why_no_motion
 from mpa.planners.graph.result import GraphPlan
 from mpa.planners.graph.search import AnyAngleSearch
 from mpa.planners.graph.shortcut import _independent_motion
-from mpa.planners.search_common import SearchQuery
+from mpa.planners.search_common import GoalDistance, SearchQuery, cost_function
 
 #: The reference search: a benchmark that replaces the module's ``AnyAngleSearch`` gets its own, not the installed one.
 _REFERENCE = AnyAngleSearch
@@ -75,6 +76,14 @@ LIMIT_STEP_ASIDE = 2.5
 LIMIT_WAIT = 1.05
 
 
+#: A query whose goals lie in one corridor in an order that its start does not have (``mpa.planners.graph.corridor``)
+#: is searched once per class of motions (which robot comes into the corridor last, and through which end) when the
+#: classes' least bound at the start exceeds the robots' own by more than ``BOUND_GAIN`` of it; False: one search.
+#: Measured (docs/performance.md): the airport map's slowest query at seed 2 (a robot must follow the other into the
+#: corridor of both goals, 14.6 m round) 1.47 s -> 0.21 s.
+CORRIDOR_CLASSES = True
+
+
 #: The search :func:`plan_graph` runs in place of :class:`AnyAngleSearch` (:func:`use_search`), None: that one.
 _COMPILED: type | None = None
 
@@ -95,12 +104,19 @@ def compiled_search() -> type | None:
     return _COMPILED
 
 
-def _new_search(mesh: _Mesh, query: SearchQuery, bound: PassingBound | None = None) -> AnyAngleSearch:
-    """The installed search where it supports the query (:func:`use_search`), else :class:`AnyAngleSearch`."""
+def _new_search(
+    mesh: _Mesh,
+    query: SearchQuery,
+    bound: PassingBound | None = None,
+    to_goal: tuple[GoalDistance, GoalDistance] | None = None,
+) -> AnyAngleSearch:
+    """The installed search where it supports the query (:func:`use_search`), else :class:`AnyAngleSearch`; with
+    ``to_goal`` (a class of motions' goal distances, :mod:`mpa.planners.graph.corridor`) when given."""
     cls = _COMPILED
+    kw = {} if to_goal is None else {"to_goal": to_goal}
     if cls is not None and AnyAngleSearch is _REFERENCE and cls.supports(query, bound):  # type: ignore[attr-defined]
-        return cast("AnyAngleSearch", cls(mesh, query, bound=bound))
-    return AnyAngleSearch(mesh, query, bound=bound)
+        return cast("AnyAngleSearch", cls(mesh, query, bound=bound, **kw))
+    return AnyAngleSearch(mesh, query, bound=bound, **kw)
 
 
 # ------------------------------------------------------------------------------------------------- API
@@ -268,33 +284,23 @@ def _plan_in(
     small objects and no reference cycles, and they are all freed (by their reference counts) when this returns, so
     the collector never traverses them; with the collector running, its first pass after the search traversed every
     one of them (about 8 % of the plan time of the searched queries measured in docs/performance.md)."""
-    tr, objective = query.track, query.objective
+    objective = query.objective
     va, vb = query.va, query.vb
-    geo = tr.geometry
     mesh = _mesh(fs)
     quick = _independent_motion(mesh, s, gl)
     if quick is not None:
         return _assemble(query, quick)
-    after = PASSING_BOUND_AFTER if objective == "fastest" and separating_vertices(mesh, s, gl) else None
-    if after is not None and tr.n_edges > PASSING_BOUND_EDGES:
-        after = max(after, PASSING_BOUND_AFTER_LARGE)
-    search = _new_search(mesh, query)
-    segs = search.run(after)
-    if segs is None:  # a long negotiation: again with the bound that knows the robots must pass, if it knows more
-        ta, tb = geo.distance_scalar(*s[0], *gl[0]) / va, geo.distance_scalar(*s[1], *gl[1]) / vb
-        own = max(ta, tb) + TIE_BREAK * (ta + tb)
-        bound = passing_bound(mesh, s, gl, va, vb, floor=own * (1.0 + BOUND_GAIN))
-        if bound is not None and LIMIT_SLACKS:  # first only the segments a near-optimal motion can use
-            for limit in _limits(bound.at_start, fs.clearance_used, va, vb):
-                bound.restrict(math.inf if limit is None else limit)
-                search = _new_search(mesh, query, bound)
-                segs = search.run(limit=limit)
-                if segs is not None:
-                    break
-        else:
-            if bound is not None or not RESUME_WITHOUT_GAIN:
-                search = _new_search(mesh, query, bound)
-            segs = search.run()  # with no gain from the bound: the same search resumed, not started again
+    classes = _corridor_classes(mesh, query) if CORRIDOR_CLASSES else None
+    if classes is None:
+        segs = _search(mesh, query, s, gl)
+    else:  # the best of each class of motions, each class searched only below the best found so far
+        segs, best = None, math.inf
+        for at_start, to_goal in classes:
+            if at_start > best:
+                break
+            got = _search(mesh, query, s, gl, to_goal, cap=None if segs is None else best)
+            if got is not None and (c := _path_cost(got, objective, va, vb)) < best:
+                segs, best = got, c
     if segs is None:  # pragma: no cover - no budget given
         raise PlanningError("search gave up")
     segs = _merge_same_polygon([x for x in segs if x[1] != x[2]])
@@ -303,3 +309,71 @@ def _plan_in(
 
         segs = [x for x in resolve_corners(fs, segs, (va, vb)) if x[1] != x[2]]
     return _assemble(query, segs)
+
+
+def _path_cost(segs: list[list[object]], objective: str, va: float, vb: float) -> float:
+    """The objective's cost of a path's segments ``[polygon, (s, t) from, (s, t) to]`` (s or m), summed in order."""
+    cost = cost_function(objective, va, vb)
+    return sum((cost(abs(q[0] - p[0]), abs(q[1] - p[1])) for _, p, q in segs), 0.0)  # type: ignore[index]
+
+
+def _corridor_classes(mesh: _Mesh, query: SearchQuery) -> list[tuple[float, tuple[GoalDistance, GoalDistance]]] | None:
+    """The classes of motions of :mod:`mpa.planners.graph.corridor` with their bounds at the start (the objective's
+    cost of their goal distances), least first; None where they do not apply or gain nothing at the start (at most
+    ``BOUND_GAIN`` of the robots' own bound)."""
+    s, gl = query.start, query.goal
+    pairs = approach_distances(mesh.g, s, gl, mesh.eps)
+    if not pairs:
+        return None
+    cost = cost_function(query.objective, query.va, query.vb)
+    own = cost(GoalDistance(mesh.g, gl[0]).at(*s[0]), GoalDistance(mesh.g, gl[1]).at(*s[1]))
+    out = sorted(
+        ((cost(ga.at(*s[0]), gb.at(*s[1])), i, (ga, gb)) for i, (ga, gb) in enumerate(pairs)), key=lambda x: x[:2]
+    )
+    if out[0][0] <= own * (1.0 + BOUND_GAIN):
+        return None
+    return [(h, p) for h, _, p in out]
+
+
+def _search(
+    mesh: _Mesh,
+    query: SearchQuery,
+    s: tuple[Position, Position],
+    gl: tuple[Position, Position],
+    to_goal: tuple[GoalDistance, GoalDistance] | None = None,
+    cap: float | None = None,
+) -> list[list[object]] | None:
+    """The search's path (segments) for the query: first without the passing bound, then, on a long negotiation,
+    with it when it knows more, within the limits of :func:`_limits`. ``to_goal``: a class's goal distances
+    (:func:`_corridor_classes`); ``cap``: only a motion of cost up to it is of use (None when there is none)."""
+    tr, objective = query.track, query.objective
+    va, vb = query.va, query.vb
+    fs = query.free_space
+    after = PASSING_BOUND_AFTER if objective == "fastest" and separating_vertices(mesh, s, gl) else None
+    if after is not None and tr.n_edges > PASSING_BOUND_EDGES:
+        after = max(after, PASSING_BOUND_AFTER_LARGE)
+    search = _new_search(mesh, query, to_goal=to_goal)
+    segs = search.run(after, limit=cap)
+    if segs is None and after is not None:  # a long negotiation: again with the bound that knows the robots must pass
+        if to_goal is None:
+            geo = tr.geometry
+            ta, tb = geo.distance_scalar(*s[0], *gl[0]) / va, geo.distance_scalar(*s[1], *gl[1]) / vb
+        else:
+            ta, tb = to_goal[0].at(*s[0]) / va, to_goal[1].at(*s[1]) / vb
+        own = max(ta, tb) + TIE_BREAK * (ta + tb)
+        bound = passing_bound(mesh, s, gl, va, vb, floor=own * (1.0 + BOUND_GAIN))
+        if bound is not None and LIMIT_SLACKS:  # first only the segments a near-optimal motion can use
+            for limit in _limits(bound.at_start, fs.clearance_used, va, vb):
+                last = cap is not None and (limit is None or limit >= cap)
+                if last:
+                    limit = cap
+                bound.restrict(math.inf if limit is None else limit)
+                search = _new_search(mesh, query, bound, to_goal)
+                segs = search.run(limit=limit)
+                if segs is not None or last:
+                    break
+        else:
+            if bound is not None or not RESUME_WITHOUT_GAIN:
+                search = _new_search(mesh, query, bound, to_goal)
+            segs = search.run(limit=cap)  # with no gain from the bound: the same search resumed, not started again
+    return segs

@@ -197,9 +197,19 @@ class AnyAngleSearch:
     bound : PassingBound, optional
         The passing bound of this query (:mod:`mpa.planners.graph.bounds`): a node's bound is then the larger of the
         robots' distances' and the passing bound at its point (at its root, for a face entry).
+    to_goal : (GoalDistance, GoalDistance), optional
+        The robots' distances to their goals that the bound is made of (default: their graph distances). A class of
+        motions whose last entry into a corridor is known (:mod:`mpa.planners.graph.corridor`) has larger ones; the
+        search then returns a motion no dearer than the best of that class.
     """
 
-    def __init__(self, mesh: _Mesh, query: SearchQuery, bound: PassingBound | None = None) -> None:
+    def __init__(
+        self,
+        mesh: _Mesh,
+        query: SearchQuery,
+        bound: PassingBound | None = None,
+        to_goal: tuple[GoalDistance, GoalDistance] | None = None,
+    ) -> None:
         start, goal = query.start, query.goal
         self.mesh = mesh
         self.bound = bound
@@ -207,7 +217,7 @@ class AnyAngleSearch:
         self.eps = mesh.eps
         self.ctol = 1e-12 * mesh.scale * mesh.scale
         self.cost = cost_function(query.objective, query.va, query.vb)
-        self.to_goal = (GoalDistance(mesh.g, goal[0]), GoalDistance(mesh.g, goal[1]))
+        self.to_goal = (GoalDistance(mesh.g, goal[0]), GoalDistance(mesh.g, goal[1])) if to_goal is None else to_goal
         self._vd_a, self._vd_b = self.to_goal[0].vd, self.to_goal[1].vd
         self._along_a, self._along_b = self.to_goal[0].min_along, self.to_goal[1].min_along
         self.goal_at: dict[PolygonId, list[Coords]] = {}
