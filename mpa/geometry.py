@@ -290,6 +290,18 @@ class GraphGeometry:
         self._L = self.lengths.tolist()
         self._dv = self.dv.tolist()
 
+    @cached_property
+    def edges_at(self) -> tuple[list[list[int]], IntArray]:
+        """Per vertex, the edges with an end there (in edge order, a loop once), and the vertices' degrees, shape
+        (V,) (the edge ends there: a loop counts twice)."""
+        at: list[list[int]] = [[] for _ in range(self.n_vertices)]
+        for f, (t, h) in enumerate(zip(self._t, self._h)):
+            at[t].append(f)
+            if h != t:
+                at[h].append(f)
+        deg = np.bincount(np.concatenate([self.tails, self.heads]), minlength=self.n_vertices)
+        return at, deg
+
     # ---------------------------------------------------------------------------------------- distance
     def distance(self, ea: ArrayLike, sa: ArrayLike, eb: ArrayLike, sb: ArrayLike) -> FloatArray:
         """Exact graph distance between positions ``(ea, sa)`` and ``(eb, sb)`` (broadcast, metres).

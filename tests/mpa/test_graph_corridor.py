@@ -141,6 +141,11 @@ def test_corridors_are_the_chains_of_degree_two_vertices_with_their_ports() -> N
     # a loop at L (L has degree 3: its loop's two ends and L-K)
     c = corridor_of(g, 7)
     assert c is not None and c.edges == (7,) and c.u == c.v and c.u_port and c.v_port
+    # the incidences the corridors are walked on: a loop is listed once and counts two ends
+    at, deg = g.edges_at
+    ix = t._vertex_index
+    assert at[ix["L"]] == [7, 8] and deg[ix["L"]] == 3 and deg[ix["K"]] == 4 and deg[ix["dead"]] == 1
+    assert sum(deg) == 2 * t.n_edges
     # a circle of degree-2 vertices has no ends
     assert corridor_of(_track([["a", "b", 1.0], ["b", "a", 2.0]]).geometry, 0) is None
     assert corridor_of(_track([["a", "a", 2.0]]).geometry, 0) is None

@@ -82,21 +82,11 @@ class Corridor:
         return nxt - self.starts[i]
 
 
-def vertex_degrees(g: GraphGeometry) -> np.ndarray:
-    """The number of edge ends at each vertex, shape (V,) (a loop counts twice)."""
-    return np.bincount(np.concatenate([g.tails, g.heads]), minlength=g.n_vertices)
-
-
-def corridor_of(g: GraphGeometry, edge: int, degrees: np.ndarray | None = None) -> Corridor | None:
+def corridor_of(g: GraphGeometry, edge: int) -> Corridor | None:
     """The corridor holding ``edge``, None when the chain closes into a cycle of degree-2 vertices (a circle: there
     the robots' order is cyclic and no end lets a robot in)."""
-    deg = vertex_degrees(g) if degrees is None else degrees
+    at, deg = g.edges_at
     t, h = g._t, g._h
-    at: dict[int, list[int]] = {}
-    for f in range(g.n_edges):
-        at.setdefault(t[f], []).append(f)
-        if h[f] != t[f]:
-            at.setdefault(h[f], []).append(f)
 
     def walk(e: int, w: int) -> tuple[list[tuple[int, int]], int] | None:
         # from edge e's end w outwards while w has degree 2: [(edge, +1 if it is left by its tail)], the end vertex
