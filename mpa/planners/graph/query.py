@@ -326,7 +326,8 @@ def _corridor_classes(mesh: _Mesh, query: SearchQuery) -> list[tuple[float, tupl
     if not pairs:
         return None
     cost = cost_function(query.objective, query.va, query.vb)
-    own = cost(GoalDistance(mesh.g, gl[0]).at(*s[0]), GoalDistance(mesh.g, gl[1]).at(*s[1]))
+    geo = mesh.g
+    own = cost(geo.distance_scalar(*s[0], *gl[0]), geo.distance_scalar(*s[1], *gl[1]))
     out = sorted(
         ((cost(ga.at(*s[0]), gb.at(*s[1])), i, (ga, gb)) for i, (ga, gb) in enumerate(pairs)), key=lambda x: x[:2]
     )
