@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import heapq
+import math
 from typing import Any
 
 import numpy as np
@@ -138,3 +139,37 @@ def same_makespans(spans: list[float | None], context: tuple[Any, ...]) -> bool:
         return False
     assert spans[1] == pytest.approx(spans[0], rel=1e-9, abs=1e-12), (*context, spans)
     return True
+
+
+def random_face_case(rng: np.random.Generator) -> tuple[Any, ...]:
+    """Arguments of :func:`mpa.planners.search_common.least_through_face` drawn as a search meets them: an edge of
+    length ``L``, the part ``[y0, y1]`` of it, the edge robot's root coordinate ``r`` (unfolded, possibly outside the
+    edge), its goal distance's terms ``cp``, ``cm`` consistent with a graph (the goal on the edge one time in three),
+    the vertex robot's travels, both objectives and unequal speeds; one in four with the vertex robot's way the longer
+    (the cost's ``max`` then flat along the part, the ``hypot`` terms deciding); one in twenty with a corridor class's
+    unreachable ends (``inf``)."""
+    length = float(rng.uniform(0.5, 30.0))
+    y0, y1 = sorted(rng.uniform(0.0, length, size=2).tolist())
+    if rng.random() < 0.1:
+        y1 = y0
+    r = float(rng.uniform(-length, 2.0 * length))
+    on_edge = bool(rng.random() < 1 / 3)
+    off = float(rng.uniform(0.0, length))
+    if on_edge:
+        d_th = float(rng.uniform(0.0, 3.0 * length))
+        cp = min(off, d_th + length - off)
+        cm = length + min(d_th + off, length - off)
+    else:
+        cp = float(rng.uniform(0.0, 100.0))
+        cm = length + max(0.0, cp + float(rng.uniform(-length, length)))
+        if rng.random() < 0.05:
+            cp, cm = (math.inf, cm) if rng.random() < 0.5 else (cp, math.inf)
+    scale = 20.0 * (length + cp) if rng.random() < 0.25 else float(rng.uniform(0.0, 60.0))
+    x_seg = float(rng.uniform(0.0, 1.0) * scale)
+    x_rest = float(rng.uniform(0.0, 3.0) * scale)
+    if rng.random() < 0.05:
+        x_seg = 0.0
+    va, vb = (1.0, 1.0) if rng.random() < 0.5 else (float(rng.uniform(0.2, 3.0)), float(rng.uniform(0.2, 3.0)))
+    ax = int(rng.integers(0, 2))
+    fastest = bool(rng.random() < 0.8)
+    return ax, x_seg, x_rest, r, y0, y1, cp, cm, on_edge, off, fastest, va, vb

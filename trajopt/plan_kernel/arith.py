@@ -15,6 +15,7 @@ import numpy as np
 
 from mpa.planners.graph import bounds as graph_bounds
 from mpa.planners.graph.base import TIE_BREAK, TIE_BREAK_2
+from mpa.planners.search_common import FACE_SAFETY
 from trajopt._numba import njit
 
 # node kinds (column 0 of the node ints)
@@ -105,6 +106,89 @@ def _cost(dx: float, dy: float, fastest: bool, va: float, vb: float) -> float:  
         m = ta if ta >= tb else tb
         return m + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * _py_hypot(ta, tb)
     return _py_hypot(dx, dy)
+
+
+@njit(cache=True, no_alloc=True)
+def _through_face(
+    ax: int, x_seg: float, x_rest: float, r: float, y: float, cp: float, cm: float, on_edge: bool, off: float,
+    fastest: bool, va: float, vb: float,
+) -> float:  # pragma: no cover - compiled
+    """:func:`mpa.planners.search_common._through_face`, the same operations."""
+    q1 = abs(y - r)
+    x, d = y + cp, cm - y
+    q2 = d if d < x else x
+    if on_edge:
+        x = abs(y - off)
+        q2 = x if x < q2 else q2
+    if ax == 0:
+        a1, b1, a2, b2 = x_seg, q1, x_rest, q2
+    else:
+        a1, b1, a2, b2 = q1, x_seg, q2, x_rest
+    if fastest:
+        ta, tb = a1 / va, b1 / vb
+        c = (tb if tb > ta else ta) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * _py_hypot(ta, tb)
+        ta, tb = a2 / va, b2 / vb
+        return c + ((tb if tb > ta else ta) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * _py_hypot(ta, tb))
+    return _py_hypot(a1, b1) + _py_hypot(a2, b2)
+
+
+@njit(cache=True, no_alloc=True)
+def _least_through_face(
+    ax: int, x_seg: float, x_rest: float, r: float, y0: float, y1: float, cp: float, cm: float, on_edge: bool,
+    off: float, fastest: bool, va: float, vb: float,
+) -> float:  # pragma: no cover - compiled
+    """:func:`mpa.planners.search_common.least_through_face`, the same operations (its candidate points in another
+    order: the least of the same values)."""
+    best = _through_face(ax, x_seg, x_rest, r, y0, cp, cm, on_edge, off, fastest, va, vb)
+    if y1 > y0:
+        v = _through_face(ax, x_seg, x_rest, r, y1, cp, cm, on_edge, off, fastest, va, vb)
+        if v < best:
+            best = v
+        s = x_seg + x_rest
+        k = x_seg / s if s > 0.0 else 0.0
+        p = 0.0
+        q = 0.0
+        if fastest:
+            vv = va if ax == 0 else vb
+            ve = vb if ax == 0 else va
+            p = x_seg / vv * ve
+            q = x_rest / vv * ve
+        n = 3
+        if fastest:
+            n += 4
+        if on_edge:
+            n += 4 if fastest else 2
+        for i in range(n):
+            if i == 0:
+                y = r
+            elif i == 1:
+                y = r + (cm - r) * k
+            elif i == 2:
+                y = r - (cp + r) * k
+            elif fastest and i < 7:
+                if i == 3:
+                    y = r - p
+                elif i == 4:
+                    y = r + p
+                elif i == 5:
+                    y = q - cp
+                else:
+                    y = cm - q
+            else:
+                j = i - (7 if fastest else 3)
+                if j == 0:
+                    y = off
+                elif j == 1:
+                    y = r + (off - r) * k
+                elif j == 2:
+                    y = off - q
+                else:
+                    y = off + q
+            if y0 < y < y1:
+                v = _through_face(ax, x_seg, x_rest, r, y, cp, cm, on_edge, off, fastest, va, vb)
+                if v < best:
+                    best = v
+    return best * (1.0 - FACE_SAFETY)
 
 
 @njit(cache=True, no_alloc=True)

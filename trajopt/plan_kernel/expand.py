@@ -28,6 +28,7 @@ from trajopt.plan_kernel.arith import (
     _cost,
     _floor,
     _heap_push,
+    _least_through_face,
     _put,
     _py_hypot,
     _slot,
@@ -221,32 +222,13 @@ def _push_point(
 
 
 @njit(cache=True, no_alloc=True)
-def _min_along(
-    cp: float, cm: float, on_edge: bool, off: float, y0: float, y1: float, r: float
-) -> float:  # pragma: no cover - compiled
-    """:meth:`GoalDistance.min_along` (``cp``, ``cm`` of the edge), the same operations."""
-    u = y0 - r
-    w = r - y1
-    a = cp + r + 2.0 * (u if u > 0.0 else 0.0)
-    b = cm - r + 2.0 * (w if w > 0.0 else 0.0)
-    v = b if b < a else a
-    if on_edge:
-        y = r if r >= y0 else y0
-        y = y1 if y1 < y else y
-        x = abs(y - r) + abs(y - off)
-        v = x if x < v else v
-    return v
-
-
-@njit(cache=True, no_alloc=True)
 def _new_face_entry(
     N: Any, G: Any, root: int, root_key: int, g_root: float, r0: float, r1: float, s0: float, s1: float,
     ax: int, w: int, e: int, a: float, y0: float, y1: float, p: int, lo: float, hi: float, parent: int, op: int,
-    o0: float, o1: float, inline: bool,
+    o0: float, o1: float,
 ) -> None:  # pragma: no cover - compiled
-    """A :class:`FaceEntry` of the face ``(ax, w, e)`` queued: :meth:`AnyAngleSearch.push_face` (``inline`` False)
-    or the inline push of :meth:`AnyAngleSearch.expand_interval` (True); their bounds are the same value by slightly
-    different expressions, each kept as written."""
+    """A :class:`FaceEntry` of the face ``(ax, w, e)`` queued: :meth:`AnyAngleSearch.push_face`, and the inline push
+    of :meth:`AnyAngleSearch.expand_interval` (the bound :meth:`AnyAngleSearch.face_lower_bound`)."""
     ni, nf, pend, hk, hd, c = N
     gd, vd, gi, par = G[0], G[1], G[2], G[3]
     n = c[0]
@@ -258,40 +240,13 @@ def _new_face_entry(
     nf[n, 11], nf[n, 12] = o0, o1
     pend[n] = gi[1] != 0
     fastest = gi[0] != 0
-    va, vb = par[2], par[3]
-    if not inline:
-        if ax == 0:
-            da = abs(r0 - a) + vd[0, w]
-            db = _min_along(gd[2, e], gd[3, e], e == gi[3], par[8], y0, y1, r1)
-        else:
-            da = _min_along(gd[0, e], gd[1, e], e == gi[2], par[7], y0, y1, r0)
-            db = abs(r1 - a) + vd[1, w]
-        f = g_root + _cost(da, db, fastest, va, vb)
+    if ax == 0:
+        x_v, x_w, rr = abs(r0 - a), vd[0, w], r1
+        cp, cm, edge, off = gd[2, e], gd[3, e], gi[3], par[8]
     else:
-        if ax == 0:
-            x_v, rr = abs(r0 - a) + vd[0, w], r1
-            cp, cm, edge, off = gd[2, e], gd[3, e], gi[3], par[8]
-        else:
-            x_v, rr = abs(r1 - a) + vd[1, w], r0
-            cp, cm, edge, off = gd[0, e], gd[1, e], gi[2], par[7]
-        t0, t1 = y0 - rr, rr - y1
-        lo_v = cp + rr + 2.0 * (t0 if t0 > 0.0 else 0.0)
-        hi_v = cm - rr + 2.0 * (t1 if t1 > 0.0 else 0.0)
-        x_e = hi_v if hi_v < lo_v else lo_v
-        if e == edge:
-            y = y0 if y0 > rr else rr
-            y = y1 if y1 < y else y
-            t0 = abs(y - rr) + abs(y - off)
-            x_e = t0 if t0 < x_e else x_e
-        if ax == 0:
-            da, db = x_v, x_e
-        else:
-            da, db = x_e, x_v
-        if fastest:
-            ta, tb = abs(da) / va, abs(db) / vb
-            f = g_root + ((tb if tb > ta else ta) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * _py_hypot(ta, tb))
-        else:
-            f = g_root + _py_hypot(da, db)
+        x_v, x_w, rr = abs(r1 - a), vd[1, w], r0
+        cp, cm, edge, off = gd[0, e], gd[1, e], gi[2], par[7]
+    f = g_root + _least_through_face(ax, x_v, x_w, rr, y0, y1, cp, cm, e == edge, off, fastest, par[2], par[3])
     _heap_push(hk, hd, c, _floor(f * par[5]), -g_root, n)
 
 
@@ -330,7 +285,7 @@ def _expand_point(
             if on_line or hi2 - lo2 <= eps:
                 continue
             _new_face_entry(N, G, nid, key, gval, rc0, rc1, 1.0, 1.0, ax2, w2, other2, a2, lo2, hi2, q, lo2, hi2, nid,
-                            q, rc0, rc1, False)
+                            q, rc0, rc1)
 
 
 @njit(cache=True, no_alloc=True)
@@ -440,7 +395,7 @@ def _expand_interval(N: Any, P: Any, C: Any, M: Any, G: Any, nid: int) -> None: 
         if yh - yl <= eps:
             continue
         _new_face_entry(N, G, rid, root_key, groot, rs, rt, sg0, sg1, ax2, w2, other2, a2, yl, yh, pid, lo2, hi2,
-                        nid, ni[nid, 8], nf[nid, 11], nf[nid, 12], True)
+                        nid, ni[nid, 8], nf[nid, 11], nf[nid, 12])
 
 
 # ------------------------------------------------------------------------------------------------ faces

@@ -17,7 +17,7 @@ from mpa.errors import PlanningError
 from mpa.freespace import PolygonId
 from mpa.planners.graph.base import F_GRID, TIE_BREAK, TIE_BREAK_2, Coords, FaceKey, Key, Segment
 from mpa.planners.graph.mesh import _Mesh
-from mpa.planners.search_common import GoalDistance, SearchQuery, cost_function
+from mpa.planners.search_common import GoalDistance, SearchQuery, cost_function, least_through_face
 
 if TYPE_CHECKING:
     from mpa.planners.graph.bounds import PassingBound
@@ -219,7 +219,6 @@ class AnyAngleSearch:
         self.cost = cost_function(query.objective, query.va, query.vb)
         self.to_goal = (GoalDistance(mesh.g, goal[0]), GoalDistance(mesh.g, goal[1])) if to_goal is None else to_goal
         self._vd_a, self._vd_b = self.to_goal[0].vd, self.to_goal[1].vd
-        self._along_a, self._along_b = self.to_goal[0].min_along, self.to_goal[1].min_along
         self.goal_at: dict[PolygonId, list[Coords]] = {}
         for pid, c in mesh.placements(*goal):
             self.goal_at.setdefault(pid, []).append(c)
@@ -248,7 +247,7 @@ class AnyAngleSearch:
         self._hot = (
             self.ctol, self.eps, self.goal_at, self._fastest, self._va, self._vb, math.hypot, self.best.get,
             self.again, bound, self.nodes, self.heap, self.fq, heapq.heappush, math.floor, self._vd_a, self._vd_b,
-            self._through, mesh._side_ends, self.pending.add,
+            self._through, mesh._side_ends, self.pending.add, least_through_face,
         )  # fmt: skip
 
     # ------------------------------------------------------------------------------------------- the lower bound
@@ -278,12 +277,22 @@ class AnyAngleSearch:
 
     def face_lower_bound(self, r: Coords, ax: int, a: float, face: FaceKey, y0: float, y1: float) -> float:
         """A lower bound of the cost from the root at ``r`` through the part ``[y0, y1]`` of ``face`` (the side
-        ``ax = a`` of the root's polygon) to the goal: the robot on the face's vertex is as far from its goal on every
-        page, the other one goes through the nearest point of ``[y0, y1]`` (:meth:`GoalDistance.min_along`).
-        :meth:`expand_interval` computes it inline, with the same floating-point operations."""
+        ``ax = a`` of the root's polygon) to the goal: the least over the part's points of the straight move's cost
+        to the point plus the cost of the robots' distances to their goals from there
+        (:func:`~mpa.planners.search_common.least_through_face`; every motion through the entry goes straight from
+        the root to a point of the part). :meth:`expand_interval` computes it inline, with the same operations."""
+        w, e = face[1], face[2]
         if ax == 0:
-            return self.cost(abs(r[0] - a) + self._vd_a[face[1]], self._along_b(face[2], y0, y1, r[1]))
-        return self.cost(self._along_a(face[2], y0, y1, r[0]), abs(r[1] - a) + self._vd_b[face[1]])
+            cp, cm, edge, off = self._through[0]
+            return least_through_face(
+                0, abs(r[0] - a), self._vd_a[w], r[1], y0, y1, cp[e], cm[e], e == edge, off, self._fastest,
+                self._va, self._vb,
+            )  # fmt: skip
+        cp, cm, edge, off = self._through[1]
+        return least_through_face(
+            1, abs(r[1] - a), self._vd_b[w], r[0], y0, y1, cp[e], cm[e], e == edge, off, self._fastest, self._va,
+            self._vb,
+        )  # fmt: skip
 
     def queue_key(self, f: float, depth: float, nid: int) -> tuple[int, float, int]:
         """The search's order (:meth:`expand_interval` queues face entries with this expression inline): the bound
@@ -433,7 +442,7 @@ class AnyAngleSearch:
         coordinate ``y``, which clips the side's ``[lo, hi]``. The face ends' costs are the objective's, inline."""
         (
             ctol, eps, goal_at, fastest, va, vb, hypot, best_get, again, bound, nodes, heap, fq, heappush, floor,
-            vd_a, vd_b, through, side_ends, pending_add,
+            vd_a, vd_b, through, side_ends, pending_add, least_face,
         ) = self._hot  # fmt: skip
         rid, r, ax, a, y0, y1, pid, groot = nd.root, nd.r, nd.ax, nd.a, nd.y0, nd.y1, nd.polygon, nd.g_root
         rs, rt = r
@@ -536,24 +545,10 @@ class AnyAngleSearch:
             w, e = face2[1], face2[2]
             cp, cm, edge, off = through[ax2]
             if ax2 == 0:
-                x_v, rr = abs(rs - a2) + vd_a[w], rt
+                x_v, x_w, rr = abs(rs - a2), vd_a[w], rt
             else:
-                x_v, rr = abs(rt - a2) + vd_b[w], rs
-            t0, t1 = yl - rr, rr - yh
-            lo_v = cp[e] + rr + 2.0 * (t0 if t0 > 0.0 else 0.0)
-            hi_v = cm[e] - rr + 2.0 * (t1 if t1 > 0.0 else 0.0)
-            x_e = hi_v if hi_v < lo_v else lo_v
-            if e == edge:
-                y = yl if yl > rr else rr
-                y = yh if yh < y else y
-                t0 = abs(y - rr) + abs(y - off)
-                x_e = t0 if t0 < x_e else x_e
-            da, db = (x_v, x_e) if ax2 == 0 else (x_e, x_v)
-            if fastest:
-                ta, tb = abs(da) / va, abs(db) / vb
-                f = groot + ((tb if tb > ta else ta) + TIE_BREAK * (ta + tb) + TIE_BREAK_2 * hypot(ta, tb))
-            else:
-                f = groot + hypot(da, db)
+                x_v, x_w, rr = abs(rt - a2), vd_b[w], rs
+            f = groot + least_face(ax2, x_v, x_w, rr, yl, yh, cp[e], cm[e], e == edge, off, fastest, va, vb)
             heappush(heap, (floor(f * fq), -groot, len(nodes) - 1))
 
     # --------------------------------------------------------------------------------------------------- run
