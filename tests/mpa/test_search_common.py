@@ -51,15 +51,27 @@ def test_goal_distance_is_the_exact_graph_distance(seed: int) -> None:
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
 
 
-def _through(case: tuple[Any, ...], y: float) -> float:
-    """The straight move's cost from the root to ``y`` plus the cost of the goal distances from there, written
-    plainly (the face entry's bound is the least of it over the part)."""
+def _through(case: tuple[Any, ...], y: Any) -> Any:
+    """The straight move's cost from the root to ``y`` (a float or an array) plus the cost of the goal distances from
+    there, written plainly with :func:`move_cost` (the face entry's bound is the least of it over the part)."""
+    ax, x_seg, x_rest, r, _, _, cp, cm, on_edge, off, fastest, va, vb = case
+    y = np.asarray(y, dtype=float)
+    d = np.minimum(y + cp, cm - y)
+    if on_edge:
+        d = np.minimum(d, np.abs(y - off))
+    objective = "fastest" if fastest else "shortest"
+    seg, rest = np.full(y.shape, x_seg), np.full(y.shape, x_rest)
+    if ax == 0:
+        return move_cost(objective, seg, np.abs(y - r), va, vb) + move_cost(objective, rest, d, va, vb)
+    return move_cost(objective, np.abs(y - r), seg, va, vb) + move_cost(objective, d, rest, va, vb)
+
+
+def _through_at(case: tuple[Any, ...], y: float) -> float:
+    """:func:`_through` at one point, in scalars (:func:`cost_function`)."""
     ax, x_seg, x_rest, r, _, _, cp, cm, on_edge, off, fastest, va, vb = case
     d = min(y + cp, cm - y, abs(y - off) if on_edge else math.inf)
     cost = cost_function("fastest" if fastest else "shortest", va, vb)
-    if ax == 0:
-        return cost(x_seg, y - r) + cost(x_rest, d)
-    return cost(y - r, x_seg) + cost(d, x_rest)
+    return cost(x_seg, y - r) + cost(x_rest, d) if ax == 0 else cost(y - r, x_seg) + cost(d, x_rest)
 
 
 @pytest.mark.parametrize("seed", range(10))
@@ -74,20 +86,19 @@ def test_least_through_a_face_is_the_least_over_the_part(seed: int) -> None:
         case = random_face_case(rng)
         ax, x_seg, x_rest, r, y0, y1, cp, cm, on_edge, off, fastest, va, vb = case
         got = least_through_face(*case)
-        ys = np.linspace(y0, y1, 1001).tolist()
-        ys += [min(max(r, y0), y1), min(max(off, y0), y1)]  # the straight move's and the goal's kinks
-        vals = [_through(case, y) for y in ys]
+        ys = np.concatenate([np.linspace(y0, y1, 1001), [min(max(r, y0), y1), min(max(off, y0), y1)]])
+        vals = _through(case, ys)  # the 1 001 points, and the straight move's and the goal's kinks
         j = int(np.argmin(vals))
-        best = vals[j]
+        best = float(vals[j])
         if y1 > y0 and math.isfinite(best) and j < 1001:
-            lo, hi = ys[max(0, j - 1)], ys[min(1000, j + 1)]
+            lo, hi = float(ys[max(0, j - 1)]), float(ys[min(1000, j + 1)])
             for _ in range(90):  # golden section: the bracket shrinks to 1e-19 of itself
                 m1, m2 = hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo)
-                if _through(case, m1) <= _through(case, m2):
+                if _through_at(case, m1) <= _through_at(case, m2):
                     hi = m2
                 else:
                     lo = m1
-            best = min(best, _through(case, lo), _through(case, hi))
+            best = min(best, _through_at(case, lo), _through_at(case, hi))
         ctx = (seed, i, case, got, best)
         assert got <= best, ctx  # a lower bound: never above a motion through the part
         if not math.isfinite(best):
@@ -96,8 +107,8 @@ def test_least_through_a_face_is_the_least_over_the_part(seed: int) -> None:
         assert got >= best * (1.0 - 2e-12) - 1e-15, ctx  # and the least, at the grid's resolution
         worst = max(worst, (best - got) / max(best, 1e-300))
         # the former bound: the cost of the two robots' whole ways through the part's nearest points
-        dist = [abs(y - r) + min(y + cp, cm - y, abs(y - off) if on_edge else math.inf) for y in ys]
-        whole = min(dist)
+        dist = np.abs(ys - r) + np.minimum(np.minimum(ys + cp, cm - ys), np.abs(ys - off) if on_edge else math.inf)
+        whole = float(dist.min())
         cost = cost_function("fastest" if fastest else "shortest", va, vb)
         former = cost(x_seg + x_rest, whole) if ax == 0 else cost(whole, x_seg + x_rest)
         assert got >= former * (1.0 - 1e-12), ctx
