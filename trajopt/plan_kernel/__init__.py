@@ -17,8 +17,18 @@ tables; nothing of the mesh is built in the interpreter. The passing bound's fro
 :func:`install` also hands :mod:`mpa.planners.corners` the compiled builder of each chain's least-distance programme
 (:func:`trajopt.plan_kernel.corners.build_programme`, :func:`mpa.planners.corners.use_programme`): the same arrays
 bit for bit, so the corners re-solved after the search are the same too.
+
+numba's on-disk cache of these kernels is kept consistent across the package's modules
+(:mod:`trajopt.plan_kernel.cache`): on import, before any kernel is loaded, the cache is emptied when one of the
+modules the kernels are compiled from has changed since it was written.
 """
 
-from trajopt.plan_kernel.search import ENV, CompiledSearch, install, installed, warm
+from pathlib import Path
+
+from trajopt.plan_kernel.cache import fresh_cache, kernel_sources
+
+fresh_cache(Path(__file__).resolve().parent / "__pycache__", kernel_sources())
+
+from trajopt.plan_kernel.search import ENV, CompiledSearch, install, installed, warm  # noqa: E402
 
 __all__ = ["ENV", "CompiledSearch", "install", "installed", "warm"]
