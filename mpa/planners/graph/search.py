@@ -282,17 +282,14 @@ class AnyAngleSearch:
         (:func:`~mpa.planners.search_common.least_through_face`; every motion through the entry goes straight from
         the root to a point of the part). :meth:`expand_interval` computes it inline, with the same operations."""
         w, e = face[1], face[2]
+        cp, cm, edge, off = self._through[ax]
         if ax == 0:
-            cp, cm, edge, off = self._through[0]
-            return least_through_face(
-                0, abs(r[0] - a), self._vd_a[w], r[1], y0, y1, cp[e], cm[e], e == edge, off, self._fastest,
-                self._va, self._vb,
-            )  # fmt: skip
-        cp, cm, edge, off = self._through[1]
+            x_v, x_w, rr = abs(r[0] - a), self._vd_a[w], r[1]
+        else:
+            x_v, x_w, rr = abs(r[1] - a), self._vd_b[w], r[0]
         return least_through_face(
-            1, abs(r[1] - a), self._vd_b[w], r[0], y0, y1, cp[e], cm[e], e == edge, off, self._fastest, self._va,
-            self._vb,
-        )  # fmt: skip
+            ax, x_v, x_w, rr, y0, y1, cp[e], cm[e], e == edge, off, self._fastest, self._va, self._vb
+        )
 
     def queue_key(self, f: float, depth: float, nid: int) -> tuple[int, float, int]:
         """The search's order (:meth:`expand_interval` queues face entries with this expression inline): the bound
